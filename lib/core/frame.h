@@ -1,0 +1,34 @@
+#pragma once
+// A rigid frame M = [R | c]: maps local coordinates to world, x_world = R x_local + c.
+// R is kept as a unit quaternion so that interpolation (slerp) and composition stay orthonormal.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace sweep {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Quat = Eigen::Quaterniond;
+
+struct Frame {
+  Quat rotation = Quat::Identity();
+  Vec3 center = Vec3::Zero();
+
+  Mat3 matrix() const { return rotation.toRotationMatrix(); }
+  Vec3 axis() const { return rotation * Vec3::UnitZ(); }  // the sweep direction at this frame
+  Vec3 to_world(const Vec3& local) const { return rotation * local + center; }
+  Vec3 to_local(const Vec3& world) const { return rotation.conjugate() * (world - center); }
+
+  Frame operator*(const Frame& b) const {  // this ∘ b
+    return {(rotation * b.rotation).normalized(), rotation * b.center + center};
+  }
+  Frame inverse() const {
+    const Quat qi = rotation.conjugate();
+    return {qi, -(qi * center)};
+  }
+};
+
+// Rotation by the rotation vector phi (axis phi/|phi|, angle |phi|); exact for every angle.
+Quat rotation_from_vector(const Vec3& phi);
+
+}  // namespace sweep

@@ -1,0 +1,48 @@
+#pragma once
+// The rig: one mesh and the sweeps fitted to its deformable parts. Plain data, as read from and
+// written to the rig file (lib/io/rig_json.h); the runtime is ElasticSweep (core/elastic_sweep.h).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/springs.h"
+#include "core/sweep_shape.h"
+
+namespace sweep {
+
+// How the part a sweep drives was picked out of the mesh (sweep-fit writes it, sweep-bind uses it
+// to select the same vertices): the region on the tip side of section 0's plane that is reached
+// from the tip point without crossing that plane (DESIGN.md §2.4).
+struct PartSeeds {
+  Vec3 root = Vec3::Zero();  // where the part leaves the body, near its axis
+  Vec3 tip = Vec3::Zero();   // at or near the part's end
+};
+
+struct SweepDef {
+  std::string name;                         // unique within the rig, e.g. "tail"
+  SweepShape rest;                          // key sections in the rest pose (world space)
+  std::vector<std::string> section_names;   // K entries; "" where a section has no name
+  SectionSprings default_springs;           // the sweep's springs ...
+  std::vector<SectionSprings> springs;      // ... resolved per section (K entries, overrides applied)
+  // Force scale factors of the paper (§2.3): torque = rotational_scale · |f| (N·m per N, i.e. a
+  // lever arm in mesh units); radial handle force = radial_scale · (inward part of f).
+  double rotational_scale = 1.0;
+  double radial_scale = 1.0;
+  std::optional<PartSeeds> part;            // absent for rigs written by hand with no mesh part
+
+  int section_index(const std::string& section_name) const;  // -1 when there is none
+};
+
+struct Rig {
+  static constexpr int kFormatVersion = 1;
+  std::string mesh;              // mesh path as written in the file (relative to the rig file)
+  std::vector<SweepDef> sweeps;
+
+  const SweepDef* find(const std::string& sweep_name) const;
+};
+
+// A sweep with K sections and n radii, all springs at their defaults: the way tools and tests make
+// one before filling in the geometry.
+SweepDef make_sweep(std::string name, SweepShape rest);
+
+}  // namespace sweep

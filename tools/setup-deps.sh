@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs the Debian packages sweep needs to build, test and run its demo. Idempotent: packages
+# already present are not touched, and apt is not called at all when nothing is missing.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+  libassimp-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
+  libtinygltf-dev libtinyobjloader-dev
+  libcgal-demo   # CGAL's sample meshes (diplodocus.off, ...) for the demo and real-mesh tests
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo_cmd=()
+  [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# CGAL's sample meshes ship compressed inside libcgal-dev's docs; unpack the meshes folder once
+# into meshes/cgal/ (git-ignored: these files are never committed).
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+if [ ! -f "$here/meshes/cgal/diplodocus.off" ]; then
+  mkdir -p "$here/meshes/cgal"
+  tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$here/meshes/cgal" --strip-components=2 \
+      --wildcards 'data/meshes/*'
+fi
