@@ -1,0 +1,23 @@
+#pragma once
+// The rig file: JSON, versioned ("format": "sweep-rig", "version": 1), schema in rigs/rig.schema.json.
+// Reading validates everything and throws Error(bad_input) with the file, the JSON pointer and what
+// is wrong ("rig.json: /sweeps/0/sections/2/radii/5: must be a positive number, got -1"), or the
+// line and column for malformed JSON. Unknown fields are reported as warnings, not errors.
+// Writing is deterministic (stable key order, round-trippable numbers) and atomic.
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "core/rig.h"
+
+namespace sweep::io {
+
+using WarningSink = std::function<void(const std::string&)>;
+
+Rig parse_rig(const std::string& text, const std::string& source, const WarningSink& warn = {});
+Rig read_rig(const std::filesystem::path& path, const WarningSink& warn = {});
+
+std::string format_rig(const Rig& rig);
+void write_rig(const std::filesystem::path& path, const Rig& rig);
+
+}  // namespace sweep::io
