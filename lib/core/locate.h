@@ -27,7 +27,6 @@ class SweepLocator {
   const SweepShape& shape() const { return shape_; }
 
  private:
-  double plane_distance(double t, Vec3* center, Quat* rotation) const;
   const SweepShape& shape_;
   std::vector<double> station_t_;
   std::vector<Vec3> station_center_;

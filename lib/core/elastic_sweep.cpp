@@ -1,0 +1,202 @@
+#include "core/elastic_sweep.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "core/locate.h"
+
+namespace sweep {
+namespace {
+
+OscillatorParams to_params(const SpringSettings& s) { return {s.mass, s.damping(), s.stiffness()}; }
+
+const SpringSettings& pick_positional(const SectionSprings& s, int) { return s.positional; }
+const SpringSettings& pick_rotational(const SectionSprings& s, int c) { return c == 2 ? s.twist : s.bend; }
+const SpringSettings& pick_radial(const SectionSprings& s, int) { return s.radial; }
+
+bool all_finite(const std::vector<double>& a) {
+  return std::all_of(a.begin(), a.end(), [](double x) { return std::isfinite(x); });
+}
+
+}  // namespace
+
+ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
+  const int k = def_.rest.section_count();
+  assert(k >= 2 && static_cast<int>(def_.springs.size()) == k);
+  relative_.assign(k, Frame{});
+  for (int i = 1; i < k; ++i) relative_[i] = def_.rest.frames[i - 1].inverse() * def_.rest.frames[i];
+  pre_ = def_.rest.frames;
+  deformed_ = def_.rest;
+  init_bank(positional_, 3, pick_positional);
+  init_bank(rotational_, 3, pick_rotational);
+  init_bank(radial_, def_.rest.radial_count, pick_radial);
+  loads_.resize(k, def_.rest.radial_count);
+}
+
+void ElasticSweep::init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int)) {
+  const int k = def_.rest.section_count();
+  const std::size_t size = static_cast<std::size_t>(k) * width;
+  bank.width = width;
+  bank.x.assign(size, 0.0);
+  bank.v.assign(size, 0.0);
+  bank.f.assign(size, 0.0);
+  bank.params.resize(size);
+  bank.maps.resize(size);
+  for (int i = 0; i < k; ++i) {
+    for (int c = 0; c < width; ++c) bank.params[static_cast<std::size_t>(i) * width + c] = to_params(pick(def_.springs[i], c));
+  }
+}
+
+ForceId ElasticSweep::add_force(const ForceSpec& force) {
+  ActiveForce a{next_id_++, force, force.t, force.theta};
+  if (force.at_world_point) {
+    const SweepCoords c = SweepLocator(deformed_).locate(force.point);
+    a.t = c.t;
+    a.theta = c.theta;
+  }
+  a.t = std::clamp(a.t, 0.0, def_.rest.length());
+  forces_.push_back(a);
+  return a.id;
+}
+
+bool ElasticSweep::remove_force(ForceId id) {
+  const auto it = std::find_if(forces_.begin(), forces_.end(), [&](const ActiveForce& a) { return a.id == id; });
+  if (it == forces_.end()) return false;
+  forces_.erase(it);
+  return true;
+}
+
+void ElasticSweep::clear_forces() { forces_.clear(); }
+
+// Splits the given forces on the current shape and writes each spring's load, in its own frame.
+void ElasticSweep::gather_loads(const std::vector<ActiveForce>& forces) {
+  loads_.clear();
+  for (const ActiveForce& a : forces) {
+    accumulate_force(deformed_, a.spec, a.t, a.theta, def_.rotational_scale, def_.radial_scale, loads_);
+  }
+  const int k = def_.rest.section_count();
+  for (int i = 0; i < k; ++i) {
+    const Quat to_local = pre_[i].rotation.conjugate();
+    const Vec3 f = to_local * loads_.force[i];
+    const Vec3 tau = to_local * loads_.torque[i];
+    for (int c = 0; c < 3; ++c) {
+      positional_.f[3 * i + c] = f[c];
+      rotational_.f[3 * i + c] = tau[c];
+    }
+  }
+  radial_.f = loads_.radial;
+  for (Bank* b : {&positional_, &rotational_, &radial_}) {
+    if (!b->active) b->active = std::any_of(b->f.begin(), b->f.end(), [](double x) { return x != 0.0; });
+  }
+}
+
+void ElasticSweep::apply_impulse(const ForceSpec& impulse) {
+  ActiveForce a{0, impulse, impulse.t, impulse.theta};
+  if (impulse.at_world_point) {
+    const SweepCoords c = SweepLocator(deformed_).locate(impulse.point);
+    a.t = c.t;
+    a.theta = c.theta;
+  }
+  gather_loads({a});
+  for (Bank* b : {&positional_, &rotational_, &radial_}) {
+    for (std::size_t m = 0; m < b->v.size(); ++m) b->v[m] += b->f[m] / b->params[m].mass;
+  }
+}
+
+void ElasticSweep::step(double dt) {
+  assert(dt > 0);
+  if (dt != map_dt_ || integrator_ != map_integrator_) {
+    for (Bank* b : {&positional_, &rotational_, &radial_}) {
+      for (std::size_t m = 0; m < b->params.size(); ++m) b->maps[m] = make_step_map(b->params[m], dt, integrator_);
+    }
+    map_dt_ = dt;
+    map_integrator_ = integrator_;
+  }
+  gather_loads(forces_);
+  // Section 0 is fixed: start every bank at section 1.
+  for (Bank* b : {&positional_, &rotational_, &radial_}) {
+    if (!b->active) continue;
+    for (std::size_t m = static_cast<std::size_t>(b->width); m < b->x.size(); ++m) {
+      b->maps[m].apply(b->x[m], b->v[m], b->f[m]);
+    }
+  }
+  rebuild();
+}
+
+void ElasticSweep::rebuild() {
+  const int k = def_.rest.section_count();
+  const int n = def_.rest.radial_count;
+  for (int i = 1; i < k; ++i) {
+    pre_[i] = deformed_.frames[i - 1] * relative_[i];
+    const Vec3 x(positional_.x[3 * i], positional_.x[3 * i + 1], positional_.x[3 * i + 2]);
+    const Vec3 phi(rotational_.x[3 * i], rotational_.x[3 * i + 1], rotational_.x[3 * i + 2]);
+    deformed_.frames[i] = pre_[i] * Frame{rotation_from_vector(phi), x};
+    for (int j = 0; j < n; ++j) {
+      const std::size_t m = static_cast<std::size_t>(i) * n + j;
+      const double r = def_.rest.radii[m];
+      deformed_.radii[m] = std::max(r + radial_.x[m], kMinRadiusFraction * r);
+    }
+  }
+}
+
+Vec3 ElasticSweep::section_offset(int i) const {
+  return {positional_.x[3 * i], positional_.x[3 * i + 1], positional_.x[3 * i + 2]};
+}
+Vec3 ElasticSweep::rotation_vector(int i) const {
+  return {rotational_.x[3 * i], rotational_.x[3 * i + 1], rotational_.x[3 * i + 2]};
+}
+double ElasticSweep::radial_offset(int i, int j) const {
+  return radial_.x[static_cast<std::size_t>(i) * def_.rest.radial_count + j];
+}
+
+void ElasticSweep::set_section_pose(int i, const Vec3& offset, const Vec3& rotation_vector) {
+  assert(i >= 1 && i < def_.rest.section_count());
+  for (int c = 0; c < 3; ++c) {
+    positional_.x[3 * i + c] = offset[c];
+    rotational_.x[3 * i + c] = rotation_vector[c];
+  }
+  positional_.active = positional_.active || offset != Vec3::Zero();
+  rotational_.active = rotational_.active || rotation_vector != Vec3::Zero();
+  rebuild();
+}
+
+void ElasticSweep::set_radial_offset(int i, int j, double delta) {
+  assert(i >= 1 && i < def_.rest.section_count());
+  radial_.x[static_cast<std::size_t>(i) * def_.rest.radial_count + j] = delta;
+  radial_.active = radial_.active || delta != 0.0;
+  rebuild();
+}
+
+void ElasticSweep::reset() {
+  for (Bank* b : {&positional_, &rotational_, &radial_}) {
+    std::fill(b->x.begin(), b->x.end(), 0.0);
+    std::fill(b->v.begin(), b->v.end(), 0.0);
+  }
+  rebuild();
+}
+
+double ElasticSweep::energy() const {
+  double e = 0;
+  for (const Bank* b : {&positional_, &rotational_, &radial_}) {
+    for (std::size_t m = 0; m < b->x.size(); ++m) e += oscillator_energy(b->params[m], b->x[m], b->v[m]);
+  }
+  return e;
+}
+
+double ElasticSweep::max_speed() const {
+  double s = 0;
+  for (const Bank* b : {&positional_, &rotational_, &radial_}) {
+    for (double v : b->v) s = std::max(s, std::abs(v));
+  }
+  return s;
+}
+
+bool ElasticSweep::is_finite() const {
+  for (const Bank* b : {&positional_, &rotational_, &radial_}) {
+    if (!all_finite(b->x) || !all_finite(b->v)) return false;
+  }
+  return true;
+}
+
+}  // namespace sweep
