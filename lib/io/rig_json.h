@@ -18,6 +18,10 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
 Rig read_rig(const std::filesystem::path& path, const WarningSink& warn = {});
 
 std::string format_rig(const Rig& rig);
+
+// The rig's mesh path is stored relative to the rig file's folder (or absolute).
+std::filesystem::path resolve_mesh_path(const std::filesystem::path& rig_path, const Rig& rig);
+std::string mesh_path_for_rig(const std::filesystem::path& rig_path, const std::filesystem::path& mesh_path);
 void write_rig(const std::filesystem::path& path, const Rig& rig);
 
 }  // namespace sweep::io

@@ -1,0 +1,215 @@
+#include "io/rig_json.h"
+
+#include <cmath>
+#include <set>
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+#include "io/json_reader.h"
+
+namespace sweep::io {
+namespace {
+
+using OrderedJson = nlohmann::ordered_json;
+
+constexpr const char* kFormatName = "sweep-rig";
+// A stored rotation must be a unit quaternion to this tolerance; it is used as stored, so that a
+// rig read and written again keeps every bit (bindings hash the rig's values).
+constexpr double kUnitQuaternionTolerance = 1e-9;
+constexpr int kMaxSections = 100000;
+constexpr int kMaxRadialSamples = 4096;
+
+// --- reading ---------------------------------------------------------------------------------------
+
+void read_spring(const JsonReader& r, const Json& v, const std::string& ptr, SpringSettings& s) {
+  r.object(v, ptr, {"mass", "frequency_hz", "damping_ratio"});
+  if (const Json* m = r.optional(v, "mass")) s.mass = r.positive(*m, member(ptr, "mass"));
+  if (const Json* f = r.optional(v, "frequency_hz")) s.frequency_hz = r.positive(*f, member(ptr, "frequency_hz"));
+  if (const Json* z = r.optional(v, "damping_ratio")) s.damping_ratio = r.non_negative(*z, member(ptr, "damping_ratio"));
+}
+
+// Springs given in a file override `s` kind by kind and field by field.
+void read_springs(const JsonReader& r, const Json& v, const std::string& ptr, SectionSprings& s) {
+  r.object(v, ptr, {"positional", "bend", "twist", "radial"});
+  if (const Json* x = r.optional(v, "positional")) read_spring(r, *x, member(ptr, "positional"), s.positional);
+  if (const Json* x = r.optional(v, "bend")) read_spring(r, *x, member(ptr, "bend"), s.bend);
+  if (const Json* x = r.optional(v, "twist")) read_spring(r, *x, member(ptr, "twist"), s.twist);
+  if (const Json* x = r.optional(v, "radial")) read_spring(r, *x, member(ptr, "radial"), s.radial);
+}
+
+Quat read_rotation(const JsonReader& r, const Json& v, const std::string& ptr) {
+  if (!v.is_array() || v.size() != 4) r.fail_at(ptr, "must be a quaternion [x, y, z, w], got " + describe(v));
+  double c[4];
+  for (int i = 0; i < 4; ++i) c[i] = r.number(v[i], element(ptr, i));
+  const Quat q(c[3], c[0], c[1], c[2]);
+  const double norm = q.norm();
+  if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) {
+    r.fail_at(ptr, "must be a unit quaternion, its length is " + std::to_string(norm));
+  }
+  return q;
+}
+
+SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) {
+  r.object(v, ptr, {"name", "radial_samples", "springs", "force_scale", "part", "sections"});
+  SweepDef def;
+  def.name = r.string(r.required(v, ptr, "name"), member(ptr, "name"));
+  if (def.name.empty()) r.fail_at(member(ptr, "name"), "must not be empty");
+  const int n = static_cast<int>(r.integer(r.required(v, ptr, "radial_samples"), member(ptr, "radial_samples"), 3, kMaxRadialSamples));
+  if (const Json* s = r.optional(v, "springs")) read_springs(r, *s, member(ptr, "springs"), def.default_springs);
+  if (const Json* fs = r.optional(v, "force_scale")) {
+    const std::string p = member(ptr, "force_scale");
+    r.object(*fs, p, {"rotational", "radial"});
+    if (const Json* x = r.optional(*fs, "rotational")) def.rotational_scale = r.non_negative(*x, member(p, "rotational"));
+    if (const Json* x = r.optional(*fs, "radial")) def.radial_scale = r.non_negative(*x, member(p, "radial"));
+  }
+  if (const Json* part = r.optional(v, "part")) {
+    const std::string p = member(ptr, "part");
+    r.object(*part, p, {"root", "tip"});
+    def.part = PartSeeds{r.vec3(r.required(*part, p, "root"), member(p, "root")),
+                         r.vec3(r.required(*part, p, "tip"), member(p, "tip"))};
+  }
+
+  const std::string sp = member(ptr, "sections");
+  const Json& sections = r.required(v, ptr, "sections");
+  r.array(sections, sp);
+  if (sections.size() < 2) r.fail_at(sp, "a sweep needs at least 2 key sections, got " + std::to_string(sections.size()));
+  if (sections.size() > kMaxSections) r.fail_at(sp, "too many key sections");
+  def.rest.radial_count = n;
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    const std::string p = element(sp, i);
+    const Json& s = sections[i];
+    r.object(s, p, {"name", "t", "center", "rotation", "radii", "springs"});
+    std::string name;
+    if (const Json* nm = r.optional(s, "name")) {
+      name = r.string(*nm, member(p, "name"));
+      if (!name.empty() && !names.insert(name).second) r.fail_at(member(p, "name"), "duplicate section name \"" + name + "\"");
+    }
+    const double t = r.number(r.required(s, p, "t"), member(p, "t"));
+    if (i == 0 && t != 0.0) r.fail_at(member(p, "t"), "the first section's t must be 0, got " + describe(s["t"]));
+    if (i > 0 && !(t > def.rest.t.back())) {
+      r.fail_at(member(p, "t"), "must be greater than the previous section's t (" + std::to_string(def.rest.t.back()) + ")");
+    }
+    const Vec3 c = r.vec3(r.required(s, p, "center"), member(p, "center"));
+    const Quat q = read_rotation(r, r.required(s, p, "rotation"), member(p, "rotation"));
+    const Json& radii = r.required(s, p, "radii");
+    const std::string rp = member(p, "radii");
+    r.array(radii, rp);
+    if (radii.size() != static_cast<std::size_t>(n)) {
+      r.fail_at(rp, "expected " + std::to_string(n) + " radii (radial_samples), got " + std::to_string(radii.size()));
+    }
+    for (std::size_t j = 0; j < radii.size(); ++j) def.rest.radii.push_back(r.positive(radii[j], element(rp, j)));
+    SectionSprings springs = def.default_springs;
+    if (const Json* o = r.optional(s, "springs")) read_springs(r, *o, member(p, "springs"), springs);
+    def.rest.t.push_back(t);
+    def.rest.frames.push_back({q, c});
+    def.section_names.push_back(name);
+    def.springs.push_back(springs);
+  }
+  return def;
+}
+
+// --- writing ---------------------------------------------------------------------------------------
+
+OrderedJson spring_json(const SpringSettings& s) {
+  return {{"mass", s.mass}, {"frequency_hz", s.frequency_hz}, {"damping_ratio", s.damping_ratio}};
+}
+
+OrderedJson springs_json(const SectionSprings& s, const SectionSprings* base) {
+  OrderedJson j = OrderedJson::object();
+  auto put = [&](const char* key, const SpringSettings& v, const SpringSettings* b) {
+    if (!b || !(v == *b)) j[key] = spring_json(v);
+  };
+  put("positional", s.positional, base ? &base->positional : nullptr);
+  put("bend", s.bend, base ? &base->bend : nullptr);
+  put("twist", s.twist, base ? &base->twist : nullptr);
+  put("radial", s.radial, base ? &base->radial : nullptr);
+  return j;
+}
+
+OrderedJson vec_json(const Vec3& v) { return OrderedJson::array({v.x(), v.y(), v.z()}); }
+
+OrderedJson sweep_json(const SweepDef& def) {
+  OrderedJson j;
+  j["name"] = def.name;
+  j["radial_samples"] = def.rest.radial_count;
+  j["springs"] = springs_json(def.default_springs, nullptr);
+  j["force_scale"] = {{"rotational", def.rotational_scale}, {"radial", def.radial_scale}};
+  if (def.part) j["part"] = {{"root", vec_json(def.part->root)}, {"tip", vec_json(def.part->tip)}};
+  OrderedJson sections = OrderedJson::array();
+  for (int i = 0; i < def.rest.section_count(); ++i) {
+    OrderedJson s;
+    if (!def.section_names[i].empty()) s["name"] = def.section_names[i];
+    s["t"] = def.rest.t[i];
+    s["center"] = vec_json(def.rest.frames[i].center);
+    const Quat& q = def.rest.frames[i].rotation;
+    s["rotation"] = OrderedJson::array({q.x(), q.y(), q.z(), q.w()});
+    const auto radii = def.rest.section_radii(i);
+    s["radii"] = OrderedJson(std::vector<double>(radii.begin(), radii.end()));
+    OrderedJson overrides = springs_json(def.springs[i], &def.default_springs);
+    if (!overrides.empty()) s["springs"] = std::move(overrides);
+    sections.push_back(std::move(s));
+  }
+  j["sections"] = std::move(sections);
+  return j;
+}
+
+}  // namespace
+
+Rig parse_rig(const std::string& text, const std::string& source, const WarningSink& warn) {
+  const Json doc = parse_json_text(text, source);
+  const JsonReader r(source, warn);
+  r.object(doc, "", {"format", "version", "mesh", "sweeps", "scene"});
+  const std::string format = r.string(r.required(doc, "", "format"), "/format");
+  if (format != kFormatName) r.fail_at("/format", std::string("must be \"") + kFormatName + "\", got " + describe(doc["format"]));
+  const long long version = r.integer(r.required(doc, "", "version"), "/version", 1, 1 << 30);
+  if (version != Rig::kFormatVersion) {
+    fail(ErrorCategory::unsupported, source + ": /version: rig format version " + std::to_string(version) +
+                                         " is not supported (this build reads version " +
+                                         std::to_string(Rig::kFormatVersion) + ")");
+  }
+  Rig rig;
+  if (const Json* m = r.optional(doc, "mesh")) rig.mesh = r.string(*m, "/mesh");
+  const Json& sweeps = r.required(doc, "", "sweeps");
+  r.array(sweeps, "/sweeps");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < sweeps.size(); ++i) {
+    SweepDef def = read_sweep(r, sweeps[i], element("/sweeps", i));
+    if (!names.insert(def.name).second) r.fail_at(element("/sweeps", i) + "/name", "duplicate sweep name \"" + def.name + "\"");
+    // Whatever the reader let through must satisfy the evaluator's invariants.
+    if (const std::string why = check_shape(def.rest); !why.empty()) r.fail_at(element("/sweeps", i), why);
+    rig.sweeps.push_back(std::move(def));
+  }
+  return rig;
+}
+
+Rig read_rig(const std::filesystem::path& path, const WarningSink& warn) {
+  return parse_rig(read_file(path), path.string(), warn);
+}
+
+std::string format_rig(const Rig& rig) {
+  OrderedJson doc;
+  doc["format"] = kFormatName;
+  doc["version"] = Rig::kFormatVersion;
+  if (!rig.mesh.empty()) doc["mesh"] = rig.mesh;
+  OrderedJson sweeps = OrderedJson::array();
+  for (const SweepDef& def : rig.sweeps) sweeps.push_back(sweep_json(def));
+  doc["sweeps"] = std::move(sweeps);
+  return doc.dump(2) + "\n";
+}
+
+std::filesystem::path resolve_mesh_path(const std::filesystem::path& rig_path, const Rig& rig) {
+  const std::filesystem::path mesh(rig.mesh);
+  if (mesh.is_absolute()) return mesh;
+  return (rig_path.parent_path() / mesh).lexically_normal();
+}
+
+std::string mesh_path_for_rig(const std::filesystem::path& rig_path, const std::filesystem::path& mesh_path) {
+  namespace fs = std::filesystem;
+  const fs::path base = fs::absolute(rig_path).parent_path();
+  return fs::absolute(mesh_path).lexically_normal().lexically_relative(base.lexically_normal()).generic_string();
+}
+
+void write_rig(const std::filesystem::path& path, const Rig& rig) { write_file_atomically(path, format_rig(rig)); }
+
+}  // namespace sweep::io

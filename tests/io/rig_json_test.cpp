@@ -1,0 +1,172 @@
+// The rig file: round trip, and every kind of bad input answered with the JSON pointer.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "fp_guard.h"
+#include "io/atomic_file.h"
+#include "io/rig_json.h"
+
+namespace sweep::io {
+namespace {
+
+// A two-section rig with every optional member used.
+Rig small_rig() {
+  SweepShape s;
+  s.radial_count = 3;
+  s.t = {0.0, 1.5};
+  s.frames = {{Quat::Identity(), Vec3(0, 0, 0)},
+              {Quat(Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized())), Vec3(0.1, 0.2, 1.5)}};
+  s.radii = {0.5, 0.6, 0.7, 0.4, 0.45, 0.5};
+  SweepDef def = make_sweep("tail", s);
+  def.section_names = {"root", ""};
+  def.springs[1].bend.frequency_hz = 4.25;
+  def.rotational_scale = 0.75;
+  def.part = PartSeeds{Vec3(0, 0, -0.1), Vec3(0, 0, 1.6)};
+  Rig rig;
+  rig.mesh = "../meshes/tube.obj";
+  rig.sweeps.push_back(def);
+  return rig;
+}
+
+TEST(RigJson, RoundTripKeepsEveryBit) {
+  const Rig rig = small_rig();
+  const std::string text = format_rig(rig);
+  const Rig back = parse_rig(text, "mem.json");
+  ASSERT_EQ(back.sweeps.size(), 1u);
+  const SweepDef& a = rig.sweeps[0];
+  const SweepDef& b = back.sweeps[0];
+  EXPECT_EQ(back.mesh, rig.mesh);
+  EXPECT_EQ(b.name, a.name);
+  EXPECT_EQ(b.rest.t, a.rest.t);
+  EXPECT_EQ(b.rest.radii, a.rest.radii);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(b.rest.frames[i].center, a.rest.frames[i].center);
+    EXPECT_EQ(b.rest.frames[i].rotation.coeffs(), a.rest.frames[i].rotation.coeffs());
+    EXPECT_EQ(b.springs[i], a.springs[i]);
+  }
+  EXPECT_EQ(b.section_names, a.section_names);
+  EXPECT_EQ(b.rotational_scale, 0.75);
+  ASSERT_TRUE(b.part.has_value());
+  EXPECT_EQ(b.part->tip, a.part->tip);
+  EXPECT_EQ(format_rig(back), text);  // byte-identical when written again
+}
+
+// Parses `text`, expects a bad-input error whose message contains `expected`.
+void expect_bad(const std::string& text, const std::string& expected,
+                ErrorCategory category = ErrorCategory::bad_input) {
+  try {
+    parse_rig(text, "rig.json");
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.category(), category) << e.what();
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << "message: " << e.what();
+  }
+}
+
+// The small rig's text with one JSON-pointer location replaced.
+std::string with(const std::string& pointer, const nlohmann::json& value) {
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(format_rig(small_rig()));
+  doc[nlohmann::ordered_json::json_pointer(pointer)] = value;
+  return doc.dump();
+}
+
+TEST(RigJson, MalformedJsonNamesLineAndColumn) {
+  expect_bad("{\n  \"format\": \"sweep-rig\",\n  \"version\": 1,,\n}", "rig.json:3:");
+  expect_bad("", "rig.json:1:1: empty file");
+}
+
+TEST(RigJson, WrongValuesNameTheirPointer) {
+  expect_bad(with("/sweeps/0/sections/1/radii/2", -1), "rig.json: /sweeps/0/sections/1/radii/2: must be a positive number, got -1");
+  expect_bad(with("/sweeps/0/sections/1/radii/0", "wide"), "/sweeps/0/sections/1/radii/0: must be a number, got \"wide\"");
+  expect_bad(with("/sweeps/0/radial_samples", 2), "/sweeps/0/radial_samples: must be between 3");
+  expect_bad(with("/sweeps/0/sections/1/t", 0.0), "/sweeps/0/sections/1/t: must be greater than the previous");
+  expect_bad(with("/sweeps/0/sections/0/t", 0.5), "/sweeps/0/sections/0/t: the first section's t must be 0");
+  expect_bad(with("/sweeps/0/sections/1/rotation", nlohmann::json::array({0, 0, 0, 2})), "/sweeps/0/sections/1/rotation: must be a unit quaternion");
+  expect_bad(with("/sweeps/0/sections/1/center", nlohmann::json::array({0, 0})), "/sweeps/0/sections/1/center: must be an array of 3 numbers");
+  expect_bad(with("/sweeps/0/springs/bend/mass", -2), "/sweeps/0/springs/bend/mass: must be a positive number, got -2");
+  expect_bad(with("/sweeps/0/springs/radial/damping_ratio", -0.1), "/sweeps/0/springs/radial/damping_ratio: must not be negative");
+  expect_bad(with("/sweeps/0/sections/1/springs/twist/frequency_hz", 0), "/sweeps/0/sections/1/springs/twist/frequency_hz: must be a positive number");
+  expect_bad(with("/sweeps/0/sections/1/radii", nlohmann::json::array({1, 2})), "/sweeps/0/sections/1/radii: expected 3 radii");
+  expect_bad(with("/format", "other"), "/format: must be \"sweep-rig\"");
+  expect_bad(with("/version", 7), "/version: rig format version 7 is not supported", ErrorCategory::unsupported);
+  expect_bad(with("/sweeps", nlohmann::json::object()), "/sweeps: must be an array, got an object");
+}
+
+TEST(RigJson, MissingMembersAreNamed) {
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(format_rig(small_rig()));
+  doc["sweeps"][0]["sections"][1].erase("center");
+  expect_bad(doc.dump(), "/sweeps/0/sections/1: missing required member \"center\"");
+  doc = nlohmann::ordered_json::parse(format_rig(small_rig()));
+  doc["sweeps"][0]["sections"].erase(1);
+  expect_bad(doc.dump(), "/sweeps/0/sections: a sweep needs at least 2 key sections, got 1");
+}
+
+TEST(RigJson, DuplicateNamesAreRefused) {
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(format_rig(small_rig()));
+  doc["sweeps"].push_back(doc["sweeps"][0]);
+  expect_bad(doc.dump(), "/sweeps/1/name: duplicate sweep name \"tail\"");
+}
+
+TEST(RigJson, OutOfRangeNumbersAreRefusedNotInfinite) {
+  test::FpTrapsOff traps_off;  // the parser's strtod overflows on purpose here
+  std::string text = format_rig(small_rig());
+  const std::string needle = "\"rotational\": 0.75";
+  text.replace(text.find(needle), needle.size(), "\"rotational\": 1e999");
+  expect_bad(text, "rig.json: number overflow parsing '1e999'");
+}
+
+TEST(RigJson, UnknownMembersAreWarningsWithTheirName) {
+  std::vector<std::string> warnings;
+  const Rig rig = parse_rig(with("/sweeps/0/sections/0/colour", "red"), "rig.json",
+                            [&](const std::string& w) { warnings.push_back(w); });
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], "rig.json: /sweeps/0/sections/0/colour: unknown member \"colour\" ignored");
+  EXPECT_EQ(rig.sweeps.size(), 1u);
+}
+
+TEST(RigJson, OverridesApplyOverTheSweepDefaults) {
+  const Rig rig = parse_rig(with("/sweeps/0/springs/radial/frequency_hz", 9.5), "rig.json");
+  const SweepDef& def = rig.sweeps[0];
+  EXPECT_EQ(def.default_springs.radial.frequency_hz, 9.5);
+  EXPECT_EQ(def.springs[0].radial.frequency_hz, 9.5);  // inherited
+  EXPECT_EQ(def.springs[1].radial.frequency_hz, 9.5);
+  EXPECT_EQ(def.springs[1].bend.frequency_hz, 4.25);   // the section's own override stays
+  EXPECT_EQ(def.springs[0].bend.frequency_hz, def.default_springs.bend.frequency_hz);
+}
+
+TEST(RigJson, FilesAreWrittenAtomicallyAndMissingFilesNamed) {
+  const auto dir = std::filesystem::temp_directory_path() / "sweep_rig_json_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  write_rig(dir / "a.rig.json", small_rig());
+  EXPECT_EQ(read_rig(dir / "a.rig.json").sweeps[0].name, "tail");
+  // Nothing but the file itself is left in the folder (no temporary).
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
+  try {
+    read_rig(dir / "missing.json");
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.category(), ErrorCategory::bad_input);
+    EXPECT_NE(std::string(e.what()).find("missing.json: no such file"), std::string::npos);
+  }
+  try {
+    write_rig(dir / "no-such-dir" / "b.json", small_rig());
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.category(), ErrorCategory::output);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(RigJson, MeshPathIsRelativeToTheRigFile) {
+  Rig rig;
+  rig.mesh = mesh_path_for_rig("/a/rigs/x.json", "/a/meshes/m.obj");
+  EXPECT_EQ(rig.mesh, "../meshes/m.obj");
+  EXPECT_EQ(resolve_mesh_path("/a/rigs/x.json", rig), std::filesystem::path("/a/meshes/m.obj"));
+}
+
+}  // namespace
+}  // namespace sweep::io
