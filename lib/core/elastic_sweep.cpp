@@ -192,6 +192,14 @@ double ElasticSweep::max_speed() const {
   return s;
 }
 
+double ElasticSweep::max_displacement() const {
+  double d = 0;
+  for (const Bank* b : {&positional_, &rotational_, &radial_}) {
+    for (double x : b->x) d = std::max(d, std::abs(x));
+  }
+  return d;
+}
+
 bool ElasticSweep::is_finite() const {
   for (const Bank* b : {&positional_, &rotational_, &radial_}) {
     if (!all_finite(b->x) || !all_finite(b->v)) return false;

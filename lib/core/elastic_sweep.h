@@ -52,6 +52,7 @@ class ElasticSweep {
 
   double energy() const;     // Σ ½ m v² + ½ k x² over every spring (force potential not counted)
   double max_speed() const;  // largest |v| over every spring coordinate
+  double max_displacement() const;  // largest |x| over every spring coordinate
   bool is_finite() const;    // false once any state is NaN or Inf (a diverged integrator)
 
   // Which spring kinds have ever been driven (a kind never driven is not stepped).

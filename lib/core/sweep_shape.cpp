@@ -106,6 +106,25 @@ double radius_at(const SweepShape& shape, double theta, double t) {
   return std::max(r, floor);
 }
 
+void radii_at_samples(const SweepShape& shape, double t, std::span<double> out) {
+  const SpanCoord sc = locate_span(shape, t);
+  const int k = shape.section_count(), n = shape.radial_count;
+  const int i0 = sc.span, i1 = sc.span + 1;
+  const int lo0 = std::max(i0 - 1, 0), hi0 = std::min(i0 + 1, k - 1);
+  const int lo1 = std::max(i1 - 1, 0), hi1 = std::min(i1 + 1, k - 1);
+  const double h = shape.t[i1] - shape.t[i0];
+  const double g0 = h / (shape.t[hi0] - shape.t[lo0]), g1 = h / (shape.t[hi1] - shape.t[lo1]);
+  const Hermite w(sc.u);
+  for (int j = 0; j < n; ++j) {
+    // At a sample angle the periodic Catmull-Rom in θ is the sample itself; what is left is the
+    // Hermite in t with finite-difference slopes, exactly as radius_at does it.
+    const double r0 = shape.radius_sample(i0, j), r1 = shape.radius_sample(i1, j);
+    const double m0 = g0 * (shape.radius_sample(hi0, j) - shape.radius_sample(lo0, j));
+    const double m1 = g1 * (shape.radius_sample(hi1, j) - shape.radius_sample(lo1, j));
+    out[j] = w.h00 * r0 + w.h10 * m0 + w.h01 * r1 + w.h11 * m1;
+  }
+}
+
 Vec3 surface_point(const SweepShape& shape, double theta, double t) {
   const Frame f = frame_at(shape, t);
   const double r = radius_at(shape, theta, t);

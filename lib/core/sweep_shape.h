@@ -57,6 +57,10 @@ Frame frame_at(const SweepShape& shape, double t);       // [R(t) | C(t)]
 double radius_at(const SweepShape& shape, double theta, double t);  // r(θ,t)
 Vec3 surface_point(const SweepShape& shape, double theta, double t);  // S(θ,t)
 
+// r(θ_j, t) for every sample angle θ_j at once (out.size() == n), as radius_at gives them but
+// without the floor: the fast deformation path tabulates these at its stations.
+void radii_at_samples(const SweepShape& shape, double t, std::span<double> out);
+
 // Checks the invariants evaluation relies on; returns an empty string when they hold, otherwise
 // what is wrong (used by loaders to turn bad data into messages rather than asserts).
 std::string check_shape(const SweepShape& shape);

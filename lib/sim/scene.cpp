@@ -1,0 +1,150 @@
+#include "sim/scene.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+
+namespace sweep::sim {
+namespace {
+
+using io::element;
+using io::Json;
+using io::member;
+
+constexpr double kMaxDuration = 24 * 3600.0;  // s: a day of animation is far beyond any bake
+constexpr double kMaxFps = 10000.0;
+constexpr int kMaxSubsteps = 100000;
+
+std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::string& ptr) {
+  r.array(v, ptr);
+  std::uint8_t mask = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const std::string name = r.string(v[i], element(ptr, i));
+    if (name == "rotational") {
+      mask |= kRotational;
+    } else if (name == "radial") {
+      mask |= kRadial;
+    } else if (name == "positional") {
+      mask |= kPositional;
+    } else {
+      r.fail_at(element(ptr, i), "unknown component \"" + name + "\" (expected rotational, radial or positional)");
+    }
+  }
+  if (mask == 0) r.fail_at(ptr, "must name at least one component");
+  return mask;
+}
+
+SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr, const Rig& rig) {
+  r.object(v, ptr, {"sweep", "point", "t", "theta", "vector", "start", "end", "components", "sections", "moment"});
+  SceneForce f;
+  f.sweep = r.string(r.required(v, ptr, "sweep"), member(ptr, "sweep"));
+  for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
+    if (rig.sweeps[i].name == f.sweep) f.sweep_index = static_cast<int>(i);
+  }
+  if (f.sweep_index < 0) r.fail_at(member(ptr, "sweep"), "the rig has no sweep named \"" + f.sweep + "\"");
+  const SweepDef& def = rig.sweeps[f.sweep_index];
+
+  const Json* point = r.optional(v, "point");
+  const Json* t = r.optional(v, "t");
+  const Json* theta = r.optional(v, "theta");
+  if (point && (t || theta)) r.fail_at(ptr, "give either \"point\" or \"t\" and \"theta\", not both");
+  if (point) {
+    f.spec.at_world_point = true;
+    f.spec.point = r.vec3(*point, member(ptr, "point"));
+  } else {
+    if (!t || !theta) r.fail_at(ptr, "missing the place: \"point\", or \"t\" and \"theta\"");
+    const double frac = r.number(*t, member(ptr, "t"));
+    if (frac < 0 || frac > 1) r.fail_at(member(ptr, "t"), "must be between 0 (root) and 1 (tip), got " + io::describe(*t));
+    f.spec.t = frac * def.rest.length();
+    f.spec.theta = r.number(*theta, member(ptr, "theta"));
+  }
+  f.spec.vector = r.vec3(r.required(v, ptr, "vector"), member(ptr, "vector"));
+  f.start = r.non_negative(r.required(v, ptr, "start"), member(ptr, "start"));
+  f.end = f.start;
+  if (const Json* e = r.optional(v, "end")) f.end = r.number(*e, member(ptr, "end"));
+  if (f.end < f.start) r.fail_at(member(ptr, "end"), "must not be before \"start\"");
+  if (const Json* c = r.optional(v, "components")) f.spec.components = read_components(r, *c, member(ptr, "components"));
+  if (const Json* s = r.optional(v, "sections")) {
+    const std::string sp = member(ptr, "sections");
+    if (s->is_number_integer()) {
+      f.spec.target = RotationTarget::section;
+      f.spec.target_section = static_cast<int>(r.integer(*s, sp, 1, def.rest.section_count() - 1));
+    } else {
+      const std::string name = r.string(*s, sp);
+      if (name == "nearest") {
+        f.spec.target = RotationTarget::nearest;
+      } else if (name == "chain") {
+        f.spec.target = RotationTarget::chain;
+      } else {
+        const int i = def.section_index(name);
+        if (i < 0) r.fail_at(sp, "expected \"nearest\", \"chain\", or a section of sweep \"" + def.name + "\"; it has no section \"" + name + "\"");
+        if (i == 0) r.fail_at(sp, "section \"" + name + "\" is the root, which is fixed to the body");
+        f.spec.target = RotationTarget::section;
+        f.spec.target_section = i;
+      }
+    }
+  }
+  if (const Json* m = r.optional(v, "moment")) {
+    const std::string name = r.string(*m, member(ptr, "moment"));
+    if (name == "scaled") {
+      f.spec.moment = MomentModel::scaled;
+    } else if (name == "physical") {
+      f.spec.moment = MomentModel::physical;
+    } else {
+      r.fail_at(member(ptr, "moment"), "must be \"scaled\" or \"physical\", got " + io::describe(*m));
+    }
+  }
+  return f;
+}
+
+}  // namespace
+
+int Scene::frame_count() const { return static_cast<int>(std::floor(duration * fps + 1e-9)) + 1; }
+
+Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r, const Rig& rig) {
+  r.object(json, pointer, {"format", "version", "duration", "fps", "substeps", "integrator", "forces"});
+  Scene scene;
+  const bool own_file = pointer.empty();
+  if (own_file) {
+    const std::string format = r.string(r.required(json, pointer, "format"), "/format");
+    if (format != "sweep-scene") r.fail_at("/format", "must be \"sweep-scene\", got " + io::describe(json["format"]));
+  }
+  if (const Json* version = own_file ? &r.required(json, pointer, "version") : r.optional(json, "version")) {
+    const long long v = r.integer(*version, member(pointer, "version"), 1, 1 << 30);
+    if (v != Scene::kFormatVersion) {
+      fail(ErrorCategory::unsupported, r.source() + ": " + member(pointer, "version") + ": scene format version " +
+                                           std::to_string(v) + " is not supported (this build reads version 1)");
+    }
+  }
+  scene.duration = r.positive(r.required(json, pointer, "duration"), member(pointer, "duration"));
+  if (scene.duration > kMaxDuration) r.fail_at(member(pointer, "duration"), "must be at most 86400 s");
+  scene.fps = r.positive(r.required(json, pointer, "fps"), member(pointer, "fps"));
+  if (scene.fps > kMaxFps) r.fail_at(member(pointer, "fps"), "must be at most 10000");
+  if (const Json* s = r.optional(json, "substeps")) {
+    scene.substeps = static_cast<int>(r.integer(*s, member(pointer, "substeps"), 1, kMaxSubsteps));
+  }
+  if (const Json* i = r.optional(json, "integrator")) {
+    const std::string name = r.string(*i, member(pointer, "integrator"));
+    if (!parse_integrator(name, &scene.integrator)) {
+      r.fail_at(member(pointer, "integrator"), "must be \"exact\", \"semi-implicit-euler\" or \"rk4\", got " + io::describe(*i));
+    }
+  }
+  const std::string fp = member(pointer, "forces");
+  const Json& forces = r.required(json, pointer, "forces");
+  r.array(forces, fp);
+  for (std::size_t i = 0; i < forces.size(); ++i) scene.forces.push_back(read_force(r, forces[i], element(fp, i), rig));
+  return scene;
+}
+
+Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn) {
+  const Json doc = io::parse_json_text(io::read_file(path), path.string());
+  const io::JsonReader r(path.string(), warn);
+  if (!doc.is_object()) r.fail_at("", "must be a JSON object");
+  // A rig file that carries its scene.
+  if (doc.contains("scene") && doc.value("format", "") == "sweep-rig") return parse_scene(doc["scene"], "/scene", r, rig);
+  if (doc.value("format", "") == "sweep-rig") r.fail_at("", "this rig file has no \"scene\"; give a scene file");
+  return parse_scene(doc, "", r, rig);
+}
+
+}  // namespace sweep::sim

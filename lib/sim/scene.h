@@ -1,0 +1,46 @@
+#pragma once
+// A simulation scene (schema: rigs/scene.schema.json): how long, at what frame rate, and which
+// forces act where and when. It sits in its own file ("format": "sweep-scene") or under "scene"
+// in the rig file. Validated like the rig: every error names the file and the JSON pointer.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/force.h"
+#include "core/oscillator.h"
+#include "core/rig.h"
+#include "io/json_reader.h"
+
+namespace sweep::sim {
+
+struct SceneForce {
+  std::string sweep;  // name of the sweep it acts on
+  int sweep_index = -1;  // resolved against the rig
+  // The force split (place, vector, components, rotation target), with t in the sweep's own
+  // arc length (the file gives it as a fraction of the length, 0 = root, 1 = tip).
+  ForceSpec spec;
+  double start = 0;  // s
+  double end = 0;    // s; end == start makes it an impulse of vector·1 s (N·s) at `start`
+  bool impulse() const { return end == start; }
+};
+
+struct Scene {
+  static constexpr int kFormatVersion = 1;
+  double duration = 2.0;  // s
+  double fps = 30;        // output frames per second
+  int substeps = 4;       // internal steps per output frame (the step is 1 / (fps · substeps))
+  Integrator integrator = Integrator::exact;
+  std::vector<SceneForce> forces;
+
+  int frame_count() const;  // frames at 0, 1/fps, ..., duration
+  double step_seconds() const { return 1.0 / (fps * substeps); }
+};
+
+// `json` is the scene object; `pointer` where it sits in its file ("" or "/scene"). Forces are
+// resolved against `rig` (sweep and section names, t fraction to arc length).
+Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader, const Rig& rig);
+
+// A scene file (format "sweep-scene"), or a rig file that holds one under "scene".
+Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn = {});
+
+}  // namespace sweep::sim

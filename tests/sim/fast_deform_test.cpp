@@ -1,0 +1,108 @@
+// The fast deformation path against the exact per-vertex path.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "core/elastic_sweep.h"
+#include "core/sample_sweeps.h"
+#include "sim/fast_deform.h"
+
+namespace sweep::sim {
+namespace {
+
+// Points inside and on a sweep, with their sweep coordinates (the binding would give these).
+struct Cloud {
+  BoundVertices bound;
+  std::vector<Vec3f> rest;
+};
+Cloud cloud_on(const SweepShape& shape, int count) {
+  Cloud c;
+  const SweepLocator locator(shape);
+  for (int v = 0; v < count; ++v) {
+    // A deterministic spread over t, θ and depth, including cap points beyond both ends.
+    const double t = -0.05 * shape.length() + 1.1 * shape.length() * ((v * 7919) % count) / count;
+    const double theta = 2 * std::numbers::pi * ((v * 104729) % 997) / 997.0;
+    const double s = 0.2 + 0.8 * ((v * 31) % 101) / 100.0;
+    const double tc = std::clamp(t, 0.0, shape.length());
+    const Frame f = frame_at(shape, tc);
+    const double r = s * radius_at(shape, theta, tc);
+    const Vec3 p = f.to_world(Vec3(r * std::cos(theta), r * std::sin(theta), t - tc));
+    c.bound.vertex.push_back(static_cast<std::uint32_t>(v));
+    c.bound.coords.push_back(locator.locate(p));
+    c.bound.weight.push_back(1.0f);
+    c.rest.push_back(p.cast<float>());
+  }
+  return c;
+}
+
+double worst_error(const SweepShape& deformed, const Cloud& c, FastDeformer& fast) {
+  std::vector<Vec3f> out = c.rest;
+  fast.deform(deformed, out);
+  double worst = 0;
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    const Vec3 exact = deform_point(deformed, c.bound.coords[v]);
+    worst = std::max(worst, (out[v].cast<double>() - exact).norm());
+  }
+  return worst;
+}
+
+TEST(FastDeform, RestIsReproducedToFloatPrecision) {
+  const SweepShape shape = test::irregular_shape(8, 8);
+  const Cloud c = cloud_on(shape, 3000);
+  FastDeformer fast(shape, c.bound, c.rest, 8);
+  std::vector<Vec3f> out(c.rest.size(), Vec3f::Zero());
+  fast.deform(shape, out);
+  double worst = 0;
+  for (std::size_t v = 0; v < out.size(); ++v) worst = std::max(worst, double((out[v] - c.rest[v]).norm()));
+  // Stations interpolate linearly in t, so between stations the rest pose is not exact: the error
+  // is the chord error of the centre curve and frames, which falls as (station spacing)².
+  EXPECT_LT(worst, 1e-3 * shape.length());
+}
+
+TEST(FastDeform, ErrorAgainstTheExactPathFallsQuadraticallyWithStations) {
+  ElasticSweep sweep(test::sweep_def(test::irregular_shape(8, 8)));
+  sweep.set_section_pose(3, Vec3(0.05, 0, 0), Vec3(0.3, 0.1, 0.4));
+  sweep.set_radial_offset(5, 2, 0.15);
+  const Cloud c = cloud_on(sweep.rest(), 4000);
+  double previous = 0;
+  for (int stations : {2, 4, 8, 16}) {
+    FastDeformer fast(sweep.rest(), c.bound, c.rest, stations);
+    const double e = worst_error(sweep.deformed(), c, fast);
+    if (previous > 0) {
+      EXPECT_LT(e, previous / 3) << stations << " stations";  // ~4× per doubling
+    }
+    previous = e;
+  }
+  EXPECT_LT(previous, 2e-4 * sweep.rest().length());
+}
+
+TEST(FastDeform, BlendWeightMixesRestAndSweep) {
+  ElasticSweep sweep(test::sweep_def(test::straight_shape(5, 6, 0.5)));
+  Cloud c = cloud_on(sweep.rest(), 50);
+  c.bound.weight[7] = 0.0f;
+  c.bound.weight[8] = 0.5f;
+  sweep.set_section_pose(1, Vec3::Zero(), Vec3(0.5, 0, 0));
+  FastDeformer fast(sweep.rest(), c.bound, c.rest, 8);
+  std::vector<Vec3f> out = c.rest;
+  fast.deform(sweep.deformed(), out);
+  EXPECT_EQ(out[7], c.rest[7]);
+  const Vec3f full = deform_point(sweep.deformed(), c.bound.coords[8]).cast<float>();
+  EXPECT_LT((out[8] - 0.5f * (full + c.rest[8])).norm(), 1e-3f);
+}
+
+TEST(FastDeform, OnlyItsOwnVerticesAreWritten) {
+  const SweepShape shape = test::straight_shape(4, 6, 0.5);
+  Cloud c = cloud_on(shape, 20);
+  // Vertex indices 100.. in a 200-vertex mesh.
+  for (auto& v : c.bound.vertex) v += 100;
+  std::vector<Vec3f> rest(200, Vec3f(9, 9, 9));
+  FastDeformer fast(shape, c.bound, rest, 4);
+  std::vector<Vec3f> out(200, Vec3f(7, 7, 7));
+  fast.deform(shape, out);
+  for (int v = 0; v < 100; ++v) EXPECT_EQ(out[v], Vec3f(7, 7, 7));
+  for (int v = 120; v < 200; ++v) EXPECT_EQ(out[v], Vec3f(7, 7, 7));
+  EXPECT_NE(out[100], Vec3f(7, 7, 7));
+}
+
+}  // namespace
+}  // namespace sweep::sim
