@@ -12,7 +12,7 @@ constexpr int kCenter = 0, kAxisX = 3, kAxisY = 6, kAxisZ = 9, kRadii = 12;
 
 }  // namespace
 
-FastDeformer::FastDeformer(const SweepShape& rest, const BoundVertices& bound, std::span<const Vec3f> rest_positions,
+FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound, std::span<const Vec3f> rest_positions,
                            int stations_per_span)
     : n_(rest.radial_count), row_(kRadii + rest.radial_count + 3) {
   assert(stations_per_span >= 1 && rest.radial_count + 3 <= 65535);
@@ -28,11 +28,11 @@ FastDeformer::FastDeformer(const SweepShape& rest, const BoundVertices& bound, s
 
   // Which station span each vertex falls in, then a counting sort by span (stable: mesh order is
   // kept within a span, which keeps the writes back to mesh order as local as they can be).
-  const std::size_t count = bound.vertex.size();
+  const std::size_t count = bound.size();
   const std::size_t spans = station_t_.size() - 1;
   std::vector<std::uint32_t> span_of(count);
   for (std::size_t v = 0; v < count; ++v) {
-    const double t = bound.coords[v].t;
+    const double t = bound.t[v];
     const auto it = std::upper_bound(station_t_.begin(), station_t_.end(), t);
     const std::size_t p = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - station_t_.begin() - 1, 0), spans - 1);
     span_of[v] = static_cast<std::uint32_t>(p);
@@ -55,8 +55,8 @@ FastDeformer::FastDeformer(const SweepShape& rest, const BoundVertices& bound, s
   for (std::size_t v = 0; v < count; ++v) {
     const std::uint32_t p = span_of[v];
     const std::uint32_t o = fill[p]++;
-    const SweepCoords& c = bound.coords[v];
-    vertex_[o] = bound.vertex[v];
+    const SweepCoords c = bound.coords(v);
+    vertex_[o] = bound.vertices[v];
     const double t0 = station_t_[p], t1 = station_t_[p + 1];
     u_[o] = static_cast<float>(std::clamp((c.t - t0) / (t1 - t0), 0.0, 1.0));
     a_[o] = static_cast<float>(c.s * std::cos(c.theta));
@@ -74,7 +74,7 @@ FastDeformer::FastDeformer(const SweepShape& rest, const BoundVertices& bound, s
     if (!bound.weight.empty() && bound.weight[v] < 1.0f) {
       blend_index_.push_back(o);
       blend_weight_.push_back(bound.weight[v]);
-      blend_rest_.push_back(rest_positions[bound.vertex[v]]);
+      blend_rest_.push_back(rest_positions[bound.vertices[v]]);
     }
   }
 }

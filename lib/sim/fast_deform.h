@@ -14,19 +14,12 @@
 #include <span>
 #include <vector>
 
-#include "core/locate.h"
+#include "bind/bind.h"
 #include "core/sweep_shape.h"
 
 namespace sweep::sim {
 
 using Vec3f = Eigen::Vector3f;
-
-// One sweep's bound vertices, as a binding gives them.
-struct BoundVertices {
-  std::vector<std::uint32_t> vertex;  // mesh vertex index
-  std::vector<SweepCoords> coords;    // sweep coordinates of each
-  std::vector<float> weight;          // blend weight: 1 follows the sweep, 0 stays at rest
-};
 
 // Below this many vertices the loop runs on one thread: waking a thread team costs tens of µs on
 // these machines (DESIGN.md §6), more than the loop itself.
@@ -35,7 +28,7 @@ inline constexpr std::size_t kParallelVertexThreshold = 40000;
 class FastDeformer {
  public:
   // `rest_positions` is the whole mesh in float (blend-zone vertices need their rest position).
-  FastDeformer(const SweepShape& rest, const BoundVertices& bound, std::span<const Vec3f> rest_positions,
+  FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound, std::span<const Vec3f> rest_positions,
                int stations_per_span = 8);
 
   // Writes the deformed positions of this sweep's vertices into `out` (the whole mesh, mesh order).

@@ -12,7 +12,7 @@ namespace {
 
 // Points inside and on a sweep, with their sweep coordinates (the binding would give these).
 struct Cloud {
-  BoundVertices bound;
+  bind::SweepBinding bound;
   std::vector<Vec3f> rest;
 };
 Cloud cloud_on(const SweepShape& shape, int count) {
@@ -27,8 +27,12 @@ Cloud cloud_on(const SweepShape& shape, int count) {
     const Frame f = frame_at(shape, tc);
     const double r = s * radius_at(shape, theta, tc);
     const Vec3 p = f.to_world(Vec3(r * std::cos(theta), r * std::sin(theta), t - tc));
-    c.bound.vertex.push_back(static_cast<std::uint32_t>(v));
-    c.bound.coords.push_back(locator.locate(p));
+    const SweepCoords sc = locator.locate(p);
+    c.bound.vertices.push_back(static_cast<std::uint32_t>(v));
+    c.bound.t.push_back(static_cast<float>(sc.t));
+    c.bound.theta.push_back(static_cast<float>(sc.theta));
+    c.bound.s.push_back(static_cast<float>(sc.s));
+    c.bound.z.push_back(static_cast<float>(sc.z));
     c.bound.weight.push_back(1.0f);
     c.rest.push_back(p.cast<float>());
   }
@@ -40,7 +44,7 @@ double worst_error(const SweepShape& deformed, const Cloud& c, FastDeformer& fas
   fast.deform(deformed, out);
   double worst = 0;
   for (std::size_t v = 0; v < out.size(); ++v) {
-    const Vec3 exact = deform_point(deformed, c.bound.coords[v]);
+    const Vec3 exact = deform_point(deformed, c.bound.coords(v));
     worst = std::max(worst, (out[v].cast<double>() - exact).norm());
   }
   return worst;
@@ -86,7 +90,7 @@ TEST(FastDeform, BlendWeightMixesRestAndSweep) {
   std::vector<Vec3f> out = c.rest;
   fast.deform(sweep.deformed(), out);
   EXPECT_EQ(out[7], c.rest[7]);
-  const Vec3f full = deform_point(sweep.deformed(), c.bound.coords[8]).cast<float>();
+  const Vec3f full = deform_point(sweep.deformed(), c.bound.coords(8)).cast<float>();
   EXPECT_LT((out[8] - 0.5f * (full + c.rest[8])).norm(), 1e-3f);
 }
 
@@ -94,7 +98,7 @@ TEST(FastDeform, OnlyItsOwnVerticesAreWritten) {
   const SweepShape shape = test::straight_shape(4, 6, 0.5);
   Cloud c = cloud_on(shape, 20);
   // Vertex indices 100.. in a 200-vertex mesh.
-  for (auto& v : c.bound.vertex) v += 100;
+  for (auto& v : c.bound.vertices) v += 100;
   std::vector<Vec3f> rest(200, Vec3f(9, 9, 9));
   FastDeformer fast(shape, c.bound, rest, 4);
   std::vector<Vec3f> out(200, Vec3f(7, 7, 7));

@@ -1,0 +1,108 @@
+#include "sim/bake_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+
+#include "bind/deform.h"
+#include "core/error.h"
+#include "io/bake.h"
+#include "sim/fast_deform.h"
+
+namespace sweep::sim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding, const Scene& scene,
+                    const BakeOptions& options) {
+  if (options.outputs.empty()) fail(ErrorCategory::usage, "no output file given");
+  if (options.stations_per_span < 1) fail(ErrorCategory::usage, "stations per span must be at least 1");
+  const std::size_t nv = mesh.vertex_count();
+  const int sweeps = static_cast<int>(rig.sweeps.size());
+
+  std::vector<Vec3f> rest(nv), positions(nv);
+  for (std::size_t v = 0; v < nv; ++v) rest[v] = mesh.positions[v].cast<float>();
+  positions = rest;
+
+  Simulator sim(rig, scene, options.sleep);
+  // Only driven sweeps' vertices can ever move: the writers are told, so glTF stores sparse
+  // targets and the others skip the rest.
+  std::vector<std::uint32_t> animated;
+  std::vector<std::unique_ptr<FastDeformer>> fast(sweeps);
+  BakeReport report;
+  for (int i = 0; i < sweeps; ++i) {
+    const bind::SweepBinding& table = binding.sweeps[i];
+    report.sweeps.push_back({rig.sweeps[i].name, sim.is_driven(i), 0, 0, table.size()});
+    if (!sim.is_driven(i)) continue;
+    animated.insert(animated.end(), table.vertices.begin(), table.vertices.end());
+    if (!options.exact) fast[i] = std::make_unique<FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
+  }
+  std::sort(animated.begin(), animated.end());
+
+  std::vector<std::unique_ptr<io::BakeWriter>> writers;
+  io::BakeInfo info;
+  info.frame_count = scene.frame_count();
+  info.fps = scene.fps;
+  info.animated_vertices = animated;
+  for (const auto& out : options.outputs) {
+    writers.push_back(io::make_bake_writer(out));
+    writers.back()->begin(mesh, info);
+  }
+
+  // The exact path rebuilds the whole mesh in double from the binding (the reference).
+  std::vector<Vec3> exact_out(options.exact ? nv : 0);
+  std::vector<const SweepShape*> shapes(sweeps);
+
+  report.frames = info.frame_count;
+  report.fps = scene.fps;
+  report.step_seconds = scene.step_seconds();
+  double max_displacement = 0;
+  for (int k = 0; k < info.frame_count; ++k) {
+    auto t0 = Clock::now();
+    if (k > 0) sim.advance_frame();
+    report.simulate_seconds += seconds_since(t0);
+
+    t0 = Clock::now();
+    FrameStats stats;
+    stats.time = k / scene.fps;
+    bool any_moved = false;
+    for (int i = 0; i < sweeps; ++i) {
+      shapes[i] = &sim.sweep(i).deformed();
+      if (k == 0 || !sim.moved_last_frame(i)) continue;
+      any_moved = true;
+      ++stats.awake_sweeps;
+      ++report.sweeps[i].frames_deformed;
+      if (fast[i]) fast[i]->deform(sim.sweep(i).deformed(), positions);
+    }
+    if (options.exact && any_moved) {
+      bind::deform_exact(binding, shapes, mesh.positions, exact_out);
+      for (std::uint32_t v : animated) positions[v] = exact_out[v].cast<float>();
+    }
+    if (any_moved) {
+      max_displacement = 0;
+      for (std::uint32_t v : animated) max_displacement = std::max(max_displacement, double((positions[v] - rest[v]).norm()));
+    }
+    stats.max_displacement = max_displacement;
+    report.deform_seconds += seconds_since(t0);
+
+    t0 = Clock::now();
+    for (auto& w : writers) w->frame(k, positions);
+    report.write_seconds += seconds_since(t0);
+    report.per_frame.push_back(stats);
+    if (options.progress) options.progress(k + 1, info.frame_count);
+  }
+  auto t0 = Clock::now();
+  for (auto& w : writers) {
+    w->finish();
+    for (const auto& f : w->files()) report.files.push_back(f);
+  }
+  report.write_seconds += seconds_since(t0);
+  for (int i = 0; i < sweeps; ++i) report.sweeps[i].steps = sim.steps_taken(i);
+  return report;
+}
+
+}  // namespace sweep::sim

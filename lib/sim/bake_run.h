@@ -1,0 +1,63 @@
+#pragma once
+// A whole bake: simulate a scene on a rig, deform the bound vertices every frame, and stream the
+// frames to one or more writers (.glb, .pc2, .obj). What sweep-sim runs; no console I/O here
+// (progress goes to a callback).
+//
+// Per frame: advance the simulator; re-deform only the sweeps whose shape changed (a sweep no force
+// reaches, or one asleep, keeps its last positions); hand all positions to every writer. Unbound
+// vertices are copied from the rest mesh once, at the start.
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bind/bind.h"
+#include "core/mesh.h"
+#include "core/rig.h"
+#include "sim/scene.h"
+#include "sim/simulator.h"
+
+namespace sweep::sim {
+
+struct BakeOptions {
+  std::vector<std::filesystem::path> outputs;  // chosen by extension: .glb, .pc2, .obj
+  bool exact = false;          // the per-vertex reference path instead of the fast station path
+  int stations_per_span = 8;   // fast path: stations per span (error falls as its square)
+  SleepSettings sleep;
+  // Called after each frame is written: (frames done, frames in all).
+  std::function<void(int, int)> progress;
+};
+
+struct FrameStats {
+  double time = 0;              // s
+  double max_displacement = 0;  // largest distance of any vertex from its rest position, mesh units
+  int awake_sweeps = 0;         // sweeps stepped during this frame
+};
+
+struct SweepBakeStats {
+  std::string name;
+  bool driven = false;        // some force reaches it (else never stepped nor deformed)
+  long long steps = 0;        // internal steps taken
+  int frames_deformed = 0;    // frames in which its vertices were rebuilt
+  std::size_t bound_vertex_count = 0;
+};
+
+struct BakeReport {
+  int frames = 0;
+  double fps = 0;
+  double step_seconds = 0;          // the internal step, s
+  std::vector<FrameStats> per_frame;
+  std::vector<SweepBakeStats> sweeps;
+  double simulate_seconds = 0;      // wall time stepping springs
+  double deform_seconds = 0;        // wall time rebuilding vertices
+  double write_seconds = 0;         // wall time in the writers
+  std::vector<std::filesystem::path> files;  // every file written
+};
+
+// Runs the bake. `binding` must match `mesh` and `rig` (bind::check_binding). Throws Error: bad
+// options (usage), divergence (diverged), unwritable outputs (output). On any error no output file
+// is left under its final name.
+BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding, const Scene& scene,
+                    const BakeOptions& options);
+
+}  // namespace sweep::sim

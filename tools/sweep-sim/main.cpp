@@ -1,0 +1,142 @@
+// sweep-sim: simulates the forces of a scene on a rig and bakes the animation of its bound mesh
+// to .glb (glTF 2.0 morph targets + animation), .pc2 (point cache) and/or .obj (a sequence).
+// Exit codes as in core/error.h: 1 usage, 2 bad input (including a stale binding), 3 unsupported,
+// 4 cannot write output, 5 simulation diverged.
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "bind/binding_file.h"
+#include "io/atomic_file.h"
+#include "io/mesh_io.h"
+#include "io/rig_json.h"
+#include "sim/bake_run.h"
+#include "sim/scene.h"
+#include "tools/common/tool_main.h"
+#include "tools/sweep-sim/progress.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Settings {
+  fs::path rig;                     // input rig (JSON); its mesh path is relative to it
+  fs::path binding;                 // empty = the rig's path with ".bind" (as sweep-bind writes it)
+  fs::path scene;                   // empty = the rig file's own "scene"
+  fs::path report;                  // JSON report; empty = none
+  std::vector<fs::path> outputs;    // .glb / .pc2 / .obj
+  std::string integrator;           // overrides the scene's; empty = the scene's
+  int substeps = 0;                 // overrides the scene's; 0 = the scene's
+  int threads = 0;                  // OpenMP threads; 0 = OpenMP's default
+  bool exact = false;               // per-vertex reference deformation instead of the fast path
+  int stations = 8;                 // fast path: stations per span
+  bool sleep = true;
+  bool quiet = false;
+};
+
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+void write_report(const Settings& s, const sweep::sim::BakeReport& r, double load_seconds, double total_seconds) {
+  nlohmann::ordered_json doc;
+  doc["format"] = "sweep-sim-report";
+  doc["version"] = 1;
+  doc["rig"] = s.rig.string();
+  doc["frames"] = r.frames;
+  doc["fps"] = r.fps;
+  doc["step_seconds"] = r.step_seconds;
+  doc["deformation"] = s.exact ? "exact" : "fast";
+  nlohmann::ordered_json sweeps = nlohmann::ordered_json::array();
+  for (const auto& st : r.sweeps) {
+    sweeps.push_back({{"name", st.name}, {"driven", st.driven}, {"steps", st.steps},
+                      {"frames_deformed", st.frames_deformed}, {"bound_vertex_count", st.bound_vertex_count}});
+  }
+  doc["sweeps"] = std::move(sweeps);
+  nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+  for (const auto& f : r.per_frame) {
+    frames.push_back({{"time", f.time}, {"max_displacement", f.max_displacement}, {"awake_sweeps", f.awake_sweeps}});
+  }
+  doc["per_frame"] = std::move(frames);
+  doc["seconds"] = {{"load", load_seconds},           {"simulate", r.simulate_seconds}, {"deform", r.deform_seconds},
+                    {"write", r.write_seconds},       {"total", total_seconds}};
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  for (const auto& f : r.files) files.push_back(f.string());
+  doc["files"] = std::move(files);
+  sweep::io::write_file_atomically(s.report, doc.dump(2) + "\n");
+}
+
+int run(const Settings& s) {
+  const Clock::time_point start = Clock::now();
+  if (s.threads > 0) omp_set_num_threads(s.threads);
+  const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
+  const sweep::Mesh mesh = sweep::io::read_mesh(sweep::io::resolve_mesh_path(s.rig, rig));
+  const fs::path binding_path = s.binding.empty() ? fs::path(s.rig).replace_extension(".bind") : s.binding;
+  const sweep::bind::Binding binding = sweep::bind::load_binding(binding_path, mesh, rig);
+  sweep::sim::Scene scene = sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
+  if (!s.integrator.empty() && !sweep::parse_integrator(s.integrator, &scene.integrator)) {
+    sweep::fail(sweep::ErrorCategory::usage, "--integrator: expected exact, semi-implicit-euler or rk4, got \"" + s.integrator + "\"");
+  }
+  if (s.substeps > 0) scene.substeps = s.substeps;
+  const double load_seconds = since(start);
+
+  sweep::sim::BakeOptions options;
+  options.outputs = s.outputs;
+  options.exact = s.exact;
+  options.stations_per_span = s.stations;
+  options.sleep.enabled = s.sleep;
+  sweep::tools::ProgressBar bar("baking");
+  if (!s.quiet) options.progress = [&](int done, int total) { bar.update(done, total); };
+  const sweep::sim::BakeReport report = sweep::sim::run_bake(mesh, rig, binding, scene, options);
+  bar.finish();
+  const double total = since(start);
+  if (!s.report.empty()) write_report(s, report, load_seconds, total);
+
+  if (!s.quiet) {
+    std::printf("baked %d frames (%.3g s at %.4g fps, step %.3g s) in %.2f s: simulate %.1f ms, deform %.1f ms, write %.1f ms\n",
+                report.frames, (report.frames - 1) / report.fps, report.fps, report.step_seconds, total,
+                report.simulate_seconds * 1e3, report.deform_seconds * 1e3, report.write_seconds * 1e3);
+    for (const auto& st : report.sweeps) {
+      std::printf("  %-12s %s, %lld steps, deformed in %d frames, %zu vertices\n", st.name.c_str(),
+                  st.driven ? "driven" : "no force reaches it: skipped", st.steps, st.frames_deformed,
+                  st.bound_vertex_count);
+    }
+    for (const auto& f : report.files) std::printf("wrote %s\n", f.string().c_str());
+    if (!s.report.empty()) std::printf("report %s\n", s.report.string().c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return sweep::tools::guarded_main([&] {
+    Settings s;
+    CLI::App app{"Simulate a scene's forces on a rig and bake the animation of its mesh", "sweep-sim"};
+    app.set_version_flag("--version", std::string("sweep-sim ") + SWEEP_VERSION);
+    app.add_option("rig", s.rig, "Rig file (from sweep-fit)")->required();
+    app.add_option("-o,--output", s.outputs, "Output: .glb, .pc2 or .obj (a numbered sequence); repeatable")->required();
+    app.add_option("-b,--binding", s.binding, "Binding file (default: the rig's path with .bind)");
+    app.add_option("-s,--scene", s.scene, "Scene file (default: the rig file's own \"scene\")");
+    app.add_option("--report", s.report, "Write a JSON report: frames, per-frame displacement, timings");
+    app.add_option("--integrator", s.integrator, "Override the scene's integrator: exact, semi-implicit-euler, rk4");
+    app.add_option("--substeps", s.substeps, "Override the scene's internal steps per frame")->check(CLI::Range(1, 100000));
+    app.add_option("--threads", s.threads, "Deformation threads (default: all cores)")->check(CLI::Range(1, 1024));
+    app.add_option("--stations", s.stations, "Fast path: stations per span (error falls as its square)")->check(CLI::Range(1, 1024));
+    app.add_flag("--exact", s.exact, "Deform with the exact per-vertex path (the reference; slower)");
+    app.add_flag("--no-sleep", [&](std::int64_t) { s.sleep = false; }, "Keep stepping sweeps whose motion has died out");
+    app.add_flag("-q,--quiet", s.quiet, "No summary and no progress bar");
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      return app.exit(e) == 0 ? 0 : sweep::exit_code(sweep::ErrorCategory::usage);
+    }
+    return run(s);
+  });
+}
