@@ -1,12 +1,25 @@
 #pragma once
 // Reading and writing meshes, always in the file's own vertex order where the format has one.
-//  - OFF, PLY, glTF/glb: assimp with no post-processing (it keeps the file's vertices);
-//  - OBJ: tinyobjloader (keeps the `v` array; assimp would unroll it per face corner);
-//  - STL, FBX and anything else assimp reads: welded by position in first-use order (these formats
-//    have no shared vertex list, so that order is the only one there is). See README.
-// Bad files raise sweep::Error (bad_input) naming the file and what is wrong; unsupported formats
-// raise ErrorCategory::unsupported.
+//  - OFF: our own strict reader (assimp's OFF loader silently clamps out-of-range face indices and
+//    zero-fills truncated files); double precision, '#' comments, OFF/COFF/NOFF/CNOFF/NCOFF
+//    headers.
+//  - OBJ: tinyobjloader (keeps the `v` array; assimp would unroll it per face corner) for the
+//    faces, with the `v` coordinates re-read exactly (std::from_chars) so NaN is caught by index
+//    and a written file reads back bit for bit. Faces stay polygons; `l` and `p` are ignored;
+//    tinyobjloader drops faces of fewer than 3 vertices.
+//  - PLY, glTF/glb: assimp with no post-processing, which keeps the stored vertices, their order
+//    and count, and the polygons (checked by tests/io). Single precision (assimp stores floats).
+//  - STL, FBX and anything else assimp reads: welded by exact position in first-use order (faces
+//    in file order, corners in face order; -0 and +0 are one position; vertices no face uses are
+//    dropped). These formats have no shared vertex list, so that order is the only one there is.
+// For every assimp format: the scene's meshes are concatenated in the scene's mesh order (welding
+// is per mesh, so separate meshes stay separate), each placed by the world transform of the first
+// node that refers to it (FBX stores local positions under unit-scale and axis nodes), and point
+// and line primitives are dropped. An identity transform is applied without arithmetic.
+// Bad files raise sweep::Error (bad_input) naming the file and what is wrong, as one line
+// "<path>: <what>"; unsupported formats raise ErrorCategory::unsupported.
 #include <filesystem>
+#include <string>
 
 #include "core/mesh.h"
 
@@ -21,5 +34,21 @@ void validate_mesh(const Mesh& mesh, const std::string& source);
 
 // Wavefront OBJ with `v` lines in vertex order and the mesh's polygons; deterministic bytes.
 void write_obj(const std::filesystem::path& path, const Mesh& mesh);
+
+// ASCII OFF ("OFF", a comment with the sweep format version, counts, vertices, polygons) and ASCII
+// PLY (double x y z, uint index lists), both with shortest round-trippable numbers.
+void write_off(const std::filesystem::path& path, const Mesh& mesh);
+void write_ply(const std::filesystem::path& path, const Mesh& mesh);
+
+// Chooses the writer by extension (.obj, .off, .ply, case-insensitive); anything else raises
+// Error(unsupported). All writers go through write_file_atomically and refuse a non-finite vertex
+// (Error(output), naming the vertex).
+void write_mesh(const std::filesystem::path& path, const Mesh& mesh);
+bool is_writable_mesh_extension(const std::filesystem::path& path);
+
+// The exact bytes the writers produce (deterministic: C locale, std::to_chars, file order).
+std::string obj_bytes(const Mesh& mesh);
+std::string off_bytes(const Mesh& mesh);
+std::string ply_bytes(const Mesh& mesh);
 
 }  // namespace sweep::io

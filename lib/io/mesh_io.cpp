@@ -1,0 +1,661 @@
+#include "io/mesh_io.h"
+
+#include <assimp/scene.h>
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <array>
+#include <assimp/Importer.hpp>
+#include <bit>
+#include <cfenv>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <string_view>
+#include <system_error>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+
+namespace sweep::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void bad(const std::string& source, const std::string& what) {
+  fail(ErrorCategory::bad_input, source + ": " + what);
+}
+
+std::string lower_extension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  if (!ext.empty() && ext.front() == '.') ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// One line of text for an error message: libraries report with embedded newlines.
+std::string one_line(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '\n' || c == '\r') {
+      if (!out.empty() && out.back() != ' ') out += ' ';
+    } else {
+      out += c;
+    }
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+// Shortest round-trippable text for a double, independent of the locale.
+void append_number(std::string& out, double value) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
+  if (ec != std::errc()) fail(ErrorCategory::internal, "cannot format a number");
+  out.append(buf, end);
+}
+
+void append_number(std::string& out, std::uint64_t value) {
+  char buf[24];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
+  if (ec != std::errc()) fail(ErrorCategory::internal, "cannot format a number");
+  out.append(buf, end);
+}
+
+// Eigen's allFinite() computes x - x, which raises FE_INVALID for an infinity; test element-wise.
+bool finite(const Vec3& p) {
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
+}
+
+std::string format_position(const Vec3& p) {
+  std::string s = "(";
+  for (int k = 0; k < 3; ++k) {
+    if (k) s += ", ";
+    append_number(s, p[k]);
+  }
+  return s + ")";
+}
+
+// Missing, not a regular file, unreadable or empty: each gets its own message.
+void check_input_file(const fs::path& path) {
+  const std::string source = path.string();
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) bad(source, "no such file");
+  if (fs::is_directory(st)) bad(source, "is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) bad(source, std::string("cannot open: ") + std::strerror(errno));
+  if (in.peek() == std::ifstream::traits_type::eof()) bad(source, "empty file");
+}
+
+// Third-party parsers (tinyobjloader's float conversion, assimp's number parsing) raise overflow
+// and invalid flags on legitimate input such as 1.7976931348623157e308 read into a float; what
+// they produce is either discarded or checked afterwards (validate_mesh). This holds such
+// exceptions for the call: traps a caller enabled (tests do) are paused, and the flags raised
+// inside are dropped, as the C standard's feholdexcept/fesetenv pair is meant for.
+class HoldFpExceptions {
+ public:
+  HoldFpExceptions() { std::feholdexcept(&saved_); }
+  ~HoldFpExceptions() { std::fesetenv(&saved_); }
+  HoldFpExceptions(const HoldFpExceptions&) = delete;
+  HoldFpExceptions& operator=(const HoldFpExceptions&) = delete;
+
+ private:
+  std::fenv_t saved_;
+};
+
+// ---- Text helpers shared by the OFF and OBJ readers ----
+
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
+
+// Splits on blanks. Returns the tokens of one line (comments already removed).
+std::vector<std::string_view> split_tokens(std::string_view line) {
+  std::vector<std::string_view> tokens;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && is_space(line[i])) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && !is_space(line[i])) ++i;
+    if (i > start) tokens.push_back(line.substr(start, i - start));
+  }
+  return tokens;
+}
+
+// A real number in C syntax (a leading '+' allowed); "nan" and "inf" parse, as non-finite values,
+// so that the caller can name the vertex. Returns false when the token is not a number at all.
+bool parse_real(std::string_view token, double& value) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  const char* end = token.data() + token.size();
+  const auto [ptr, ec] = std::from_chars(token.data(), end, value);
+  if (ec == std::errc::result_out_of_range) {
+    // from_chars leaves value untouched on overflow; report it as the non-finite value it is.
+    value = (token.front() == '-') ? -HUGE_VAL : HUGE_VAL;
+    return ptr == end;
+  }
+  return ec == std::errc() && ptr == end;
+}
+
+bool parse_index(std::string_view token, std::uint64_t& value) {
+  const char* end = token.data() + token.size();
+  const auto [ptr, ec] = std::from_chars(token.data(), end, value);
+  return ec == std::errc() && ptr == end;
+}
+
+// Reads lines one at a time, dropping '#' comments and blank lines, counting line numbers.
+class LineReader {
+ public:
+  explicit LineReader(std::string_view text) : text_(text) {}
+
+  // The next non-blank line's tokens; false at end of text.
+  bool next(std::vector<std::string_view>& tokens) {
+    while (pos_ < text_.size()) {
+      std::size_t end = text_.find('\n', pos_);
+      if (end == std::string_view::npos) end = text_.size();
+      std::string_view line = text_.substr(pos_, end - pos_);
+      pos_ = end + 1;
+      ++line_;
+      if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) {
+        line = line.substr(0, hash);
+      }
+      tokens = split_tokens(line);
+      if (!tokens.empty()) return true;
+    }
+    return false;
+  }
+  int line() const { return line_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  int line_ = 0;
+};
+
+std::string at_line(int line) {
+  return "line " + std::to_string(line) + ": ";
+}
+
+// ---- OFF: our own strict reader ----
+// assimp's OFF loader clamps out-of-range face indices to the last vertex, fills a truncated file
+// with zeros and reads single precision, all without an error; so OFF is read here instead.
+// Accepted: the OFF, COFF, NOFF, CNOFF and NCOFF headers (colours and normals after the three
+// coordinates, and colours after a face's indices, are ignored), counts on the header line or the
+// next, '#' comments anywhere. Binary OFF and the 4OFF/nOFF/STOFF variants are unsupported.
+Mesh read_off(const fs::path& path, std::string_view text) {
+  const std::string source = path.string();
+  LineReader lines(text);
+  std::vector<std::string_view> tok;
+  if (!lines.next(tok)) bad(source, "no OFF header");
+  const std::string_view keyword = tok[0];
+  static constexpr std::array<std::string_view, 5> kKeywords = {"OFF", "COFF", "NOFF", "CNOFF",
+                                                                "NCOFF"};
+  if (std::find(kKeywords.begin(), kKeywords.end(), keyword) == kKeywords.end()) {
+    if (keyword.size() >= 3 && keyword.substr(keyword.size() - 3) == "OFF") {
+      fail(ErrorCategory::unsupported,
+           source + ": " + at_line(lines.line()) + "OFF variant '" + std::string(keyword) +
+               "' is not supported (only OFF, COFF, NOFF, CNOFF, NCOFF)");
+    }
+    bad(source, at_line(lines.line()) + "not an OFF file: expected the keyword OFF, found '" +
+                    std::string(keyword.substr(0, 40)) + "'");
+  }
+  if (tok.size() > 1 && tok[1] == "BINARY") {
+    fail(ErrorCategory::unsupported, source + ": binary OFF is not supported");
+  }
+  tok.erase(tok.begin());
+  if (tok.empty() && !lines.next(tok)) bad(source, "missing the vertex and face counts");
+  std::uint64_t counts[2] = {0, 0};
+  if (tok.size() < 2 || !parse_index(tok[0], counts[0]) || !parse_index(tok[1], counts[1])) {
+    bad(source, at_line(lines.line()) + "expected the vertex and face counts");
+  }
+  const std::uint64_t nv = counts[0], nf = counts[1];
+  if (nv >= UINT32_MAX || nf >= UINT32_MAX) {
+    bad(source, at_line(lines.line()) + "counts too large for this reader");
+  }
+
+  Mesh mesh;
+  // Reserve no more than the text could hold, so a lying header cannot exhaust memory.
+  mesh.positions.reserve(std::min<std::uint64_t>(nv, text.size() / 6));
+  for (std::uint64_t i = 0; i < nv; ++i) {
+    if (!lines.next(tok)) {
+      bad(source, "unexpected end of file: the header announces " + std::to_string(nv) +
+                      " vertices, the file has " + std::to_string(i));
+    }
+    Vec3 p;
+    if (tok.size() < 3) {
+      bad(source,
+          at_line(lines.line()) + "vertex " + std::to_string(i) + ": expected 3 coordinates");
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!parse_real(tok[k], p[k])) {
+        bad(source, at_line(lines.line()) + "vertex " + std::to_string(i) + ": '" +
+                        std::string(tok[k].substr(0, 40)) + "' is not a number");
+      }
+    }
+    if (!finite(p)) {
+      bad(source, at_line(lines.line()) + "vertex " + std::to_string(i) +
+                      " has a non-finite coordinate " + format_position(p));
+    }
+    mesh.positions.push_back(p);
+  }
+  mesh.face_offsets.reserve(std::min<std::uint64_t>(nf, text.size() / 6) + 1);
+  for (std::uint64_t f = 0; f < nf; ++f) {
+    if (!lines.next(tok)) {
+      bad(source, "unexpected end of file: the header announces " + std::to_string(nf) +
+                      " faces, the file has " + std::to_string(f));
+    }
+    std::uint64_t n = 0;
+    if (!parse_index(tok[0], n)) {
+      bad(source, at_line(lines.line()) + "face " + std::to_string(f) +
+                      ": expected its vertex count, found '" + std::string(tok[0].substr(0, 40)) +
+                      "'");
+    }
+    if (n < 3) {
+      bad(source, at_line(lines.line()) + "face " + std::to_string(f) + " has " +
+                      std::to_string(n) + " vertices (a face needs at least 3)");
+    }
+    if (n > tok.size() - 1) {  // not tok.size() < n + 1: n may be 2^64 - 1
+      bad(source, at_line(lines.line()) + "face " + std::to_string(f) + ": expected " +
+                      std::to_string(n) + " vertex indices, found " +
+                      std::to_string(tok.size() - 1));
+    }
+    for (std::uint64_t k = 1; k <= n; ++k) {
+      std::uint64_t v = 0;
+      if (!parse_index(tok[k], v)) {
+        bad(source, at_line(lines.line()) + "face " + std::to_string(f) + ": '" +
+                        std::string(tok[k].substr(0, 40)) + "' is not a vertex index");
+      }
+      if (v >= nv) {
+        bad(source, at_line(lines.line()) + "face " + std::to_string(f) + " uses vertex " +
+                        std::to_string(v) + ", out of range (the mesh has " + std::to_string(nv) +
+                        " vertices)");
+      }
+      mesh.face_vertices.push_back(static_cast<std::uint32_t>(v));
+    }
+    mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_vertices.size()));
+  }
+  return mesh;
+}
+
+// ---- OBJ: tinyobjloader for the structure, our own parse of the `v` coordinates ----
+// tinyobjloader keeps the `v` array in file order and faces as polygons (triangulate = false), but
+// its number parser is not correctly rounded and turns "nan" into 0 without a word, and the linked
+// build stores floats. So the coordinates of each `v` line are re-read here with std::from_chars
+// (exact, and a NaN is reported with its vertex index), and tinyobjloader supplies the faces.
+std::vector<Vec3> read_obj_positions(const std::string& source, std::string_view text) {
+  std::vector<Vec3> positions;
+  std::size_t pos = 0;
+  int line_no = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    std::size_t i = 0;
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    // The same test tinyobjloader applies: 'v' followed by a blank.
+    if (i + 1 >= line.size() || line[i] != 'v' || !(line[i + 1] == ' ' || line[i + 1] == '\t')) {
+      continue;
+    }
+    line.remove_prefix(i + 2);
+    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) {
+      line = line.substr(0, hash);
+    }
+    const auto tok = split_tokens(line);
+    const std::size_t index = positions.size();
+    if (tok.size() < 3) {
+      bad(source,
+          at_line(line_no) + "vertex " + std::to_string(index) + ": expected 3 coordinates");
+    }
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) {
+      if (!parse_real(tok[k], p[k])) {
+        bad(source, at_line(line_no) + "vertex " + std::to_string(index) + ": '" +
+                        std::string(tok[k].substr(0, 40)) + "' is not a number");
+      }
+    }
+    if (!finite(p)) {
+      bad(source, at_line(line_no) + "vertex " + std::to_string(index) +
+                      " has a non-finite coordinate " + format_position(p));
+    }
+    positions.push_back(p);
+  }
+  return positions;
+}
+
+Mesh read_obj(const fs::path& path, const std::string& text) {
+  const std::string source = path.string();
+  Mesh mesh;
+  mesh.positions = read_obj_positions(source, text);
+
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = false;
+  config.vertex_color = false;
+  tinyobj::ObjReader reader;
+  // Empty material text: `mtllib` lines are ignored, no other file is opened.
+  bool parsed = false;
+  {
+    const HoldFpExceptions hold;
+    parsed = reader.ParseFromString(text, "", config);
+  }
+  if (!parsed) {
+    bad(source, "cannot parse OBJ: " + one_line(reader.Error()));
+  }
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  if (attrib.vertices.size() / 3 != mesh.positions.size()) {
+    fail(ErrorCategory::internal, source + ": OBJ readers disagree on the vertex count (" +
+                                      std::to_string(attrib.vertices.size() / 3) + " vs " +
+                                      std::to_string(mesh.positions.size()) + ")");
+  }
+  const auto nv = static_cast<long long>(mesh.positions.size());
+  std::size_t face = 0;
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    std::size_t offset = 0;
+    for (const unsigned int n : shape.mesh.num_face_vertices) {
+      for (unsigned int k = 0; k < n; ++k) {
+        const long long v = shape.mesh.indices[offset + k].vertex_index;
+        if (v < 0 || v >= nv) {
+          bad(source, "face " + std::to_string(face) + " uses vertex " + std::to_string(v + 1) +
+                          " (1-based, as in the file), out of range (the mesh has " +
+                          std::to_string(nv) + " vertices)");
+        }
+        mesh.face_vertices.push_back(static_cast<std::uint32_t>(v));
+      }
+      offset += n;
+      mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_vertices.size()));
+      ++face;
+    }
+  }
+  return mesh;
+}
+
+// ---- assimp: PLY, glTF/glb (kept as stored) and everything else (welded) ----
+
+using Transform = Eigen::Matrix4d;
+
+Transform to_transform(const aiMatrix4x4& m) {
+  Transform t;
+  t << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3,
+      m.d4;
+  return t;
+}
+
+// World transform of each mesh: that of the first node referring to it in depth-first order
+// (identity when no node does). Instances (one mesh under several nodes) are not duplicated.
+void collect_transforms(const aiNode* node, const Transform& parent,
+                        std::vector<Transform>& transforms, std::vector<bool>& seen) {
+  const Transform world = parent * to_transform(node->mTransformation);
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+    const unsigned m = node->mMeshes[i];
+    if (m < transforms.size() && !seen[m]) {
+      transforms[m] = world;
+      seen[m] = true;
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) {
+    collect_transforms(node->mChildren[c], world, transforms, seen);
+  }
+}
+
+Vec3 apply(const Transform& t, const aiVector3D& v) {
+  if (t.isIdentity(0.0)) return Vec3(v.x, v.y, v.z);  // exact: no arithmetic at all
+  const Eigen::Vector4d h = t * Eigen::Vector4d(v.x, v.y, v.z, 1.0);
+  return h.head<3>();
+}
+
+// Key for welding by exact position: the bit patterns, with -0 and +0 counted as one.
+struct PositionKey {
+  std::array<std::uint64_t, 3> bits;
+  bool operator==(const PositionKey&) const = default;
+};
+struct PositionKeyHash {
+  std::size_t operator()(const PositionKey& k) const {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (std::uint64_t b : k.bits) h = (h ^ b) * 0x100000001b3ull;
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+PositionKey key_of(const Vec3& p) {
+  PositionKey key;
+  for (int k = 0; k < 3; ++k) key.bits[k] = std::bit_cast<std::uint64_t>(p[k] == 0.0 ? 0.0 : p[k]);
+  return key;
+}
+
+Mesh read_with_assimp(const fs::path& path, bool weld) {
+  const std::string source = path.string();
+  Assimp::Importer importer;
+  // No post-processing: it keeps the stored vertices, their order and count, and the polygons.
+  const aiScene* scene = nullptr;
+  {
+    const HoldFpExceptions hold;
+    scene = importer.ReadFile(path.string(), 0);
+  }
+  if (scene == nullptr) bad(source, "cannot parse: " + one_line(importer.GetErrorString()));
+  if (scene->mNumMeshes == 0 || scene->mMeshes == nullptr) bad(source, "no vertices");
+
+  std::vector<Transform> transforms(scene->mNumMeshes, Transform::Identity());
+  std::vector<bool> seen(scene->mNumMeshes, false);
+  if (scene->mRootNode != nullptr) {
+    collect_transforms(scene->mRootNode, Transform::Identity(), transforms, seen);
+  }
+
+  Mesh mesh;
+  std::size_t face = 0;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* am = scene->mMeshes[m];
+    const Transform& t = transforms[m];
+    const std::size_t base = mesh.positions.size();
+    if (!weld) {
+      for (unsigned i = 0; i < am->mNumVertices; ++i)
+        mesh.positions.push_back(apply(t, am->mVertices[i]));
+    }
+    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> welded;
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& af = am->mFaces[f];
+      if (af.mNumIndices < 3) continue;  // points and lines are not surface
+      for (unsigned k = 0; k < af.mNumIndices; ++k) {
+        const unsigned v = af.mIndices[k];
+        if (v >= am->mNumVertices) {
+          bad(source, "face " + std::to_string(face) + " uses vertex " + std::to_string(v) +
+                          " of mesh " + std::to_string(m) + ", out of range (that mesh has " +
+                          std::to_string(am->mNumVertices) + " vertices)");
+        }
+        if (!weld) {
+          mesh.face_vertices.push_back(static_cast<std::uint32_t>(base + v));
+          continue;
+        }
+        const Vec3 p = apply(t, am->mVertices[v]);
+        const auto [it, inserted] =
+            welded.try_emplace(key_of(p), static_cast<std::uint32_t>(mesh.positions.size()));
+        if (inserted) mesh.positions.push_back(p);
+        mesh.face_vertices.push_back(it->second);
+      }
+      mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_vertices.size()));
+      ++face;
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+Mesh read_mesh(const fs::path& path) {
+  const std::string source = path.string();
+  check_input_file(path);
+  const std::string ext = lower_extension(path);
+  Mesh mesh;
+  if (ext == "off") {
+    mesh = read_off(path, read_file(path));
+  } else if (ext == "obj") {
+    mesh = read_obj(path, read_file(path));
+  } else if (ext == "ply" || ext == "gltf" || ext == "glb") {
+    mesh = read_with_assimp(path, /*weld=*/false);
+  } else {
+    if (ext.empty()) {
+      fail(ErrorCategory::unsupported, source + ": no file extension, so the format is unknown");
+    }
+    const Assimp::Importer probe;
+    if (!probe.IsExtensionSupported("." + ext)) {
+      fail(ErrorCategory::unsupported, source + ": unsupported mesh format '." + ext + "'");
+    }
+    mesh = read_with_assimp(path, /*weld=*/true);
+  }
+  validate_mesh(mesh, source);
+  return mesh;
+}
+
+void validate_mesh(const Mesh& mesh, const std::string& source) {
+  const auto& off = mesh.face_offsets;
+  if (off.empty() || off.front() != 0 || off.back() != mesh.face_vertices.size() ||
+      !std::is_sorted(off.begin(), off.end())) {
+    bad(source, "malformed face table");
+  }
+  if (mesh.positions.empty()) bad(source, "no vertices");
+  if (mesh.face_count() == 0) bad(source, "no faces");
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    if (!finite(mesh.positions[i])) {
+      bad(source, "vertex " + std::to_string(i) + " has a non-finite coordinate " +
+                      format_position(mesh.positions[i]));
+    }
+  }
+  const std::size_t nv = mesh.positions.size();
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const std::uint32_t begin = off[f], end = off[f + 1];
+    if (end - begin < 3) {
+      bad(source, "face " + std::to_string(f) + " has " + std::to_string(end - begin) +
+                      " vertices (a face needs at least 3)");
+    }
+    for (std::uint32_t k = begin; k < end; ++k) {
+      if (mesh.face_vertices[k] >= nv) {
+        bad(source, "face " + std::to_string(f) + " uses vertex " +
+                        std::to_string(mesh.face_vertices[k]) + ", out of range (the mesh has " +
+                        std::to_string(nv) + " vertices)");
+      }
+    }
+  }
+}
+
+namespace {
+
+// Writers refuse what no reader should ever see: a non-finite coordinate or a broken face table.
+void check_writable(const fs::path& path, const Mesh& mesh) {
+  const auto& off = mesh.face_offsets;
+  if (off.empty() || off.front() != 0 || off.back() != mesh.face_vertices.size()) {
+    fail(ErrorCategory::internal, path.string() + ": refusing to write a malformed face table");
+  }
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    if (!finite(mesh.positions[i])) {
+      fail(ErrorCategory::output, path.string() + ": refusing to write vertex " +
+                                      std::to_string(i) + ": non-finite coordinate " +
+                                      format_position(mesh.positions[i]));
+    }
+  }
+  for (std::uint32_t v : mesh.face_vertices) {
+    if (v >= mesh.positions.size()) {
+      fail(ErrorCategory::internal,
+           path.string() + ": refusing to write a face index out of range");
+    }
+  }
+}
+
+void append_vertex_line(std::string& out, const char* prefix, const Vec3& p) {
+  out += prefix;
+  for (int k = 0; k < 3; ++k) {
+    if (k) out += ' ';
+    append_number(out, p[k]);
+  }
+  out += '\n';
+}
+
+}  // namespace
+
+std::string obj_bytes(const Mesh& mesh) {
+  std::string out = "# sweep mesh 1: " + std::to_string(mesh.vertex_count()) + " vertices, " +
+                    std::to_string(mesh.face_count()) + " faces\n";
+  out.reserve(out.size() + mesh.vertex_count() * 64 + mesh.face_vertices.size() * 8);
+  for (const Vec3& p : mesh.positions) append_vertex_line(out, "v ", p);
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    out += 'f';
+    for (std::uint32_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
+      out += ' ';
+      append_number(out, std::uint64_t{mesh.face_vertices[k]} + 1);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+std::string off_bytes(const Mesh& mesh) {
+  std::string out = "OFF\n# sweep mesh 1\n";
+  append_number(out, std::uint64_t{mesh.vertex_count()});
+  out += ' ';
+  append_number(out, std::uint64_t{mesh.face_count()});
+  out += " 0\n";
+  for (const Vec3& p : mesh.positions) append_vertex_line(out, "", p);
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    append_number(out, std::uint64_t{mesh.face_offsets[f + 1] - mesh.face_offsets[f]});
+    for (std::uint32_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
+      out += ' ';
+      append_number(out, std::uint64_t{mesh.face_vertices[k]});
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+std::string ply_bytes(const Mesh& mesh) {
+  std::uint32_t widest = 0;
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    widest = std::max(widest, mesh.face_offsets[f + 1] - mesh.face_offsets[f]);
+  }
+  std::string out = "ply\nformat ascii 1.0\ncomment sweep mesh 1\nelement vertex " +
+                    std::to_string(mesh.vertex_count()) +
+                    "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
+                    std::to_string(mesh.face_count()) + "\nproperty list " +
+                    (widest <= 255 ? "uchar" : "uint") + " uint vertex_indices\nend_header\n";
+  for (const Vec3& p : mesh.positions) append_vertex_line(out, "", p);
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    append_number(out, std::uint64_t{mesh.face_offsets[f + 1] - mesh.face_offsets[f]});
+    for (std::uint32_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
+      out += ' ';
+      append_number(out, std::uint64_t{mesh.face_vertices[k]});
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+void write_obj(const fs::path& path, const Mesh& mesh) {
+  check_writable(path, mesh);
+  write_file_atomically(path, obj_bytes(mesh));
+}
+
+void write_off(const fs::path& path, const Mesh& mesh) {
+  check_writable(path, mesh);
+  write_file_atomically(path, off_bytes(mesh));
+}
+
+void write_ply(const fs::path& path, const Mesh& mesh) {
+  check_writable(path, mesh);
+  write_file_atomically(path, ply_bytes(mesh));
+}
+
+bool is_writable_mesh_extension(const fs::path& path) {
+  const std::string ext = lower_extension(path);
+  return ext == "obj" || ext == "off" || ext == "ply";
+}
+
+void write_mesh(const fs::path& path, const Mesh& mesh) {
+  const std::string ext = lower_extension(path);
+  if (ext == "obj") return write_obj(path, mesh);
+  if (ext == "off") return write_off(path, mesh);
+  if (ext == "ply") return write_ply(path, mesh);
+  fail(ErrorCategory::unsupported, path.string() + ": cannot write mesh format '" +
+                                       path.extension().string() + "' (write .obj, .off or .ply)");
+}
+
+}  // namespace sweep::io
