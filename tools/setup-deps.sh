@@ -9,6 +9,7 @@ packages=(
   libassimp-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libtinygltf-dev libtinyobjloader-dev
   libcgal-demo   # CGAL's sample meshes (diplodocus.off, ...) for the demo and real-mesh tests
+  nodejs npm     # runs the Khronos glTF validator in the .glb tests
 )
 
 missing=()
@@ -34,4 +35,12 @@ if [ ! -f "$here/meshes/cgal/diplodocus.off" ]; then
   mkdir -p "$here/meshes/cgal"
   tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$here/meshes/cgal" --strip-components=2 \
       --wildcards 'data/meshes/*'
+fi
+
+# The Khronos glTF validator (npm package `gltf-validator`, version pinned in
+# tests/gltf-validator/package.json; one package, no dependencies) for the .glb tests. Installed once
+# into tests/gltf-validator/node_modules (git-ignored); tests never download anything.
+if [ ! -d "$here/tests/gltf-validator/node_modules/gltf-validator" ]; then
+  echo "setup: installing the glTF validator into tests/gltf-validator" >&2
+  npm install --no-audit --no-fund --prefix "$here/tests/gltf-validator"
 fi

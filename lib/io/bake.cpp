@@ -1,0 +1,385 @@
+// The parts every bake writer shares: choosing a writer, temporary files, and the begin/frame/
+// finish protocol with its checks (see bake.h and bake_detail.h).
+#include "io/bake.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <utility>
+
+#include "core/error.h"
+#include "io/bake_detail.h"
+
+namespace sweep::io {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lower_extension(const fs::path& out) {
+  std::string ext = out.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace
+
+bool is_bake_extension(const fs::path& out) {
+  const std::string ext = lower_extension(out);
+  return ext == ".glb" || ext == ".pc2" || ext == ".obj";
+}
+
+std::unique_ptr<BakeWriter> make_bake_writer(const fs::path& out) {
+  const std::string ext = lower_extension(out);
+  if (ext == ".glb") return make_gltf_bake_writer(out);
+  if (ext == ".pc2") return make_pc2_bake_writer(out);
+  if (ext == ".obj") return make_obj_bake_writer(out);
+  fail(ErrorCategory::unsupported,
+       out.string() + ": cannot bake to '" + out.extension().string() +
+           "' files; the output's extension must be .glb (glTF 2.0), .pc2 (point cache) or .obj "
+           "(OBJ sequence)");
+}
+
+fs::path obj_sequence_path(const fs::path& out, int index, int frame_count) {
+  const std::size_t width =
+      std::max<std::size_t>(4, std::to_string(std::max(frame_count - 1, 0)).size());
+  std::string digits = std::to_string(index);
+  if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
+  fs::path name = out.stem();
+  name += "_" + digits + out.extension().string();
+  return out.has_parent_path() ? out.parent_path() / name : name;
+}
+
+namespace detail {
+
+void append_float(std::string& out, float value) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
+  if (ec != std::errc()) fail(ErrorCategory::internal, "cannot format a number");
+  out.append(buf, end);
+}
+
+void append_uint(std::string& out, std::uint64_t value) {
+  char buf[24];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
+  if (ec != std::errc()) fail(ErrorCategory::internal, "cannot format a number");
+  out.append(buf, end);
+}
+
+// ---------------------------------------------------------------------------------------------
+// TempFile
+
+namespace {
+constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
+}
+
+TempFile::TempFile(fs::path target, bool scratch) : target_(std::move(target)) {
+  const fs::path dir = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+  std::string name =
+      (dir / ("." + target_.filename().string() + (scratch ? ".scratch-XXXXXX" : ".tmp-XXXXXX")))
+          .string();
+  fd_ = ::mkostemp(name.data(), O_CLOEXEC);
+  if (fd_ < 0) {
+    fail(ErrorCategory::output, target_.string() + ": cannot create a file in " + dir.string() +
+                                    ": " + std::strerror(errno));
+  }
+  if (scratch) {
+    ::unlink(name.c_str());  // nameless from now on: nothing to clean up, ever
+  } else {
+    temp_ = std::move(name);
+  }
+}
+
+TempFile::~TempFile() {
+  discard();
+}
+
+void TempFile::discard() noexcept {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+  if (!temp_.empty()) {
+    ::unlink(temp_.c_str());
+    temp_.clear();
+  }
+  std::vector<char>().swap(buffer_);
+}
+
+void TempFile::fail_errno(const char* what) {
+  const std::string reason = std::strerror(errno);
+  discard();
+  fail(ErrorCategory::output, target_.string() + ": " + what + ": " + reason);
+}
+
+void TempFile::flush() {
+  if (fd_ < 0) fail(ErrorCategory::internal, target_.string() + ": write to a closed file");
+  if (buffer_.empty()) return;
+  const char* p = buffer_.data();
+  std::size_t left = buffer_.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd_, p, left);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail_errno("cannot write");
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  buffer_.clear();
+}
+
+void TempFile::write(const void* data, std::size_t size) {
+  if (fd_ < 0) fail(ErrorCategory::internal, target_.string() + ": write to a closed file");
+  const char* p = static_cast<const char*>(data);
+  size_ += size;
+  if (buffer_.size() + size <= kBufferBytes) {
+    buffer_.insert(buffer_.end(), p, p + size);
+    return;
+  }
+  flush();
+  if (size < kBufferBytes) {
+    buffer_.insert(buffer_.end(), p, p + size);
+    return;
+  }
+  while (size > 0) {  // large blocks go straight to the file
+    const ssize_t n = ::write(fd_, p, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail_errno("cannot write");
+    }
+    p += n;
+    size -= static_cast<std::size_t>(n);
+  }
+}
+
+void TempFile::copy_to(TempFile& out) {
+  flush();
+  std::vector<char> chunk(kBufferBytes);
+  off_t offset = 0;
+  while (static_cast<std::uint64_t>(offset) < size_) {
+    const ssize_t n = ::pread(fd_, chunk.data(), chunk.size(), offset);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail_errno("cannot read back a scratch file");
+    }
+    if (n == 0) {
+      errno = EIO;
+      fail_errno("scratch file is shorter than written");
+    }
+    out.write(chunk.data(), static_cast<std::size_t>(n));
+    offset += n;
+  }
+}
+
+void TempFile::commit() {
+  seal();
+  publish();
+}
+
+void TempFile::seal() {
+  if (temp_.empty()) fail(ErrorCategory::internal, target_.string() + ": seal of a scratch file");
+  flush();
+  // mkstemp creates files 0600; give them the usual permissions (umask applies).
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  if (::fchmod(fd_, 0666 & ~mask) != 0) fail_errno("cannot set permissions");
+  if (::fsync(fd_) != 0) fail_errno("cannot flush to disk");
+  const int fd = std::exchange(fd_, -1);
+  std::vector<char>().swap(buffer_);
+  if (::close(fd) != 0) fail_errno("cannot close");
+}
+
+void TempFile::publish() {
+  if (fd_ >= 0 || temp_.empty()) {
+    fail(ErrorCategory::internal, target_.string() + ": publish of a file not sealed");
+  }
+  if (::rename(temp_.c_str(), target_.c_str()) != 0) fail_errno("cannot rename into place");
+  temp_.clear();
+}
+
+// ---------------------------------------------------------------------------------------------
+// BakeWriterBase
+
+namespace {
+
+std::string vertex_text(const Eigen::Vector3f& p) {
+  std::string s = "(";
+  for (int c = 0; c < 3; ++c) {
+    if (c) s += ", ";
+    append_float(s, p[c]);
+  }
+  return s + ")";
+}
+
+}  // namespace
+
+BakeWriterBase::BakeWriterBase(fs::path out) : out_(std::move(out)) {}
+
+template <typename F>
+void BakeWriterBase::guarded(F&& body) {
+  try {
+    body();
+  } catch (...) {
+    state_ = State::closed;
+    abandon();
+    throw;
+  }
+}
+
+void BakeWriterBase::begin(const Mesh& rest, const BakeInfo& info) {
+  const std::string where = out_.string() + ": ";
+  if (state_ != State::created) {
+    fail(ErrorCategory::internal, where + "begin() called twice or after an error");
+  }
+  guarded([&] {
+    if (info.frame_count < 1) {
+      fail(ErrorCategory::internal,
+           where + "a bake needs at least one frame, got " + std::to_string(info.frame_count));
+    }
+    if (!std::isfinite(info.fps) || info.fps <= 0) {
+      fail(ErrorCategory::internal, where + "frames per second must be positive and finite");
+    }
+    const std::size_t n = rest.vertex_count();
+    if (n == 0) fail(ErrorCategory::bad_input, where + "the mesh has no vertices");
+    if (n > std::uint64_t{INT32_MAX}) {
+      fail(ErrorCategory::unsupported, where + "a bake holds at most 2^31-1 vertices");
+    }
+    if (rest.face_offsets.empty() || rest.face_offsets.front() != 0 ||
+        rest.face_offsets.back() != rest.face_vertices.size() ||
+        !std::is_sorted(rest.face_offsets.begin(), rest.face_offsets.end())) {
+      fail(ErrorCategory::internal, where + "the mesh's face offsets are inconsistent");
+    }
+    for (std::size_t k = 0; k < rest.face_vertices.size(); ++k) {
+      if (rest.face_vertices[k] >= n) {
+        const auto face = std::upper_bound(rest.face_offsets.begin(), rest.face_offsets.end(),
+                                           static_cast<std::uint32_t>(k)) -
+                          rest.face_offsets.begin() - 1;
+        fail(ErrorCategory::bad_input, where + "face " + std::to_string(face) + " uses vertex " +
+                                           std::to_string(rest.face_vertices[k]) +
+                                           " but the mesh has " + std::to_string(n) + " vertices");
+      }
+    }
+    info_ = info;
+    rest_.resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      const Vec3& p = rest.positions[v];
+      for (int c = 0; c < 3; ++c) {
+        if (!std::islessequal(std::abs(p[c]), double{kMaxBakeCoordinate})) {  // quiet on NaN
+          fail(ErrorCategory::bad_input, where + "rest vertex " + std::to_string(v) +
+                                             ": coordinate " +
+                                             (std::isfinite(p[c]) ? "beyond ±1e30" : "not finite") +
+                                             "; a bake stores float32 positions");
+        }
+        rest_[v][c] = static_cast<float>(p[c]);
+      }
+    }
+    if (info.animated_vertices) {
+      animated_ = *info.animated_vertices;
+      std::sort(animated_.begin(), animated_.end());
+      animated_.erase(std::unique(animated_.begin(), animated_.end()), animated_.end());
+      if (!animated_.empty() && animated_.back() >= n) {
+        fail(ErrorCategory::internal,
+             where + "animated vertex " + std::to_string(animated_.back()) +
+                 " is not in the mesh (" + std::to_string(n) + " vertices)");
+      }
+    } else {
+      animated_.resize(n);
+      for (std::size_t v = 0; v < n; ++v) animated_[v] = static_cast<std::uint32_t>(v);
+    }
+    info_.animated_vertices.reset();  // animated_ is the one copy
+    state_ = State::begun;
+    start(rest);
+  });
+}
+
+void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> positions) const {
+  const std::string where = out_.string() + ": ";
+  if (index != next_frame_ || index >= info_.frame_count) {
+    fail(ErrorCategory::internal, where + "frame " + std::to_string(index) + " given, but frame " +
+                                      std::to_string(next_frame_) + " of " +
+                                      std::to_string(info_.frame_count) +
+                                      " was expected (frames come in order, from 0)");
+  }
+  const std::size_t n = rest_.size();
+  if (positions.size() != n) {
+    fail(ErrorCategory::internal, where + "frame " + std::to_string(index) + " has " +
+                                      std::to_string(positions.size()) + " positions, the mesh " +
+                                      std::to_string(n) + " vertices");
+  }
+  // One pass with no branch per vertex, find the culprit only on failure. islessequal is false
+  // for NaN without raising FE_INVALID (callers may run with floating-point traps on).
+  auto in_range = [](const Eigen::Vector3f& p) {
+    return std::islessequal(std::abs(p.x()), kMaxBakeCoordinate) &
+           std::islessequal(std::abs(p.y()), kMaxBakeCoordinate) &
+           std::islessequal(std::abs(p.z()), kMaxBakeCoordinate);
+  };
+  bool all_in_range = true;
+  for (const Eigen::Vector3f& p : positions) all_in_range &= in_range(p);
+  if (!all_in_range) {
+    for (std::size_t v = 0; v < n; ++v) {
+      const Eigen::Vector3f& p = positions[v];
+      if (!in_range(p)) {
+        const bool finite = std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
+        fail(ErrorCategory::diverged, where + "frame " + std::to_string(index) + ", vertex " +
+                                          std::to_string(v) + ": position " + vertex_text(p) +
+                                          (finite ? " is beyond ±1e30: the simulation ran away"
+                                                  : " is not finite: the simulation diverged") +
+                                          "; nothing was written");
+      }
+    }
+  }
+  if (!all_animated()) {
+    std::size_t a = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      if (a < animated_.size() && animated_[a] == v) {
+        ++a;
+        continue;
+      }
+      if (positions[v] != rest_[v]) {
+        fail(ErrorCategory::internal,
+             where + "frame " + std::to_string(index) + ": vertex " + std::to_string(v) +
+                 " moved to " + vertex_text(positions[v]) + " from " + vertex_text(rest_[v]) +
+                 " but is not in the animated-vertex list");
+      }
+    }
+  }
+}
+
+void BakeWriterBase::frame(int index, std::span<const Eigen::Vector3f> positions) {
+  if (state_ != State::begun) {
+    fail(ErrorCategory::internal,
+         out_.string() + ": frame() outside begin() .. finish(), or after an error");
+  }
+  guarded([&] {
+    check_frame(index, positions);
+    write_frame(index, positions);
+    ++next_frame_;
+  });
+}
+
+void BakeWriterBase::finish() {
+  if (state_ != State::begun) {
+    fail(ErrorCategory::internal,
+         out_.string() + ": finish() without begin(), twice, or after an error");
+  }
+  guarded([&] {
+    if (next_frame_ != info_.frame_count) {
+      fail(ErrorCategory::internal, out_.string() + ": finish() after " +
+                                        std::to_string(next_frame_) + " of " +
+                                        std::to_string(info_.frame_count) + " frames");
+    }
+    complete();
+    state_ = State::finished;
+  });
+}
+
+}  // namespace detail
+}  // namespace sweep::io

@@ -1,0 +1,351 @@
+// .glb: glTF 2.0 binary with one morph target per baked frame and a weights animation (bake.h).
+//
+// Streaming: the binary chunk is written as frames arrive into a nameless scratch file beside the
+// output. Its layout, every block 4-byte aligned (all elements are 4 bytes):
+//   rest POSITION (n × vec3) | rest NORMAL (n × vec3) | triangle indices (uint32) |
+//   [sparse target indices (uint32, ascending, shared by every target)] |
+//   animation times (F floats) | animation weights (F × F floats, one-hot) |
+//   frame 0 deltas | frame 1 deltas | ...   (s × vec3 each: s = listed vertices, or n when dense)
+// finish() builds the JSON with tinygltf (its serializer sorts keys, so the bytes are stable),
+// then writes the GLB header, the JSON chunk and the scratch file's bytes as the BIN chunk into a
+// temporary that is renamed onto the output.
+#include <tiny_gltf.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/bake.h"
+#include "io/bake_detail.h"
+
+namespace sweep::io {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "the .glb writer stores host floats as glTF's little-endian data");
+static_assert(sizeof(Eigen::Vector3f) == 12, "Vector3f arrays are written as packed float triples");
+
+constexpr std::uint64_t kGlbMaxBytes = std::numeric_limits<std::uint32_t>::max();
+// Upper bound on the JSON a frame adds (accessor with min/max, buffer view, target, name, weight).
+constexpr std::uint64_t kJsonBytesPerFrame = 512;
+constexpr std::uint64_t kJsonBytesFixed = 8192;
+
+class GltfWriter final : public detail::BakeWriterBase {
+ public:
+  explicit GltfWriter(std::filesystem::path out) : BakeWriterBase(std::move(out)) {}
+
+  std::vector<std::filesystem::path> files() const override { return {out()}; }
+
+ protected:
+  void start(const Mesh& mesh) override;
+  void write_frame(int index, std::span<const Eigen::Vector3f> positions) override;
+  void complete() override;
+  void abandon() noexcept override {
+    if (scratch_) scratch_->discard();
+    if (final_) final_->discard();
+  }
+
+ private:
+  struct Block {
+    std::uint64_t offset = 0, length = 0;
+  };
+  Block append_block(const void* data, std::size_t bytes) {
+    Block b{scratch_->size(), bytes};
+    scratch_->write(data, bytes);
+    return b;
+  }
+  tinygltf::Model build_model() const;
+
+  std::unique_ptr<detail::TempFile> scratch_, final_;
+  bool sparse_ = false;
+  std::vector<std::uint32_t> targets_;  // the listed vertices when sparse
+  std::size_t triangle_index_count_ = 0;
+  Block positions_, normals_, indices_, sparse_indices_, times_, weights_;
+  Eigen::Vector3f rest_min_, rest_max_;
+  float last_time_ = 0;
+  std::vector<Eigen::Vector3f> delta_;  // one frame's deltas, reused
+  std::vector<Block> frame_blocks_;
+  std::vector<Eigen::Vector3f> frame_min_, frame_max_;
+};
+
+void GltfWriter::start(const Mesh& mesh) {
+  const std::size_t n = rest().size();
+  const std::uint64_t frames = static_cast<std::uint64_t>(info().frame_count);
+  const std::vector<std::uint32_t> triangles = mesh.triangles();
+  if (triangles.empty()) {
+    fail(ErrorCategory::unsupported,
+         out().string() + ": the mesh has no faces; a .glb bake needs a surface (use .pc2)");
+  }
+  triangle_index_count_ = triangles.size();
+  sparse_ = !all_animated();
+  if (sparse_) {
+    // A sparse accessor needs at least one entry: with nothing listed, vertex 0 (always at rest,
+    // so a zero delta) stands in.
+    targets_ = animated().empty() ? std::vector<std::uint32_t>{0} : animated();
+  }
+  const std::uint64_t s = sparse_ ? targets_.size() : n;
+
+  // A .glb is at most 4 GiB: say so now, not after the whole simulation.
+  const std::uint64_t bin = 24 * std::uint64_t{n} + 4 * std::uint64_t{triangles.size()} +
+                            (sparse_ ? 4 * s : 0) + 4 * frames + 4 * frames * frames +
+                            12 * s * frames;
+  const std::uint64_t estimate = 28 + kJsonBytesFixed + kJsonBytesPerFrame * frames + bin;
+  if (estimate > kGlbMaxBytes) {
+    fail(ErrorCategory::unsupported,
+         out().string() + ": " + std::to_string(frames) + " frames of " + std::to_string(s) +
+             " moving vertices need about " + std::to_string(estimate >> 20) +
+             " MiB, over the 4 GiB a .glb can hold; bake fewer frames or to .pc2");
+  }
+
+  scratch_ = std::make_unique<detail::TempFile>(out(), /*scratch=*/true);
+
+  rest_min_ = rest_max_ = rest().front();
+  for (const Eigen::Vector3f& p : rest()) {
+    rest_min_ = rest_min_.cwiseMin(p);
+    rest_max_ = rest_max_.cwiseMax(p);
+  }
+  positions_ = append_block(rest().data(), n * sizeof(Eigen::Vector3f));
+
+  // Smooth rest normals: area-weighted face normals summed per vertex, in double. A vertex on no
+  // face (or only on degenerate ones) gets +Y, so every normal is a unit vector.
+  {
+    std::vector<Vec3> sum(n, Vec3::Zero());
+    for (std::size_t t = 0; t < triangles.size(); t += 3) {
+      const Vec3& a = mesh.positions[triangles[t]];
+      const Vec3& b = mesh.positions[triangles[t + 1]];
+      const Vec3& c = mesh.positions[triangles[t + 2]];
+      const Vec3 face = (b - a).cross(c - a);
+      for (int k = 0; k < 3; ++k) sum[triangles[t + k]] += face;
+    }
+    std::vector<Eigen::Vector3f> normals(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      const double length = sum[v].norm();
+      if (length > 0 && std::isfinite(length)) {
+        normals[v] = (sum[v] / length).cast<float>();
+      } else {
+        normals[v] = Eigen::Vector3f::UnitY();
+      }
+    }
+    normals_ = append_block(normals.data(), n * sizeof(Eigen::Vector3f));
+  }
+  indices_ = append_block(triangles.data(), triangles.size() * sizeof(std::uint32_t));
+  if (sparse_) sparse_indices_ = append_block(targets_.data(), targets_.size() * 4);
+
+  // Key k at k / fps; rounded to float32 they must still increase.
+  {
+    std::vector<float> times(frames);
+    for (std::uint64_t k = 0; k < frames; ++k) {
+      times[k] = static_cast<float>(static_cast<double>(k) / info().fps);
+      if (k > 0 && !(times[k] > times[k - 1])) {
+        fail(ErrorCategory::unsupported,
+             out().string() + ": frame " + std::to_string(k) + " at " + std::to_string(info().fps) +
+                 " frames/s has the same float32 time as the frame before it");
+      }
+    }
+    last_time_ = times.back();
+    times_ = append_block(times.data(), frames * 4);
+  }
+  // One-hot weights, key by key: written one row at a time so F² floats never sit in memory.
+  {
+    std::vector<float> row(frames, 0.0f);
+    weights_.offset = scratch_->size();
+    for (std::uint64_t k = 0; k < frames; ++k) {
+      row[k] = 1.0f;
+      scratch_->write(row.data(), frames * 4);
+      row[k] = 0.0f;
+    }
+    weights_.length = scratch_->size() - weights_.offset;
+  }
+
+  delta_.resize(s);
+  frame_blocks_.reserve(frames);
+  frame_min_.reserve(frames);
+  frame_max_.reserve(frames);
+}
+
+void GltfWriter::write_frame(int, std::span<const Eigen::Vector3f> positions) {
+  const std::vector<Eigen::Vector3f>& r = rest();
+  Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();
+  auto put = [&](std::size_t slot, std::size_t v) {
+    Eigen::Vector3f& d = delta_[slot];
+    d = positions[v] - r[v];
+    if (slot == 0) {
+      lo = hi = d;
+    } else {
+      lo = lo.cwiseMin(d);
+      hi = hi.cwiseMax(d);
+    }
+  };
+  if (sparse_) {
+    for (std::size_t i = 0; i < targets_.size(); ++i) put(i, targets_[i]);
+    if (targets_.size() < r.size()) {  // the unlisted vertices' deltas are zeros
+      lo = lo.cwiseMin(Eigen::Vector3f::Zero());
+      hi = hi.cwiseMax(Eigen::Vector3f::Zero());
+    }
+  } else {
+    for (std::size_t v = 0; v < r.size(); ++v) put(v, v);
+  }
+  frame_blocks_.push_back(append_block(delta_.data(), delta_.size() * sizeof(Eigen::Vector3f)));
+  frame_min_.push_back(lo);
+  frame_max_.push_back(hi);
+}
+
+std::vector<double> to_doubles(const Eigen::Vector3f& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+tinygltf::Model GltfWriter::build_model() const {
+  const int frames = info().frame_count;
+  const std::size_t n = rest().size();
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "sweep bake 1";
+
+  auto add_view = [&](const Block& b, int target) {
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = b.offset;
+    view.byteLength = b.length;
+    view.target = target;
+    model.bufferViews.push_back(view);
+    return static_cast<int>(model.bufferViews.size() - 1);
+  };
+  auto add_accessor = [&](int view, int component, int type, std::size_t count) {
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.componentType = component;
+    a.type = type;
+    a.count = count;
+    model.accessors.push_back(a);
+    return static_cast<int>(model.accessors.size() - 1);
+  };
+  constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  constexpr int kUint = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+
+  const int position = add_accessor(add_view(positions_, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat,
+                                    TINYGLTF_TYPE_VEC3, n);
+  model.accessors[position].minValues = to_doubles(rest_min_);
+  model.accessors[position].maxValues = to_doubles(rest_max_);
+  const int normal =
+      add_accessor(add_view(normals_, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat, TINYGLTF_TYPE_VEC3, n);
+  const int indices = add_accessor(add_view(indices_, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER), kUint,
+                                   TINYGLTF_TYPE_SCALAR, triangle_index_count_);
+  const int sparse_view = sparse_ ? add_view(sparse_indices_, 0) : -1;
+  const int times = add_accessor(add_view(times_, 0), kFloat, TINYGLTF_TYPE_SCALAR,
+                                 static_cast<std::size_t>(frames));
+  model.accessors[times].minValues = {0.0};
+  model.accessors[times].maxValues = {double{last_time_}};
+  const int weights = add_accessor(add_view(weights_, 0), kFloat, TINYGLTF_TYPE_SCALAR,
+                                   static_cast<std::size_t>(frames) * frames);
+
+  tinygltf::Primitive primitive;
+  primitive.attributes["POSITION"] = position;
+  primitive.attributes["NORMAL"] = normal;
+  primitive.indices = indices;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  tinygltf::Value::Array names;
+  for (int k = 0; k < frames; ++k) {
+    const Block& block = frame_blocks_[static_cast<std::size_t>(k)];
+    int accessor = 0;
+    if (sparse_) {
+      accessor = add_accessor(-1, kFloat, TINYGLTF_TYPE_VEC3, n);
+      auto& sparse = model.accessors[accessor].sparse;
+      sparse.isSparse = true;
+      sparse.count = static_cast<int>(targets_.size());
+      sparse.indices.bufferView = sparse_view;
+      sparse.indices.byteOffset = 0;
+      sparse.indices.componentType = kUint;
+      sparse.values.bufferView = add_view(block, 0);
+      sparse.values.byteOffset = 0;
+    } else {
+      accessor = add_accessor(add_view(block, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat,
+                              TINYGLTF_TYPE_VEC3, n);
+    }
+    model.accessors[accessor].minValues = to_doubles(frame_min_[static_cast<std::size_t>(k)]);
+    model.accessors[accessor].maxValues = to_doubles(frame_max_[static_cast<std::size_t>(k)]);
+    primitive.targets.push_back({{"POSITION", accessor}});
+    std::string name = obj_sequence_path("frame", k, frames).stem().string();  // "frame_0000"
+    names.emplace_back(std::move(name));
+  }
+
+  tinygltf::Mesh gltf_mesh;
+  gltf_mesh.name = info().name;
+  gltf_mesh.primitives.push_back(std::move(primitive));
+  gltf_mesh.weights.assign(static_cast<std::size_t>(frames), 0.0);
+  tinygltf::Value::Object extras;
+  extras["targetNames"] = tinygltf::Value(std::move(names));
+  gltf_mesh.extras = tinygltf::Value(std::move(extras));
+  model.meshes.push_back(std::move(gltf_mesh));
+
+  tinygltf::Node node;
+  node.name = info().name;
+  node.mesh = 0;
+  model.nodes.push_back(std::move(node));
+  tinygltf::Scene scene;
+  scene.nodes = {0};
+  model.scenes.push_back(std::move(scene));
+  model.defaultScene = 0;
+
+  tinygltf::Animation animation;
+  animation.name = "bake";
+  tinygltf::AnimationSampler sampler;
+  sampler.input = times;
+  sampler.output = weights;
+  sampler.interpolation = "LINEAR";
+  animation.samplers.push_back(std::move(sampler));
+  tinygltf::AnimationChannel channel;
+  channel.sampler = 0;
+  channel.target_node = 0;
+  channel.target_path = "weights";
+  animation.channels.push_back(std::move(channel));
+  model.animations.push_back(std::move(animation));
+  return model;
+}
+
+void GltfWriter::complete() {
+  // tinygltf serializes everything but the buffer (it would want the bytes in memory); the one
+  // buffer, the GLB's BIN chunk, is added here with its length.
+  const tinygltf::Model model = build_model();
+  std::ostringstream stream;
+  tinygltf::TinyGLTF gltf;
+  if (!gltf.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/false)) {
+    fail(ErrorCategory::internal, out().string() + ": tinygltf could not serialize the model");
+  }
+  nlohmann::json json = nlohmann::json::parse(stream.str());
+  const std::uint64_t bin_length = scratch_->size();  // a multiple of 4: every element is 4 bytes
+  json["buffers"] = nlohmann::json::array({{{"byteLength", bin_length}}});
+  std::string text = json.dump();
+  text.append((4 - text.size() % 4) % 4, ' ');
+
+  const std::uint64_t total = 12 + 8 + text.size() + 8 + bin_length;
+  if (total > kGlbMaxBytes) {
+    fail(ErrorCategory::unsupported, out().string() + ": the bake needs " + std::to_string(total) +
+                                         " bytes, over the 4 GiB a .glb can hold");
+  }
+  auto u32 = [](std::uint64_t v) { return static_cast<std::uint32_t>(v); };
+  const std::uint32_t header[5] = {0x46546C67u /* "glTF" */, 2, u32(total), u32(text.size()),
+                                   0x4E4F534Au /* "JSON" */};
+  const std::uint32_t bin_header[2] = {u32(bin_length), 0x004E4942u /* "BIN\0" */};
+  final_ = std::make_unique<detail::TempFile>(out());
+  final_->write(header, sizeof header);
+  final_->write(text);
+  final_->write(bin_header, sizeof bin_header);
+  scratch_->copy_to(*final_);
+  final_->commit();
+  scratch_.reset();
+}
+
+}  // namespace
+
+std::unique_ptr<BakeWriter> make_gltf_bake_writer(const std::filesystem::path& out) {
+  return std::make_unique<GltfWriter>(out);
+}
+
+}  // namespace sweep::io

@@ -1,0 +1,122 @@
+// OBJ sequence: one Wavefront OBJ a frame (`out_0000.obj`, ...), `v` lines in vertex order and
+// the mesh's polygons. Each frame's file is written and synced as a temporary when the frame
+// arrives (no descriptor stays open); finish() renames them all into place (see bake.h).
+#include <unistd.h>
+
+#include <memory>
+#include <string>
+
+#include "core/error.h"
+#include "io/bake.h"
+#include "io/bake_detail.h"
+
+namespace sweep::io {
+namespace {
+
+void append_vertex_line(std::string& out, const Eigen::Vector3f& p) {
+  out += 'v';
+  for (int c = 0; c < 3; ++c) {
+    out += ' ';
+    detail::append_float(out, p[c]);
+  }
+  out += '\n';
+}
+
+class ObjSequenceWriter final : public detail::BakeWriterBase {
+ public:
+  explicit ObjSequenceWriter(std::filesystem::path out) : BakeWriterBase(std::move(out)) {}
+
+  std::vector<std::filesystem::path> files() const override {
+    std::vector<std::filesystem::path> paths;
+    for (int k = 0; k < info().frame_count; ++k) {
+      paths.push_back(obj_sequence_path(out(), k, info().frame_count));
+    }
+    return paths;
+  }
+
+ protected:
+  void start(const Mesh& mesh) override {
+    const std::size_t n = rest().size();
+    faces_.clear();
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      faces_ += 'f';
+      for (std::uint32_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
+        faces_ += ' ';
+        detail::append_uint(faces_, std::uint64_t{mesh.face_vertices[k]} + 1);
+      }
+      faces_ += '\n';
+    }
+    header_tail_ = " of " + std::to_string(info().frame_count) + ", " + std::to_string(n) +
+                   " vertices, " + std::to_string(mesh.face_count()) + " faces\n";
+    // Vertices that never move are formatted once: their lines are copied from here each frame.
+    if (!all_animated()) {
+      rest_lines_.clear();
+      rest_line_start_.resize(n + 1);
+      for (std::size_t v = 0; v < n; ++v) {
+        rest_line_start_[v] = rest_lines_.size();
+        append_vertex_line(rest_lines_, rest()[v]);
+      }
+      rest_line_start_[n] = rest_lines_.size();
+    }
+    frames_.reserve(static_cast<std::size_t>(info().frame_count));
+    // The files are made frame by frame; find out now, before any simulation, whether the folder
+    // takes files at all (a nameless scratch file leaves nothing behind).
+    detail::TempFile probe(out(), /*scratch=*/true);
+  }
+
+  void write_frame(int index, std::span<const Eigen::Vector3f> positions) override {
+    std::string& text = text_;
+    text.clear();
+    text += "# sweep bake 1: frame ";
+    text += std::to_string(index);
+    text += header_tail_;
+    if (all_animated()) {
+      for (const Eigen::Vector3f& p : positions) append_vertex_line(text, p);
+    } else {
+      std::size_t next = 0;  // first vertex not yet written
+      for (const std::uint32_t a : animated()) {
+        text.append(rest_lines_, rest_line_start_[next],
+                    rest_line_start_[a] - rest_line_start_[next]);
+        append_vertex_line(text, positions[a]);
+        next = std::size_t{a} + 1;
+      }
+      text.append(rest_lines_, rest_line_start_[next], std::string::npos);
+    }
+    text += faces_;
+    auto file =
+        std::make_unique<detail::TempFile>(obj_sequence_path(out(), index, info().frame_count));
+    file->write(text);
+    file->seal();
+    frames_.push_back(std::move(file));
+  }
+
+  void complete() override {
+    std::size_t published = 0;
+    try {
+      for (; published < frames_.size(); ++published) frames_[published]->publish();
+    } catch (...) {
+      // All or nothing: take back the frames already renamed into place.
+      for (std::size_t k = 0; k < published; ++k) ::unlink(frames_[k]->target().c_str());
+      throw;
+    }
+    frames_.clear();
+  }
+
+  void abandon() noexcept override { frames_.clear(); }  // each TempFile removes its temporary
+
+ private:
+  std::string faces_;        // the `f` lines, the same in every frame
+  std::string header_tail_;  // the comment line after the frame number
+  std::string rest_lines_;   // `v` lines of the rest pose, when some vertices never move
+  std::vector<std::size_t> rest_line_start_;
+  std::string text_;  // one frame's file, reused
+  std::vector<std::unique_ptr<detail::TempFile>> frames_;
+};
+
+}  // namespace
+
+std::unique_ptr<BakeWriter> make_obj_bake_writer(const std::filesystem::path& out) {
+  return std::make_unique<ObjSequenceWriter>(out);
+}
+
+}  // namespace sweep::io
