@@ -1,0 +1,133 @@
+// Small exact cases: loops in a plane, rotation-minimizing frames, the part flood.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "fit/loop.h"
+#include "fit/part.h"
+#include "fit/trace.h"
+
+namespace sweep::fit {
+namespace {
+
+// A square of half-side a in the z = 0 plane, centred at the origin.
+std::vector<Vec3> square(double a, double z = 0) {
+  return {{-a, -a, z}, {a, -a, z}, {a, a, z}, {-a, a, z}};
+}
+
+TEST(Loop, SquareRadiiAreExact) {
+  // Rays at 0, 45, 90, ... degrees from the centre of a square of half-side 1: 1, √2, 1, ...
+  const RaySamples s = sample_radii(Frame{}, square(1), 8);
+  ASSERT_EQ(s.radii.size(), 8u);
+  for (int j = 0; j < 8; ++j) {
+    EXPECT_NEAR(s.radii[j], j % 2 == 0 ? 1.0 : std::sqrt(2.0), 1e-12) << "ray " << j;
+  }
+  EXPECT_EQ(s.multi_crossing_rays, 0);
+  EXPECT_EQ(s.missed_rays, 0);
+}
+
+TEST(Loop, NotStarShapedIsReportedAndOutermostCrossingUsed) {
+  // A C open to +x, centre c = (1, 0.75) in its upper arm:
+  //   (-1,1) +------------+ (2,1)
+  //          |      c     |
+  //          |    +-------+ (2,0.5)       the ray from c towards -y crosses the arm's lower
+  //          |    |  notch                edge (y = 0.5), the notch's lower edge (y = -0.5)
+  //          |    +-------+ (2,-0.5)      and the outside (y = -1): outermost 1.75
+  //  (-1,-1) +------------+ (2,-1)
+  const std::vector<Vec3> c = {{-1, -1, 0},   {2, -1, 0},  {2, -0.5, 0}, {0.5, -0.5, 0},
+                               {0.5, 0.5, 0}, {2, 0.5, 0}, {2, 1, 0},    {-1, 1, 0}};
+  Frame f;
+  f.center = {1, 0.75, 0};
+  const RaySamples s = sample_radii(f, c, 4);
+  EXPECT_NEAR(s.radii[0], 1.0, 1e-12);   // +x
+  EXPECT_NEAR(s.radii[1], 0.25, 1e-12);  // +y
+  EXPECT_NEAR(s.radii[2], 2.0, 1e-12);   // -x
+  EXPECT_NEAR(s.radii[3], 1.75, 1e-12);  // -y: outermost of three crossings
+  EXPECT_EQ(s.multi_crossing_rays, 1);
+  EXPECT_EQ(s.missed_rays, 0);
+}
+
+TEST(Loop, PicksTheLeastLoopAroundThePointOrTheNearest) {
+  std::vector<SlicePolyline> slice = {{square(3), true}, {square(1), true}, {square(0.5, 0), true}};
+  for (Vec3& p : slice[2].points) p += Vec3(5, 0, 0);  // a separate loop to the side
+  const std::optional<Loop> inner = loop_around(slice, Vec3::Zero(), Vec3::UnitZ(), 0);
+  ASSERT_TRUE(inner);
+  EXPECT_NEAR(inner->area, 4.0, 1e-12);  // the 2x2 square, not the 6x6 around it
+  EXPECT_NEAR(inner->radius, std::sqrt(4.0 / std::numbers::pi), 1e-12);
+  EXPECT_LT(inner->centroid.norm(), 1e-12);
+  // Outside every loop: the nearest one within reach, else none.
+  const Vec3 p(5.8, 0, 0);
+  const std::optional<Loop> near = loop_around(slice, p, Vec3::UnitZ(), 0.5);
+  ASSERT_TRUE(near);
+  EXPECT_NEAR((near->centroid - Vec3(5, 0, 0)).norm(), 0, 1e-12);
+  EXPECT_FALSE(loop_around(slice, p, Vec3::UnitZ(), 0.1));
+}
+
+TEST(Frames, RotationMinimizingOnAPlanarArcAddsNoTwist) {
+  // A quarter circle in the x-z plane: the RMF of a planar curve keeps its binormal (here y).
+  std::vector<Vec3> p, t;
+  for (int i = 0; i <= 40; ++i) {
+    const double a = std::numbers::pi / 2 * i / 40;
+    p.emplace_back(1 - std::cos(a), 0, std::sin(a));
+    t.emplace_back(std::sin(a), 0, std::cos(a));
+  }
+  const std::vector<Quat> f = rotation_minimizing_frames(p, t, Vec3::UnitY());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const Mat3 m = f[i].toRotationMatrix();
+    EXPECT_NEAR((m.transpose() * m - Mat3::Identity()).norm(), 0, 1e-12);
+    EXPECT_NEAR((m.col(2) - t[i]).norm(), 0, 1e-12) << i;
+    EXPECT_NEAR(m.col(0).dot(Vec3::UnitY()), 1, 1e-12) << i;
+  }
+}
+
+TEST(Frames, RotationMinimizingOnAHelixHasNoSpin) {
+  // On a helix the RMF's angular velocity has no component along the tangent: between close
+  // stations the x axis turns only as much as the tangent does.
+  std::vector<Vec3> p, t;
+  for (int i = 0; i <= 400; ++i) {
+    const double a = 4 * std::numbers::pi * i / 400;
+    p.emplace_back(std::cos(a), std::sin(a), 0.5 * a);
+    t.push_back(Vec3(-std::sin(a), std::cos(a), 0.5).normalized());
+  }
+  const std::vector<Quat> f = rotation_minimizing_frames(p, t);
+  for (std::size_t i = 1; i + 1 < f.size(); ++i) {
+    // Twist rate: dx/ds projected on y = t × x (central difference), 0 for an RMF up to the
+    // discretisation (~1e-4 here); the Frenet frame would turn at the torsion, 0.4 rad per unit.
+    const Vec3 dx = f[i + 1] * Vec3::UnitX() - f[i - 1] * Vec3::UnitX();
+    EXPECT_NEAR(dx.dot(f[i] * Vec3::UnitY()) / (p[i + 1] - p[i - 1]).norm(), 0, 1e-3) << i;
+  }
+}
+
+// A strip of triangles along x (a "body" and "tail") with a "leg" in front of the root plane
+// that is attached only to the body behind it:
+//
+//   b0---b1---b2---b3---b4        y = 1        root plane x = 1.5, normal +x
+//   | \  | \  | \  | \  |                      tip at (4, 0.5): part = {a2..a4, b2..b4}
+//   a0---a1---a2---a3---a4        y = 0
+//   leg: l0 (3, -5), l1 (4, -5), joined to a0 by the triangle (a0, l1, l0)
+TEST(Part, FloodStopsAtTheRootPlaneAndLeavesLegsOut) {
+  Mesh m;
+  for (int i = 0; i < 5; ++i) m.positions.emplace_back(i, 0, 0);  // a_i = i
+  for (int i = 0; i < 5; ++i) m.positions.emplace_back(i, 1, 0);  // b_i = 5 + i
+  m.positions.emplace_back(3, -5, 0);                             // l0 = 10
+  m.positions.emplace_back(4, -5, 0);                             // l1 = 11
+  for (std::uint32_t i = 0; i < 4; ++i) {
+    m.add_face({i, i + 1, 5 + i});
+    m.add_face({i + 1, 6 + i, 5 + i});
+  }
+  m.add_face({0, 11, 10});
+  Frame root;
+  root.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitX());
+  root.center = {1.5, 0.5, 0};
+  const std::vector<std::uint32_t> part = select_part(m, root, {4, 0.5, 0});
+  EXPECT_EQ(part, (std::vector<std::uint32_t>{2, 3, 4, 7, 8, 9}));
+  // A half-space would have taken the leg too.
+  EXPECT_GT((m.positions[10] - root.center).dot(root.axis()), 0);
+  // The tip on the body's side of the root is a bad request.
+  EXPECT_THROW(select_part(m, root, {0, 0.5, 0}), Error);
+}
+
+}  // namespace
+}  // namespace sweep::fit

@@ -1,0 +1,240 @@
+// sweep-fit: fits a sweep (key cross sections and radius samples) to a tubular part of a mesh,
+// named by a root point and a tip point, and writes it into a rig file (created, or updated by
+// adding or replacing the sweep of that name). The work is in lib/fit/fit.h.
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "common/tool_main.h"
+#include "core/error.h"
+#include "fit/fit.h"
+#include "io/atomic_file.h"
+#include "io/mesh_io.h"
+#include "io/rig_json.h"
+
+namespace fs = std::filesystem;
+using sweep::ErrorCategory;
+using sweep::fail;
+using sweep::Vec3;
+
+namespace {
+
+struct Settings {
+  fs::path mesh;              // input mesh (any format io::read_mesh reads)
+  fs::path rig;               // rig file to create or update
+  std::string name = "part";  // the sweep's name in the rig
+  std::string root, tip;      // "X,Y,Z" in mesh units
+  fs::path axis;              // optional axis polyline: "X Y Z" (or X,Y,Z) per line, root first
+  int sections = sweep::fit::FitOptions{}.sections;
+  int radial = sweep::fit::FitOptions{}.radial;
+  double tolerance = 0;  // > 0: fewest sections with fit_rms ≤ tolerance × mean radius
+  fs::path report;       // optional JSON report
+  bool verbose = false;
+};
+
+Vec3 parse_point(const std::string& text, const char* flag) {
+  Vec3 p;
+  std::size_t pos = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t end = k < 2 ? text.find(',', pos) : text.size();
+    const std::string field =
+        end == std::string::npos ? std::string() : text.substr(pos, end - pos);
+    double v = 0;
+    const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
+    if (field.empty() || ec != std::errc() || ptr != field.data() + field.size() ||
+        !std::isfinite(v)) {
+      fail(ErrorCategory::usage,
+           std::string(flag) + " expects three finite numbers X,Y,Z, got '" + text + "'");
+    }
+    p[k] = v;
+    pos = end + 1;
+  }
+  return p;
+}
+
+std::vector<Vec3> read_axis(const fs::path& path) {
+  std::istringstream in(sweep::io::read_file(path));
+  std::vector<Vec3> points;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    for (char& c : line)
+      if (c == ',') c = ' ';
+    std::istringstream fields(line);
+    Vec3 p;
+    if (!(fields >> p.x())) continue;  // blank line
+    if (!(fields >> p.y() >> p.z()) || !p.allFinite()) {
+      fail(ErrorCategory::bad_input,
+           path.string() + ":" + std::to_string(number) + ": expected X Y Z");
+    }
+    points.push_back(p);
+  }
+  if (points.size() < 2)
+    fail(ErrorCategory::bad_input, path.string() + ": an axis needs at least 2 points");
+  return points;
+}
+
+// The rig's mesh path: relative to the rig file's folder.
+std::string mesh_path_for(const fs::path& rig, const fs::path& mesh) {
+  const fs::path rig_dir = fs::weakly_canonical(fs::absolute(rig)).parent_path();
+  return fs::weakly_canonical(fs::absolute(mesh)).lexically_relative(rig_dir).generic_string();
+}
+
+nlohmann::ordered_json report_entry(const sweep::fit::FitResult& r) {
+  nlohmann::ordered_json s;
+  s["name"] = r.sweep.name;
+  s["sections"] = r.sweep.rest.section_count();
+  s["radial"] = r.sweep.rest.radial_count;
+  s["part_vertex_count"] = r.part_vertices.size();
+  s["measured_vertex_count"] = r.error.measured_count;
+  s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
+  s["length"] = r.length;
+  s["mean_radius"] = r.mean_radius;
+  s["fit_rms"] = r.error.rms;
+  s["fit_max"] = r.error.max;
+  s["fit_rms_relative"] = r.mean_radius > 0 ? r.error.rms / r.mean_radius : 0.0;
+  s["axis_points"] = r.axis.points.size();
+  auto& v = s["star_violations"] = nlohmann::ordered_json::array();
+  for (const auto& x : r.star_violations) {
+    v.push_back({{"section", x.section},
+                 {"multi_crossing_rays", x.multi_crossing_rays},
+                 {"missed_rays", x.missed_rays}});
+  }
+  s["warnings"] = r.warnings;
+  s["seconds"] = r.seconds;
+  return s;
+}
+
+int run(const Settings& s) {
+  const auto start = std::chrono::steady_clock::now();
+  sweep::fit::FitOptions o;
+  o.name = s.name;
+  o.sections = s.sections;
+  o.radial = s.radial;
+  o.tolerance = s.tolerance;
+  if (!s.axis.empty()) {
+    o.axis = read_axis(s.axis);
+    o.root = o.axis.front();
+    o.tip = o.axis.back();
+  }
+  if (!s.root.empty()) o.root = parse_point(s.root, "--root");
+  if (!s.tip.empty()) o.tip = parse_point(s.tip, "--tip");
+
+  // Read the existing rig first, so a bad rig fails before any work.
+  sweep::Rig rig;
+  const std::string mesh_in_rig = mesh_path_for(s.rig, s.mesh);
+  const bool updating = fs::exists(s.rig);
+  if (updating) {
+    rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
+    const fs::path rig_dir = fs::absolute(s.rig).parent_path();
+    if (fs::weakly_canonical(rig_dir / rig.mesh) != fs::weakly_canonical(fs::absolute(s.mesh))) {
+      fail(ErrorCategory::usage, s.rig.string() + " is a rig of mesh '" + rig.mesh + "', not of " +
+                                     s.mesh.string() + "; write to another --rig file");
+    }
+  }
+  rig.mesh = mesh_in_rig;
+
+  const sweep::Mesh mesh = sweep::io::read_mesh(s.mesh);
+  sweep::io::validate_mesh(mesh, s.mesh.string());
+  const sweep::fit::FitResult r = sweep::fit::fit_sweep(mesh, o);
+  for (const std::string& w : r.warnings) sweep::tools::warn(s.name + ": " + w);
+
+  sweep::SweepDef def = r.sweep;
+  bool replaced = false;
+  for (sweep::SweepDef& old : rig.sweeps) {
+    if (old.name != def.name) continue;
+    // Keep the user's spring settings and force scales; per-section overrides no longer apply.
+    def.default_springs = old.default_springs;
+    def.springs.assign(def.springs.size(), def.default_springs);
+    def.rotational_scale = old.rotational_scale;
+    def.radial_scale = old.radial_scale;
+    old = def;
+    replaced = true;
+  }
+  if (!replaced) rig.sweeps.push_back(def);
+  sweep::io::write_rig(s.rig, rig);
+
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!s.report.empty()) {
+    nlohmann::ordered_json rep;
+    rep["format"] = "sweep-fit-report";
+    rep["version"] = 1;
+    rep["mesh"] = s.mesh.generic_string();
+    rep["rig"] = s.rig.generic_string();
+    rep["sweeps"] = nlohmann::ordered_json::array({report_entry(r)});
+    rep["seconds_total"] = seconds;
+    sweep::io::write_file_atomically(s.report, rep.dump(2) + "\n");
+  }
+
+  std::cout << s.name << ": " << r.sweep.rest.section_count() << " sections x "
+            << r.sweep.rest.radial_count << " radii, length " << r.length << ", mean radius "
+            << r.mean_radius << "\n"
+            << "  part: " << r.part_vertices.size() << " vertices (" << r.error.measured_count
+            << " measured); fit rms " << r.error.rms << " (" << 100 * r.error.rms / r.mean_radius
+            << "% of mean radius), max " << r.error.max << "\n"
+            << "  "
+            << (replaced   ? "replaced in "
+                : updating ? "added to "
+                           : "wrote ")
+            << s.rig.string() << " (" << rig.sweeps.size()
+            << (rig.sweeps.size() == 1 ? " sweep" : " sweeps") << ") in " << seconds << " s\n";
+  if (s.verbose) {
+    std::cout << "  axis: " << r.axis.points.size()
+              << " traced points, stopped: " << r.axis.stop_reason << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return sweep::tools::guarded_main([&] {
+    Settings s;
+    CLI::App app{"Fit a sweep (key sections and radius samples) to a tubular part of a mesh"};
+    app.set_version_flag("--version", std::string("sweep-fit ") + SWEEP_VERSION);
+    app.add_option("mesh", s.mesh, "Input mesh (OFF, PLY, OBJ, STL, glTF/glb, FBX)")->required();
+    app.add_option("-o,--rig", s.rig, "Rig file to create, or to add/replace the sweep in")
+        ->required();
+    app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
+    app.add_option("--root", s.root, "X,Y,Z: where the part leaves the body, near its axis");
+    app.add_option("--tip", s.tip, "X,Y,Z: at or near the part's end");
+    app.add_option("--axis", s.axis,
+                   "File of axis points 'X Y Z' per line, root first (instead of tracing)");
+    auto* sections =
+        app.add_option("-k,--sections", s.sections, "Key sections K (>= 2)")->capture_default_str();
+    app.add_option("-n,--radial", s.radial, "Radius samples per section (>= 3)")
+        ->capture_default_str();
+    auto* tolerance =
+        app.add_option("--tolerance", s.tolerance,
+                       "Use the fewest sections with fit_rms <= this fraction of the mean radius");
+    app.add_option("--report", s.report, "Write a JSON report here");
+    app.add_flag("-v,--verbose", s.verbose, "Say more");
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      return app.exit(e);
+    }
+    // Conflicts, once, after parsing.
+    if (sections->count() > 0 && tolerance->count() > 0) {
+      fail(ErrorCategory::usage,
+           "--sections and --tolerance cannot be combined: --tolerance chooses K");
+    }
+    if (tolerance->count() > 0 && !(s.tolerance > 0))
+      fail(ErrorCategory::usage, "--tolerance must be > 0");
+    if (s.axis.empty() && (s.root.empty() || s.tip.empty())) {
+      fail(ErrorCategory::usage, "give both --root and --tip (or --axis FILE)");
+    }
+    if (s.sections < 2)
+      fail(ErrorCategory::usage,
+           "--sections must be at least 2, got " + std::to_string(s.sections));
+    if (s.radial < 3)
+      fail(ErrorCategory::usage, "--radial must be at least 3, got " + std::to_string(s.radial));
+    if (s.name.empty()) fail(ErrorCategory::usage, "--name must not be empty");
+    return run(s);
+  });
+}
