@@ -266,6 +266,14 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
         std::to_string(impl_->slicer.repaired_face_count()) +
         " triangles were not manifold; the slicer duplicated vertices to take them");
   }
+  if (r.error.measured_count < r.part_vertices.size() / 2) {
+    // Most of the part lies beyond the end sections: the root plane cut more than the part (a
+    // root at a junction whose plane also slices the body), or the tip stops short of the end.
+    r.warnings.push_back("only " + std::to_string(r.error.measured_count) + " of the part's " +
+                         std::to_string(r.part_vertices.size()) +
+                         " vertices lie between the end sections: move the root further out "
+                         "along the part, or the tip to its end");
+  }
   if (!r.star_violations.empty()) {
     int rays = 0;
     for (const StarViolation& v : r.star_violations) rays += v.multi_crossing_rays + v.missed_rays;

@@ -1,0 +1,167 @@
+// sweep-fit as a black box: exit codes, messages, no rig file on failure, and a rig shared by a
+// tail and a neck.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "io/mesh_io.h"
+#include "io/rig_json.h"
+#include "tubes.h"
+
+namespace fs = std::filesystem;
+
+namespace sweep {
+namespace {
+
+struct ToolRun {
+  int code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+ToolRun run_tool(const std::string& args) {
+  ToolRun r;
+  const std::string command = std::string(SWEEP_FIT_EXE) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) r.output += buffer;
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class Tool : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        fs::temp_directory_path() / ("sweep_fit_tool_" + std::to_string(getpid()) + "_" +
+                                     testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    tube_ = (dir_ / "tube.obj").string();
+    io::write_obj(tube_, test::Tube{}.mesh());
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const char* name) const { return (dir_ / name).string(); }
+  void write(const char* name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+  }
+  fs::path dir_;
+  std::string tube_;
+};
+
+TEST_F(Tool, VersionAndHelp) {
+  const ToolRun v = run_tool("--version");
+  EXPECT_EQ(v.code, 0);
+  EXPECT_NE(v.output.find("sweep-fit "), std::string::npos);
+  EXPECT_EQ(run_tool("--help").code, 0);
+}
+
+TEST_F(Tool, FitsATubeAndWritesRigAndReport) {
+  const std::string rig = path("rig.json"), report = path("report.json");
+  const ToolRun r =
+      run_tool(tube_ + " -o " + rig + " --name hose --root 0,0,0.1 --tip 0,0,1 --report " + report);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("hose: 24 sections x 24 radii"), std::string::npos) << r.output;
+  const Rig loaded = io::read_rig(rig);
+  EXPECT_EQ(loaded.mesh, "tube.obj");  // relative to the rig file
+  ASSERT_EQ(loaded.sweeps.size(), 1u);
+  ASSERT_TRUE(loaded.sweeps[0].part);
+  EXPECT_NEAR(loaded.sweeps[0].part->root.z(), 0.1, 1e-12);
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(report));
+  const auto& s = j.at("sweeps").at(0);
+  for (const char* key : {"part_vertex_count", "length", "mean_radius", "fit_rms", "fit_max",
+                          "star_violations", "seconds"}) {
+    EXPECT_TRUE(s.contains(key)) << key;
+  }
+  EXPECT_LT(s.at("fit_rms").get<double>(), 0.001);
+}
+
+TEST_F(Tool, BadRequestsExitNonZeroAndWriteNoRig) {
+  write("empty.off", "OFF\n0 0 0\n");
+  write("nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n");
+  write("nofaces.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n");
+  const std::string rig = path("rig.json");
+  struct Case {
+    std::string args;
+    int code;
+    std::string message;
+  };
+  const std::string ok = " --root 0,0,0.1 --tip 0,0,1";
+  const Case cases[] = {
+      {tube_ + " -o " + rig + ok + " --sections 1", 1, "--sections must be at least 2"},
+      {tube_ + " -o " + rig + ok + " --radial 2", 1, "--radial must be at least 3"},
+      {tube_ + " -o " + rig + ok + " --sections 8 --tolerance 0.01", 1,
+       "--sections and --tolerance"},
+      {tube_ + " -o " + rig + " --root 0,0,0.1", 1, "--root and --tip"},
+      {tube_ + " -o " + rig + " --root 0,0,zero --tip 0,0,1", 1, "--root expects three"},
+      {tube_ + " -o " + rig + " --root 5,5,5 --tip 0,0,1", 2, "root 5,5,5 is far from the mesh"},
+      {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,3,1", 2, "tip 0,3,1 is far from the mesh"},
+      {path("empty.off") + " -o " + rig + ok, 2, "empty.off"},
+      {path("nan.off") + " -o " + rig + ok, 2, "nan.off"},
+      {path("nofaces.off") + " -o " + rig + ok, 2, "nofaces.off"},
+      {path("missing.off") + " -o " + rig + ok, 2, "missing.off"},
+  };
+  for (const Case& c : cases) {
+    const ToolRun r = run_tool(c.args);
+    EXPECT_EQ(r.code, c.code) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find("error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(rig)) << c.args;
+    fs::remove(rig);
+  }
+}
+
+TEST_F(Tool, TipOnAnotherPieceIsNotReachable) {
+  // Two tubes side by side in one file: a tip on the second is not reachable from the first.
+  Mesh two = test::Tube{}.mesh();
+  const Mesh other = test::Tube{}.mesh();
+  const auto base = static_cast<std::uint32_t>(two.positions.size());
+  for (const Vec3& p : other.positions) two.positions.push_back(p + Vec3(0.5, 0, 0));
+  for (std::size_t f = 0; f < other.face_count(); ++f) {
+    for (std::uint32_t k = other.face_offsets[f]; k < other.face_offsets[f + 1]; ++k) {
+      two.face_vertices.push_back(base + other.face_vertices[k]);
+    }
+    two.face_offsets.push_back(static_cast<std::uint32_t>(two.face_vertices.size()));
+  }
+  io::write_obj(path("two.obj"), two);
+  const ToolRun r =
+      run_tool(path("two.obj") + " -o " + path("rig.json") + " --root 0,0,0.1 --tip 0.5,0,1");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("not reachable"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("rig.json")));
+}
+
+TEST_F(Tool, DiplodocusTailAndNeckShareOneRig) {
+  const fs::path mesh = fs::path(SWEEP_SOURCE_DIR) / "meshes" / "cgal" / "diplodocus.off";
+  if (!fs::exists(mesh)) GTEST_SKIP() << "run tools/setup-deps.sh";
+  const std::string rig = path("dino.rig.json");
+  ToolRun r = run_tool(mesh.string() + " -o " + rig +
+                       " --name tail --root=-0.29,-0.16,-0.015 --tip=-0.5,-0.345,-0.012");
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_tool(mesh.string() + " -o " + rig +
+               " --name neck --root=0.255,0.08,0.06 --tip=0.5,0.37,0.1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("added to"), std::string::npos) << r.output;
+  // Fitting the tail again replaces it in place.
+  r = run_tool(mesh.string() + " -o " + rig +
+               " --name tail -k 16 --root=-0.29,-0.16,-0.015 --tip=-0.5,-0.345,-0.012");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("replaced in"), std::string::npos) << r.output;
+  const Rig loaded = io::read_rig(rig);
+  ASSERT_EQ(loaded.sweeps.size(), 2u);
+  EXPECT_EQ(loaded.sweeps[0].name, "tail");
+  EXPECT_EQ(loaded.sweeps[0].rest.section_count(), 16);
+  EXPECT_EQ(loaded.sweeps[1].name, "neck");
+  EXPECT_TRUE(loaded.sweeps[0].part && loaded.sweeps[1].part);
+  EXPECT_EQ(fs::weakly_canonical(dir_ / loaded.mesh), fs::weakly_canonical(mesh));
+}
+
+}  // namespace
+}  // namespace sweep
