@@ -86,9 +86,10 @@ SweepCoords SweepLocator::locate(const Vec3& v) const {
     }
     g_prev = g_next;
   }
-  // Behind the root plane or beyond the tip plane: the end sections with an axial offset.
-  if (g_station(0) < 0) consider(0.0);
-  if (g_station(m - 1) > 0) consider(shape_.length());
+  // Behind (or on) the root plane or beyond (or on) the tip plane: the end sections with an axial
+  // offset. A point exactly on an end plane is a candidate there even when no bracket starts at it.
+  if (g_station(0) <= 0) consider(0.0);
+  if (g_station(m - 1) >= 0) consider(shape_.length());
 
   const Frame f = frame_at(shape_, best_t);
   const Vec3 local = f.to_local(v);

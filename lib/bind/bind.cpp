@@ -1,0 +1,268 @@
+#include "bind/bind.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include "bind/deform.h"
+#include "core/error.h"
+#include "fit/part.h"
+#include "io/rig_json.h"
+
+namespace sweep::bind {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
+constexpr std::uint64_t kFnvPrime = 1099511628211ull;
+
+std::uint64_t fnv1a(std::uint64_t h, std::uint64_t word_le, int bytes) {
+  for (int b = 0; b < bytes; ++b) {
+    h ^= (word_le >> (8 * b)) & 0xffu;
+    h *= kFnvPrime;
+  }
+  return h;
+}
+
+double smoothstep01(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3 - 2 * x);
+}
+
+// One sweep's candidates before ownership: mesh indices (ascending), coordinates, and the
+// distance used to settle overlaps.
+struct Candidates {
+  std::vector<std::uint32_t> vertices;
+  std::vector<SweepCoords> coords;
+  std::vector<double> surface_distance;  // |s − 1|·r(θ,t) + |z|, mesh units
+  std::vector<char> keep;                // seedless filter result (1 = bind)
+};
+
+std::string sweep_label(const SweepDef& def, std::size_t index) {
+  std::ostringstream s;
+  s << "sweep " << index << " ('" << def.name << "')";
+  return s.str();
+}
+
+void check_inputs(const Rig& rig, const Mesh& mesh, const BindOptions& o) {
+  if (!(o.blend >= 0) || !std::isfinite(o.blend)) {
+    fail(ErrorCategory::usage, "--blend must be a finite distance >= 0");
+  }
+  if (!(o.seedless_radius_factor >= 1) || !std::isfinite(o.seedless_radius_factor)) {
+    fail(ErrorCategory::usage, "the seedless radius factor must be finite and >= 1");
+  }
+  if (o.stations_per_span < 1) fail(ErrorCategory::usage, "stations per span must be >= 1");
+  if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
+  if (mesh.vertex_count() > std::numeric_limits<std::uint32_t>::max()) {
+    fail(ErrorCategory::unsupported, "meshes of more than 2^32 - 1 vertices are not supported");
+  }
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (!mesh.positions[v].allFinite()) {
+      fail(ErrorCategory::bad_input, "vertex " + std::to_string(v) + " is not finite");
+    }
+  }
+  if (rig.sweeps.empty()) fail(ErrorCategory::bad_input, "the rig has no sweeps");
+  for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
+    const std::string why = check_shape(rig.sweeps[i].rest);
+    if (!why.empty()) fail(ErrorCategory::bad_input, sweep_label(rig.sweeps[i], i) + ": " + why);
+  }
+}
+
+Candidates locate_part(const SweepDef& def, const Mesh& mesh, const fit::VertexAdjacency* adjacency,
+                       const BindOptions& o) {
+  const SweepShape& rest = def.rest;
+  const Frame& root = rest.frames[0];
+  Candidates c;
+  if (def.part) {
+    c.vertices = fit::select_part(mesh, *adjacency, root, def.part->tip);
+  } else {
+    const Vec3 normal = root.axis();
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+      if ((mesh.positions[v] - root.center).dot(normal) >= 0) {
+        c.vertices.push_back(static_cast<std::uint32_t>(v));
+      }
+    }
+  }
+  const std::size_t m = c.vertices.size();
+  c.coords.resize(m);
+  c.surface_distance.resize(m);
+  c.keep.assign(m, 1);
+  const SweepLocator locator(rest, o.stations_per_span);
+  const double length = rest.length();
+  const int last = rest.section_count() - 1;
+  double tip_radius = 0;
+  for (double r : rest.section_radii(last)) tip_radius = std::max(tip_radius, r);
+  const double factor = o.seedless_radius_factor;
+  const bool seedless = !def.part;
+  const auto count = static_cast<std::ptrdiff_t>(m);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t k = 0; k < count; ++k) {
+    const SweepCoords sc = locator.locate(mesh.positions[c.vertices[k]]);
+    c.coords[k] = sc;
+    const double r = radius_at(rest, sc.theta, sc.t);
+    c.surface_distance[k] = std::abs(sc.s - 1) * r + std::abs(sc.z);
+    if (seedless) {
+      const bool inside = sc.s <= factor;
+      const bool in_span = sc.z == 0;
+      const bool tip_cap = sc.t == length && sc.z > 0 && sc.z <= factor * tip_radius;
+      c.keep[k] = inside && (in_span || tip_cap) ? 1 : 0;
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+std::size_t Binding::bound_count() const {
+  std::size_t n = 0;
+  for (const SweepBinding& s : sweeps) n += s.size();
+  return n;
+}
+
+fit::VertexAdjacency vertex_adjacency(const Mesh& mesh) {
+  const std::size_t nv = mesh.vertex_count();
+  fit::VertexAdjacency adj;
+  std::vector<std::uint32_t> start(nv + 1, 0);
+  auto for_each_edge = [&](auto&& visit) {
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+      for (std::uint32_t k = begin; k < end; ++k) {
+        const std::uint32_t a = mesh.face_vertices[k];
+        const std::uint32_t b = mesh.face_vertices[k + 1 < end ? k + 1 : begin];
+        if (a == b || a >= nv || b >= nv) continue;
+        visit(a, b);
+        visit(b, a);
+      }
+    }
+  };
+  for_each_edge([&](std::uint32_t a, std::uint32_t) { ++start[a + 1]; });
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<std::uint32_t> all(start[nv]);
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for_each_edge([&](std::uint32_t a, std::uint32_t b) { all[fill[a]++] = b; });
+  adj.offsets.assign(nv + 1, 0);
+  adj.neighbours.reserve(all.size() / 2);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const auto first = all.begin() + start[v], last = all.begin() + start[v + 1];
+    std::sort(first, last);
+    const auto unique_end = std::unique(first, last);
+    adj.neighbours.insert(adj.neighbours.end(), first, unique_end);
+    adj.offsets[v + 1] = static_cast<std::uint32_t>(adj.neighbours.size());
+  }
+  return adj;
+}
+
+std::uint64_t hash_positions(const std::vector<Vec3>& positions) {
+  std::uint64_t h = kFnvOffset;
+  for (const Vec3& p : positions) {
+    for (int a = 0; a < 3; ++a) h = fnv1a(h, std::bit_cast<std::uint64_t>(p[a]), 8);
+  }
+  return h;
+}
+
+std::uint64_t hash_sweeps(const Rig& rig) {
+  Rig geometry;
+  for (const SweepDef& def : rig.sweeps) {
+    SweepDef g = make_sweep(def.name, def.rest);
+    g.part = def.part;
+    geometry.sweeps.push_back(std::move(g));
+  }
+  const std::string text = io::format_rig(geometry);
+  std::uint64_t h = kFnvOffset;
+  for (unsigned char ch : text) h = fnv1a(h, ch, 1);
+  return h;
+}
+
+BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
+  const Clock::time_point start = Clock::now();
+  check_inputs(rig, mesh, options);
+  BindResult result;
+  Binding& b = result.binding;
+  b.vertex_count = mesh.vertex_count();
+  b.mesh_hash = hash_positions(mesh.positions);
+  b.rig_hash = hash_sweeps(rig);
+
+  const bool any_seeds =
+      std::any_of(rig.sweeps.begin(), rig.sweeps.end(), [](const SweepDef& d) { return d.part; });
+  std::optional<fit::VertexAdjacency> adjacency;
+  if (any_seeds) adjacency = bind::vertex_adjacency(mesh);
+
+  // Candidates of every sweep, then ownership: strictly nearer surface wins, so ties stay with
+  // the earlier sweep (sweeps are visited in rig order).
+  const std::size_t sweep_count = rig.sweeps.size();
+  std::vector<Candidates> candidates(sweep_count);
+  result.sweeps.resize(sweep_count);
+  std::vector<int> owner(mesh.vertex_count(), -1);
+  std::vector<double> owner_distance(mesh.vertex_count(), std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < sweep_count; ++i) {
+    const Clock::time_point sweep_start = Clock::now();
+    const SweepDef& def = rig.sweeps[i];
+    try {
+      candidates[i] = locate_part(def, mesh, adjacency ? &*adjacency : nullptr, options);
+    } catch (const Error& e) {
+      throw Error(e.category(), sweep_label(def, i) + ": " + e.what());
+    }
+    const Candidates& c = candidates[i];
+    SweepBindStats& st = result.sweeps[i];
+    st.name = def.name;
+    st.length = def.rest.length();
+    for (std::size_t k = 0; k < c.vertices.size(); ++k) {
+      if (!c.keep[k]) continue;
+      ++st.part_vertex_count;
+      const std::uint32_t v = c.vertices[k];
+      if (c.surface_distance[k] < owner_distance[v]) {
+        owner_distance[v] = c.surface_distance[k];
+        owner[v] = static_cast<int>(i);
+      }
+    }
+    st.seconds = seconds_since(sweep_start);
+  }
+
+  // The tables: owned candidates in ascending vertex order, coordinates rounded to float32.
+  b.sweeps.resize(sweep_count);
+  for (std::size_t i = 0; i < sweep_count; ++i) {
+    const Clock::time_point sweep_start = Clock::now();
+    const SweepDef& def = rig.sweeps[i];
+    const Candidates& c = candidates[i];
+    SweepBinding& sb = b.sweeps[i];
+    sb.name = def.name;
+    const Frame& root = def.rest.frames[0];
+    const Vec3 normal = root.axis();
+    for (std::size_t k = 0; k < c.vertices.size(); ++k) {
+      const std::uint32_t v = c.vertices[k];
+      if (!c.keep[k] || owner[v] != static_cast<int>(i)) continue;
+      const SweepCoords& sc = c.coords[k];
+      double w = 1;
+      if (options.blend > 0) {
+        w = smoothstep01((mesh.positions[v] - root.center).dot(normal) / options.blend);
+      }
+      sb.vertices.push_back(v);
+      sb.t.push_back(static_cast<float>(sc.t));
+      sb.theta.push_back(static_cast<float>(sc.theta));
+      sb.s.push_back(static_cast<float>(sc.s));
+      sb.z.push_back(static_cast<float>(sc.z));
+      sb.weight.push_back(static_cast<float>(w));
+    }
+    SweepBindStats& st = result.sweeps[i];
+    st.bound_vertex_count = sb.size();
+    st.blended_vertex_count = static_cast<std::size_t>(
+        std::count_if(sb.weight.begin(), sb.weight.end(), [](float w) { return w < 1; }));
+    // The rest pose rebuilt from exactly what the file will hold.
+    st.rest_max_error = max_rebuild_error(sb, def.rest, mesh.positions);
+    st.seconds += seconds_since(sweep_start);
+  }
+  result.unbound_vertex_count = mesh.vertex_count() - b.bound_count();
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace sweep::bind

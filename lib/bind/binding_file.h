@@ -1,0 +1,52 @@
+#pragma once
+// The binding file: compact, little-endian, versioned binary. Layout (offsets in bytes):
+//
+//   header (48 bytes)
+//     0  char[8]  magic "SWPBIND\0"
+//     8  u32      format version (kBindingFormatVersion)
+//    12  u32      sweep count S
+//    16  u64      vertex count of the mesh it was made for
+//    24  u64      mesh hash (hash_positions: FNV-1a 64 of the positions' bytes as doubles)
+//    32  u64      rig hash (hash_sweeps: FNV-1a 64 of the sweeps' names, rest shapes, part seeds)
+//    40  u64      payload size P in bytes
+//   payload (P bytes): S sweep tables, in rig order, each
+//          u32      name length N, then N bytes of UTF-8 name
+//          u64      bound vertex count M
+//          u32[M]   vertex indices, strictly increasing
+//          f32[M]   t, then f32[M] θ, f32[M] s, f32[M] z, f32[M] blend weight
+//   trailer (8 bytes)
+//          u64      checksum: FNV-1a 64 of every byte before it (header and payload)
+//
+// Reading checks, in order: size, magic, version, payload size against the file size (truncated or
+// trailing bytes), checksum (corrupt), the tables' own consistency; then, against a mesh and rig,
+// the vertex count, the mesh hash and the rig hash. Every failure is Error(bad_input) naming the
+// file and what is wrong (a version newer than this program's is Error(unsupported)).
+// Writing is deterministic (same binding, same bytes) and atomic.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "bind/bind.h"
+
+namespace sweep::bind {
+
+inline constexpr std::uint32_t kBindingFormatVersion = 1;
+
+std::string binding_bytes(const Binding& binding);
+void write_binding(const std::filesystem::path& path, const Binding& binding);
+
+// Parses and checks the file's own integrity (not whether it matches a mesh or rig). `source`
+// names the file in messages.
+Binding parse_binding(std::string_view bytes, const std::string& source);
+Binding read_binding(const std::filesystem::path& path);
+
+// Refuses (Error(bad_input), "source: what is wrong; run sweep-bind again") a binding made for
+// another mesh (vertex count, positions) or another version of the rig's sweeps.
+void check_binding(const Binding& binding, const Mesh& mesh, const Rig& rig,
+                   const std::string& source);
+
+// read_binding followed by check_binding.
+Binding load_binding(const std::filesystem::path& path, const Mesh& mesh, const Rig& rig);
+
+}  // namespace sweep::bind

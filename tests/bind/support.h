@@ -1,0 +1,134 @@
+#pragma once
+// Shared fixtures of the binding tests: a generated straight tube with a hand-made sweep whose
+// every number is visible, the diplodocus tail and neck fitted in the test, temporary folders and
+// a runner for the sweep-bind program.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "bind/bind.h"
+#include "core/error.h"
+#include "core/rig.h"
+#include "fit/fit.h"
+#include "io/atomic_file.h"
+#include "io/mesh_io.h"
+#include "tube.h"
+
+namespace sweep::test {
+
+namespace fs = std::filesystem;
+
+// A straight circular tube along +z from the origin: length 1, radius 0.1, 41 rings (every
+// 0.025) of 24 vertices, both ends capped (vertex 984 = root cap centre, 985 = tip cap centre).
+inline tube::TubeParams straight_tube_params() {
+  tube::TubeParams p;
+  p.length = 1.0;
+  p.radius = 0.1;
+  p.rings = 41;
+  p.segments = 24;
+  return p;
+}
+
+// The hand-made sweep of that tube: K = 6 sections at t = 0, 0.2, ..., 1 on the z axis, identity
+// frames, n = 8 radii of 0.1 (so sample j's angle 2πj/8 falls on mesh segment 3j). With `seeds`
+// the part is given as sweep-fit would (root at the origin, tip at the tip cap centre).
+inline SweepDef straight_sweep(const std::string& name = "tube", bool seeds = true,
+                               double radius = 0.1) {
+  SweepShape s;
+  s.radial_count = 8;
+  for (int i = 0; i < 6; ++i) {
+    s.t.push_back(0.2 * i);
+    s.frames.push_back({Quat::Identity(), Vec3(0, 0, 0.2 * i)});
+    for (int j = 0; j < 8; ++j) s.radii.push_back(radius);
+  }
+  SweepDef def = make_sweep(name, std::move(s));
+  if (seeds) def.part = PartSeeds{Vec3(0, 0, 0), Vec3(0, 0, 1)};
+  return def;
+}
+
+inline Rig rig_of(std::vector<SweepDef> sweeps, std::string mesh = "") {
+  Rig r;
+  r.mesh = std::move(mesh);
+  r.sweeps = std::move(sweeps);
+  return r;
+}
+
+// CGAL's diplodocus (tools/setup-deps.sh unpacks it; tests skip without it).
+inline fs::path diplodocus_path() {
+  return fs::path(SWEEP_SOURCE_DIR) / "meshes/cgal/diplodocus.off";
+}
+
+// Root and tip seeds of the diplodocus's tail and neck (mesh units; the model spans x ∈ [-0.5,
+// 0.5], head at +x, tail tip at -x, y up): the tail leaves the body's rear at x ≈ -0.29 and hangs
+// down to its tip; the neck rises from the front of the body at y ≈ 0.08 to where it meets the
+// head (the head lies beyond the tip section and is bound as its cap, so it follows rigidly).
+struct Seeds {
+  const char* name;
+  Vec3 root, tip;
+};
+inline const Seeds kDiplodocusTail{"tail", {-0.29, -0.16, -0.015}, {-0.5, -0.345, -0.012}};
+inline const Seeds kDiplodocusNeck{"neck", {0.26, 0.08, 0.062}, {0.36, 0.45, 0.11}};
+
+struct Diplodocus {
+  Mesh mesh;
+  Rig rig;  // tail then neck, fitted with K = 16, n = 16
+};
+
+// Fitted once per test executable (fitting builds a CGAL tree: ~1 s).
+inline const Diplodocus* diplodocus() {
+  static const std::optional<Diplodocus> d = []() -> std::optional<Diplodocus> {
+    if (!fs::exists(diplodocus_path())) return std::nullopt;
+    Diplodocus out;
+    out.mesh = io::read_mesh(diplodocus_path());
+    const fit::SweepFitter fitter(out.mesh);
+    for (const Seeds& s : {kDiplodocusTail, kDiplodocusNeck}) {
+      fit::FitOptions o;
+      o.name = s.name;
+      o.root = s.root;
+      o.tip = s.tip;
+      o.measure_error = false;
+      out.rig.sweeps.push_back(fitter.fit(o).sweep);
+    }
+    out.rig.mesh = diplodocus_path().string();
+    return out;
+  }();
+  return d ? &*d : nullptr;
+}
+
+// A fresh empty folder under the build tree for one test.
+inline fs::path scratch_dir(const std::string& name) {
+  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "test-scratch" / "bind" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+struct ToolRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs sweep-bind with the given arguments (already quoted where needed).
+inline ToolRun run_bind_tool(const std::string& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = std::string("\"") + SWEEP_BIND_EXE + "\" " + args + " >\"" +
+                          out.string() + "\" 2>\"" + err.string() + "\"";
+  const int status = std::system(cmd.c_str());
+  ToolRun r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = io::read_file(out);
+  r.err = io::read_file(err);
+  return r;
+}
+
+inline std::string quoted(const fs::path& p) {
+  return "\"" + p.string() + "\"";
+}
+
+}  // namespace sweep::test

@@ -1,0 +1,158 @@
+// sweep-bind: reads a rig and its mesh, binds every vertex of each sweep's part to its sweep
+// coordinates (lib/bind/bind.h: part selection, ownership and blend rules) and writes the binding
+// file (lib/bind/binding_file.h: layout). With --check it instead verifies an existing binding
+// against the rig and mesh. Exit codes as in core/error.h: 1 usage, 2 bad input (including a
+// stale or damaged binding), 3 unsupported, 4 output.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "bind/bind.h"
+#include "bind/binding_file.h"
+#include "io/atomic_file.h"
+#include "io/mesh_io.h"
+#include "io/rig_json.h"
+#include "tools/common/tool_main.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Settings {
+  fs::path rig;                      // input rig (JSON); its mesh path is relative to it
+  fs::path output;                   // binding file; empty = the rig's path with ".bind"
+  fs::path report;                   // JSON report; empty = none
+  fs::path check;                    // verify this binding instead of binding; empty = bind
+  sweep::bind::BindOptions options;  // blend distance (mesh units) and locator settings
+  bool quiet = false;
+};
+
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string format_ms(double seconds) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f ms", seconds * 1e3);
+  return buf;
+}
+
+void write_report(const Settings& s, const fs::path& mesh_path, const fs::path& output,
+                  const sweep::bind::BindResult& r, double load_seconds, double write_seconds) {
+  nlohmann::ordered_json doc;
+  doc["format"] = "sweep-bind-report";
+  doc["version"] = 1;
+  doc["rig"] = s.rig.string();
+  doc["mesh"] = mesh_path.string();
+  doc["binding"] = output.string();
+  doc["binding_format_version"] = sweep::bind::kBindingFormatVersion;
+  doc["vertex_count"] = r.binding.vertex_count;
+  doc["unbound_vertex_count"] = r.unbound_vertex_count;
+  doc["blend"] = s.options.blend;
+  nlohmann::ordered_json sweeps = nlohmann::ordered_json::array();
+  for (const sweep::bind::SweepBindStats& st : r.sweeps) {
+    nlohmann::ordered_json j;
+    j["name"] = st.name;
+    j["part_vertex_count"] = st.part_vertex_count;
+    j["bound_vertex_count"] = st.bound_vertex_count;
+    j["blended_vertex_count"] = st.blended_vertex_count;
+    j["length"] = st.length;
+    j["rest_max_error"] = st.rest_max_error;
+    j["rest_max_error_relative"] = st.length > 0 ? st.rest_max_error / st.length : 0.0;
+    j["seconds"] = st.seconds;
+    sweeps.push_back(std::move(j));
+  }
+  doc["sweeps"] = std::move(sweeps);
+  doc["seconds"] = {{"load", load_seconds}, {"bind", r.seconds}, {"write", write_seconds}};
+  sweep::io::write_file_atomically(s.report, doc.dump(2) + "\n");
+}
+
+int run(const Settings& s) {
+  const Clock::time_point load_start = Clock::now();
+  const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
+  const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
+  const sweep::Mesh mesh = sweep::io::read_mesh(mesh_path);
+  const double load_seconds = since(load_start);
+
+  if (!s.check.empty()) {
+    const sweep::bind::Binding b = sweep::bind::load_binding(s.check, mesh, rig);
+    if (!s.quiet) {
+      std::cout << s.check.string() << ": matches " << s.rig.string() << " and "
+                << mesh_path.string() << " (" << b.bound_count() << " of " << b.vertex_count
+                << " vertices bound)\n";
+    }
+    return 0;
+  }
+
+  const fs::path output = s.output.empty() ? fs::path(s.rig).replace_extension(".bind") : s.output;
+  sweep::bind::BindResult r;
+  try {
+    r = sweep::bind::bind(rig, mesh, s.options);
+  } catch (const sweep::Error& e) {
+    throw sweep::Error(e.category(), s.rig.string() + ": " + e.what());
+  }
+  const Clock::time_point write_start = Clock::now();
+  sweep::bind::write_binding(output, r.binding);
+  const double write_seconds = since(write_start);
+  if (!s.report.empty()) write_report(s, mesh_path, output, r, load_seconds, write_seconds);
+
+  if (!s.quiet) {
+    std::cout << s.rig.string() << ": " << mesh_path.string() << ", " << mesh.vertex_count()
+              << " vertices\n";
+    for (const sweep::bind::SweepBindStats& st : r.sweeps) {
+      std::cout << "  " << st.name << ": " << st.bound_vertex_count << " vertices bound";
+      if (st.bound_vertex_count != st.part_vertex_count) {
+        std::cout << " (" << st.part_vertex_count - st.bound_vertex_count
+                  << " of its part went to a nearer sweep)";
+      }
+      if (st.blended_vertex_count > 0) std::cout << ", " << st.blended_vertex_count << " blended";
+      std::cout << ", rest error max " << st.rest_max_error << " ("
+                << (st.length > 0 ? st.rest_max_error / st.length : 0.0) << " of its length)\n";
+      if (st.bound_vertex_count == 0) {
+        sweep::tools::warn("sweep '" + st.name + "' binds no vertices");
+      }
+    }
+    std::cout << "  unbound: " << r.unbound_vertex_count << " vertices\n"
+              << "wrote " << output.string() << " (bound in " << format_ms(r.seconds)
+              << ", loaded in " << format_ms(load_seconds) << ")\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return sweep::tools::guarded_main([&] {
+    Settings s;
+    CLI::App app{"Bind every vertex of each sweep's part to its sweep coordinates", "sweep-bind"};
+    app.add_option("rig", s.rig, "Rig file (JSON) written by sweep-fit")->required();
+    app.add_option("-o,--output", s.output, "Binding file (default: the rig's path with .bind)");
+    app.add_option("--report", s.report, "Write a JSON report (counts, rest error, timings)");
+    app.add_option("--blend", s.options.blend,
+                   "Depth of the blend zone beyond each part's root plane (mesh units; 0 = none)")
+        ->capture_default_str();
+    app.add_option("--check", s.check,
+                   "Verify this existing binding against the rig and its mesh instead of binding");
+    app.add_flag("-q,--quiet", s.quiet, "Print nothing on success");
+    app.set_version_flag("--version", std::string("sweep-bind ") + SWEEP_VERSION +
+                                          " (binding format " +
+                                          std::to_string(sweep::bind::kBindingFormatVersion) + ")");
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+      std::cerr << "error: " << e.what() << "\nRun with --help for more information.\n";
+      return sweep::exit_code(sweep::ErrorCategory::usage);
+    }
+    if (!s.check.empty() && (!s.output.empty() || !s.report.empty())) {
+      sweep::fail(sweep::ErrorCategory::usage,
+                  "--check cannot be combined with --output or --report");
+    }
+    return run(s);
+  });
+}
