@@ -104,7 +104,7 @@ Candidates locate_part(const SweepDef& def, const Mesh& mesh, const fit::VertexA
   const double factor = o.seedless_radius_factor;
   const bool seedless = !def.part;
   const auto count = static_cast<std::ptrdiff_t>(m);
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (count >= kMinParallelVertices)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const SweepCoords sc = locator.locate(mesh.positions[c.vertices[k]]);
     c.coords[k] = sc;

@@ -33,6 +33,11 @@
 
 namespace sweep::bind {
 
+// Loops over fewer vertices than this run on one thread: waking an OpenMP team costs tens of µs on
+// an idle VM and whole time slices on a busy one (the diplodocus bound in 24 ms on one thread and
+// 68 ms on two while the other core was busy), so only large parts are worth splitting.
+inline constexpr std::ptrdiff_t kMinParallelVertices = 16384;
+
 struct BindOptions {
   // Depth of the blend zone beyond each part's root plane, mesh units; 0 = no blend (w = 1). Choose
   // about one root radius to hide the seam where a tail or neck leaves the body.

@@ -14,7 +14,7 @@ void deform_exact(const Binding& binding, std::span<const SweepShape* const> def
     const SweepBinding& table = binding.sweeps[i];
     const SweepShape& shape = *deformed_per_sweep[i];
     const auto count = static_cast<std::ptrdiff_t>(table.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count >= kMinParallelVertices)
     for (std::ptrdiff_t k = 0; k < count; ++k) {
       const std::uint32_t v = table.vertices[k];
       const Vec3 moved = deform_point(shape, table.coords(static_cast<std::size_t>(k)));
@@ -36,7 +36,7 @@ double max_rebuild_error(const SweepBinding& table, const SweepShape& shape,
                          std::span<const Vec3> positions) {
   double worst = 0;
   const auto count = static_cast<std::ptrdiff_t>(table.size());
-#pragma omp parallel for reduction(max : worst) schedule(static)
+#pragma omp parallel for reduction(max : worst) schedule(static) if (count >= kMinParallelVertices)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const Vec3 rebuilt = deform_point(shape, table.coords(static_cast<std::size_t>(k)));
     worst = std::max(worst, (rebuilt - positions[table.vertices[k]]).norm());

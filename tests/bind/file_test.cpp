@@ -84,8 +84,15 @@ TEST(BindingFile, RoundTripKeepsEveryValueAndTheLayoutIsAsDocumented) {
 
 TEST(BindingFile, SameInputsGiveTheSameBytesWhateverTheThreadCount) {
   const Mesh mesh = tube::make_tube(straight_tube_params());
-  std::vector<const Mesh*> meshes{&mesh};
-  std::vector<Rig> rigs{rig_of({straight_sweep("a"), straight_sweep("b", false, 0.12)})};
+  // A dense tube (38,402 vertices): large enough that the loops really run on two threads.
+  tube::TubeParams dense_params = straight_tube_params();
+  dense_params.rings = 401;
+  dense_params.segments = 96;
+  const Mesh dense = tube::make_tube(dense_params);
+  ASSERT_GE(static_cast<std::ptrdiff_t>(dense.vertex_count()), 2 * bind::kMinParallelVertices);
+  std::vector<const Mesh*> meshes{&mesh, &dense};
+  std::vector<Rig> rigs{rig_of({straight_sweep("a"), straight_sweep("b", false, 0.12)}),
+                        rig_of({straight_sweep("a", false), straight_sweep("b", true, 0.12)})};
   if (const Diplodocus* d = diplodocus()) {
     meshes.push_back(&d->mesh);
     rigs.push_back(d->rig);
