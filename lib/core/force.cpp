@@ -52,10 +52,15 @@ int nearest_movable_section(const SweepShape& shape, double t) {
 
 void accumulate_force(const SweepShape& shape, const ForceSpec& force, double t, double theta,
                       double c_rot, double c_rad, SectionLoads& loads) {
-  const Vec3& f = force.vector;
   const Frame plane = frame_at(shape, t);
   const double r = radius_at(shape, theta, t);
-  const Vec3 p = plane.to_world(Vec3(r * std::cos(theta), r * std::sin(theta), 0.0));
+  const double cos_t = std::cos(theta), sin_t = std::sin(theta);
+  const Vec3 p = plane.to_world(Vec3(r * cos_t, r * sin_t, 0.0));
+  // A surface-frame vector turns with the surface: re-expressed in world axes every time.
+  const Vec3 f = force.frame == VectorFrame::world
+                     ? force.vector
+                     : plane.rotation * Vec3(force.vector.x() * cos_t - force.vector.y() * sin_t,
+                                             force.vector.x() * sin_t + force.vector.y() * cos_t, force.vector.z());
   const SpanCoord sc = locate_span(shape, t);
   const int k = shape.section_count();
 

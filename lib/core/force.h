@@ -31,6 +31,13 @@ enum class MomentModel {
   physical,  // the bending moment a beam feels: a × f itself (C_rot is not used)
 };
 
+// The axes the force vector is given in.
+enum class VectorFrame {
+  world,    // world axes
+  surface,  // at the point: (outward in the cross-section plane, tangential towards growing θ,
+            // along the axis towards the tip) — [-1,0,0] squeezes, [0,1,0] twists, whatever the pose
+};
+
 struct ForceSpec {
   // Where: at sweep parameters (t, θ) on the surface, or at a world point projected to the surface
   // when the force is added (it then keeps those parameters and follows the surface).
@@ -39,7 +46,8 @@ struct ForceSpec {
   double t = 0;
   double theta = 0;
 
-  Vec3 vector = Vec3::Zero();  // the force, world space (N)
+  Vec3 vector = Vec3::Zero();  // the force (N), in `frame`'s axes
+  VectorFrame frame = VectorFrame::world;
   std::uint8_t components = kPaperComponents;
   RotationTarget target = RotationTarget::nearest;
   int target_section = -1;  // with RotationTarget::section

@@ -36,7 +36,7 @@ std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::
 }
 
 SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr, const Rig& rig) {
-  r.object(v, ptr, {"sweep", "point", "t", "theta", "vector", "start", "end", "components", "sections", "moment"});
+  r.object(v, ptr, {"sweep", "point", "t", "theta", "vector", "frame", "start", "end", "components", "sections", "moment"});
   SceneForce f;
   f.sweep = r.string(r.required(v, ptr, "sweep"), member(ptr, "sweep"));
   for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
@@ -60,6 +60,16 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
     f.spec.theta = r.number(*theta, member(ptr, "theta"));
   }
   f.spec.vector = r.vec3(r.required(v, ptr, "vector"), member(ptr, "vector"));
+  if (const Json* fr = r.optional(v, "frame")) {
+    const std::string name = r.string(*fr, member(ptr, "frame"));
+    if (name == "world") {
+      f.spec.frame = VectorFrame::world;
+    } else if (name == "surface") {
+      f.spec.frame = VectorFrame::surface;
+    } else {
+      r.fail_at(member(ptr, "frame"), "must be \"world\" or \"surface\", got " + io::describe(*fr));
+    }
+  }
   f.start = r.non_negative(r.required(v, ptr, "start"), member(ptr, "start"));
   f.end = f.start;
   if (const Json* e = r.optional(v, "end")) f.end = r.number(*e, member(ptr, "end"));

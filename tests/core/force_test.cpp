@@ -184,3 +184,30 @@ TEST(ElasticSweepForces, ForceAtAWorldPointIsProjectedToTheSurface) {
 
 }  // namespace
 }  // namespace sweep
+
+namespace sweep {
+namespace {
+
+TEST(SurfaceFrame, OutwardTangentialAndAxialFollowTheSection) {
+  // Section frames turned by 90° about z: local x is world y. At θ = 0 the outward direction is
+  // local x (world +y), tangential is local y (world −x), axial is local z (world z).
+  SweepShape s = test::straight_shape(4, 4, 0.5);
+  for (Frame& f : s.frames) f.rotation = Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()));
+  SectionLoads loads;
+  loads.resize(4, 4);
+  ForceSpec squeeze;
+  squeeze.frame = VectorFrame::surface;
+  squeeze.components = kRadial;
+  squeeze.vector = Vec3(-2, 0, 0);  // inward
+  accumulate_force(s, squeeze, 2.0, 0.0, 1.0, 1.0, loads);
+  EXPECT_NEAR(loads.radial[2 * 4 + 0], -2.0, 1e-12);  // the handle under it shrinks
+  loads.clear();
+  ForceSpec twist = squeeze;
+  twist.components = kRotational;
+  twist.vector = Vec3(0, 1, 0);  // tangential: a torque about the axis only
+  accumulate_force(s, twist, 2.0, 0.0, 1.0, 1.0, loads);
+  EXPECT_LT((loads.torque[2] - Vec3(0, 0, 1)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace sweep
