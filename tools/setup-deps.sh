@@ -8,9 +8,14 @@ packages=(
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libassimp-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libtinygltf-dev libtinyobjloader-dev
+  python3 python3-jsonschema python3-matplotlib python3-numpy  # schema checks, preview pictures
   libcgal-demo   # CGAL's sample meshes (diplodocus.off, ...) for the demo and real-mesh tests
-  nodejs npm     # runs the Khronos glTF validator in the .glb tests
 )
+# Node.js runs the Khronos glTF validator in the .glb tests. Machines of this kind may already have a
+# Node.js that bundles npm (Debian's own npm package then conflicts with it): ask apt only for what
+# is missing as a command.
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do
