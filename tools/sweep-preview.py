@@ -44,6 +44,7 @@ def main():
     ap.add_argument("--frames", type=int, default=6, help="frames to show (default 6)")
     ap.add_argument("--fps", type=float, default=None, help="label frames with times at this rate")
     ap.add_argument("--views", default="xy,xz", help="axis pairs to project on (default xy,xz)")
+    ap.add_argument("--dpi", type=int, default=110, help="resolution of the picture (default 110)")
     args = ap.parse_args()
     try:
         frames = read_pc2(args.pc2)
@@ -94,7 +95,10 @@ def main():
     try:
         fd, tmp = tempfile.mkstemp(dir=out_dir, prefix=".preview-", suffix=".png")
         with os.fdopen(fd, "wb") as f:
-            fig.savefig(f, format="png", dpi=110)
+            fig.savefig(f, format="png", dpi=args.dpi)
+        mask = os.umask(0)  # mkstemp makes the file private; give it the usual permissions
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)
         os.replace(tmp, args.output)
     except OSError as e:
         print(f"error: {args.output}: cannot write: {e}", file=sys.stderr)
