@@ -128,39 +128,6 @@ std::size_t Binding::bound_count() const {
   return n;
 }
 
-fit::VertexAdjacency vertex_adjacency(const Mesh& mesh) {
-  const std::size_t nv = mesh.vertex_count();
-  fit::VertexAdjacency adj;
-  std::vector<std::uint32_t> start(nv + 1, 0);
-  auto for_each_edge = [&](auto&& visit) {
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-      const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
-      for (std::uint32_t k = begin; k < end; ++k) {
-        const std::uint32_t a = mesh.face_vertices[k];
-        const std::uint32_t b = mesh.face_vertices[k + 1 < end ? k + 1 : begin];
-        if (a == b || a >= nv || b >= nv) continue;
-        visit(a, b);
-        visit(b, a);
-      }
-    }
-  };
-  for_each_edge([&](std::uint32_t a, std::uint32_t) { ++start[a + 1]; });
-  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<std::uint32_t> all(start[nv]);
-  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for_each_edge([&](std::uint32_t a, std::uint32_t b) { all[fill[a]++] = b; });
-  adj.offsets.assign(nv + 1, 0);
-  adj.neighbours.reserve(all.size() / 2);
-  for (std::size_t v = 0; v < nv; ++v) {
-    const auto first = all.begin() + start[v], last = all.begin() + start[v + 1];
-    std::sort(first, last);
-    const auto unique_end = std::unique(first, last);
-    adj.neighbours.insert(adj.neighbours.end(), first, unique_end);
-    adj.offsets[v + 1] = static_cast<std::uint32_t>(adj.neighbours.size());
-  }
-  return adj;
-}
-
 std::uint64_t hash_positions(const std::vector<Vec3>& positions) {
   std::uint64_t h = kFnvOffset;
   for (const Vec3& p : positions) {
@@ -194,7 +161,7 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
   const bool any_seeds =
       std::any_of(rig.sweeps.begin(), rig.sweeps.end(), [](const SweepDef& d) { return d.part; });
   std::optional<fit::VertexAdjacency> adjacency;
-  if (any_seeds) adjacency = bind::vertex_adjacency(mesh);
+  if (any_seeds) adjacency = fit::vertex_adjacency(mesh);
 
   // Candidates of every sweep, then ownership: strictly nearer surface wins, so ties stay with
   // the earlier sweep (sweeps are visited in rig order).

@@ -102,11 +102,6 @@ inline Binding bind_rig(const Rig& rig, const Mesh& mesh, const BindOptions& opt
   return bind(rig, mesh, options).binding;
 }
 
-// The same rows as fit::vertex_adjacency (sorted, unique neighbours over polygon edges), built by a
-// counting sort on the source vertex rather than by sorting every edge pair: on the diplodocus
-// this takes a few ms instead of ~40, which dominated the binding time.
-fit::VertexAdjacency vertex_adjacency(const Mesh& mesh);
-
 // FNV-1a 64 over the positions' exact bytes (x, y, z of each vertex as little-endian doubles).
 std::uint64_t hash_positions(const std::vector<Vec3>& positions);
 // FNV-1a 64 of io::format_rig of a rig holding only what binding depends on: each sweep's name,
