@@ -10,6 +10,7 @@ packages=(
   libtinygltf-dev libtinyobjloader-dev
   python3 python3-jsonschema python3-matplotlib python3-numpy  # schema checks, preview pictures
   libcgal-demo   # CGAL's sample meshes (diplodocus.off, ...) for the demo and real-mesh tests
+  gnuplot-nox    # the plots of tools/bench/run-benchmarks.sh
 )
 # Node.js runs the Khronos glTF validator in the .glb tests. Machines of this kind may already have a
 # Node.js that bundles npm (Debian's own npm package then conflicts with it): ask apt only for what

@@ -7,129 +7,376 @@
 namespace sweep::sim {
 namespace {
 
-// Station row layout: centre, then the three frame axes, then the padded radii.
-constexpr int kCenter = 0, kAxisX = 3, kAxisY = 6, kAxisZ = 9, kRadii = 12;
+// Station row layout: centre, the three frame axes, then 4 cubic coefficients per angle cell.
+constexpr int kCenter = 0, kAxisX = 3, kAxisY = 6, kAxisZ = 9, kCells = 12;
+
+// Cubic Hermite basis at u.
+void hermite(double u, double* h) {
+  const double u2 = u * u, u3 = u2 * u;
+  h[0] = 2 * u3 - 3 * u2 + 1;
+  h[1] = u3 - 2 * u2 + u;
+  h[2] = -2 * u3 + 3 * u2;
+  h[3] = u3 - u2;
+}
+
+using Run = FastDeformer::Run;
+
+// What the per-block kernel reads and writes (FastDeformer's arrays).
+struct Kernel {
+  float floor;
+  const float *u, *w, *a, *b, *z;
+  const std::uint32_t* vertex;
+  float* out;
+};
+
+// One block of one station span (stations A and B): vertices [begin, end) of the grouped arrays,
+// the first in angle cell `first_cell`, whose group boundaries start at `cell`. With kAxial the
+// vertices' axial offsets z are read (only blocks holding cap vertices need them); without, z = 0
+// and the loop reads 20 bytes a vertex instead of 24.
+//
+// Compiled twice (target_clones): for AVX2 and for baseline x86-64, picked at load time. Neither
+// enables FMA, and the vectorized and scalar forms do the same IEEE operations in the same order,
+// so both give the same bits.
+template <bool kAxial>
+[[gnu::always_inline]] inline void deform_block_impl(const Kernel& k, const float* A,
+                                                     const float* B, const std::uint32_t* cell,
+                                                     std::uint32_t first_cell, std::uint32_t begin,
+                                                     std::uint32_t end, const Run* runs) {
+  const std::uint32_t m = end - begin;
+  float r[kBlockVertices], ox[kBlockVertices], oy[kBlockVertices], oz[kBlockVertices];
+
+  // 1. Radii, one angle cell at a time: the cell's cubic at both stations is loop invariant.
+  for (const float *pa = A + kCells + 4 * first_cell, *pb = B + kCells + 4 * first_cell;;
+       ++cell, pa += 4, pb += 4) {
+    const std::uint32_t lo = std::max(begin, cell[0]), hi = std::min(end, cell[1]);
+    const float a0 = pa[0], a1 = pa[1], a2 = pa[2], a3 = pa[3];
+    const float d0 = pb[0] - a0, d1 = pb[1] - a1, d2 = pb[2] - a2, d3 = pb[3] - a3;
+    // Pointer-and-count form (not uint32 indices, whose wrap-around defeats the vectorizer).
+    const float* cw = k.w + lo;
+    const float* cu = k.u + lo;
+    float* cr = r + (lo - begin);
+    const std::ptrdiff_t len = static_cast<std::ptrdiff_t>(hi) - static_cast<std::ptrdiff_t>(lo);
+    for (std::ptrdiff_t i = 0; i < len; ++i) {
+      const float w = cw[i], u = cu[i];
+      const float ra = a0 + w * (a1 + w * (a2 + w * a3));
+      const float rd = d0 + w * (d1 + w * (d2 + w * d3));
+      cr[i] = std::max(ra + u * rd, k.floor);
+    }
+    if (cell[1] >= end) break;
+  }
+
+  // 2. Positions over the block: station A and the difference to B are loop invariants.
+  float ca[12], cd[12];
+  for (int c = 0; c < 12; ++c) {
+    ca[c] = A[c];
+    cd[c] = B[c] - A[c];
+  }
+  const float* bu = k.u + begin;
+  const float* ba = k.a + begin;
+  const float* bb = k.b + begin;
+  const float* bz = k.z + begin;
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(m); ++i) {
+    const float u = bu[i];
+    const float x = r[i] * ba[i], y = r[i] * bb[i];
+    float px = (ca[0] + u * cd[0]) + (ca[3] + u * cd[3]) * x + (ca[6] + u * cd[6]) * y;
+    float py = (ca[1] + u * cd[1]) + (ca[4] + u * cd[4]) * x + (ca[7] + u * cd[7]) * y;
+    float pz = (ca[2] + u * cd[2]) + (ca[5] + u * cd[5]) * x + (ca[8] + u * cd[8]) * y;
+    if constexpr (kAxial) {
+      const float z = bz[i];
+      px += (ca[9] + u * cd[9]) * z;
+      py += (ca[10] + u * cd[10]) * z;
+      pz += (ca[11] + u * cd[11]) * z;
+    }
+    ox[i] = px;
+    oy[i] = py;
+    oz[i] = pz;
+  }
+
+  // 3. Back to mesh order: run by run where the block's mesh indices come in long contiguous runs
+  // (a ring-ordered mesh: each run is an interleaving copy the compiler vectorizes), else vertex by
+  // vertex.
+  if (runs != nullptr) {
+    for (; runs->length != 0; ++runs) {
+      const std::ptrdiff_t off = static_cast<std::ptrdiff_t>(runs->start - begin);
+      const std::ptrdiff_t len = runs->length;
+      float* o = k.out + 3 * static_cast<std::size_t>(k.vertex[runs->start]);
+      const float* rx = ox + off;
+      const float* ry = oy + off;
+      const float* rz = oz + off;
+      for (std::ptrdiff_t i = 0; i < len; ++i) {
+        o[3 * i] = rx[i];
+        o[3 * i + 1] = ry[i];
+        o[3 * i + 2] = rz[i];
+      }
+    }
+    return;
+  }
+  const std::uint32_t* bv = k.vertex + begin;
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(m); ++i) {
+    float* o = k.out + 3 * static_cast<std::size_t>(bv[i]);
+    o[0] = ox[i];
+    o[1] = oy[i];
+    o[2] = oz[i];
+  }
+}
+
+__attribute__((target_clones("avx2", "default"))) void deform_block(
+    const Kernel& k, const float* A, const float* B, const std::uint32_t* cell,
+    std::uint32_t first_cell, std::uint32_t begin, std::uint32_t end, const Run* runs) {
+  deform_block_impl<false>(k, A, B, cell, first_cell, begin, end, runs);
+}
+
+__attribute__((target_clones("avx2", "default"))) void deform_block_axial(
+    const Kernel& k, const float* A, const float* B, const std::uint32_t* cell,
+    std::uint32_t first_cell, std::uint32_t begin, std::uint32_t end, const Run* runs) {
+  deform_block_impl<true>(k, A, B, cell, first_cell, begin, end, runs);
+}
 
 }  // namespace
 
-FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound, std::span<const Vec3f> rest_positions,
-                           int stations_per_span)
-    : n_(rest.radial_count), row_(kRadii + rest.radial_count + 3) {
-  assert(stations_per_span >= 1 && rest.radial_count + 3 <= 65535);
+FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound,
+                           std::span<const Vec3f> rest_positions, int stations_per_span)
+    : n_(rest.radial_count), stations_per_span_(stations_per_span) {
+  assert(stations_per_span >= 1 && rest.section_count() >= 2 && n_ >= 3);
   const int k = rest.section_count();
-  for (int s = 0; s + 1 < k; ++s) {
-    for (int q = 0; q < stations_per_span; ++q) {
-      station_t_.push_back(rest.t[s] + (rest.t[s + 1] - rest.t[s]) * q / stations_per_span);
-    }
-  }
-  station_t_.push_back(rest.length());
-  stations_.assign(station_t_.size() * row_, 0.0f);
-  radii_scratch_.resize(n_);
+  const int per = stations_per_span;
+  station_count_ = (k - 1) * per + 1;
+  row_ = kCells + 4 * n_;
+  stations_.assign(static_cast<std::size_t>(station_count_) * row_, 0.0f);
+  basis_.resize(4 * (per + 1));
+  for (int q = 0; q <= per; ++q) hermite(static_cast<double>(q) / per, &basis_[4 * q]);
+  section_cells_.resize(static_cast<std::size_t>(k) * 4 * n_);
+  slope0_.resize(4 * n_);
+  slope1_.resize(4 * n_);
+  sines_.resize(per + 1);
 
-  // Which station span each vertex falls in, then a counting sort by span (stable: mesh order is
-  // kept within a span, which keeps the writes back to mesh order as local as they can be).
+  // Station parameters, as the table places them: t_s + (t_{s+1} − t_s)·q/S.
+  std::vector<double> station_t;
+  station_t.reserve(station_count_);
+  for (int s = 0; s + 1 < k; ++s) {
+    for (int q = 0; q < per; ++q)
+      station_t.push_back(rest.t[s] + (rest.t[s + 1] - rest.t[s]) * q / per);
+  }
+  station_t.push_back(rest.length());
+
+  // Group of each vertex: station span p (clamped, so cap vertices beyond the ends join the end
+  // spans) and angle cell j; then a stable counting sort by group.
   const std::size_t count = bound.size();
-  const std::size_t spans = station_t_.size() - 1;
-  std::vector<std::uint32_t> span_of(count);
+  const std::size_t spans = station_t.size() - 1;
+  const std::size_t groups = spans * n_;
+  std::vector<std::uint32_t> group_of(count);
+  std::vector<float> u(count), w(count);
   for (std::size_t v = 0; v < count; ++v) {
     const double t = bound.t[v];
-    const auto it = std::upper_bound(station_t_.begin(), station_t_.end(), t);
-    const std::size_t p = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - station_t_.begin() - 1, 0), spans - 1);
-    span_of[v] = static_cast<std::uint32_t>(p);
+    const auto it = std::upper_bound(station_t.begin(), station_t.end(), t);
+    const std::size_t p =
+        std::min<std::size_t>(std::max<std::ptrdiff_t>(it - station_t.begin() - 1, 0), spans - 1);
+    const AngleCoord ac = locate_angle(n_, bound.theta[v]);
+    group_of[v] = static_cast<std::uint32_t>(p * n_ + ac.j);
+    u[v] = static_cast<float>(
+        std::clamp((t - station_t[p]) / (station_t[p + 1] - station_t[p]), 0.0, 1.0));
+    w[v] = static_cast<float>(ac.w);
   }
-  group_begin_.assign(spans + 1, 0);
-  for (std::uint32_t p : span_of) ++group_begin_[p + 1];
-  for (std::size_t p = 0; p < spans; ++p) group_begin_[p + 1] += group_begin_[p];
-  std::vector<std::uint32_t> fill(group_begin_.begin(), group_begin_.end() - 1);
+  cell_begin_.assign(groups + 1, 0);
+  for (std::uint32_t g : group_of) ++cell_begin_[g + 1];
+  for (std::size_t g = 0; g < groups; ++g) cell_begin_[g + 1] += cell_begin_[g];
+  std::vector<std::uint32_t> fill(cell_begin_.begin(), cell_begin_.end() - 1);
 
+  for (auto* a : {&u_, &w_, &a_, &b_, &z_}) a->resize(count);
   vertex_.resize(count);
-  u_.resize(count);
-  a_.resize(count);
-  b_.resize(count);
-  z_.resize(count);
-  c0_.resize(count);
-  c1_.resize(count);
-  c2_.resize(count);
-  c3_.resize(count);
-  j_.resize(count);
   for (std::size_t v = 0; v < count; ++v) {
-    const std::uint32_t p = span_of[v];
-    const std::uint32_t o = fill[p]++;
+    const std::uint32_t o = fill[group_of[v]]++;
     const SweepCoords c = bound.coords(v);
     vertex_[o] = bound.vertices[v];
-    const double t0 = station_t_[p], t1 = station_t_[p + 1];
-    u_[o] = static_cast<float>(std::clamp((c.t - t0) / (t1 - t0), 0.0, 1.0));
+    u_[o] = u[v];
+    w_[o] = w[v];
     a_[o] = static_cast<float>(c.s * std::cos(c.theta));
     b_[o] = static_cast<float>(c.s * std::sin(c.theta));
     z_[o] = static_cast<float>(c.z);
-    // Periodic Catmull-Rom through samples j-1, j, j+1, j+2 at local coordinate w, as weights.
-    const AngleCoord ac = locate_angle(n_, c.theta);
-    const double w = ac.w, w2 = w * w, w3 = w2 * w;
-    const double h00 = 2 * w3 - 3 * w2 + 1, h10 = w3 - 2 * w2 + w, h01 = -2 * w3 + 3 * w2, h11 = w3 - w2;
-    c0_[o] = static_cast<float>(-0.5 * h10);
-    c1_[o] = static_cast<float>(h00 - 0.5 * h11);
-    c2_[o] = static_cast<float>(0.5 * h10 + h01);
-    c3_[o] = static_cast<float>(0.5 * h11);
-    j_[o] = static_cast<std::uint16_t>(ac.j);  // padded row: sample j-1 sits at j
     if (!bound.weight.empty() && bound.weight[v] < 1.0f) {
       blend_index_.push_back(o);
       blend_weight_.push_back(bound.weight[v]);
       blend_rest_.push_back(rest_positions[bound.vertices[v]]);
     }
   }
+  // Blend vertices in grouped order: the fix-up pass then walks the arrays forwards.
+  std::vector<std::size_t> order(blend_index_.size());
+  for (std::size_t m = 0; m < order.size(); ++m) order[m] = m;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t x, std::size_t y) { return blend_index_[x] < blend_index_[y]; });
+  {
+    std::vector<std::uint32_t> bi(order.size());
+    std::vector<float> bw(order.size());
+    std::vector<Vec3f> br(order.size());
+    for (std::size_t m = 0; m < order.size(); ++m) {
+      bi[m] = blend_index_[order[m]];
+      bw[m] = blend_weight_[order[m]];
+      br[m] = blend_rest_[order[m]];
+    }
+    blend_index_.swap(bi);
+    blend_weight_.swap(bw);
+    blend_rest_.swap(br);
+  }
+
+  // Work blocks: each span's vertices in pieces of at most kBlockVertices.
+  for (std::size_t p = 0; p < spans; ++p) {
+    const std::uint32_t first = cell_begin_[p * n_], last = cell_begin_[(p + 1) * n_];
+    for (std::uint32_t b = first; b < last; b += kBlockVertices) {
+      Block blk;
+      blk.begin = b;
+      blk.end = std::min(last, b + kBlockVertices);
+      blk.span = static_cast<std::uint32_t>(p);
+      // The cell holding vertex b: the last group of this span that starts at or before it.
+      const auto it =
+          std::upper_bound(cell_begin_.begin() + p * n_, cell_begin_.begin() + (p + 1) * n_, b);
+      blk.first_cell = static_cast<std::uint32_t>(it - (cell_begin_.begin() + p * n_) - 1);
+      blk.axial = std::any_of(z_.begin() + blk.begin, z_.begin() + blk.end,
+                              [](float z) { return z != 0.0f; });
+      // Contiguous runs of mesh indices; kept (terminated by a zero-length run) when they are long
+      // enough on average for the run-by-run copy to beat the vertex-by-vertex one.
+      const std::size_t first_run = runs_.size();
+      for (std::uint32_t i = blk.begin; i < blk.end; ++i) {
+        if (i == blk.begin || vertex_[i] != vertex_[i - 1] + 1) {
+          runs_.push_back({i, 0});
+        }
+        ++runs_.back().length;
+      }
+      const std::size_t run_count = runs_.size() - first_run;
+      if ((blk.end - blk.begin) >= kMinMeanRunLength * run_count) {
+        runs_.push_back({0, 0});
+        blk.runs = static_cast<std::uint32_t>(first_run);
+      } else {
+        runs_.resize(first_run);
+      }
+      blocks_.push_back(blk);
+    }
+  }
+  parallel_ = count >= kParallelVertexThreshold;
 }
 
 void FastDeformer::tabulate(const SweepShape& shape) {
-  double lowest = shape.radii.empty() ? 0.0 : *std::min_element(shape.radii.begin(), shape.radii.end());
+  assert(shape.section_count() * stations_per_span_ - stations_per_span_ + 1 == station_count_);
+  assert(shape.radial_count == n_);
+  const int k = shape.section_count(), n = n_, per = stations_per_span_;
+  double lowest =
+      shape.radii.empty() ? 0.0 : *std::min_element(shape.radii.begin(), shape.radii.end());
   radius_floor_ = static_cast<float>(kMinRadiusFraction * lowest);
-  for (std::size_t q = 0; q < station_t_.size(); ++q) {
-    float* row = stations_.data() + q * row_;
-    const Frame f = frame_at(shape, station_t_[q]);
-    const Mat3 r = f.matrix();
-    for (int c = 0; c < 3; ++c) {
-      row[kCenter + c] = static_cast<float>(f.center[c]);
-      row[kAxisX + c] = static_cast<float>(r(c, 0));
-      row[kAxisY + c] = static_cast<float>(r(c, 1));
-      row[kAxisZ + c] = static_cast<float>(r(c, 2));
+  double* const sines = sines_.data();
+  // Each section's periodic Catmull-Rom, cell j through samples p0..p3 = r_{j-1}..r_{j+2}, as the
+  // cubic p1 + w·c1 + w²·c2 + w³·c3 in the cell's coordinate w.
+  for (int i = 0; i < k; ++i) {
+    const double* r = shape.radii.data() + static_cast<std::size_t>(i) * n;
+    float* cell = section_cells_.data() + static_cast<std::size_t>(i) * 4 * n;
+    for (int j = 0; j < n; ++j) {
+      const double p0 = r[(j + n - 1) % n], p1 = r[j], p2 = r[(j + 1) % n], p3 = r[(j + 2) % n];
+      cell[4 * j] = static_cast<float>(p1);
+      cell[4 * j + 1] = static_cast<float>(0.5 * (p2 - p0));
+      cell[4 * j + 2] = static_cast<float>(p0 - 2.5 * p1 + 2 * p2 - 0.5 * p3);
+      cell[4 * j + 3] = static_cast<float>(0.5 * (p3 - p0) + 1.5 * (p1 - p2));
     }
-    radii_at_samples(shape, station_t_[q], radii_scratch_);
-    float* radii = row + kRadii;
-    radii[0] = static_cast<float>(radii_scratch_[n_ - 1]);
-    for (int j = 0; j < n_; ++j) radii[j + 1] = static_cast<float>(radii_scratch_[j]);
-    radii[n_ + 1] = static_cast<float>(radii_scratch_[0]);
-    radii[n_ + 2] = static_cast<float>(radii_scratch_[1 % n_]);
+  }
+
+  for (int s = 0; s + 1 < k; ++s) {
+    const Frame& fa = shape.frames[s];
+    const Frame& fb = shape.frames[s + 1];
+    const double h = shape.t[s + 1] - shape.t[s];
+    const Vec3 ca = fa.center, cb = fb.center;
+    const Vec3 ta = h * fa.axis(), tb = h * fb.axis();
+    // Slerp as Eigen does it (rotation_at), with sin(q·δ), δ = θ/S, from the angle-addition
+    // recurrence sin((q+1)δ) = 2 cos δ · sin(qδ) − sin((q−1)δ): four transcendentals a span, not a
+    // station.
+    const double d = fa.rotation.dot(fb.rotation);
+    const double abs_d = std::abs(d);
+    const bool linear = abs_d >= 1.0 - Eigen::NumTraits<double>::epsilon();
+    double inv_sin = 0;
+    if (!linear) {
+      const double theta = std::acos(abs_d);
+      const double delta = theta / per;
+      const double c2 = 2 * std::cos(delta);
+      sines[0] = 0;
+      sines[1] = std::sin(delta);
+      for (int q = 1; q < per; ++q) sines[q + 1] = c2 * sines[q] - sines[q - 1];
+      sines[per] = std::sin(theta);  // exact at the end
+      inv_sin = 1.0 / sines[per];
+    }
+    const Eigen::Vector4d qa = fa.rotation.coeffs();
+    const Eigen::Vector4d qb = (d < 0 ? -1.0 : 1.0) * fb.rotation.coeffs();
+    // The radius cubics are linear in the radii, and so is the Hermite in t: the station's cubics
+    // are the Hermite combination of the sections' cubics and of their finite-difference slopes
+    // (one-sided at the end sections) times h, exactly as radii_at_samples interpolates the radii.
+    const int lo0 = std::max(s - 1, 0), hi0 = std::min(s + 1, k - 1);
+    const int lo1 = s, hi1 = std::min(s + 2, k - 1);
+    const float g0 = static_cast<float>(h / (shape.t[hi0] - shape.t[lo0]));
+    const float g1 = static_cast<float>(h / (shape.t[hi1] - shape.t[lo1]));
+    const std::size_t w4 = 4 * static_cast<std::size_t>(n);
+    const float* k0 = section_cells_.data() + s * w4;
+    const float* k1 = k0 + w4;
+    const float *l0 = section_cells_.data() + lo0 * w4, *u0 = section_cells_.data() + hi0 * w4;
+    const float *l1 = section_cells_.data() + lo1 * w4, *u1 = section_cells_.data() + hi1 * w4;
+    float* const m0 = slope0_.data();
+    float* const m1 = slope1_.data();
+    for (std::size_t e = 0; e < w4; ++e) {
+      m0[e] = g0 * (u0[e] - l0[e]);
+      m1[e] = g1 * (u1[e] - l1[e]);
+    }
+
+    const int last = s + 2 == k ? per : per - 1;  // the last span also writes the tip station
+    for (int q = 0; q <= last; ++q) {
+      const double* hb = &basis_[4 * q];
+      float* row = stations_.data() + static_cast<std::size_t>(s * per + q) * row_;
+      const Vec3 c = hb[0] * ca + hb[1] * ta + hb[2] * cb + hb[3] * tb;
+      Quat rot;
+      if (linear) {
+        const double uq = static_cast<double>(q) / per;
+        rot.coeffs() = (1 - uq) * qa + uq * qb;
+      } else {
+        rot.coeffs() = (sines[per - q] * inv_sin) * qa + (sines[q] * inv_sin) * qb;
+      }
+      const Mat3 r = rot.normalized().toRotationMatrix();
+      for (int e = 0; e < 3; ++e) {
+        row[kCenter + e] = static_cast<float>(c[e]);
+        row[kAxisX + e] = static_cast<float>(r(e, 0));
+        row[kAxisY + e] = static_cast<float>(r(e, 1));
+        row[kAxisZ + e] = static_cast<float>(r(e, 2));
+      }
+      const float b0 = static_cast<float>(hb[0]), b1 = static_cast<float>(hb[1]);
+      const float b2 = static_cast<float>(hb[2]), b3 = static_cast<float>(hb[3]);
+      float* cell = row + kCells;
+      for (std::size_t e = 0; e < w4; ++e)
+        cell[e] = b0 * k0[e] + b1 * m0[e] + b2 * k1[e] + b3 * m1[e];
+    }
   }
 }
 
 void FastDeformer::deform(const SweepShape& deformed, std::span<Vec3f> out) {
   tabulate(deformed);
-  const std::ptrdiff_t groups = static_cast<std::ptrdiff_t>(group_begin_.size()) - 1;
-  const float floor = radius_floor_;
-  float* const dst = out.data()->data();
-#pragma omp parallel for schedule(dynamic, 4) if (vertex_.size() >= kParallelVertexThreshold)
-  for (std::ptrdiff_t g = 0; g < groups; ++g) {
-    const float* A = stations_.data() + g * row_;
-    const float* B = A + row_;
-    const float* ra = A + kRadii;
-    const float* rb = B + kRadii;
-    // Loop invariants of the group: station A and the difference to station B.
-    float ca[12], cd[12];
-    for (int c = 0; c < 12; ++c) {
-      ca[c] = A[c];
-      cd[c] = B[c] - A[c];
-    }
-    for (std::uint32_t i = group_begin_[g]; i < group_begin_[g + 1]; ++i) {
-      const float u = u_[i];
-      const int j = j_[i];
-      const float r0 = c0_[i] * ra[j] + c1_[i] * ra[j + 1] + c2_[i] * ra[j + 2] + c3_[i] * ra[j + 3];
-      const float r1 = c0_[i] * rb[j] + c1_[i] * rb[j + 1] + c2_[i] * rb[j + 2] + c3_[i] * rb[j + 3];
-      const float r = std::max(r0 + u * (r1 - r0), floor);
-      const float x = r * a_[i], y = r * b_[i], z = z_[i];
-      float* o = dst + 3 * static_cast<std::size_t>(vertex_[i]);
-      for (int c = 0; c < 3; ++c) {
-        o[c] = (ca[kCenter + c] + u * cd[kCenter + c]) + (ca[kAxisX + c] + u * cd[kAxisX + c]) * x +
-               (ca[kAxisY + c] + u * cd[kAxisY + c]) * y + (ca[kAxisZ + c] + u * cd[kAxisZ + c]) * z;
-      }
+  deform_vertices(out);
+}
+
+void FastDeformer::deform_vertices(std::span<Vec3f> out) const {
+  const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>(blocks_.size());
+  Kernel k;
+  k.floor = radius_floor_;
+  k.u = u_.data();
+  k.w = w_.data();
+  k.a = a_.data();
+  k.b = b_.data();
+  k.z = z_.data();
+  k.vertex = vertex_.data();
+  k.out = out.data()->data();
+  const float* const tab = stations_.data();
+  const std::uint32_t* const cells = cell_begin_.data();
+  const int n = n_;
+#pragma omp parallel for schedule(static) if (parallel_)
+  for (std::ptrdiff_t bi = 0; bi < blocks; ++bi) {
+    const Block& blk = blocks_[bi];
+    const float* A = tab + static_cast<std::size_t>(blk.span) * row_;
+    const std::uint32_t* cell = cells + static_cast<std::size_t>(blk.span) * n + blk.first_cell;
+    const Run* runs = blk.runs == kNoRuns ? nullptr : runs_.data() + blk.runs;
+    if (blk.axial) {
+      deform_block_axial(k, A, A + row_, cell, blk.first_cell, blk.begin, blk.end, runs);
+    } else {
+      deform_block(k, A, A + row_, cell, blk.first_cell, blk.begin, blk.end, runs);
     }
   }
   for (std::size_t b = 0; b < blend_index_.size(); ++b) {

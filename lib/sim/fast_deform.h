@@ -1,14 +1,35 @@
 #pragma once
 // The fast deformation path (DESIGN.md §4, §6). Each frame the moving sweep is evaluated once at
-// `stations_per_span` stations per span (centre, axes and the radii at the n sample angles); each
-// bound vertex is then rebuilt from the two stations around it by linear interpolation in t and
-// the same periodic Catmull-Rom in θ as the exact path, in one flat, allocation-free loop over
-// structure-of-arrays float data.
+// `stations_per_span` stations per span of its key sections (tabulate): centre, the three frame
+// axes, and for every angle cell [θ_j, θ_{j+1}) the cubic in the cell's local coordinate w that
+// the periodic Catmull-Rom through the station's radii reduces to. A bound vertex is then rebuilt
+// (deform_vertices) from the two stations around it, linear in t between them:
+//     r  = max(floor, P_A(w) + u·(P_B(w) − P_A(w)))        (P_A, P_B: the cell's cubics at A, B)
+//     v' = C(u) + X(u)·(r·s cos θ) + Y(u)·(r·s sin θ) + Z(u)·z,   C(u) = C_A + u·(C_B − C_A), ...
 //
-// Layout is deliberate: vertices are grouped by station span at construction, so the two stations
-// a vertex needs are loop invariants of its group (broadcast, no gathers), and the per-vertex data
-// is only what the loop reads. A permutation (`vertex_`) writes results back in mesh order.
-// Results do not depend on the thread count: every vertex is computed independently.
+// Layout is deliberate (DESIGN.md §6: layout wins, arithmetic does not). At construction the bound
+// vertices are sorted by (station span, angle cell), mesh order kept within each, so everything a
+// vertex needs from the table is a loop invariant of its group: no gathers. Per vertex the loop
+// reads only u, w, s·cos θ, s·sin θ, z and its mesh index (24 bytes) and writes 12. Each block of
+// at most kBlockVertices vertices of one span is done in three short loops over L1-resident scratch
+// — radii cell by cell, positions over the block (vectorized by the compiler, no gathers), then the
+// scatter back to mesh order — so the arithmetic runs 4 vertices a vector on baseline x86-64 (SSE2;
+// no -march flags: the bake must be the same bytes on every machine).
+//
+// Results do not depend on the thread count: every vertex is computed on its own, by the same
+// instructions, whichever thread runs its block.
+//
+// Error against the exact path (deform_point in double, same binding, same deformed shape): the
+// largest distance over every bound vertex, measured by tools/bench/sweep-bench-deform
+// (BENCHMARKS.md) with bending, twisting and radial change on every section (K = 16, n = 16):
+//   stations per span              1        2        4        8        16       32
+//   diplodocus tail + neck / L   5.2e-3   1.9e-3   5.9e-4   1.6e-4   4.0e-5   1.0e-5
+//   1M-vertex bent tube / L        —      1.0e-3     —      8.6e-5     —        —
+// (L: the longer part's length). It falls as the square of the station spacing (linear
+// interpolation in t of smooth curves) until float rounding (~1e-6 of the part's size) is reached.
+// At the stations themselves and the sample angles the table is the exact sweep to float precision
+// (tests/sim/fast_deform_test.cpp). The default, 8 stations per span, is 1.6e-4 of the length:
+// 0.16 mm on a 1 m tail.
 #include <Eigen/Core>
 #include <cstdint>
 #include <span>
@@ -21,38 +42,71 @@ namespace sweep::sim {
 
 using Vec3f = Eigen::Vector3f;
 
-// Below this many vertices the loop runs on one thread: waking a thread team costs tens of µs on
-// these machines (DESIGN.md §6), more than the loop itself.
+// Below this many bound vertices the loop runs on one thread: waking a thread team costs tens of
+// µs on these machines (DESIGN.md §6), more than the loop saves below ~40k vertices at its 4–6 ns a
+// vertex on one thread (tools/bench/sweep-bench-deform, BENCHMARKS.md).
 inline constexpr std::size_t kParallelVertexThreshold = 40000;
+
+// Vertices of one work block (one station span): the block's scratch (4 floats a vertex) stays in
+// L1.
+inline constexpr std::uint32_t kBlockVertices = 256;
 
 class FastDeformer {
  public:
-  // `rest_positions` is the whole mesh in float (blend-zone vertices need their rest position).
-  FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound, std::span<const Vec3f> rest_positions,
-               int stations_per_span = 8);
+  // A run of grouped vertices [start, start + length) whose mesh indices are consecutive.
+  struct Run {
+    std::uint32_t start = 0, length = 0;
+  };
 
-  // Writes the deformed positions of this sweep's vertices into `out` (the whole mesh, mesh order).
+  // `rest_positions` is the whole mesh in float (blend-zone vertices need their rest position).
+  FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound,
+               std::span<const Vec3f> rest_positions, int stations_per_span = 8);
+
+  // Writes the deformed positions of this sweep's vertices into `out` (the whole mesh, mesh order):
+  // tabulate(deformed), then deform_vertices(out).
   void deform(const SweepShape& deformed, std::span<Vec3f> out);
 
+  // The two halves, separately timed by the benchmarks: evaluate the station table of `deformed`
+  // (same K, n and parameters as the rest shape), and rebuild the vertices from the current table.
+  void tabulate(const SweepShape& deformed);
+  void deform_vertices(std::span<Vec3f> out) const;
+
   std::size_t vertex_count() const { return vertex_.size(); }
-  int station_count() const { return static_cast<int>(station_t_.size()); }
+  int station_count() const { return station_count_; }
 
  private:
-  void tabulate(const SweepShape& shape);
+  struct Block {
+    std::uint32_t begin = 0, end = 0;  // vertices [begin, end) of the grouped arrays
+    std::uint32_t span = 0;            // station span: stations span and span + 1
+    std::uint32_t first_cell = 0;      // angle cell of vertex `begin`
+    bool axial = false;                // some vertex has an axial offset z ≠ 0 (a cap vertex)
+    std::uint32_t runs = kNoRuns;      // first of the block's runs in runs_, or kNoRuns
+  };
+  static constexpr std::uint32_t kNoRuns = 0xffffffffu;
+  // Blocks whose mesh indices come in runs at least this long on average write back run by run.
+  static constexpr std::uint32_t kMinMeanRunLength = 8;
 
-  int n_ = 0;                       // radial samples
-  int row_ = 0;                     // floats per station: 12 (C, X, Y, Z) + n + 3 padded radii
-  std::vector<double> station_t_;   // parameter of each station
-  std::vector<float> stations_;     // row_ floats a station, rewritten each frame
-  std::vector<double> radii_scratch_;
+  int n_ = 0;                    // radial samples = angle cells
+  int stations_per_span_ = 0;    // S
+  int station_count_ = 0;        // (K − 1)·S + 1
+  int row_ = 0;                  // floats per station: 12 (C, X, Y, Z) + 4 per angle cell
+  std::vector<double> basis_;    // Hermite basis h00, h10, h01, h11 at u = q/S, q = 0..S
+  std::vector<float> stations_;  // row_ floats a station, rewritten each frame
+  // Per-frame scratch of tabulate, sized once: each section's cell cubics (K·4n), their slopes
+  // in t at both ends of a span (4n each), and sin(q·δ) of the slerp (S + 1).
+  std::vector<float> section_cells_, slope0_, slope1_;
+  std::vector<double> sines_;
 
-  // Per vertex, grouped by station span (group g = vertices [group_begin_[g], group_begin_[g+1])).
-  std::vector<std::uint32_t> group_begin_;
-  std::vector<std::uint32_t> vertex_;  // mesh index
+  // Per vertex, grouped by (station span, angle cell); group g = p·n + j holds vertices
+  // [cell_begin_[g], cell_begin_[g + 1]). Hot fields first.
   std::vector<float> u_;               // position between the span's two stations, [0, 1]
+  std::vector<float> w_;               // position in the angle cell, [0, 1)
   std::vector<float> a_, b_, z_;       // s·cos θ, s·sin θ, axial offset
-  std::vector<float> c0_, c1_, c2_, c3_;  // Catmull-Rom weights in θ
-  std::vector<std::uint16_t> j_;          // first of the 4 padded radii the weights apply to
+  std::vector<std::uint32_t> vertex_;  // mesh index
+  std::vector<std::uint32_t> cell_begin_;
+  std::vector<Block> blocks_;
+  std::vector<Run> runs_;  // each run-wise block's runs, ended by a zero-length run
+  bool parallel_ = false;
   // Blend-zone vertices (weight < 1): indices into the arrays above, with weight and rest position.
   std::vector<std::uint32_t> blend_index_;
   std::vector<float> blend_weight_;

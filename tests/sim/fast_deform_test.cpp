@@ -1,11 +1,12 @@
 // The fast deformation path against the exact per-vertex path.
+#include "sim/fast_deform.h"
+
 #include <gtest/gtest.h>
 
 #include <numbers>
 
 #include "core/elastic_sweep.h"
 #include "core/sample_sweeps.h"
-#include "sim/fast_deform.h"
 
 namespace sweep::sim {
 namespace {
@@ -57,7 +58,8 @@ TEST(FastDeform, RestIsReproducedToFloatPrecision) {
   std::vector<Vec3f> out(c.rest.size(), Vec3f::Zero());
   fast.deform(shape, out);
   double worst = 0;
-  for (std::size_t v = 0; v < out.size(); ++v) worst = std::max(worst, double((out[v] - c.rest[v]).norm()));
+  for (std::size_t v = 0; v < out.size(); ++v)
+    worst = std::max(worst, double((out[v] - c.rest[v]).norm()));
   // Stations interpolate linearly in t, so between stations the rest pose is not exact: the error
   // is the chord error of the centre curve and frames, which falls as (station spacing)².
   EXPECT_LT(worst, 1e-3 * shape.length());
@@ -106,6 +108,78 @@ TEST(FastDeform, OnlyItsOwnVerticesAreWritten) {
   for (int v = 0; v < 100; ++v) EXPECT_EQ(out[v], Vec3f(7, 7, 7));
   for (int v = 120; v < 200; ++v) EXPECT_EQ(out[v], Vec3f(7, 7, 7));
   EXPECT_NE(out[100], Vec3f(7, 7, 7));
+}
+
+TEST(FastDeform, AtStationsAndSampleAnglesTheTableIsTheExactSweep) {
+  // At a station (u = 0) and a sample angle (w = 0) nothing is interpolated by the fast path: what
+  // is left is the station table itself (slerp by recurrence, Hermite centre, radius cubics), which
+  // must match the exact evaluation to float precision, also across a twist of more than 180°
+  // between sections (the quaternion sign flip) and with a cap offset.
+  SweepShape shape = test::irregular_shape(6, 8);
+  shape.frames[4].rotation = shape.frames[4].rotation * Quat(Eigen::AngleAxisd(3.6, Vec3::UnitZ()));
+  shape.frames[5].rotation = shape.frames[4].rotation;
+  ElasticSweep sweep(test::sweep_def(shape));
+  sweep.set_section_pose(2, Vec3(0.02, 0, 0.01), Vec3(0.4, -0.3, 1.9));
+  sweep.set_radial_offset(3, 5, -0.2);
+  const int stations = 4;
+  bind::SweepBinding b;
+  std::vector<Vec3f> rest;
+  for (int s = 0; s + 1 < shape.section_count(); ++s) {
+    for (int q = 0; q < stations; ++q) {
+      for (int j = 0; j < shape.radial_count; ++j) {
+        b.vertices.push_back(static_cast<std::uint32_t>(b.vertices.size()));
+        b.t.push_back(
+            static_cast<float>(shape.t[s] + (shape.t[s + 1] - shape.t[s]) * q / stations));
+        b.theta.push_back(static_cast<float>(shape.sample_angle(j)));
+        b.s.push_back(0.9f);
+        b.z.push_back(s == 0 && q == 0 && j == 0 ? -0.3f : 0.0f);
+        b.weight.push_back(1.0f);
+        rest.push_back(Vec3f::Zero());
+      }
+    }
+  }
+  FastDeformer fast(shape, b, rest, stations);
+  std::vector<Vec3f> out = rest;
+  fast.deform(sweep.deformed(), out);
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    // The float-stored coordinates, as the fast path sees them.
+    const Vec3 exact = deform_point(sweep.deformed(), b.coords(v));
+    EXPECT_LT((out[v].cast<double>() - exact).norm(), 2e-6 * shape.length()) << "vertex " << v;
+  }
+}
+
+TEST(FastDeform, RingOrderedMeshWritesBackRunByRunAndMatchesTheExactPath) {
+  // A mesh in ring order (as generated tubes and many scanned parts are): within a block the mesh
+  // indices come in long consecutive runs, which are written back run by run. Every vertex must
+  // land where the exact path puts it, and nothing outside the bound range may be touched.
+  ElasticSweep sweep(test::sweep_def(test::irregular_shape(6, 8)));
+  sweep.set_section_pose(2, Vec3(0.02, 0, 0), Vec3(0.3, 0.1, 0.5));
+  sweep.set_radial_offset(4, 1, 0.1);
+  const int rings = 200, segments = 96, offset = 7;
+  bind::SweepBinding b;
+  for (int i = 0; i < rings; ++i) {
+    for (int j = 0; j < segments; ++j) {
+      b.vertices.push_back(static_cast<std::uint32_t>(offset + i * segments + j));
+      b.t.push_back(static_cast<float>(sweep.rest().length() * i / (rings - 1)));
+      b.theta.push_back(static_cast<float>(2 * std::numbers::pi * j / segments));
+      b.s.push_back(1.0f);
+      b.z.push_back(0.0f);
+      b.weight.push_back(1.0f);
+    }
+  }
+  const std::size_t total = offset + b.size() + 5;
+  std::vector<Vec3f> rest(total, Vec3f(9, 9, 9));
+  FastDeformer fast(sweep.rest(), b, rest, 16);
+  std::vector<Vec3f> out(total, Vec3f(7, 7, 7));
+  fast.deform(sweep.deformed(), out);
+  double worst = 0;
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    const Vec3 exact = deform_point(sweep.deformed(), b.coords(k));
+    worst = std::max(worst, (out[b.vertices[k]].cast<double>() - exact).norm());
+  }
+  EXPECT_LT(worst, 2e-4 * sweep.rest().length());
+  for (int v = 0; v < offset; ++v) EXPECT_EQ(out[v], Vec3f(7, 7, 7));
+  for (std::size_t v = offset + b.size(); v < total; ++v) EXPECT_EQ(out[v], Vec3f(7, 7, 7));
 }
 
 }  // namespace

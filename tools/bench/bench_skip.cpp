@@ -1,0 +1,165 @@
+// Frame cost: one frame of the diplodocus with tail and neck moving (step plus deform), and
+// skipping — four sweeps with a force on 1, 2, 3 or all 4 of them, and all four asleep.
+//
+// A frame is what sweep-sim does per output frame (lib/sim/bake_run.cpp): Simulator::advance_frame
+// (the scene's substeps, exact integrator) and the fast path (8 stations per span) on every sweep
+// that moved. Time: median over the frames after the first 5, wall clock, per frame.
+#include "bench_common.h"
+#include "sim/fast_deform.h"
+#include "sim/simulator.h"
+
+namespace sweep::bench {
+namespace {
+
+using sim::FastDeformer;
+using sim::Vec3f;
+
+struct FrameCost {
+  double median_us = 0;
+  double step_us = 0;    // median of the simulation part
+  double deform_us = 0;  // median of the deformation part
+  int awake_at_end = 0;
+};
+
+// Runs `frames` frames of `scene` on `rig`, returning the median frame cost over frames [skip,
+// end).
+FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, int skip) {
+  const std::size_t nv = rig.mesh.vertex_count();
+  std::vector<Vec3f> positions(nv);
+  for (std::size_t v = 0; v < nv; ++v) positions[v] = rig.mesh.positions[v].cast<float>();
+  sim::Simulator sim(rig.rig, scene);
+  std::vector<std::unique_ptr<FastDeformer>> fast;
+  for (int i = 0; i < sim.sweep_count(); ++i) {
+    fast.push_back(std::make_unique<FastDeformer>(rig.rig.sweeps[i].rest, rig.binding.sweeps[i],
+                                                  positions, 8));
+  }
+  std::vector<double> total, step, deform;
+  for (int k = 0; k < frames; ++k) {
+    const auto t0 = Clock::now();
+    sim.advance_frame();
+    const auto t1 = Clock::now();
+    for (int i = 0; i < sim.sweep_count(); ++i) {
+      if (sim.moved_last_frame(i)) fast[i]->deform(sim.sweep(i).deformed(), positions);
+    }
+    const auto t2 = Clock::now();
+    if (k < skip) continue;
+    step.push_back(std::chrono::duration<double>(t1 - t0).count());
+    deform.push_back(std::chrono::duration<double>(t2 - t1).count());
+    total.push_back(std::chrono::duration<double>(t2 - t0).count());
+  }
+  FrameCost c{1e6 * median(total), 1e6 * median(step), 1e6 * median(deform), 0};
+  for (int i = 0; i < sim.sweep_count(); ++i) c.awake_at_end += sim.is_awake(i);
+  return c;
+}
+
+sim::SceneForce tip_force(const RealRig& rig, int i, double start, double end, double magnitude) {
+  sim::SceneForce f;
+  f.sweep = rig.rig.sweeps[i].name;
+  f.sweep_index = i;
+  f.spec.t = 0.9 * rig.rig.sweeps[i].rest.length();
+  f.spec.vector = Vec3(magnitude, 0, magnitude);
+  f.spec.target = RotationTarget::chain;
+  f.start = start;
+  f.end = end;
+  return f;
+}
+
+// Four bent, tapered tubes side by side in one mesh, each with ~6,000 vertices (like a diplodocus
+// part), K = 16, n = 16 sweeps, every vertex bound.
+RealRig four_tubes() {
+  RealRig r;
+  r.binding.sweeps.resize(4);
+  for (int i = 0; i < 4; ++i) {
+    tube::TubeParams p;
+    p.length = 0.4;
+    p.radius = 0.04;
+    p.taper = 0.3;
+    p.bend = 0.8;
+    p.rings = 250;
+    p.segments = 24;
+    Mesh m = tube::make_tube(p);
+    const Vec3 offset(0.3 * i, 0, 0);
+    for (Vec3& v : m.positions) v += offset;
+    SweepShape s = tube_sweep(p, 16, 16);
+    for (Frame& f : s.frames) f.center += offset;
+    SweepDef def = make_sweep("tube" + std::to_string(i), s);
+    bind::SweepBinding b = locate_all(def.rest, m);
+    const std::uint32_t base = static_cast<std::uint32_t>(r.mesh.vertex_count());
+    for (auto& v : b.vertices) v += base;
+    b.name = def.name;
+    r.binding.sweeps[i] = b;
+    r.rig.sweeps.push_back(def);
+    for (const Vec3& v : m.positions) r.mesh.positions.push_back(v);  // faces are not needed here
+  }
+  r.binding.vertex_count = r.mesh.vertex_count();
+  return r;
+}
+
+}  // namespace
+}  // namespace sweep::bench
+
+int main(int argc, char** argv) {
+  using namespace sweep;
+  using namespace sweep::bench;
+  const Args args = parse_args(argc, argv);
+  const int frames = args.quick ? 60 : 300;
+  const int max_threads = omp_get_max_threads();
+  std::string csv = "case,threads,frame_us,step_us,deform_us,ratio,awake_at_end\n";
+  std::string md =
+      "| case | threads | frame µs (median) | step µs | deform µs | × all driven "
+      "|\n|---|---|---|---|---|---|\n";
+
+  // ---- the diplodocus, tail and neck driven all the time --------------------------------------
+  {
+    const RealRig dino = diplodocus_rig();
+    sim::Scene scene;  // 30 fps, 4 substeps, exact integrator (the scene defaults)
+    scene.duration = frames / scene.fps + 1;
+    scene.forces = {tip_force(dino, 0, 0, 1e9, 2.0), tip_force(dino, 1, 0, 1e9, 2.0)};
+    std::size_t bound = 0;
+    for (const auto& s : dino.binding.sweeps) bound += s.size();
+    for (int th = 1; th <= std::min(2, max_threads); ++th) {
+      omp_set_num_threads(th);
+      const FrameCost c = frame_cost(dino, scene, frames, 5);
+      const std::string name = fmt("diplodocus tail + neck (%zu vertices), 4 substeps", bound);
+      csv += fmt("%s,%d,%.4g,%.4g,%.4g,1,%d\n", name.c_str(), th, c.median_us, c.step_us,
+                 c.deform_us, c.awake_at_end);
+      md += fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", name.c_str(), th, c.median_us, c.step_us,
+                c.deform_us);
+    }
+  }
+
+  // ---- four sweeps: 1..4 driven, and asleep ---------------------------------------------------
+  omp_set_num_threads(max_threads);
+  const RealRig tubes = four_tubes();
+  sim::Scene scene;
+  scene.duration = frames / scene.fps + 1;
+  std::vector<std::pair<std::string, FrameCost>> cases;
+  for (int driven = 4; driven >= 1; --driven) {
+    scene.forces.clear();
+    for (int i = 0; i < driven; ++i) scene.forces.push_back(tip_force(tubes, i, 0, 1e9, 2.0));
+    cases.push_back({fmt("4 sweeps, %d driven", driven), frame_cost(tubes, scene, frames, 5)});
+  }
+  {
+    // A short push on all four at the start; the motion dies out (ζ = 0.3 at 1.5 Hz: e^-2.8 a
+    // second) and every sweep falls asleep. Measured over the last third of the frames.
+    scene.forces.clear();
+    for (int i = 0; i < 4; ++i) scene.forces.push_back(tip_force(tubes, i, 0, 0.1, 2.0));
+    const int long_frames = 30 * 20;
+    scene.duration = long_frames / scene.fps + 1;
+    cases.push_back({"4 sweeps, all asleep (after a push)",
+                     frame_cost(tubes, scene, long_frames, 2 * long_frames / 3)});
+    scene.forces.clear();
+    cases.push_back({"4 sweeps, no force at all", frame_cost(tubes, scene, frames, 5)});
+  }
+  const double all = cases.front().second.median_us;
+  for (const auto& [name, c] : cases) {
+    csv += fmt("%s,%d,%.4g,%.4g,%.4g,%.4g,%d\n", name.c_str(), max_threads, c.median_us, c.step_us,
+               c.deform_us, c.median_us / all, c.awake_at_end);
+    md += fmt("| %s | %d | %.2f | %.2f | %.2f | %.3f |\n", name.c_str(), max_threads, c.median_us,
+              c.step_us, c.deform_us, c.median_us / all);
+  }
+  write_text(args.out / "skip.csv", csv);
+  write_text(args.out / "skip.md", md);
+  std::fputs(md.c_str(), stdout);
+  return 0;
+}
