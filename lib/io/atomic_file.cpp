@@ -14,15 +14,32 @@
 namespace sweep::io {
 namespace fs = std::filesystem;
 
-void write_file_atomically(const fs::path& path, std::string_view bytes) {
+namespace {
+
+// Creates the temporary beside `path` (".<name>.tmp-XXXXXX"); returns its descriptor and name.
+int create_temporary(const fs::path& path, std::string& name) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  std::string tmpl = (dir / ("." + path.filename().string() + ".tmp-XXXXXX")).string();
-  const int fd = ::mkstemp(tmpl.data());
+  name = (dir / ("." + path.filename().string() + ".tmp-XXXXXX")).string();
+  const int fd = ::mkstemp(name.data());
   if (fd < 0) {
     fail(ErrorCategory::output, path.string() + ": cannot create a file in " + dir.string() + ": " +
                                     std::strerror(errno));
   }
-  const std::string tmp = tmpl;
+  return fd;
+}
+
+}  // namespace
+
+void check_can_create(const fs::path& path) {
+  std::string tmp;
+  const int fd = create_temporary(path, tmp);
+  ::close(fd);
+  ::unlink(tmp.c_str());
+}
+
+void write_file_atomically(const fs::path& path, std::string_view bytes) {
+  std::string tmp;
+  const int fd = create_temporary(path, tmp);
   auto give_up = [&](const char* what) {
     const std::string reason = std::strerror(errno);
     ::close(fd);

@@ -317,9 +317,10 @@ void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> pos
   // One pass with no branch per vertex, find the culprit only on failure. islessequal is false
   // for NaN without raising FE_INVALID (callers may run with floating-point traps on).
   auto in_range = [](const Eigen::Vector3f& p) {
-    return std::islessequal(std::abs(p.x()), kMaxBakeCoordinate) &
-           std::islessequal(std::abs(p.y()), kMaxBakeCoordinate) &
-           std::islessequal(std::abs(p.z()), kMaxBakeCoordinate);
+    // int, so that & (no branch) is not clang's -Wbitwise-instead-of-logical.
+    return (int{std::islessequal(std::abs(p.x()), kMaxBakeCoordinate)} &
+            int{std::islessequal(std::abs(p.y()), kMaxBakeCoordinate)} &
+            int{std::islessequal(std::abs(p.z()), kMaxBakeCoordinate)}) != 0;
   };
   bool all_in_range = true;
   for (const Eigen::Vector3f& p : positions) all_in_range &= in_range(p);

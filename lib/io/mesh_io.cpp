@@ -185,8 +185,7 @@ std::string at_line(int line) {
 // Accepted: the OFF, COFF, NOFF, CNOFF and NCOFF headers (colours and normals after the three
 // coordinates, and colours after a face's indices, are ignored), counts on the header line or the
 // next, '#' comments anywhere. Binary OFF and the 4OFF/nOFF/STOFF variants are unsupported.
-Mesh read_off(const fs::path& path, std::string_view text) {
-  const std::string source = path.string();
+Mesh read_off(const std::string& source, std::string_view text) {
   LineReader lines(text);
   std::vector<std::string_view> tok;
   if (!lines.next(tok)) bad(source, "no OFF header");
@@ -290,10 +289,12 @@ std::vector<Vec3> read_obj_positions(const std::string& source, std::string_view
   std::size_t pos = 0;
   int line_no = 0;
   while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
+    // Lines end as tinyobjloader ends them (its safeGetline): "\n", "\r\n" or a lone "\r". Its
+    // vertex count must agree with this one, so a lone "\r" cannot be read as a blank here.
+    std::size_t end = text.find_first_of("\r\n", pos);
     if (end == std::string_view::npos) end = text.size();
     std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
+    pos = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
     ++line_no;
     std::size_t i = 0;
     while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
@@ -327,8 +328,7 @@ std::vector<Vec3> read_obj_positions(const std::string& source, std::string_view
   return positions;
 }
 
-Mesh read_obj(const fs::path& path, const std::string& text) {
-  const std::string source = path.string();
+Mesh read_obj(const std::string& source, const std::string& text) {
   Mesh mesh;
   mesh.positions = read_obj_positions(source, text);
 
@@ -483,15 +483,18 @@ Mesh read_with_assimp(const fs::path& path, bool weld) {
 
 }  // namespace
 
+Mesh parse_off(std::string_view text, const std::string& source) { return read_off(source, text); }
+Mesh parse_obj(const std::string& text, const std::string& source) { return read_obj(source, text); }
+
 Mesh read_mesh(const fs::path& path) {
   const std::string source = path.string();
   check_input_file(path);
   const std::string ext = lower_extension(path);
   Mesh mesh;
   if (ext == "off") {
-    mesh = read_off(path, read_file(path));
+    mesh = read_off(source, read_file(path));
   } else if (ext == "obj") {
-    mesh = read_obj(path, read_file(path));
+    mesh = read_obj(source, read_file(path));
   } else if (ext == "ply" || ext == "gltf" || ext == "glb") {
     mesh = read_with_assimp(path, /*weld=*/false);
   } else {

@@ -20,12 +20,19 @@
 // "<path>: <what>"; unsupported formats raise ErrorCategory::unsupported.
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "core/mesh.h"
 
 namespace sweep::io {
 
 Mesh read_mesh(const std::filesystem::path& path);
+
+// The project's own text readers on bytes in memory (what read_mesh uses for .off and .obj; the
+// fuzz targets drive them directly). `source` names the input in messages. Like read_mesh they
+// throw Error(bad_input or unsupported); unlike it they do not call validate_mesh.
+Mesh parse_off(std::string_view text, const std::string& source);
+Mesh parse_obj(const std::string& text, const std::string& source);
 
 // Checks that a mesh is usable by the tools: has vertices and faces, finite coordinates, face
 // indices in range, faces of at least 3 vertices. Throws Error(bad_input) naming `source`, and the

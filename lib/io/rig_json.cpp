@@ -159,7 +159,9 @@ OrderedJson sweep_json(const SweepDef& def) {
 Rig parse_rig(const std::string& text, const std::string& source, const WarningSink& warn) {
   const Json doc = parse_json_text(text, source);
   const JsonReader r(source, warn);
-  r.object(doc, "", {"format", "version", "mesh", "sweeps", "scene"});
+  // The format and version first: a file that is not a rig (a scene, say) gets one error, not a
+  // warning for each of its members before it.
+  if (!doc.is_object()) r.fail_at("", "must be an object, got " + describe(doc));
   const std::string format = r.string(r.required(doc, "", "format"), "/format");
   if (format != kFormatName) r.fail_at("/format", std::string("must be \"") + kFormatName + "\", got " + describe(doc["format"]));
   const long long version = r.integer(r.required(doc, "", "version"), "/version", 1, 1 << 30);
@@ -168,6 +170,7 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
                                          " is not supported (this build reads version " +
                                          std::to_string(Rig::kFormatVersion) + ")");
   }
+  r.object(doc, "", {"format", "version", "mesh", "sweeps", "scene"});
   Rig rig;
   if (const Json* m = r.optional(doc, "mesh")) rig.mesh = r.string(*m, "/mesh");
   const Json& sweeps = r.required(doc, "", "sweeps");

@@ -90,6 +90,10 @@ int run(const Settings& s) {
   }
 
   const fs::path output = s.output.empty() ? fs::path(s.rig).replace_extension(".bind") : s.output;
+  // Every output is checked before any work, so a report that cannot be written does not leave a
+  // binding behind (nor a binding that cannot be written cost a bind).
+  sweep::io::check_can_create(output);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
   sweep::bind::BindResult r;
   try {
     r = sweep::bind::bind(rig, mesh, s.options);
@@ -146,7 +150,7 @@ int main(int argc, char** argv) {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
       if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-      std::cerr << "error: " << e.what() << "\nRun with --help for more information.\n";
+      std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
       return sweep::exit_code(sweep::ErrorCategory::usage);
     }
     if (!s.check.empty() && (!s.output.empty() || !s.report.empty())) {

@@ -140,6 +140,9 @@ int run(const Settings& s) {
 
   const sweep::Mesh mesh = sweep::io::read_mesh(s.mesh);
   sweep::io::validate_mesh(mesh, s.mesh.string());
+  // Outputs are checked before the fit, so neither is written when the other cannot be.
+  sweep::io::check_can_create(s.rig);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
   const sweep::fit::FitResult r = sweep::fit::fit_sweep(mesh, o);
   for (const std::string& w : r.warnings) sweep::tools::warn(s.name + ": " + w);
 
@@ -217,7 +220,10 @@ int main(int argc, char** argv) {
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-      return app.exit(e);
+      if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+      // CLI11's own codes (105, 106, 109, ...) are not ours: a bad command line is usage, 1.
+      std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
+      return sweep::exit_code(ErrorCategory::usage);
     }
     // Conflicts, once, after parsing.
     if (sections->count() > 0 && tolerance->count() > 0) {

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
       if (e.get_exit_code() == 0) return app.exit(e);  // --help
-      std::cerr << "error: " << e.what() << "\nRun with --help for more information.\n";
+      std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
       return sweep::exit_code(sweep::ErrorCategory::usage);
     }
     t.shape = shape == "ellipse" ? sweep::tube::CrossSection::ellipse

@@ -1,0 +1,30 @@
+#pragma once
+// What each libFuzzer target does with one input, shared by the fuzz executables (fuzz_*.cpp, built
+// with SWEEP_FUZZ=ON under clang) and by the replay tests (tests/tools/fuzz_replay_test.cpp), which
+// run every committed seed and every input that once crashed in the regular suite.
+//
+// The contract each target checks: a parser meets any bytes with a result or a sweep::Error (the
+// tools turn that into a message and an exit code). Anything else escaping — another exception
+// type, an Error of category internal, a crash, a sanitizer report, a hang — is a bug.
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sweep::fuzz {
+
+void rig_json(std::string_view data);  // io::parse_rig
+void scene(std::string_view data);     // sim::read_scene (a file) against a fixed small rig
+void binding(std::string_view data);   // bind::parse_binding + check_binding, raw and re-summed
+void off_mesh(std::string_view data);  // io::parse_off + validate_mesh
+void obj_mesh(
+    std::string_view data);  // io::parse_obj (its own `v` parser, tinyobjloader) + validate
+
+struct Target {
+  const char* name;  // also the folder name under tests/fuzz/corpus/ and tests/fuzz/regressions/
+  void (*run)(std::string_view);
+};
+
+// Every target, in a fixed order.
+const std::vector<Target>& targets();
+
+}  // namespace sweep::fuzz
