@@ -172,7 +172,7 @@ void run_case(Case& c, const std::vector<int>& stations, const std::vector<int>&
         for (std::uint32_t v : s.vertices)
           err = std::max(err, (out[v].cast<double>() - exact[v]).norm());
       }
-      rows.push_back({c.name, bound, fmt("fast, %d stations/span", st), th, 1e9 * loop / bound,
+      rows.push_back({c.name, bound, fmt("fast %d stations/span", st), th, 1e9 * loop / bound,
                       1e9 * total / bound, 1e6 * tab, err, err / length, floor_ns});
     }
     std::vector<Vec3> out(nv);

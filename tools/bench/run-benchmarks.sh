@@ -115,6 +115,7 @@ cores=$(nproc)
 threads_per_core=$(lscpu | sed -n 's/^Thread(s) per core: *//p' | head -1)
 compiler=$(c++ --version | head -1)
 commit=$(git -C "$here" rev-parse --short HEAD 2>/dev/null || echo unknown)
+load=$(cut -d' ' -f1-3 /proc/loadavg)
 {
   cat <<EOF
 # Benchmarks
@@ -124,8 +125,14 @@ $(date -u +%Y-%m-%d) — **${cpu}, ${cores} cores** (${threads_per_core} thread(
 ${compiler}, Release build (\`-O3\`, no \`-march\`; the fast loop is compiled for baseline x86-64 and
 AVX2 without FMA and picks one at load time — both give the same bits), commit ${commit}. Times are
 wall-clock medians of several runs measured in the same run; other jobs share these cores, so read
-the ratios (× floor, × LBS) rather than the absolute figures. CSV files and plots are in
-\`tools/bench/results/\`.
+the ratios (× floor, × LBS) rather than the absolute figures. Load average when the run ended:
+${load} (on ${cores} cores). CSV files and plots are in \`tools/bench/results/\`.
+
+**Reading the 2-thread rows.** When other jobs keep the second core busy, a parallel loop waits for
+the scheduler to give its second thread a time slice: every 2-thread figure then collapses to the
+same multiple of a few milliseconds per frame (the copy loop and LBS included), which shows as
+"× floor ≈ 1" and as thousands of ns per vertex on the small diplodocus. Those rows measure the
+machine's load, not the loop; compare the 1-thread rows, which are measured back to back.
 
 ## Deformation: stations per span against error (and the exact path, LBS and the memory floor)
 
