@@ -9,6 +9,9 @@
 namespace sweep {
 namespace {
 
+// Spring displacements (mesh units or radians) and speeds below this are set to exactly zero.
+constexpr double kRestFlush = 1e-200;
+
 OscillatorParams to_params(const SpringSettings& s) { return {s.mass, s.damping(), s.stiffness()}; }
 
 const SpringSettings& pick_positional(const SectionSprings& s, int) { return s.positional; }
@@ -119,6 +122,9 @@ void ElasticSweep::step(double dt) {
     if (!b->active) continue;
     for (std::size_t m = static_cast<std::size_t>(b->width); m < b->x.size(); ++m) {
       b->maps[m].apply(b->x[m], b->v[m], b->f[m]);
+      // A free spring decays geometrically forever; left alone it reaches subnormal numbers, which
+      // x86 computes with many times slower. Far below any visible motion, rest is rest.
+      if (std::abs(b->x[m]) < kRestFlush && std::abs(b->v[m]) < kRestFlush) b->x[m] = b->v[m] = 0.0;
     }
   }
   rebuild();
