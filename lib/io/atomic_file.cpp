@@ -8,70 +8,23 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 
 namespace sweep::io {
 namespace fs = std::filesystem;
 
-namespace {
-
-// Creates the temporary beside `path` (".<name>.tmp-XXXXXX"); returns its descriptor and name.
-int create_temporary(const fs::path& path, std::string& name) {
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  name = (dir / ("." + path.filename().string() + ".tmp-XXXXXX")).string();
-  const int fd = ::mkstemp(name.data());
-  if (fd < 0) {
-    fail(ErrorCategory::output, path.string() + ": cannot create a file in " + dir.string() + ": " +
-                                    std::strerror(errno));
-  }
-  return fd;
-}
-
-}  // namespace
-
 void check_can_create(const fs::path& path) {
-  std::string tmp;
-  const int fd = create_temporary(path, tmp);
-  ::close(fd);
-  ::unlink(tmp.c_str());
+  TempFile probe(path, /*scratch=*/true);  // nameless: gone when the probe is
 }
 
 void write_file_atomically(const fs::path& path, std::string_view bytes) {
-  std::string tmp;
-  const int fd = create_temporary(path, tmp);
-  auto give_up = [&](const char* what) {
-    const std::string reason = std::strerror(errno);
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    fail(ErrorCategory::output, path.string() + ": " + what + ": " + reason);
-  };
-  const char* p = bytes.data();
-  std::size_t left = bytes.size();
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      give_up("cannot write");
-    }
-    p += n;
-    left -= static_cast<std::size_t>(n);
-  }
-  // Files are created 0600 by mkstemp; give them the usual permissions (umask applies).
-  const mode_t mask = ::umask(0);
-  ::umask(mask);
-  if (::fchmod(fd, 0666 & ~mask) != 0) give_up("cannot set permissions");
-  if (::fsync(fd) != 0) give_up("cannot flush to disk");
-  if (::close(fd) != 0) {
-    const std::string reason = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    fail(ErrorCategory::output, path.string() + ": cannot close: " + reason);
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    fail(ErrorCategory::output, path.string() + ": cannot rename into place: " + reason);
-  }
+  TempFile file(path);
+  file.write(bytes);
+  file.commit();
 }
 
 std::string read_file(const fs::path& path) {
@@ -84,6 +37,151 @@ std::string read_file(const fs::path& path) {
   ss << in.rdbuf();
   if (in.bad()) fail(ErrorCategory::bad_input, path.string() + ": cannot read");
   return std::move(ss).str();
+}
+
+namespace {
+
+// The process's umask, read once. Linux shows it in /proc/self/status, so it is read without the
+// umask(0)/umask(mask) dance, which would briefly change it under other threads.
+mode_t process_umask() {
+  static const mode_t mask = [] {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line)) {
+      if (line.rfind("Umask:", 0) == 0) return static_cast<mode_t>(std::stoul(line.substr(6), nullptr, 8));
+    }
+    const mode_t m = ::umask(0);  // older kernels: the dance, once
+    ::umask(m);
+    return m;
+  }();
+  return mask;
+}
+
+constexpr std::size_t kBufferBytes = std::size_t{1} << 20;  // TempFile's write buffer
+
+}  // namespace
+
+TempFile::TempFile(fs::path target, bool scratch) : target_(std::move(target)) {
+  const fs::path dir = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+  std::string name =
+      (dir / ("." + target_.filename().string() + (scratch ? ".scratch-XXXXXX" : ".tmp-XXXXXX")))
+          .string();
+  fd_ = ::mkostemp(name.data(), O_CLOEXEC);
+  if (fd_ < 0) {
+    fail(ErrorCategory::output, target_.string() + ": cannot create a file in " + dir.string() +
+                                    ": " + std::strerror(errno));
+  }
+  if (scratch) {
+    ::unlink(name.c_str());  // nameless from now on: nothing to clean up, ever
+  } else {
+    temp_ = std::move(name);
+  }
+}
+
+TempFile::~TempFile() {
+  discard();
+}
+
+void TempFile::discard() noexcept {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+  if (!temp_.empty()) {
+    ::unlink(temp_.c_str());
+    temp_.clear();
+  }
+  std::vector<char>().swap(buffer_);
+}
+
+void TempFile::fail_errno(const char* what) {
+  const std::string reason = std::strerror(errno);
+  discard();
+  fail(ErrorCategory::output, target_.string() + ": " + what + ": " + reason);
+}
+
+void TempFile::flush() {
+  if (fd_ < 0) fail(ErrorCategory::internal, target_.string() + ": write to a closed file");
+  if (buffer_.empty()) return;
+  const char* p = buffer_.data();
+  std::size_t left = buffer_.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd_, p, left);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail_errno("cannot write");
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  buffer_.clear();
+}
+
+void TempFile::write(const void* data, std::size_t size) {
+  if (fd_ < 0) fail(ErrorCategory::internal, target_.string() + ": write to a closed file");
+  const char* p = static_cast<const char*>(data);
+  size_ += size;
+  if (buffer_.size() + size <= kBufferBytes) {
+    buffer_.insert(buffer_.end(), p, p + size);
+    return;
+  }
+  flush();
+  if (size < kBufferBytes) {
+    buffer_.insert(buffer_.end(), p, p + size);
+    return;
+  }
+  while (size > 0) {  // large blocks go straight to the file
+    const ssize_t n = ::write(fd_, p, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail_errno("cannot write");
+    }
+    p += n;
+    size -= static_cast<std::size_t>(n);
+  }
+}
+
+void TempFile::copy_to(TempFile& out) {
+  flush();
+  std::vector<char> chunk(kBufferBytes);
+  off_t offset = 0;
+  while (static_cast<std::uint64_t>(offset) < size_) {
+    const ssize_t n = ::pread(fd_, chunk.data(), chunk.size(), offset);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail_errno("cannot read back a scratch file");
+    }
+    if (n == 0) {
+      errno = EIO;
+      fail_errno("scratch file is shorter than written");
+    }
+    out.write(chunk.data(), static_cast<std::size_t>(n));
+    offset += n;
+  }
+}
+
+void TempFile::commit() {
+  seal();
+  publish();
+}
+
+void TempFile::seal() {
+  if (temp_.empty()) fail(ErrorCategory::internal, target_.string() + ": seal of a scratch file");
+  flush();
+  // mkstemp creates files 0600; give them the usual permissions (umask applies).
+  if (::fchmod(fd_, 0666 & ~process_umask()) != 0) fail_errno("cannot set permissions");
+  if (::fsync(fd_) != 0) fail_errno("cannot flush to disk");
+  const int fd = std::exchange(fd_, -1);
+  std::vector<char>().swap(buffer_);
+  if (::close(fd) != 0) fail_errno("cannot close");
+}
+
+void TempFile::publish() {
+  if (fd_ >= 0 || temp_.empty()) {
+    fail(ErrorCategory::internal, target_.string() + ": publish of a file not sealed");
+  }
+  if (::rename(temp_.c_str(), target_.c_str()) != 0) fail_errno("cannot rename into place");
+  temp_.clear();
 }
 
 }  // namespace sweep::io

@@ -1,10 +1,51 @@
 #pragma once
 // Outputs are written to a temporary file beside the target and renamed into place only when
 // complete, so a failure or a kill never leaves a half-written file under the final name.
+#include <cstdint>
 #include <filesystem>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace sweep::io {
+
+// A file being written: a temporary beside `target`, buffered, renamed onto `target` by commit().
+// A scratch file (scratch = true) is unlinked as soon as it is created, so it never has a name
+// and vanishes with its descriptor; it is read back with copy_to(). Until commit(), destruction
+// or discard() removes the temporary. Every failure is Error(output, "<target>: ...").
+class TempFile {
+ public:
+  explicit TempFile(std::filesystem::path target, bool scratch = false);
+  ~TempFile();
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+
+  void write(const void* data, std::size_t size);
+  void write(std::string_view bytes) { write(bytes.data(), bytes.size()); }
+  // Bytes written so far.
+  std::uint64_t size() const { return size_; }
+  // Appends this (scratch) file's whole content to `out`.
+  void copy_to(TempFile& out);
+  // Flushes, gives the usual permissions, syncs, closes and renames onto the target: seal() does
+  // all but the rename, publish() the rename (a sealed temporary holds no descriptor).
+  void commit();
+  void seal();
+  void publish();
+  // Removes the temporary (no-op once committed or discarded). Never throws.
+  void discard() noexcept;
+  const std::filesystem::path& target() const { return target_; }
+
+ private:
+  void flush();
+  [[noreturn]] void fail_errno(const char* what);
+
+  std::filesystem::path target_;
+  std::string temp_;  // the temporary's name; empty for a scratch file
+  int fd_ = -1;
+  std::vector<char> buffer_;
+  std::uint64_t size_ = 0;
+};
+
 
 // Writes bytes to path atomically. Throws Error(output) naming the path on any failure; the
 // temporary file is removed in that case.

@@ -63,7 +63,7 @@ class GltfWriter final : public detail::BakeWriterBase {
   }
   tinygltf::Model build_model() const;
 
-  std::unique_ptr<detail::TempFile> scratch_, final_;
+  std::unique_ptr<TempFile> scratch_, final_;
   bool sparse_ = false;
   std::vector<std::uint32_t> targets_;  // the listed vertices when sparse
   std::size_t triangle_index_count_ = 0;
@@ -104,7 +104,7 @@ void GltfWriter::start(const Mesh& mesh) {
              " MiB, over the 4 GiB a .glb can hold; bake fewer frames or to .pc2");
   }
 
-  scratch_ = std::make_unique<detail::TempFile>(out(), /*scratch=*/true);
+  scratch_ = std::make_unique<TempFile>(out(), /*scratch=*/true);
 
   rest_min_ = rest_max_ = rest().front();
   for (const Eigen::Vector3f& p : rest()) {
@@ -333,7 +333,7 @@ void GltfWriter::complete() {
   const std::uint32_t header[5] = {0x46546C67u /* "glTF" */, 2, u32(total), u32(text.size()),
                                    0x4E4F534Au /* "JSON" */};
   const std::uint32_t bin_header[2] = {u32(bin_length), 0x004E4942u /* "BIN\0" */};
-  final_ = std::make_unique<detail::TempFile>(out());
+  final_ = std::make_unique<TempFile>(out());
   final_->write(header, sizeof header);
   final_->write(text);
   final_->write(bin_header, sizeof bin_header);

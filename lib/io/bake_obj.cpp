@@ -61,7 +61,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     frames_.reserve(static_cast<std::size_t>(info().frame_count));
     // The files are made frame by frame; find out now, before any simulation, whether the folder
     // takes files at all (a nameless scratch file leaves nothing behind).
-    detail::TempFile probe(out(), /*scratch=*/true);
+    TempFile probe(out(), /*scratch=*/true);
   }
 
   void write_frame(int index, std::span<const Eigen::Vector3f> positions) override {
@@ -84,7 +84,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     }
     text += faces_;
     auto file =
-        std::make_unique<detail::TempFile>(obj_sequence_path(out(), index, info().frame_count));
+        std::make_unique<TempFile>(obj_sequence_path(out(), index, info().frame_count));
     file->write(text);
     file->seal();
     frames_.push_back(std::move(file));
@@ -110,7 +110,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
   std::string rest_lines_;   // `v` lines of the rest pose, when some vertices never move
   std::vector<std::size_t> rest_line_start_;
   std::string text_;  // one frame's file, reused
-  std::vector<std::unique_ptr<detail::TempFile>> frames_;
+  std::vector<std::unique_ptr<TempFile>> frames_;
 };
 
 }  // namespace

@@ -27,7 +27,7 @@ class Pc2Writer final : public detail::BakeWriterBase {
 
  protected:
   void start(const Mesh&) override {
-    file_ = std::make_unique<detail::TempFile>(out());
+    file_ = std::make_unique<TempFile>(out());
     char header[32];
     std::memcpy(header, "POINTCACHE2\0", 12);
     put_u32(header + 12, 1);                                               // version
@@ -57,7 +57,7 @@ class Pc2Writer final : public detail::BakeWriterBase {
   }
 
  private:
-  std::unique_ptr<detail::TempFile> file_;
+  std::unique_ptr<TempFile> file_;
   std::vector<char> scratch_;  // big-endian hosts only
 };
 

@@ -151,9 +151,12 @@ Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::Wa
   const Json doc = io::parse_json_text(io::read_file(path), path.string());
   const io::JsonReader r(path.string(), warn);
   if (!doc.is_object()) r.fail_at("", "must be a JSON object");
-  // A rig file that carries its scene.
-  if (doc.contains("scene") && doc.value("format", "") == "sweep-rig") return parse_scene(doc["scene"], "/scene", r, rig);
-  if (doc.value("format", "") == "sweep-rig") r.fail_at("", "this rig file has no \"scene\"; give a scene file");
+  // A rig file that carries its scene. (A "format" that is not a string is reported by
+  // parse_scene, with its pointer.)
+  const auto format = doc.find("format");
+  const bool is_rig = format != doc.end() && format->is_string() && format->get<std::string>() == "sweep-rig";
+  if (is_rig && doc.contains("scene")) return parse_scene(doc["scene"], "/scene", r, rig);
+  if (is_rig) r.fail_at("", "this rig file has no \"scene\"; give a scene file");
   return parse_scene(doc, "", r, rig);
 }
 

@@ -84,6 +84,10 @@ int run(const Settings& s) {
     sweep::fail(sweep::ErrorCategory::usage, "--integrator: expected exact, semi-implicit-euler or rk4, got \"" + s.integrator + "\"");
   }
   if (s.substeps > 0) scene.substeps = s.substeps;
+  // Every output is checked before any is written: a report that cannot be written is found
+  // before the bake is, so a failure leaves nothing behind.
+  for (const fs::path& out : s.outputs) sweep::io::check_can_create(out);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
   const double load_seconds = since(start);
 
   sweep::sim::BakeOptions options;
