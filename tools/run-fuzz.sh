@@ -24,10 +24,12 @@ for t in "${targets[@]}"; do
   mkdir -p "$work/$t/corpus" "$work/$t/artifacts"
   cp tests/fuzz/corpus/"$t"/* "$work/$t/corpus/"
   echo "== fuzz_$t: $seconds s"
+  dict=()
+  if [ -f tests/fuzz/"$t".dict ]; then dict=(-dict=tests/fuzz/"$t".dict); fi
   set +e
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     "$build/tests/fuzz/fuzz_$t" "$work/$t/corpus" -max_total_time="$seconds" -timeout=10 \
-    -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+    -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "${dict[@]}" \
     -artifact_prefix="$work/$t/artifacts/" >"$work/$t/log" 2>&1
   status=$?
   set -e

@@ -3,6 +3,9 @@
 // to it by sweep-fit, its binding by sweep-bind, and a scene. Made once per build of the tools (a
 // cache folder named after their modification times, created under a temporary name and renamed
 // into place, so parallel test processes never see half of it) and copied into each test's folder.
+#include <fcntl.h>
+#include <sys/file.h>
+
 #include <chrono>
 #include <functional>
 #include <string>
@@ -22,26 +25,33 @@ inline std::string stamp(const char* exe) {
 }
 
 // A folder made once per build of the tools by `make(folder, io)` (io: a folder for the tools'
-// captured streams) and shared by every test process: built under a temporary name and renamed
-// into place, so that a parallel process either sees all of it or builds its own (the loser of
-// the race throws its copy away).
+// captured streams) and shared by every test process. ctest runs tests in parallel processes: the
+// first takes a lock (flock, released when it exits even if it crashes), builds the folder under a
+// temporary name and renames it into place; the others wait for the lock and find it there.
 inline fs::path cached_dir(const std::string& name,
                            const std::function<void(const fs::path&, const fs::path&)>& make) {
   const fs::path root = fs::path(SWEEP_BINARY_DIR) / "test-scratch" / "tools-cache";
   const fs::path dir = root / (name + "-" + stamp(SWEEP_FIT_EXE) + "-" + stamp(SWEEP_BIND_EXE) +
                                "-" + stamp(SWEEP_TUBE_EXE));
   if (fs::exists(dir)) return dir;
-  const fs::path tmp = root / ("tmp-" + name + "-" + std::to_string(::getpid()));
-  const fs::path io = root / ("io-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
-  fs::create_directories(io);
-  make(tmp, io);
-  fs::remove_all(io);
-  if (testing::Test::HasFailure()) return tmp;  // never publish a broken cache
-  std::error_code ec;
-  fs::rename(tmp, dir, ec);
-  if (ec) fs::remove_all(tmp);
+  fs::create_directories(root);
+  const int lock = ::open((root / (name + ".lock")).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock >= 0) ::flock(lock, LOCK_EX);
+  if (!fs::exists(dir)) {
+    const fs::path tmp = root / ("tmp-" + name + "-" + std::to_string(::getpid()));
+    const fs::path io = root / ("io-" + name + "-" + std::to_string(::getpid()));
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    fs::create_directories(io);
+    make(tmp, io);
+    fs::remove_all(io);
+    if (testing::Test::HasFailure()) {  // never publish a broken cache
+      if (lock >= 0) ::close(lock);
+      return tmp;
+    }
+    fs::rename(tmp, dir);
+  }
+  if (lock >= 0) ::close(lock);
   return dir;
 }
 
