@@ -592,13 +592,8 @@ std::string obj_bytes(const Mesh& mesh) {
   return out;
 }
 
-std::string off_bytes(const Mesh& mesh) {
-  std::string out = "OFF\n# sweep mesh 1\n";
-  append_number(out, std::uint64_t{mesh.vertex_count()});
-  out += ' ';
-  append_number(out, std::uint64_t{mesh.face_count()});
-  out += " 0\n";
-  for (const Vec3& p : mesh.positions) append_vertex_line(out, "", p);
+// Faces as OFF and ASCII PLY both write them: "count i0 i1 ...", 0-based, one a line.
+void append_counted_faces(std::string& out, const Mesh& mesh) {
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
     append_number(out, std::uint64_t{mesh.face_offsets[f + 1] - mesh.face_offsets[f]});
     for (std::uint32_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
@@ -607,6 +602,16 @@ std::string off_bytes(const Mesh& mesh) {
     }
     out += '\n';
   }
+}
+
+std::string off_bytes(const Mesh& mesh) {
+  std::string out = "OFF\n# sweep mesh 1\n";
+  append_number(out, std::uint64_t{mesh.vertex_count()});
+  out += ' ';
+  append_number(out, std::uint64_t{mesh.face_count()});
+  out += " 0\n";
+  for (const Vec3& p : mesh.positions) append_vertex_line(out, "", p);
+  append_counted_faces(out, mesh);
   return out;
 }
 
@@ -621,14 +626,7 @@ std::string ply_bytes(const Mesh& mesh) {
                     std::to_string(mesh.face_count()) + "\nproperty list " +
                     (widest <= 255 ? "uchar" : "uint") + " uint vertex_indices\nend_header\n";
   for (const Vec3& p : mesh.positions) append_vertex_line(out, "", p);
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    append_number(out, std::uint64_t{mesh.face_offsets[f + 1] - mesh.face_offsets[f]});
-    for (std::uint32_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
-      out += ' ';
-      append_number(out, std::uint64_t{mesh.face_vertices[k]});
-    }
-    out += '\n';
-  }
+  append_counted_faces(out, mesh);
   return out;
 }
 

@@ -139,7 +139,9 @@ int main(int argc, char** argv) {
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-      return app.exit(e) == 0 ? 0 : sweep::exit_code(sweep::ErrorCategory::usage);
+      if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+      std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
+      return sweep::exit_code(sweep::ErrorCategory::usage);
     }
     return run(s);
   });
