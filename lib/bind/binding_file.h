@@ -34,6 +34,12 @@ namespace sweep::bind {
 inline constexpr std::uint32_t kBindingFormatVersion = 1;
 
 std::string binding_bytes(const Binding& binding);
+
+// Where sweep-bind writes a rig's binding, and sweep-sim looks for it, when no path is given: the
+// rig's path with ".bind" ("dino.rig.json" → "dino.rig.bind").
+inline std::filesystem::path default_binding_path(const std::filesystem::path& rig_path) {
+  return std::filesystem::path(rig_path).replace_extension(".bind");
+}
 void write_binding(const std::filesystem::path& path, const Binding& binding);
 
 // Parses and checks the file's own integrity (not whether it matches a mesh or rig). `source`

@@ -89,7 +89,7 @@ int run(const Settings& s) {
     return 0;
   }
 
-  const fs::path output = s.output.empty() ? fs::path(s.rig).replace_extension(".bind") : s.output;
+  const fs::path output = s.output.empty() ? sweep::bind::default_binding_path(s.rig) : s.output;
   // Every output is checked before any work, so a report that cannot be written does not leave a
   // binding behind (nor a binding that cannot be written cost a bind).
   sweep::io::check_can_create(output);

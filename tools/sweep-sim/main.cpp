@@ -77,7 +77,7 @@ int run(const Settings& s) {
   if (s.threads > 0) omp_set_num_threads(s.threads);
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   const sweep::Mesh mesh = sweep::io::read_mesh(sweep::io::resolve_mesh_path(s.rig, rig));
-  const fs::path binding_path = s.binding.empty() ? fs::path(s.rig).replace_extension(".bind") : s.binding;
+  const fs::path binding_path = s.binding.empty() ? sweep::bind::default_binding_path(s.rig) : s.binding;
   const sweep::bind::Binding binding = sweep::bind::load_binding(binding_path, mesh, rig);
   sweep::sim::Scene scene = sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
   if (!s.integrator.empty() && !sweep::parse_integrator(s.integrator, &scene.integrator)) {
