@@ -20,6 +20,7 @@ void hermite(double u, double* h) {
 }
 
 using Run = FastDeformer::Run;
+using Segment = FastDeformer::Segment;
 
 // What the per-block kernel reads and writes (FastDeformer's arrays).
 struct Kernel {
@@ -30,25 +31,27 @@ struct Kernel {
 };
 
 // One block of one station span (stations A and B): vertices [begin, end) of the grouped arrays,
-// the first in angle cell `first_cell`, whose group boundaries start at `cell`. With kAxial the
-// vertices' axial offsets z are read (only blocks holding cap vertices need them); without, z = 0
-// and the loop reads 20 bytes a vertex instead of 24.
+// in angle-cell segments `seg` (the first starts at `begin`, the last ends at `end`). With kAxial
+// the vertices' axial offsets z are read (only blocks holding cap vertices need them); without,
+// z = 0 and the loop reads 16 bytes a vertex instead of 20.
 //
 // Compiled twice (target_clones): for AVX2 and for baseline x86-64, picked at load time. Neither
 // enables FMA, and the vectorized and scalar forms do the same IEEE operations in the same order,
 // so both give the same bits.
 template <bool kAxial>
 [[gnu::always_inline]] inline void deform_block_impl(const Kernel& k, const float* A,
-                                                     const float* B, const std::uint32_t* cell,
-                                                     std::uint32_t first_cell, std::uint32_t begin,
-                                                     std::uint32_t end, const Run* runs) {
+                                                     const float* B, const Segment* seg,
+                                                     std::uint32_t begin, std::uint32_t end,
+                                                     const Run* runs) {
   const std::uint32_t m = end - begin;
   float r[kBlockVertices], ox[kBlockVertices], oy[kBlockVertices], oz[kBlockVertices];
 
-  // 1. Radii, one angle cell at a time: the cell's cubic at both stations is loop invariant.
-  for (const float *pa = A + kCells + 4 * first_cell, *pb = B + kCells + 4 * first_cell;;
-       ++cell, pa += 4, pb += 4) {
-    const std::uint32_t lo = std::max(begin, cell[0]), hi = std::min(end, cell[1]);
+  // 1. Radii, one angle-cell segment at a time: the cell's cubic at both stations is loop
+  // invariant.
+  for (std::uint32_t lo = begin;; ++seg) {
+    const std::uint32_t hi = seg->end;
+    const float* pa = A + kCells + 4 * seg->cell;
+    const float* pb = B + kCells + 4 * seg->cell;
     const float a0 = pa[0], a1 = pa[1], a2 = pa[2], a3 = pa[3];
     const float d0 = pb[0] - a0, d1 = pb[1] - a1, d2 = pb[2] - a2, d3 = pb[3] - a3;
     // Pointer-and-count form (not uint32 indices, whose wrap-around defeats the vectorizer).
@@ -62,7 +65,8 @@ template <bool kAxial>
       const float rd = d0 + w * (d1 + w * (d2 + w * d3));
       cr[i] = std::max(ra + u * rd, k.floor);
     }
-    if (cell[1] >= end) break;
+    if (hi >= end) break;
+    lo = hi;
   }
 
   // 2. Positions over the block: station A and the difference to B are loop invariants.
@@ -75,22 +79,37 @@ template <bool kAxial>
   const float* ba = k.a + begin;
   const float* bb = k.b + begin;
   const float* bz = k.z + begin;
-  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(m); ++i) {
-    const float u = bu[i];
-    const float x = r[i] * ba[i], y = r[i] * bb[i];
-    float px = (ca[0] + u * cd[0]) + (ca[3] + u * cd[3]) * x + (ca[6] + u * cd[6]) * y;
-    float py = (ca[1] + u * cd[1]) + (ca[4] + u * cd[4]) * x + (ca[7] + u * cd[7]) * y;
-    float pz = (ca[2] + u * cd[2]) + (ca[5] + u * cd[5]) * x + (ca[8] + u * cd[8]) * y;
-    if constexpr (kAxial) {
-      const float z = bz[i];
-      px += (ca[9] + u * cd[9]) * z;
-      py += (ca[10] + u * cd[10]) * z;
-      pz += (ca[11] + u * cd[11]) * z;
+  const auto positions = [&](auto store) [[gnu::always_inline]] {
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(m); ++i) {
+      const float u = bu[i];
+      const float x = r[i] * ba[i], y = r[i] * bb[i];
+      float px = (ca[0] + u * cd[0]) + (ca[3] + u * cd[3]) * x + (ca[6] + u * cd[6]) * y;
+      float py = (ca[1] + u * cd[1]) + (ca[4] + u * cd[4]) * x + (ca[7] + u * cd[7]) * y;
+      float pz = (ca[2] + u * cd[2]) + (ca[5] + u * cd[5]) * x + (ca[8] + u * cd[8]) * y;
+      if constexpr (kAxial) {
+        const float z = bz[i];
+        px += (ca[9] + u * cd[9]) * z;
+        py += (ca[10] + u * cd[10]) * z;
+        pz += (ca[11] + u * cd[11]) * z;
+      }
+      store(i, px, py, pz);
     }
-    ox[i] = px;
-    oy[i] = py;
-    oz[i] = pz;
+  };
+  // A block whose mesh indices are one contiguous run is written straight to the mesh.
+  if (runs != nullptr && runs->length == m) {
+    float* o = k.out + 3 * static_cast<std::size_t>(k.vertex[begin]);
+    positions([o](std::ptrdiff_t i, float x, float y, float z) [[gnu::always_inline]] {
+      o[3 * i] = x;
+      o[3 * i + 1] = y;
+      o[3 * i + 2] = z;
+    });
+    return;
   }
+  positions([&](std::ptrdiff_t i, float x, float y, float z) [[gnu::always_inline]] {
+    ox[i] = x;
+    oy[i] = y;
+    oz[i] = z;
+  });
 
   // 3. Back to mesh order: run by run where the block's mesh indices come in long contiguous runs
   // (a ring-ordered mesh: each run is an interleaving copy the compiler vectorizes), else vertex by
@@ -121,15 +140,15 @@ template <bool kAxial>
 }
 
 __attribute__((target_clones("avx2", "default"))) void deform_block(
-    const Kernel& k, const float* A, const float* B, const std::uint32_t* cell,
-    std::uint32_t first_cell, std::uint32_t begin, std::uint32_t end, const Run* runs) {
-  deform_block_impl<false>(k, A, B, cell, first_cell, begin, end, runs);
+    const Kernel& k, const float* A, const float* B, const Segment* seg, std::uint32_t begin,
+    std::uint32_t end, const Run* runs) {
+  deform_block_impl<false>(k, A, B, seg, begin, end, runs);
 }
 
 __attribute__((target_clones("avx2", "default"))) void deform_block_axial(
-    const Kernel& k, const float* A, const float* B, const std::uint32_t* cell,
-    std::uint32_t first_cell, std::uint32_t begin, std::uint32_t end, const Run* runs) {
-  deform_block_impl<true>(k, A, B, cell, first_cell, begin, end, runs);
+    const Kernel& k, const float* A, const float* B, const Segment* seg, std::uint32_t begin,
+    std::uint32_t end, const Run* runs) {
+  deform_block_impl<true>(k, A, B, seg, begin, end, runs);
 }
 
 }  // namespace
@@ -159,12 +178,11 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
   }
   station_t.push_back(rest.length());
 
-  // Group of each vertex: station span p (clamped, so cap vertices beyond the ends join the end
-  // spans) and angle cell j; then a stable counting sort by group.
+  // Span p (clamped, so cap vertices beyond the ends join the end spans) and angle cell j of each
+  // vertex, in binding order (= mesh order).
   const std::size_t count = bound.size();
   const std::size_t spans = station_t.size() - 1;
-  const std::size_t groups = spans * n_;
-  std::vector<std::uint32_t> group_of(count);
+  std::vector<std::uint32_t> span_of(count), cell_of(count);
   std::vector<float> u(count), w(count);
   for (std::size_t v = 0; v < count; ++v) {
     const double t = bound.t[v];
@@ -172,22 +190,44 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
     const std::size_t p =
         std::min<std::size_t>(std::max<std::ptrdiff_t>(it - station_t.begin() - 1, 0), spans - 1);
     const AngleCoord ac = locate_angle(n_, bound.theta[v]);
-    group_of[v] = static_cast<std::uint32_t>(p * n_ + ac.j);
+    span_of[v] = static_cast<std::uint32_t>(p);
+    cell_of[v] = static_cast<std::uint32_t>(ac.j);
     u[v] = static_cast<float>(
         std::clamp((t - station_t[p]) / (station_t[p + 1] - station_t[p]), 0.0, 1.0));
     w[v] = static_cast<float>(ac.w);
   }
-  cell_begin_.assign(groups + 1, 0);
-  for (std::uint32_t g : group_of) ++cell_begin_[g + 1];
-  for (std::size_t g = 0; g < groups; ++g) cell_begin_[g + 1] += cell_begin_[g];
-  std::vector<std::uint32_t> fill(cell_begin_.begin(), cell_begin_.end() - 1);
+
+  // Order within a span: mesh order where it already keeps the angle cells together in long
+  // segments (a ring-ordered mesh: the write-back is then one contiguous copy a block, the
+  // cheapest order for memory), else by angle cell (any other mesh: few, long segments, and the
+  // write-back goes run by run or vertex by vertex).
+  std::vector<std::uint32_t> span_size(spans, 0), span_segments(spans, 0), last_cell(spans, n_);
+  for (std::size_t v = 0; v < count; ++v) {
+    const std::uint32_t p = span_of[v];
+    ++span_size[p];
+    if (cell_of[v] != last_cell[p]) ++span_segments[p];
+    last_cell[p] = cell_of[v];
+  }
+  // Stable counting sort by (span, cell), the cell taken as 0 in spans kept in mesh order.
+  std::vector<std::uint32_t> group_of(count);
+  std::vector<std::uint32_t> group_begin(spans * n_ + 1, 0);
+  for (std::size_t v = 0; v < count; ++v) {
+    const std::uint32_t p = span_of[v];
+    const bool mesh_order = span_size[p] >= kMinMeanSegmentLength * span_segments[p];
+    group_of[v] = p * static_cast<std::uint32_t>(n_) + (mesh_order ? 0 : cell_of[v]);
+    ++group_begin[group_of[v] + 1];
+  }
+  for (std::size_t g = 0; g + 1 < group_begin.size(); ++g) group_begin[g + 1] += group_begin[g];
+  std::vector<std::uint32_t> fill(group_begin.begin(), group_begin.end() - 1);
 
   for (auto* a : {&u_, &w_, &a_, &b_, &z_}) a->resize(count);
   vertex_.resize(count);
+  std::vector<std::uint32_t> grouped_cell(count);
   for (std::size_t v = 0; v < count; ++v) {
     const std::uint32_t o = fill[group_of[v]]++;
     const SweepCoords c = bound.coords(v);
     vertex_[o] = bound.vertices[v];
+    grouped_cell[o] = cell_of[v];
     u_[o] = u[v];
     w_[o] = w[v];
     a_[o] = static_cast<float>(c.s * std::cos(c.theta));
@@ -218,18 +258,20 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
     blend_rest_.swap(br);
   }
 
-  // Work blocks: each span's vertices in pieces of at most kBlockVertices.
+  // Work blocks: each span's vertices in pieces of at most kBlockVertices, each cut into segments
+  // of one angle cell.
   for (std::size_t p = 0; p < spans; ++p) {
-    const std::uint32_t first = cell_begin_[p * n_], last = cell_begin_[(p + 1) * n_];
+    const std::uint32_t first = group_begin[p * n_], last = group_begin[(p + 1) * n_];
     for (std::uint32_t b = first; b < last; b += kBlockVertices) {
       Block blk;
       blk.begin = b;
       blk.end = std::min(last, b + kBlockVertices);
       blk.span = static_cast<std::uint32_t>(p);
-      // The cell holding vertex b: the last group of this span that starts at or before it.
-      const auto it =
-          std::upper_bound(cell_begin_.begin() + p * n_, cell_begin_.begin() + (p + 1) * n_, b);
-      blk.first_cell = static_cast<std::uint32_t>(it - (cell_begin_.begin() + p * n_) - 1);
+      blk.segments = static_cast<std::uint32_t>(segments_.size());
+      for (std::uint32_t i = blk.begin; i < blk.end; ++i) {
+        if (i + 1 == blk.end || grouped_cell[i + 1] != grouped_cell[i])
+          segments_.push_back({i + 1, grouped_cell[i]});
+      }
       blk.axial = std::any_of(z_.begin() + blk.begin, z_.begin() + blk.end,
                               [](float z) { return z != 0.0f; });
       // Contiguous runs of mesh indices; kept (terminated by a zero-length run) when they are long
@@ -348,6 +390,12 @@ void FastDeformer::tabulate(const SweepShape& shape) {
   }
 }
 
+std::size_t FastDeformer::direct_block_count() const {
+  return static_cast<std::size_t>(std::count_if(blocks_.begin(), blocks_.end(), [&](const Block& b) {
+    return b.runs != kNoRuns && runs_[b.runs].length == b.end - b.begin;
+  }));
+}
+
 void FastDeformer::deform(const SweepShape& deformed, std::span<Vec3f> out) {
   tabulate(deformed);
   deform_vertices(out);
@@ -365,18 +413,16 @@ void FastDeformer::deform_vertices(std::span<Vec3f> out) const {
   k.vertex = vertex_.data();
   k.out = out.data()->data();
   const float* const tab = stations_.data();
-  const std::uint32_t* const cells = cell_begin_.data();
-  const int n = n_;
 #pragma omp parallel for schedule(static) if (parallel_)
   for (std::ptrdiff_t bi = 0; bi < blocks; ++bi) {
     const Block& blk = blocks_[bi];
     const float* A = tab + static_cast<std::size_t>(blk.span) * row_;
-    const std::uint32_t* cell = cells + static_cast<std::size_t>(blk.span) * n + blk.first_cell;
+    const Segment* seg = segments_.data() + blk.segments;
     const Run* runs = blk.runs == kNoRuns ? nullptr : runs_.data() + blk.runs;
     if (blk.axial) {
-      deform_block_axial(k, A, A + row_, cell, blk.first_cell, blk.begin, blk.end, runs);
+      deform_block_axial(k, A, A + row_, seg, blk.begin, blk.end, runs);
     } else {
-      deform_block(k, A, A + row_, cell, blk.first_cell, blk.begin, blk.end, runs);
+      deform_block(k, A, A + row_, seg, blk.begin, blk.end, runs);
     }
   }
   for (std::size_t b = 0; b < blend_index_.size(); ++b) {

@@ -8,13 +8,21 @@
 //     v' = C(u) + X(u)·(r·s cos θ) + Y(u)·(r·s sin θ) + Z(u)·z,   C(u) = C_A + u·(C_B − C_A), ...
 //
 // Layout is deliberate (DESIGN.md §6: layout wins, arithmetic does not). At construction the bound
-// vertices are sorted by (station span, angle cell), mesh order kept within each, so everything a
-// vertex needs from the table is a loop invariant of its group: no gathers. Per vertex the loop
-// reads only u, w, s·cos θ, s·sin θ, z and its mesh index (24 bytes) and writes 12. Each block of
-// at most kBlockVertices vertices of one span is done in three short loops over L1-resident scratch
-// — radii cell by cell, positions over the block (vectorized by the compiler, no gathers), then the
-// scatter back to mesh order — so the arithmetic runs 4 vertices a vector on baseline x86-64 (SSE2;
-// no -march flags: the bake must be the same bytes on every machine).
+// vertices are grouped by station span, so the two stations a vertex needs are loop invariants of
+// its block: no gathers. Within a span they keep mesh order when that order already holds the
+// angle cells together in long segments (a ring-ordered mesh, as generated tubes and many scanned
+// parts are): each block is then one contiguous range of the mesh, computed straight into it, and
+// the stores stream like a copy. Otherwise they are sorted by angle cell (mesh order kept within
+// a cell) and written back from L1 scratch run by run or vertex by vertex. Per vertex the loop
+// reads only u, w, s·cos θ and s·sin θ (16 bytes; z too in blocks with cap vertices) and writes
+// 12. Each block of at most kBlockVertices vertices of one span is done in short loops — radii
+// segment by segment (each segment's cubic is loop invariant), then positions over the block —
+// vectorized by the compiler, 8 vertices a vector with AVX2 (no FMA) and 4 on baseline x86-64.
+//
+// Measured (tools/bench/sweep-bench-deform, 1M-vertex ring-ordered tube, 8 stations a span): the
+// sorted-by-cell layout wrote 17 rings' worth of scattered runs a span and took ~1.7× the copy
+// floor; mesh order with direct stores takes ~0.8–1.0× the floor (it moves 28 bytes a vertex, the
+// floor 36), bit-identical output.
 //
 // Results do not depend on the thread count: every vertex is computed on its own, by the same
 // instructions, whichever thread runs its block.
@@ -57,6 +65,11 @@ class FastDeformer {
   struct Run {
     std::uint32_t start = 0, length = 0;
   };
+  // Grouped vertices from the previous segment's end (or the block's begin) up to `end`, all in
+  // angle cell `cell`.
+  struct Segment {
+    std::uint32_t end = 0, cell = 0;
+  };
 
   // `rest_positions` is the whole mesh in float (blend-zone vertices need their rest position).
   FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound,
@@ -73,18 +86,25 @@ class FastDeformer {
 
   std::size_t vertex_count() const { return vertex_.size(); }
   int station_count() const { return station_count_; }
+  // Work blocks, and those among them written straight into the mesh (one contiguous run of mesh
+  // indices): a diagnostic of the layout the vertex order allowed.
+  std::size_t block_count() const { return blocks_.size(); }
+  std::size_t direct_block_count() const;
 
  private:
   struct Block {
     std::uint32_t begin = 0, end = 0;  // vertices [begin, end) of the grouped arrays
     std::uint32_t span = 0;            // station span: stations span and span + 1
-    std::uint32_t first_cell = 0;      // angle cell of vertex `begin`
+    std::uint32_t segments = 0;        // first of the block's angle-cell segments in segments_
     bool axial = false;                // some vertex has an axial offset z ≠ 0 (a cap vertex)
     std::uint32_t runs = kNoRuns;      // first of the block's runs in runs_, or kNoRuns
   };
   static constexpr std::uint32_t kNoRuns = 0xffffffffu;
   // Blocks whose mesh indices come in runs at least this long on average write back run by run.
   static constexpr std::uint32_t kMinMeanRunLength = 8;
+  // A span keeps mesh order when its angle-cell segments in that order are at least this long on
+  // average.
+  static constexpr std::uint32_t kMinMeanSegmentLength = 8;
 
   int n_ = 0;                    // radial samples = angle cells
   int stations_per_span_ = 0;    // S
@@ -97,13 +117,12 @@ class FastDeformer {
   std::vector<float> section_cells_, slope0_, slope1_;
   std::vector<double> sines_;
 
-  // Per vertex, grouped by (station span, angle cell); group g = p·n + j holds vertices
-  // [cell_begin_[g], cell_begin_[g + 1]). Hot fields first.
+  // Per vertex, grouped by station span (then by angle cell, or in mesh order). Hot fields first.
   std::vector<float> u_;               // position between the span's two stations, [0, 1]
   std::vector<float> w_;               // position in the angle cell, [0, 1)
   std::vector<float> a_, b_, z_;       // s·cos θ, s·sin θ, axial offset
   std::vector<std::uint32_t> vertex_;  // mesh index
-  std::vector<std::uint32_t> cell_begin_;
+  std::vector<Segment> segments_;      // each block's, in order
   std::vector<Block> blocks_;
   std::vector<Run> runs_;  // each run-wise block's runs, ended by a zero-length run
   bool parallel_ = false;

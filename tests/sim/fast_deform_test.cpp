@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numbers>
+#include <random>
 
 #include "core/elastic_sweep.h"
 #include "core/sample_sweeps.h"
@@ -148,10 +150,10 @@ TEST(FastDeform, AtStationsAndSampleAnglesTheTableIsTheExactSweep) {
   }
 }
 
-TEST(FastDeform, RingOrderedMeshWritesBackRunByRunAndMatchesTheExactPath) {
-  // A mesh in ring order (as generated tubes and many scanned parts are): within a block the mesh
-  // indices come in long consecutive runs, which are written back run by run. Every vertex must
-  // land where the exact path puts it, and nothing outside the bound range may be touched.
+TEST(FastDeform, RingOrderedMeshIsWrittenInPlaceAndMatchesTheExactPath) {
+  // A mesh in ring order (as generated tubes and many scanned parts are): each block is one
+  // contiguous range of mesh indices, computed straight into the mesh. Every vertex must land
+  // where the exact path puts it, and nothing outside the bound range may be touched.
   ElasticSweep sweep(test::sweep_def(test::irregular_shape(6, 8)));
   sweep.set_section_pose(2, Vec3(0.02, 0, 0), Vec3(0.3, 0.1, 0.5));
   sweep.set_radial_offset(4, 1, 0.1);
@@ -170,6 +172,7 @@ TEST(FastDeform, RingOrderedMeshWritesBackRunByRunAndMatchesTheExactPath) {
   const std::size_t total = offset + b.size() + 5;
   std::vector<Vec3f> rest(total, Vec3f(9, 9, 9));
   FastDeformer fast(sweep.rest(), b, rest, 16);
+  EXPECT_EQ(fast.direct_block_count(), fast.block_count());
   std::vector<Vec3f> out(total, Vec3f(7, 7, 7));
   fast.deform(sweep.deformed(), out);
   double worst = 0;
@@ -180,6 +183,48 @@ TEST(FastDeform, RingOrderedMeshWritesBackRunByRunAndMatchesTheExactPath) {
   EXPECT_LT(worst, 2e-4 * sweep.rest().length());
   for (int v = 0; v < offset; ++v) EXPECT_EQ(out[v], Vec3f(7, 7, 7));
   for (std::size_t v = offset + b.size(); v < total; ++v) EXPECT_EQ(out[v], Vec3f(7, 7, 7));
+}
+
+TEST(FastDeform, MeshOrderChangesTheLayoutButNotOneBit) {
+  // Ring order lets a span keep mesh order and write each block straight into the mesh; the same
+  // vertices numbered at random are grouped by angle cell and written back one by one. Each
+  // vertex is computed by the same operations either way, so the positions must agree bit for bit.
+  ElasticSweep sweep(test::sweep_def(test::irregular_shape(6, 8)));
+  sweep.set_section_pose(3, Vec3(0.01, 0.02, 0), Vec3(0.2, -0.3, 0.6));
+  sweep.set_radial_offset(2, 5, -0.1);
+  const int rings = 150, segments = 64;
+  const int count = rings * segments;
+  std::vector<std::uint32_t> renumber(count);
+  for (int v = 0; v < count; ++v) renumber[v] = static_cast<std::uint32_t>(v);
+  std::shuffle(renumber.begin(), renumber.end(), std::mt19937(11));
+
+  // The binding of ring vertex k under a numbering, sorted by mesh index as bind() makes them.
+  const auto binding = [&](const std::vector<std::uint32_t>& number) {
+    std::vector<int> order(count);
+    for (int k = 0; k < count; ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](int x, int y) { return number[x] < number[y]; });
+    bind::SweepBinding b;
+    for (int k : order) {
+      b.vertices.push_back(number[k]);
+      b.t.push_back(static_cast<float>(sweep.rest().length() * (k / segments) / (rings - 1)));
+      b.theta.push_back(static_cast<float>(2 * std::numbers::pi * (k % segments) / segments));
+      b.s.push_back(0.95f);
+      b.z.push_back(0.0f);
+      b.weight.push_back(1.0f);
+    }
+    return b;
+  };
+  std::vector<std::uint32_t> identity(count);
+  for (int v = 0; v < count; ++v) identity[v] = static_cast<std::uint32_t>(v);
+  const std::vector<Vec3f> rest(count, Vec3f::Zero());
+  FastDeformer ring(sweep.rest(), binding(identity), rest, 8);
+  FastDeformer shuffled(sweep.rest(), binding(renumber), rest, 8);
+  EXPECT_EQ(ring.direct_block_count(), ring.block_count());
+  EXPECT_EQ(shuffled.direct_block_count(), 0u);
+  std::vector<Vec3f> a(count), b(count);
+  ring.deform(sweep.deformed(), a);
+  shuffled.deform(sweep.deformed(), b);
+  for (int k = 0; k < count; ++k) ASSERT_EQ(a[k], b[renumber[k]]) << "ring vertex " << k;
 }
 
 }  // namespace
