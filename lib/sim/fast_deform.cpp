@@ -20,6 +20,10 @@ void hermite(double u, double* h) {
 }
 
 using Run = FastDeformer::Run;
+// The radii loop runs in whole vectors of kPad floats (AVX2's 8; baseline's 4 divides it), so a
+// short angle-cell segment costs no scalar remainder (-18 % instructions a vertex on the ring-
+// ordered tube, callgrind); u_ and w_ carry kPad floats of padding for the reads past the end.
+constexpr std::ptrdiff_t kPad = 8;
 using Segment = FastDeformer::Segment;
 
 // What the per-block kernel reads and writes (FastDeformer's arrays).
@@ -44,7 +48,7 @@ template <bool kAxial>
                                                      std::uint32_t begin, std::uint32_t end,
                                                      const Run* runs) {
   const std::uint32_t m = end - begin;
-  float r[kBlockVertices], ox[kBlockVertices], oy[kBlockVertices], oz[kBlockVertices];
+  float r[kBlockVertices + kPad], ox[kBlockVertices], oy[kBlockVertices], oz[kBlockVertices];
 
   // 1. Radii, one angle-cell segment at a time: the cell's cubic at both stations is loop
   // invariant.
@@ -58,7 +62,10 @@ template <bool kAxial>
     const float* cw = k.w + lo;
     const float* cu = k.u + lo;
     float* cr = r + (lo - begin);
-    const std::ptrdiff_t len = static_cast<std::ptrdiff_t>(hi) - static_cast<std::ptrdiff_t>(lo);
+    // Rounded up to whole vectors: the extra radii are overwritten by the next segment's or lie
+    // past the block (the arrays are padded for the reads).
+    const std::ptrdiff_t len =
+        (static_cast<std::ptrdiff_t>(hi) - static_cast<std::ptrdiff_t>(lo) + kPad - 1) & -kPad;
     for (std::ptrdiff_t i = 0; i < len; ++i) {
       const float w = cw[i], u = cu[i];
       const float ra = a0 + w * (a1 + w * (a2 + w * a3));
@@ -197,30 +204,36 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
     w[v] = static_cast<float>(ac.w);
   }
 
-  // Order within a span: mesh order where it already keeps the angle cells together in long
-  // segments (a ring-ordered mesh: the write-back is then one contiguous copy a block, the
-  // cheapest order for memory), else by angle cell (any other mesh: few, long segments, and the
-  // write-back goes run by run or vertex by vertex).
-  std::vector<std::uint32_t> span_size(spans, 0), span_segments(spans, 0), last_cell(spans, n_);
+  // Pieces: the bound vertices in tiles of kTileVertices consecutive ones (mesh order), each tile
+  // split by span; piece q = tile·spans + p. Tiles keep the stores of a mesh in no useful order
+  // (random numbering) inside a window that stays in cache until it is complete.
+  // Order within a piece: mesh order where it already keeps the angle cells together in long
+  // segments (a ring-ordered mesh: each block is then one contiguous range of the mesh), else by
+  // angle cell.
+  const std::size_t tiles = (count + kTileVertices - 1) / kTileVertices;
+  const std::size_t pieces = std::max<std::size_t>(tiles, 1) * spans;
+  const auto piece_of = [&](std::size_t v) { return (v / kTileVertices) * spans + span_of[v]; };
+  std::vector<std::uint32_t> piece_size(pieces, 0), piece_segments(pieces, 0), last_cell(pieces, n_);
   for (std::size_t v = 0; v < count; ++v) {
-    const std::uint32_t p = span_of[v];
-    ++span_size[p];
-    if (cell_of[v] != last_cell[p]) ++span_segments[p];
-    last_cell[p] = cell_of[v];
+    const std::size_t q = piece_of(v);
+    ++piece_size[q];
+    if (cell_of[v] != last_cell[q]) ++piece_segments[q];
+    last_cell[q] = cell_of[v];
   }
-  // Stable counting sort by (span, cell), the cell taken as 0 in spans kept in mesh order.
+  // Stable counting sort by (piece, cell), the cell taken as 0 in pieces kept in mesh order.
   std::vector<std::uint32_t> group_of(count);
-  std::vector<std::uint32_t> group_begin(spans * n_ + 1, 0);
+  std::vector<std::uint32_t> group_begin(pieces * n_ + 1, 0);
   for (std::size_t v = 0; v < count; ++v) {
-    const std::uint32_t p = span_of[v];
-    const bool mesh_order = span_size[p] >= kMinMeanSegmentLength * span_segments[p];
-    group_of[v] = p * static_cast<std::uint32_t>(n_) + (mesh_order ? 0 : cell_of[v]);
+    const std::size_t q = piece_of(v);
+    const bool mesh_order = piece_size[q] >= kMinMeanSegmentLength * piece_segments[q];
+    group_of[v] = static_cast<std::uint32_t>(q * n_ + (mesh_order ? 0 : cell_of[v]));
     ++group_begin[group_of[v] + 1];
   }
   for (std::size_t g = 0; g + 1 < group_begin.size(); ++g) group_begin[g + 1] += group_begin[g];
   std::vector<std::uint32_t> fill(group_begin.begin(), group_begin.end() - 1);
 
-  for (auto* a : {&u_, &w_, &a_, &b_, &z_}) a->resize(count);
+  for (auto* a : {&u_, &w_}) a->resize(count + kPad);
+  for (auto* a : {&a_, &b_, &z_}) a->resize(count);
   vertex_.resize(count);
   std::vector<std::uint32_t> grouped_cell(count);
   for (std::size_t v = 0; v < count; ++v) {
@@ -260,8 +273,9 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
 
   // Work blocks: each span's vertices in pieces of at most kBlockVertices, each cut into segments
   // of one angle cell.
-  for (std::size_t p = 0; p < spans; ++p) {
-    const std::uint32_t first = group_begin[p * n_], last = group_begin[(p + 1) * n_];
+  for (std::size_t q = 0; q < pieces; ++q) {
+    const std::size_t p = q % spans;
+    const std::uint32_t first = group_begin[q * n_], last = group_begin[(q + 1) * n_];
     for (std::uint32_t b = first; b < last; b += kBlockVertices) {
       Block blk;
       blk.begin = b;

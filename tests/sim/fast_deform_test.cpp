@@ -189,11 +189,13 @@ TEST(FastDeform, MeshOrderChangesTheLayoutButNotOneBit) {
   // Ring order lets a span keep mesh order and write each block straight into the mesh; the same
   // vertices numbered at random are grouped by angle cell and written back one by one. Each
   // vertex is computed by the same operations either way, so the positions must agree bit for bit.
+  // More vertices than a tile holds, so tiles and the spans they cut are exercised too.
   ElasticSweep sweep(test::sweep_def(test::irregular_shape(6, 8)));
   sweep.set_section_pose(3, Vec3(0.01, 0.02, 0), Vec3(0.2, -0.3, 0.6));
   sweep.set_radial_offset(2, 5, -0.1);
-  const int rings = 150, segments = 64;
+  const int rings = 1100, segments = 64;
   const int count = rings * segments;
+  static_assert(1100 * 64 > FastDeformer::kTileVertices);
   std::vector<std::uint32_t> renumber(count);
   for (int v = 0; v < count; ++v) renumber[v] = static_cast<std::uint32_t>(v);
   std::shuffle(renumber.begin(), renumber.end(), std::mt19937(11));
@@ -217,14 +219,19 @@ TEST(FastDeform, MeshOrderChangesTheLayoutButNotOneBit) {
   std::vector<std::uint32_t> identity(count);
   for (int v = 0; v < count; ++v) identity[v] = static_cast<std::uint32_t>(v);
   const std::vector<Vec3f> rest(count, Vec3f::Zero());
-  FastDeformer ring(sweep.rest(), binding(identity), rest, 8);
-  FastDeformer shuffled(sweep.rest(), binding(renumber), rest, 8);
+  FastDeformer ring(sweep.rest(), binding(identity), rest, 16);
+  FastDeformer shuffled(sweep.rest(), binding(renumber), rest, 16);
   EXPECT_EQ(ring.direct_block_count(), ring.block_count());
   EXPECT_EQ(shuffled.direct_block_count(), 0u);
   std::vector<Vec3f> a(count), b(count);
   ring.deform(sweep.deformed(), a);
   shuffled.deform(sweep.deformed(), b);
   for (int k = 0; k < count; ++k) ASSERT_EQ(a[k], b[renumber[k]]) << "ring vertex " << k;
+  const bind::SweepBinding in_ring_order = binding(identity);
+  for (int k = 0; k < count; k += 97) {
+    const Vec3 exact = deform_point(sweep.deformed(), in_ring_order.coords(k));
+    EXPECT_LT((a[k].cast<double>() - exact).norm(), 2e-4 * sweep.rest().length()) << k;
+  }
 }
 
 }  // namespace

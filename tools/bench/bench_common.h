@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -199,6 +200,23 @@ inline RealRig dense_tube_rig(std::size_t vertices) {
   r.rig.sweeps.push_back(def);
   r.binding.vertex_count = r.mesh.vertex_count();
   r.binding.sweeps.push_back(locate_all(def.rest, r.mesh));
+  return r;
+}
+
+// The same rig with the mesh's vertices numbered at random (faces and binding follow): the
+// vertex order of a mesh that keeps no ring order, the fast path's worst case for memory.
+inline RealRig shuffled_vertex_order(const RealRig& in, unsigned seed) {
+  const std::size_t nv = in.mesh.vertex_count();
+  std::vector<std::uint32_t> number(nv);
+  for (std::size_t v = 0; v < nv; ++v) number[v] = static_cast<std::uint32_t>(v);
+  std::shuffle(number.begin(), number.end(), std::mt19937(seed));
+  RealRig r;
+  r.rig = in.rig;
+  r.mesh = in.mesh;
+  for (std::size_t v = 0; v < nv; ++v) r.mesh.positions[number[v]] = in.mesh.positions[v];
+  for (std::uint32_t& f : r.mesh.face_vertices) f = number[f];
+  r.binding.vertex_count = nv;
+  for (const SweepDef& def : r.rig.sweeps) r.binding.sweeps.push_back(locate_all(def.rest, r.mesh));
   return r;
 }
 
