@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite from a fresh clone (CI runs exactly this):
-#   1. installs what is missing (Debian packages, CGAL's sample meshes, the glTF validator);
+#   1. installs what is missing (Debian packages with Blender, CGAL's sample meshes, the glTF
+#      validator);
 #   2. builds the dev preset (warnings as errors) and runs every CTest test;
 #   3. builds the asan preset and runs every test again under AddressSanitizer + UBSan;
 #   4. runs each libFuzzer target for a bounded time on its committed corpus.
@@ -8,7 +9,7 @@
 # time per target (default 20).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-tools/setup-deps.sh
+tools/setup-deps.sh --tests
 jobs=$(nproc)
 start=$SECONDS
 stage() { echo; echo "== $1 ($((SECONDS - start)) s so far)"; }

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sweep needs to build, test and run its demo. Idempotent: packages
 # already present are not touched, and apt is not called at all when nothing is missing.
+#   tools/setup-deps.sh            # build + demo
+#   tools/setup-deps.sh --tests    # also what only the tests use: Blender (~170 MB download), which
+#                                  # plays the baked files in tests/blender
 set -euo pipefail
 
 packages=(
@@ -12,6 +15,7 @@ packages=(
   libcgal-demo   # CGAL's sample meshes (diplodocus.off, ...) for the demo and real-mesh tests
   gnuplot-nox    # the plots of tools/bench/run-benchmarks.sh
 )
+[ "${1:-}" = --tests ] && packages+=(blender)
 # Node.js runs the Khronos glTF validator in the .glb tests. Machines of this kind may already have a
 # Node.js that bundles npm (Debian's own npm package then conflicts with it): ask apt only for what
 # is missing as a command.
