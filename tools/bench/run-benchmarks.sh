@@ -52,15 +52,21 @@ if command -v gnuplot >/dev/null; then
   (
     cd "$results"
     # Deformation: time per vertex against the largest error, per mesh and thread count.
-    awk -F, 'NR > 1 && $3 ~ /^fast/ { print $5, $9 > ("plot_deform_" ($1 ~ /tube/ ? "tube" : "dino") "_" $4 ".dat") }' deform.csv
-    for m in dino tube; do
+    awk -F, 'NR > 1 && $3 ~ /^fast/ {
+      m = $1 ~ /random/ ? "tube_random" : ($1 ~ /tube/ ? "tube" : "dino")
+      print $5, $9 > ("plot_deform_" m "_" $4 ".dat") }' deform.csv
+    for m in dino tube tube_random; do
       plots=()
       for th in 1 2; do
         f="plot_deform_${m}_${th}.dat"
         [ -f "$f" ] && plots+=("'$f' using 1:2 with linespoints title '$th thread(s)'")
       done
       [ ${#plots[@]} -gt 0 ] || continue
-      title=$([ "$m" = dino ] && echo "diplodocus tail + neck" || echo "1M-vertex tube")
+      case $m in
+        dino) title="diplodocus tail + neck" ;;
+        tube) title="1M-vertex tube (ring order)" ;;
+        *) title="1M-vertex tube (vertices numbered at random)" ;;
+      esac
       gnuplot <<EOF
 set terminal png size 800,560
 set output 'deform_${m}.png'
@@ -139,13 +145,19 @@ machine's load, not the loop; compare the 1-thread rows, which are measured back
 Error measure: the largest distance of any bound vertex from the fast path (float) to the same vertex
 from the exact per-vertex path (\`deform_point\`, double) on the same posed sweeps; reference: the
 exact path. "loop" is the per-vertex loop alone, "total" adds the per-frame station table. The
-floor is a copy loop touching the loop's bytes (24 read + 12 written per vertex); LBS is a plain
-4-bone linear-blend-skinning loop over the same number of vertices. Both meshes are posed with
-bending, twisting and radial change on every section (K = 16, n = 16).
+floor is a copy loop touching 36 bytes a vertex (24 read + 12 written, in order); the fast loop
+reads 16 (20 where a block holds cap vertices) and writes 12, so it can come in under the floor
+when its stores stream. LBS is a plain 4-bone linear-blend-skinning loop over the same number of
+vertices. The meshes are posed with bending, twisting and radial change on every section (K = 16,
+n = 16). The dense tube is measured twice: in ring order, as generated (each work block is one
+contiguous range of the mesh, computed straight into it), and with its vertices numbered at random
+(the same tube, faces and binding renumbered: no order to exploit, every store on a different cache
+line — the worst case).
 
 $(cat "$results/deform.md")
 
 ![diplodocus](tools/bench/results/deform_dino.png) ![tube](tools/bench/results/deform_tube.png)
+![tube, random order](tools/bench/results/deform_tube_random.png)
 
 ## Frame cost and skipping
 
