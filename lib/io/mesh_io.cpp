@@ -129,7 +129,11 @@ std::vector<std::string_view> split_tokens(std::string_view line) {
 // A real number in C syntax (a leading '+' allowed); "nan" and "inf" parse, as non-finite values,
 // so that the caller can name the vertex. Returns false when the token is not a number at all.
 bool parse_real(std::string_view token, double& value) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  // from_chars takes no '+': drop one, but only before a digit or '.' ("+-5" is not a number).
+  if (token.size() > 1 && token.front() == '+') {
+    if (token[1] == '-' || token[1] == '+') return false;
+    token.remove_prefix(1);
+  }
   const char* end = token.data() + token.size();
   const auto [ptr, ec] = std::from_chars(token.data(), end, value);
   if (ec == std::errc::result_out_of_range) {
@@ -483,8 +487,12 @@ Mesh read_with_assimp(const fs::path& path, bool weld) {
 
 }  // namespace
 
-Mesh parse_off(std::string_view text, const std::string& source) { return read_off(source, text); }
-Mesh parse_obj(const std::string& text, const std::string& source) { return read_obj(source, text); }
+Mesh parse_off(std::string_view text, const std::string& source) {
+  return read_off(source, text);
+}
+Mesh parse_obj(const std::string& text, const std::string& source) {
+  return read_obj(source, text);
+}
 
 Mesh read_mesh(const fs::path& path) {
   const std::string source = path.string();

@@ -13,14 +13,17 @@ namespace sweep::sim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 }  // namespace
 
-BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding, const Scene& scene,
-                    const BakeOptions& options) {
+BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
+                    const Scene& scene, const BakeOptions& options) {
   if (options.outputs.empty()) fail(ErrorCategory::usage, "no output file given");
-  if (options.stations_per_span < 1) fail(ErrorCategory::usage, "stations per span must be at least 1");
+  if (options.stations_per_span < 1)
+    fail(ErrorCategory::usage, "stations per span must be at least 1");
   const std::size_t nv = mesh.vertex_count();
   const int sweeps = static_cast<int>(rig.sweeps.size());
 
@@ -39,7 +42,11 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     report.sweeps.push_back({rig.sweeps[i].name, sim.is_driven(i), 0, 0, table.size()});
     if (!sim.is_driven(i)) continue;
     animated.insert(animated.end(), table.vertices.begin(), table.vertices.end());
-    if (!options.exact) fast[i] = std::make_unique<FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
+    if (options.exact) continue;
+    fast[i] =
+        std::make_unique<FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
+    report.sweeps[i].work_blocks = fast[i]->block_count();
+    report.sweeps[i].blocks_in_place = fast[i]->direct_block_count();
   }
   std::sort(animated.begin(), animated.end());
 
@@ -84,7 +91,8 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     }
     if (any_moved) {
       max_displacement = 0;
-      for (std::uint32_t v : animated) max_displacement = std::max(max_displacement, double((positions[v] - rest[v]).norm()));
+      for (std::uint32_t v : animated)
+        max_displacement = std::max(max_displacement, double((positions[v] - rest[v]).norm()));
     }
     stats.max_displacement = max_displacement;
     report.deform_seconds += seconds_since(t0);

@@ -86,7 +86,7 @@ template <bool kAxial>
   const float* ba = k.a + begin;
   const float* bb = k.b + begin;
   const float* bz = k.z + begin;
-  const auto positions = [&](auto store) [[gnu::always_inline]] {
+  const auto positions = [&](auto store) {
     for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(m); ++i) {
       const float u = bu[i];
       const float x = r[i] * ba[i], y = r[i] * bb[i];
@@ -105,14 +105,14 @@ template <bool kAxial>
   // A block whose mesh indices are one contiguous run is written straight to the mesh.
   if (runs != nullptr && runs->length == m) {
     float* o = k.out + 3 * static_cast<std::size_t>(k.vertex[begin]);
-    positions([o](std::ptrdiff_t i, float x, float y, float z) [[gnu::always_inline]] {
+    positions([o](std::ptrdiff_t i, float x, float y, float z) {
       o[3 * i] = x;
       o[3 * i + 1] = y;
       o[3 * i + 2] = z;
     });
     return;
   }
-  positions([&](std::ptrdiff_t i, float x, float y, float z) [[gnu::always_inline]] {
+  positions([&](std::ptrdiff_t i, float x, float y, float z) {
     ox[i] = x;
     oy[i] = y;
     oz[i] = z;
@@ -213,31 +213,43 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
   const std::size_t tiles = (count + kTileVertices - 1) / kTileVertices;
   const std::size_t pieces = std::max<std::size_t>(tiles, 1) * spans;
   const auto piece_of = [&](std::size_t v) { return (v / kTileVertices) * spans + span_of[v]; };
-  std::vector<std::uint32_t> piece_size(pieces, 0), piece_segments(pieces, 0), last_cell(pieces, n_);
+  std::vector<std::uint32_t> piece_size(pieces, 0), piece_segments(pieces, 0),
+      last_cell(pieces, n_);
   for (std::size_t v = 0; v < count; ++v) {
     const std::size_t q = piece_of(v);
     ++piece_size[q];
     if (cell_of[v] != last_cell[q]) ++piece_segments[q];
     last_cell[q] = cell_of[v];
   }
-  // Stable counting sort by (piece, cell), the cell taken as 0 in pieces kept in mesh order.
-  std::vector<std::uint32_t> group_of(count);
-  std::vector<std::uint32_t> group_begin(pieces * n_ + 1, 0);
-  for (std::size_t v = 0; v < count; ++v) {
-    const std::size_t q = piece_of(v);
-    const bool mesh_order = piece_size[q] >= kMinMeanSegmentLength * piece_segments[q];
-    group_of[v] = static_cast<std::uint32_t>(q * n_ + (mesh_order ? 0 : cell_of[v]));
-    ++group_begin[group_of[v] + 1];
+  // The grouped order: a stable counting sort by piece, then, inside each piece not kept in mesh
+  // order, a stable counting sort by angle cell. order[o] = the binding index at grouped place o.
+  std::vector<std::uint32_t> piece_begin(pieces + 1, 0);
+  for (std::size_t v = 0; v < count; ++v) ++piece_begin[piece_of(v) + 1];
+  for (std::size_t q = 0; q < pieces; ++q) piece_begin[q + 1] += piece_begin[q];
+  std::vector<std::uint32_t> order(count);
+  {
+    std::vector<std::uint32_t> fill(piece_begin.begin(), piece_begin.end() - 1);
+    for (std::size_t v = 0; v < count; ++v)
+      order[fill[piece_of(v)]++] = static_cast<std::uint32_t>(v);
   }
-  for (std::size_t g = 0; g + 1 < group_begin.size(); ++g) group_begin[g + 1] += group_begin[g];
-  std::vector<std::uint32_t> fill(group_begin.begin(), group_begin.end() - 1);
+  std::vector<std::uint32_t> cell_fill(n_ + 1), sorted;
+  for (std::size_t q = 0; q < pieces; ++q) {
+    if (piece_size[q] >= kMinMeanSegmentLength * piece_segments[q]) continue;  // mesh order
+    const auto lo = order.begin() + piece_begin[q], hi = order.begin() + piece_begin[q + 1];
+    std::fill(cell_fill.begin(), cell_fill.end(), 0);
+    for (auto it = lo; it != hi; ++it) ++cell_fill[cell_of[*it] + 1];
+    for (int j = 0; j < n_; ++j) cell_fill[j + 1] += cell_fill[j];
+    sorted.resize(hi - lo);
+    for (auto it = lo; it != hi; ++it) sorted[cell_fill[cell_of[*it]]++] = *it;
+    std::copy(sorted.begin(), sorted.end(), lo);
+  }
 
   for (auto* a : {&u_, &w_}) a->resize(count + kPad);
   for (auto* a : {&a_, &b_, &z_}) a->resize(count);
   vertex_.resize(count);
   std::vector<std::uint32_t> grouped_cell(count);
-  for (std::size_t v = 0; v < count; ++v) {
-    const std::uint32_t o = fill[group_of[v]]++;
+  for (std::size_t o = 0; o < count; ++o) {
+    const std::uint32_t v = order[o];
     const SweepCoords c = bound.coords(v);
     vertex_[o] = bound.vertices[v];
     grouped_cell[o] = cell_of[v];
@@ -246,36 +258,19 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
     a_[o] = static_cast<float>(c.s * std::cos(c.theta));
     b_[o] = static_cast<float>(c.s * std::sin(c.theta));
     z_[o] = static_cast<float>(c.z);
+    // Blend vertices in grouped order: the fix-up pass then walks the arrays forwards.
     if (!bound.weight.empty() && bound.weight[v] < 1.0f) {
-      blend_index_.push_back(o);
+      blend_index_.push_back(static_cast<std::uint32_t>(o));
       blend_weight_.push_back(bound.weight[v]);
       blend_rest_.push_back(rest_positions[bound.vertices[v]]);
     }
   }
-  // Blend vertices in grouped order: the fix-up pass then walks the arrays forwards.
-  std::vector<std::size_t> order(blend_index_.size());
-  for (std::size_t m = 0; m < order.size(); ++m) order[m] = m;
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t x, std::size_t y) { return blend_index_[x] < blend_index_[y]; });
-  {
-    std::vector<std::uint32_t> bi(order.size());
-    std::vector<float> bw(order.size());
-    std::vector<Vec3f> br(order.size());
-    for (std::size_t m = 0; m < order.size(); ++m) {
-      bi[m] = blend_index_[order[m]];
-      bw[m] = blend_weight_[order[m]];
-      br[m] = blend_rest_[order[m]];
-    }
-    blend_index_.swap(bi);
-    blend_weight_.swap(bw);
-    blend_rest_.swap(br);
-  }
 
-  // Work blocks: each span's vertices in pieces of at most kBlockVertices, each cut into segments
-  // of one angle cell.
+  // Work blocks: each piece's vertices in runs of at most kBlockVertices, each cut into segments of
+  // one angle cell.
   for (std::size_t q = 0; q < pieces; ++q) {
     const std::size_t p = q % spans;
-    const std::uint32_t first = group_begin[q * n_], last = group_begin[(q + 1) * n_];
+    const std::uint32_t first = piece_begin[q], last = piece_begin[q + 1];
     for (std::uint32_t b = first; b < last; b += kBlockVertices) {
       Block blk;
       blk.begin = b;
@@ -405,9 +400,10 @@ void FastDeformer::tabulate(const SweepShape& shape) {
 }
 
 std::size_t FastDeformer::direct_block_count() const {
-  return static_cast<std::size_t>(std::count_if(blocks_.begin(), blocks_.end(), [&](const Block& b) {
-    return b.runs != kNoRuns && runs_[b.runs].length == b.end - b.begin;
-  }));
+  return static_cast<std::size_t>(
+      std::count_if(blocks_.begin(), blocks_.end(), [&](const Block& b) {
+        return b.runs != kNoRuns && runs_[b.runs].length == b.end - b.begin;
+      }));
 }
 
 void FastDeformer::deform(const SweepShape& deformed, std::span<Vec3f> out) {

@@ -116,7 +116,6 @@ class FastDeformer {
   // that order are at least this long on average.
   static constexpr std::uint32_t kMinMeanSegmentLength = 8;
 
-
   int n_ = 0;                    // radial samples = angle cells
   int stations_per_span_ = 0;    // S
   int station_count_ = 0;        // (K − 1)·S + 1

@@ -532,6 +532,17 @@ TEST_F(MeshIo, NonNumericCoordinate) {
              ErrorCategory::bad_input, "line 4: vertex 1: 'abc' is not a number");
   expect_bad(write("abc.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n"), ErrorCategory::bad_input,
              "line 2: vertex 1: expected 3 coordinates");
+  // One leading '+' is a sign; a sign after it is not.
+  expect_bad(write("pm.off", "OFF\n3 1 0\n0 0 0\n1 +-5 0\n0 1 0\n3 0 1 2\n"),
+             ErrorCategory::bad_input, "line 4: vertex 1: '+-5' is not a number");
+  expect_bad(write("pp.off", "OFF\n3 1 0\n0 0 0\n1 ++5 0\n0 1 0\n3 0 1 2\n"),
+             ErrorCategory::bad_input, "line 4: vertex 1: '++5' is not a number");
+  expect_bad(write("p.off", "OFF\n3 1 0\n0 0 0\n1 + 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 4: vertex 1: '+' is not a number");
+  const Mesh plus =
+      read_mesh(write("plus.off", "OFF\n3 1 0\n+0 0 0\n+1.5 0 0\n0 +.5 0\n3 0 1 2\n"));
+  EXPECT_EQ(plus.positions[1], Vec3(1.5, 0, 0));
+  EXPECT_EQ(plus.positions[2], Vec3(0, 0.5, 0));
 }
 
 TEST_F(MeshIo, FaceIndexOutOfRangeNamesTheFace) {

@@ -41,14 +41,16 @@ Frames read_pc2(const fs::path& path) {
   in.read(reinterpret_cast<char*>(&rate), 4);
   in.read(reinterpret_cast<char*>(&samples), 4);
   Frames f(samples, std::vector<Vec3f>(points));
-  for (auto& frame : f) in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
+  for (auto& frame : f)
+    in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
   EXPECT_TRUE(in.good());
   return f;
 }
 
 // Bakes `scene` to a .pc2 (and a .glb when asked) in a fresh folder and reads the .pc2 back.
 Frames bake(const Tube& tube, const Scene& scene, bool exact, const fs::path& glb = {}) {
-  const fs::path dir = fs::temp_directory_path() / ("sweep_bake_test_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("sweep_bake_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   BakeOptions o;
   o.outputs = {dir / "out.pc2"};
@@ -70,7 +72,8 @@ Scene scene_with(std::vector<SceneForce> forces, double duration = 3.0) {
   return s;
 }
 
-SceneForce force_at(double t, double theta, Vec3 vector, double start, double end, std::uint8_t components) {
+SceneForce force_at(double t, double theta, Vec3 vector, double start, double end,
+                    std::uint8_t components) {
   SceneForce f;
   f.sweep = "tube";
   f.spec.t = t;
@@ -94,7 +97,8 @@ TEST(Bake, NoForceEveryFrameIsTheRestMeshExactly) {
     const Frames f = bake(tube, scene_with({}, 1.0), exact);
     ASSERT_EQ(f.size(), 31u);
     for (const auto& frame : f) {
-      for (std::size_t v = 0; v < frame.size(); ++v) ASSERT_EQ(frame[v], tube.mesh.positions[v].cast<float>()) << v;
+      for (std::size_t v = 0; v < frame.size(); ++v)
+        ASSERT_EQ(frame[v], tube.mesh.positions[v].cast<float>()) << v;
     }
   }
 }
@@ -114,7 +118,8 @@ TEST(Bake, TipForceWithChainBendsAlongTheForceAndDecaysAfterRelease) {
   EXPECT_GT(mid_shift.y(), 0.005f);
   // The root section is fixed exactly (tests/core); its ring's vertices, rebuilt in float once the
   // sweep moves, stay at the file's positions to float precision. After release the motion decays.
-  for (const auto& frame : f) EXPECT_LT((ring_centroid(frame, 0) - ring_centroid(f[0], 0)).norm(), 1e-6f);
+  for (const auto& frame : f)
+    EXPECT_LT((ring_centroid(frame, 0) - ring_centroid(f[0], 0)).norm(), 1e-6f);
   const Vec3f late = ring_centroid(f.back(), tip) - ring_centroid(f[0], tip);
   EXPECT_LT(late.norm(), 0.01f * tip_shift.norm());
 }
@@ -136,7 +141,9 @@ TEST(Bake, RadialOnlyForceKeepsTheAxisAndChangesRadiiOnlyNearThePoint) {
   tube.rig.sweeps = {fine};
   tube.binding = bind::bind_rig(tube.rig, tube.mesh);
   // Inward at t = 0.5 (section 5, ring 20), θ = π/2 (handle 2, segment 6).
-  const Frames f = bake(tube, scene_with({force_at(0.5, std::numbers::pi / 2, Vec3(0, -3, 0), 0.0, 1.0, kRadial)}), true);
+  const Frames f = bake(
+      tube, scene_with({force_at(0.5, std::numbers::pi / 2, Vec3(0, -3, 0), 0.0, 1.0, kRadial)}),
+      true);
   const std::vector<Vec3f>& p = f[20];
   const int ring = 20, seg = kSegments / 4;
   for (int r = 0; r < kRings; ++r) {
@@ -149,7 +156,8 @@ TEST(Bake, RadialOnlyForceKeepsTheAxisAndChangesRadiiOnlyNearThePoint) {
   double far = 0;
   for (int r = 0; r < kRings; ++r) {
     if (r > 12 && r < 28) continue;
-    for (int s = 0; s < kSegments; ++s) far = std::max(far, double((p[r * kSegments + s] - f[0][r * kSegments + s]).norm()));
+    for (int s = 0; s < kSegments; ++s)
+      far = std::max(far, double((p[r * kSegments + s] - f[0][r * kSegments + s]).norm()));
   }
   EXPECT_LT(far, 1e-6);
 }
@@ -166,7 +174,8 @@ TEST(Bake, RotationalOnlyForceLeavesEverySectionShapeUnchanged) {
       moved = std::max(moved, double((ck - c0).norm()));
       for (int s = 0; s < kSegments; ++s) {
         // Rigid per section: distances to the ring's centre keep their length.
-        const float d0 = (f[0][r * kSegments + s] - c0).norm(), dk = (f[k][r * kSegments + s] - ck).norm();
+        const float d0 = (f[0][r * kSegments + s] - c0).norm(),
+                    dk = (f[k][r * kSegments + s] - ck).norm();
         ASSERT_NEAR(dk, d0, 2e-6f) << "frame " << k << " ring " << r << " segment " << s;
       }
     }
@@ -197,11 +206,48 @@ TEST(Bake, ForceTangentialToTheSurfaceAcrossTheAxisTwists) {
   EXPECT_LT((ring_centroid(f.back(), tip) - ring_centroid(f[0], tip)).norm(), 1e-5f);
 }
 
+TEST(Bake, ReportSaysWhichBlocksAreWrittenInPlace) {
+  // The fast path writes a block straight into the mesh when the mesh's vertex order keeps it
+  // contiguous (FastDeformer). One station a span: each span holds about 8 rings. With 128
+  // vertices a ring and 8 angle cells each cell holds 16 consecutive vertices of a ring, so spans
+  // keep mesh order: every block is in place but at most the two holding a cap centre, whose index
+  // comes after all the rings. With 24 a ring (3 a cell) the vertices are sorted by cell, which
+  // breaks every block into runs of 3: none in place. The exact path has no blocks.
+  const auto report_of = [](int segments, bool exact) {
+    tube::TubeParams p = test::straight_tube_params();
+    p.segments = segments;
+    const Mesh mesh = tube::make_tube(p);
+    const Rig rig = test::rig_of({test::straight_sweep()});
+    const bind::Binding binding = bind::bind_rig(rig, mesh);
+    const fs::path dir =
+        fs::temp_directory_path() / ("sweep_bake_blocks_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    BakeOptions o;
+    o.outputs = {dir / "out.pc2"};
+    o.exact = exact;
+    o.stations_per_span = 1;
+    const Scene scene = scene_with({force_at(1.0, 0.0, Vec3(0, 2, 0), 0, 0.2, kRotational)}, 0.2);
+    const BakeReport r = run_bake(mesh, rig, binding, scene, o);
+    fs::remove_all(dir);
+    return r.sweeps.at(0);
+  };
+  const SweepBakeStats ring = report_of(128, false);
+  EXPECT_GT(ring.work_blocks, 2u);
+  EXPECT_GE(ring.blocks_in_place, ring.work_blocks - 2);
+  const SweepBakeStats sorted = report_of(kSegments, false);
+  EXPECT_GT(sorted.work_blocks, 0u);
+  EXPECT_EQ(sorted.blocks_in_place, 0u);
+  const SweepBakeStats exact = report_of(128, true);
+  EXPECT_EQ(exact.work_blocks, 0u);
+  EXPECT_EQ(exact.blocks_in_place, 0u);
+}
+
 TEST(Bake, FilesHoldTheSimulatorsFrames) {
   const Tube tube;
   SceneForce push = force_at(1.0, 0.0, Vec3(0, 2, 0.5), 0.0, 0.5, kRotational | kRadial);
   const Scene scene = scene_with({push}, 1.0);
-  const fs::path dir = fs::temp_directory_path() / ("sweep_bake_files_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("sweep_bake_files_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const Frames pc2 = bake(tube, scene, false, dir / "out.glb");
 
@@ -209,7 +255,8 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
   Simulator sim(tube.rig, scene);
   std::vector<Vec3f> rest(tube.mesh.vertex_count());
   for (std::size_t v = 0; v < rest.size(); ++v) rest[v] = tube.mesh.positions[v].cast<float>();
-  FastDeformer fast(tube.rig.sweeps[0].rest, tube.binding.sweeps[0], rest, BakeOptions{}.stations_per_span);
+  FastDeformer fast(tube.rig.sweeps[0].rest, tube.binding.sweeps[0], rest,
+                    BakeOptions{}.stations_per_span);
   std::vector<Vec3f> positions = rest;
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
@@ -222,7 +269,9 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
     std::vector<Vec3f> out(count_of_3, Vec3f::Zero());
     if (acc.bufferView >= 0) {
       const tinygltf::BufferView& bv = model.bufferViews.at(acc.bufferView);
-      std::memcpy(static_cast<void*>(out.data()), model.buffers.at(bv.buffer).data.data() + bv.byteOffset + acc.byteOffset, acc.count * 12);
+      std::memcpy(static_cast<void*>(out.data()),
+                  model.buffers.at(bv.buffer).data.data() + bv.byteOffset + acc.byteOffset,
+                  acc.count * 12);
     }
     if (acc.sparse.isSparse) {
       const auto& sp = acc.sparse;
@@ -230,8 +279,14 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
       const auto& vb = model.bufferViews.at(sp.values.bufferView);
       for (int i = 0; i < sp.count; ++i) {
         std::uint32_t idx = 0;
-        std::memcpy(&idx, model.buffers.at(ib.buffer).data.data() + ib.byteOffset + sp.indices.byteOffset + 4 * i, 4);
-        std::memcpy(out[idx].data(), model.buffers.at(vb.buffer).data.data() + vb.byteOffset + sp.values.byteOffset + 12 * i, 12);
+        std::memcpy(
+            &idx,
+            model.buffers.at(ib.buffer).data.data() + ib.byteOffset + sp.indices.byteOffset + 4 * i,
+            4);
+        std::memcpy(
+            out[idx].data(),
+            model.buffers.at(vb.buffer).data.data() + vb.byteOffset + sp.values.byteOffset + 12 * i,
+            12);
       }
     }
     return out;

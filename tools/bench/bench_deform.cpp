@@ -208,7 +208,8 @@ int main(int argc, char** argv) {
   const RealRig ring_order = dense_tube_rig(1000000);
   for (const bool shuffle : {false, true}) {
     Case tube{shuffle ? "tube 1M random vertex order" : "tube 1M",
-              shuffle ? shuffled_vertex_order(ring_order, 5) : ring_order, {}};
+              shuffle ? shuffled_vertex_order(ring_order, 5) : ring_order,
+              {}};
     for (const auto& def : tube.rig.rig.sweeps) tube.bodies.emplace_back(def);
     for (auto& b : tube.bodies) pose(b, 1.0);
     omp_set_num_threads(max_threads);

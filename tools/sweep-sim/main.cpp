@@ -28,23 +28,26 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 struct Settings {
-  fs::path rig;                     // input rig (JSON); its mesh path is relative to it
-  fs::path binding;                 // empty = the rig's path with ".bind" (as sweep-bind writes it)
-  fs::path scene;                   // empty = the rig file's own "scene"
-  fs::path report;                  // JSON report; empty = none
-  std::vector<fs::path> outputs;    // .glb / .pc2 / .obj
-  std::string integrator;           // overrides the scene's; empty = the scene's
-  int substeps = 0;                 // overrides the scene's; 0 = the scene's
-  int threads = 0;                  // OpenMP threads; 0 = OpenMP's default
-  bool exact = false;               // per-vertex reference deformation instead of the fast path
-  int stations = 8;                 // fast path: stations per span
+  fs::path rig;                   // input rig (JSON); its mesh path is relative to it
+  fs::path binding;               // empty = the rig's path with ".bind" (as sweep-bind writes it)
+  fs::path scene;                 // empty = the rig file's own "scene"
+  fs::path report;                // JSON report; empty = none
+  std::vector<fs::path> outputs;  // .glb / .pc2 / .obj
+  std::string integrator;         // overrides the scene's; empty = the scene's
+  int substeps = 0;               // overrides the scene's; 0 = the scene's
+  int threads = 0;                // OpenMP threads; 0 = OpenMP's default
+  bool exact = false;             // per-vertex reference deformation instead of the fast path
+  int stations = 8;               // fast path: stations per span
   bool sleep = true;
   bool quiet = false;
 };
 
-double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
-void write_report(const Settings& s, const sweep::sim::BakeReport& r, double load_seconds, double total_seconds) {
+void write_report(const Settings& s, const sweep::sim::BakeReport& r, double load_seconds,
+                  double total_seconds) {
   nlohmann::ordered_json doc;
   doc["format"] = "sweep-sim-report";
   doc["version"] = 1;
@@ -55,17 +58,27 @@ void write_report(const Settings& s, const sweep::sim::BakeReport& r, double loa
   doc["deformation"] = s.exact ? "exact" : "fast";
   nlohmann::ordered_json sweeps = nlohmann::ordered_json::array();
   for (const auto& st : r.sweeps) {
-    sweeps.push_back({{"name", st.name}, {"driven", st.driven}, {"steps", st.steps},
-                      {"frames_deformed", st.frames_deformed}, {"bound_vertex_count", st.bound_vertex_count}});
+    sweeps.push_back({{"name", st.name},
+                      {"driven", st.driven},
+                      {"steps", st.steps},
+                      {"frames_deformed", st.frames_deformed},
+                      {"bound_vertex_count", st.bound_vertex_count},
+                      {"work_blocks", st.work_blocks},
+                      {"blocks_in_place", st.blocks_in_place}});
   }
   doc["sweeps"] = std::move(sweeps);
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
   for (const auto& f : r.per_frame) {
-    frames.push_back({{"time", f.time}, {"max_displacement", f.max_displacement}, {"awake_sweeps", f.awake_sweeps}});
+    frames.push_back({{"time", f.time},
+                      {"max_displacement", f.max_displacement},
+                      {"awake_sweeps", f.awake_sweeps}});
   }
   doc["per_frame"] = std::move(frames);
-  doc["seconds"] = {{"load", load_seconds},           {"simulate", r.simulate_seconds}, {"deform", r.deform_seconds},
-                    {"write", r.write_seconds},       {"total", total_seconds}};
+  doc["seconds"] = {{"load", load_seconds},
+                    {"simulate", r.simulate_seconds},
+                    {"deform", r.deform_seconds},
+                    {"write", r.write_seconds},
+                    {"total", total_seconds}};
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   for (const auto& f : r.files) files.push_back(f.string());
   doc["files"] = std::move(files);
@@ -77,11 +90,15 @@ int run(const Settings& s) {
   if (s.threads > 0) omp_set_num_threads(s.threads);
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   const sweep::Mesh mesh = sweep::io::read_mesh(sweep::io::resolve_mesh_path(s.rig, rig));
-  const fs::path binding_path = s.binding.empty() ? sweep::bind::default_binding_path(s.rig) : s.binding;
+  const fs::path binding_path =
+      s.binding.empty() ? sweep::bind::default_binding_path(s.rig) : s.binding;
   const sweep::bind::Binding binding = sweep::bind::load_binding(binding_path, mesh, rig);
-  sweep::sim::Scene scene = sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
+  sweep::sim::Scene scene =
+      sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
   if (!s.integrator.empty() && !sweep::parse_integrator(s.integrator, &scene.integrator)) {
-    sweep::fail(sweep::ErrorCategory::usage, "--integrator: expected exact, semi-implicit-euler or rk4, got \"" + s.integrator + "\"");
+    sweep::fail(
+        sweep::ErrorCategory::usage,
+        "--integrator: expected exact, semi-implicit-euler or rk4, got \"" + s.integrator + "\"");
   }
   if (s.substeps > 0) scene.substeps = s.substeps;
   // Every output is checked before any is written: a report that cannot be written is found
@@ -103,13 +120,15 @@ int run(const Settings& s) {
   if (!s.report.empty()) write_report(s, report, load_seconds, total);
 
   if (!s.quiet) {
-    std::printf("baked %d frames (%.3g s at %.4g fps, step %.3g s) in %.2f s: simulate %.1f ms, deform %.1f ms, write %.1f ms\n",
-                report.frames, (report.frames - 1) / report.fps, report.fps, report.step_seconds, total,
-                report.simulate_seconds * 1e3, report.deform_seconds * 1e3, report.write_seconds * 1e3);
+    std::printf(
+        "baked %d frames (%.3g s at %.4g fps, step %.3g s) in %.2f s: simulate %.1f ms, deform "
+        "%.1f ms, write %.1f ms\n",
+        report.frames, (report.frames - 1) / report.fps, report.fps, report.step_seconds, total,
+        report.simulate_seconds * 1e3, report.deform_seconds * 1e3, report.write_seconds * 1e3);
     for (const auto& st : report.sweeps) {
       std::printf("  %-12s %s, %lld steps, deformed in %d frames, %zu vertices\n", st.name.c_str(),
-                  st.driven ? "driven" : "no force reaches it: skipped", st.steps, st.frames_deformed,
-                  st.bound_vertex_count);
+                  st.driven ? "driven" : "no force reaches it: skipped", st.steps,
+                  st.frames_deformed, st.bound_vertex_count);
     }
     for (const auto& f : report.files) std::printf("wrote %s\n", f.string().c_str());
     if (!s.report.empty()) std::printf("report %s\n", s.report.string().c_str());
@@ -122,19 +141,31 @@ int run(const Settings& s) {
 int main(int argc, char** argv) {
   return sweep::tools::guarded_main([&] {
     Settings s;
-    CLI::App app{"Simulate a scene's forces on a rig and bake the animation of its mesh", "sweep-sim"};
+    CLI::App app{"Simulate a scene's forces on a rig and bake the animation of its mesh",
+                 "sweep-sim"};
     app.set_version_flag("--version", std::string("sweep-sim ") + SWEEP_VERSION);
     app.add_option("rig", s.rig, "Rig file (from sweep-fit)")->required();
-    app.add_option("-o,--output", s.outputs, "Output: .glb, .pc2 or .obj (a numbered sequence); repeatable")->required();
+    app.add_option("-o,--output", s.outputs,
+                   "Output: .glb, .pc2 or .obj (a numbered sequence); repeatable")
+        ->required();
     app.add_option("-b,--binding", s.binding, "Binding file (default: the rig's path with .bind)");
     app.add_option("-s,--scene", s.scene, "Scene file (default: the rig file's own \"scene\")");
-    app.add_option("--report", s.report, "Write a JSON report: frames, per-frame displacement, timings");
-    app.add_option("--integrator", s.integrator, "Override the scene's integrator: exact, semi-implicit-euler, rk4");
-    app.add_option("--substeps", s.substeps, "Override the scene's internal steps per frame")->check(CLI::Range(1, 100000));
-    app.add_option("--threads", s.threads, "Deformation threads (default: all cores)")->check(CLI::Range(1, 1024));
-    app.add_option("--stations", s.stations, "Fast path: stations per span (error falls as its square)")->check(CLI::Range(1, 1024));
-    app.add_flag("--exact", s.exact, "Deform with the exact per-vertex path (the reference; slower)");
-    app.add_flag("--no-sleep", [&](std::int64_t) { s.sleep = false; }, "Keep stepping sweeps whose motion has died out");
+    app.add_option("--report", s.report,
+                   "Write a JSON report: frames, per-frame displacement, timings");
+    app.add_option("--integrator", s.integrator,
+                   "Override the scene's integrator: exact, semi-implicit-euler, rk4");
+    app.add_option("--substeps", s.substeps, "Override the scene's internal steps per frame")
+        ->check(CLI::Range(1, 100000));
+    app.add_option("--threads", s.threads, "Deformation threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    app.add_option("--stations", s.stations,
+                   "Fast path: stations per span (error falls as its square)")
+        ->check(CLI::Range(1, 1024));
+    app.add_flag("--exact", s.exact,
+                 "Deform with the exact per-vertex path (the reference; slower)");
+    app.add_flag(
+        "--no-sleep", [&](std::int64_t) { s.sleep = false; },
+        "Keep stepping sweeps whose motion has died out");
     app.add_flag("-q,--quiet", s.quiet, "No summary and no progress bar");
     try {
       app.parse(argc, argv);
