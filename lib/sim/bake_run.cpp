@@ -63,6 +63,8 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   // The exact path rebuilds the whole mesh in double from the binding (the reference).
   std::vector<Vec3> exact_out(options.exact ? nv : 0);
   std::vector<const SweepShape*> shapes(sweeps);
+  std::vector<DeformJob> jobs;  // the fast path's work this frame
+  jobs.reserve(sweeps);
 
   report.frames = info.frame_count;
   report.fps = scene.fps;
@@ -77,14 +79,16 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     FrameStats stats;
     stats.time = k / scene.fps;
     bool any_moved = false;
+    jobs.clear();
     for (int i = 0; i < sweeps; ++i) {
       shapes[i] = &sim.sweep(i).deformed();
       if (k == 0 || !sim.moved_last_frame(i)) continue;
       any_moved = true;
       ++stats.awake_sweeps;
       ++report.sweeps[i].frames_deformed;
-      if (fast[i]) fast[i]->deform(sim.sweep(i).deformed(), positions);
+      if (fast[i]) jobs.push_back({fast[i].get(), shapes[i]});
     }
+    deform_sweeps(jobs, positions);
     if (options.exact && any_moved) {
       bind::deform_exact(binding, shapes, mesh.positions, exact_out);
       for (std::uint32_t v : animated) positions[v] = exact_out[v].cast<float>();

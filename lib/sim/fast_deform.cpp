@@ -441,4 +441,17 @@ void FastDeformer::deform_vertices(std::span<Vec3f> out) const {
   }
 }
 
+void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out) {
+  const bool side_by_side =
+      jobs.size() > 1 && std::none_of(jobs.begin(), jobs.end(),
+                                      [](const DeformJob& j) { return j.fast->is_parallel(); });
+  const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(jobs.size());
+  if (side_by_side) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t j = 0; j < count; ++j) jobs[j].fast->deform(*jobs[j].shape, out);
+  } else {
+    for (const DeformJob& j : jobs) j.fast->deform(*j.shape, out);
+  }
+}
+
 }  // namespace sweep::sim

@@ -95,6 +95,8 @@ class FastDeformer {
   void deform_vertices(std::span<Vec3f> out) const;
 
   std::size_t vertex_count() const { return vertex_.size(); }
+  // Whether deform_vertices splits its blocks across the threads (kParallelVertexThreshold).
+  bool is_parallel() const { return parallel_; }
   int station_count() const { return station_count_; }
   // Work blocks, and those among them written straight into the mesh (one contiguous run of mesh
   // indices): a diagnostic of the layout the vertex order allowed.
@@ -142,5 +144,17 @@ class FastDeformer {
   std::vector<Vec3f> blend_rest_;
   float radius_floor_ = 0;
 };
+
+// One sweep's share of a frame: its fast path and its deformed shape.
+struct DeformJob {
+  FastDeformer* fast = nullptr;
+  const SweepShape* shape = nullptr;
+};
+
+// Deforms every job into `out` (the whole mesh; sweeps own disjoint vertices). When there are
+// several and none is big enough to split (kParallelVertexThreshold), they run side by side on the
+// threads — a diplodocus's tail and neck; otherwise one after another, each split across the
+// threads. Either way the results do not depend on the thread count.
+void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out);
 
 }  // namespace sweep::sim

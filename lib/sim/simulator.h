@@ -9,6 +9,10 @@
 //    reset whenever motion leaves a small tolerance, an explicit wake).
 // Divergence (non-finite or runaway springs, possible with the explicit integrators) throws
 // Error(diverged) naming the sweep, the time and the integrator.
+//
+// Sweeps never interact, so a frame steps them side by side on the threads (OpenMP) when more
+// than one has work; results do not depend on the thread count.
+#include <exception>
 #include <vector>
 
 #include "core/elastic_sweep.h"
@@ -53,12 +57,18 @@ class Simulator {
     bool moved = false;
     double quiet = 0;  // s spent under the sleep tolerances
     long long steps = 0;
+    std::vector<std::size_t> forces;  // indices of the scene forces acting on it, in scene order
+    std::exception_ptr failure;       // divergence during the current frame, at step failure_step
+    long long failure_step = 0;
   };
   struct ForceState {
     ForceId id = 0;  // 0 while not applied
   };
 
-  void internal_step();
+  // Sweep i's internal step number `step`: switch its forces on and off, then step it if awake.
+  void step_sweep(int i, long long step);
+  // Whether sweep i may move during [from, to): driven, and awake or with a force in that time.
+  bool has_work(int i, double from, double to) const;
   void check_finite(int i, double t) const;
 
   const Scene& scene_;

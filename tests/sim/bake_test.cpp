@@ -1,6 +1,7 @@
 // The whole bake on a generated tube, read back from the files it wrote: physics at the level of
 // the vertices a user sees, and frame k of each file equal to the simulator's frame k.
 #include <gtest/gtest.h>
+#include <omp.h>
 #include <tiny_gltf.h>
 
 #include <cstring>
@@ -240,6 +241,43 @@ TEST(Bake, ReportSaysWhichBlocksAreWrittenInPlace) {
   const SweepBakeStats exact = report_of(128, true);
   EXPECT_EQ(exact.work_blocks, 0u);
   EXPECT_EQ(exact.blocks_in_place, 0u);
+}
+
+TEST(Bake, DiplodocusTailAndNeckSideBySideGiveTheSameBitsOnOneOrTwoThreads) {
+  // Two small sweeps, both driven: the simulator steps them side by side and deform_sweeps
+  // rebuilds them side by side on two threads, one after the other on one. Same bits either way.
+  const test::Diplodocus* dino = test::diplodocus();
+  if (dino == nullptr) GTEST_SKIP() << "CGAL's diplodocus is absent (tools/setup-deps.sh)";
+  const bind::Binding binding = bind::bind_rig(dino->rig, dino->mesh);
+  Scene scene = scene_with({}, 1.0);
+  for (int i = 0; i < 2; ++i) {
+    SceneForce f = force_at(0.9 * dino->rig.sweeps[i].rest.length(), 0.0, Vec3(0.5, 0.5, 0), 0, 0.4,
+                            kRotational | kRadial);
+    f.sweep = dino->rig.sweeps[i].name;
+    f.sweep_index = i;
+    f.spec.target = RotationTarget::chain;
+    scene.forces.push_back(f);
+  }
+  const int threads_before = omp_get_max_threads();
+  std::vector<std::string> bytes;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    const fs::path dir =
+        fs::temp_directory_path() /
+        ("sweep_bake_dino_" + std::to_string(::getpid()) + "_" + std::to_string(threads));
+    fs::create_directories(dir);
+    BakeOptions o;
+    o.outputs = {dir / "out.pc2"};
+    const BakeReport r = run_bake(dino->mesh, dino->rig, binding, scene, o);
+    EXPECT_EQ(r.sweeps.at(0).frames_deformed, 30);
+    EXPECT_EQ(r.sweeps.at(1).frames_deformed, 30);
+    std::ifstream in(dir / "out.pc2", std::ios::binary);
+    bytes.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    fs::remove_all(dir);
+  }
+  omp_set_num_threads(threads_before);
+  ASSERT_GT(bytes[0].size(), 32u);
+  EXPECT_TRUE(bytes[0] == bytes[1]) << "the pc2 differs between 1 and 2 threads";
 }
 
 TEST(Bake, FilesHoldTheSimulatorsFrames) {

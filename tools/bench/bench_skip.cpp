@@ -2,8 +2,11 @@
 // skipping — four sweeps with a force on 1, 2, 3 or all 4 of them, and all four asleep.
 //
 // A frame is what sweep-sim does per output frame (lib/sim/bake_run.cpp): Simulator::advance_frame
-// (the scene's substeps, exact integrator) and the fast path (8 stations per span) on every sweep
-// that moved. Time: median over the frames after the first 5, wall clock, per frame.
+// (the scene's substeps, exact integrator; sweeps side by side on the threads) and the fast path
+// (8 stations per span) on every sweep that moved (deform_sweeps: side by side too). Time: median
+// over the frames after the first 5, wall clock, per frame.
+#include <thread>
+
 #include "bench_common.h"
 #include "sim/fast_deform.h"
 #include "sim/simulator.h"
@@ -22,8 +25,10 @@ struct FrameCost {
 };
 
 // Runs `frames` frames of `scene` on `rig`, returning the median frame cost over frames [skip,
-// end).
-FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, int skip) {
+// end). Frames run back to back (a bake), or `pause` seconds apart (a runtime paced by its display:
+// between frames the threads go to sleep and the caches cool down).
+FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, int skip,
+                     double pause = 0) {
   const std::size_t nv = rig.mesh.vertex_count();
   std::vector<Vec3f> positions(nv);
   for (std::size_t v = 0; v < nv; ++v) positions[v] = rig.mesh.positions[v].cast<float>();
@@ -34,13 +39,17 @@ FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, in
                                                   positions, 8));
   }
   std::vector<double> total, step, deform;
+  std::vector<sim::DeformJob> jobs;
   for (int k = 0; k < frames; ++k) {
+    if (pause > 0) std::this_thread::sleep_for(std::chrono::duration<double>(pause));
     const auto t0 = Clock::now();
     sim.advance_frame();
     const auto t1 = Clock::now();
+    jobs.clear();
     for (int i = 0; i < sim.sweep_count(); ++i) {
-      if (sim.moved_last_frame(i)) fast[i]->deform(sim.sweep(i).deformed(), positions);
+      if (sim.moved_last_frame(i)) jobs.push_back({fast[i].get(), &sim.sweep(i).deformed()});
     }
+    sim::deform_sweeps(jobs, positions);
     const auto t2 = Clock::now();
     if (k < skip) continue;
     step.push_back(std::chrono::duration<double>(t1 - t0).count());
@@ -117,29 +126,33 @@ int main(int argc, char** argv) {
     scene.forces = {tip_force(dino, 0, 0, 1e9, 2.0), tip_force(dino, 1, 0, 1e9, 2.0)};
     std::size_t bound = 0;
     for (const auto& s : dino.binding.sweeps) bound += s.size();
-    for (int th = 1; th <= std::min(2, max_threads); ++th) {
-      omp_set_num_threads(th);
-      const FrameCost c = frame_cost(dino, scene, frames, 5);
-      const std::string name = fmt("diplodocus tail + neck (%zu vertices), 4 substeps", bound);
-      csv += fmt("%s,%d,%.4g,%.4g,%.4g,1,%d\n", name.c_str(), th, c.median_us, c.step_us,
-                 c.deform_us, c.awake_at_end);
-      md += fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", name.c_str(), th, c.median_us, c.step_us,
-                c.deform_us);
+    const std::string name = fmt("diplodocus tail + neck (%zu vertices), 4 substeps", bound);
+    for (const double pause : {0.0, 1 / 60.0}) {
+      const std::string label = pause > 0 ? name + ", frames 1/60 s apart" : name;
+      for (int th = 1; th <= std::min(2, max_threads); ++th) {
+        omp_set_num_threads(th);
+        const FrameCost c = pause > 0 ? frame_cost(dino, scene, args.quick ? 30 : 120, 5, pause)
+                                      : frame_cost(dino, scene, frames, 5);
+        csv += fmt("%s,%d,%.4g,%.4g,%.4g,1,%d\n", label.c_str(), th, c.median_us, c.step_us,
+                   c.deform_us, c.awake_at_end);
+        md += fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", label.c_str(), th, c.median_us,
+                  c.step_us, c.deform_us);
+      }
     }
   }
 
-  // ---- four sweeps: 1..4 driven, and asleep ---------------------------------------------------
-  omp_set_num_threads(max_threads);
+  // ---- four sweeps: 1..4 driven, and asleep, on 1 and on 2 threads ---------------------------
   const RealRig tubes = four_tubes();
-  sim::Scene scene;
-  scene.duration = frames / scene.fps + 1;
-  std::vector<std::pair<std::string, FrameCost>> cases;
-  for (int driven = 4; driven >= 1; --driven) {
-    scene.forces.clear();
-    for (int i = 0; i < driven; ++i) scene.forces.push_back(tip_force(tubes, i, 0, 1e9, 2.0));
-    cases.push_back({fmt("4 sweeps, %d driven", driven), frame_cost(tubes, scene, frames, 5)});
-  }
-  {
+  for (int th = 1; th <= std::min(2, max_threads); ++th) {
+    omp_set_num_threads(th);
+    sim::Scene scene;
+    scene.duration = frames / scene.fps + 1;
+    std::vector<std::pair<std::string, FrameCost>> cases;
+    for (int driven = 4; driven >= 1; --driven) {
+      scene.forces.clear();
+      for (int i = 0; i < driven; ++i) scene.forces.push_back(tip_force(tubes, i, 0, 1e9, 2.0));
+      cases.push_back({fmt("4 sweeps, %d driven", driven), frame_cost(tubes, scene, frames, 5)});
+    }
     // A short push on all four at the start; the motion dies out (ζ = 0.3 at 1.5 Hz: e^-2.8 a
     // second) and every sweep falls asleep. Measured over the last third of the frames.
     scene.forces.clear();
@@ -150,13 +163,13 @@ int main(int argc, char** argv) {
                      frame_cost(tubes, scene, long_frames, 2 * long_frames / 3)});
     scene.forces.clear();
     cases.push_back({"4 sweeps, no force at all", frame_cost(tubes, scene, frames, 5)});
-  }
-  const double all = cases.front().second.median_us;
-  for (const auto& [name, c] : cases) {
-    csv += fmt("%s,%d,%.4g,%.4g,%.4g,%.4g,%d\n", name.c_str(), max_threads, c.median_us, c.step_us,
-               c.deform_us, c.median_us / all, c.awake_at_end);
-    md += fmt("| %s | %d | %.2f | %.2f | %.2f | %.3f |\n", name.c_str(), max_threads, c.median_us,
-              c.step_us, c.deform_us, c.median_us / all);
+    const double all = cases.front().second.median_us;
+    for (const auto& [name, c] : cases) {
+      csv += fmt("%s,%d,%.4g,%.4g,%.4g,%.4g,%d\n", name.c_str(), th, c.median_us, c.step_us,
+                 c.deform_us, c.median_us / all, c.awake_at_end);
+      md += fmt("| %s | %d | %.2f | %.2f | %.2f | %.3f |\n", name.c_str(), th, c.median_us,
+                c.step_us, c.deform_us, c.median_us / all);
+    }
   }
   write_text(args.out / "skip.csv", csv);
   write_text(args.out / "skip.md", md);
