@@ -15,7 +15,11 @@ packages=(
   libcgal-demo   # CGAL's sample meshes (diplodocus.off, ...) for the demo and real-mesh tests
   gnuplot-nox    # the plots of tools/bench/run-benchmarks.sh
 )
-[ "${1:-}" = --tests ] && packages+=(blender)
+case "${1:-}" in
+  --tests) packages+=(blender) ;;
+  "") ;;
+  *) echo "error: unknown option $1 (expected --tests or nothing)" >&2; exit 1 ;;
+esac
 # Node.js runs the Khronos glTF validator in the .glb tests. Machines of this kind may already have a
 # Node.js that bundles npm (Debian's own npm package then conflicts with it): ask apt only for what
 # is missing as a command.

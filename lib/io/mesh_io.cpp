@@ -129,7 +129,7 @@ std::vector<std::string_view> split_tokens(std::string_view line) {
 // A real number in C syntax (a leading '+' allowed); "nan" and "inf" parse, as non-finite values,
 // so that the caller can name the vertex. Returns false when the token is not a number at all.
 bool parse_real(std::string_view token, double& value) {
-  // from_chars takes no '+': drop one, but only before a digit or '.' ("+-5" is not a number).
+  // from_chars takes no '+': drop one, unless another sign follows ("+-5" is not a number).
   if (token.size() > 1 && token.front() == '+') {
     if (token[1] == '-' || token[1] == '+') return false;
     token.remove_prefix(1);

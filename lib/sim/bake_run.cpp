@@ -49,6 +49,13 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     report.sweeps[i].blocks_in_place = fast[i]->direct_block_count();
   }
   std::sort(animated.begin(), animated.end());
+  // Sweeps are deformed side by side (deform_sweeps): each vertex must belong to one sweep, as
+  // bind() and the binding file guarantee; a binding built otherwise is refused, not raced on.
+  if (const auto twice = std::adjacent_find(animated.begin(), animated.end());
+      twice != animated.end()) {
+    fail(ErrorCategory::bad_input,
+         "binding: vertex " + std::to_string(*twice) + " is bound by more than one sweep");
+  }
 
   std::vector<std::unique_ptr<io::BakeWriter>> writers;
   io::BakeInfo info;

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/error.h"
 
 namespace sweep::sim {
 namespace {
@@ -188,6 +192,14 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
   // Span p (clamped, so cap vertices beyond the ends join the end spans) and angle cell j of each
   // vertex, in binding order (= mesh order).
   const std::size_t count = bound.size();
+  // Grouped positions are uint32 with room for a block and the padding past the last one.
+  constexpr std::size_t kMaxVertices =
+      std::numeric_limits<std::uint32_t>::max() - kBlockVertices - static_cast<std::size_t>(kPad);
+  if (count > kMaxVertices) {
+    fail(ErrorCategory::unsupported, "a sweep binds " + std::to_string(count) +
+                                         " vertices; the fast path takes at most " +
+                                         std::to_string(kMaxVertices));
+  }
   const std::size_t spans = station_t.size() - 1;
   std::vector<std::uint32_t> span_of(count), cell_of(count);
   std::vector<float> u(count), w(count);
@@ -407,11 +419,15 @@ std::size_t FastDeformer::direct_block_count() const {
 }
 
 void FastDeformer::deform(const SweepShape& deformed, std::span<Vec3f> out) {
-  tabulate(deformed);
-  deform_vertices(out);
+  deform(deformed, out, parallel_);
 }
 
-void FastDeformer::deform_vertices(std::span<Vec3f> out) const {
+void FastDeformer::deform(const SweepShape& deformed, std::span<Vec3f> out, bool split) {
+  tabulate(deformed);
+  deform_vertices(out, split);
+}
+
+void FastDeformer::deform_vertices(std::span<Vec3f> out, bool split) const {
   const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>(blocks_.size());
   Kernel k;
   k.floor = radius_floor_;
@@ -423,7 +439,7 @@ void FastDeformer::deform_vertices(std::span<Vec3f> out) const {
   k.vertex = vertex_.data();
   k.out = out.data()->data();
   const float* const tab = stations_.data();
-#pragma omp parallel for schedule(static) if (parallel_)
+#pragma omp parallel for schedule(static) if (split)
   for (std::ptrdiff_t bi = 0; bi < blocks; ++bi) {
     const Block& blk = blocks_[bi];
     const float* A = tab + static_cast<std::size_t>(blk.span) * row_;
@@ -449,6 +465,8 @@ void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out) {
   if (side_by_side) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::ptrdiff_t j = 0; j < count; ++j) jobs[j].fast->deform(*jobs[j].shape, out);
+  } else if (count == 1 && jobs[0].fast->vertex_count() >= kSplitLoneSweepVertices) {
+    jobs[0].fast->deform(*jobs[0].shape, out, true);
   } else {
     for (const DeformJob& j : jobs) j.fast->deform(*j.shape, out);
   }

@@ -58,6 +58,10 @@ using Vec3f = Eigen::Vector3f;
 // µs on these machines (DESIGN.md §6), more than the loop saves below ~40k vertices at its 4–6 ns a
 // vertex on one thread (tools/bench/sweep-bench-deform, BENCHMARKS.md).
 inline constexpr std::size_t kParallelVertexThreshold = 40000;
+// A sweep that is the only one moving in a frame is split across the threads from this many
+// bound vertices: the threads are already awake from the simulator's and the last frame's work, so
+// a split costs a few µs rather than tens (tools/bench/sweep-bench-skip, "1 driven" on 2 threads).
+inline constexpr std::size_t kSplitLoneSweepVertices = 4096;
 
 // Vertices of one work block (one station span): the block's scratch (4 floats a vertex) stays in
 // L1.
@@ -70,6 +74,10 @@ class FastDeformer {
   // at random, 2 threads, loop ns/vertex (same run, tiles vs none): 16k 0.78×, 32k 0.66×,
   // 64k 0.63×, 128k 0.63×; ring order unchanged.
   static constexpr std::uint32_t kTileVertices = 65536;
+  // A piece (a span's vertices within a tile) keeps mesh order when its angle-cell segments in
+  // that order are at least this long on average. (A block of such a piece may still hold some
+  // short segments; each costs a whole vector of radii, kPad, which the average bounds.)
+  static constexpr std::uint32_t kMinMeanSegmentLength = 8;
 
   // A run of grouped vertices [start, start + length) whose mesh indices are consecutive.
   struct Run {
@@ -86,13 +94,16 @@ class FastDeformer {
                std::span<const Vec3f> rest_positions, int stations_per_span = 8);
 
   // Writes the deformed positions of this sweep's vertices into `out` (the whole mesh, mesh order):
-  // tabulate(deformed), then deform_vertices(out).
+  // tabulate(deformed), then deform_vertices(out). `split`: the blocks across the threads
+  // (default: from kParallelVertexThreshold vertices).
   void deform(const SweepShape& deformed, std::span<Vec3f> out);
+  void deform(const SweepShape& deformed, std::span<Vec3f> out, bool split);
 
   // The two halves, separately timed by the benchmarks: evaluate the station table of `deformed`
   // (same K, n and parameters as the rest shape), and rebuild the vertices from the current table.
   void tabulate(const SweepShape& deformed);
-  void deform_vertices(std::span<Vec3f> out) const;
+  void deform_vertices(std::span<Vec3f> out) const { deform_vertices(out, parallel_); }
+  void deform_vertices(std::span<Vec3f> out, bool split) const;
 
   std::size_t vertex_count() const { return vertex_.size(); }
   // Whether deform_vertices splits its blocks across the threads (kParallelVertexThreshold).
@@ -114,9 +125,6 @@ class FastDeformer {
   static constexpr std::uint32_t kNoRuns = 0xffffffffu;
   // Blocks whose mesh indices come in runs at least this long on average write back run by run.
   static constexpr std::uint32_t kMinMeanRunLength = 8;
-  // A piece (a span's vertices within a tile) keeps mesh order when its angle-cell segments in
-  // that order are at least this long on average.
-  static constexpr std::uint32_t kMinMeanSegmentLength = 8;
 
   int n_ = 0;                    // radial samples = angle cells
   int stations_per_span_ = 0;    // S
@@ -153,8 +161,9 @@ struct DeformJob {
 
 // Deforms every job into `out` (the whole mesh; sweeps own disjoint vertices). When there are
 // several and none is big enough to split (kParallelVertexThreshold), they run side by side on the
-// threads — a diplodocus's tail and neck; otherwise one after another, each split across the
-// threads. Either way the results do not depend on the thread count.
+// threads — a diplodocus's tail and neck; a lone one is split across the threads from
+// kSplitLoneSweepVertices; otherwise one after another, each split across the threads if large.
+// Either way the results do not depend on the thread count.
 void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out);
 
 }  // namespace sweep::sim

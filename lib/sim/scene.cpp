@@ -28,34 +28,41 @@ std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::
     } else if (name == "positional") {
       mask |= kPositional;
     } else {
-      r.fail_at(element(ptr, i), "unknown component \"" + name + "\" (expected rotational, radial or positional)");
+      r.fail_at(element(ptr, i),
+                "unknown component \"" + name + "\" (expected rotational, radial or positional)");
     }
   }
   if (mask == 0) r.fail_at(ptr, "must name at least one component");
   return mask;
 }
 
-SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr, const Rig& rig) {
-  r.object(v, ptr, {"sweep", "point", "t", "theta", "vector", "frame", "start", "end", "components", "sections", "moment"});
+SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr,
+                      const Rig& rig) {
+  r.object(v, ptr,
+           {"sweep", "point", "t", "theta", "vector", "frame", "start", "end", "components",
+            "sections", "moment"});
   SceneForce f;
   f.sweep = r.string(r.required(v, ptr, "sweep"), member(ptr, "sweep"));
   for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
     if (rig.sweeps[i].name == f.sweep) f.sweep_index = static_cast<int>(i);
   }
-  if (f.sweep_index < 0) r.fail_at(member(ptr, "sweep"), "the rig has no sweep named \"" + f.sweep + "\"");
+  if (f.sweep_index < 0)
+    r.fail_at(member(ptr, "sweep"), "the rig has no sweep named \"" + f.sweep + "\"");
   const SweepDef& def = rig.sweeps[f.sweep_index];
 
   const Json* point = r.optional(v, "point");
   const Json* t = r.optional(v, "t");
   const Json* theta = r.optional(v, "theta");
-  if (point && (t || theta)) r.fail_at(ptr, "give either \"point\" or \"t\" and \"theta\", not both");
+  if (point && (t || theta))
+    r.fail_at(ptr, "give either \"point\" or \"t\" and \"theta\", not both");
   if (point) {
     f.spec.at_world_point = true;
     f.spec.point = r.vec3(*point, member(ptr, "point"));
   } else {
     if (!t || !theta) r.fail_at(ptr, "missing the place: \"point\", or \"t\" and \"theta\"");
     const double frac = r.number(*t, member(ptr, "t"));
-    if (frac < 0 || frac > 1) r.fail_at(member(ptr, "t"), "must be between 0 (root) and 1 (tip), got " + io::describe(*t));
+    if (frac < 0 || frac > 1)
+      r.fail_at(member(ptr, "t"), "must be between 0 (root) and 1 (tip), got " + io::describe(*t));
     f.spec.t = frac * def.rest.length();
     f.spec.theta = r.number(*theta, member(ptr, "theta"));
   }
@@ -74,7 +81,8 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
   f.end = f.start;
   if (const Json* e = r.optional(v, "end")) f.end = r.number(*e, member(ptr, "end"));
   if (f.end < f.start) r.fail_at(member(ptr, "end"), "must not be before \"start\"");
-  if (const Json* c = r.optional(v, "components")) f.spec.components = read_components(r, *c, member(ptr, "components"));
+  if (const Json* c = r.optional(v, "components"))
+    f.spec.components = read_components(r, *c, member(ptr, "components"));
   if (const Json* s = r.optional(v, "sections")) {
     const std::string sp = member(ptr, "sections");
     if (s->is_number_integer()) {
@@ -88,8 +96,11 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
         f.spec.target = RotationTarget::chain;
       } else {
         const int i = def.section_index(name);
-        if (i < 0) r.fail_at(sp, "expected \"nearest\", \"chain\", or a section of sweep \"" + def.name + "\"; it has no section \"" + name + "\"");
-        if (i == 0) r.fail_at(sp, "section \"" + name + "\" is the root, which is fixed to the body");
+        if (i < 0)
+          r.fail_at(sp, "expected \"nearest\", \"chain\", or a section of sweep \"" + def.name +
+                            "\"; it has no section \"" + name + "\"");
+        if (i == 0)
+          r.fail_at(sp, "section \"" + name + "\" is the root, which is fixed to the body");
         f.spec.target = RotationTarget::section;
         f.spec.target_section = i;
       }
@@ -102,7 +113,8 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
     } else if (name == "physical") {
       f.spec.moment = MomentModel::physical;
     } else {
-      r.fail_at(member(ptr, "moment"), "must be \"scaled\" or \"physical\", got " + io::describe(*m));
+      r.fail_at(member(ptr, "moment"),
+                "must be \"scaled\" or \"physical\", got " + io::describe(*m));
     }
   }
   return f;
@@ -110,25 +122,33 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
 
 }  // namespace
 
-int Scene::frame_count() const { return static_cast<int>(std::floor(duration * fps + 1e-9)) + 1; }
+int Scene::frame_count() const {
+  return static_cast<int>(std::floor(duration * fps + 1e-9)) + 1;
+}
 
-Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r, const Rig& rig) {
-  r.object(json, pointer, {"format", "version", "duration", "fps", "substeps", "integrator", "forces"});
+Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
+                  const Rig& rig) {
+  r.object(json, pointer,
+           {"format", "version", "duration", "fps", "substeps", "integrator", "forces"});
   Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
     const std::string format = r.string(r.required(json, pointer, "format"), "/format");
-    if (format != "sweep-scene") r.fail_at("/format", "must be \"sweep-scene\", got " + io::describe(json["format"]));
+    if (format != "sweep-scene")
+      r.fail_at("/format", "must be \"sweep-scene\", got " + io::describe(json["format"]));
   }
-  if (const Json* version = own_file ? &r.required(json, pointer, "version") : r.optional(json, "version")) {
+  if (const Json* version =
+          own_file ? &r.required(json, pointer, "version") : r.optional(json, "version")) {
     const long long v = r.integer(*version, member(pointer, "version"), 1, 1 << 30);
     if (v != Scene::kFormatVersion) {
-      fail(ErrorCategory::unsupported, r.source() + ": " + member(pointer, "version") + ": scene format version " +
-                                           std::to_string(v) + " is not supported (this build reads version 1)");
+      fail(ErrorCategory::unsupported, r.source() + ": " + member(pointer, "version") +
+                                           ": scene format version " + std::to_string(v) +
+                                           " is not supported (this build reads version 1)");
     }
   }
   scene.duration = r.positive(r.required(json, pointer, "duration"), member(pointer, "duration"));
-  if (scene.duration > kMaxDuration) r.fail_at(member(pointer, "duration"), "must be at most 86400 s");
+  if (scene.duration > kMaxDuration)
+    r.fail_at(member(pointer, "duration"), "must be at most 86400 s");
   scene.fps = r.positive(r.required(json, pointer, "fps"), member(pointer, "fps"));
   if (scene.fps > kMaxFps) r.fail_at(member(pointer, "fps"), "must be at most 10000");
   if (const Json* s = r.optional(json, "substeps")) {
@@ -137,13 +157,15 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
   if (const Json* i = r.optional(json, "integrator")) {
     const std::string name = r.string(*i, member(pointer, "integrator"));
     if (!parse_integrator(name, &scene.integrator)) {
-      r.fail_at(member(pointer, "integrator"), "must be \"exact\", \"semi-implicit-euler\" or \"rk4\", got " + io::describe(*i));
+      r.fail_at(member(pointer, "integrator"),
+                "must be \"exact\", \"semi-implicit-euler\" or \"rk4\", got " + io::describe(*i));
     }
   }
   const std::string fp = member(pointer, "forces");
   const Json& forces = r.required(json, pointer, "forces");
   r.array(forces, fp);
-  for (std::size_t i = 0; i < forces.size(); ++i) scene.forces.push_back(read_force(r, forces[i], element(fp, i), rig));
+  for (std::size_t i = 0; i < forces.size(); ++i)
+    scene.forces.push_back(read_force(r, forces[i], element(fp, i), rig));
   return scene;
 }
 
@@ -154,7 +176,8 @@ Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::Wa
   // A rig file that carries its scene. (A "format" that is not a string is reported by
   // parse_scene, with its pointer.)
   const auto format = doc.find("format");
-  const bool is_rig = format != doc.end() && format->is_string() && format->get<std::string>() == "sweep-rig";
+  const bool is_rig =
+      format != doc.end() && format->is_string() && format->get<std::string>() == "sweep-rig";
   if (is_rig && doc.contains("scene")) return parse_scene(doc["scene"], "/scene", r, rig);
   if (is_rig) r.fail_at("", "this rig file has no \"scene\"; give a scene file");
   return parse_scene(doc, "", r, rig);

@@ -14,7 +14,7 @@
 namespace sweep::sim {
 
 struct SceneForce {
-  std::string sweep;  // name of the sweep it acts on
+  std::string sweep;     // name of the sweep it acts on
   int sweep_index = -1;  // resolved against the rig
   // The force split (place, vector, components, rotation target), with t in the sweep's own
   // arc length (the file gives it as a fraction of the length, 0 = root, 1 = tip).
@@ -38,9 +38,11 @@ struct Scene {
 
 // `json` is the scene object; `pointer` where it sits in its file ("" or "/scene"). Forces are
 // resolved against `rig` (sweep and section names, t fraction to arc length).
-Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader, const Rig& rig);
+Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader,
+                  const Rig& rig);
 
 // A scene file (format "sweep-scene"), or a rig file that holds one under "scene".
-Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn = {});
+Scene read_scene(const std::filesystem::path& path, const Rig& rig,
+                 const io::WarningSink& warn = {});
 
 }  // namespace sweep::sim

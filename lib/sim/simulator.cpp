@@ -13,7 +13,7 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
     : scene_(scene), sleep_(sleep) {
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
-    sweeps_.push_back(SweepState{ElasticSweep(def), false, false, false, 0.0, 0, {}, {}, 0});
+    sweeps_.push_back(SweepState{.body = ElasticSweep(def)});
     sweeps_.back().body.set_integrator(scene.integrator);
   }
   for (std::size_t f = 0; f < scene.forces.size(); ++f) {
@@ -58,14 +58,16 @@ void Simulator::advance_frame() {
   } else {
     for (int i = 0; i < count; ++i) run(i);
   }
-  step_index_ += scene_.substeps;
-  ++frame_;
-  // A sweep that diverged stopped there; report the earliest (then the lowest-numbered) one.
+  // A sweep that diverged stopped there; report the earliest (then the lowest-numbered) one. The
+  // frame is not counted, and the simulator must not be advanced again (the other sweeps did
+  // finish the frame).
   const SweepState* failed = nullptr;
   for (const SweepState& st : sweeps_) {
     if (st.failure && (failed == nullptr || st.failure_step < failed->failure_step)) failed = &st;
   }
   if (failed != nullptr) std::rethrow_exception(failed->failure);
+  step_index_ += scene_.substeps;
+  ++frame_;
 }
 
 bool Simulator::has_work(int i, double from, double to) const {

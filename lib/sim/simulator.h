@@ -8,7 +8,8 @@
 //    so nothing needs deforming — until one of its forces starts again (the Jolt way: a timer
 //    reset whenever motion leaves a small tolerance, an explicit wake).
 // Divergence (non-finite or runaway springs, possible with the explicit integrators) throws
-// Error(diverged) naming the sweep, the time and the integrator.
+// Error(diverged) naming the sweep, the time and the integrator; the simulator is then left
+// mid-frame and must not be advanced again.
 //
 // Sweeps never interact, so a frame steps them side by side on the threads (OpenMP) when more
 // than one has work; results do not depend on the thread count.
@@ -57,8 +58,8 @@ class Simulator {
     bool moved = false;
     double quiet = 0;  // s spent under the sleep tolerances
     long long steps = 0;
-    std::vector<std::size_t> forces;  // indices of the scene forces acting on it, in scene order
-    std::exception_ptr failure;       // divergence during the current frame, at step failure_step
+    std::vector<std::size_t> forces{};  // indices of the scene forces acting on it, in scene order
+    std::exception_ptr failure{};       // divergence during the current frame, at failure_step
     long long failure_step = 0;
   };
   struct ForceState {

@@ -6,9 +6,10 @@
 set -eu
 src=$1 work=$2 bind=$3 sim=$4
 if ! command -v blender >/dev/null 2>&1; then
-  echo "blender is not installed (Debian package blender; tools/setup-deps.sh installs it): skipped"
+  echo "blender is not installed (Debian package blender; tools/setup-deps.sh --tests installs it): skipped"
   exit 77
 fi
+command -v python3 >/dev/null 2>&1 || { echo "python3 is missing (tools/setup-deps.sh)"; exit 1; }
 rig=$src/rigs/tube-bent.rig.json
 rm -rf "$work" && mkdir -p "$work"
 "$bind" -q "$rig" -o "$work/tube.bind"
@@ -25,7 +26,7 @@ for fps in 24 30; do
   echo "== $fps fps"
   if blender -b --factory-startup --python-exit-code 1 --python "$src/tests/blender/check_bake.py" -- \
     "$src/meshes/tube_bent.obj" "$work/tube-$fps.glb" "$work/tube-$fps.pc2" "$fps" >"$work/blender-$fps.log" 2>&1; then
-    grep -E '^(ok|FAIL|blender check)' "$work/blender-$fps.log"
+    grep -E '^(ok|FAIL|blender check)' "$work/blender-$fps.log" || cat "$work/blender-$fps.log"
   else
     cat "$work/blender-$fps.log"
     status=1

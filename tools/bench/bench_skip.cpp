@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
         omp_set_num_threads(th);
         const FrameCost c = pause > 0 ? frame_cost(dino, scene, args.quick ? 30 : 120, 5, pause)
                                       : frame_cost(dino, scene, frames, 5);
-        csv += fmt("%s,%d,%.4g,%.4g,%.4g,1,%d\n", label.c_str(), th, c.median_us, c.step_us,
+        csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,1,%d\n", label.c_str(), th, c.median_us, c.step_us,
                    c.deform_us, c.awake_at_end);
         md += fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", label.c_str(), th, c.median_us,
                   c.step_us, c.deform_us);
@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
     cases.push_back({"4 sweeps, no force at all", frame_cost(tubes, scene, frames, 5)});
     const double all = cases.front().second.median_us;
     for (const auto& [name, c] : cases) {
-      csv += fmt("%s,%d,%.4g,%.4g,%.4g,%.4g,%d\n", name.c_str(), th, c.median_us, c.step_us,
+      csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g,%d\n", name.c_str(), th, c.median_us, c.step_us,
                  c.deform_us, c.median_us / all, c.awake_at_end);
       md += fmt("| %s | %d | %.2f | %.2f | %.2f | %.3f |\n", name.c_str(), th, c.median_us,
                 c.step_us, c.deform_us, c.median_us / all);
