@@ -61,6 +61,17 @@ FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, in
   return c;
 }
 
+// Each field's median over several measurements of one case.
+FrameCost median_cost(const std::vector<FrameCost>& runs) {
+  const auto pick = [&](double FrameCost::*field) {
+    std::vector<double> v;
+    for (const FrameCost& c : runs) v.push_back(c.*field);
+    return median(v);
+  };
+  return {pick(&FrameCost::median_us), pick(&FrameCost::step_us), pick(&FrameCost::deform_us),
+          runs.back().awake_at_end};
+}
+
 sim::SceneForce tip_force(const RealRig& rig, int i, double start, double end, double magnitude) {
   sim::SceneForce f;
   f.sweep = rig.rig.sweeps[i].name;
@@ -112,6 +123,7 @@ int main(int argc, char** argv) {
   using namespace sweep::bench;
   const Args args = parse_args(argc, argv);
   const int frames = args.quick ? 60 : 300;
+  const int rounds = args.quick ? 3 : 9;  // each case measured once a round; median over rounds
   const int max_threads = omp_get_max_threads();
   std::string csv = "case,threads,frame_us,step_us,deform_us,ratio,awake_at_end\n";
   std::string md =
@@ -127,12 +139,20 @@ int main(int argc, char** argv) {
     std::size_t bound = 0;
     for (const auto& s : dino.binding.sweeps) bound += s.size();
     const std::string name = fmt("diplodocus tail + neck (%zu vertices), 4 substeps", bound);
+    // Rounds alternate the thread counts (see the four-sweep cases below); median over rounds.
     for (const double pause : {0.0, 1 / 60.0}) {
       const std::string label = pause > 0 ? name + ", frames 1/60 s apart" : name;
-      for (int th = 1; th <= std::min(2, max_threads); ++th) {
-        omp_set_num_threads(th);
-        const FrameCost c = pause > 0 ? frame_cost(dino, scene, args.quick ? 30 : 120, 5, pause)
-                                      : frame_cost(dino, scene, frames, 5);
+      const int threads = std::min(2, max_threads);
+      std::vector<std::vector<FrameCost>> runs(threads);
+      for (int r = 0; r < rounds; ++r) {
+        for (int th = 1; th <= threads; ++th) {
+          omp_set_num_threads(th);
+          runs[th - 1].push_back(pause > 0 ? frame_cost(dino, scene, 30, 5, pause)
+                                           : frame_cost(dino, scene, frames, 5));
+        }
+      }
+      for (int th = 1; th <= threads; ++th) {
+        const FrameCost c = median_cost(runs[th - 1]);
         csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,1,%d\n", label.c_str(), th, c.median_us, c.step_us,
                    c.deform_us, c.awake_at_end);
         md += fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", label.c_str(), th, c.median_us,
@@ -142,29 +162,47 @@ int main(int argc, char** argv) {
   }
 
   // ---- four sweeps: 1..4 driven, and asleep, on 1 and on 2 threads ---------------------------
+  // The cases are measured in rounds, each round running every case once, and each figure is the
+  // median over the rounds: this VM's slow spells last seconds, and a ratio between two cases
+  // measured seconds apart would otherwise compare two machines.
   const RealRig tubes = four_tubes();
-  for (int th = 1; th <= std::min(2, max_threads); ++th) {
-    omp_set_num_threads(th);
+  struct Case {
+    std::string name;
     sim::Scene scene;
-    scene.duration = frames / scene.fps + 1;
-    std::vector<std::pair<std::string, FrameCost>> cases;
-    for (int driven = 4; driven >= 1; --driven) {
-      scene.forces.clear();
-      for (int i = 0; i < driven; ++i) scene.forces.push_back(tip_force(tubes, i, 0, 1e9, 2.0));
-      cases.push_back({fmt("4 sweeps, %d driven", driven), frame_cost(tubes, scene, frames, 5)});
-    }
+    int frames = 0, skip = 0;
+  };
+  std::vector<Case> cases;
+  for (int driven = 4; driven >= 1; --driven) {
+    Case c{fmt("4 sweeps, %d driven", driven), {}, frames, 5};
+    c.scene.duration = frames / c.scene.fps + 1;
+    for (int i = 0; i < driven; ++i) c.scene.forces.push_back(tip_force(tubes, i, 0, 1e9, 2.0));
+    cases.push_back(c);
+  }
+  {
     // A short push on all four at the start; the motion dies out (ζ = 0.3 at 1.5 Hz: e^-2.8 a
     // second) and every sweep falls asleep. Measured over the last third of the frames.
-    scene.forces.clear();
-    for (int i = 0; i < 4; ++i) scene.forces.push_back(tip_force(tubes, i, 0, 0.1, 2.0));
     const int long_frames = 30 * 20;
-    scene.duration = long_frames / scene.fps + 1;
-    cases.push_back({"4 sweeps, all asleep (after a push)",
-                     frame_cost(tubes, scene, long_frames, 2 * long_frames / 3)});
-    scene.forces.clear();
-    cases.push_back({"4 sweeps, no force at all", frame_cost(tubes, scene, frames, 5)});
-    const double all = cases.front().second.median_us;
-    for (const auto& [name, c] : cases) {
+    Case c{"4 sweeps, all asleep (after a push)", {}, long_frames, 2 * long_frames / 3};
+    c.scene.duration = long_frames / c.scene.fps + 1;
+    for (int i = 0; i < 4; ++i) c.scene.forces.push_back(tip_force(tubes, i, 0, 0.1, 2.0));
+    cases.push_back(c);
+    Case none{"4 sweeps, no force at all", {}, frames, 5};
+    none.scene.duration = frames / none.scene.fps + 1;
+    cases.push_back(none);
+  }
+  for (int th = 1; th <= std::min(2, max_threads); ++th) {
+    omp_set_num_threads(th);
+    std::vector<std::vector<FrameCost>> runs(cases.size());
+    for (int r = 0; r < rounds; ++r) {
+      for (std::size_t i = 0; i < cases.size(); ++i)
+        runs[i].push_back(frame_cost(tubes, cases[i].scene, cases[i].frames, cases[i].skip));
+    }
+    std::vector<FrameCost> result;
+    for (const auto& r : runs) result.push_back(median_cost(r));
+    const double all = result.front().median_us;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      const FrameCost& c = result[i];
+      const std::string& name = cases[i].name;
       csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g,%d\n", name.c_str(), th, c.median_us, c.step_us,
                  c.deform_us, c.median_us / all, c.awake_at_end);
       md += fmt("| %s | %d | %.2f | %.2f | %.2f | %.3f |\n", name.c_str(), th, c.median_us,

@@ -167,11 +167,13 @@ One frame = \`Simulator::advance_frame\` (4 substeps, exact integrator) + the fa
 that moved (\`deform_sweeps\`), as sweep-sim runs it; sweeps that both have work run side by side on
 the two threads (stepping and deforming). "× all driven" is the ratio to the four-sweeps-all-driven
 frame with the same thread count. Four generated tubes of ~6,000 vertices each (K = 16, n = 16).
-On one thread the ratio is the work skipped; on two, four driven sweeps share both cores while a
-single one can use only one, so the ratio is about twice the work ratio — compare the absolute
-figures: the 1-driven frame costs the same on one or two threads. Frames run back to back, as in a
-bake; the "1/60 s apart" rows pace them like a 60 fps runtime, where between frames the caches cool
-and the worker threads fall asleep (waking them is part of the cost).
+On two threads, driven sweeps run two at a time, and a lone moving sweep is split across both
+cores. Every case is measured once a round, 9 rounds (3 in quick mode), and each figure is the
+median over the rounds, so that a ratio compares cases measured in the same stretch of time; the
+four sweeps together (~1.5 MB of working data) no longer fit one core's L2, so "4 driven" costs a
+little more than four times "1 driven". Frames run back to back, as in a bake; the "1/60 s apart"
+rows pace them like a 60 fps runtime, where between frames the caches cool and the worker threads
+fall asleep (waking them is part of the cost).
 
 $(cat "$results/skip.md")
 
