@@ -156,7 +156,7 @@ int main(int argc, char** argv) {
                    "Override the scene's integrator: exact, semi-implicit-euler, rk4");
     app.add_option("--substeps", s.substeps, "Override the scene's internal steps per frame")
         ->check(CLI::Range(1, 100000));
-    app.add_option("--threads", s.threads, "Deformation threads (default: all cores)")
+    app.add_option("--threads", s.threads, "Threads for stepping and deforming (default: all cores)")
         ->check(CLI::Range(1, 1024));
     app.add_option("--stations", s.stations,
                    "Fast path: stations per span (error falls as its square)")
