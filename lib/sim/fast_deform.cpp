@@ -1,5 +1,7 @@
 #include "sim/fast_deform.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -176,8 +178,7 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
   basis_.resize(4 * (per + 1));
   for (int q = 0; q <= per; ++q) hermite(static_cast<double>(q) / per, &basis_[4 * q]);
   section_cells_.resize(static_cast<std::size_t>(k) * 4 * n_);
-  slope0_.resize(4 * n_);
-  slope1_.resize(4 * n_);
+  slopes_.resize(8 * static_cast<std::size_t>(n_));
   sines_.resize(per + 1);
 
   // Station parameters, as the table places them: t_s + (t_{s+1} − t_s)·q/S.
@@ -318,13 +319,21 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
 }
 
 void FastDeformer::tabulate(const SweepShape& shape) {
+  tabulate(shape, parallel_);
+}
+
+void FastDeformer::tabulate(const SweepShape& shape, bool split) {
   assert(shape.section_count() * stations_per_span_ - stations_per_span_ + 1 == station_count_);
   assert(shape.radial_count == n_);
   const int k = shape.section_count(), n = n_, per = stations_per_span_;
   double lowest =
       shape.radii.empty() ? 0.0 : *std::min_element(shape.radii.begin(), shape.radii.end());
   radius_floor_ = static_cast<float>(kMinRadiusFraction * lowest);
-  double* const sines = sines_.data();
+  // Scratch for one span at a time: slopes (8n floats) and slerp sines (S + 1), one set a thread.
+  const std::size_t w4 = 4 * static_cast<std::size_t>(n);
+  const int slots = split ? omp_get_max_threads() : 1;
+  if (slopes_.size() < slots * 2 * w4) slopes_.resize(slots * 2 * w4);
+  if (sines_.size() < static_cast<std::size_t>(slots * (per + 1))) sines_.resize(slots * (per + 1));
   // Each section's periodic Catmull-Rom, cell j through samples p0..p3 = r_{j-1}..r_{j+2}, as the
   // cubic p1 + w·c1 + w²·c2 + w³·c3 in the cell's coordinate w.
   for (int i = 0; i < k; ++i) {
@@ -339,7 +348,9 @@ void FastDeformer::tabulate(const SweepShape& shape) {
     }
   }
 
-  for (int s = 0; s + 1 < k; ++s) {
+  // Each span's stations, from its two sections and their neighbours: spans are independent.
+  const auto span = [&](int s, int slot) {
+    double* const sines = sines_.data() + static_cast<std::size_t>(slot) * (per + 1);
     const Frame& fa = shape.frames[s];
     const Frame& fb = shape.frames[s + 1];
     const double h = shape.t[s + 1] - shape.t[s];
@@ -371,13 +382,12 @@ void FastDeformer::tabulate(const SweepShape& shape) {
     const int lo1 = s, hi1 = std::min(s + 2, k - 1);
     const float g0 = static_cast<float>(h / (shape.t[hi0] - shape.t[lo0]));
     const float g1 = static_cast<float>(h / (shape.t[hi1] - shape.t[lo1]));
-    const std::size_t w4 = 4 * static_cast<std::size_t>(n);
     const float* k0 = section_cells_.data() + s * w4;
     const float* k1 = k0 + w4;
     const float *l0 = section_cells_.data() + lo0 * w4, *u0 = section_cells_.data() + hi0 * w4;
     const float *l1 = section_cells_.data() + lo1 * w4, *u1 = section_cells_.data() + hi1 * w4;
-    float* const m0 = slope0_.data();
-    float* const m1 = slope1_.data();
+    float* const m0 = slopes_.data() + static_cast<std::size_t>(slot) * 2 * w4;
+    float* const m1 = m0 + w4;
     for (std::size_t e = 0; e < w4; ++e) {
       m0[e] = g0 * (u0[e] - l0[e]);
       m1[e] = g1 * (u1[e] - l1[e]);
@@ -408,6 +418,12 @@ void FastDeformer::tabulate(const SweepShape& shape) {
       for (std::size_t e = 0; e < w4; ++e)
         cell[e] = b0 * k0[e] + b1 * m0[e] + b2 * k1[e] + b3 * m1[e];
     }
+  };
+  if (split && k > 2) {
+#pragma omp parallel for schedule(static)
+    for (int s = 0; s < k - 1; ++s) span(s, omp_get_thread_num());
+  } else {
+    for (int s = 0; s < k - 1; ++s) span(s, 0);
   }
 }
 
@@ -423,7 +439,7 @@ void FastDeformer::deform(const SweepShape& deformed, std::span<Vec3f> out) {
 }
 
 void FastDeformer::deform(const SweepShape& deformed, std::span<Vec3f> out, bool split) {
-  tabulate(deformed);
+  tabulate(deformed, split);
   deform_vertices(out, split);
 }
 

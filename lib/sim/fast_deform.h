@@ -102,6 +102,7 @@ class FastDeformer {
   // The two halves, separately timed by the benchmarks: evaluate the station table of `deformed`
   // (same K, n and parameters as the rest shape), and rebuild the vertices from the current table.
   void tabulate(const SweepShape& deformed);
+  void tabulate(const SweepShape& deformed, bool split);  // split: spans across the threads
   void deform_vertices(std::span<Vec3f> out) const { deform_vertices(out, parallel_); }
   void deform_vertices(std::span<Vec3f> out, bool split) const;
 
@@ -132,9 +133,10 @@ class FastDeformer {
   int row_ = 0;                  // floats per station: 12 (C, X, Y, Z) + 4 per angle cell
   std::vector<double> basis_;    // Hermite basis h00, h10, h01, h11 at u = q/S, q = 0..S
   std::vector<float> stations_;  // row_ floats a station, rewritten each frame
-  // Per-frame scratch of tabulate, sized once: each section's cell cubics (K·4n), their slopes
-  // in t at both ends of a span (4n each), and sin(q·δ) of the slerp (S + 1).
-  std::vector<float> section_cells_, slope0_, slope1_;
+  // Per-frame scratch of tabulate: each section's cell cubics (K·4n); and, one set for each
+  // thread working on a span, its cubics' slopes in t at both ends (2·4n) and sin(q·δ) of the
+  // slerp (S + 1).
+  std::vector<float> section_cells_, slopes_;
   std::vector<double> sines_;
 
   // Per vertex, grouped by station span (then by angle cell, or in mesh order). Hot fields first.
