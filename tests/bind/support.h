@@ -18,6 +18,7 @@
 #include "fit/fit.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
+#include "diplodocus_seeds.h"
 #include "tube.h"
 
 namespace sweep::test {
@@ -63,17 +64,6 @@ inline Rig rig_of(std::vector<SweepDef> sweeps, std::string mesh = "") {
 inline fs::path diplodocus_path() {
   return fs::path(SWEEP_SOURCE_DIR) / "meshes/cgal/diplodocus.off";
 }
-
-// Root and tip seeds of the diplodocus's tail and neck (mesh units; the model spans x ∈ [-0.5,
-// 0.5], head at +x, tail tip at -x, y up): the tail leaves the body's rear at x ≈ -0.29 and hangs
-// down to its tip; the neck rises from the front of the body at y ≈ 0.08 to where it meets the
-// head (the head lies beyond the tip section and is bound as its cap, so it follows rigidly).
-struct Seeds {
-  const char* name;
-  Vec3 root, tip;
-};
-inline const Seeds kDiplodocusTail{"tail", {-0.29, -0.16, -0.015}, {-0.5, -0.345, -0.012}};
-inline const Seeds kDiplodocusNeck{"neck", {0.26, 0.08, 0.062}, {0.36, 0.45, 0.11}};
 
 struct Diplodocus {
   Mesh mesh;

@@ -9,37 +9,15 @@
 
 #include "core/elastic_sweep.h"
 #include "core/sample_sweeps.h"
+#include "sim/sweep_cloud.h"
 
 namespace sweep::sim {
 namespace {
 
-// Points inside and on a sweep, with their sweep coordinates (the binding would give these).
-struct Cloud {
-  bind::SweepBinding bound;
-  std::vector<Vec3f> rest;
-};
+// Points inside and on the sweep, s from 0.2 to 1, caps beyond both ends.
+using Cloud = test::SweepCloud;
 Cloud cloud_on(const SweepShape& shape, int count) {
-  Cloud c;
-  const SweepLocator locator(shape);
-  for (int v = 0; v < count; ++v) {
-    // A deterministic spread over t, θ and depth, including cap points beyond both ends.
-    const double t = -0.05 * shape.length() + 1.1 * shape.length() * ((v * 7919) % count) / count;
-    const double theta = 2 * std::numbers::pi * ((v * 104729) % 997) / 997.0;
-    const double s = 0.2 + 0.8 * ((v * 31) % 101) / 100.0;
-    const double tc = std::clamp(t, 0.0, shape.length());
-    const Frame f = frame_at(shape, tc);
-    const double r = s * radius_at(shape, theta, tc);
-    const Vec3 p = f.to_world(Vec3(r * std::cos(theta), r * std::sin(theta), t - tc));
-    const SweepCoords sc = locator.locate(p);
-    c.bound.vertices.push_back(static_cast<std::uint32_t>(v));
-    c.bound.t.push_back(static_cast<float>(sc.t));
-    c.bound.theta.push_back(static_cast<float>(sc.theta));
-    c.bound.s.push_back(static_cast<float>(sc.s));
-    c.bound.z.push_back(static_cast<float>(sc.z));
-    c.bound.weight.push_back(1.0f);
-    c.rest.push_back(p.cast<float>());
-  }
-  return c;
+  return test::sweep_cloud(shape, count, 0.2, 0.8);
 }
 
 double worst_error(const SweepShape& deformed, const Cloud& c, FastDeformer& fast) {

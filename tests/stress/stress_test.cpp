@@ -17,6 +17,7 @@
 #include "io/rig_json.h"
 #include "sim/fast_deform.h"
 #include "sim/simulator.h"
+#include "sim/sweep_cloud.h"
 #include "stress/stress_harness.h"
 
 namespace sweep::stress {
@@ -157,35 +158,9 @@ TEST(Stress, DiplodocusTailUnderRandomForcesWithExtremeParameters) {
 // ----------------------------------------------------------------------------
 
 // Points on and inside a sweep (s from 0.3 to 1, caps beyond both ends), located by the locator.
-struct Cloud {
-  bind::SweepBinding bound;
-  std::vector<sim::Vec3f> rest;
-  std::vector<Vec3> points;
-};
+using Cloud = test::SweepCloud;
 Cloud cloud_on(const SweepShape& shape, int count) {
-  Cloud c;
-  const SweepLocator locator(shape);
-  for (int v = 0; v < count; ++v) {
-    const long long w = v;
-    const double t = -0.05 * shape.length() +
-                     1.1 * shape.length() * static_cast<double>((w * 7919) % count) / count;
-    const double theta = 2 * std::numbers::pi * static_cast<double>((w * 104729) % 997) / 997.0;
-    const double s = 0.3 + 0.7 * static_cast<double>((w * 31) % 101) / 100.0;
-    const double tc = std::clamp(t, 0.0, shape.length());
-    const double r = s * radius_at(shape, theta, tc);
-    const Vec3 p =
-        frame_at(shape, tc).to_world(Vec3(r * std::cos(theta), r * std::sin(theta), t - tc));
-    const SweepCoords sc = locator.locate(p);
-    c.bound.vertices.push_back(static_cast<std::uint32_t>(v));
-    c.bound.t.push_back(static_cast<float>(sc.t));
-    c.bound.theta.push_back(static_cast<float>(sc.theta));
-    c.bound.s.push_back(static_cast<float>(sc.s));
-    c.bound.z.push_back(static_cast<float>(sc.z));
-    c.bound.weight.push_back(1.0f);
-    c.rest.push_back(p.cast<float>());
-    c.points.push_back(p);
-  }
-  return c;
+  return test::sweep_cloud(shape, count, 0.3, 0.7);
 }
 
 // The checks every degenerate shape must pass: the binding rebuilds the rest pose, a stressed

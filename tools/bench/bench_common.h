@@ -23,6 +23,7 @@
 #include "core/rig.h"
 #include "fit/fit.h"
 #include "io/mesh_io.h"
+#include "diplodocus_seeds.h"
 #include "tube.h"
 
 namespace sweep::bench {
@@ -101,13 +102,7 @@ inline fs::path diplodocus_path() {
   return source_dir() / "meshes/cgal/diplodocus.off";
 }
 
-// Root and tip seeds of the diplodocus's parts (mesh units; the same points as tests/bind).
-struct Seeds {
-  const char* name;
-  Vec3 root, tip;
-};
-inline const Seeds kTail{"tail", {-0.29, -0.16, -0.015}, {-0.5, -0.345, -0.012}};
-inline const Seeds kNeck{"neck", {0.26, 0.08, 0.062}, {0.36, 0.45, 0.11}};
+using test::Seeds;  // and test::kDiplodocusTail, test::kDiplodocusNeck (diplodocus_seeds.h)
 
 struct RealRig {
   Mesh mesh;
@@ -122,7 +117,7 @@ inline RealRig diplodocus_rig(int sections = 16, int radial = 16) {
   RealRig r;
   r.mesh = io::read_mesh(diplodocus_path());
   const fit::SweepFitter fitter(r.mesh);
-  for (const Seeds& s : {kTail, kNeck}) {
+  for (const Seeds& s : {test::kDiplodocusTail, test::kDiplodocusNeck}) {
     fit::FitOptions o;
     o.name = s.name;
     o.root = s.root;

@@ -23,8 +23,8 @@ int main(int argc, char** argv) {
   using namespace sweep::bench;
   const Args args = parse_args(argc, argv);
   const Part parts[] = {
-      {"diplodocus.off", kTail},
-      {"diplodocus.off", kNeck},
+      {"diplodocus.off", test::kDiplodocusTail},
+      {"diplodocus.off", test::kDiplodocusNeck},
       {"triceratops.off", {"tail", {-5.7, 1.0, 0.016}, {-10.29, 1.06, 0.04}}},
   };
   const std::vector<int> ks =
