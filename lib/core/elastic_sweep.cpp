@@ -44,8 +44,10 @@ void ElasticSweep::init_bank(Bank& bank, int width, const SpringSettings& (*pick
   bank.x.assign(size, 0.0);
   bank.v.assign(size, 0.0);
   bank.f.assign(size, 0.0);
+  bank.x0.assign(size, 0.0);
+  bank.v0.assign(size, 0.0);
   bank.params.resize(size);
-  bank.maps.resize(size);
+  for (auto& maps : bank.maps) maps.resize(size);
   for (int i = 0; i < k; ++i) {
     for (int c = 0; c < width; ++c) bank.params[static_cast<std::size_t>(i) * width + c] = to_params(pick(def_.springs[i], c));
   }
@@ -107,27 +109,75 @@ void ElasticSweep::apply_impulse(const ForceSpec& impulse) {
   }
 }
 
-void ElasticSweep::step(double dt) {
-  assert(dt > 0);
-  if (dt != map_dt_ || integrator_ != map_integrator_) {
-    for (Bank* b : {&positional_, &rotational_, &radial_}) {
-      for (std::size_t m = 0; m < b->params.size(); ++m) b->maps[m] = make_step_map(b->params[m], dt, integrator_);
+int ElasticSweep::map_slot(double dt) {
+  ++map_clock_;
+  int oldest = 0;
+  for (int s = 0; s < kMapSlots; ++s) {
+    if (slots_[s].used >= 0 && slots_[s].dt == dt && slots_[s].integrator == integrator_) {
+      slots_[s].used = map_clock_;
+      return s;
     }
-    map_dt_ = dt;
-    map_integrator_ = integrator_;
+    if (slots_[s].used < slots_[oldest].used) oldest = s;
   }
-  gather_loads(forces_);
+  for (Bank* b : {&positional_, &rotational_, &radial_}) {
+    for (std::size_t m = 0; m < b->params.size(); ++m) b->maps[oldest][m] = make_step_map(b->params[m], dt, integrator_);
+  }
+  slots_[oldest] = {dt, integrator_, map_clock_};
+  return oldest;
+}
+
+void ElasticSweep::advance_banks(int slot) {
   // Section 0 is fixed: start every bank at section 1.
   for (Bank* b : {&positional_, &rotational_, &radial_}) {
     if (!b->active) continue;
+    const std::vector<StepMap>& maps = b->maps[slot];
     for (std::size_t m = static_cast<std::size_t>(b->width); m < b->x.size(); ++m) {
-      b->maps[m].apply(b->x[m], b->v[m], b->f[m]);
+      maps[m].apply(b->x[m], b->v[m], b->f[m]);
       // A free spring decays geometrically forever; left alone it reaches subnormal numbers, which
       // x86 computes with many times slower. Far below any visible motion, rest is rest.
       if (std::abs(b->x[m]) < kRestFlush && std::abs(b->v[m]) < kRestFlush) b->x[m] = b->v[m] = 0.0;
     }
   }
+}
+
+void ElasticSweep::step(double dt) {
+  assert(dt > 0);
+  gather_loads(forces_);
+  if (!forces_.empty()) {
+    // Midpoint rule for follower loads: predict the pose at dt/2 with the start-of-step loads,
+    // re-split the forces there, and take the whole step from the start with those loads. A load
+    // that does not depend on the pose is the same at both places, so the step stays exact for it.
+    for (Bank* b : {&positional_, &rotational_, &radial_}) {
+      std::copy(b->x.begin(), b->x.end(), b->x0.begin());
+      std::copy(b->v.begin(), b->v.end(), b->v0.begin());
+    }
+    advance_banks(map_slot(0.5 * dt));
+    rebuild();
+    gather_loads(forces_);
+    for (Bank* b : {&positional_, &rotational_, &radial_}) {
+      std::copy(b->x0.begin(), b->x0.end(), b->x.begin());
+      std::copy(b->v0.begin(), b->v0.end(), b->v.begin());
+    }
+  }
+  advance_banks(map_slot(dt));
   rebuild();
+}
+
+void ElasticSweep::copy_state_from(const ElasticSweep& other) {
+  assert(other.def_.rest.section_count() == def_.rest.section_count());
+  const Bank* from[] = {&other.positional_, &other.rotational_, &other.radial_};
+  Bank* to[] = {&positional_, &rotational_, &radial_};
+  for (int k = 0; k < 3; ++k) {
+    std::copy(from[k]->x.begin(), from[k]->x.end(), to[k]->x.begin());
+    std::copy(from[k]->v.begin(), from[k]->v.end(), to[k]->v.begin());
+    to[k]->active = from[k]->active;
+  }
+  std::copy(other.deformed_.frames.begin(), other.deformed_.frames.end(), deformed_.frames.begin());
+  std::copy(other.deformed_.radii.begin(), other.deformed_.radii.end(), deformed_.radii.begin());
+  std::copy(other.pre_.begin(), other.pre_.end(), pre_.begin());
+  forces_ = other.forces_;  // reuses its capacity: allocates only when the force count grows
+  next_id_ = other.next_id_;
+  integrator_ = other.integrator_;
 }
 
 void ElasticSweep::rebuild() {

@@ -8,6 +8,7 @@
 // damped oscillators: 3 positional (x_i), 3 rotational (φ_i: bend about local x and y, twist about
 // local z) and n radial (δ_i[j]: the deformed radius is r_i[j] + δ_i[j], floored at
 // kMinRadiusFraction·r_i[j] so a handle can never invert its section).
+#include <array>
 #include <vector>
 
 #include "core/force.h"
@@ -39,8 +40,16 @@ class ElasticSweep {
   void set_integrator(Integrator integrator) { integrator_ = integrator; }
   Integrator integrator() const { return integrator_; }
 
-  // Advances the springs by dt seconds with every current force held over the step.
+  // Advances the springs by dt seconds (any dt > 0: the oscillators are stepped in closed form).
+  // Loads that follow the moving surface are evaluated at the predicted mid-step pose (a half step
+  // with the start-of-step loads), so the step is second order in dt for them and exact for loads
+  // that do not depend on the pose.
   void step(double dt);
+
+  // Copies the motion (spring states, forces, deformed shape) of `other`, a sweep built from the
+  // same definition, without allocating once sized: how a simulator peeks ahead to an output time
+  // and comes back (sim::Simulator).
+  void copy_state_from(const ElasticSweep& other);
 
   // Spring coordinates of section i (section 0 is always zero), settable for scripted poses.
   Vec3 section_offset(int i) const;
@@ -62,12 +71,21 @@ class ElasticSweep {
 
  private:
   // All oscillators of one kind, flat: coordinate c of section i at index i·width + c.
+  // A few step maps stay cached, keyed by (dt, integrator): a simulator alternates its internal
+  // step, half of it (the mid-step predictor) and the odd partial step to a switching time.
+  static constexpr int kMapSlots = 4;
   struct Bank {
     int width = 0;
     std::vector<double> x, v, f;
+    std::vector<double> x0, v0;  // start-of-step state while the predictor runs
     std::vector<OscillatorParams> params;
-    std::vector<StepMap> maps;
+    std::array<std::vector<StepMap>, kMapSlots> maps;
     bool active = false;
+  };
+  struct MapSlot {
+    double dt = 0;
+    Integrator integrator = Integrator::exact;
+    long long used = -1;  // last use, for least-recently-used replacement
   };
   struct ActiveForce {
     ForceId id;
@@ -77,6 +95,8 @@ class ElasticSweep {
 
   void init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int));
   void gather_loads(const std::vector<ActiveForce>& forces);
+  int map_slot(double dt);                 // the cached maps for dt, computed if missing
+  void advance_banks(int slot);            // every active oscillator, loads held
   void rebuild();
 
   SweepDef def_;
@@ -88,8 +108,8 @@ class ElasticSweep {
   std::vector<ActiveForce> forces_;
   ForceId next_id_ = 1;
   Integrator integrator_ = Integrator::exact;
-  double map_dt_ = 0;
-  Integrator map_integrator_ = Integrator::exact;
+  std::array<MapSlot, kMapSlots> slots_{};
+  long long map_clock_ = 0;
 };
 
 }  // namespace sweep
