@@ -11,6 +11,9 @@
 #include <array>
 #include <vector>
 
+#include <memory>
+
+#include "core/chain_model.h"
 #include "core/force.h"
 #include "core/oscillator.h"
 #include "core/rig.h"
@@ -64,6 +67,15 @@ class ElasticSweep {
   double max_displacement() const;  // largest |x| over every spring coordinate
   bool is_finite() const;    // false once any state is NaN or Inf (a diverged integrator)
 
+  // Gravity (m/s², world axes; material mode only — the paper's springs have no physical mass):
+  // every section's weight loads the chain. Pre-loaded (the default): the rest pose is the pose
+  // under this gravity, so only a change of the load moves the part; otherwise the part starts
+  // unloaded and sags.
+  void set_gravity(const Vec3& g, bool preloaded = true);
+
+  // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
+  const ChainModel* chain() const { return chain_.get(); }
+
   // Which spring kinds have ever been driven (a kind never driven is not stepped).
   bool positional_active() const { return positional_.active; }
   bool rotational_active() const { return rotational_.active; }
@@ -98,12 +110,24 @@ class ElasticSweep {
   int map_slot(double dt);                 // the cached maps for dt, computed if missing
   void advance_banks(int slot);            // every active oscillator, loads held
   void rebuild();
+  // Material mode: rotational loads to modal loads, and modal state back to joint coordinates.
+  void project_rotational_loads();
+  void joints_from_modes();
+  void modes_from_joints();
 
   SweepDef def_;
   SweepShape deformed_;
   std::vector<Frame> relative_;  // T_{i-1,i} (entry 0: identity)
   std::vector<Frame> pre_;       // A_i, the frame D_i acts in
   Bank positional_, rotational_, radial_;
+  // Material mode: the rotational coordinates move as modes. modal_ holds η, η̇ and the modal
+  // loads; rotational_ keeps q = Φ η and q̇ = Φ η̇ (what rebuild, sleep and the user read).
+  std::shared_ptr<const ChainModel> chain_;  // shared: built once per rig, copies of a sweep share it
+  Bank modal_;
+  std::vector<double> joint_scratch_;
+  Vec3 gravity_ = Vec3::Zero();
+  std::vector<double> gravity_preload_;  // rest-pose gravity loads in spring axes (3K pos, 3K rot)
+  void add_gravity_loads();
   SectionLoads loads_;
   std::vector<ActiveForce> forces_;
   ForceId next_id_ = 1;
