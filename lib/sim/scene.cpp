@@ -131,7 +131,7 @@ int Scene::frame_count() const {
 Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
                   const Rig& rig) {
   r.object(json, pointer,
-           {"format", "version", "duration", "fps", "step", "substeps", "integrator", "forces"});
+           {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces"});
   Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
@@ -162,6 +162,13 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
     scene.step = r.positive(*st, member(pointer, "step"));
     if (scene.step < kMinStep || scene.step > kMaxStep)
       r.fail_at(member(pointer, "step"), "must be between 1e-6 and 1 s, got " + io::describe(*st));
+  }
+  if (const Json* g = r.optional(json, "gravity")) scene.gravity = r.vec3(*g, member(pointer, "gravity"));
+  if (const Json* g = r.optional(json, "gravity_start")) {
+    const std::string name = r.string(*g, member(pointer, "gravity_start"));
+    if (name != "as-modelled" && name != "unloaded")
+      r.fail_at(member(pointer, "gravity_start"), "must be \"as-modelled\" or \"unloaded\", got " + io::describe(*g));
+    scene.gravity_preloaded = name == "as-modelled";
   }
   if (const Json* i = r.optional(json, "integrator")) {
     const std::string name = r.string(*i, member(pointer, "integrator"));

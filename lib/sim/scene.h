@@ -35,6 +35,11 @@ struct Scene {
   double step = 0;
   int substeps = 0;       // internal steps per output frame, the old way to set the step; 0 = not given
   Integrator integrator = Integrator::exact;
+  // Gravity, m/s² in world axes: every span of a material-mode sweep weighs on the chain. With
+  // gravity_preloaded the modelled mesh is the pose under it (no sag on frame 0); otherwise the
+  // mesh is the unloaded rest and the part sags.
+  Vec3 gravity = Vec3::Zero();
+  bool gravity_preloaded = true;
   std::vector<SceneForce> forces;
 
   // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. At it the follower loads of the diplodocus

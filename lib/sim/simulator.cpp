@@ -16,6 +16,12 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
     sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def)});
     sweeps_.back().body.set_integrator(scene.integrator);
     sweeps_.back().view.set_integrator(scene.integrator);
+    if (def.material && scene.gravity != Vec3::Zero()) {
+      sweeps_.back().body.set_gravity(scene.gravity, scene.gravity_preloaded);
+      sweeps_.back().view.set_gravity(scene.gravity, scene.gravity_preloaded);
+      // Starting unloaded, the part sags from frame 0: it is driven and awake.
+      if (!scene.gravity_preloaded) sweeps_.back().driven = sweeps_.back().awake = true;
+    }
   }
   for (std::size_t f = 0; f < scene.forces.size(); ++f) {
     SweepState& s = sweeps_[scene.forces[f].sweep_index];
@@ -147,7 +153,10 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
       }
     }
     if (awake) {
-      body.step(next - cur);
+      // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
+      // bits, and a step of new length costs new step maps.
+      const bool whole = grid_step && cur == from && next == to;
+      body.step(whole ? scene_.step_seconds() : next - cur);
       stepped = true;
     }
     cur = next;

@@ -2,6 +2,7 @@
 // re-split at the predicted mid-step pose, so halving the step quarters the error.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 
 #include "bind/support.h"
@@ -87,6 +88,49 @@ TEST(FollowerLoads, DiplodocusFig4WithinOneHundredThousandthOfTheLengthAtTheDefa
               Scene::kDefaultStep, e);
   EXPECT_GT(e, 0.0);
   EXPECT_LE(e, 1e-5);
+}
+
+}  // namespace
+}  // namespace sweep::sim
+
+namespace sweep::sim {
+namespace {
+
+// Material mode on the diplodocus, in the same run as the paper's mode: cost of stepping a frame
+// (tail + neck, Fig. 4 forces, default step) — printed for BENCHMARKS.md — and a sane motion.
+TEST(MaterialMode, DiplodocusFig4CostAgainstThePapersModeInTheSameRun) {
+  const test::Diplodocus* dino = test::diplodocus();
+  if (dino == nullptr) GTEST_SKIP() << "CGAL's diplodocus is absent (tools/setup-deps.sh)";
+  Rig material_rig = dino->rig;
+  for (SweepDef& d : material_rig.sweeps) {
+    Material m;  // a rubbery animal part: the diplodocus mesh is ~1 unit long, taken as 25 m
+    m.youngs_modulus = 5e7;
+    m.density = 1000;
+    m.metres_per_unit = 25;
+    m.damping_ratio = 0.1;
+    d.material = m;
+    d.section_materials.assign(d.rest.section_count(), m);
+  }
+  Scene scene = read_scene(std::filesystem::path(SWEEP_SOURCE_DIR) / "rigs/diplodocus-fig4.scene.json", dino->rig);
+  scene.substeps = 0;
+  for (SceneForce& f : scene.forces) f.spec.moment = MomentModel::physical;
+  Scene with_gravity = scene;
+  with_gravity.gravity = Vec3(0, -9.81, 0);
+  double seconds[2] = {0, 0};
+  for (int rep = 0; rep < 3; ++rep) {
+    for (int mode = 0; mode < 2; ++mode) {
+      Simulator sim(mode ? material_rig : dino->rig, mode ? with_gravity : scene, {.enabled = false});
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int k = 1; k < scene.frame_count(); ++k) sim.advance_frame();
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      seconds[mode] = rep == 0 ? s : std::min(seconds[mode], s);
+      for (int i = 0; i < sim.sweep_count(); ++i) ASSERT_TRUE(sim.sweep(i).is_finite());
+    }
+  }
+  const int frames = scene.frame_count() - 1;
+  std::printf("diplodocus Fig. 4 stepping, per frame: paper %.1f us, material %.1f us (%.2fx); K = %d, %d\n",
+              1e6 * seconds[0] / frames, 1e6 * seconds[1] / frames, seconds[1] / seconds[0],
+              dino->rig.sweeps[0].rest.section_count(), dino->rig.sweeps[1].rest.section_count());
 }
 
 }  // namespace
