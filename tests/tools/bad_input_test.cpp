@@ -204,8 +204,8 @@ std::vector<Case> fit_cases() {
          return fit_args(ws, "past.obj");
        },
        2,
-       {"past.obj: face 1 uses vertex 9 (1-based, as in the file), out of range (the mesh has 3 "
-        "vertices)"}},
+       {"past.obj: line 5: face 1 uses vertex 9 (1-based, as in the file), out of range (the mesh "
+        "has 3 vertices)"}},
       {"Fit_OffFacePastVertices",
        fit,
        [](const Workspace& ws) {
@@ -435,7 +435,7 @@ std::vector<Case> bind_cases() {
       mesh_case("Bind_MeshEmpty", "", "tube.obj: empty file"),
       mesh_case("Bind_MeshWithoutFaces", kNoFacesObj, "tube.obj: no faces"),
       mesh_case("Bind_MeshWithNan", kNanObj, "tube.obj: line 2: vertex 1 has a non-finite"),
-      mesh_case("Bind_MeshFacePastVertices", kPastObj, "tube.obj: face 1 uses vertex 9"),
+      mesh_case("Bind_MeshFacePastVertices", kPastObj, "tube.obj: line 5: face 1 uses vertex 9"),
       {"Bind_CheckBindingOfAnotherRig",
        bind,
        [](const Workspace& ws) {

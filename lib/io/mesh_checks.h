@@ -1,0 +1,21 @@
+#pragma once
+// Checks the mesh readers make on the file itself, for what the third-party parsers behind them
+// (assimp) would otherwise drop or shift without a word. Each throws Error(bad_input) naming
+// `source` and the place (line, mesh/primitive, index).
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace sweep::io::detail {
+
+// An ASCII PLY's body must hold exactly the element instances its header announces, one a line,
+// each with the values its properties call for: a header announcing more vertices than there are
+// would have assimp read face lines as vertices. Binary PLY and non-PLY text pass unchecked.
+void check_ascii_ply(std::string_view text, const std::string& source);
+
+// Every index of every indexed primitive of a glTF/glb must be below its POSITION count: assimp
+// 5.2 drops a triangle with an index past the end silently. A file tinygltf cannot load is left
+// to assimp to report.
+void check_gltf_indices(const std::filesystem::path& path);
+
+}  // namespace sweep::io::detail

@@ -1,0 +1,117 @@
+#include <charconv>
+#include <cstdint>
+#include <vector>
+
+#include "core/error.h"
+#include "io/mesh_checks.h"
+
+namespace sweep::io::detail {
+namespace {
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<bool> is_list;  // per property, in order
+};
+
+[[noreturn]] void bad_ply(const std::string& source, std::uint64_t line, const std::string& what) {
+  fail(ErrorCategory::bad_input, source + ": line " + std::to_string(line) + ": " + what);
+}
+
+// Splits one line into blank-separated tokens ("\r" counts as a blank).
+std::vector<std::string_view> tokens_of(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; };
+  while (i < line.size()) {
+    while (i < line.size() && blank(line[i])) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && !blank(line[i])) ++i;
+    if (i > start) out.push_back(line.substr(start, i - start));
+  }
+  return out;
+}
+
+bool whole_number(std::string_view t, std::uint64_t& v) {
+  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  return ec == std::errc() && p == t.data() + t.size();
+}
+
+}  // namespace
+
+void check_ascii_ply(std::string_view text, const std::string& source) {
+  std::size_t pos = 0;
+  std::uint64_t line_no = 0;
+  auto next_line = [&](std::string_view& line) {
+    if (pos >= text.size()) return false;
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    line = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    return true;
+  };
+  std::string_view line;
+  if (!next_line(line) || tokens_of(line).empty() || tokens_of(line)[0] != "ply") return;
+  bool ascii = false;
+  std::vector<PlyElement> elements;
+  for (;;) {
+    if (!next_line(line)) bad_ply(source, line_no, "the header has no end_header");
+    const auto tok = tokens_of(line);
+    if (tok.empty()) continue;
+    if (tok[0] == "end_header") break;
+    if (tok[0] == "format" && tok.size() > 1) ascii = tok[1] == "ascii";
+    if (tok[0] == "element") {
+      PlyElement e;
+      if (tok.size() < 3 || !whole_number(tok[2], e.count)) {
+        bad_ply(source, line_no, "expected 'element NAME COUNT'");
+      }
+      e.name = std::string(tok[1]);
+      elements.push_back(std::move(e));
+    } else if (tok[0] == "property" && !elements.empty()) {
+      elements.back().is_list.push_back(tok.size() > 1 && tok[1] == "list");
+    }
+  }
+  if (!ascii) return;
+  for (const PlyElement& e : elements) {
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      std::vector<std::string_view> tok;
+      do {
+        if (!next_line(line)) {
+          bad_ply(source, line_no,
+                  "unexpected end of file: the header announces " + std::to_string(e.count) +
+                      " " + e.name + " elements, the file holds " + std::to_string(i));
+        }
+        tok = tokens_of(line);
+      } while (tok.empty());
+      std::size_t used = 0;
+      for (const bool list : e.is_list) {
+        if (!list) {
+          ++used;
+          continue;
+        }
+        std::uint64_t n = 0;
+        if (used >= tok.size() || !whole_number(tok[used], n) || n > tok.size()) {
+          bad_ply(source, line_no,
+                  e.name + " " + std::to_string(i) + ": expected a list length, got '" +
+                      std::string(used < tok.size() ? tok[used].substr(0, 40) : "") + "'");
+        }
+        used += 1 + n;
+      }
+      if (used != tok.size()) {
+        bad_ply(source, line_no,
+                e.name + " " + std::to_string(i) + ": expected " + std::to_string(used) +
+                    " values, found " + std::to_string(tok.size()) +
+                    " (does the header announce more or fewer elements than the file holds?)");
+      }
+    }
+  }
+  while (next_line(line)) {
+    if (!tokens_of(line).empty()) {
+      bad_ply(source, line_no,
+              "data after the last element the header announces (does it announce too few?)");
+    }
+  }
+}
+
+}  // namespace sweep::io::detail
