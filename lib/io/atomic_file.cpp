@@ -1,6 +1,7 @@
 #include "io/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -91,6 +92,39 @@ std::string temp_base(const std::string& name) {
 }
 
 }  // namespace
+
+fs::path set_aside(const fs::path& target) {
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  struct stat st {};
+  if (::lstat(target.c_str(), &st) != 0) return {};
+  std::string name = (dir / ("." + temp_base(target.filename().string()) + ".old-XXXXXX")).string();
+  const int fd = ::mkostemp(name.data(), O_CLOEXEC);  // reserves the name
+  if (fd < 0 || ::close(fd) != 0 || ::rename(target.c_str(), name.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    if (fd >= 0) ::unlink(name.c_str());
+    fail(ErrorCategory::output, target.string() + ": cannot set the earlier file aside: " + reason);
+  }
+  return name;
+}
+
+FolderLock::FolderLock(const fs::path& folder) {
+  const fs::path dir = folder.empty() ? fs::path(".") : folder;
+  fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  int rc = -1;
+  if (fd_ >= 0) {
+    while ((rc = ::flock(fd_, LOCK_EX)) != 0 && errno == EINTR) {
+    }
+  }
+  if (rc != 0) {
+    const std::string reason = std::strerror(errno);
+    if (fd_ >= 0) ::close(fd_);
+    fail(ErrorCategory::output, dir.string() + ": cannot lock the folder: " + reason);
+  }
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);
+}
 
 TempFile::TempFile(fs::path target, bool scratch) : target_(std::move(target)) {
   const fs::path dir = target_.has_parent_path() ? target_.parent_path() : fs::path(".");

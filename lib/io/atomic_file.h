@@ -54,6 +54,24 @@ class TempFile {
 };
 
 
+// Renames an existing `target` to a hidden unique name beside it and returns that name (empty
+// when there was no target), so that a set of files can be replaced all or nothing: put each
+// back with std::rename on failure, remove them on success. Error(output) when it cannot.
+std::filesystem::path set_aside(const std::filesystem::path& target);
+
+// Holds an exclusive lock on a folder (flock; released when destroyed, or when the process
+// dies), so that runs publishing a set of files into it take turns. Error(output) on failure.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::filesystem::path& folder);
+  ~FolderLock();
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 // Writes bytes to path atomically. Throws Error(output) naming the path on any failure; the
 // temporary file is removed in that case.
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
