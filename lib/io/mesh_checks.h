@@ -14,8 +14,8 @@ namespace sweep::io::detail {
 void check_ascii_ply(std::string_view text, const std::string& source);
 
 // Every index of every indexed primitive of a glTF/glb must be below its POSITION count: assimp
-// 5.2 drops a triangle with an index past the end silently. A file tinygltf cannot load is left
-// to assimp to report.
+// 5.2 drops a triangle with an index past the end silently. What this check cannot read (malformed
+// JSON, a missing buffer) is left to assimp to report.
 void check_gltf_indices(const std::filesystem::path& path);
 
 }  // namespace sweep::io::detail
