@@ -170,10 +170,6 @@ Binding parse_binding(std::string_view bytes, const std::string& source) {
   Binding b;
   const std::uint32_t sweep_count = header.u32("sweep count");
   b.vertex_count = header.u64("vertex count");
-  if (b.vertex_count > limits::kMaxVertices) {
-    refuse(source, "corrupt binding: a vertex count of " + std::to_string(b.vertex_count) +
-                       " is beyond the limit of " + std::to_string(limits::kMaxVertices));
-  }
   b.mesh_hash = header.u64("mesh hash");
   b.rig_hash = header.u64("rig hash");
   const std::uint64_t payload_size = header.u64("payload size");
@@ -196,6 +192,11 @@ Binding parse_binding(std::string_view bytes, const std::string& source) {
   if (stored != actual) {
     refuse(source,
            "corrupt binding: checksum mismatch (the file was damaged or edited after writing)");
+  }
+  // After the checksum: a damaged count is reported as the damage it is.
+  if (b.vertex_count > limits::kMaxVertices) {
+    refuse(source, "corrupt binding: a vertex count of " + std::to_string(b.vertex_count) +
+                       " is beyond the limit of " + std::to_string(limits::kMaxVertices));
   }
   Reader in(bytes, kHeaderSize, end, source);
   for (std::uint32_t i = 0; i < sweep_count; ++i) {
