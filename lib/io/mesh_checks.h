@@ -10,7 +10,8 @@ namespace sweep::io::detail {
 
 // An ASCII PLY's body must hold exactly the element instances its header announces, one a line,
 // each with the values its properties call for: a header announcing more vertices than there are
-// would have assimp read face lines as vertices. Binary PLY and non-PLY text pass unchecked.
+// would have assimp read face lines as vertices. Any PLY's vertex element must have x, y and z.
+// The body of a binary PLY, and text that is not PLY, pass unchecked.
 void check_ascii_ply(std::string_view text, const std::string& source);
 
 // Every index of every indexed primitive of a glTF/glb must be below its POSITION count: assimp

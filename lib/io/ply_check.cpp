@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <charconv>
+#include <string>
 #include <cstdint>
 #include <vector>
 
@@ -12,6 +14,8 @@ struct PlyElement {
   std::string name;
   std::uint64_t count = 0;
   std::vector<bool> is_list;  // per property, in order
+  std::vector<std::string> scalar_names;
+  std::uint64_t line = 0;  // of its "element" line
 };
 
 [[noreturn]] void bad_ply(const std::string& source, std::uint64_t line, const std::string& what) {
@@ -67,9 +71,22 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
         bad_ply(source, line_no, "expected 'element NAME COUNT'");
       }
       e.name = std::string(tok[1]);
+      e.line = line_no;
       elements.push_back(std::move(e));
     } else if (tok[0] == "property" && !elements.empty()) {
-      elements.back().is_list.push_back(tok.size() > 1 && tok[1] == "list");
+      const bool list = tok.size() > 1 && tok[1] == "list";
+      elements.back().is_list.push_back(list);
+      if (!list && tok.size() > 2) elements.back().scalar_names.emplace_back(tok[2]);
+    }
+  }
+  // Positions are what a mesh is read for; assimp also leaks memory on a vertex element without
+  // them (found by the ply_mesh fuzz target), so such a header is refused here.
+  for (const PlyElement& e : elements) {
+    if (e.name != "vertex") continue;
+    for (const char* axis : {"x", "y", "z"}) {
+      if (std::find(e.scalar_names.begin(), e.scalar_names.end(), axis) == e.scalar_names.end()) {
+        bad_ply(source, e.line, std::string("the vertex element has no '") + axis + "' property");
+      }
     }
   }
   if (!ascii) return;
