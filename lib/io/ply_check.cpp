@@ -66,7 +66,12 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
     return true;
   };
   std::string_view line;
-  if (!next_line(line) || tokens_of(line).empty() || tokens_of(line)[0] != "ply") return;
+  // The header is checked whole before assimp sees it: assimp hangs on some malformed headers
+  // ("plyply", found by the ply_mesh fuzz target) and misreads others.
+  if (!next_line(line) || tokens_of(line).size() != 1 || tokens_of(line)[0] != "ply") {
+    bad_ply(source, 1, "not a PLY file: the first line must be 'ply'");
+  }
+  bool has_format = false;
   bool ascii = false;
   std::vector<PlyElement> elements;
   for (;;) {
@@ -74,16 +79,25 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
     const auto tok = tokens_of(line);
     if (tok.empty()) continue;
     if (tok[0] == "end_header") break;
-    if (tok[0] == "format" && tok.size() > 1) ascii = tok[1] == "ascii";
-    if (tok[0] == "element") {
+    if (tok[0] == "comment" || tok[0] == "obj_info") continue;
+    if (tok[0] == "format") {
+      if (has_format || tok.size() != 3 || tok[2] != "1.0" ||
+          (tok[1] != "ascii" && tok[1] != "binary_little_endian" &&
+           tok[1] != "binary_big_endian")) {
+        bad_ply(source, line_no, "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
+      }
+      has_format = true;
+      ascii = tok[1] == "ascii";
+    } else if (tok[0] == "element") {
       PlyElement e;
-      if (tok.size() < 3 || !whole_number(tok[2], e.count)) {
+      if (tok.size() != 3 || !whole_number(tok[2], e.count)) {
         bad_ply(source, line_no, "expected 'element NAME COUNT'");
       }
       e.name = std::string(tok[1]);
       e.line = line_no;
       elements.push_back(std::move(e));
-    } else if (tok[0] == "property" && !elements.empty()) {
+    } else if (tok[0] == "property") {
+      if (elements.empty()) bad_ply(source, line_no, "a property before any element");
       const bool list = tok.size() > 1 && tok[1] == "list";
       // "property TYPE NAME" or "property list COUNT_TYPE ITEM_TYPE NAME".
       for (std::size_t k = list ? 2 : 1; k < (list ? 4 : 2); ++k) {
@@ -94,9 +108,13 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
         }
       }
       elements.back().is_list.push_back(list);
-      if (!list && tok.size() > 2) elements.back().scalar_names.emplace_back(tok[2]);
+      if (tok.size() != (list ? 5u : 3u)) bad_ply(source, line_no, "expected 'property TYPE NAME'");
+      if (!list) elements.back().scalar_names.emplace_back(tok[2]);
+    } else {
+      bad_ply(source, line_no, "unknown header line '" + std::string(tok[0].substr(0, 40)) + "'");
     }
   }
+  if (!has_format) bad_ply(source, line_no, "the header has no format line");
   // Positions are what a mesh is read for; assimp also leaks memory on a vertex element without
   // them (found by the ply_mesh fuzz target), so such a header is refused here.
   for (const PlyElement& e : elements) {
