@@ -15,6 +15,7 @@ struct PlyElement {
   std::uint64_t count = 0;
   std::vector<bool> is_list;  // per property, in order
   std::vector<std::string> scalar_names;
+  std::vector<std::string> list_names;
   std::uint64_t line = 0;  // of its "element" line
 };
 
@@ -109,7 +110,7 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
       }
       elements.back().is_list.push_back(list);
       if (tok.size() != (list ? 5u : 3u)) bad_ply(source, line_no, "expected 'property TYPE NAME'");
-      if (!list) elements.back().scalar_names.emplace_back(tok[2]);
+      (list ? elements.back().list_names : elements.back().scalar_names).emplace_back(tok.back());
     } else {
       bad_ply(source, line_no, "unknown header line '" + std::string(tok[0].substr(0, 40)) + "'");
     }
@@ -117,7 +118,13 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
   if (!has_format) bad_ply(source, line_no, "the header has no format line");
   // Positions are what a mesh is read for; assimp also leaks memory on a vertex element without
   // them (found by the ply_mesh fuzz target), so such a header is refused here.
+  // Likewise a face element without its index list (assimp leaks on that too).
   for (const PlyElement& e : elements) {
+    if (e.name == "face" &&
+        std::find(e.list_names.begin(), e.list_names.end(), "vertex_indices") == e.list_names.end() &&
+        std::find(e.list_names.begin(), e.list_names.end(), "vertex_index") == e.list_names.end()) {
+      bad_ply(source, e.line, "the face element has no 'vertex_indices' list");
+    }
     if (e.name != "vertex") continue;
     for (const char* axis : {"x", "y", "z"}) {
       if (std::find(e.scalar_names.begin(), e.scalar_names.end(), axis) == e.scalar_names.end()) {

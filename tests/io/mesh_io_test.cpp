@@ -513,7 +513,7 @@ TEST_F(MeshIo, GarbageBytes) {
   for (int i = 0; i < 600; ++i) garbage += static_cast<char>(rng() % 256);
   garbage[0] = 'Z';  // no accidental magic number
   expect_bad(write("g.off", garbage), ErrorCategory::bad_input, "not an OFF file");
-  expect_bad(write("g.ply", garbage), ErrorCategory::bad_input, "cannot parse: ");
+  expect_bad(write("g.ply", garbage), ErrorCategory::bad_input, "line 1: not a PLY file");
   expect_bad(write("g.glb", garbage), ErrorCategory::bad_input, "cannot parse: ");
   expect_bad(write("g.gltf", garbage), ErrorCategory::bad_input, "cannot parse: ");
   expect_bad(write("g.fbx", garbage), ErrorCategory::bad_input, "cannot parse: ");
