@@ -42,6 +42,14 @@ bool whole_number(std::string_view t, std::uint64_t& v) {
   return ec == std::errc() && p == t.data() + t.size();
 }
 
+// A value of an ASCII body: a number (assimp leaks on other tokens, found by the fuzz target).
+bool is_number(std::string_view t) {
+  if (t.size() > 1 && t[0] == '+') t.remove_prefix(1);
+  double v = 0;
+  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  return (ec == std::errc() || ec == std::errc::result_out_of_range) && p == t.data() + t.size();
+}
+
 // The PLY scalar types. assimp reads a property of another type as nothing at all, so the values
 // of a line shift (found by the ply_mesh fuzz target: "property doub\x17e y").
 bool known_type(std::string_view t) {
@@ -157,6 +165,12 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
                       std::string(used < tok.size() ? tok[used].substr(0, 40) : "") + "'");
         }
         used += 1 + n;
+      }
+      for (std::size_t k = 0; k < tok.size(); ++k) {
+        if (!is_number(tok[k])) {
+          bad_ply(source, line_no, e.name + " " + std::to_string(i) + ": '" +
+                                       std::string(tok[k].substr(0, 40)) + "' is not a number");
+        }
       }
       if (used != tok.size()) {
         bad_ply(source, line_no,
