@@ -85,6 +85,14 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
   std::vector<PlyElement> elements;
   for (;;) {
     if (!next_line(line)) bad_ply(source, line_no, "the header has no end_header");
+    // Printable text only (assimp hangs on "end_header\v\0": a ply_mesh fuzz timeout).
+    for (std::size_t k = 0; k < line.size(); ++k) {
+      const auto c = static_cast<unsigned char>(line[k]);
+      const bool cr_at_end = c == '\r' && k + 1 == line.size();
+      if (!cr_at_end && c != '\t' && (c < 0x20 || c > 0x7e)) {
+        bad_ply(source, line_no, "the header holds a byte that is not printable text");
+      }
+    }
     const auto tok = tokens_of(line);
     if (tok.empty()) continue;
     if (tok[0] == "end_header") break;
