@@ -158,6 +158,11 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
                   "unexpected end of file: the header announces " + std::to_string(e.count) +
                       " " + e.name + " elements, the file holds " + std::to_string(i));
         }
+        // A lone CR: assimp ends a line there, a line-based reading does not, so the values
+        // would shift (found by the ply_mesh fuzz target's vertex check).
+        if (const std::size_t cr = line.find('\r'); cr != std::string_view::npos && cr + 1 < line.size()) {
+          bad_ply(source, line_no, "a carriage return inside a line");
+        }
         tok = tokens_of(line);
       } while (tok.empty());
       std::size_t used = 0;
