@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/locate.h"
 #include "fit/loop.h"
 #include "fit/part.h"
@@ -157,6 +158,12 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   }
   if (o.radial < 3) {
     fail(ErrorCategory::usage, "--radial must be at least 3, got " + std::to_string(o.radial));
+  }
+  // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
+  if (o.sections > limits::kMaxSections || o.max_sections > limits::kMaxSections ||
+      o.radial > limits::kMaxRadial) {
+    fail(ErrorCategory::usage, "--sections must be at most " + std::to_string(limits::kMaxSections) +
+                                   " and --radial at most " + std::to_string(limits::kMaxRadial));
   }
   if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance)) {
     fail(ErrorCategory::usage, "--tolerance must be a finite number ≥ 0");
