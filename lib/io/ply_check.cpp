@@ -14,6 +14,7 @@ struct PlyElement {
   std::string name;
   std::uint64_t count = 0;
   std::vector<bool> is_list;  // per property, in order
+  std::vector<std::string> value_types;  // per property: its type (a list's: its items' type)
   std::vector<std::string> scalar_names;
   std::vector<std::string> list_names;
   std::uint64_t line = 0;  // of its "element" line
@@ -58,6 +59,39 @@ bool known_type(std::string_view t) {
     if (t == k) return true;
   }
   return false;
+}
+
+// The range of an integer type; false for float and double.
+bool integer_range(std::string_view type, std::int64_t& lo, std::int64_t& hi) {
+  struct Range {
+    const char* names[2];
+    std::int64_t lo, hi;
+  };
+  static constexpr Range ranges[] = {{{"char", "int8"}, -128, 127},
+                                     {{"uchar", "uint8"}, 0, 255},
+                                     {{"short", "int16"}, -32768, 32767},
+                                     {{"ushort", "uint16"}, 0, 65535},
+                                     {{"int", "int32"}, -2147483648LL, 2147483647LL},
+                                     {{"uint", "uint32"}, 0, 4294967295LL}};
+  for (const Range& r : ranges) {
+    if (type == r.names[0] || type == r.names[1]) {
+      lo = r.lo;
+      hi = r.hi;
+      return true;
+    }
+  }
+  return false;
+}
+
+// A value of an integer property must be a whole number in its type's range: assimp reads
+// "0.5" as 0 and wraps 300 in a uchar (found by the ply_mesh fuzz target's vertex check).
+bool fits_integer_type(std::string_view t, std::string_view type) {
+  std::int64_t lo = 0, hi = 0;
+  if (!integer_range(type, lo, hi)) return true;
+  if (t.size() > 1 && t[0] == '+') t.remove_prefix(1);
+  std::int64_t v = 0;
+  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  return ec == std::errc() && p == t.data() + t.size() && v >= lo && v <= hi;
 }
 
 }  // namespace
@@ -125,6 +159,7 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
         }
       }
       elements.back().is_list.push_back(list);
+      elements.back().value_types.emplace_back(tok[list ? 3 : 1]);
       if (tok.size() != (list ? 5u : 3u)) bad_ply(source, line_no, "expected 'property TYPE NAME'");
       (list ? elements.back().list_names : elements.back().scalar_names).emplace_back(tok.back());
     } else {
@@ -166,9 +201,13 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
         tok = tokens_of(line);
       } while (tok.empty());
       std::size_t used = 0;
-      for (const bool list : e.is_list) {
+      // Which property each value belongs to, for its type.
+      std::vector<std::size_t> property_of;
+      for (std::size_t p = 0; p < e.is_list.size(); ++p) {
+        const bool list = e.is_list[p];
         if (!list) {
           ++used;
+          property_of.push_back(p);
           continue;
         }
         std::uint64_t n = 0;
@@ -178,11 +217,20 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
                       std::string(used < tok.size() ? tok[used].substr(0, 40) : "") + "'");
         }
         used += 1 + n;
+        property_of.push_back(e.is_list.size());  // the list length: checked above
+        property_of.insert(property_of.end(), n, p);
       }
       for (std::size_t k = 0; k < tok.size(); ++k) {
         if (!is_number(tok[k])) {
           bad_ply(source, line_no, e.name + " " + std::to_string(i) + ": '" +
                                        std::string(tok[k].substr(0, 40)) + "' is not a number");
+        }
+        if (k < property_of.size() && property_of[k] < e.is_list.size() &&
+            !fits_integer_type(tok[k], e.value_types[property_of[k]])) {
+          bad_ply(source, line_no,
+                  e.name + " " + std::to_string(i) + ": '" + std::string(tok[k].substr(0, 40)) +
+                      "' is not a whole number in the range of its type " +
+                      e.value_types[property_of[k]]);
         }
       }
       if (used != tok.size()) {
