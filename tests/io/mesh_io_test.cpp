@@ -567,6 +567,24 @@ TEST_F(MeshIo, NonNumericCoordinate) {
   EXPECT_EQ(plus.positions[2], Vec3(0, 0.5, 0));
 }
 
+TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property int z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  // assimp would read 0.5 in an int property as 0, and a coordinate past the float range as
+  // some finite value: both refused, naming the line.
+  expect_bad(write("frac.ply", header + "0 0 0\n1 0 0\n0 1 0.5\n3 0 1 2\n"),
+             ErrorCategory::bad_input, "line 12: vertex 2: '0.5' is not a whole number");
+  expect_bad(write("huge.ply", header + "0 0 0\n1 1e39 0\n0 1 0\n3 0 1 2\n"),
+             ErrorCategory::bad_input, "line 11: vertex 1: '1e39' is not a number within the range");
+  std::string uchar_items = header;
+  uchar_items.replace(uchar_items.find("uchar int"), 9, "uchar uchar");
+  expect_bad(write("uchar.ply", uchar_items + "0 0 0\n1 0 0\n0 1 0\n3 0 1 256\n"),
+             ErrorCategory::bad_input, "line 13: face 0: '256' is not a whole number");
+  const Mesh ok = read_mesh(write("ok.ply", header + "0 0 0\n1 0 0\n0 1 -7\n3 0 1 2\n"));
+  EXPECT_EQ(ok.positions[2], Vec3(0, 1, -7));
+}
+
 TEST_F(MeshIo, FaceIndexOutOfRangeNamesTheFace) {
   expect_bad(write("oor.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n4 3 2 1 7\n"),
              ErrorCategory::bad_input,
