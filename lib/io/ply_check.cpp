@@ -40,6 +40,16 @@ std::vector<std::string_view> tokens_of(std::string_view line) {
   return out;
 }
 
+// Element and property names as real files use them. assimp takes a name such as "4444vertex"
+// partly for a count and allocates gigabytes (ply_mesh fuzz find, kept).
+bool plain_name(std::string_view t) {
+  const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
+  if (t.empty() || !letter(t[0])) return false;
+  return std::all_of(t.begin(), t.end(), [&](char c) {
+    return letter(c) || (c >= '0' && c <= '9') || c == '-' || c == '.';
+  });
+}
+
 bool whole_number(std::string_view t, std::uint64_t& v) {
   const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
   return ec == std::errc() && p == t.data() + t.size();
@@ -151,6 +161,10 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
       if (tok.size() != 3 || !whole_number(tok[2], e.count)) {
         bad_ply(source, line_no, "expected 'element NAME COUNT'");
       }
+      if (!plain_name(tok[1])) {
+        bad_ply(source, line_no, "element name '" + std::string(tok[1].substr(0, 40)) +
+                                     "' is not a plain name (a letter or '_', then letters, digits, '_', '-' or '.')");
+      }
       e.name = std::string(tok[1]);
       e.line = line_no;
       elements.push_back(std::move(e));
@@ -168,6 +182,10 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
       elements.back().is_list.push_back(list);
       elements.back().value_types.emplace_back(tok[list ? 3 : 1]);
       if (tok.size() != (list ? 5u : 3u)) bad_ply(source, line_no, "expected 'property TYPE NAME'");
+      if (!plain_name(tok.back())) {
+        bad_ply(source, line_no, "property name '" + std::string(tok.back().substr(0, 40)) +
+                                     "' is not a plain name (a letter or '_', then letters, digits, '_', '-' or '.')");
+      }
       (list ? elements.back().list_names : elements.back().scalar_names).emplace_back(tok.back());
     } else {
       bad_ply(source, line_no, "unknown header line '" + std::string(tok[0].substr(0, 40)) + "'");
@@ -189,6 +207,9 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
         bad_ply(source, e.line, std::string("the vertex element has no '") + axis + "' property");
       }
     }
+  }
+  if (std::none_of(elements.begin(), elements.end(), [](const PlyElement& e) { return e.name == "vertex"; })) {
+    bad_ply(source, line_no, "the header has no vertex element");
   }
   if (!ascii) return;
   for (const PlyElement& e : elements) {

@@ -584,6 +584,13 @@ TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
   // A vertical tab is a blank to some readers and part of a number to assimp: refused.
   expect_bad(write("vtab.ply", header + "0 0 0\n1\v 0 0\n0 1 0\n3 0 1 2\n"),
              ErrorCategory::bad_input, "line 11: a control character (byte 11)");
+  // Names must be plain (assimp reads "4vertex" partly as a count), and a vertex element present.
+  std::string odd_name = header;
+  odd_name.replace(odd_name.find("vertex 3"), 8, "4vertex 3");
+  expect_bad(write("name.ply", odd_name + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 3: element name '4vertex' is not a plain name");
+  expect_bad(write("novertex.ply", "ply\nformat ascii 1.0\nelement point 1\nproperty float x\nend_header\n0\n"),
+             ErrorCategory::bad_input, "the header has no vertex element");
   const Mesh ok = read_mesh(write("ok.ply", header + "0 0 0\n1 0 0\n0 1 -7\n3 0 1 2\n"));
   EXPECT_EQ(ok.positions[2], Vec3(0, 1, -7));
 }
