@@ -591,6 +591,10 @@ TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
              "line 3: element name '4vertex' is not a plain name");
   expect_bad(write("novertex.ply", "ply\nformat ascii 1.0\nelement point 1\nproperty float x\nend_header\n0\n"),
              ErrorCategory::bad_input, "the header has no vertex element");
+  std::string blank_line = header;
+  blank_line.replace(blank_line.find("property float y\n"), 17, "property float y\n\n");
+  expect_bad(write("blank.ply", blank_line + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+             ErrorCategory::bad_input, "line 6: a blank line in the header");
   const Mesh ok = read_mesh(write("ok.ply", header + "0 0 0\n1 0 0\n0 1 -7\n3 0 1 2\n"));
   EXPECT_EQ(ok.positions[2], Vec3(0, 1, -7));
 }
