@@ -3,24 +3,31 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <numbers>
+#include <span>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/locate.h"
 #include "fit/loop.h"
-#include "fit/part.h"
 #include "fit/slicer.h"
-#include "io/mesh_io.h"
+#include "fit/surface_distance.h"
 
 namespace sweep::fit {
 namespace {
 
 // Section counts tried by the tolerance search, about √2 apart.
 constexpr int kSectionLadder[] = {2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64, 91, 128, 181, 256};
-// The part reached from the tip must come this close to the root section's centre, in units of
-// the root loop's extent (its farthest point from the centre); otherwise it is not the part
-// that the traced axis leaves from.
-constexpr double kRootReachExtents = 1.5;
+// The last key section sits where the axis is at least this many local radii from the tip vertex
+// (a blunt end's cap beyond it is carried rigidly; a sharp tip's last section is at the point).
+constexpr double kCapRadii = 0.15;
+// Part vertices farther from the tip than the root ring by more than this many root radii have
+// leaked past the root section.
+constexpr double kLeakRadii = 2;
+// The error's tessellation of the sweep surface: stations per span and angles per radius sample.
+constexpr int kErrorStationsPerSpan = 4;
+constexpr int kErrorAnglesPerSample = 2;
 
 std::string format(const Vec3& v) {
   std::ostringstream s;
@@ -28,8 +35,18 @@ std::string format(const Vec3& v) {
   return s.str();
 }
 
-bool finite(const Vec3& v) {
-  return v.allFinite();
+std::string percent(double x) {
+  std::ostringstream s;
+  s.precision(3);
+  s << 100 * x << "%";
+  return s.str();
+}
+
+std::string number(double x) {
+  std::ostringstream s;
+  s.precision(4);
+  s << x;
+  return s.str();
 }
 
 // Position, tangent and RMF frame on the axis polyline at arc length t.
@@ -108,32 +125,83 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
                            const std::vector<std::uint32_t>& vertices) {
   FitError e;
+  // The sweep's tube, tessellated: stations along t, 2n angles around.
+  const int k = shape.section_count();
+  const int stations = (k - 1) * kErrorStationsPerSpan + 1;
+  const int angles = kErrorAnglesPerSample * shape.radial_count;
+  std::vector<Vec3> points;
+  points.reserve(static_cast<std::size_t>(stations) * angles);
+  for (int i = 0; i < stations; ++i) {
+    const double t = shape.length() * i / (stations - 1);
+    for (int j = 0; j < angles; ++j) {
+      points.push_back(surface_point(shape, 2 * std::numbers::pi * j / angles, t));
+    }
+  }
+  std::vector<std::uint32_t> grid;
+  for (int i = 0; i + 1 < stations; ++i) {
+    for (int j = 0; j < angles; ++j) {
+      const auto id = [&](int a, int b) {
+        return static_cast<std::uint32_t>(a * angles + b % angles);
+      };
+      grid.insert(grid.end(), {id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1),
+                               id(i + 1, j)});
+    }
+  }
+  const TriangleDistance to_sweep(points, grid);
+
   const SweepLocator locator(shape);
-  double sum2 = 0;
+  std::vector<char> in_part(mesh.vertex_count(), 0);
+  double sum2 = 0, radial2 = 0;
   for (const std::uint32_t v : vertices) {
+    in_part[v] = 1;
     const SweepCoords c = locator.locate(mesh.positions[v]);
     if (c.z != 0) {
       ++e.beyond_ends_count;
       continue;
     }
-    const double d = std::abs(c.s - 1) * radius_at(shape, c.theta, c.t);
+    const double radial = std::abs(c.s - 1) * radius_at(shape, c.theta, c.t);
+    const double d = std::min(radial, to_sweep.distance(mesh.positions[v]));
     sum2 += d * d;
+    radial2 += radial * radial;
     e.max = std::max(e.max, d);
     ++e.measured_count;
   }
-  e.rms = e.measured_count > 0 ? std::sqrt(sum2 / static_cast<double>(e.measured_count)) : 0;
+  if (e.measured_count > 0) {
+    e.rms = std::sqrt(sum2 / static_cast<double>(e.measured_count));
+    e.radial_rms = std::sqrt(radial2 / static_cast<double>(e.measured_count));
+  }
+  // The other way: the sweep's samples to the part's own faces.
+  std::vector<std::uint32_t> part_faces;
+  const std::vector<std::uint32_t> all = mesh.triangles();
+  for (std::size_t f = 0; f + 2 < all.size(); f += 3) {
+    if (in_part[all[f]] && in_part[all[f + 1]] && in_part[all[f + 2]]) {
+      part_faces.insert(part_faces.end(), {all[f], all[f + 1], all[f + 2]});
+    }
+  }
+  const TriangleDistance to_part(mesh.positions, part_faces);
+  if (!to_part.empty()) {
+    double s2 = 0;
+    for (const Vec3& p : points) {
+      const double d = to_part.distance(p);
+      s2 += d * d;
+      e.surface_max = std::max(e.surface_max, d);
+    }
+    e.surface_samples = points.size();
+    e.surface_rms = std::sqrt(s2 / static_cast<double>(points.size()));
+  }
   return e;
 }
 
 struct SweepFitter::Impl {
-  explicit Impl(const Mesh& mesh) : slicer(mesh), adjacency(vertex_adjacency(mesh)) {}
+  explicit Impl(const Mesh& mesh) : slicer(mesh), topology(build_topology(mesh)) {}
   MeshSlicer slicer;
-  VertexAdjacency adjacency;
+  Topology topology;
   double diagonal = 0;
 };
 
 SweepFitter::SweepFitter(const Mesh& mesh) : mesh_(mesh) {
-  io::validate_mesh(mesh, "mesh");
+  const std::string why = check_mesh(mesh);
+  if (!why.empty()) fail(ErrorCategory::bad_input, why);
   impl_ = std::make_unique<Impl>(mesh);
   Vec3 lo = mesh.positions[0], hi = mesh.positions[0];
   for (const Vec3& p : mesh.positions) {
@@ -149,89 +217,188 @@ SweepFitter::SweepFitter(SweepFitter&&) noexcept = default;
 const MeshSlicer& SweepFitter::slicer() const {
   return impl_->slicer;
 }
+const Topology& SweepFitter::topology() const {
+  return impl_->topology;
+}
+double SweepFitter::diagonal() const {
+  return impl_->diagonal;
+}
+
+namespace {
+
+void validate(const FitOptions& o) {
+  const auto bad = [](const std::string& what) { fail(ErrorCategory::usage, what); };
+  if (o.tolerance == 0 && o.sections < 2) {
+    bad("sections must be at least 2, got " + std::to_string(o.sections));
+  }
+  if (o.radial < 3) bad("radial must be at least 3, got " + std::to_string(o.radial));
+  if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance))
+    bad("tolerance must be a finite number >= 0");
+  if (o.tolerance > 0 && o.max_sections < 2) bad("max_sections must be at least 2");
+  if (!o.tip.allFinite() || (o.root && !o.root->allFinite())) bad("root and tip must be finite");
+  if (o.name.empty()) bad("name must not be empty");
+  for (const Vec3& p : o.axis) {
+    if (!p.allFinite()) fail(ErrorCategory::bad_input, "the axis polyline has a non-finite point");
+  }
+}
+
+}  // namespace
 
 FitResult SweepFitter::fit(const FitOptions& o) const {
   const auto start = std::chrono::steady_clock::now();
-  if (o.tolerance == 0 && o.sections < 2) {
-    fail(ErrorCategory::usage, "--sections must be at least 2, got " + std::to_string(o.sections));
-  }
-  if (o.radial < 3) {
-    fail(ErrorCategory::usage, "--radial must be at least 3, got " + std::to_string(o.radial));
-  }
-  if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance)) {
-    fail(ErrorCategory::usage, "--tolerance must be a finite number ≥ 0");
-  }
-  if (o.tolerance > 0 && o.max_sections < 2) {
-    fail(ErrorCategory::usage, "the maximum number of sections must be at least 2");
-  }
-  if (!finite(o.root) || !finite(o.tip))
-    fail(ErrorCategory::usage, "--root and --tip must be finite");
-  for (const Vec3& p : o.axis) {
-    if (!finite(p)) fail(ErrorCategory::bad_input, "the axis polyline has a non-finite point");
-  }
+  validate(o);
+  const Mesh& mesh = mesh_;
+  const Topology& topo = impl_->topology;
 
-  // Root and tip must be on or near the mesh.
+  // Seeds must be on or near the mesh: the nearest vertex is a bound on the distance to the
+  // surface; only a point past it is measured against the surface itself.
   const double seed_limit = o.seed_distance * impl_->diagonal;
-  auto check_seed = [&](const Vec3& p, const char* what) {
-    const double d = (mesh_.positions[nearest_vertex(mesh_, p)] - p).norm();
-    if (d > seed_limit) {
-      std::ostringstream s;
-      s << what << " " << format(p) << " is far from the mesh: its nearest vertex is " << d
-        << " away (more than " << o.seed_distance << " of the bounding box diagonal, " << seed_limit
-        << ")";
-      fail(ErrorCategory::bad_input, s.str());
+  auto seed_vertex = [&](const Vec3& p, const char* what) {
+    const std::uint32_t v = nearest_vertex(mesh, p);
+    const double dv = (mesh.positions[v] - p).norm();
+    if (dv > seed_limit) {
+      const double ds = TriangleDistance(mesh.positions, topo.triangles).distance(p);
+      if (ds > seed_limit) {
+        fail(ErrorCategory::bad_input,
+             std::string(what) + " " + format(p) + " is " + number(ds) +
+                 " from the mesh's surface, farther than " + number(o.seed_distance) +
+                 " of its bounding box diagonal (" + number(seed_limit) + ")");
+      }
     }
+    return v;
   };
-  check_seed(o.root, "root");
-  check_seed(o.tip, "tip");
+  std::optional<Vec3> root = o.root;
+  Vec3 tip_point = o.tip;
+  if (!o.axis.empty()) {
+    if (!root) root = o.axis.front();
+    tip_point = o.axis.back();
+  }
+  std::uint32_t tip0 = 0;
+  if (o.tip_vertex >= 0) {
+    if (static_cast<std::uint64_t>(o.tip_vertex) >= mesh.vertex_count()) {
+      fail(ErrorCategory::usage, "tip_vertex " + std::to_string(o.tip_vertex) +
+                                     " is not a vertex of the mesh (it has " +
+                                     std::to_string(mesh.vertex_count()) + ")");
+    }
+    tip0 = static_cast<std::uint32_t>(o.tip_vertex);
+  } else {
+    tip0 = seed_vertex(tip_point, "tip");
+  }
+  tip0 = topo.weld[tip0];
 
   FitResult r;
-  TraceOptions trace_options = o.trace;
-  trace_options.root_max_distance = seed_limit;
-  r.axis = o.axis.empty() ? trace_axis(impl_->slicer, o.root, o.tip, trace_options)
-                          : axis_from_polyline(impl_->slicer, o.axis);
-  if (!r.axis.reached_tip) {
-    fail(ErrorCategory::bad_input,
-         "tip " + format(o.tip) + " is not reachable from root " + format(o.root) +
-             ": the axis trace lost the part (" + r.axis.stop_reason + ") " +
-             std::to_string((o.tip - r.axis.points.back()).norm()) + " away from the tip");
+  // 1. The tip: climb to the part's end, the local maximum of the distance from the body (the
+  //    root, or, without one, the point of the surface farthest from the tip, which lies on
+  //    another extremity).
+  std::uint32_t root_vertex = 0;
+  std::vector<double> field;
+  if (root) {
+    root_vertex = topo.weld[seed_vertex(*root, "root")];
+    field = surface_distances(mesh, topo, std::span(&root_vertex, 1));
+  } else {
+    const std::vector<double> from_tip = surface_distances(mesh, topo, std::span(&tip0, 1));
+    std::uint32_t far = tip0;
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+      if (std::isfinite(from_tip[v]) && from_tip[v] > from_tip[far]) far = v;
+    }
+    field = surface_distances(mesh, topo, std::span(&far, 1));
+  }
+  if (!std::isfinite(field[tip0])) {
+    fail(ErrorCategory::bad_input, "the tip (vertex " + std::to_string(tip0) +
+                                       ") and the root lie on separate pieces of the mesh");
+  }
+  r.tip_vertex = o.axis.empty() ? climb(topo, field, tip0) : tip0;
+  if (r.tip_vertex != tip0) {
+    r.warnings.push_back("tip moved to the part's end, vertex " + std::to_string(r.tip_vertex) +
+                         " at " + format(mesh.positions[r.tip_vertex]));
+  }
+
+  // 2. Rings from the tip, and the root among them.
+  const std::vector<double> d = surface_distances(mesh, topo, std::span(&r.tip_vertex, 1));
+  const RingTrace rings = trace_rings(mesh, topo, d, r.tip_vertex,
+                                      std::numeric_limits<double>::infinity(), true, o.rings);
+  if (rings.rings.size() < 2) {
+    fail(ErrorCategory::bad_input, "no rings of surface distance around the tip (vertex " +
+                                       std::to_string(r.tip_vertex) +
+                                       "): the surface there is too small or not connected");
+  }
+  const auto ring = [&](int i) -> const Ring& { return rings.rings[static_cast<std::size_t>(i)]; };
+  int root_ring = rings.junction;
+  if (root) {
+    int last = rings.junction;
+    const int n = static_cast<int>(rings.rings.size());
+    while (last + 1 < n && ring(last + 1).distance <= d[root_vertex]) ++last;
+    root_ring = 0;
+    for (int i = 1; i <= last; ++i) {
+      if ((ring(i).centroid - *root).norm() < (ring(root_ring).centroid - *root).norm())
+        root_ring = i;
+    }
+    r.root_reason = "section 0 is cut through the ring nearest to the given root, at distance " +
+                    number(ring(root_ring).distance) + " from the tip";
+    if (root_ring > rings.junction) {
+      r.warnings.push_back("the root lies past where the part meets the body (" +
+                           rings.junction_reason +
+                           "); section 0 is cut where the part has widened");
+    }
+  } else {
+    r.root_found = true;
+    r.root_reason = rings.junction_reason;
+  }
+  r.surface_length = ring(root_ring).distance;
+
+  // 3. The axis: ring centroids from the root to the tip, refined by plane slices.
+  if (o.axis.empty()) {
+    std::vector<Vec3> points;
+    std::vector<double> radii;
+    for (int i = root_ring; i >= 0; --i) {
+      points.push_back(ring(i).centroid);
+      radii.push_back(ring(i).radius);
+    }
+    points.push_back(mesh.positions[r.tip_vertex]);
+    radii.push_back(0);
+    r.axis = refine_axis(impl_->slicer, points, radii);
+  } else {
+    r.axis = axis_from_polyline(impl_->slicer, o.axis);
   }
   if (r.axis.points.size() < 2) {
-    fail(ErrorCategory::bad_input, "the part between root " + format(o.root) + " and tip " +
-                                       format(o.tip) + " is too short to trace (" +
-                                       r.axis.stop_reason + ")");
+    fail(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
+                                       " has no length to fit (" + r.root_reason + ")");
+  }
+  const std::vector<double> s = arc_lengths(r.axis.points);
+  r.traced_length = s.back();
+  if (!o.axis.empty()) r.surface_length = r.traced_length;
+  // The last key section: the point nearest the tip whose slice is a real loop at least
+  // kCapRadii of its radius from the tip.
+  std::size_t end = r.axis.points.size() - 1;
+  while (end > 1 &&
+         !(r.axis.radii[end] > 0 && s.back() - s[end] >= kCapRadii * r.axis.radii[end])) {
+    --end;
+  }
+  AxisTrace cut = r.axis;
+  for (auto* v : {&cut.points}) v->resize(end + 1);
+  cut.tangents.resize(end + 1);
+  cut.radii.resize(end + 1);
+  for (double& x : cut.radii) {  // a missing slice keeps the local ring's size for the fallback
+    if (!(x > 0)) x = ring(0).radius;
+  }
+  if (!(arc_lengths(cut.points).back() > 0)) {
+    fail(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
+                                       " is too short to cut two key sections");
   }
 
-  // The part: flood from the tip, bounded by the root plane.
-  const Frame root_plane{Quat::FromTwoVectors(Vec3::UnitZ(), r.axis.tangents[0]), r.axis.points[0]};
-  r.part_vertices = select_part(mesh_, impl_->adjacency, root_plane, o.tip);
-  if (r.part_vertices.empty()) fail(ErrorCategory::bad_input, "the part has no vertices");
-  double nearest_root = std::numeric_limits<double>::infinity();
-  for (const std::uint32_t v : r.part_vertices) {
-    nearest_root = std::min(nearest_root, (mesh_.positions[v] - r.axis.points[0]).norm());
-  }
-  const double root_reach = kRootReachExtents * r.axis.root_loop_extent;
-  if (nearest_root > root_reach) {
-    std::ostringstream s;
-    s << "tip " << format(o.tip) << " is not reachable from root " << format(o.root)
-      << ": the surface reached from the tip (" << r.part_vertices.size()
-      << " vertices) comes no closer than " << nearest_root << " to the root section";
-    fail(ErrorCategory::bad_input, s.str());
-  }
-
-  // Sections: a fixed K, or the fewest that meet the tolerance.
+  // 4. Sections (a fixed K, or the fewest that meet the tolerance), part, error.
   auto build = [&](int k) {
     r.star_violations.clear();
-    r.warnings.clear();
-    r.sweep.rest =
-        sections_along(impl_->slicer, r.axis, k, o.radial, &r.star_violations, &r.warnings);
+    r.sweep.rest = sections_along(impl_->slicer, cut, k, o.radial, &r.star_violations, &r.warnings);
     const std::vector<double>& radii = r.sweep.rest.radii;
     r.mean_radius = 0;
     for (const double x : radii) r.mean_radius += x;
     r.mean_radius /= static_cast<double>(radii.size());
     r.length = r.sweep.rest.length();
+    r.part_vertices = select_part(mesh, topo, r.sweep.rest.frames[0],
+                                  root_disc_radius(r.sweep.rest), mesh.positions[r.tip_vertex]);
     if (o.measure_error || o.tolerance > 0) {
-      r.error = measure_fit_error(r.sweep.rest, mesh_, r.part_vertices);
+      r.error = measure_fit_error(r.sweep.rest, mesh, r.part_vertices);
     }
   };
   if (o.tolerance > 0) {
@@ -246,33 +413,27 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
       if (k == o.max_sections) break;
     }
     if (!met) {
-      std::ostringstream s;
-      s << "tolerance " << o.tolerance << " not met with " << r.sweep.rest.section_count()
-        << " sections: fit_rms is " << r.error.rms / r.mean_radius << " of the mean radius";
-      r.warnings.push_back(s.str());
+      r.warnings.push_back("tolerance " + number(o.tolerance) + " not met with " +
+                           std::to_string(r.sweep.rest.section_count()) +
+                           " sections: the fit RMS is " + percent(r.error.rms / r.mean_radius) +
+                           " of the mean radius");
     }
   } else {
     build(o.sections);
   }
-
   if (const std::string why = check_shape(r.sweep.rest); !why.empty()) {
     fail(ErrorCategory::internal, "the fitted sweep is invalid: " + why);
   }
+  r.root = r.sweep.rest.frames[0].center;
   SweepShape shape = std::move(r.sweep.rest);
   r.sweep = make_sweep(o.name, std::move(shape));
-  r.sweep.part = PartSeeds{o.root, o.tip};
+  r.sweep.part = PartSeeds{r.root, mesh.positions[r.tip_vertex]};
+
+  // 5. What the user must know, and what makes the fit wrong.
   if (impl_->slicer.repaired_face_count() > 0) {
     r.warnings.push_back(
         std::to_string(impl_->slicer.repaired_face_count()) +
         " triangles were not manifold; the slicer duplicated vertices to take them");
-  }
-  if (r.error.measured_count < r.part_vertices.size() / 2) {
-    // Most of the part lies beyond the end sections: the root plane cut more than the part (a
-    // root at a junction whose plane also slices the body), or the tip stops short of the end.
-    r.warnings.push_back("only " + std::to_string(r.error.measured_count) + " of the part's " +
-                         std::to_string(r.part_vertices.size()) +
-                         " vertices lie between the end sections: move the root further out "
-                         "along the part, or the tip to its end");
   }
   if (!r.star_violations.empty()) {
     int rays = 0;
@@ -280,6 +441,39 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     r.warnings.push_back(std::to_string(r.star_violations.size()) +
                          " sections are not star-shaped about their centre (" +
                          std::to_string(rays) + " rays; the outermost crossing was used)");
+  }
+  const double leak_level = ring(root_ring).distance + kLeakRadii * ring(root_ring).radius;
+  for (const std::uint32_t v : r.part_vertices) r.leaked_count += d[v] > leak_level;
+  const double part_count = static_cast<double>(std::max<std::size_t>(r.part_vertices.size(), 1));
+  if (r.traced_length < o.min_length_ratio * r.surface_length) {
+    r.problems.push_back("the axis (" + number(r.traced_length) + " long) covers only " +
+                         percent(r.traced_length / r.surface_length) +
+                         " of the surface distance from the tip to the root (" +
+                         number(r.surface_length) + "): the trace stopped short of the tip");
+  }
+  if (static_cast<double>(r.leaked_count) > o.max_leak_share * part_count) {
+    r.problems.push_back(
+        "the part leaks past its root into the body: " + std::to_string(r.leaked_count) +
+        " of its " + std::to_string(r.part_vertices.size()) +
+        " vertices lie farther from the tip than the root section; give --root where the part "
+        "is still a tube");
+  }
+  if (o.measure_error || o.tolerance > 0) {
+    if (r.error.measured_count == 0) {
+      r.problems.push_back("none of the part's " + std::to_string(r.part_vertices.size()) +
+                           " vertices lies between the end sections: there is no fit to measure");
+    } else if (r.in_range_share() < o.min_in_range_share) {
+      r.problems.push_back("only " + std::to_string(r.error.measured_count) + " of the part's " +
+                           std::to_string(r.part_vertices.size()) +
+                           " vertices lie between the end sections: the root section does not "
+                           "close the part off; move --root along the part");
+    }
+    if (r.error.measured_count > 0 && r.error.rms > o.max_error * r.mean_radius) {
+      r.problems.push_back("the fit's RMS distance is " + percent(r.error.rms / r.mean_radius) +
+                           " of the mean radius, above the limit of " + percent(o.max_error) +
+                           ": the part is not a tube where it is cut, or the axis strayed; try "
+                           "--root nearer the tip, or more sections");
+    }
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

@@ -14,26 +14,15 @@
 namespace sweep::fit {
 namespace {
 
-constexpr double kDegree = std::numbers::pi / 180;
-// Root direction: at most this many chord updates, stopping early when the direction moves by
-// less than 0.05 degrees.
-constexpr int kRootIterations = 8;
-// ... started from the direction to the tip and from kRootStarts directions tilted by
-// kRootStartTilt around it; another start wins only with a loop this much smaller (relative).
-constexpr int kRootStarts = 6;
-constexpr double kRootStartTilt = 40 * kDegree;
-constexpr double kRootAreaMargin = 0.02;
-const double kRootSettledCos = std::cos(0.05 * kDegree);
-// Trace corrector: a step whose chord turns from its plane's normal by more than 2 degrees is
-// sliced again with the plane turned to the chord, at most this often.
-constexpr int kCorrections = 4;
-const double kCorrectCos = std::cos(2 * kDegree);
-
-std::string format(const Vec3& v) {
-  std::ostringstream s;
-  s << v.x() << "," << v.y() << "," << v.z();
-  return s.str();
-}
+// Smoothing window of the ring centroids, in local radii: removes the jitter of level sets over
+// a faceted surface while keeping bends of a radius or more.
+constexpr double kSmoothRadii = 0.5;
+// Axis samples every this many median radii (bounded): enough to follow an elbow.
+constexpr double kStationRadii = 0.25;
+constexpr int kMinStations = 16;
+constexpr int kMaxStations = 1000;
+// A slice loop larger than this many local radii also cuts something else: keep the ring centre.
+constexpr double kMaxSliceRadii = 1.5;
 
 }  // namespace
 
@@ -44,136 +33,110 @@ std::vector<double> arc_lengths(const std::vector<Vec3>& points) {
   return s;
 }
 
-AxisTrace trace_axis(const MeshSlicer& slicer, const Vec3& root, const Vec3& tip,
-                     const TraceOptions& options) {
-  const double chord = (tip - root).norm();
-  if (!(chord > 0)) fail(ErrorCategory::bad_input, "root and tip are the same point");
-  const Vec3 toward_tip = (tip - root) / chord;
+namespace {
 
-  // 1. The root plane: the chord from the root loop's centroid to the centroid of the loop one
-  //    radius ahead gives the direction; iterate until it settles. Oblique cuts of a tube have
-  //    their centroids on its axis, so this converges in a few slices even when the straight
-  //    line to the tip is far from the part's direction (a curled tail).
-  auto root_loop = [&](const Vec3& d) {
-    std::optional<Loop> l = loop_around(slicer.slice(root, d), root, d, options.root_max_distance);
-    if (!l) {
-      fail(ErrorCategory::bad_input,
-           "root " + format(root) +
-               " is not inside the mesh: no slice loop around it (put the root on the part's "
-               "axis, where it leaves the body)");
+// Gaussian smoothing over arc length, window sigma[i] at point i; the ends stay fixed.
+std::vector<Vec3> smooth(const std::vector<Vec3>& points, const std::vector<double>& sigma) {
+  const std::vector<double> s = arc_lengths(points);
+  std::vector<Vec3> out = points;
+  const std::size_t m = points.size();
+  for (std::size_t i = 1; i + 1 < m; ++i) {
+    const double sg = sigma[i];
+    if (!(sg > 0)) continue;
+    // Shrink the window near the ends so that it stays symmetric: the ends pull no point inwards.
+    const double w = std::min({sg, s[i], s[m - 1] - s[i]});
+    if (!(w > 0)) continue;
+    Vec3 sum = Vec3::Zero();
+    double wsum = 0;
+    for (std::size_t j = i; j-- > 0 && s[i] - s[j] <= 2 * w;) {
+      const double g = std::exp(-0.5 * std::pow((s[i] - s[j]) / w, 2));
+      sum += g * points[j];
+      wsum += g;
     }
-    return *l;
-  };
-  const double h_min = options.min_step_fraction * chord;
-  const double h_max = options.max_step_fraction * chord;
-  // The chord iteration from one starting direction; the root loop it settles on.
-  // The chord iteration from one starting direction: the direction it settles on, its root
-  // loop, and the area of the loop one radius ahead (away from a junction or an end cap, where
-  // a cut can be small without being perpendicular).
-  struct Settled {
-    Vec3 dir;
-    Loop loop;
-    double ahead_area = std::numeric_limits<double>::infinity();
-  };
-  auto settle = [&](Vec3 dir) {
-    Settled s{dir, root_loop(dir)};
-    for (int it = 0; it < kRootIterations; ++it) {
-      const double h = std::clamp(s.loop.radius, h_min, h_max);
-      const Vec3 q = s.loop.centroid + h * s.dir;
-      const std::optional<Loop> ahead =
-          loop_around(slicer.slice(q, s.dir), q, s.dir, s.loop.radius);
-      if (!ahead) break;
-      s.ahead_area = ahead->area;
-      const Vec3 next = (ahead->centroid - s.loop.centroid).normalized();
-      if (next.dot(toward_tip) <= 0) break;
-      const bool settled = next.dot(s.dir) > kRootSettledCos;
-      s.dir = next;
-      s.loop = root_loop(s.dir);
-      if (settled) break;
+    for (std::size_t j = i; j < m && s[j] - s[i] <= 2 * w; ++j) {
+      const double g = std::exp(-0.5 * std::pow((s[j] - s[i]) / w, 2));
+      sum += g * points[j];
+      wsum += g;
     }
-    return s;
-  };
-  // Started towards the tip and from directions around it; where they settle differently (a
-  // root near a junction), the one whose loop ahead is least is along the part.
-  Settled best = settle(toward_tip);
-  const PlaneBasis around = plane_basis(root, toward_tip);
-  for (int a = 0; a < kRootStarts; ++a) {
-    const double phi = 2 * std::numbers::pi * a / kRootStarts;
-    const Vec3 start =
-        std::cos(kRootStartTilt) * toward_tip +
-        std::sin(kRootStartTilt) * (std::cos(phi) * around.u + std::sin(phi) * around.v);
-    Settled s = settle(start);
-    if (s.ahead_area < best.ahead_area * (1 - kRootAreaMargin)) best = std::move(s);
+    out[i] = sum / wsum;
   }
-  const Vec3 dir0 = best.dir;
+  return out;
+}
 
+std::vector<Vec3> central_tangents(const std::vector<Vec3>& points) {
+  const std::size_t m = points.size();
+  std::vector<Vec3> t(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    t[i] = (points[std::min(i + 1, m - 1)] - points[i == 0 ? 0 : i - 1]).normalized();
+  }
+  return t;
+}
+
+// Linear interpolation of per-point values at arc length x.
+double value_at(const std::vector<double>& s, const std::vector<double>& v, double x) {
+  const auto k = std::upper_bound(s.begin(), s.end(), x) - s.begin();
+  if (k <= 0) return v.front();
+  if (static_cast<std::size_t>(k) >= s.size()) return v.back();
+  const double span = s[k] - s[k - 1];
+  const double u = span > 0 ? (x - s[k - 1]) / span : 0;
+  return (1 - u) * v[k - 1] + u * v[k];
+}
+
+Vec3 point_at(const std::vector<double>& s, const std::vector<Vec3>& p, double x) {
+  const auto k = std::upper_bound(s.begin(), s.end(), x) - s.begin();
+  if (k <= 0) return p.front();
+  if (static_cast<std::size_t>(k) >= s.size()) return p.back();
+  const double span = s[k] - s[k - 1];
+  const double u = span > 0 ? (x - s[k - 1]) / span : 0;
+  return (1 - u) * p[k - 1] + u * p[k];
+}
+
+}  // namespace
+
+AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
+                      const std::vector<double>& radii) {
   AxisTrace trace;
-  const Vec3 root_dir = dir0;
-  Vec3 dir = dir0;
-  Vec3 c = best.loop.centroid;
-  double r = best.loop.radius;
-  for (const Vec3& p : best.loop.points)
-    trace.root_loop_extent = std::max(trace.root_loop_extent, (p - c).norm());
-  trace.points.push_back(c);
-  trace.radii.push_back(r);
-
-  // 2. March towards the tip.
-  const double max_turn_cos = std::cos(options.max_turn_degrees * kDegree);
-  for (int step = 0;; ++step) {
-    if (step == options.max_steps) {
-      trace.stop_reason =
-          "the trace took more than " + std::to_string(options.max_steps) + " steps";
-      break;
-    }
-    const double h = std::clamp(options.step_fraction * r, h_min, h_max);
-    const Vec3 q = c + h * dir;
-    const double tip_reach = options.tip_reach_radii * r + h;
-    // Done when the next plane passes the tip while the tip is near this section (a plane can
-    // pass the tip's level long before a bending part gets there).
-    if ((tip - q).dot(dir) <= 0 && (tip - c).norm() <= options.tip_pass_radii * r + h) {
-      trace.reached_tip = true;
-      trace.stop_reason = "the next plane passes the tip";
-      break;
-    }
-    std::optional<Loop> l = loop_around(slicer.slice(q, dir), q, dir, r);
-    if (!l) {
-      trace.reached_tip = (tip - c).norm() <= tip_reach;
-      trace.stop_reason = "no slice loop around the axis at " + format(q);
-      break;
-    }
-    Vec3 next_dir = (l->centroid - c).normalized();
-    // Corrector: in a bend the plane ahead is oblique to the axis and its centroid pulls the
-    // chord round; turn the plane to the chord and slice again until the chord settles.
-    Vec3 normal = dir;
-    for (int it = 0; it < kCorrections && next_dir.dot(normal) < kCorrectCos; ++it) {
-      const Vec3 q2 = c + h * next_dir;
-      std::optional<Loop> l2 = loop_around(slicer.slice(q2, next_dir), q2, next_dir, r);
-      if (!l2) break;
-      normal = next_dir;
-      l = std::move(l2);
-      next_dir = (l->centroid - c).normalized();
-    }
-    if (next_dir.dot(dir) < max_turn_cos) {
-      trace.reached_tip = (tip - c).norm() <= tip_reach;
-      trace.stop_reason = "the axis turned by more than " +
-                          std::to_string(options.max_turn_degrees) + " degrees in one step at " +
-                          format(q);
-      break;
-    }
-    c = l->centroid;
-    r = l->radius;
-    dir = next_dir;
-    trace.points.push_back(c);
-    trace.radii.push_back(r);
+  if (points.size() < 2) return trace;
+  std::vector<double> half(radii.size());
+  for (std::size_t i = 0; i < radii.size(); ++i) half[i] = kSmoothRadii * radii[i];
+  const std::vector<Vec3> smoothed = smooth(points, half);
+  const std::vector<double> s = arc_lengths(smoothed);
+  const double length = s.back();
+  if (!(length > 0)) return trace;
+  std::vector<double> sorted = radii;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                   sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const int stations =
+      std::clamp(static_cast<int>(std::ceil(length / std::max(kStationRadii * median, 1e-12))),
+                 kMinStations, kMaxStations);
+  for (int i = 0; i <= stations; ++i) {
+    const double x = length * i / stations;
+    trace.points.push_back(point_at(s, smoothed, x));
+    trace.radii.push_back(value_at(s, radii, x));
   }
-
-  // 3. Tangents: the root plane's normal, central chords inside, the last chord at the end.
+  trace.tangents = central_tangents(trace.points);
+  // Slice centroids: the centre of the section a key section would be cut around.
   const std::size_t m = trace.points.size();
-  trace.tangents.resize(m);
-  trace.tangents[0] = root_dir;
-  for (std::size_t i = 1; i < m; ++i) {
-    trace.tangents[i] = (trace.points[std::min(i + 1, m - 1)] - trace.points[i - 1]).normalized();
+  std::vector<double> sliced(m, 0.0);
+  for (std::size_t i = 0; i < m; ++i) {
+    const Vec3& p = trace.points[i];
+    const double r = trace.radii[i];
+    const std::optional<Loop> loop =
+        loop_around(slicer.slice(p, trace.tangents[i]), p, trace.tangents[i], std::max(r, 1e-12));
+    if (!loop || !(loop->radius <= kMaxSliceRadii * std::max(r, 1e-12)) ||
+        (loop->centroid - p).norm() > std::max(r, 1e-12)) {
+      continue;
+    }
+    sliced[i] = loop->radius;
+    if (i + 1 < m) trace.points[i] = loop->centroid;
   }
+  std::vector<double> quarter(m);
+  for (std::size_t i = 0; i < m; ++i)
+    quarter[i] = 0.5 * kSmoothRadii * std::max(sliced[i], trace.radii[i]);
+  trace.points = smooth(trace.points, quarter);
+  trace.tangents = central_tangents(trace.points);
+  trace.radii = sliced;
   return trace;
 }
 
@@ -191,16 +154,8 @@ AxisTrace axis_from_polyline(const MeshSlicer& slicer, const std::vector<Vec3>& 
         (trace.points[std::min(i + 1, m - 1)] - trace.points[i == 0 ? 0 : i - 1]).normalized();
     const std::optional<Loop> l = loop_around(slicer.slice(trace.points[i], trace.tangents[i]),
                                               trace.points[i], trace.tangents[i], 0);
-    if (!l) continue;
-    trace.radii[i] = l->radius;
-    if (i == 0) {
-      for (const Vec3& p : l->points) {
-        trace.root_loop_extent = std::max(trace.root_loop_extent, (p - trace.points[0]).norm());
-      }
-    }
+    if (l) trace.radii[i] = l->radius;
   }
-  trace.reached_tip = true;
-  trace.stop_reason = "the axis polyline was given";
   return trace;
 }
 

@@ -297,7 +297,7 @@ TEST(BindAdjacency, RowsAreSortedUniqueAndSymmetric) {
   meshes[0].add_face({0, 1, 1, 900});  // a repeated corner and a long edge
   if (const Diplodocus* d = diplodocus()) meshes.push_back(d->mesh);
   for (const Mesh& m : meshes) {
-    const fit::VertexAdjacency a = fit::vertex_adjacency(m);
+    const VertexAdjacency a = vertex_adjacency(m);
     ASSERT_EQ(a.offsets.size(), m.vertex_count() + 1);
     auto row = [&](std::uint32_t v) {
       return std::vector<std::uint32_t>(a.neighbours.begin() + a.offsets[v], a.neighbours.begin() + a.offsets[v + 1]);

@@ -10,7 +10,7 @@
 #include <numeric>
 
 #include "core/error.h"
-#include "fit/part.h"
+#include "core/topology.h"
 #include "io/mesh_io.h"
 #include "tubes.h"
 

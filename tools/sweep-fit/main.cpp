@@ -28,7 +28,9 @@ struct Settings {
   fs::path mesh;              // input mesh (any format io::read_mesh reads)
   fs::path rig;               // rig file to create or update
   std::string name = "part";  // the sweep's name in the rig
-  std::string root, tip;      // "X,Y,Z" in mesh units
+  std::vector<double> root, tip;  // X,Y,Z in mesh units (root optional: found where the part meets the body)
+  std::int64_t tip_vertex = -1;   // the tip as a vertex index
+  bool force = false;             // write the rig even when the fit breaks a limit
   fs::path axis;              // optional axis polyline: "X Y Z" (or X,Y,Z) per line, root first
   int sections = sweep::fit::FitOptions{}.sections;
   int radial = sweep::fit::FitOptions{}.radial;
@@ -37,22 +39,10 @@ struct Settings {
   bool verbose = false;
 };
 
-Vec3 parse_point(const std::string& text, const char* flag) {
-  Vec3 p;
-  std::size_t pos = 0;
-  for (int k = 0; k < 3; ++k) {
-    const std::size_t end = k < 2 ? text.find(',', pos) : text.size();
-    const std::string field =
-        end == std::string::npos ? std::string() : text.substr(pos, end - pos);
-    double v = 0;
-    const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
-    if (field.empty() || ec != std::errc() || ptr != field.data() + field.size() ||
-        !std::isfinite(v)) {
-      fail(ErrorCategory::usage,
-           std::string(flag) + " expects three finite numbers X,Y,Z, got '" + text + "'");
-    }
-    p[k] = v;
-    pos = end + 1;
+Vec3 to_point(const std::vector<double>& xyz, const char* flag) {
+  const Vec3 p(xyz[0], xyz[1], xyz[2]);
+  if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
+    fail(ErrorCategory::usage, std::string(flag) + " expects three finite numbers X,Y,Z");
   }
   return p;
 }
@@ -89,14 +79,30 @@ nlohmann::ordered_json report_entry(const sweep::fit::FitResult& r) {
   s["name"] = r.sweep.name;
   s["sections"] = r.sweep.rest.section_count();
   s["radial"] = r.sweep.rest.radial_count;
+  s["ok"] = r.problems.empty();
+  s["problems"] = r.problems;
+  s["tip_vertex"] = r.tip_vertex;
+  s["root"] = {r.root.x(), r.root.y(), r.root.z()};
+  s["root_found"] = r.root_found;
+  s["root_reason"] = r.root_reason;
   s["part_vertex_count"] = r.part_vertices.size();
   s["measured_vertex_count"] = r.error.measured_count;
   s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
+  s["in_range_share"] = r.in_range_share();
+  s["leaked_vertex_count"] = r.leaked_count;
   s["length"] = r.length;
+  s["traced_length"] = r.traced_length;
+  s["surface_length"] = r.surface_length;
+  s["traced_over_surface"] = r.surface_length > 0 ? r.traced_length / r.surface_length : 0.0;
   s["mean_radius"] = r.mean_radius;
+  const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
   s["fit_rms"] = r.error.rms;
   s["fit_max"] = r.error.max;
-  s["fit_rms_relative"] = r.mean_radius > 0 ? r.error.rms / r.mean_radius : 0.0;
+  s["fit_rms_relative"] = r.error.rms / mr;
+  s["fit_max_relative"] = r.error.max / mr;
+  s["surface_rms_relative"] = r.error.surface_rms / mr;
+  s["surface_max_relative"] = r.error.surface_max / mr;
+  s["radial_rms_relative"] = r.error.radial_rms / mr;
   s["axis_points"] = r.axis.points.size();
   auto& v = s["star_violations"] = nlohmann::ordered_json::array();
   for (const auto& x : r.star_violations) {
@@ -109,6 +115,19 @@ nlohmann::ordered_json report_entry(const sweep::fit::FitResult& r) {
   return s;
 }
 
+// The report, also when the fit fails (written = false), so that a script sees the numbers.
+void write_report(const Settings& s, const sweep::fit::FitResult& r, bool written, double seconds) {
+  nlohmann::ordered_json rep;
+  rep["format"] = "sweep-fit-report";
+  rep["version"] = 2;
+  rep["mesh"] = s.mesh.generic_string();
+  rep["rig"] = s.rig.generic_string();
+  rep["rig_written"] = written;
+  rep["sweeps"] = nlohmann::ordered_json::array({report_entry(r)});
+  rep["seconds_total"] = seconds;
+  sweep::io::write_file_atomically(s.report, rep.dump(2) + "\n");
+}
+
 int run(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
   sweep::fit::FitOptions o;
@@ -116,13 +135,10 @@ int run(const Settings& s) {
   o.sections = s.sections;
   o.radial = s.radial;
   o.tolerance = s.tolerance;
-  if (!s.axis.empty()) {
-    o.axis = read_axis(s.axis);
-    o.root = o.axis.front();
-    o.tip = o.axis.back();
-  }
-  if (!s.root.empty()) o.root = parse_point(s.root, "--root");
-  if (!s.tip.empty()) o.tip = parse_point(s.tip, "--tip");
+  if (!s.axis.empty()) o.axis = read_axis(s.axis);
+  if (!s.root.empty()) o.root = to_point(s.root, "--root");
+  if (!s.tip.empty()) o.tip = to_point(s.tip, "--tip");
+  o.tip_vertex = s.tip_vertex;
 
   // Read the existing rig first, so a bad rig fails before any work.
   sweep::Rig rig;
@@ -145,6 +161,16 @@ int run(const Settings& s) {
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   const sweep::fit::FitResult r = sweep::fit::fit_sweep(mesh, o);
   for (const std::string& w : r.warnings) sweep::tools::warn(s.name + ": " + w);
+  if (!r.problems.empty()) {
+    std::string all;
+    for (const std::string& p : r.problems) all += "\n  " + p;
+    if (!s.force) {
+      if (!s.report.empty()) write_report(s, r, false, 0);
+      fail(ErrorCategory::bad_input, s.name + ": the fit is not to be trusted:" + all +
+                                         "\n  (--force writes the rig anyway)");
+    }
+    sweep::tools::warn(s.name + ": written anyway (--force):" + all);
+  }
 
   sweep::SweepDef def = r.sweep;
   bool replaced = false;
@@ -163,23 +189,21 @@ int run(const Settings& s) {
 
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!s.report.empty()) {
-    nlohmann::ordered_json rep;
-    rep["format"] = "sweep-fit-report";
-    rep["version"] = 1;
-    rep["mesh"] = s.mesh.generic_string();
-    rep["rig"] = s.rig.generic_string();
-    rep["sweeps"] = nlohmann::ordered_json::array({report_entry(r)});
-    rep["seconds_total"] = seconds;
-    sweep::io::write_file_atomically(s.report, rep.dump(2) + "\n");
-  }
+  if (!s.report.empty()) write_report(s, r, true, seconds);
 
   std::cout << s.name << ": " << r.sweep.rest.section_count() << " sections x "
             << r.sweep.rest.radial_count << " radii, length " << r.length << ", mean radius "
             << r.mean_radius << "\n"
-            << "  part: " << r.part_vertices.size() << " vertices (" << r.error.measured_count
-            << " measured); fit rms " << r.error.rms << " (" << 100 * r.error.rms / r.mean_radius
-            << "% of mean radius), max " << r.error.max << "\n"
+            << "  root " << r.root.x() << "," << r.root.y() << "," << r.root.z()
+            << (r.root_found ? " (found: " : " (") << r.root_reason << ")\n"
+            << "  part: " << r.part_vertices.size() << " vertices, "
+            << 100 * r.in_range_share() << "% between the end sections; axis "
+            << r.traced_length << " over a surface distance of " << r.surface_length << "\n"
+            << "  fit: rms " << 100 * r.error.rms / r.mean_radius << "%, max "
+            << 100 * r.error.max / r.mean_radius
+            << "% of the mean radius (part to surface); surface to part rms "
+            << 100 * r.error.surface_rms / r.mean_radius << "%, max "
+            << 100 * r.error.surface_max / r.mean_radius << "%\n"
             << "  "
             << (replaced   ? "replaced in "
                 : updating ? "added to "
@@ -187,8 +211,8 @@ int run(const Settings& s) {
             << s.rig.string() << " (" << rig.sweeps.size()
             << (rig.sweeps.size() == 1 ? " sweep" : " sweeps") << ") in " << seconds << " s\n";
   if (s.verbose) {
-    std::cout << "  axis: " << r.axis.points.size()
-              << " traced points, stopped: " << r.axis.stop_reason << "\n";
+    std::cout << "  axis: " << r.axis.points.size() << " points; tip vertex " << r.tip_vertex
+              << "; " << r.error.beyond_ends_count << " part vertices beyond the end sections\n";
   }
   return 0;
 }
@@ -204,8 +228,21 @@ int main(int argc, char** argv) {
     app.add_option("-o,--rig", s.rig, "Rig file to create, or to add/replace the sweep in")
         ->required();
     app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
-    app.add_option("--root", s.root, "X,Y,Z: where the part leaves the body, near its axis");
-    app.add_option("--tip", s.tip, "X,Y,Z: at or near the part's end");
+    app.add_option("--root", s.root,
+                   "X,Y,Z: where the part leaves the body (on its axis, its surface or inside the "
+                   "body); default: found where the part meets the body")
+        ->delimiter(',')
+        ->expected(3);
+    auto* tip = app.add_option("--tip", s.tip, "X,Y,Z: on or near the part's end")
+                    ->delimiter(',')
+                    ->expected(3);
+    auto* tip_vertex =
+        app.add_option("--tip-vertex", s.tip_vertex, "The part's end as a vertex index")
+            ->check(CLI::NonNegativeNumber)
+            ->excludes(tip);
+    app.add_flag("--force", s.force,
+                 "Write the rig even when the fit breaks a limit (stops short, leaks into the "
+                 "body, error too large)");
     app.add_option("--axis", s.axis,
                    "File of axis points 'X Y Z' per line, root first (instead of tracing)");
     auto* sections =
@@ -232,8 +269,8 @@ int main(int argc, char** argv) {
     }
     if (tolerance->count() > 0 && !(s.tolerance > 0))
       fail(ErrorCategory::usage, "--tolerance must be > 0");
-    if (s.axis.empty() && (s.root.empty() || s.tip.empty())) {
-      fail(ErrorCategory::usage, "give both --root and --tip (or --axis FILE)");
+    if (s.axis.empty() && tip->count() == 0 && tip_vertex->count() == 0) {
+      fail(ErrorCategory::usage, "give --tip X,Y,Z or --tip-vertex N (or --axis FILE)");
     }
     if (s.sections < 2)
       fail(ErrorCategory::usage,
