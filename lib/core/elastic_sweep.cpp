@@ -35,6 +35,44 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
   init_bank(rotational_, 3, pick_rotational);
   init_bank(radial_, def_.rest.radial_count, pick_radial);
   loads_.resize(k, def_.rest.radial_count);
+  if (def_.material) {
+    chain_ = std::make_shared<const ChainModel>(build_chain_model(def_.rest, def_.section_materials));
+    positional_.params = chain_->positional;
+    const std::size_t dim = static_cast<std::size_t>(3) * chain_->joints;
+    modal_.width = 0;  // every mode moves
+    for (std::vector<double>* v : {&modal_.x, &modal_.v, &modal_.f, &modal_.x0, &modal_.v0}) v->assign(dim, 0.0);
+    modal_.params.resize(dim);
+    for (std::size_t c = 0; c < dim; ++c) {
+      const double w = std::sqrt(std::max(chain_->omega2[static_cast<Eigen::Index>(c)], 0.0));
+      modal_.params[c] = {1.0, 2 * chain_->damping_ratio[c] * w, w * w};
+    }
+    for (auto& maps : modal_.maps) maps.resize(dim);
+    joint_scratch_.assign(dim, 0.0);
+  }
+}
+
+// Rotational loads (N·mesh unit, joint axes) to modal loads Φᵀ τ (τ in N·m).
+void ElasticSweep::project_rotational_loads() {
+  const Eigen::Index dim = static_cast<Eigen::Index>(modal_.f.size());
+  const Eigen::Map<const Eigen::VectorXd> tau(rotational_.f.data() + 3, dim);
+  Eigen::Map<Eigen::VectorXd>(modal_.f.data(), dim).noalias() = chain_->metres_per_unit * (chain_->modes.transpose() * tau);
+  modal_.active = modal_.active || rotational_.active;
+}
+
+void ElasticSweep::joints_from_modes() {
+  const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
+  Eigen::Map<Eigen::VectorXd>(rotational_.x.data() + 3, dim).noalias() = chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.x.data(), dim);
+  Eigen::Map<Eigen::VectorXd>(rotational_.v.data() + 3, dim).noalias() = chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.v.data(), dim);
+}
+
+// η = Φᵀ M q (Φ is M-orthonormal), and the same for the speeds.
+void ElasticSweep::modes_from_joints() {
+  const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
+  Eigen::Map<Eigen::VectorXd> scratch(joint_scratch_.data(), dim);
+  scratch.noalias() = chain_->mass * Eigen::Map<const Eigen::VectorXd>(rotational_.x.data() + 3, dim);
+  Eigen::Map<Eigen::VectorXd>(modal_.x.data(), dim).noalias() = chain_->modes.transpose() * scratch;
+  scratch.noalias() = chain_->mass * Eigen::Map<const Eigen::VectorXd>(rotational_.v.data() + 3, dim);
+  Eigen::Map<Eigen::VectorXd>(modal_.v.data(), dim).noalias() = chain_->modes.transpose() * scratch;
 }
 
 void ElasticSweep::init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int)) {
@@ -44,8 +82,10 @@ void ElasticSweep::init_bank(Bank& bank, int width, const SpringSettings& (*pick
   bank.x.assign(size, 0.0);
   bank.v.assign(size, 0.0);
   bank.f.assign(size, 0.0);
+  bank.x0.assign(size, 0.0);
+  bank.v0.assign(size, 0.0);
   bank.params.resize(size);
-  bank.maps.resize(size);
+  for (auto& maps : bank.maps) maps.resize(size);
   for (int i = 0; i < k; ++i) {
     for (int c = 0; c < width; ++c) bank.params[static_cast<std::size_t>(i) * width + c] = to_params(pick(def_.springs[i], c));
   }
@@ -72,12 +112,45 @@ bool ElasticSweep::remove_force(ForceId id) {
 
 void ElasticSweep::clear_forces() { forces_.clear(); }
 
+// Weights m_i g at the section centres of the current shape: each joint j takes the moment of
+// the weight beyond it, Σ_{i>j} (c_i − c_j) × W_i, and each positional spring the weight beyond it.
+void ElasticSweep::add_gravity_loads() {
+  const int k = def_.rest.section_count();
+  Vec3 weight = Vec3::Zero(), moment = Vec3::Zero();  // Σ W_i and Σ c_i × W_i over i > j
+  for (int j = k - 1; j >= 1; --j) {
+    const Vec3 w = chain_->node_mass[j] * gravity_;
+    const Vec3& c = deformed_.frames[j].center;
+    weight += w;
+    moment += c.cross(w);
+    loads_.force[j] += weight;
+    loads_.torque[j] += moment - c.cross(weight);
+  }
+}
+
+void ElasticSweep::set_gravity(const Vec3& g, bool preloaded) {
+  if (!chain_) return;
+  gravity_ = g;
+  gravity_preload_.clear();
+  if (!preloaded || g == Vec3::Zero()) return;
+  // The loads at the rest pose, in the springs' rest axes: subtracted from every later split.
+  ElasticSweep at_rest(def_);
+  at_rest.gravity_ = g;
+  at_rest.gather_loads({});
+  const int k = def_.rest.section_count();
+  gravity_preload_.assign(static_cast<std::size_t>(6) * k, 0.0);
+  for (int m = 0; m < 3 * k; ++m) {
+    gravity_preload_[m] = at_rest.positional_.f[m];
+    gravity_preload_[3 * k + m] = at_rest.rotational_.f[m];
+  }
+}
+
 // Splits the given forces on the current shape and writes each spring's load, in its own frame.
 void ElasticSweep::gather_loads(const std::vector<ActiveForce>& forces) {
   loads_.clear();
   for (const ActiveForce& a : forces) {
     accumulate_force(deformed_, a.spec, a.t, a.theta, def_.rotational_scale, def_.radial_scale, loads_);
   }
+  if (chain_ && gravity_ != Vec3::Zero()) add_gravity_loads();
   const int k = def_.rest.section_count();
   for (int i = 0; i < k; ++i) {
     const Quat to_local = pre_[i].rotation.conjugate();
@@ -86,6 +159,12 @@ void ElasticSweep::gather_loads(const std::vector<ActiveForce>& forces) {
     for (int c = 0; c < 3; ++c) {
       positional_.f[3 * i + c] = f[c];
       rotational_.f[3 * i + c] = tau[c];
+    }
+  }
+  if (!gravity_preload_.empty()) {
+    for (int m = 3; m < 3 * k; ++m) {
+      positional_.f[m] -= gravity_preload_[m];
+      rotational_.f[m] -= gravity_preload_[3 * k + m];
     }
   }
   radial_.f = loads_.radial;
@@ -102,32 +181,91 @@ void ElasticSweep::apply_impulse(const ForceSpec& impulse) {
     a.theta = c.theta;
   }
   gather_loads({a});
+  if (chain_) {
+    // Δq̇ = M⁻¹ τ, i.e. Δη̇ = Φᵀ τ.
+    project_rotational_loads();
+    for (std::size_t m = 0; m < modal_.v.size(); ++m) modal_.v[m] += modal_.f[m];
+    joints_from_modes();
+  }
   for (Bank* b : {&positional_, &rotational_, &radial_}) {
+    if (chain_ && b == &rotational_) continue;
     for (std::size_t m = 0; m < b->v.size(); ++m) b->v[m] += b->f[m] / b->params[m].mass;
   }
 }
 
-void ElasticSweep::step(double dt) {
-  assert(dt > 0);
-  if (dt != map_dt_ || integrator_ != map_integrator_) {
-    for (Bank* b : {&positional_, &rotational_, &radial_}) {
-      for (std::size_t m = 0; m < b->params.size(); ++m) b->maps[m] = make_step_map(b->params[m], dt, integrator_);
+int ElasticSweep::map_slot(double dt) {
+  ++map_clock_;
+  int oldest = 0;
+  for (int s = 0; s < kMapSlots; ++s) {
+    if (slots_[s].used >= 0 && slots_[s].dt == dt && slots_[s].integrator == integrator_) {
+      slots_[s].used = map_clock_;
+      return s;
     }
-    map_dt_ = dt;
-    map_integrator_ = integrator_;
+    if (slots_[s].used < slots_[oldest].used) oldest = s;
   }
-  gather_loads(forces_);
-  // Section 0 is fixed: start every bank at section 1.
-  for (Bank* b : {&positional_, &rotational_, &radial_}) {
+  for (Bank* b : {&positional_, &rotational_, &radial_, &modal_}) {
+    for (std::size_t m = 0; m < b->params.size(); ++m) b->maps[oldest][m] = make_step_map(b->params[m], dt, integrator_);
+  }
+  slots_[oldest] = {dt, integrator_, map_clock_};
+  return oldest;
+}
+
+void ElasticSweep::advance_banks(int slot) {
+  if (chain_) project_rotational_loads();
+  // Section 0 is fixed: start every bank at section 1. In material mode the modes move instead
+  // of the rotational springs.
+  Bank* moving = chain_ ? &modal_ : &rotational_;
+  for (Bank* b : {&positional_, moving, &radial_}) {
     if (!b->active) continue;
+    const std::vector<StepMap>& maps = b->maps[slot];
     for (std::size_t m = static_cast<std::size_t>(b->width); m < b->x.size(); ++m) {
-      b->maps[m].apply(b->x[m], b->v[m], b->f[m]);
+      maps[m].apply(b->x[m], b->v[m], b->f[m]);
       // A free spring decays geometrically forever; left alone it reaches subnormal numbers, which
       // x86 computes with many times slower. Far below any visible motion, rest is rest.
       if (std::abs(b->x[m]) < kRestFlush && std::abs(b->v[m]) < kRestFlush) b->x[m] = b->v[m] = 0.0;
     }
   }
+  if (chain_ && modal_.active) joints_from_modes();
+}
+
+void ElasticSweep::step(double dt) {
+  assert(dt > 0);
+  gather_loads(forces_);
+  if (!forces_.empty()) {
+    // Midpoint rule for follower loads: predict the pose at dt/2 with the start-of-step loads,
+    // re-split the forces there, and take the whole step from the start with those loads. A load
+    // that does not depend on the pose is the same at both places, so the step stays exact for it.
+    for (Bank* b : {&positional_, &rotational_, &radial_, &modal_}) {
+      std::copy(b->x.begin(), b->x.end(), b->x0.begin());
+      std::copy(b->v.begin(), b->v.end(), b->v0.begin());
+    }
+    advance_banks(map_slot(0.5 * dt));
+    rebuild();
+    gather_loads(forces_);
+    for (Bank* b : {&positional_, &rotational_, &radial_, &modal_}) {
+      std::copy(b->x0.begin(), b->x0.end(), b->x.begin());
+      std::copy(b->v0.begin(), b->v0.end(), b->v.begin());
+    }
+  }
+  advance_banks(map_slot(dt));
   rebuild();
+}
+
+void ElasticSweep::copy_state_from(const ElasticSweep& other) {
+  assert(other.def_.rest.section_count() == def_.rest.section_count());
+  const Bank* from[] = {&other.positional_, &other.rotational_, &other.radial_, &other.modal_};
+  Bank* to[] = {&positional_, &rotational_, &radial_, &modal_};
+  for (int k = 0; k < 4; ++k) {
+    std::copy(from[k]->x.begin(), from[k]->x.end(), to[k]->x.begin());
+    std::copy(from[k]->v.begin(), from[k]->v.end(), to[k]->v.begin());
+    to[k]->active = from[k]->active;
+  }
+  std::copy(other.deformed_.frames.begin(), other.deformed_.frames.end(), deformed_.frames.begin());
+  std::copy(other.deformed_.radii.begin(), other.deformed_.radii.end(), deformed_.radii.begin());
+  std::copy(other.pre_.begin(), other.pre_.end(), pre_.begin());
+  forces_ = other.forces_;  // reuses its capacity: allocates only when the force count grows
+  next_id_ = other.next_id_;
+  integrator_ = other.integrator_;
 }
 
 void ElasticSweep::rebuild() {
@@ -164,6 +302,10 @@ void ElasticSweep::set_section_pose(int i, const Vec3& offset, const Vec3& rotat
   }
   positional_.active = positional_.active || offset != Vec3::Zero();
   rotational_.active = rotational_.active || rotation_vector != Vec3::Zero();
+  if (chain_) {
+    modes_from_joints();
+    modal_.active = modal_.active || rotational_.active;
+  }
   rebuild();
 }
 
@@ -175,7 +317,7 @@ void ElasticSweep::set_radial_offset(int i, int j, double delta) {
 }
 
 void ElasticSweep::reset() {
-  for (Bank* b : {&positional_, &rotational_, &radial_}) {
+  for (Bank* b : {&positional_, &rotational_, &radial_, &modal_}) {
     std::fill(b->x.begin(), b->x.end(), 0.0);
     std::fill(b->v.begin(), b->v.end(), 0.0);
   }
@@ -184,7 +326,8 @@ void ElasticSweep::reset() {
 
 double ElasticSweep::energy() const {
   double e = 0;
-  for (const Bank* b : {&positional_, &rotational_, &radial_}) {
+  // In material mode the modes carry the rotational energy (½ η̇² + ½ ω² η², J).
+  for (const Bank* b : {&positional_, chain_ ? &modal_ : &rotational_, &radial_}) {
     for (std::size_t m = 0; m < b->x.size(); ++m) e += oscillator_energy(b->params[m], b->x[m], b->v[m]);
   }
   return e;
@@ -207,7 +350,7 @@ double ElasticSweep::max_displacement() const {
 }
 
 bool ElasticSweep::is_finite() const {
-  for (const Bank* b : {&positional_, &rotational_, &radial_}) {
+  for (const Bank* b : {&positional_, &rotational_, &radial_, &modal_}) {
     if (!all_finite(b->x) || !all_finite(b->v)) return false;
   }
   return true;

@@ -8,8 +8,12 @@
 // damped oscillators: 3 positional (x_i), 3 rotational (φ_i: bend about local x and y, twist about
 // local z) and n radial (δ_i[j]: the deformed radius is r_i[j] + δ_i[j], floored at
 // kMinRadiusFraction·r_i[j] so a handle can never invert its section).
+#include <array>
 #include <vector>
 
+#include <memory>
+
+#include "core/chain_model.h"
 #include "core/force.h"
 #include "core/oscillator.h"
 #include "core/rig.h"
@@ -39,8 +43,16 @@ class ElasticSweep {
   void set_integrator(Integrator integrator) { integrator_ = integrator; }
   Integrator integrator() const { return integrator_; }
 
-  // Advances the springs by dt seconds with every current force held over the step.
+  // Advances the springs by dt seconds (any dt > 0: the oscillators are stepped in closed form).
+  // Loads that follow the moving surface are evaluated at the predicted mid-step pose (a half step
+  // with the start-of-step loads), so the step is second order in dt for them and exact for loads
+  // that do not depend on the pose.
   void step(double dt);
+
+  // Copies the motion (spring states, forces, deformed shape) of `other`, a sweep built from the
+  // same definition, without allocating once sized: how a simulator peeks ahead to an output time
+  // and comes back (sim::Simulator).
+  void copy_state_from(const ElasticSweep& other);
 
   // Spring coordinates of section i (section 0 is always zero), settable for scripted poses.
   Vec3 section_offset(int i) const;
@@ -55,6 +67,15 @@ class ElasticSweep {
   double max_displacement() const;  // largest |x| over every spring coordinate
   bool is_finite() const;    // false once any state is NaN or Inf (a diverged integrator)
 
+  // Gravity (m/s², world axes; material mode only — the paper's springs have no physical mass):
+  // every section's weight loads the chain. Pre-loaded (the default): the rest pose is the pose
+  // under this gravity, so only a change of the load moves the part; otherwise the part starts
+  // unloaded and sags.
+  void set_gravity(const Vec3& g, bool preloaded = true);
+
+  // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
+  const ChainModel* chain() const { return chain_.get(); }
+
   // Which spring kinds have ever been driven (a kind never driven is not stepped).
   bool positional_active() const { return positional_.active; }
   bool rotational_active() const { return rotational_.active; }
@@ -62,12 +83,21 @@ class ElasticSweep {
 
  private:
   // All oscillators of one kind, flat: coordinate c of section i at index i·width + c.
+  // A few step maps stay cached, keyed by (dt, integrator): a simulator alternates its internal
+  // step, half of it (the mid-step predictor) and the odd partial step to a switching time.
+  static constexpr int kMapSlots = 4;
   struct Bank {
     int width = 0;
     std::vector<double> x, v, f;
+    std::vector<double> x0, v0;  // start-of-step state while the predictor runs
     std::vector<OscillatorParams> params;
-    std::vector<StepMap> maps;
+    std::array<std::vector<StepMap>, kMapSlots> maps;
     bool active = false;
+  };
+  struct MapSlot {
+    double dt = 0;
+    Integrator integrator = Integrator::exact;
+    long long used = -1;  // last use, for least-recently-used replacement
   };
   struct ActiveForce {
     ForceId id;
@@ -77,19 +107,33 @@ class ElasticSweep {
 
   void init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int));
   void gather_loads(const std::vector<ActiveForce>& forces);
+  int map_slot(double dt);                 // the cached maps for dt, computed if missing
+  void advance_banks(int slot);            // every active oscillator, loads held
   void rebuild();
+  // Material mode: rotational loads to modal loads, and modal state back to joint coordinates.
+  void project_rotational_loads();
+  void joints_from_modes();
+  void modes_from_joints();
 
   SweepDef def_;
   SweepShape deformed_;
   std::vector<Frame> relative_;  // T_{i-1,i} (entry 0: identity)
   std::vector<Frame> pre_;       // A_i, the frame D_i acts in
   Bank positional_, rotational_, radial_;
+  // Material mode: the rotational coordinates move as modes. modal_ holds η, η̇ and the modal
+  // loads; rotational_ keeps q = Φ η and q̇ = Φ η̇ (what rebuild, sleep and the user read).
+  std::shared_ptr<const ChainModel> chain_;  // shared: built once per rig, copies of a sweep share it
+  Bank modal_;
+  std::vector<double> joint_scratch_;
+  Vec3 gravity_ = Vec3::Zero();
+  std::vector<double> gravity_preload_;  // rest-pose gravity loads in spring axes (3K pos, 3K rot)
+  void add_gravity_loads();
   SectionLoads loads_;
   std::vector<ActiveForce> forces_;
   ForceId next_id_ = 1;
   Integrator integrator_ = Integrator::exact;
-  double map_dt_ = 0;
-  Integrator map_integrator_ = Integrator::exact;
+  std::array<MapSlot, kMapSlots> slots_{};
+  long long map_clock_ = 0;
 };
 
 }  // namespace sweep

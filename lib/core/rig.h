@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/material.h"
 #include "core/springs.h"
 #include "core/sweep_shape.h"
 
@@ -29,6 +30,12 @@ struct SweepDef {
   double rotational_scale = 1.0;
   double radial_scale = 1.0;
   std::optional<PartSeeds> part;            // absent for rigs written by hand with no mesh part
+  // Material mode (issue 12): when set, the sections are one coupled chain whose bending and
+  // twisting stiffness, masses and inertias follow from this material and each section's polygon
+  // (core/chain_model.h); `springs` then only sets the radial handles. Empty = the paper's
+  // independent springs.
+  std::optional<Material> material;
+  std::vector<Material> section_materials;  // K entries when `material` is set (overrides applied)
 
   int section_index(const std::string& section_name) const;  // -1 when there is none
 };

@@ -37,6 +37,24 @@ void read_springs(const JsonReader& r, const Json& v, const std::string& ptr, Se
   if (const Json* x = r.optional(v, "radial")) read_spring(r, *x, member(ptr, "radial"), s.radial);
 }
 
+// A material given in a file overrides `m` field by field (issue 12, core/material.h).
+void read_material(const JsonReader& r, const Json& v, const std::string& ptr, Material& m) {
+  r.object(v, ptr, {"youngs_modulus_pa", "poisson_ratio", "shear_modulus_pa", "density_kg_m3", "metres_per_unit", "damping_ratio"});
+  if (r.optional(v, "poisson_ratio") && r.optional(v, "shear_modulus_pa"))
+    r.fail_at(ptr, "give either \"poisson_ratio\" or \"shear_modulus_pa\", not both");
+  if (const Json* x = r.optional(v, "youngs_modulus_pa")) m.youngs_modulus = r.positive(*x, member(ptr, "youngs_modulus_pa"));
+  if (const Json* x = r.optional(v, "poisson_ratio")) {
+    m.poisson_ratio = r.number(*x, member(ptr, "poisson_ratio"));
+    m.shear_modulus = 0;
+    if (!(m.poisson_ratio > -1 && m.poisson_ratio < 0.5))
+      r.fail_at(member(ptr, "poisson_ratio"), "must be between -1 and 0.5 (exclusive), got " + describe(*x));
+  }
+  if (const Json* x = r.optional(v, "shear_modulus_pa")) m.shear_modulus = r.positive(*x, member(ptr, "shear_modulus_pa"));
+  if (const Json* x = r.optional(v, "density_kg_m3")) m.density = r.positive(*x, member(ptr, "density_kg_m3"));
+  if (const Json* x = r.optional(v, "metres_per_unit")) m.metres_per_unit = r.positive(*x, member(ptr, "metres_per_unit"));
+  if (const Json* x = r.optional(v, "damping_ratio")) m.damping_ratio = r.non_negative(*x, member(ptr, "damping_ratio"));
+}
+
 Quat read_rotation(const JsonReader& r, const Json& v, const std::string& ptr) {
   if (!v.is_array() || v.size() != 4) r.fail_at(ptr, "must be a quaternion [x, y, z, w], got " + describe(v));
   double c[4];
@@ -50,12 +68,16 @@ Quat read_rotation(const JsonReader& r, const Json& v, const std::string& ptr) {
 }
 
 SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) {
-  r.object(v, ptr, {"name", "radial_samples", "springs", "force_scale", "part", "sections"});
+  r.object(v, ptr, {"name", "radial_samples", "springs", "material", "force_scale", "part", "sections"});
   SweepDef def;
   def.name = r.string(r.required(v, ptr, "name"), member(ptr, "name"));
   if (def.name.empty()) r.fail_at(member(ptr, "name"), "must not be empty");
   const int n = static_cast<int>(r.integer(r.required(v, ptr, "radial_samples"), member(ptr, "radial_samples"), 3, kMaxRadialSamples));
   if (const Json* s = r.optional(v, "springs")) read_springs(r, *s, member(ptr, "springs"), def.default_springs);
+  if (const Json* m = r.optional(v, "material")) {
+    def.material = Material{};
+    read_material(r, *m, member(ptr, "material"), *def.material);
+  }
   if (const Json* fs = r.optional(v, "force_scale")) {
     const std::string p = member(ptr, "force_scale");
     r.object(*fs, p, {"rotational", "radial"});
@@ -79,7 +101,7 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) 
   for (std::size_t i = 0; i < sections.size(); ++i) {
     const std::string p = element(sp, i);
     const Json& s = sections[i];
-    r.object(s, p, {"name", "t", "center", "rotation", "radii", "springs"});
+    r.object(s, p, {"name", "t", "center", "rotation", "radii", "springs", "material"});
     std::string name;
     if (const Json* nm = r.optional(s, "name")) {
       name = r.string(*nm, member(p, "name"));
@@ -105,6 +127,16 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) 
     def.rest.frames.push_back({q, c});
     def.section_names.push_back(name);
     def.springs.push_back(springs);
+    if (const Json* m = r.optional(s, "material")) {
+      if (!def.material) r.fail_at(member(p, "material"), "a section's material overrides the sweep's; the sweep has no \"material\"");
+      Material mat = *def.material;
+      read_material(r, *m, member(p, "material"), mat);
+      if (mat.metres_per_unit != def.material->metres_per_unit)
+        r.fail_at(member(p, "material") + "/metres_per_unit", "the mesh's scale is the sweep's: set it on the sweep's material");
+      def.section_materials.push_back(mat);
+    } else if (def.material) {
+      def.section_materials.push_back(*def.material);
+    }
   }
   return def;
 }
@@ -127,6 +159,23 @@ OrderedJson springs_json(const SectionSprings& s, const SectionSprings* base) {
   return j;
 }
 
+OrderedJson material_json(const Material& m, const Material* base) {
+  OrderedJson j = OrderedJson::object();
+  auto put = [&](const char* key, double v, double b) {
+    if (!base || v != b) j[key] = v;
+  };
+  put("youngs_modulus_pa", m.youngs_modulus, base ? base->youngs_modulus : 0);
+  if (m.shear_modulus > 0) {
+    put("shear_modulus_pa", m.shear_modulus, base ? base->shear_modulus : 0);
+  } else {
+    put("poisson_ratio", m.poisson_ratio, base ? base->poisson_ratio : 0);
+  }
+  put("density_kg_m3", m.density, base ? base->density : 0);
+  if (!base) j["metres_per_unit"] = m.metres_per_unit;
+  put("damping_ratio", m.damping_ratio, base ? base->damping_ratio : 0);
+  return j;
+}
+
 OrderedJson vec_json(const Vec3& v) { return OrderedJson::array({v.x(), v.y(), v.z()}); }
 
 OrderedJson sweep_json(const SweepDef& def) {
@@ -134,6 +183,7 @@ OrderedJson sweep_json(const SweepDef& def) {
   j["name"] = def.name;
   j["radial_samples"] = def.rest.radial_count;
   j["springs"] = springs_json(def.default_springs, nullptr);
+  if (def.material) j["material"] = material_json(*def.material, nullptr);
   j["force_scale"] = {{"rotational", def.rotational_scale}, {"radial", def.radial_scale}};
   if (def.part) j["part"] = {{"root", vec_json(def.part->root)}, {"tip", vec_json(def.part->tip)}};
   OrderedJson sections = OrderedJson::array();
@@ -148,6 +198,10 @@ OrderedJson sweep_json(const SweepDef& def) {
     s["radii"] = OrderedJson(std::vector<double>(radii.begin(), radii.end()));
     OrderedJson overrides = springs_json(def.springs[i], &def.default_springs);
     if (!overrides.empty()) s["springs"] = std::move(overrides);
+    if (def.material) {
+      OrderedJson m = material_json(def.section_materials[i], &*def.material);
+      if (!m.empty()) s["material"] = std::move(m);
+    }
     sections.push_back(std::move(s));
   }
   j["sections"] = std::move(sections);

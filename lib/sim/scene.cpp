@@ -15,6 +15,8 @@ using io::member;
 constexpr double kMaxDuration = 24 * 3600.0;  // s: a day of animation is far beyond any bake
 constexpr double kMaxFps = 10000.0;
 constexpr int kMaxSubsteps = 100000;
+constexpr double kMinStep = 1e-6;  // s: a microsecond step is far finer than any spring needs
+constexpr double kMaxStep = 1.0;   // s: the closed form takes any step, but loads are re-split per step
 
 std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::string& ptr) {
   r.array(v, ptr);
@@ -129,7 +131,7 @@ int Scene::frame_count() const {
 Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
                   const Rig& rig) {
   r.object(json, pointer,
-           {"format", "version", "duration", "fps", "substeps", "integrator", "forces"});
+           {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces"});
   Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
@@ -153,6 +155,20 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
   if (scene.fps > kMaxFps) r.fail_at(member(pointer, "fps"), "must be at most 10000");
   if (const Json* s = r.optional(json, "substeps")) {
     scene.substeps = static_cast<int>(r.integer(*s, member(pointer, "substeps"), 1, kMaxSubsteps));
+  }
+  if (const Json* st = r.optional(json, "step")) {
+    if (r.optional(json, "substeps"))
+      r.fail_at(member(pointer, "step"), "give either \"step\" or \"substeps\", not both");
+    scene.step = r.positive(*st, member(pointer, "step"));
+    if (scene.step < kMinStep || scene.step > kMaxStep)
+      r.fail_at(member(pointer, "step"), "must be between 1e-6 and 1 s, got " + io::describe(*st));
+  }
+  if (const Json* g = r.optional(json, "gravity")) scene.gravity = r.vec3(*g, member(pointer, "gravity"));
+  if (const Json* g = r.optional(json, "gravity_start")) {
+    const std::string name = r.string(*g, member(pointer, "gravity_start"));
+    if (name != "as-modelled" && name != "unloaded")
+      r.fail_at(member(pointer, "gravity_start"), "must be \"as-modelled\" or \"unloaded\", got " + io::describe(*g));
+    scene.gravity_preloaded = name == "as-modelled";
   }
   if (const Json* i = r.optional(json, "integrator")) {
     const std::string name = r.string(*i, member(pointer, "integrator"));

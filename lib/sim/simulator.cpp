@@ -13,45 +13,80 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
     : scene_(scene), sleep_(sleep) {
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
-    sweeps_.push_back(SweepState{.body = ElasticSweep(def)});
+    sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def)});
     sweeps_.back().body.set_integrator(scene.integrator);
+    sweeps_.back().view.set_integrator(scene.integrator);
+    if (def.material && scene.gravity != Vec3::Zero()) {
+      sweeps_.back().body.set_gravity(scene.gravity, scene.gravity_preloaded);
+      sweeps_.back().view.set_gravity(scene.gravity, scene.gravity_preloaded);
+      // Starting unloaded, the part sags from frame 0: it is driven and awake.
+      if (!scene.gravity_preloaded) sweeps_.back().driven = sweeps_.back().awake = true;
+    }
   }
   for (std::size_t f = 0; f < scene.forces.size(); ++f) {
     SweepState& s = sweeps_[scene.forces[f].sweep_index];
     s.driven = true;
     s.forces.push_back(f);
   }
-  forces_.resize(scene.forces.size());
+  for (SweepState& s : sweeps_) {
+    s.ids.assign(s.forces.size(), 0);
+    s.view_ids.assign(s.forces.size(), 0);
+  }
 }
+
+namespace {
+
+// How close (relative) a frame time must be to an internal time to count as on it: frame times
+// k/fps carry a rounding error of an ulp or so, which must not turn into a partial step of ~h.
+constexpr double kOnGridTolerance = 1e-9;
+
+}  // namespace
 
 void Simulator::advance_frame() {
   for (SweepState& st : sweeps_) st.moved = false;
-  // Sweeps are independent (every force acts on one sweep), so each runs the frame's substeps on
-  // its own — side by side on the threads when more than one has work. Each sweep does the same
-  // operations in the same order either way: the same bits whatever the thread count.
-  const long long first = step_index_;
   const double h = scene_.step_seconds();
-  const double frame_start = static_cast<double>(first) * h;
-  const double frame_end = static_cast<double>(first + scene_.substeps) * h;
+  const double target = static_cast<double>(frame_ + 1) / scene_.fps;
+  // Internal steps done by the frame time, and the partial step beyond them (0 on the grid).
+  const double q = target / h;
+  long long n = std::llround(q);
+  if (std::abs(q - static_cast<double>(n)) > kOnGridTolerance * std::max(1.0, q))
+    n = static_cast<long long>(std::floor(q));
+  const double grid_time = static_cast<double>(n) * h;
+  const double partial = target - grid_time > kOnGridTolerance * h ? target - grid_time : 0.0;
+
   int busy = 0;
   for (std::size_t i = 0; i < sweeps_.size(); ++i) {
     sweeps_[i].failure = {};
-    busy += has_work(static_cast<int>(i), frame_start, frame_end);
+    busy += has_work(static_cast<int>(i), static_cast<double>(sweeps_[i].grid) * h, target);
   }
-  // Serial unless it pays: entering a parallel region costs a microsecond even on one thread.
+  // Sweeps are independent (every force acts on one sweep), so each runs its steps on its own —
+  // side by side on the threads when more than one has work. Each sweep does the same operations
+  // in the same order either way: the same bits whatever the thread count.
   const auto run = [&](int i) {
-    if (!sweeps_[i].driven) return;
-    for (int k = 0; k < scene_.substeps; ++k) {
-      try {
-        step_sweep(i, first + k);
-      } catch (...) {
-        sweeps_[i].failure = std::current_exception();
-        sweeps_[i].failure_step = first + k;
-        return;
+    SweepState& st = sweeps_[i];
+    if (!st.driven) return;
+    try {
+      for (; st.grid < n; ++st.grid) {
+        advance_span(i, false, static_cast<double>(st.grid) * h,
+                     static_cast<double>(st.grid + 1) * h, true);
       }
+      // Leaving last frame's view changes the shape even when the body did not move.
+      if (st.show_view) st.moved = true;
+      st.show_view = false;
+      if (partial > 0 && has_work(i, grid_time, target)) {
+        st.view.copy_state_from(st.body);
+        st.view_ids = st.ids;  // same size: no allocation
+        advance_span(i, true, grid_time, target, false);
+        st.show_view = true;
+        st.moved = true;
+      }
+    } catch (...) {
+      st.failure = std::current_exception();
+      st.failure_step = st.grid;
     }
   };
   const int count = sweep_count();
+  // Serial unless it pays: entering a parallel region costs a microsecond even on one thread.
   if (busy >= 2) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < count; ++i) run(i);
@@ -66,7 +101,6 @@ void Simulator::advance_frame() {
     if (st.failure && (failed == nullptr || st.failure_step < failed->failure_step)) failed = &st;
   }
   if (failed != nullptr) std::rethrow_exception(failed->failure);
-  step_index_ += scene_.substeps;
   ++frame_;
 }
 
@@ -81,54 +115,73 @@ bool Simulator::has_work(int i, double from, double to) const {
   return false;
 }
 
-void Simulator::step_sweep(int i, long long step) {
-  const double h = scene_.step_seconds();
-  const double t0 = static_cast<double>(step) * h;
-  // A force acts over the steps whose midpoint lies in [start, end): when start and end fall on
-  // step boundaries this is exact, and it never depends on rounding at the boundary itself.
-  const double mid = t0 + 0.5 * h;
+void Simulator::advance_span(int i, bool on_view, double from, double to, bool grid_step) {
   SweepState& s = sweeps_[i];
-  for (std::size_t fi : s.forces) {
-    const SceneForce& f = scene_.forces[fi];
-    if (f.impulse()) {
-      if (f.start >= t0 && f.start < t0 + h) {
-        s.body.apply_impulse(f.spec);
-        s.awake = true;
-        s.quiet = 0;
+  ElasticSweep& body = on_view ? s.view : s.body;
+  std::vector<ForceId>& ids = on_view ? s.view_ids : s.ids;
+  bool awake = s.awake;  // the view's waking is its own: the body wakes when it gets there
+  bool stepped = false;
+  double cur = from;
+  while (cur < to) {
+    // The piece up to the next switching time: over it every force is either on or off.
+    double next = to;
+    for (std::size_t fi : s.forces) {
+      for (double sw : {scene_.forces[fi].start, scene_.forces[fi].end}) {
+        if (sw > cur && sw < next) next = sw;
       }
-      continue;
     }
-    const bool active = f.start <= mid && mid < f.end;
-    if (active && forces_[fi].id == 0) {
-      forces_[fi].id = s.body.add_force(f.spec);
-      s.awake = true;
-      s.quiet = 0;
-    } else if (!active && forces_[fi].id != 0) {
-      s.body.remove_force(forces_[fi].id);
-      forces_[fi].id = 0;
+    const double mid = cur + 0.5 * (next - cur);
+    for (std::size_t k = 0; k < s.forces.size(); ++k) {
+      const SceneForce& f = scene_.forces[s.forces[k]];
+      if (f.impulse()) {
+        // Pieces start at switching times, so an impulse in [cur, next) is at cur.
+        if (f.start >= cur && f.start < next) {
+          body.apply_impulse(f.spec);
+          awake = true;
+          if (!on_view) s.quiet = 0;
+        }
+        continue;
+      }
+      const bool active = f.start <= mid && mid < f.end;
+      if (active && ids[k] == 0) {
+        ids[k] = body.add_force(f.spec);
+        awake = true;
+        if (!on_view) s.quiet = 0;
+      } else if (!active && ids[k] != 0) {
+        body.remove_force(ids[k]);
+        ids[k] = 0;
+      }
     }
+    if (awake) {
+      // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
+      // bits, and a step of new length costs new step maps.
+      const bool whole = grid_step && cur == from && next == to;
+      body.step(whole ? scene_.step_seconds() : next - cur);
+      stepped = true;
+    }
+    cur = next;
   }
-  if (!s.awake) return;
-  s.body.step(h);
-  ++s.steps;
+  if (!stepped) return;
+  check_finite(body, to);
+  if (on_view) return;
+  s.awake = awake;
   s.moved = true;
-  check_finite(i, t0 + h);
-  if (!sleep_.enabled || s.body.force_count() > 0) return;
-  const bool quiet =
-      s.body.max_speed() < sleep_.speed && s.body.max_displacement() < sleep_.displacement;
-  s.quiet = quiet ? s.quiet + h : 0.0;
+  if (!grid_step) return;
+  ++s.steps;
+  if (!sleep_.enabled || body.force_count() > 0) return;
+  const bool quiet = body.max_speed() < sleep_.speed && body.max_displacement() < sleep_.displacement;
+  s.quiet = quiet ? s.quiet + (to - from) : 0.0;
   if (s.quiet >= sleep_.quiet_time) s.awake = false;
 }
 
-void Simulator::check_finite(int i, double t) const {
-  const ElasticSweep& body = sweeps_[i].body;
+void Simulator::check_finite(const ElasticSweep& body, double t) const {
   const double limit = kRunawayFactor * std::max(1.0, body.rest().length());
   if (body.is_finite() && body.max_displacement() < limit) return;
   std::ostringstream msg;
   msg << "the simulation diverged: sweep \"" << body.definition().name << "\" at t = " << t
       << " s (" << integrator_name(scene_.integrator) << " integrator, step "
       << scene_.step_seconds()
-      << " s); the exact integrator is stable at every step, or use more substeps";
+      << " s); the exact integrator is stable at every step, or use a smaller step";
   fail(ErrorCategory::diverged, msg.str());
 }
 

@@ -1,7 +1,10 @@
 #pragma once
-// Runs a scene on a rig: one ElasticSweep per sweep, stepped at a fixed internal step of
-// 1 / (fps · substeps) s whatever the output frame rate, with each scene force switched on and off
-// at its times. Skips what the scene does not need:
+// Runs a scene on a rig: one ElasticSweep per sweep, stepped on a clock of its own — internal
+// times n·h with h = Scene::step_seconds(), whatever the output frame rate. An output frame that
+// falls between two internal times is reached by one exact partial step on a copy (the view), and
+// the next frame continues from the internal time, so the frame rate never changes the motion. Each
+// scene force is switched on and off exactly at its times: a step that contains a switching time
+// is split there. Skips what the scene does not need:
 //  - a sweep that no force in the scene reaches is never stepped (it is not "driven");
 //  - spring kinds no force drives are not stepped (ElasticSweep);
 //  - a sweep whose motion has died out sleeps — it is not stepped, and its shape does not change,
@@ -37,13 +40,14 @@ class Simulator {
  public:
   Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep = {});
 
-  // Advances one output frame: `substeps` internal steps. Frame 0 is the rest pose at time 0.
+  // Advances to the next output frame time, frame/fps. Frame 0 is the rest pose at time 0.
   void advance_frame();
   int frame() const { return frame_; }
   double time() const { return frame_ / scene_.fps; }
 
   int sweep_count() const { return static_cast<int>(sweeps_.size()); }
-  const ElasticSweep& sweep(int i) const { return sweeps_[i].body; }
+  // Sweep i at the current frame's time.
+  const ElasticSweep& sweep(int i) const { return sweeps_[i].show_view ? sweeps_[i].view : sweeps_[i].body; }
   bool is_driven(int i) const { return sweeps_[i].driven; }
   bool is_awake(int i) const { return sweeps_[i].awake; }
   // Whether sweep i's shape changed during the last advance_frame (it must be re-deformed).
@@ -52,31 +56,31 @@ class Simulator {
 
  private:
   struct SweepState {
-    ElasticSweep body;
+    ElasticSweep body;  // at the internal time grid·h
+    ElasticSweep view;  // body advanced to the frame time, when that falls between internal times
+    bool show_view = false;
     bool driven = false;
     bool awake = false;
     bool moved = false;
     double quiet = 0;  // s spent under the sleep tolerances
     long long steps = 0;
+    long long grid = 0;                 // internal steps done
     std::vector<std::size_t> forces{};  // indices of the scene forces acting on it, in scene order
+    std::vector<ForceId> ids{}, view_ids{};  // per entry of `forces`: its id in body / view, 0 = off
     std::exception_ptr failure{};       // divergence during the current frame, at failure_step
     long long failure_step = 0;
   };
-  struct ForceState {
-    ForceId id = 0;  // 0 while not applied
-  };
 
-  // Sweep i's internal step number `step`: switch its forces on and off, then step it if awake.
-  void step_sweep(int i, long long step);
+  // Advances sweep i (its body, or its view) over [from, to], split at switching times; a step
+  // of the internal clock when `grid_step` (sleep is decided there, and only there).
+  void advance_span(int i, bool on_view, double from, double to, bool grid_step);
   // Whether sweep i may move during [from, to): driven, and awake or with a force in that time.
   bool has_work(int i, double from, double to) const;
-  void check_finite(int i, double t) const;
+  void check_finite(const ElasticSweep& body, double t) const;
 
   const Scene& scene_;
   SleepSettings sleep_;
   std::vector<SweepState> sweeps_;
-  std::vector<ForceState> forces_;
-  long long step_index_ = 0;
   int frame_ = 0;
 };
 

@@ -35,6 +35,7 @@ struct Settings {
   std::vector<fs::path> outputs;  // .glb / .pc2 / .obj
   std::string integrator;         // overrides the scene's; empty = the scene's
   int substeps = 0;               // overrides the scene's; 0 = the scene's
+  double step = 0;                // s; overrides the scene's step and substeps; 0 = the scene's
   int threads = 0;                // OpenMP threads; 0 = OpenMP's default
   bool exact = false;             // per-vertex reference deformation instead of the fast path
   int stations = 8;               // fast path: stations per span
@@ -100,7 +101,13 @@ int run(const Settings& s) {
         sweep::ErrorCategory::usage,
         "--integrator: expected exact, semi-implicit-euler or rk4, got \"" + s.integrator + "\"");
   }
-  if (s.substeps > 0) scene.substeps = s.substeps;
+  if (s.substeps > 0 && s.step > 0)
+    sweep::fail(sweep::ErrorCategory::usage, "--step and --substeps: give one or the other");
+  if (s.substeps > 0) {
+    scene.substeps = s.substeps;
+    scene.step = 0;  // --substeps means step = 1 / (fps · substeps), as it always did
+  }
+  if (s.step > 0) scene.step = s.step;
   // Every output is checked before any is written: a report that cannot be written is found
   // before the bake is, so a failure leaves nothing behind.
   for (const fs::path& out : s.outputs) sweep::io::check_can_create(out);
@@ -156,6 +163,9 @@ int main(int argc, char** argv) {
                    "Override the scene's integrator: exact, semi-implicit-euler, rk4");
     app.add_option("--substeps", s.substeps, "Override the scene's internal steps per frame")
         ->check(CLI::Range(1, 100000));
+    app.add_option("--step", s.step,
+                   "Override the scene's internal step, seconds (independent of the frame rate)")
+        ->check(CLI::Range(1e-6, 1.0));
     app.add_option("--threads", s.threads, "Threads for stepping and deforming (default: all cores)")
         ->check(CLI::Range(1, 1024));
     app.add_option("--stations", s.stations,

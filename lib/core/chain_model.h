@@ -1,0 +1,46 @@
+#pragma once
+// Material mode (issue 12, DESIGN.md §8): a sweep's sections as one chain of hinges, linearised at
+// the rest pose, M q̈ + C q̇ + K q = τ over the joints' rotation vectors q (3 per movable section,
+// in its own axes: bend about x, bend about y, twist about z). Joint j sits at section j's centre
+// and turns everything beyond it, so M is dense: the mass beyond a joint loads it.
+//  - Node masses and rotary inertias: span masses ρ A h lumped half to each end section (the root's
+//    half stays with the body); rotary inertia ρ I ℓ about the section's axes.
+//  - Joint stiffnesses: E I_xx / ℓ, E I_yy / ℓ, G J / ℓ with ℓ the length the joint stands for: half
+//    of each span beside it, and the whole first span for joint 1 (nothing bends at the fixed root).
+//    The static tip deflection is then a quadrature of ∫ M(s)(L − s)/EI ds with O(h²) error.
+//  - Section properties from each section's polygon (core/section_properties.h), lengths in metres
+//    (mesh units × metres_per_unit).
+// The modes (K φ = ω² M φ, M-orthonormal) are computed once; each is a damped oscillator stepped
+// in closed form. Positional springs stay independent: stretch E A / ℓ and shear κ G A / ℓ on the
+// mass beyond the joint. (Radial handles keep the rig's radial springs.)
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "core/material.h"
+#include "core/oscillator.h"
+#include "core/sweep_shape.h"
+
+namespace sweep {
+
+// Timoshenko's shear coefficient for a solid, roughly round section.
+inline constexpr double kShearCoefficient = 0.9;
+
+struct ChainModel {
+  int joints = 0;            // K − 1 (sections 1 .. K−1)
+  double metres_per_unit = 1;
+  Eigen::MatrixXd mass;      // 3·joints square: kg·m²
+  Eigen::MatrixXd stiffness; // 3·joints square, block diagonal: N·m/rad
+  Eigen::MatrixXd modes;     // Φ: columns M-orthonormal (Φᵀ M Φ = I), by growing frequency
+  Eigen::VectorXd omega2;    // ω² of each mode, rad²/s²
+  std::vector<double> damping_ratio;  // ζ of each mode
+  std::vector<double> node_mass;      // kg, K entries (0 for the root)
+  // Positional springs of each section (3 per section, its own axes), in mesh units: kg·(m/unit)
+  // and N/unit, so that displacements stay in mesh units.
+  std::vector<OscillatorParams> positional;
+};
+
+// `materials` has one entry per section (the sweep's, overrides applied).
+ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>& materials);
+
+}  // namespace sweep

@@ -1,0 +1,137 @@
+// Follower loads to second order (issue 12 step 2): a force that follows the moving surface is
+// re-split at the predicted mid-step pose, so halving the step quarters the error.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "bind/support.h"
+#include "core/sample_sweeps.h"
+#include "sim/simulator.h"
+
+namespace sweep::sim {
+namespace {
+
+// Largest difference between two runs' section poses: centres and radii (mesh units), rotations
+// as the angle times the length (how far they move the tip).
+double pose_difference(const ElasticSweep& a, const ElasticSweep& b) {
+  const double len = a.rest().length();
+  double d = 0;
+  for (int i = 0; i < a.rest().section_count(); ++i) {
+    const Frame& fa = a.deformed().frames[i];
+    const Frame& fb = b.deformed().frames[i];
+    d = std::max({d, (fa.center - fb.center).norm(), len * fa.rotation.angularDistance(fb.rotation)});
+  }
+  for (std::size_t m = 0; m < a.deformed().radii.size(); ++m)
+    d = std::max(d, std::abs(a.deformed().radii[m] - b.deformed().radii[m]));
+  return d;
+}
+
+// Largest pose difference over every frame and sweep, relative to each sweep's length.
+double run_difference(const Rig& rig, Scene a, Scene b) {
+  Simulator sa(rig, a, {.enabled = false}), sb(rig, b, {.enabled = false});
+  double worst = 0;
+  for (int k = 1; k < a.frame_count(); ++k) {
+    sa.advance_frame();
+    sb.advance_frame();
+    for (int i = 0; i < sa.sweep_count(); ++i) {
+      worst = std::max(worst, pose_difference(sa.sweep(i), sb.sweep(i)) / sa.sweep(i).rest().length());
+    }
+  }
+  return worst;
+}
+
+Scene oblique_push(double step) {
+  Scene s;
+  s.duration = 1.0;
+  s.fps = 30;
+  s.step = step;
+  SceneForce f;
+  f.sweep = "tail";
+  f.sweep_index = 0;
+  f.spec.t = 5.0;
+  f.spec.theta = 0.4;
+  f.spec.vector = Vec3(1, 3, 0.5);  // oblique: its split changes as the part bends
+  f.spec.components = kRotational | kRadial;
+  f.spec.target = RotationTarget::chain;
+  f.start = 0;
+  f.end = 0.6;
+  s.forces.push_back(f);
+  return s;
+}
+
+TEST(FollowerLoads, HalvingTheStepQuartersTheError) {
+  Rig rig;
+  rig.sweeps.push_back(test::sweep_def(test::irregular_shape(7, 8)));
+  rig.sweeps.back().name = "tail";
+  const double h = 1.0 / 60;
+  const Scene reference = oblique_push(h / 256);
+  double e[3];
+  for (int k = 0; k < 3; ++k) e[k] = run_difference(rig, oblique_push(h / (1 << k)), reference);
+  std::printf("step 1/60 s: %.3g, 1/120 s: %.3g, 1/240 s: %.3g of the length\n", e[0], e[1], e[2]);
+  EXPECT_GT(e[2], 0.0);
+  // Second order: each halving divides the error by 4 (a first-order split would give 2).
+  EXPECT_NEAR(e[0] / e[1], 4.0, 0.5);
+  EXPECT_NEAR(e[1] / e[2], 4.0, 0.5);
+}
+
+TEST(FollowerLoads, DiplodocusFig4WithinOneHundredThousandthOfTheLengthAtTheDefaultStep) {
+  const test::Diplodocus* dino = test::diplodocus();
+  if (dino == nullptr) GTEST_SKIP() << "CGAL's diplodocus is absent (tools/setup-deps.sh)";
+  Scene scene = read_scene(std::filesystem::path(SWEEP_SOURCE_DIR) / "rigs/diplodocus-fig4.scene.json", dino->rig);
+  scene.substeps = 0;
+  scene.step = 0;  // the default step
+  Scene fine = scene;
+  fine.step = Scene::kDefaultStep / 16;
+  const double e = run_difference(dino->rig, scene, fine);
+  std::printf("diplodocus Fig. 4, default step %.4g s: %.3g of the length from a 16x finer step\n",
+              Scene::kDefaultStep, e);
+  EXPECT_GT(e, 0.0);
+  EXPECT_LE(e, 1e-5);
+}
+
+}  // namespace
+}  // namespace sweep::sim
+
+namespace sweep::sim {
+namespace {
+
+// Material mode on the diplodocus, in the same run as the paper's mode: cost of stepping a frame
+// (tail + neck, Fig. 4 forces, default step) — printed for BENCHMARKS.md — and a sane motion.
+TEST(MaterialMode, DiplodocusFig4CostAgainstThePapersModeInTheSameRun) {
+  const test::Diplodocus* dino = test::diplodocus();
+  if (dino == nullptr) GTEST_SKIP() << "CGAL's diplodocus is absent (tools/setup-deps.sh)";
+  Rig material_rig = dino->rig;
+  for (SweepDef& d : material_rig.sweeps) {
+    Material m;  // a rubbery animal part: the diplodocus mesh is ~1 unit long, taken as 25 m
+    m.youngs_modulus = 5e7;
+    m.density = 1000;
+    m.metres_per_unit = 25;
+    m.damping_ratio = 0.1;
+    d.material = m;
+    d.section_materials.assign(d.rest.section_count(), m);
+  }
+  Scene scene = read_scene(std::filesystem::path(SWEEP_SOURCE_DIR) / "rigs/diplodocus-fig4.scene.json", dino->rig);
+  scene.substeps = 0;
+  for (SceneForce& f : scene.forces) f.spec.moment = MomentModel::physical;
+  Scene with_gravity = scene;
+  with_gravity.gravity = Vec3(0, -9.81, 0);
+  double seconds[2] = {0, 0};
+  for (int rep = 0; rep < 3; ++rep) {
+    for (int mode = 0; mode < 2; ++mode) {
+      Simulator sim(mode ? material_rig : dino->rig, mode ? with_gravity : scene, {.enabled = false});
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int k = 1; k < scene.frame_count(); ++k) sim.advance_frame();
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      seconds[mode] = rep == 0 ? s : std::min(seconds[mode], s);
+      for (int i = 0; i < sim.sweep_count(); ++i) ASSERT_TRUE(sim.sweep(i).is_finite());
+    }
+  }
+  const int frames = scene.frame_count() - 1;
+  std::printf("diplodocus Fig. 4 stepping, per frame: paper %.1f us, material %.1f us (%.2fx); K = %d, %d\n",
+              1e6 * seconds[0] / frames, 1e6 * seconds[1] / frames, seconds[1] / seconds[0],
+              dino->rig.sweeps[0].rest.section_count(), dino->rig.sweeps[1].rest.section_count());
+}
+
+}  // namespace
+}  // namespace sweep::sim
