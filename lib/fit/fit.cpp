@@ -192,6 +192,35 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
   return e;
 }
 
+namespace {
+
+// The first ring past the tip's cap: where the rings stop growing fast (growth below the ring
+// options' settled_growth), searching up to `last`. Before it, rings spread over the end itself
+// (from a pole or, on a blunt bent end, from a vertex of its rim) and their centroids are not on
+// the axis.
+int first_tube_ring(const RingTrace& rings, int last, const RingOptions& o) {
+  for (int i = 0; i < last; ++i) {
+    if (rings.rings[static_cast<std::size_t>(i)].growth < o.settled_growth) return i;
+  }
+  return 0;
+}
+
+// How far the cap beyond ring `cap` reaches past the axis' end, along its last tangent: the
+// farthest projection of the surface nearer to the tip than that ring.
+double cap_reach(const Mesh& mesh, const std::vector<double>& d, const Ring& cap,
+                 const AxisTrace& axis) {
+  if (axis.points.empty()) return 0;
+  const Vec3& end = axis.points.back();
+  const Vec3& t = axis.tangents.back();
+  double reach = 0;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (d[v] <= cap.distance) reach = std::max(reach, (mesh.positions[v] - end).dot(t));
+  }
+  return reach;
+}
+
+}  // namespace
+
 struct SweepFitter::Impl {
   explicit Impl(const Mesh& mesh) : slicer(mesh), topology(build_topology(mesh)) {}
   MeshSlicer slicer;
@@ -350,13 +379,28 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   if (o.axis.empty()) {
     std::vector<Vec3> points;
     std::vector<double> radii;
-    for (int i = root_ring; i >= 0; --i) {
+    // With a given root, the rings go on a local radius past it, so that section 0 can be cut
+    // exactly where the root projects onto the axis rather than at the nearest ring.
+    int first = root_ring;
+    const int n = static_cast<int>(rings.rings.size());
+    if (root) {
+      const double beyond = ring(root_ring).distance + ring(root_ring).radius;
+      while (first + 1 < n && ring(first + 1).distance <= beyond) ++first;
+    }
+    // The axis runs through the rings of the tube; past the tip's cap it goes straight on to
+    // the cap's farthest point.
+    const int cap = first_tube_ring(rings, first, o.rings);
+    for (int i = first; i >= cap; --i) {
       points.push_back(ring(i).centroid);
       radii.push_back(ring(i).radius);
     }
-    points.push_back(mesh.positions[r.tip_vertex]);
-    radii.push_back(0);
+    if (points.size() < 2) {  // the tip's cap reaches the root: the rings alone
+      points = {ring(first).centroid, ring(0).centroid};
+      radii = {ring(first).radius, ring(0).radius};
+    }
     r.axis = refine_axis(impl_->slicer, points, radii);
+    extend_axis(impl_->slicer, r.axis, cap_reach(mesh, d, ring(cap), r.axis));
+    if (root) trim_axis_start(r.axis, *root);
   } else {
     r.axis = axis_from_polyline(impl_->slicer, o.axis);
   }

@@ -140,6 +140,74 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
   return trace;
 }
 
+void extend_axis(const MeshSlicer& slicer, AxisTrace& axis, double length) {
+  const std::size_t m = axis.points.size();
+  if (m < 2 || !(length > 0)) return;
+  const Vec3 start = axis.points.back();
+  const Vec3 forward = axis.tangents.back();
+  const double spacing = std::max((axis.points[m - 1] - axis.points[m - 2]).norm(), 1e-12);
+  const double reach = std::max(axis.radii.back(), 1e-12);
+  // March on as the tip's own cap bends: each step goes one spacing along the current direction
+  // and is moved to its slice's centroid; the direction follows the chord. The end point is the
+  // last one, `length` beyond the start along the original tangent.
+  Vec3 p = start, t = forward;
+  for (int k = 0; k < kMaxStations; ++k) {
+    const double left = length - (p - start).dot(forward);
+    if (left <= spacing) break;
+    Vec3 q = p + spacing * t;
+    double r = 0;
+    const std::optional<Loop> loop = loop_around(slicer.slice(q, t), q, t, reach);
+    if (loop && loop->radius <= kMaxSliceRadii * reach && (loop->centroid - q).norm() <= reach) {
+      q = loop->centroid;
+      r = loop->radius;
+    }
+    const Vec3 chord = q - p;
+    if (!(chord.dot(forward) > 0)) break;
+    t = chord.normalized();
+    p = q;
+    axis.points.push_back(p);
+    axis.tangents.push_back(t);
+    axis.radii.push_back(r);
+  }
+  const double left = length - (p - start).dot(forward);
+  if (left > 0) {
+    axis.points.push_back(p + (left / std::max(t.dot(forward), 0.5)) * t);
+    axis.tangents.push_back(t);
+    axis.radii.push_back(0);
+  }
+}
+
+void trim_axis_start(AxisTrace& axis, const Vec3& point) {
+  const std::size_t m = axis.points.size();
+  if (m < 2) return;
+  std::size_t best_k = 0;
+  double best_u = 0, best_d = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k + 1 < m; ++k) {
+    const Vec3 ab = axis.points[k + 1] - axis.points[k];
+    const double len2 = ab.squaredNorm();
+    const double u = len2 > 0 ? std::clamp((point - axis.points[k]).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    const double d = (axis.points[k] + u * ab - point).norm();
+    if (d < best_d) {
+      best_d = d;
+      best_k = k;
+      best_u = u;
+    }
+  }
+  if (best_k + 1 == m - 1 && best_u >= 1) return;  // would leave nothing but the tip
+  const auto lerp = [&](const auto& v) { return (1 - best_u) * v[best_k] + best_u * v[best_k + 1]; };
+  const Vec3 p = lerp(axis.points);
+  const Vec3 t = Vec3(lerp(axis.tangents)).normalized();
+  const double a = axis.radii[best_k], b = axis.radii[best_k + 1];
+  const double r = a > 0 && b > 0 ? (1 - best_u) * a + best_u * b : std::max(a, b);
+  const std::size_t drop = best_u >= 1 ? best_k + 1 : best_k;
+  axis.points.erase(axis.points.begin(), axis.points.begin() + static_cast<std::ptrdiff_t>(drop));
+  axis.tangents.erase(axis.tangents.begin(), axis.tangents.begin() + static_cast<std::ptrdiff_t>(drop));
+  axis.radii.erase(axis.radii.begin(), axis.radii.begin() + static_cast<std::ptrdiff_t>(drop));
+  axis.points[0] = p;
+  axis.tangents[0] = t;
+  axis.radii[0] = r;
+}
+
 AxisTrace axis_from_polyline(const MeshSlicer& slicer, const std::vector<Vec3>& points) {
   AxisTrace trace;
   for (const Vec3& p : points) {  // drop repeated points: they have no direction

@@ -27,6 +27,15 @@ struct AxisTrace {
 AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
                       const std::vector<double>& radii);
 
+// Continues the axis straight on along its last tangent by `length` (mesh units), with points as
+// closely spaced as its own last ones, each given the radius of its slice loop (0 where none), the
+// last point, the part's end, radius 0.
+void extend_axis(const MeshSlicer& slicer, AxisTrace& axis, double length);
+
+// Cuts the axis so that it starts where `point` projects onto it (the nearest point of the
+// polyline); tangent and radius there are interpolated. The last point is never cut away.
+void trim_axis_start(AxisTrace& axis, const Vec3& point);
+
 // An axis given as a polyline from root to tip (at least 2 distinct points): tangents by central
 // chords, radii of the slice loops around each point (0 where there is none).
 AxisTrace axis_from_polyline(const MeshSlicer& slicer, const std::vector<Vec3>& points);
