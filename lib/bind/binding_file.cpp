@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "io/atomic_file.h"
 
 namespace sweep::bind {
@@ -108,10 +109,11 @@ void check_table(const SweepBinding& sb, std::size_t index, std::uint64_t vertex
   for (std::size_t k = 0; k < sb.size(); ++k) {
     if (sb.vertices[k] >= vertex_count) bad(k, "vertex index out of range");
     if (k > 0 && sb.vertices[k] <= sb.vertices[k - 1]) bad(k, "vertex indices not increasing");
-    if (!std::isfinite(sb.t[k]) || sb.t[k] < 0) bad(k, "t must be finite and >= 0");
+    // Lengths within the rig's limit (core/limits.h), so a binding never carries an inf.
+    if (!(sb.t[k] >= 0 && sb.t[k] <= limits::kMaxLength)) bad(k, "t must be in [0, 1e9]");
     if (!(sb.theta[k] >= 0 && sb.theta[k] <= kThetaMax)) bad(k, "theta must be in [0, 2 pi]");
-    if (!std::isfinite(sb.s[k]) || sb.s[k] < 0) bad(k, "s must be finite and >= 0");
-    if (!std::isfinite(sb.z[k])) bad(k, "z must be finite");
+    if (!(sb.s[k] >= 0 && sb.s[k] <= limits::kMaxLength)) bad(k, "s must be in [0, 1e9]");
+    if (!(std::abs(sb.z[k]) <= limits::kMaxLength)) bad(k, "z must be in [-1e9, 1e9]");
     if (!(sb.weight[k] >= 0 && sb.weight[k] <= 1)) bad(k, "weight must be in [0, 1]");
   }
 }
@@ -190,6 +192,11 @@ Binding parse_binding(std::string_view bytes, const std::string& source) {
   if (stored != actual) {
     refuse(source,
            "corrupt binding: checksum mismatch (the file was damaged or edited after writing)");
+  }
+  // After the checksum: a damaged count is reported as the damage it is.
+  if (b.vertex_count > limits::kMaxVertices) {
+    refuse(source, "corrupt binding: a vertex count of " + std::to_string(b.vertex_count) +
+                       " is beyond the limit of " + std::to_string(limits::kMaxVertices));
   }
   Reader in(bytes, kHeaderSize, end, source);
   for (std::uint32_t i = 0; i < sweep_count; ++i) {

@@ -44,6 +44,9 @@ struct Rig {
   static constexpr int kFormatVersion = 1;
   std::string mesh;              // mesh path as written in the file (relative to the rig file)
   std::vector<SweepDef> sweeps;
+  // The file's "scene" member as compact JSON text ("" when it has none): not the rig's business,
+  // but kept so that rewriting the rig (sweep-fit adding a sweep) does not drop it.
+  std::string scene_json;
 
   const SweepDef* find(const std::string& sweep_name) const;
 };

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/locate.h"
 #include "fit/loop.h"
 #include "fit/slicer.h"
@@ -261,6 +262,12 @@ void validate(const FitOptions& o) {
     bad("sections must be at least 2, got " + std::to_string(o.sections));
   }
   if (o.radial < 3) bad("radial must be at least 3, got " + std::to_string(o.radial));
+  // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
+  if (o.sections > limits::kMaxSections || o.max_sections > limits::kMaxSections ||
+      o.radial > limits::kMaxRadial) {
+    bad("sections must be at most " + std::to_string(limits::kMaxSections) +
+        " and radial at most " + std::to_string(limits::kMaxRadial));
+  }
   if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance))
     bad("tolerance must be a finite number >= 0");
   if (o.tolerance > 0 && o.max_sections < 2) bad("max_sections must be at least 2");

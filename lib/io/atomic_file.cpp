@@ -1,10 +1,12 @@
 #include "io/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -27,16 +29,31 @@ void write_file_atomically(const fs::path& path, std::string_view bytes) {
   file.commit();
 }
 
-std::string read_file(const fs::path& path) {
+std::string read_file(const fs::path& path, std::uint64_t max_bytes) {
   std::error_code ec;
-  if (!fs::exists(path, ec)) fail(ErrorCategory::bad_input, path.string() + ": no such file");
-  if (fs::is_directory(path, ec)) fail(ErrorCategory::bad_input, path.string() + ": is a directory, not a file");
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) fail(ErrorCategory::bad_input, path.string() + ": no such file");
+  if (fs::is_directory(st)) fail(ErrorCategory::bad_input, path.string() + ": is a directory, not a file");
+  if (!fs::is_regular_file(st)) {
+    fail(ErrorCategory::bad_input, path.string() + ": is not a regular file (a FIFO, a device or a socket)");
+  }
+  if (const std::uintmax_t size = fs::file_size(path, ec); !ec && size > max_bytes) {
+    fail(ErrorCategory::bad_input, path.string() + ": " + std::to_string(size) +
+                                       " bytes, more than the limit of " + std::to_string(max_bytes) +
+                                       " for this kind of file");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(ErrorCategory::bad_input, path.string() + ": cannot open: " + std::strerror(errno));
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) fail(ErrorCategory::bad_input, path.string() + ": cannot read");
   return std::move(ss).str();
+}
+
+std::string read_text_file(const fs::path& path) {
+  std::string text = read_file(path);
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
+  return text;
 }
 
 namespace {
@@ -61,10 +78,69 @@ constexpr std::size_t kBufferBytes = std::size_t{1} << 20;  // TempFile's write 
 
 }  // namespace
 
+namespace {
+
+// The temporary's base name: the target's, cut and hashed when the result would pass NAME_MAX.
+std::string temp_base(const std::string& name) {
+  constexpr std::size_t kKeep = 200;  // + "-" + 16 hex + ".scratch-XXXXXX" + "." < 255
+  if (name.size() <= kKeep) return name;
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a
+  for (unsigned char c : name) h = (h ^ c) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return name.substr(0, kKeep) + "-" + hex;
+}
+
+}  // namespace
+
+fs::path set_aside(const fs::path& target) {
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  struct stat st {};
+  if (::lstat(target.c_str(), &st) != 0) return {};
+  std::string name = (dir / ("." + temp_base(target.filename().string()) + ".old-XXXXXX")).string();
+  const int fd = ::mkostemp(name.data(), O_CLOEXEC);  // reserves the name
+  if (fd < 0 || ::close(fd) != 0 || ::rename(target.c_str(), name.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    if (fd >= 0) ::unlink(name.c_str());
+    fail(ErrorCategory::output, target.string() + ": cannot set the earlier file aside: " + reason);
+  }
+  return name;
+}
+
+FolderLock::FolderLock(const fs::path& folder) {
+  const fs::path dir = folder.empty() ? fs::path(".") : folder;
+  fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  int rc = -1;
+  if (fd_ >= 0) {
+    while ((rc = ::flock(fd_, LOCK_EX)) != 0 && errno == EINTR) {
+    }
+  }
+  if (rc != 0) {
+    const std::string reason = std::strerror(errno);
+    if (fd_ >= 0) ::close(fd_);
+    fail(ErrorCategory::output, dir.string() + ": cannot lock the folder: " + reason);
+  }
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
 TempFile::TempFile(fs::path target, bool scratch) : target_(std::move(target)) {
   const fs::path dir = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+  struct stat st {};
+  if (::lstat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    const char* what = S_ISLNK(st.st_mode)    ? "a symbolic link"
+                       : S_ISFIFO(st.st_mode) ? "a FIFO"
+                       : S_ISDIR(st.st_mode)  ? "a folder"
+                       : (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) ? "a device"
+                                                                      : "not a regular file";
+    fail(ErrorCategory::output, target_.string() + ": is " + what +
+                                    "; outputs replace regular files only (give another name)");
+  }
   std::string name =
-      (dir / ("." + target_.filename().string() + (scratch ? ".scratch-XXXXXX" : ".tmp-XXXXXX")))
+      (dir / ("." + temp_base(target_.filename().string()) +
+              (scratch ? ".scratch-XXXXXX" : ".tmp-XXXXXX")))
           .string();
   fd_ = ::mkostemp(name.data(), O_CLOEXEC);
   if (fd_ < 0) {

@@ -9,7 +9,14 @@
 
 namespace sweep::io {
 
+// read_file for text: a UTF-8 byte order mark at the start is skipped (it is not content).
+std::string read_text_file(const std::filesystem::path& path);
+
 // A file being written: a temporary beside `target`, buffered, renamed onto `target` by commit().
+// The temporary is named ".<target name>.tmp-XXXXXX", or for a name too long for that
+// ".<its first 200 bytes>-<hash>.tmp-XXXXXX", so any name the file system takes can be written.
+// A target that exists and is not a regular file (a FIFO, a device, a symlink, a folder) is
+// refused, Error(output): renaming onto it would replace the node, not write through it.
 // A scratch file (scratch = true) is unlinked as soon as it is created, so it never has a name
 // and vanishes with its descriptor; it is read back with copy_to(). Until commit(), destruction
 // or discard() removes the temporary. Every failure is Error(output, "<target>: ...").
@@ -47,6 +54,24 @@ class TempFile {
 };
 
 
+// Renames an existing `target` to a hidden unique name beside it and returns that name (empty
+// when there was no target), so that a set of files can be replaced all or nothing: put each
+// back with std::rename on failure, remove them on success. Error(output) when it cannot.
+std::filesystem::path set_aside(const std::filesystem::path& target);
+
+// Holds an exclusive lock on a folder (flock; released when destroyed, or when the process
+// dies), so that runs publishing a set of files into it take turns. Error(output) on failure.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::filesystem::path& folder);
+  ~FolderLock();
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 // Writes bytes to path atomically. Throws Error(output) naming the path on any failure; the
 // temporary file is removed in that case.
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
@@ -58,7 +83,10 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view b
 // temporary; the target itself is not touched.
 void check_can_create(const std::filesystem::path& path);
 
-// Reads a whole file. Throws Error(bad_input) naming the path when it is missing or unreadable.
-std::string read_file(const std::filesystem::path& path);
+// Reads a whole file. Throws Error(bad_input) naming the path when it is missing, unreadable, not
+// a regular file (a FIFO or a device would block or never end) or larger than `max_bytes`
+// (checked before reading: JSON inputs pass limits::kMaxJsonBytes).
+std::string read_file(const std::filesystem::path& path,
+                      std::uint64_t max_bytes = UINT64_MAX);
 
 }  // namespace sweep::io

@@ -57,6 +57,13 @@ fs::path obj_sequence_path(const fs::path& out, int index, int frame_count) {
   return out.has_parent_path() ? out.parent_path() / name : name;
 }
 
+std::vector<fs::path> bake_files(const fs::path& out, int frame_count) {
+  if (lower_extension(out) != ".obj") return {out};
+  std::vector<fs::path> files;
+  for (int k = 0; k < frame_count; ++k) files.push_back(obj_sequence_path(out, k, frame_count));
+  return files;
+}
+
 namespace detail {
 
 void append_float(std::string& out, float value) {

@@ -101,5 +101,7 @@ std::unique_ptr<BakeWriter> make_obj_bake_writer(const std::filesystem::path& ou
 // ("dir/out.obj", 3, 120 → "dir/out_0003.obj").
 std::filesystem::path obj_sequence_path(const std::filesystem::path& out, int index,
                                         int frame_count);
+// The final paths a bake to `out` writes: `out` itself, or for .obj every frame's file.
+std::vector<std::filesystem::path> bake_files(const std::filesystem::path& out, int frame_count);
 
 }  // namespace sweep::io

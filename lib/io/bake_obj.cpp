@@ -3,10 +3,12 @@
 // arrives (no descriptor stays open); finish() renames them all into place (see bake.h).
 #include <unistd.h>
 
+#include <cstdio>
 #include <memory>
 #include <string>
 
 #include "core/error.h"
+#include "io/atomic_file.h"
 #include "io/bake.h"
 #include "io/bake_detail.h"
 
@@ -91,13 +93,28 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
   }
 
   void complete() override {
+    // Runs publishing into one folder take turns, so two bakes of the same sequence each put
+    // their whole set in place and the frames never mix.
+    const FolderLock lock(out().parent_path());
+    // All or nothing, and nothing lost: a frame of an earlier bake under the same name is set
+    // aside, and put back if the set cannot be completed.
+    std::vector<std::filesystem::path> earlier(frames_.size());
     std::size_t published = 0;
     try {
-      for (; published < frames_.size(); ++published) frames_[published]->publish();
+      for (; published < frames_.size(); ++published) {
+        earlier[published] = set_aside(frames_[published]->target());
+        frames_[published]->publish();
+      }
     } catch (...) {
-      // All or nothing: take back the frames already renamed into place.
-      for (std::size_t k = 0; k < published; ++k) ::unlink(frames_[k]->target().c_str());
+      for (std::size_t k = 0; k <= published && k < frames_.size(); ++k) {
+        const std::filesystem::path& target = frames_[k]->target();
+        if (k < published) ::unlink(target.c_str());
+        if (!earlier[k].empty()) std::rename(earlier[k].c_str(), target.c_str());
+      }
       throw;
+    }
+    for (const auto& e : earlier) {
+      if (!e.empty()) ::unlink(e.c_str());
     }
     frames_.clear();
   }

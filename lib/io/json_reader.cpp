@@ -1,6 +1,7 @@
 #include "io/json_reader.h"
 
 #include <cmath>
+#include <sstream>
 
 #include "core/error.h"
 
@@ -115,6 +116,27 @@ double JsonReader::non_negative(const Json& value, const std::string& pointer) c
   const double x = number(value, pointer);
   if (x < 0) fail_at(pointer, "must not be negative, got " + describe(value));
   return x;
+}
+
+// Shortest text of a bound, for messages: "1e+09", "0.001", "10000".
+static std::string bound_text(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+double JsonReader::bounded(const Json& value, const std::string& pointer, double lo, double hi) const {
+  const double x = number(value, pointer);
+  if (!(x >= lo && x <= hi)) {
+    fail_at(pointer, "must be between " + bound_text(lo) + " and " + bound_text(hi) + ", got " + describe(value));
+  }
+  return x;
+}
+
+Vec3 JsonReader::bounded_vec3(const Json& value, const std::string& pointer, double hi) const {
+  const Vec3 v = vec3(value, pointer);
+  for (int k = 0; k < 3; ++k) bounded(value[k], element(pointer, k), -hi, hi);
+  return v;
 }
 
 long long JsonReader::integer(const Json& value, const std::string& pointer, long long lo, long long hi) const {

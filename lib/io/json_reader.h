@@ -14,7 +14,9 @@ namespace sweep::io {
 using Json = nlohmann::json;
 using WarningSink = std::function<void(const std::string&)>;
 
-// Parses text; a syntax error throws Error(bad_input) "source:line:column: what".
+// Parses text; a syntax error throws Error(bad_input) "source:line:column: what". Invalid UTF-8
+// in a string is a syntax error too (nlohmann only finds it when a string is dumped, as a
+// type_error, which would otherwise surface as an internal error).
 Json parse_json_text(const std::string& text, const std::string& source);
 
 class JsonReader {
@@ -34,6 +36,10 @@ class JsonReader {
   double number(const Json& value, const std::string& pointer) const;  // finite
   double positive(const Json& value, const std::string& pointer) const;
   double non_negative(const Json& value, const std::string& pointer) const;
+  // A number in [lo, hi] (core/limits.h holds the bounds); "must be between lo and hi, got x".
+  double bounded(const Json& value, const std::string& pointer, double lo, double hi) const;
+  // A vector whose every component is within ±`hi`.
+  Vec3 bounded_vec3(const Json& value, const std::string& pointer, double hi) const;
   long long integer(const Json& value, const std::string& pointer, long long lo, long long hi) const;
   std::string string(const Json& value, const std::string& pointer) const;
   Vec3 vec3(const Json& value, const std::string& pointer) const;

@@ -1,7 +1,6 @@
 #include "io/mesh_io.h"
 
 #include <assimp/scene.h>
-#include <tiny_obj_loader.h>
 
 #include <algorithm>
 #include <array>
@@ -18,6 +17,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/mesh_checks.h"
 
 namespace sweep::io {
 namespace {
@@ -86,6 +86,8 @@ void check_input_file(const fs::path& path) {
   const fs::file_status st = fs::status(path, ec);
   if (ec || !fs::exists(st)) bad(source, "no such file");
   if (fs::is_directory(st)) bad(source, "is a directory, not a file");
+  // A FIFO or a device would block the reader forever or never end: only regular files are read.
+  if (!fs::is_regular_file(st)) bad(source, "is not a regular file (a FIFO, a device or a socket)");
   std::ifstream in(path, std::ios::binary);
   if (!in) bad(source, std::string("cannot open: ") + std::strerror(errno));
   if (in.peek() == std::ifstream::traits_type::eof()) bad(source, "empty file");
@@ -183,6 +185,13 @@ std::string at_line(int line) {
   return "line " + std::to_string(line) + ": ";
 }
 
+// A UTF-8 byte order mark is an encoding marker, not content: editors on Windows put one before
+// the first line, and a reader that took it for part of the first token would shift the data.
+std::string_view skip_bom(std::string_view text) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  return text;
+}
+
 // ---- OFF: our own strict reader ----
 // assimp's OFF loader clamps out-of-range face indices to the last vertex, fills a truncated file
 // with zeros and reads single precision, all without an error; so OFF is read here instead.
@@ -190,6 +199,7 @@ std::string at_line(int line) {
 // coordinates, and colours after a face's indices, are ignored), counts on the header line or the
 // next, '#' comments anywhere. Binary OFF and the 4OFF/nOFF/STOFF variants are unsupported.
 Mesh read_off(const std::string& source, std::string_view text) {
+  text = skip_bom(text);
   LineReader lines(text);
   std::vector<std::string_view> tok;
   if (!lines.next(tok)) bad(source, "no OFF header");
@@ -283,96 +293,93 @@ Mesh read_off(const std::string& source, std::string_view text) {
   return mesh;
 }
 
-// ---- OBJ: tinyobjloader for the structure, our own parse of the `v` coordinates ----
-// tinyobjloader keeps the `v` array in file order and faces as polygons (triangulate = false), but
-// its number parser is not correctly rounded and turns "nan" into 0 without a word, and the linked
-// build stores floats. So the coordinates of each `v` line are re-read here with std::from_chars
-// (exact, and a NaN is reported with its vertex index), and tinyobjloader supplies the faces.
-std::vector<Vec3> read_obj_positions(const std::string& source, std::string_view text) {
-  std::vector<Vec3> positions;
+// ---- OBJ: our own reader of the `v` and `f` lines ----
+// tinyobjloader (used before) read indices into a 32-bit int, so "f 1 2 4294967298" wrapped to a
+// valid vertex; it dropped faces of fewer than 3 vertices without a word, rounded coordinates
+// incorrectly and turned "nan" into 0. The two statements that matter for a mesh are simple, so
+// they are read here: `v x y z [w]` (exact, std::from_chars) and `f i[/vt[/vn]] ...` (64-bit
+// indices, negative ones relative to the vertices read so far). Everything else (vt, vn, g, o, s,
+// l, p, usemtl, mtllib, ...) is ignored. Lines end at "\n", "\r\n" or a lone "\r".
+struct ObjFaceLine {
+  int line;                  // for messages
+  std::size_t first, count;  // the face's corners in the flat list of indices
+};
+
+Mesh read_obj(const std::string& source, std::string_view text) {
+  text = skip_bom(text);
+  Mesh mesh;
+  std::vector<long long> corners;  // 0-based; checked against the vertex count at the end
+  std::vector<ObjFaceLine> faces;
   std::size_t pos = 0;
   int line_no = 0;
   while (pos < text.size()) {
-    // Lines end as tinyobjloader ends them (its safeGetline): "\n", "\r\n" or a lone "\r". Its
-    // vertex count must agree with this one, so a lone "\r" cannot be read as a blank here.
     std::size_t end = text.find_first_of("\r\n", pos);
     if (end == std::string_view::npos) end = text.size();
     std::string_view line = text.substr(pos, end - pos);
     pos = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
     ++line_no;
-    std::size_t i = 0;
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-    // The same test tinyobjloader applies: 'v' followed by a blank.
-    if (i + 1 >= line.size() || line[i] != 'v' || !(line[i + 1] == ' ' || line[i + 1] == '\t')) {
-      continue;
-    }
-    line.remove_prefix(i + 2);
     if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) {
       line = line.substr(0, hash);
     }
     const auto tok = split_tokens(line);
-    const std::size_t index = positions.size();
-    if (tok.size() < 3) {
-      bad(source,
-          at_line(line_no) + "vertex " + std::to_string(index) + ": expected 3 coordinates");
-    }
-    Vec3 p;
-    for (int k = 0; k < 3; ++k) {
-      if (!parse_real(tok[k], p[k])) {
-        bad(source, at_line(line_no) + "vertex " + std::to_string(index) + ": '" +
-                        std::string(tok[k].substr(0, 40)) + "' is not a number");
+    if (tok.empty()) continue;
+    if (tok[0] == "v") {
+      const std::size_t index = mesh.positions.size();
+      if (tok.size() < 4) {
+        bad(source,
+            at_line(line_no) + "vertex " + std::to_string(index) + ": expected 3 coordinates");
+      }
+      Vec3 p;
+      for (int k = 0; k < 3; ++k) {
+        if (!parse_real(tok[k + 1], p[k])) {
+          bad(source, at_line(line_no) + "vertex " + std::to_string(index) + ": '" +
+                          std::string(tok[k + 1].substr(0, 40)) + "' is not a number");
+        }
+      }
+      if (!finite(p)) {
+        bad(source, at_line(line_no) + "vertex " + std::to_string(index) +
+                        " has a non-finite coordinate " + format_position(p));
+      }
+      mesh.positions.push_back(p);
+    } else if (tok[0] == "f") {
+      const std::size_t face = faces.size();
+      if (tok.size() < 4) {
+        bad(source, at_line(line_no) + "face " + std::to_string(face) + " has " +
+                        std::to_string(tok.size() - 1) + " vertices (a face needs at least 3)");
+      }
+      faces.push_back({line_no, corners.size(), tok.size() - 1});
+      for (std::size_t k = 1; k < tok.size(); ++k) {
+        const std::string_view v = tok[k].substr(0, tok[k].find('/'));
+        long long index = 0;
+        const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), index);
+        if (ec != std::errc() || ptr != v.data() + v.size() || index == 0) {
+          bad(source, at_line(line_no) + "face " + std::to_string(face) + ": '" +
+                          std::string(tok[k].substr(0, 40)) +
+                          "' is not a vertex index (1-based, or negative for relative)");
+        }
+        // Relative: -1 is the last vertex read so far.
+        corners.push_back(index > 0 ? index - 1
+                                    : static_cast<long long>(mesh.positions.size()) + index);
       }
     }
-    if (!finite(p)) {
-      bad(source, at_line(line_no) + "vertex " + std::to_string(index) +
-                      " has a non-finite coordinate " + format_position(p));
-    }
-    positions.push_back(p);
-  }
-  return positions;
-}
-
-Mesh read_obj(const std::string& source, const std::string& text) {
-  Mesh mesh;
-  mesh.positions = read_obj_positions(source, text);
-
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;
-  config.vertex_color = false;
-  tinyobj::ObjReader reader;
-  // Empty material text: `mtllib` lines are ignored, no other file is opened.
-  bool parsed = false;
-  {
-    const HoldFpExceptions hold;
-    parsed = reader.ParseFromString(text, "", config);
-  }
-  if (!parsed) {
-    bad(source, "cannot parse OBJ: " + one_line(reader.Error()));
-  }
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
-  if (attrib.vertices.size() / 3 != mesh.positions.size()) {
-    fail(ErrorCategory::internal, source + ": OBJ readers disagree on the vertex count (" +
-                                      std::to_string(attrib.vertices.size() / 3) + " vs " +
-                                      std::to_string(mesh.positions.size()) + ")");
   }
   const auto nv = static_cast<long long>(mesh.positions.size());
-  std::size_t face = 0;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
-    std::size_t offset = 0;
-    for (const unsigned int n : shape.mesh.num_face_vertices) {
-      for (unsigned int k = 0; k < n; ++k) {
-        const long long v = shape.mesh.indices[offset + k].vertex_index;
-        if (v < 0 || v >= nv) {
-          bad(source, "face " + std::to_string(face) + " uses vertex " + std::to_string(v + 1) +
-                          " (1-based, as in the file), out of range (the mesh has " +
-                          std::to_string(nv) + " vertices)");
-        }
-        mesh.face_vertices.push_back(static_cast<std::uint32_t>(v));
+  if (nv >= static_cast<long long>(UINT32_MAX)) bad(source, "too many vertices for this reader");
+  mesh.face_offsets.reserve(faces.size() + 1);
+  mesh.face_vertices.reserve(corners.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (std::size_t k = 0; k < faces[f].count; ++k) {
+      const long long v = corners[faces[f].first + k];
+      if (v < 0 || v >= nv) {
+        bad(source, at_line(faces[f].line) + "face " + std::to_string(f) + " uses vertex " +
+                        std::to_string(v + 1) +
+                        " (1-based, as in the file), out of range (the mesh has " +
+                        std::to_string(nv) + " vertices)");
       }
-      offset += n;
-      mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_vertices.size()));
-      ++face;
+      mesh.face_vertices.push_back(static_cast<std::uint32_t>(v));
     }
+    if (mesh.face_vertices.size() >= UINT32_MAX) bad(source, "too many face corners for this reader");
+    mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.face_vertices.size()));
   }
   return mesh;
 }
@@ -429,14 +436,18 @@ PositionKey key_of(const Vec3& p) {
   return key;
 }
 
-Mesh read_with_assimp(const fs::path& path, bool weld) {
-  const std::string source = path.string();
+// `bytes` given: the file's content already in memory (PLY, read from there so that a byte order
+// mark can be skipped and the body checked first), with `hint` its extension; else the file
+// `source` is read by assimp itself (glTF may refer to other files beside it).
+Mesh read_with_assimp(const std::string& source, bool weld, std::string_view bytes = {},
+                      const char* hint = "") {
   Assimp::Importer importer;
   // No post-processing: it keeps the stored vertices, their order and count, and the polygons.
   const aiScene* scene = nullptr;
   {
     const HoldFpExceptions hold;
-    scene = importer.ReadFile(path.string(), 0);
+    scene = bytes.empty() ? importer.ReadFile(source, 0)
+                          : importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
   }
   if (scene == nullptr) bad(source, "cannot parse: " + one_line(importer.GetErrorString()));
   if (scene->mNumMeshes == 0 || scene->mMeshes == nullptr) bad(source, "no vertices");
@@ -493,6 +504,12 @@ Mesh parse_off(std::string_view text, const std::string& source) {
 Mesh parse_obj(const std::string& text, const std::string& source) {
   return read_obj(source, text);
 }
+Mesh parse_ply(std::string_view bytes, const std::string& source) {
+  bytes = skip_bom(bytes);
+  if (bytes.empty()) bad(source, "empty file");
+  detail::check_ascii_ply(bytes, source);
+  return read_with_assimp(source, /*weld=*/false, bytes, "ply");
+}
 
 Mesh read_mesh(const fs::path& path) {
   const std::string source = path.string();
@@ -503,8 +520,11 @@ Mesh read_mesh(const fs::path& path) {
     mesh = read_off(source, read_file(path));
   } else if (ext == "obj") {
     mesh = read_obj(source, read_file(path));
-  } else if (ext == "ply" || ext == "gltf" || ext == "glb") {
-    mesh = read_with_assimp(path, /*weld=*/false);
+  } else if (ext == "ply") {
+    mesh = parse_ply(read_file(path), source);
+  } else if (ext == "gltf" || ext == "glb") {
+    detail::check_gltf_indices(path);
+    mesh = read_with_assimp(source, /*weld=*/false);
   } else {
     if (ext.empty()) {
       fail(ErrorCategory::unsupported, source + ": no file extension, so the format is unknown");
@@ -513,7 +533,7 @@ Mesh read_mesh(const fs::path& path) {
     if (!probe.IsExtensionSupported("." + ext)) {
       fail(ErrorCategory::unsupported, source + ": unsupported mesh format '." + ext + "'");
     }
-    mesh = read_with_assimp(path, /*weld=*/true);
+    mesh = read_with_assimp(source, /*weld=*/true);
   }
   validate_mesh(mesh, source);
   return mesh;

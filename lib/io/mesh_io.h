@@ -3,12 +3,17 @@
 //  - OFF: our own strict reader (assimp's OFF loader silently clamps out-of-range face indices and
 //    zero-fills truncated files); double precision, '#' comments, OFF/COFF/NOFF/CNOFF/NCOFF
 //    headers.
-//  - OBJ: tinyobjloader (keeps the `v` array; assimp would unroll it per face corner) for the
-//    faces, with the `v` coordinates re-read exactly (std::from_chars) so NaN is caught by index
-//    and a written file reads back bit for bit. Faces stay polygons; `l` and `p` are ignored;
-//    tinyobjloader drops faces of fewer than 3 vertices.
+//  - OBJ: our own reader of `v` and `f` lines (the `v` array as stored, coordinates exact with
+//    std::from_chars, so NaN is caught by index and a written file reads back bit for bit; 64-bit
+//    face indices, negative ones relative). Faces stay polygons; a face of fewer than 3 vertices
+//    or an index out of range is refused with its line; `l`, `p`, `vt`, `vn`, groups are ignored.
 //  - PLY, glTF/glb: assimp with no post-processing, which keeps the stored vertices, their order
 //    and count, and the polygons (checked by tests/io). Single precision (assimp stores floats).
+//    Checked first (io/mesh_checks.h), since assimp silently shifts or drops data otherwise: an
+//    ASCII PLY must hold exactly the elements its header announces, one a line; a glTF index
+//    past its primitive's vertices is refused.
+//  - Text formats (OFF, OBJ, PLY) may start with a UTF-8 byte order mark, which is skipped.
+//  - Only regular files are read (a FIFO or a device is refused, not waited on).
 //  - STL, FBX and anything else assimp reads: welded by exact position in first-use order (faces
 //    in file order, corners in face order; -0 and +0 are one position; vertices no face uses are
 //    dropped). These formats have no shared vertex list, so that order is the only one there is.
@@ -33,6 +38,7 @@ Mesh read_mesh(const std::filesystem::path& path);
 // throw Error(bad_input or unsupported); unlike it they do not call validate_mesh.
 Mesh parse_off(std::string_view text, const std::string& source);
 Mesh parse_obj(const std::string& text, const std::string& source);
+Mesh parse_ply(std::string_view bytes, const std::string& source);  // via assimp, from memory
 
 // Checks that a mesh is usable by the tools: has vertices and faces, finite coordinates, face
 // indices in range, faces of at least 3 vertices. Throws Error(bad_input) naming `source`, and the

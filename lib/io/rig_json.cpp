@@ -4,6 +4,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "io/atomic_file.h"
 #include "io/json_reader.h"
 
@@ -16,16 +17,26 @@ constexpr const char* kFormatName = "sweep-rig";
 // A stored rotation must be a unit quaternion to this tolerance; it is used as stored, so that a
 // rig read and written again keeps every bit (bindings hash the rig's values).
 constexpr double kUnitQuaternionTolerance = 1e-9;
-constexpr int kMaxSections = 100000;
-constexpr int kMaxRadialSamples = 4096;
+
+// A positive number no larger than `hi`: the sign first (its own message), then the limit.
+double positive_at_most(const JsonReader& r, const Json& v, const std::string& ptr, double lo, double hi) {
+  r.positive(v, ptr);
+  return r.bounded(v, ptr, lo, hi);
+}
 
 // --- reading ---------------------------------------------------------------------------------------
 
 void read_spring(const JsonReader& r, const Json& v, const std::string& ptr, SpringSettings& s) {
   r.object(v, ptr, {"mass", "frequency_hz", "damping_ratio"});
-  if (const Json* m = r.optional(v, "mass")) s.mass = r.positive(*m, member(ptr, "mass"));
-  if (const Json* f = r.optional(v, "frequency_hz")) s.frequency_hz = r.positive(*f, member(ptr, "frequency_hz"));
-  if (const Json* z = r.optional(v, "damping_ratio")) s.damping_ratio = r.non_negative(*z, member(ptr, "damping_ratio"));
+  // Physical ranges (core/limits.h): outside them the exact step under- or overflows.
+  if (const Json* m = r.optional(v, "mass"))
+    s.mass = positive_at_most(r, *m, member(ptr, "mass"), limits::kMinMass, limits::kMaxMass);
+  if (const Json* f = r.optional(v, "frequency_hz"))
+    s.frequency_hz = positive_at_most(r, *f, member(ptr, "frequency_hz"), limits::kMinFrequencyHz, limits::kMaxFrequencyHz);
+  if (const Json* z = r.optional(v, "damping_ratio")) {
+    r.non_negative(*z, member(ptr, "damping_ratio"));
+    s.damping_ratio = r.bounded(*z, member(ptr, "damping_ratio"), 0, limits::kMaxDampingRatio);
+  }
 }
 
 // Springs given in a file override `s` kind by kind and field by field.
@@ -72,7 +83,8 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) 
   SweepDef def;
   def.name = r.string(r.required(v, ptr, "name"), member(ptr, "name"));
   if (def.name.empty()) r.fail_at(member(ptr, "name"), "must not be empty");
-  const int n = static_cast<int>(r.integer(r.required(v, ptr, "radial_samples"), member(ptr, "radial_samples"), 3, kMaxRadialSamples));
+  const int n = static_cast<int>(r.integer(r.required(v, ptr, "radial_samples"), member(ptr, "radial_samples"),
+                                           limits::kMinRadial, limits::kMaxRadial));
   if (const Json* s = r.optional(v, "springs")) read_springs(r, *s, member(ptr, "springs"), def.default_springs);
   if (const Json* m = r.optional(v, "material")) {
     def.material = Material{};
@@ -81,21 +93,30 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) 
   if (const Json* fs = r.optional(v, "force_scale")) {
     const std::string p = member(ptr, "force_scale");
     r.object(*fs, p, {"rotational", "radial"});
-    if (const Json* x = r.optional(*fs, "rotational")) def.rotational_scale = r.non_negative(*x, member(p, "rotational"));
-    if (const Json* x = r.optional(*fs, "radial")) def.radial_scale = r.non_negative(*x, member(p, "radial"));
+    if (const Json* x = r.optional(*fs, "rotational")) {
+      r.non_negative(*x, member(p, "rotational"));
+      def.rotational_scale = r.bounded(*x, member(p, "rotational"), 0, limits::kMaxForceScale);
+    }
+    if (const Json* x = r.optional(*fs, "radial")) {
+      r.non_negative(*x, member(p, "radial"));
+      def.radial_scale = r.bounded(*x, member(p, "radial"), 0, limits::kMaxForceScale);
+    }
   }
   if (const Json* part = r.optional(v, "part")) {
     const std::string p = member(ptr, "part");
     r.object(*part, p, {"root", "tip"});
-    def.part = PartSeeds{r.vec3(r.required(*part, p, "root"), member(p, "root")),
-                         r.vec3(r.required(*part, p, "tip"), member(p, "tip"))};
+    def.part = PartSeeds{r.bounded_vec3(r.required(*part, p, "root"), member(p, "root"), limits::kMaxLength),
+                         r.bounded_vec3(r.required(*part, p, "tip"), member(p, "tip"), limits::kMaxLength)};
   }
 
   const std::string sp = member(ptr, "sections");
   const Json& sections = r.required(v, ptr, "sections");
   r.array(sections, sp);
   if (sections.size() < 2) r.fail_at(sp, "a sweep needs at least 2 key sections, got " + std::to_string(sections.size()));
-  if (sections.size() > kMaxSections) r.fail_at(sp, "too many key sections");
+  if (sections.size() > static_cast<std::size_t>(limits::kMaxSections)) {
+    r.fail_at(sp, "too many key sections: " + std::to_string(sections.size()) + ", at most " +
+                      std::to_string(limits::kMaxSections));
+  }
   def.rest.radial_count = n;
   std::set<std::string> names;
   for (std::size_t i = 0; i < sections.size(); ++i) {
@@ -107,12 +128,12 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) 
       name = r.string(*nm, member(p, "name"));
       if (!name.empty() && !names.insert(name).second) r.fail_at(member(p, "name"), "duplicate section name \"" + name + "\"");
     }
-    const double t = r.number(r.required(s, p, "t"), member(p, "t"));
+    const double t = r.bounded(r.required(s, p, "t"), member(p, "t"), -limits::kMaxLength, limits::kMaxLength);
     if (i == 0 && t != 0.0) r.fail_at(member(p, "t"), "the first section's t must be 0, got " + describe(s["t"]));
     if (i > 0 && !(t > def.rest.t.back())) {
       r.fail_at(member(p, "t"), "must be greater than the previous section's t (" + std::to_string(def.rest.t.back()) + ")");
     }
-    const Vec3 c = r.vec3(r.required(s, p, "center"), member(p, "center"));
+    const Vec3 c = r.bounded_vec3(r.required(s, p, "center"), member(p, "center"), limits::kMaxLength);
     const Quat q = read_rotation(r, r.required(s, p, "rotation"), member(p, "rotation"));
     const Json& radii = r.required(s, p, "radii");
     const std::string rp = member(p, "radii");
@@ -120,7 +141,9 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) 
     if (radii.size() != static_cast<std::size_t>(n)) {
       r.fail_at(rp, "expected " + std::to_string(n) + " radii (radial_samples), got " + std::to_string(radii.size()));
     }
-    for (std::size_t j = 0; j < radii.size(); ++j) def.rest.radii.push_back(r.positive(radii[j], element(rp, j)));
+    for (std::size_t j = 0; j < radii.size(); ++j) {
+      def.rest.radii.push_back(positive_at_most(r, radii[j], element(rp, j), 0, limits::kMaxLength));
+    }
     SectionSprings springs = def.default_springs;
     if (const Json* o = r.optional(s, "springs")) read_springs(r, *o, member(p, "springs"), springs);
     def.rest.t.push_back(t);
@@ -227,6 +250,7 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
   r.object(doc, "", {"format", "version", "mesh", "sweeps", "scene"});
   Rig rig;
   if (const Json* m = r.optional(doc, "mesh")) rig.mesh = r.string(*m, "/mesh");
+  if (const Json* s = r.optional(doc, "scene")) rig.scene_json = s->dump();
   const Json& sweeps = r.required(doc, "", "sweeps");
   r.array(sweeps, "/sweeps");
   std::set<std::string> names;
@@ -241,7 +265,7 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
 }
 
 Rig read_rig(const std::filesystem::path& path, const WarningSink& warn) {
-  return parse_rig(read_file(path), path.string(), warn);
+  return parse_rig(read_file(path, limits::kMaxJsonBytes), path.string(), warn);
 }
 
 std::string format_rig(const Rig& rig) {
@@ -252,7 +276,15 @@ std::string format_rig(const Rig& rig) {
   OrderedJson sweeps = OrderedJson::array();
   for (const SweepDef& def : rig.sweeps) sweeps.push_back(sweep_json(def));
   doc["sweeps"] = std::move(sweeps);
-  return doc.dump(2) + "\n";
+  if (!rig.scene_json.empty()) doc["scene"] = OrderedJson::parse(rig.scene_json);
+  // Names come from the command line too (sweep-fit --name, the mesh path): JSON text must be
+  // UTF-8, so other bytes are a usage error, not nlohmann's type_error (an "internal" exit).
+  try {
+    return doc.dump(2) + "\n";
+  } catch (const nlohmann::json::type_error&) {
+    fail(ErrorCategory::usage, "a sweep name or the mesh path is not valid UTF-8; a rig file is "
+                               "JSON text and can only hold UTF-8 names");
+  }
 }
 
 std::filesystem::path resolve_mesh_path(const std::filesystem::path& rig_path, const Rig& rig) {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "io/atomic_file.h"
 
 namespace sweep::sim {
@@ -12,11 +13,6 @@ using io::element;
 using io::Json;
 using io::member;
 
-constexpr double kMaxDuration = 24 * 3600.0;  // s: a day of animation is far beyond any bake
-constexpr double kMaxFps = 10000.0;
-constexpr int kMaxSubsteps = 100000;
-constexpr double kMinStep = 1e-6;  // s: a microsecond step is far finer than any spring needs
-constexpr double kMaxStep = 1.0;   // s: the closed form takes any step, but loads are re-split per step
 
 std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::string& ptr) {
   r.array(v, ptr);
@@ -59,7 +55,7 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
     r.fail_at(ptr, "give either \"point\" or \"t\" and \"theta\", not both");
   if (point) {
     f.spec.at_world_point = true;
-    f.spec.point = r.vec3(*point, member(ptr, "point"));
+    f.spec.point = r.bounded_vec3(*point, member(ptr, "point"), limits::kMaxLength);
   } else {
     if (!t || !theta) r.fail_at(ptr, "missing the place: \"point\", or \"t\" and \"theta\"");
     const double frac = r.number(*t, member(ptr, "t"));
@@ -69,6 +65,10 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
     f.spec.theta = r.number(*theta, member(ptr, "theta"));
   }
   f.spec.vector = r.vec3(r.required(v, ptr, "vector"), member(ptr, "vector"));
+  if (!(f.spec.vector.norm() <= limits::kMaxForce)) {
+    r.fail_at(member(ptr, "vector"), "a force of at most 1e+09 N, got one of length " +
+                                         std::to_string(f.spec.vector.norm()));
+  }
   if (const Json* fr = r.optional(v, "frame")) {
     const std::string name = r.string(*fr, member(ptr, "frame"));
     if (name == "world") {
@@ -79,9 +79,10 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
       r.fail_at(member(ptr, "frame"), "must be \"world\" or \"surface\", got " + io::describe(*fr));
     }
   }
-  f.start = r.non_negative(r.required(v, ptr, "start"), member(ptr, "start"));
+  f.start = r.bounded(r.required(v, ptr, "start"), member(ptr, "start"), 0, limits::kMaxTime);
   f.end = f.start;
-  if (const Json* e = r.optional(v, "end")) f.end = r.number(*e, member(ptr, "end"));
+  if (const Json* e = r.optional(v, "end"))
+    f.end = r.bounded(*e, member(ptr, "end"), -limits::kMaxTime, limits::kMaxTime);
   if (f.end < f.start) r.fail_at(member(ptr, "end"), "must not be before \"start\"");
   if (const Json* c = r.optional(v, "components"))
     f.spec.components = read_components(r, *c, member(ptr, "components"));
@@ -149,18 +150,24 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
     }
   }
   scene.duration = r.positive(r.required(json, pointer, "duration"), member(pointer, "duration"));
-  if (scene.duration > kMaxDuration)
+  if (scene.duration > limits::kMaxDuration)
     r.fail_at(member(pointer, "duration"), "must be at most 86400 s");
-  scene.fps = r.positive(r.required(json, pointer, "fps"), member(pointer, "fps"));
-  if (scene.fps > kMaxFps) r.fail_at(member(pointer, "fps"), "must be at most 10000");
+  const Json& fps = r.required(json, pointer, "fps");
+  r.positive(fps, member(pointer, "fps"));  // the sign first, with its own message
+  scene.fps = r.bounded(fps, member(pointer, "fps"), limits::kMinFps, limits::kMaxFps);
+  if (scene.duration * scene.fps + 1 > limits::kMaxFrames) {
+    r.fail_at(member(pointer, "fps"), "duration × fps makes more than " +
+                                          std::to_string(limits::kMaxFrames) + " frames");
+  }
   if (const Json* s = r.optional(json, "substeps")) {
-    scene.substeps = static_cast<int>(r.integer(*s, member(pointer, "substeps"), 1, kMaxSubsteps));
+    scene.substeps =
+        static_cast<int>(r.integer(*s, member(pointer, "substeps"), 1, limits::kMaxSubsteps));
   }
   if (const Json* st = r.optional(json, "step")) {
     if (r.optional(json, "substeps"))
       r.fail_at(member(pointer, "step"), "give either \"step\" or \"substeps\", not both");
     scene.step = r.positive(*st, member(pointer, "step"));
-    if (scene.step < kMinStep || scene.step > kMaxStep)
+    if (scene.step < limits::kMinStep || scene.step > limits::kMaxStep)
       r.fail_at(member(pointer, "step"), "must be between 1e-6 and 1 s, got " + io::describe(*st));
   }
   if (const Json* g = r.optional(json, "gravity")) scene.gravity = r.vec3(*g, member(pointer, "gravity"));
@@ -180,13 +187,20 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
   const std::string fp = member(pointer, "forces");
   const Json& forces = r.required(json, pointer, "forces");
   r.array(forces, fp);
-  for (std::size_t i = 0; i < forces.size(); ++i)
+  for (std::size_t i = 0; i < forces.size(); ++i) {
     scene.forces.push_back(read_force(r, forces[i], element(fp, i), rig));
+    // Legal, but surely not meant: the bake ends before the force begins.
+    if (scene.forces.back().start > scene.duration) {
+      r.warn_at(member(element(fp, i), "start"),
+                "the force starts after the scene ends (duration " + io::describe(json["duration"]) +
+                    " s): it never acts");
+    }
+  }
   return scene;
 }
 
 Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn) {
-  const Json doc = io::parse_json_text(io::read_file(path), path.string());
+  const Json doc = io::parse_json_text(io::read_file(path, limits::kMaxJsonBytes), path.string());
   const io::JsonReader r(path.string(), warn);
   if (!doc.is_object()) r.fail_at("", "must be a JSON object");
   // A rig file that carries its scene. (A "format" that is not a string is reported by

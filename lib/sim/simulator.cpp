@@ -178,6 +178,16 @@ void Simulator::check_finite(const ElasticSweep& body, double t) const {
   const double limit = kRunawayFactor * std::max(1.0, body.rest().length());
   if (body.is_finite() && body.max_displacement() < limit) return;
   std::ostringstream msg;
+  if (scene_.integrator == Integrator::exact) {
+    // The closed form cannot diverge: a runaway here is the inputs' doing (forces far too large
+    // for the springs, within the limits each has on its own), so it is bad input, not exit 5,
+    // which README reserves for the explicit integrators.
+    msg << "sweep \"" << body.definition().name << "\" moved more than " << kRunawayFactor
+        << " times its length by t = " << t
+        << " s: the scene's forces are far too large for its springs (raise mass or "
+           "frequency_hz, or lower the forces)";
+    fail(ErrorCategory::bad_input, msg.str());
+  }
   msg << "the simulation diverged: sweep \"" << body.definition().name << "\" at t = " << t
       << " s (" << integrator_name(scene_.integrator) << " integrator, step "
       << scene_.step_seconds()

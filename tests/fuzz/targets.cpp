@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -121,22 +123,145 @@ void binding(std::string_view data) {
   parse_and_check_binding(fixed);
 }
 
-void off_mesh(std::string_view data) {
-  try {
-    const Mesh m = io::parse_off(data, "fuzz.off");
-    io::validate_mesh(m, "fuzz.off");
-  } catch (const Error& e) {
-    ignore(e);
+namespace {
+
+// ---- An independent reading of the vertex lines, for the mesh targets ----
+// Whatever a reader accepts must hold exactly the vertices the file's lines hold, in their order:
+// counted here line by line with strtod, a way unrelated to the readers' own (issue 17: a BOM
+// made the OBJ reader skip the first `v`, a lying PLY header had face lines read as vertices).
+
+std::string_view without_bom(std::string_view text) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  return text;
+}
+
+// Lines ending at "\n", "\r\n" or a lone "\r" (what the readers accept), '#' comments removed.
+std::vector<std::vector<std::string>> lines_of(std::string_view text, bool lone_cr_ends_line) {
+  std::vector<std::vector<std::string>> lines;
+  std::vector<std::string> words;
+  std::string word;
+  bool comment = false;
+  auto end_word = [&] {
+    if (!word.empty()) words.push_back(word);
+    word.clear();
+  };
+  for (std::size_t i = 0; i <= text.size(); ++i) {
+    const char c = i < text.size() ? text[i] : '\n';
+    if (c == '\n' || (c == '\r' && lone_cr_ends_line)) {
+      if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
+      end_word();
+      lines.push_back(std::move(words));
+      words.clear();
+      comment = false;
+    } else if (comment || c == '#') {
+      comment = true;
+    } else if (std::isspace(static_cast<unsigned char>(c))) {
+      end_word();
+    } else {
+      word += c;
+    }
+  }
+  return lines;
+}
+
+Vec3 strtod3(const std::vector<std::string>& w, std::size_t first) {
+  Vec3 p;
+  for (int k = 0; k < 3; ++k) p[k] = std::strtod(w.at(first + k).c_str(), nullptr);
+  return p;
+}
+
+void expect_vertices(const Mesh& m, const std::vector<Vec3>& expected, const char* target) {
+  if (m.positions.size() != expected.size()) {
+    throw std::logic_error(std::string(target) + ": the reader holds " +
+                           std::to_string(m.positions.size()) + " vertices, the file's lines " +
+                           std::to_string(expected.size()));
+  }
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    if (!(m.positions[i] == expected[i])) {
+      throw std::logic_error(std::string(target) + ": vertex " + std::to_string(i) +
+                             " differs from its line");
+    }
   }
 }
 
-void obj_mesh(std::string_view data) {
+}  // namespace
+
+void off_mesh(std::string_view data) {
+  Mesh m;
   try {
-    const Mesh m = io::parse_obj(std::string(data), "fuzz.obj");
+    m = io::parse_off(data, "fuzz.off");
+    io::validate_mesh(m, "fuzz.off");
+  } catch (const Error& e) {
+    ignore(e);
+    return;
+  }
+  // Accepted: the header word, the counts (on its line or the next), then one vertex a line.
+  std::vector<std::vector<std::string>> lines;
+  for (auto& l : lines_of(without_bom(data), false)) {
+    if (!l.empty()) lines.push_back(std::move(l));
+  }
+  std::size_t at = 0;
+  std::vector<std::string> counts(lines.at(0).begin() + 1, lines.at(0).end());
+  if (counts.empty()) counts = lines.at(++at);
+  const std::size_t nv = std::stoull(counts.at(0));
+  std::vector<Vec3> expected;
+  for (std::size_t i = 0; i < nv; ++i) expected.push_back(strtod3(lines.at(++at), 0));
+  expect_vertices(m, expected, "off_mesh");
+}
+
+void obj_mesh(std::string_view data) {
+  Mesh m;
+  try {
+    m = io::parse_obj(std::string(data), "fuzz.obj");
     io::validate_mesh(m, "fuzz.obj");
   } catch (const Error& e) {
     ignore(e);
+    return;
   }
+  std::vector<Vec3> expected;
+  for (const auto& l : lines_of(without_bom(data), true)) {
+    if (!l.empty() && l[0] == "v") expected.push_back(strtod3(l, 1));
+  }
+  expect_vertices(m, expected, "obj_mesh");
+}
+
+void ply_mesh(std::string_view data) {
+  Mesh m;
+  try {
+    m = io::parse_ply(data, "fuzz.ply");
+    io::validate_mesh(m, "fuzz.ply");
+  } catch (const Error& e) {
+    ignore(e);
+    return;
+  }
+  // ASCII with "vertex" first and x y z its first properties: the vertex lines follow the header
+  // one a line, as single-precision values (assimp stores floats).
+  const auto lines = lines_of(without_bom(data), false);
+  std::size_t at = 0;
+  std::vector<std::string> props;
+  bool ascii = false, vertex_first = false;
+  std::size_t nv = 0, elements = 0;
+  for (; at < lines.size(); ++at) {
+    const auto& l = lines[at];
+    if (l.empty()) continue;
+    if (l[0] == "end_header") break;
+    if (l[0] == "format" && l.size() > 1) ascii = l[1] == "ascii";
+    if (l[0] == "element" && l.size() > 2 && elements++ == 0 && l[1] == "vertex") {
+      vertex_first = true;
+      nv = std::stoull(l[2]);
+    }
+    if (l[0] == "property" && elements == 1 && l.size() > 2) props.push_back(l.back());
+  }
+  if (!ascii || !vertex_first || props.size() < 3 || props[0] != "x" || props[1] != "y" ||
+      props[2] != "z") {
+    return;
+  }
+  std::vector<Vec3> expected;
+  while (expected.size() < nv) {
+    const auto& l = lines.at(++at);
+    if (!l.empty()) expected.push_back(strtod3(l, 0).cast<float>().cast<double>());
+  }
+  expect_vertices(m, expected, "ply_mesh");
 }
 
 const std::vector<Target>& targets() {
@@ -144,7 +269,8 @@ const std::vector<Target>& targets() {
                                           {"scene", scene},
                                           {"binding", binding},
                                           {"off_mesh", off_mesh},
-                                          {"obj_mesh", obj_mesh}};
+                                          {"obj_mesh", obj_mesh},
+                                          {"ply_mesh", ply_mesh}};
   return all;
 }
 

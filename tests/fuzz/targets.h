@@ -15,9 +15,11 @@ namespace sweep::fuzz {
 void rig_json(std::string_view data);  // io::parse_rig
 void scene(std::string_view data);     // sim::read_scene (a file) against a fixed small rig
 void binding(std::string_view data);   // bind::parse_binding + check_binding, raw and re-summed
-void off_mesh(std::string_view data);  // io::parse_off + validate_mesh
-void obj_mesh(
-    std::string_view data);  // io::parse_obj (its own `v` parser, tinyobjloader) + validate
+// The mesh readers, each + validate_mesh; what they accept must hold the vertices of the file's
+// lines, in their order, as an independent line-by-line count reads them.
+void off_mesh(std::string_view data);  // io::parse_off
+void obj_mesh(std::string_view data);  // io::parse_obj
+void ply_mesh(std::string_view data);  // io::parse_ply (the ASCII body check, then assimp)
 
 struct Target {
   const char* name;  // also the folder name under tests/fuzz/corpus/ and tests/fuzz/regressions/

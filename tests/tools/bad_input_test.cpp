@@ -9,6 +9,8 @@
 // --check of stale, truncated, bit-flipped and foreign bindings).
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -101,6 +103,37 @@ const char* const kInfOff = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 -inf 0\n3 0 1 2\n";
 const char* const kPastObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 9\n";
 const char* const kPastOff = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
 const char* const kNoFacesObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+// Issue 17: what the readers used to drop or shift silently.
+const char* const kObjIndexPast32Bits = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4294967298\n";
+const char* const kObjFaceOfTwo = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n";
+// Announces 4 vertices and 1 face; holds 3 and 1, so the face line would be vertex 3.
+const char* const kPlyMoreVertices =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+    "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+// Announces 2 faces, holds 1.
+const char* const kPlyMoreFaces =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+    "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+// Three vertices and one triangle (0, 1, 9): index 9 is past the vertices.
+const char* const kGltfIndexPast =
+    R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+  "buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAkAAAA="}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
+const std::string kBom = "\xEF\xBB\xBF";
+
+// A FIFO in place of a file (a reader would wait on it forever).
+void make_fifo(const fs::path& p) {
+  fs::remove(p);
+  ASSERT_EQ(::mkfifo(p.c_str(), 0644), 0);
+}
+
+// An invalid UTF-8 byte in a file name.
+const std::string kBadUtf8 = "\xff";
 
 Mesh tube_mesh(bool caps) {
   tube::TubeParams p;
@@ -204,8 +237,8 @@ std::vector<Case> fit_cases() {
          return fit_args(ws, "past.obj");
        },
        2,
-       {"past.obj: face 1 uses vertex 9 (1-based, as in the file), out of range (the mesh has 3 "
-        "vertices)"}},
+       {"past.obj: line 5: face 1 uses vertex 9 (1-based, as in the file), out of range (the mesh "
+        "has 3 vertices)"}},
       {"Fit_OffFacePastVertices",
        fit,
        [](const Workspace& ws) {
@@ -300,6 +333,101 @@ std::vector<Case> fit_cases() {
        },
        4,
        {"missing/r.json: cannot create a file in"}},
+      {"Fit_ObjIndexPast32BitsRefused",
+       fit,
+       [](const Workspace& ws) {
+         spit(ws / "wrap.obj", kObjIndexPast32Bits);
+         return fit_args(ws, "wrap.obj");
+       },
+       2,
+       {"wrap.obj: line 4: face 0 uses vertex 4294967298 (1-based, as in the file), out of range"}},
+      {"Fit_ObjFaceOfTwoRefused",
+       fit,
+       [](const Workspace& ws) {
+         spit(ws / "two.obj", kObjFaceOfTwo);
+         return fit_args(ws, "two.obj");
+       },
+       2,
+       {"two.obj: line 5: face 1 has 2 vertices (a face needs at least 3)"}},
+      {"Fit_PlyAnnouncingMoreVerticesRefused",
+       fit,
+       [](const Workspace& ws) {
+         spit(ws / "more.ply", kPlyMoreVertices);
+         return fit_args(ws, "more.ply");
+       },
+       2,
+       {"more.ply: line 13: vertex 3: expected 3 values, found 4"}},
+      {"Fit_PlyAnnouncingMoreFacesRefused",
+       fit,
+       [](const Workspace& ws) {
+         spit(ws / "more.ply", kPlyMoreFaces);
+         return fit_args(ws, "more.ply");
+       },
+       2,
+       {"more.ply: line 13: unexpected end of file: the header announces 2 face elements, the "
+        "file holds 1"}},
+      {"Fit_GltfIndexPastVerticesRefused",
+       fit,
+       [](const Workspace& ws) {
+         spit(ws / "past.gltf", kGltfIndexPast);
+         return fit_args(ws, "past.gltf");
+       },
+       2,
+       {"past.gltf: mesh 0 primitive 0: index 2 is 9, past its 3 vertices"}},
+      {"Fit_OffWithBomFits",
+       fit,
+       [](const Workspace& ws) {
+         spit(ws / "bom.off", kBom + io::off_bytes(io::read_mesh(ws / "tube.obj")));
+         return fit_args(ws, "bom.off") + " -k 6 -n 8";
+       },
+       0,
+       {},
+       {"new.rig.json"}},
+      {"Fit_MeshIsFifo",
+       fit,
+       [](const Workspace& ws) {
+         make_fifo(ws / "pipe.obj");
+         return fit_args(ws, "pipe.obj");
+       },
+       2,
+       {"pipe.obj: is not a regular file"}},
+      {"Fit_RadialAboveLimit",
+       fit,
+       [](const Workspace& ws) { return fit_args(ws, "tube.obj") + " -n 4097"; },
+       1,
+       {"--radial at most 4096"}},
+      {"Fit_SectionsAboveLimit",
+       fit,
+       [](const Workspace& ws) { return fit_args(ws, "tube.obj") + " -k 100001"; },
+       1,
+       {"--sections must be at most 100000"}},
+      {"Fit_NameNotUtf8",
+       fit,
+       [](const Workspace& ws) {
+         return quoted(ws / "tube.obj") + " -o " + quoted(ws / "new.rig.json") +
+                " --root 0,0,0.02 --tip 0,0,1 --name '" + kBadUtf8 + "'";
+       },
+       1,
+       {"--name is not valid UTF-8"}},
+      {"Fit_RigOntoMesh",
+       fit,
+       [](const Workspace& ws) { return fit_args(ws, "tube.obj", "tube.obj"); },
+       1,
+       {"tube.obj is the same file as the mesh"}},
+      {"Fit_ReportOntoMesh",
+       fit,
+       [](const Workspace& ws) {
+         return fit_args(ws, "tube.obj") + " --report " + quoted(ws / "tube.obj");
+       },
+       1,
+       {"--report ", "is the same file as the mesh"}},
+      {"Fit_ReportOntoRig",
+       fit,
+       [](const Workspace& ws) {
+         return fit_args(ws, "tube.obj", "rig.json") + " --report " + quoted(ws / "./rig.json");
+       },
+       1,
+       {"--report ", "is the same file as -o "}},
       {"Fit_OutputInReadOnlyFolder",
        fit,
        [](const Workspace& ws) {
@@ -435,7 +563,7 @@ std::vector<Case> bind_cases() {
       mesh_case("Bind_MeshEmpty", "", "tube.obj: empty file"),
       mesh_case("Bind_MeshWithoutFaces", kNoFacesObj, "tube.obj: no faces"),
       mesh_case("Bind_MeshWithNan", kNanObj, "tube.obj: line 2: vertex 1 has a non-finite"),
-      mesh_case("Bind_MeshFacePastVertices", kPastObj, "tube.obj: face 1 uses vertex 9"),
+      mesh_case("Bind_MeshFacePastVertices", kPastObj, "tube.obj: line 5: face 1 uses vertex 9"),
       {"Bind_CheckBindingOfAnotherRig",
        bind,
        [](const Workspace& ws) {
@@ -462,6 +590,56 @@ std::vector<Case> bind_cases() {
        },
        4,
        {"missing/out.bind: cannot create a file in"}},
+      rig_case(
+          "Bind_SectionTBeyondLimit", [](json& j) { j["sweeps"][0]["sections"][2]["t"] = 1e39; },
+          2, "rig.json: /sweeps/0/sections/2/t: must be between -1e+09 and 1e+09, got 1e+39"),
+      rig_case(
+          "Bind_FrequencyBeyondLimit",
+          [](json& j) { j["sweeps"][0]["springs"]["bend"]["frequency_hz"] = 1e160; }, 2,
+          "rig.json: /sweeps/0/springs/bend/frequency_hz: must be between 0.001 and 10000, got "
+          "1e+160"),
+      rig_case(
+          "Bind_MassBelowLimit",
+          [](json& j) { j["sweeps"][0]["springs"]["radial"]["mass"] = 1e-12; }, 2,
+          "rig.json: /sweeps/0/springs/radial/mass: must be between 1e-06 and 1e+06, got 1e-12"),
+      rig_case(
+          "Bind_RadiusBeyondLimit",
+          [](json& j) { j["sweeps"][0]["sections"][1]["radii"][0] = 1e308; }, 2,
+          "rig.json: /sweeps/0/sections/1/radii/0: must be between 0 and 1e+09, got 1e+308"),
+      rig_case(
+          "Bind_RadialSamplesBeyondLimit",
+          [](json& j) { j["sweeps"][0]["radial_samples"] = 4097; }, 2,
+          "rig.json: /sweeps/0/radial_samples: must be between 3 and 4096, got 4097"),
+      mesh_case("Bind_MeshObjWithWrappingIndex", kObjIndexPast32Bits,
+                "tube.obj: line 4: face 0 uses vertex 4294967298"),
+      mesh_case("Bind_MeshObjFaceOfTwo", kObjFaceOfTwo, "tube.obj: line 5: face 1 has 2 vertices"),
+      {"Bind_MeshIsFifo",
+       bind,
+       [](const Workspace& ws) {
+         fs::remove(ws / "rig.bind");
+         make_fifo(ws / "tube.obj");
+         return bind_args(ws);
+       },
+       2,
+       {"tube.obj: is not a regular file"}},
+      {"Bind_OutputOntoRig",
+       bind,
+       [](const Workspace& ws) { return bind_args(ws) + " -o " + quoted(ws / "rig.json"); },
+       1,
+       {"the binding ", "rig.json is the same file as the rig"}},
+      {"Bind_ReportOntoMesh",
+       bind,
+       [](const Workspace& ws) { return bind_args(ws) + " --report " + quoted(ws / "tube.obj"); },
+       1,
+       {"--report ", "is the same file as the mesh"}},
+      {"Bind_ReportOntoBinding",
+       bind,
+       [](const Workspace& ws) {
+         return bind_args(ws) + " -o " + quoted(ws / "b.bind") + " --report " +
+                quoted(ws / "b.bind");
+       },
+       1,
+       {"--report ", "is the same file as the binding"}},
       {"Bind_OutputInReadOnlyFolder",
        bind,
        [](const Workspace& ws) {
@@ -715,6 +893,120 @@ std::vector<Case> sim_cases() {
        },
        5,
        {"the simulation diverged: sweep \"tube\""}},
+      scene_case(
+          "Sim_FpsBelowLimit", [](json& j) { j["fps"] = 5e-324; }, 2,
+          "scene.json: /fps: must be between 0.001 and 10000, got 5e-324"),
+      scene_case(
+          "Sim_TooManyFrames",
+          [](json& j) {
+            j["duration"] = 86400;
+            j["fps"] = 10000;
+          },
+          2, "scene.json: /fps: duration × fps makes more than 1000000 frames"),
+      scene_case(
+          "Sim_ForceBeyondLimit", [](json& j) { j["forces"][0]["vector"] = {0, 1e300, 0}; }, 2,
+          "scene.json: /forces/0/vector: a force of at most 1e+09 N"),
+      {"Sim_ForceAfterTheEndWarns",
+       sim,
+       [](const Workspace& ws) {
+         edit_json(ws / "scene.json", [](json& j) {
+           j["forces"][0]["start"] = 5;
+           j["forces"][0]["end"] = 6;
+         });
+         return sim_args(ws);
+       },
+       0,
+       {"warning: ", "scene.json: /forces/0/start: the force starts after the scene ends "
+                     "(duration 0.5 s): it never acts"},
+       {"out.glb"}},
+      {"Sim_ExactRunawayIsBadInput",
+       sim,
+       [](const Workspace& ws) {
+         edit_json(ws / "rig.json", [](json& j) {
+           j["sweeps"][0]["springs"]["bend"] = {{"mass", 1e-6}, {"frequency_hz", 1e-3}};
+         });
+         edit_json(ws / "scene.json", [](json& j) { j["forces"][0]["vector"] = {0, 1e9, 0}; });
+         return sim_args(ws, "out.pc2");
+       },
+       2,
+       {"the scene's forces are far too large for its springs"}},
+      {"Sim_SceneIsFifo",
+       sim,
+       [](const Workspace& ws) {
+         make_fifo(ws / "scene.json");
+         return sim_args(ws);
+       },
+       2,
+       {"scene.json: is not a regular file"}},
+      {"Sim_SceneAboveSizeLimit",
+       sim,
+       [](const Workspace& ws) {
+         fs::resize_file(ws / "scene.json", 100u << 20);  // sparse: no 100 MB written
+         return sim_args(ws);
+       },
+       2,
+       {"scene.json: 104857600 bytes, more than the limit of 67108864"}},
+      {"Sim_SceneNameNotUtf8",
+       sim,
+       [](const Workspace& ws) {
+         fs::rename(ws / "scene.json", ws / ("s" + kBadUtf8 + ".json"));
+         return quoted(ws / "rig.json") + " -s " + quoted(ws / ("s" + kBadUtf8 + ".json")) +
+                " -q -o " + quoted(ws / "out.glb");
+       },
+       1,
+       {"the scene file name is not valid UTF-8"}},
+      {"Sim_ReportEmptyName",
+       sim,
+       [](const Workspace& ws) { return sim_args(ws) + " --report ''"; },
+       1,
+       {"--report", "the file name is empty"}},
+      {"Sim_ReportOntoScene",
+       sim,
+       [](const Workspace& ws) { return sim_args(ws) + " --report " + quoted(ws / "scene.json"); },
+       1,
+       {"--report ", "is the same file as the scene"}},
+      {"Sim_ReportOntoOutput",
+       sim,
+       [](const Workspace& ws) { return sim_args(ws) + " --report " + quoted(ws / "out.glb"); },
+       1,
+       {"--report ", "is the same file as -o "}},
+      {"Sim_TwoOutputsOneFile",
+       sim,
+       [](const Workspace& ws) { return sim_args(ws, "out.pc2") + " -o " + quoted(ws / "./out.pc2"); },
+       1,
+       {"is the same file as -o "}},
+      {"Sim_ObjFrameOntoMesh",
+       sim,
+       [](const Workspace& ws) {
+         fs::rename(ws / "tube.obj", ws / "m_0000.obj");
+         edit_json(ws / "rig.json", [](json& j) { j["mesh"] = "m_0000.obj"; });
+         return sim_args(ws, "m.obj");
+       },
+       1,
+       {"m_0000.obj is the same file as the mesh"}},
+      {"Sim_OutputOntoFifo",
+       sim,
+       [](const Workspace& ws) {
+         make_fifo(ws / "out.pc2");
+         return sim_args(ws, "out.pc2");
+       },
+       4,
+       {"out.pc2: is a FIFO; outputs replace regular files only"}},
+      {"Sim_OutputOntoSymlink",
+       sim,
+       [](const Workspace& ws) {
+         spit(ws / "target.pc2", "keep me");
+         fs::create_symlink("target.pc2", ws / "out.pc2");
+         return sim_args(ws, "out.pc2");
+       },
+       4,
+       {"out.pc2: is a symbolic link; outputs replace regular files only"}},
+      {"Sim_LongOutputName",
+       sim,
+       [](const Workspace& ws) { return sim_args(ws, std::string(245, 'a') + ".glb"); },
+       0,
+       {},
+       {std::string(245, 'a') + ".glb"}},
       {"Sim_ThreadsZeroIsUsage",
        sim,
        [](const Workspace& ws) { return sim_args(ws) + " --threads 0"; },

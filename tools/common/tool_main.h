@@ -1,15 +1,48 @@
 #pragma once
 // What every tool's main shares: run the tool, turn a sweep::Error into "error: <message>" on
 // stderr and its documented exit code (core/error.h), and never let an exception escape.
+//  - Out of memory is exit 6 with a message, never an abort: a reserve is set aside at start and
+//    given back by the first failed allocation, so that the std::bad_alloc it raises can unwind
+//    (destructors remove temporaries; some allocate) and be reported; should memory run out again
+//    before that, the message is written with no allocation and the process exits 6 at once.
+//  - A closed stdout (`sweep-sim ... | head -1`) is not an error: SIGPIPE is ignored and what
+//    would have been printed is dropped; outputs and the exit code are those of the run.
+#include <unistd.h>
+
+#include <csignal>
 #include <exception>
 #include <functional>
 #include <iostream>
+#include <new>
 
 #include "core/error.h"
 
 namespace sweep::tools {
 
+namespace detail {
+inline char* memory_reserve = nullptr;
+constexpr std::size_t kMemoryReserveBytes = std::size_t{32} << 20;
+
+inline void out_of_memory_again() {
+  constexpr char kMessage[] = "error: out of memory\n";
+  [[maybe_unused]] const ssize_t n = ::write(2, kMessage, sizeof kMessage - 1);
+  ::_exit(exit_code(ErrorCategory::internal));
+}
+
+inline void out_of_memory() {
+  delete[] memory_reserve;
+  memory_reserve = nullptr;
+  std::set_new_handler(out_of_memory_again);
+  throw std::bad_alloc();
+}
+}  // namespace detail
+
 inline int guarded_main(const std::function<int()>& body) {
+  std::signal(SIGPIPE, SIG_IGN);
+  detail::memory_reserve = new char[detail::kMemoryReserveBytes];
+  // Touch the reserve so that it is really held (an untouched block may be only promised).
+  for (std::size_t i = 0; i < detail::kMemoryReserveBytes; i += 4096) detail::memory_reserve[i] = 1;
+  std::set_new_handler(detail::out_of_memory);
   try {
     return body();
   } catch (const Error& e) {

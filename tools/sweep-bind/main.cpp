@@ -15,7 +15,9 @@
 #include "bind/binding_file.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
+#include "io/path_checks.h"
 #include "io/rig_json.h"
+#include "tools/common/cli_checks.h"
 #include "tools/common/tool_main.h"
 
 namespace {
@@ -90,6 +92,8 @@ int run(const Settings& s) {
   }
 
   const fs::path output = s.output.empty() ? sweep::bind::default_binding_path(s.rig) : s.output;
+  sweep::io::check_paths({{"the rig", s.rig}, {"the mesh", mesh_path}},
+                         {{"the binding", output}, {"--report", s.report}});
   // Every output is checked before any work, so a report that cannot be written does not leave a
   // binding behind (nor a binding that cannot be written cost a bind).
   sweep::io::check_can_create(output);
@@ -135,8 +139,10 @@ int main(int argc, char** argv) {
     Settings s;
     CLI::App app{"Bind every vertex of each sweep's part to its sweep coordinates", "sweep-bind"};
     app.add_option("rig", s.rig, "Rig file (JSON) written by sweep-fit")->required();
-    app.add_option("-o,--output", s.output, "Binding file (default: the rig's path with .bind)");
-    app.add_option("--report", s.report, "Write a JSON report (counts, rest error, timings)");
+    app.add_option("-o,--output", s.output, "Binding file (default: the rig's path with .bind)")
+        ->check(sweep::tools::kNonEmptyName);
+    app.add_option("--report", s.report, "Write a JSON report (counts, rest error, timings)")
+        ->check(sweep::tools::kNonEmptyName);
     app.add_option("--blend", s.options.blend,
                    "Depth of the blend zone beyond each part's root plane (mesh units; 0 = none)")
         ->capture_default_str();

@@ -10,11 +10,13 @@
 #include <optional>
 #include <sstream>
 
+#include "common/cli_checks.h"
 #include "common/tool_main.h"
 #include "core/error.h"
 #include "fit/fit.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
+#include "io/path_checks.h"
 #include "io/rig_json.h"
 
 namespace fs = std::filesystem;
@@ -48,7 +50,7 @@ Vec3 to_point(const std::vector<double>& xyz, const char* flag) {
 }
 
 std::vector<Vec3> read_axis(const fs::path& path) {
-  std::istringstream in(sweep::io::read_file(path));
+  std::istringstream in(sweep::io::read_text_file(path));
   std::vector<Vec3> points;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
@@ -130,6 +132,9 @@ void write_report(const Settings& s, const sweep::fit::FitResult& r, bool writte
 
 int run(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
+  sweep::io::check_utf8(s.name, "--name");
+  sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}},
+                         {{"-o", s.rig}, {"--report", s.report}});
   sweep::fit::FitOptions o;
   o.name = s.name;
   o.sections = s.sections;
@@ -252,7 +257,8 @@ int main(int argc, char** argv) {
     auto* tolerance =
         app.add_option("--tolerance", s.tolerance,
                        "Use the fewest sections with fit_rms <= this fraction of the mean radius");
-    app.add_option("--report", s.report, "Write a JSON report here");
+    app.add_option("--report", s.report, "Write a JSON report here")
+        ->check(sweep::tools::kNonEmptyName);
     app.add_flag("-v,--verbose", s.verbose, "Say more");
     try {
       app.parse(argc, argv);

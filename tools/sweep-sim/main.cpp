@@ -15,10 +15,13 @@
 
 #include "bind/binding_file.h"
 #include "io/atomic_file.h"
+#include "io/bake.h"
+#include "io/path_checks.h"
 #include "io/mesh_io.h"
 #include "io/rig_json.h"
 #include "sim/bake_run.h"
 #include "sim/scene.h"
+#include "tools/common/cli_checks.h"
 #include "tools/common/tool_main.h"
 #include "tools/sweep-sim/progress.h"
 
@@ -90,7 +93,8 @@ int run(const Settings& s) {
   const Clock::time_point start = Clock::now();
   if (s.threads > 0) omp_set_num_threads(s.threads);
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
-  const sweep::Mesh mesh = sweep::io::read_mesh(sweep::io::resolve_mesh_path(s.rig, rig));
+  const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
+  const sweep::Mesh mesh = sweep::io::read_mesh(mesh_path);
   const fs::path binding_path =
       s.binding.empty() ? sweep::bind::default_binding_path(s.rig) : s.binding;
   const sweep::bind::Binding binding = sweep::bind::load_binding(binding_path, mesh, rig);
@@ -108,6 +112,19 @@ int run(const Settings& s) {
     scene.step = 0;  // --substeps means step = 1 / (fps · substeps), as it always did
   }
   if (s.step > 0) scene.step = s.step;
+  // No output may be an input or another output (an .obj sequence: each frame's file).
+  std::vector<sweep::io::NamedPath> outputs;
+  for (const fs::path& out : s.outputs) {
+    for (const fs::path& f : sweep::io::bake_files(out, scene.frame_count())) {
+      outputs.push_back({"-o", f});
+    }
+  }
+  if (!s.report.empty()) outputs.push_back({"--report", s.report});
+  sweep::io::check_paths({{"the rig", s.rig},
+                          {"the mesh", mesh_path},
+                          {"the binding", binding_path},
+                          {"the scene", s.scene}},
+                         outputs);
   // Every output is checked before any is written: a report that cannot be written is found
   // before the bake is, so a failure leaves nothing behind.
   for (const fs::path& out : s.outputs) sweep::io::check_can_create(out);
@@ -154,11 +171,15 @@ int main(int argc, char** argv) {
     app.add_option("rig", s.rig, "Rig file (from sweep-fit)")->required();
     app.add_option("-o,--output", s.outputs,
                    "Output: .glb, .pc2 or .obj (a numbered sequence); repeatable")
-        ->required();
-    app.add_option("-b,--binding", s.binding, "Binding file (default: the rig's path with .bind)");
-    app.add_option("-s,--scene", s.scene, "Scene file (default: the rig file's own \"scene\")");
+        ->required()
+        ->check(sweep::tools::kNonEmptyName);
+    app.add_option("-b,--binding", s.binding, "Binding file (default: the rig's path with .bind)")
+        ->check(sweep::tools::kNonEmptyName);
+    app.add_option("-s,--scene", s.scene, "Scene file (default: the rig file's own \"scene\")")
+        ->check(sweep::tools::kNonEmptyName);
     app.add_option("--report", s.report,
-                   "Write a JSON report: frames, per-frame displacement, timings");
+                   "Write a JSON report: frames, per-frame displacement, timings")
+        ->check(sweep::tools::kNonEmptyName);
     app.add_option("--integrator", s.integrator,
                    "Override the scene's integrator: exact, semi-implicit-euler, rk4");
     app.add_option("--substeps", s.substeps, "Override the scene's internal steps per frame")
