@@ -144,23 +144,33 @@ std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topolog
     return (x - c).squaredNorm() <= r2;
   };
   const std::uint32_t start = topology.weld[nearest_vertex(mesh, tip)];
-  if (height(start) < 0 && (mesh.positions[start] - c).squaredNorm() <= r2) {
-    std::ostringstream s;
-    s << "the tip's nearest vertex " << start
-      << " lies behind the root section (on the body's side)";
-    fail(ErrorCategory::bad_input, s.str());
-  }
   std::vector<char> seen(mesh.vertex_count(), 0);
   std::vector<std::uint32_t> stack{start};
   seen[start] = 1;
+  // Where the region is stopped by the disc, which side is it on? A part leaves the root section
+  // forwards, so its region meets the disc from the front; a region that meets it only from
+  // behind is the body (or a part on the wrong side): the tip was given behind the root. (A curled
+  // part's tip may well lie behind the root *plane*; only the side at the disc counts.)
+  bool meets_disc_from_front = false, meets_disc_from_behind = false;
   while (!stack.empty()) {
     const std::uint32_t v = stack.back();
     stack.pop_back();
     for (const std::uint32_t w : topology.adjacency.of(v)) {
-      if (seen[w] || crosses_disc(v, w)) continue;
+      if (seen[w]) continue;
+      if (crosses_disc(v, w)) {
+        (height(v) >= 0 ? meets_disc_from_front : meets_disc_from_behind) = true;
+        continue;
+      }
       seen[w] = 1;
       stack.push_back(w);
     }
+  }
+  if (meets_disc_from_behind && !meets_disc_from_front) {
+    std::ostringstream s;
+    s << "the tip's nearest vertex " << start
+      << " lies behind the root section (on the body's side): the surface reached from it meets "
+         "the root section from behind";
+    fail(ErrorCategory::bad_input, s.str());
   }
   std::vector<std::uint32_t> part;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {

@@ -153,6 +153,8 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
   const SweepLocator locator(shape);
   std::vector<char> in_part(mesh.vertex_count(), 0);
   double sum2 = 0, radial2 = 0;
+  std::vector<double> distances;
+  distances.reserve(vertices.size());
   for (const std::uint32_t v : vertices) {
     in_part[v] = 1;
     const SweepCoords c = locator.locate(mesh.positions[v]);
@@ -163,6 +165,7 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
     const double radial = std::abs(c.s - 1) * radius_at(shape, c.theta, c.t);
     const double d = std::min(radial, to_sweep.distance(mesh.positions[v]));
     sum2 += d * d;
+    distances.push_back(d);
     radial2 += radial * radial;
     e.max = std::max(e.max, d);
     ++e.measured_count;
@@ -170,6 +173,9 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
   if (e.measured_count > 0) {
     e.rms = std::sqrt(sum2 / static_cast<double>(e.measured_count));
     e.radial_rms = std::sqrt(radial2 / static_cast<double>(e.measured_count));
+    const auto p90 = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() * 9 / 10);
+    std::nth_element(distances.begin(), p90, distances.end());
+    e.p90 = *p90;
   }
   // The other way: the sweep's samples to the part's own faces.
   std::vector<std::uint32_t> part_faces;
@@ -223,9 +229,11 @@ double cap_reach(const Mesh& mesh, const std::vector<double>& d, const Ring& cap
 }  // namespace
 
 struct SweepFitter::Impl {
-  explicit Impl(const Mesh& mesh) : slicer(mesh), topology(build_topology(mesh)) {}
+  explicit Impl(const Mesh& mesh)
+      : slicer(mesh), topology(build_topology(mesh)), surface(mesh.positions, topology.triangles) {}
   MeshSlicer slicer;
   Topology topology;
+  TriangleDistance surface;  // the whole mesh: seeds off the surface, the axis' end inside it
   double diagonal = 0;
 };
 
@@ -293,11 +301,11 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     const std::uint32_t v = nearest_vertex(mesh, p);
     const double dv = (mesh.positions[v] - p).norm();
     if (dv > seed_limit) {
-      const double ds = TriangleDistance(mesh.positions, topo.triangles).distance(p);
+      const double ds = impl_->surface.distance(p);
       if (ds > seed_limit) {
         fail(ErrorCategory::bad_input,
-             std::string(what) + " " + format(p) + " is " + number(ds) +
-                 " from the mesh's surface, farther than " + number(o.seed_distance) +
+             std::string(what) + " " + format(p) + " is far from the mesh: " + number(ds) +
+                 " from its surface, more than " + number(o.seed_distance) +
                  " of its bounding box diagonal (" + number(seed_limit) + ")");
       }
     }
@@ -341,7 +349,8 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   }
   if (!std::isfinite(field[tip0])) {
     fail(ErrorCategory::bad_input, "the tip (vertex " + std::to_string(tip0) +
-                                       ") and the root lie on separate pieces of the mesh");
+                                       ") is not reachable from the root: they lie on separate "
+                                       "pieces of the mesh");
   }
   r.tip_vertex = o.axis.empty() ? climb(topo, field, tip0) : tip0;
   if (r.tip_vertex != tip0) {
@@ -386,14 +395,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   if (o.axis.empty()) {
     std::vector<Vec3> points;
     std::vector<double> radii;
-    // With a given root, the rings go on a local radius past it, so that section 0 can be cut
-    // exactly where the root projects onto the axis rather than at the nearest ring.
-    int first = root_ring;
-    const int n = static_cast<int>(rings.rings.size());
-    if (root) {
-      const double beyond = ring(root_ring).distance + ring(root_ring).radius;
-      while (first + 1 < n && ring(first + 1).distance <= beyond) ++first;
-    }
+    const int first = root_ring;
     // The axis runs through the rings of the tube; past the tip's cap it goes straight on to
     // the cap's farthest point.
     const int cap = first_tube_ring(rings, first, o.rings);
@@ -406,8 +408,10 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
       radii = {ring(first).radius, ring(0).radius};
     }
     r.axis = refine_axis(impl_->slicer, points, radii);
-    extend_axis(impl_->slicer, r.axis, cap_reach(mesh, d, ring(cap), r.axis));
-    if (root) trim_axis_start(r.axis, *root);
+    extend_axis(impl_->slicer, impl_->surface, r.axis, cap_reach(mesh, d, ring(cap), r.axis));
+    // Section 0 where the root projects onto the axis, which may lie a little before the
+    // nearest ring's centre.
+    if (root) trim_axis_start(impl_->slicer, r.axis, *root, 2 * ring(root_ring).radius);
   } else {
     r.axis = axis_from_polyline(impl_->slicer, o.axis);
   }
@@ -519,9 +523,11 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                            " vertices lie between the end sections: the root section does not "
                            "close the part off; move --root along the part");
     }
-    if (r.error.measured_count > 0 && r.error.rms > o.max_error * r.mean_radius) {
-      r.problems.push_back("the fit's RMS distance is " + percent(r.error.rms / r.mean_radius) +
-                           " of the mean radius, above the limit of " + percent(o.max_error) +
+    if (r.error.measured_count > 0 && r.error.p90 > o.max_error * r.mean_radius) {
+      r.problems.push_back("a tenth of the part's vertices are farther than " +
+                           percent(r.error.p90 / r.mean_radius) +
+                           " of the mean radius from the fit, above the limit of " +
+                           percent(o.max_error) +
                            ": the part is not a tube where it is cut, or the axis strayed; try "
                            "--root nearer the tip, or more sections");
     }

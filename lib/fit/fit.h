@@ -66,7 +66,8 @@ struct FitOptions {
   // the part's vertices farther from the tip than the root ring by more than two root radii: the
   // flood leaked past the root section into the body;
   double max_leak_share = 0.05;
-  // RMS distance of the part's vertices from the fitted surface, over the mean radius.
+  // The 90th percentile of the part vertices' distances from the fitted surface (FitError::p90),
+  // over the mean radius.
   double max_error = 0.1;
 };
 // A key section whose loop is not star-shaped about its centre: some rays cross it more than
@@ -82,6 +83,9 @@ struct StarViolation {
 struct FitError {
   double rms = 0;  // RMS distance of the measured part vertices to the surface
   double max = 0;  // largest such distance
+  // The 90th percentile of those distances: what "most of the part" is off by. Unlike the RMS it
+  // is blind to a few stray vertices (a fin, a spike), and still large when the axis strays.
+  double p90 = 0;
   // The other way: samples of the sweep surface to the part's faces (a surface bulging where the
   // mesh does not shows here, not above).
   double surface_rms = 0;

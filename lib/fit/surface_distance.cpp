@@ -16,6 +16,8 @@ namespace {
 using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
+using Ray = Kernel::Ray_3;
+using Segment = Kernel::Segment_3;
 using Iterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
@@ -52,6 +54,21 @@ double TriangleDistance::distance(const Vec3& p) const {
   if (empty()) return std::numeric_limits<double>::infinity();
   const QuietFpEnvironment quiet;
   return std::sqrt(impl_->tree.squared_distance(Point(p.x(), p.y(), p.z())));
+}
+
+double TriangleDistance::ray_distance(const Vec3& origin, const Vec3& direction) const {
+  if (empty()) return std::numeric_limits<double>::infinity();
+  const QuietFpEnvironment quiet;
+  const Point o(origin.x(), origin.y(), origin.z());
+  const auto hit = impl_->tree.first_intersection(
+      Ray(o, Kernel::Vector_3(direction.x(), direction.y(), direction.z())));
+  if (!hit) return std::numeric_limits<double>::infinity();
+  if (const Point* p = boost::get<Point>(&hit->first)) return std::sqrt(CGAL::squared_distance(o, *p));
+  if (const Segment* g = boost::get<Segment>(&hit->first)) {  // the ray runs inside a triangle
+    return std::sqrt(std::min(CGAL::squared_distance(o, g->source()),
+                              CGAL::squared_distance(o, g->target())));
+  }
+  return std::numeric_limits<double>::infinity();
 }
 
 }  // namespace sweep::fit

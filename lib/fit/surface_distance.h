@@ -1,5 +1,5 @@
 #pragma once
-// Point-to-surface distance for a triangle soup (CGAL's AABB tree, behind plain arrays): the true
+// Point-to-surface and ray-to-surface distances for a triangle soup (CGAL's AABB tree, behind plain arrays): the true
 // distance of a point to the nearest point of any triangle.
 #include <cstdint>
 #include <memory>
@@ -20,6 +20,9 @@ class TriangleDistance {
   bool empty() const;
   // Distance from p to the nearest triangle (infinity when there are none). Thread-safe.
   double distance(const Vec3& p) const;
+  // Distance from `origin` along the unit `direction` to the first triangle the ray meets
+  // (infinity when it meets none). Thread-safe.
+  double ray_distance(const Vec3& origin, const Vec3& direction) const;
 
  private:
   struct Impl;

@@ -8,6 +8,8 @@
 #include <optional>
 #include <sstream>
 
+#include <Eigen/Dense>
+
 #include "core/error.h"
 #include "fit/loop.h"
 
@@ -23,6 +25,10 @@ constexpr int kMinStations = 16;
 constexpr int kMaxStations = 1000;
 // A slice loop larger than this many local radii also cuts something else: keep the ring centre.
 constexpr double kMaxSliceRadii = 1.5;
+// Marching into the tip's cap goes on while each slice keeps this share of the last one's radius.
+constexpr double kMinCapSliceShare = 0.8;
+// ... and while the axis turns by less than this per step (a quarter radius): a bend of a radius.
+constexpr double kMaxCapTurnDegrees = 15;
 
 }  // namespace
 
@@ -35,7 +41,10 @@ std::vector<double> arc_lengths(const std::vector<Vec3>& points) {
 
 namespace {
 
-// Gaussian smoothing over arc length, window sigma[i] at point i; the ends stay fixed.
+// Smoothing over arc length by a local quadratic (Gaussian weights, window sigma[i] at point i):
+// the value at s_i of the weighted least-squares parabola through the neighbours. Unlike a plain
+// weighted mean it does not pull a bend inwards (a mean shrinks an arc of curvature κ by about
+// κσ²/2); it is exact on any quadratic curve. The ends stay fixed.
 std::vector<Vec3> smooth(const std::vector<Vec3>& points, const std::vector<double>& sigma) {
   const std::vector<double> s = arc_lengths(points);
   std::vector<Vec3> out = points;
@@ -46,19 +55,30 @@ std::vector<Vec3> smooth(const std::vector<Vec3>& points, const std::vector<doub
     // Shrink the window near the ends so that it stays symmetric: the ends pull no point inwards.
     const double w = std::min({sg, s[i], s[m - 1] - s[i]});
     if (!(w > 0)) continue;
-    Vec3 sum = Vec3::Zero();
-    double wsum = 0;
-    for (std::size_t j = i; j-- > 0 && s[i] - s[j] <= 2 * w;) {
-      const double g = std::exp(-0.5 * std::pow((s[i] - s[j]) / w, 2));
-      sum += g * points[j];
-      wsum += g;
+    // Normal equations of p(u) = a + b u + c u² in u = (s_j − s_i)/w.
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+    Eigen::Matrix<double, 3, 3> rhs = Eigen::Matrix3d::Zero();  // rows: 1, u, u²; columns: xyz
+    std::size_t count = 0;
+    const auto add = [&](std::size_t j) {
+      const double u = (s[j] - s[i]) / w;
+      const double g = std::exp(-0.5 * u * u);
+      const Eigen::Vector3d basis(1, u, u * u);
+      normal += g * basis * basis.transpose();
+      rhs += g * basis * points[j].transpose();
+      ++count;
+    };
+    for (std::size_t j = i; j-- > 0 && s[i] - s[j] <= 2 * w;) add(j);
+    for (std::size_t j = i; j < m && s[j] - s[i] <= 2 * w; ++j) add(j);
+    if (count < 4) {  // too few neighbours for a parabola: their weighted mean
+      out[i] = (rhs.row(0) / normal(0, 0)).transpose();
+      continue;
     }
-    for (std::size_t j = i; j < m && s[j] - s[i] <= 2 * w; ++j) {
-      const double g = std::exp(-0.5 * std::pow((s[j] - s[i]) / w, 2));
-      sum += g * points[j];
-      wsum += g;
-    }
-    out[i] = sum / wsum;
+    const Eigen::LDLT<Eigen::Matrix3d> solve(normal);
+    const Eigen::Matrix3d coefficients = solve.solve(rhs);
+    const Vec3 fitted = coefficients.row(0).transpose();
+    out[i] = solve.info() == Eigen::Success && fitted.allFinite() ? fitted
+                                                                  : Vec3(rhs.row(0).transpose() /
+                                                                         normal(0, 0));
   }
   return out;
 }
@@ -117,69 +137,110 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
   }
   trace.tangents = central_tangents(trace.points);
   // Slice centroids: the centre of the section a key section would be cut around.
-  const std::size_t m = trace.points.size();
-  std::vector<double> sliced(m, 0.0);
-  for (std::size_t i = 0; i < m; ++i) {
-    const Vec3& p = trace.points[i];
-    const double r = trace.radii[i];
-    const std::optional<Loop> loop =
-        loop_around(slicer.slice(p, trace.tangents[i]), p, trace.tangents[i], std::max(r, 1e-12));
-    if (!loop || !(loop->radius <= kMaxSliceRadii * std::max(r, 1e-12)) ||
-        (loop->centroid - p).norm() > std::max(r, 1e-12)) {
-      continue;
+  // Two passes: slice at each point normal to the current tangent and move the point to its
+  // loop's centroid, then smooth lightly; the second pass slices along the tangents of the first.
+  // An end point takes its neighbour's tangent (its own is a one-sided chord through a point
+  // not yet centred).
+  std::vector<double> sliced;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::size_t m = trace.points.size();
+    sliced.assign(m, 0.0);
+    for (std::size_t i = 0; i < m; ++i) {
+      const Vec3 p = trace.points[i];
+      const Vec3 t = trace.tangents[std::clamp<std::size_t>(i, 1, std::max<std::size_t>(m, 2) - 2)];
+      const double r = std::max(trace.radii[i], 1e-12);
+      const std::optional<Loop> loop = loop_around(slicer.slice(p, t), p, t, r);
+      if (!loop || !(loop->radius <= kMaxSliceRadii * r) || (loop->centroid - p).norm() > r) {
+        continue;
+      }
+      sliced[i] = loop->radius;
+      trace.points[i] = loop->centroid;
     }
-    sliced[i] = loop->radius;
-    if (i + 1 < m) trace.points[i] = loop->centroid;
+    // An end whose slice failed is not on the axis (a ring over a cap or past a hole): drop it.
+    std::size_t first = 0, last = m - 1;
+    while (last - first > 1 && !(sliced[first] > 0)) ++first;
+    while (last - first > 1 && !(sliced[last] > 0)) --last;
+    const auto keep = [&](auto& v) {
+      v.erase(v.begin() + static_cast<std::ptrdiff_t>(last + 1), v.end());
+      v.erase(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(first));
+    };
+    keep(trace.points);
+    keep(trace.radii);
+    keep(sliced);
+    std::vector<double> quarter(trace.points.size());
+    for (std::size_t i = 0; i < quarter.size(); ++i) {
+      quarter[i] = 0.5 * kSmoothRadii * std::max(sliced[i], trace.radii[i]);
+      if (sliced[i] > 0) trace.radii[i] = sliced[i];
+    }
+    trace.points = smooth(trace.points, quarter);
+    trace.tangents = central_tangents(trace.points);
   }
-  std::vector<double> quarter(m);
-  for (std::size_t i = 0; i < m; ++i)
-    quarter[i] = 0.5 * kSmoothRadii * std::max(sliced[i], trace.radii[i]);
-  trace.points = smooth(trace.points, quarter);
-  trace.tangents = central_tangents(trace.points);
   trace.radii = sliced;
   return trace;
 }
 
-void extend_axis(const MeshSlicer& slicer, AxisTrace& axis, double length) {
+void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis,
+                 double length) {
   const std::size_t m = axis.points.size();
   if (m < 2 || !(length > 0)) return;
   const Vec3 start = axis.points.back();
   const Vec3 forward = axis.tangents.back();
   const double spacing = std::max((axis.points[m - 1] - axis.points[m - 2]).norm(), 1e-12);
   const double reach = std::max(axis.radii.back(), 1e-12);
-  // March on as the tip's own cap bends: each step goes one spacing along the current direction
-  // and is moved to its slice's centroid; the direction follows the chord. The end point is the
-  // last one, `length` beyond the start along the original tangent.
+  double radius = axis.radii.back();
+  const double min_turn_cos = std::cos(kMaxCapTurnDegrees * std::numbers::pi / 180);
   Vec3 p = start, t = forward;
   for (int k = 0; k < kMaxStations; ++k) {
     const double left = length - (p - start).dot(forward);
     if (left <= spacing) break;
-    Vec3 q = p + spacing * t;
-    double r = 0;
-    const std::optional<Loop> loop = loop_around(slicer.slice(q, t), q, t, reach);
-    if (loop && loop->radius <= kMaxSliceRadii * reach && (loop->centroid - q).norm() <= reach) {
-      q = loop->centroid;
-      r = loop->radius;
+    const Vec3 ahead = p + spacing * t;
+    // Only while the slice is still a section of the tube (not much smaller than the last, not
+    // pulled aside): a slice that also cuts the end face or a bulb is off centre.
+    const std::optional<Loop> loop = loop_around(slicer.slice(ahead, t), ahead, t, reach);
+    if (!loop || !(loop->radius <= kMaxSliceRadii * reach) ||
+        (loop->centroid - ahead).norm() > reach || loop->radius < kMinCapSliceShare * radius) {
+      break;
     }
-    const Vec3 chord = q - p;
-    if (!(chord.dot(forward) > 0)) break;
+    const Vec3 chord = loop->centroid - p;
+    if (!(chord.norm() > 0) || chord.normalized().dot(t) < min_turn_cos) break;
     t = chord.normalized();
-    p = q;
+    p = loop->centroid;
+    radius = loop->radius;
     axis.points.push_back(p);
     axis.tangents.push_back(t);
-    axis.radii.push_back(r);
+    axis.radii.push_back(radius);
   }
+  // Straight on to the cap's reach, but not out of the mesh.
   const double left = length - (p - start).dot(forward);
-  if (left > 0) {
-    axis.points.push_back(p + (left / std::max(t.dot(forward), 0.5)) * t);
+  const double go = std::min(left / std::max(t.dot(forward), 0.5), surface.ray_distance(p, t));
+  if (go > 0 && std::isfinite(go)) {
+    axis.points.push_back(p + go * t);
     axis.tangents.push_back(t);
     axis.radii.push_back(0);
   }
 }
 
-void trim_axis_start(AxisTrace& axis, const Vec3& point) {
+void trim_axis_start(const MeshSlicer& slicer, AxisTrace& axis, const Vec3& point,
+                     double max_extension) {
   const std::size_t m = axis.points.size();
   if (m < 2) return;
+  // Before the start: extend along the first tangent, re-centred by a slice there.
+  const Vec3& t0 = axis.tangents[0];
+  const double before = (axis.points[0] - point).dot(t0);
+  if (before > 0 && (point - axis.points[0]).dot(axis.points[1] - axis.points[0]) <= 0) {
+    Vec3 p = axis.points[0] - std::min(before, max_extension) * t0;
+    double r = axis.radii[0];
+    const double reach = std::max(r, 1e-12);
+    const std::optional<Loop> loop = loop_around(slicer.slice(p, t0), p, t0, reach);
+    if (loop && loop->radius <= kMaxSliceRadii * reach && (loop->centroid - p).norm() <= reach) {
+      p = loop->centroid;
+      r = loop->radius;
+    }
+    axis.points.insert(axis.points.begin(), p);
+    axis.tangents.insert(axis.tangents.begin(), t0);
+    axis.radii.insert(axis.radii.begin(), r);
+    return;
+  }
   std::size_t best_k = 0;
   double best_u = 0, best_d = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k + 1 < m; ++k) {

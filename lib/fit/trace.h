@@ -9,6 +9,7 @@
 
 #include "core/frame.h"
 #include "fit/slicer.h"
+#include "fit/surface_distance.h"
 
 namespace sweep::fit {
 
@@ -19,22 +20,28 @@ struct AxisTrace {
 };
 
 // Smooths `points` (root first; `radii` the local radius at each, mesh units) over about half a
-// local radius, resamples it every quarter of the median radius, and moves each inner sample to
-// the centroid of its slice loop normal to the axis (when that loop lies around it and is no
-// larger than 1.5 local radii: elsewhere the plane also cuts the body or another part), the root
-// point included (a ring near a junction or an end cap is not planar; its slice is). The last
-// point, the tip, stays where it is.
+// local radius, resamples it every quarter of the median radius, and moves each sample to the
+// centroid of its slice loop normal to the axis (when that loop lies around it and is no larger
+// than 1.5 local radii: elsewhere the plane also cuts the body or another part), twice: the second
+// pass slices along the tangents of the first. Ends whose slice fails are dropped (a ring over a
+// cap is not on the axis). Smoothing is by local parabolas, which keep bends where they are.
 AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
                       const std::vector<double>& radii);
 
-// Continues the axis straight on along its last tangent by `length` (mesh units), with points as
-// closely spaced as its own last ones, each given the radius of its slice loop (0 where none), the
-// last point, the part's end, radius 0.
-void extend_axis(const MeshSlicer& slicer, AxisTrace& axis, double length);
+// Continues the axis into the tip's cap until it has gone `length` (mesh units) along its last
+// tangent: first by slices as closely spaced as its own last points, centred in their loops,
+// while each loop keeps most of the last one's size and the axis turns gently; then straight on,
+// stopping short of the surface (`surface`) if the cap ends sooner. Each point carries its slice
+// loop's radius; the last point, the part's end, radius 0.
+void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis,
+                 double length);
 
-// Cuts the axis so that it starts where `point` projects onto it (the nearest point of the
-// polyline); tangent and radius there are interpolated. The last point is never cut away.
-void trim_axis_start(AxisTrace& axis, const Vec3& point);
+// Makes the axis start where `point` projects onto it: cut there (the nearest point of the
+// polyline; tangent and radius interpolated), or, when the point lies before the start (within
+// `max_extension` mesh units), extended straight back to its projection and centred in its slice.
+// The last point is never cut away.
+void trim_axis_start(const MeshSlicer& slicer, AxisTrace& axis, const Vec3& point,
+                     double max_extension);
 
 // An axis given as a polyline from root to tip (at least 2 distinct points): tangents by central
 // chords, radii of the slice loops around each point (0 where there is none).

@@ -13,6 +13,7 @@
 #include "common/cli_checks.h"
 #include "common/tool_main.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "fit/fit.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
@@ -30,7 +31,7 @@ struct Settings {
   fs::path mesh;              // input mesh (any format io::read_mesh reads)
   fs::path rig;               // rig file to create or update
   std::string name = "part";  // the sweep's name in the rig
-  std::vector<double> root, tip;  // X,Y,Z in mesh units (root optional: found where the part meets the body)
+  std::string root, tip;  // X,Y,Z in mesh units (root optional: found where the part meets the body)
   std::int64_t tip_vertex = -1;   // the tip as a vertex index
   bool force = false;             // write the rig even when the fit breaks a limit
   fs::path axis;              // optional axis polyline: "X Y Z" (or X,Y,Z) per line, root first
@@ -41,10 +42,23 @@ struct Settings {
   bool verbose = false;
 };
 
-Vec3 to_point(const std::vector<double>& xyz, const char* flag) {
-  const Vec3 p(xyz[0], xyz[1], xyz[2]);
-  if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
-    fail(ErrorCategory::usage, std::string(flag) + " expects three finite numbers X,Y,Z");
+// "X,Y,Z" → a point; our own parse so that the message names the flag and the text given.
+Vec3 to_point(const std::string& text, const char* flag) {
+  Vec3 p;
+  std::size_t at = 0;
+  bool ok = true;
+  for (int i = 0; i < 3 && ok; ++i) {
+    const std::size_t end = i < 2 ? text.find(',', at) : text.size();
+    const std::string field = text.substr(at, end == std::string::npos ? end : end - at);
+    char* stop = nullptr;
+    p[i] = field.empty() ? 0 : std::strtod(field.c_str(), &stop);
+    ok = !field.empty() && stop == field.c_str() + field.size() && std::isfinite(p[i]) &&
+         end != std::string::npos;
+    at = end + 1;
+  }
+  if (!ok) {  // (a fourth number stays in the third field and fails its parse)
+    fail(ErrorCategory::usage,
+         std::string(flag) + " expects three finite numbers X,Y,Z, got '" + text + "'");
   }
   return p;
 }
@@ -101,6 +115,7 @@ nlohmann::ordered_json report_entry(const sweep::fit::FitResult& r) {
   s["fit_rms"] = r.error.rms;
   s["fit_max"] = r.error.max;
   s["fit_rms_relative"] = r.error.rms / mr;
+  s["fit_p90_relative"] = r.error.p90 / mr;
   s["fit_max_relative"] = r.error.max / mr;
   s["surface_rms_relative"] = r.error.surface_rms / mr;
   s["surface_max_relative"] = r.error.surface_max / mr;
@@ -204,7 +219,8 @@ int run(const Settings& s) {
             << "  part: " << r.part_vertices.size() << " vertices, "
             << 100 * r.in_range_share() << "% between the end sections; axis "
             << r.traced_length << " over a surface distance of " << r.surface_length << "\n"
-            << "  fit: rms " << 100 * r.error.rms / r.mean_radius << "%, max "
+            << "  fit: rms " << 100 * r.error.rms / r.mean_radius << "%, 90% within "
+            << 100 * r.error.p90 / r.mean_radius << "%, max "
             << 100 * r.error.max / r.mean_radius
             << "% of the mean radius (part to surface); surface to part rms "
             << 100 * r.error.surface_rms / r.mean_radius << "%, max "
@@ -235,12 +251,8 @@ int main(int argc, char** argv) {
     app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
     app.add_option("--root", s.root,
                    "X,Y,Z: where the part leaves the body (on its axis, its surface or inside the "
-                   "body); default: found where the part meets the body")
-        ->delimiter(',')
-        ->expected(3);
-    auto* tip = app.add_option("--tip", s.tip, "X,Y,Z: on or near the part's end")
-                    ->delimiter(',')
-                    ->expected(3);
+                   "body); default: found where the part meets the body");
+    auto* tip = app.add_option("--tip", s.tip, "X,Y,Z: on or near the part's end");
     auto* tip_vertex =
         app.add_option("--tip-vertex", s.tip_vertex, "The part's end as a vertex index")
             ->check(CLI::NonNegativeNumber)
@@ -283,6 +295,12 @@ int main(int argc, char** argv) {
            "--sections must be at least 2, got " + std::to_string(s.sections));
     if (s.radial < 3)
       fail(ErrorCategory::usage, "--radial must be at least 3, got " + std::to_string(s.radial));
+    // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
+    if (s.sections > sweep::limits::kMaxSections || s.radial > sweep::limits::kMaxRadial) {
+      fail(ErrorCategory::usage,
+           "--sections must be at most " + std::to_string(sweep::limits::kMaxSections) +
+               " and --radial at most " + std::to_string(sweep::limits::kMaxRadial));
+    }
     if (s.name.empty()) fail(ErrorCategory::usage, "--name must not be empty");
     return run(s);
   });
