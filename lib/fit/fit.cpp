@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/limits.h"
 #include "core/locate.h"
+#include "core/text.h"
 #include "fit/loop.h"
 #include "fit/slicer.h"
 #include "fit/surface_distance.h"
@@ -29,26 +30,6 @@ constexpr double kLeakRadii = 2;
 // The error's tessellation of the sweep surface: stations per span and angles per radius sample.
 constexpr int kErrorStationsPerSpan = 4;
 constexpr int kErrorAnglesPerSample = 2;
-
-std::string format(const Vec3& v) {
-  std::ostringstream s;
-  s << v.x() << "," << v.y() << "," << v.z();
-  return s.str();
-}
-
-std::string percent(double x) {
-  std::ostringstream s;
-  s.precision(3);
-  s << 100 * x << "%";
-  return s.str();
-}
-
-std::string number(double x) {
-  std::ostringstream s;
-  s.precision(4);
-  s << x;
-  return s.str();
-}
 
 // Position, tangent and RMF frame on the axis polyline at arc length t.
 struct AxisSample {
@@ -105,7 +86,7 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
       std::fill(out, out + radial, reach);
       if (warnings) {
         warnings->push_back("section " + std::to_string(i) + ": no slice loop around its centre " +
-                            format(a.point) + "; used a circle of the traced radius");
+                            format_point(a.point) + "; used a circle of the traced radius");
       }
       continue;
     }
@@ -304,9 +285,9 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
       const double ds = impl_->surface.distance(p);
       if (ds > seed_limit) {
         fail(ErrorCategory::bad_input,
-             std::string(what) + " " + format(p) + " is far from the mesh: " + number(ds) +
-                 " from its surface, more than " + number(o.seed_distance) +
-                 " of its bounding box diagonal (" + number(seed_limit) + ")");
+             std::string(what) + " " + format_point(p) + " is far from the mesh: " + format_number(ds) +
+                 " from its surface, more than " + format_number(o.seed_distance) +
+                 " of its bounding box diagonal (" + format_number(seed_limit) + ")");
       }
     }
     return v;
@@ -355,7 +336,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   r.tip_vertex = o.axis.empty() ? climb(topo, field, tip0) : tip0;
   if (r.tip_vertex != tip0) {
     r.warnings.push_back("tip moved to the part's end, vertex " + std::to_string(r.tip_vertex) +
-                         " at " + format(mesh.positions[r.tip_vertex]));
+                         " at " + format_point(mesh.positions[r.tip_vertex]));
   }
 
   // 2. Rings from the tip, and the root among them.
@@ -379,7 +360,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
         root_ring = i;
     }
     r.root_reason = "section 0 is cut through the ring nearest to the given root, at distance " +
-                    number(ring(root_ring).distance) + " from the tip";
+                    format_number(ring(root_ring).distance) + " from the tip";
     if (root_ring > rings.junction) {
       r.warnings.push_back("the root lies past where the part meets the body (" +
                            rings.junction_reason +
@@ -468,9 +449,9 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
       if (k == o.max_sections) break;
     }
     if (!met) {
-      r.warnings.push_back("tolerance " + number(o.tolerance) + " not met with " +
+      r.warnings.push_back("tolerance " + format_number(o.tolerance) + " not met with " +
                            std::to_string(r.sweep.rest.section_count()) +
-                           " sections: the fit RMS is " + percent(r.error.rms / r.mean_radius) +
+                           " sections: the fit RMS is " + format_percent(r.error.rms / r.mean_radius) +
                            " of the mean radius");
     }
   } else {
@@ -501,10 +482,10 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   for (const std::uint32_t v : r.part_vertices) r.leaked_count += d[v] > leak_level;
   const double part_count = static_cast<double>(std::max<std::size_t>(r.part_vertices.size(), 1));
   if (r.traced_length < o.min_length_ratio * r.surface_length) {
-    r.problems.push_back("the axis (" + number(r.traced_length) + " long) covers only " +
-                         percent(r.traced_length / r.surface_length) +
+    r.problems.push_back("the axis (" + format_number(r.traced_length) + " long) covers only " +
+                         format_percent(r.traced_length / r.surface_length) +
                          " of the surface distance from the tip to the root (" +
-                         number(r.surface_length) + "): the trace stopped short of the tip");
+                         format_number(r.surface_length) + "): the trace stopped short of the tip");
   }
   if (static_cast<double>(r.leaked_count) > o.max_leak_share * part_count) {
     r.problems.push_back(
@@ -525,9 +506,9 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     }
     if (r.error.measured_count > 0 && r.error.p90 > o.max_error * r.mean_radius) {
       r.problems.push_back("a tenth of the part's vertices are farther than " +
-                           percent(r.error.p90 / r.mean_radius) +
+                           format_percent(r.error.p90 / r.mean_radius) +
                            " of the mean radius from the fit, above the limit of " +
-                           percent(o.max_error) +
+                           format_percent(o.max_error) +
                            ": the part is not a tube where it is cut, or the axis strayed; try "
                            "--root nearer the tip, or more sections");
     }

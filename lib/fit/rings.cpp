@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include "core/text.h"
+
 namespace sweep::fit {
 namespace {
 
@@ -39,12 +41,6 @@ const LevelLoop* continuing(const std::vector<LevelLoop>& loops, const Ring* pre
   return best;
 }
 
-std::string fmt(double x) {
-  std::ostringstream s;
-  s.precision(3);
-  s << x;
-  return s.str();
-}
 
 }  // namespace
 
@@ -95,6 +91,9 @@ RingTrace trace_rings(const Mesh& mesh, const Topology& topology,
     const LevelLoop* loop = continuing(loops, previous, previous_length);
     if (!loop) break;
     Ring ring{levels.level(k), loop->centroid, loop->radius(), 0, loop->closed};
+    for (const LevelLoop& other : loops) {
+      ring.split |= &other != loop && other.length >= kSpeckFraction * loop->length;
+    }
     // Growth over the last local radius of distance (from the tip itself, radius 0, at first).
     const double window = std::max(ring.radius, 2 * spacing);
     double back_distance = 0, back_radius = 0;
@@ -141,6 +140,7 @@ void locate_junction(RingTrace& trace, const RingOptions& o) {
     if (at(knee).distance <= o.blob_reach * at(knee).radius)
       for (int i = peak + 1;
            i < n && at(i).distance - at(peak).distance <= o.blob_radii * at(peak).radius; ++i) {
+        if (at(i).split) break;  // branching into other parts: the body
         if (at(i).radius <= o.blob_narrowing * at(peak).radius) {
           narrows = true;
           break;
@@ -148,8 +148,8 @@ void locate_junction(RingTrace& trace, const RingOptions& o) {
       }
     if (!narrows) {
       trace.junction = knee;
-      trace.junction_reason = "the ring size jumps from " + fmt(at(knee).radius) + " to " +
-                              fmt(at(peak).radius) + " at distance " + fmt(at(k).distance) +
+      trace.junction_reason = "the ring size jumps from " + format_number(at(knee).radius) + " to " +
+                              format_number(at(peak).radius) + " at distance " + format_number(at(k).distance) +
                               " from the tip (the body)";
       return;
     }

@@ -24,9 +24,10 @@ struct RingOptions {
   double junction_growth = 0.4;
   double knee_growth = 0.2;
   // A rise that begins within `blob_reach` radii of the tip and narrows again to
-  // `blob_narrowing` times its peak within `blob_radii` peak radii is a blob at the end of the
-  // part (a hoof's pad past a toe), not the body: the body comes after a long part, and a head
-  // or a hand, which is the tip's own cap, is passed before the trace settles.
+  // `blob_narrowing` times its peak within `blob_radii` peak radii, without the level set
+  // splitting on the way, is a blob at the end of the part (a hoof's pad past a toe), not the
+  // body: the body comes after a long part, and its level sets split into the other parts as
+  // they pass it; a head or a hand, the tip's own cap, is passed before the trace settles.
   double blob_reach = 4;
   double blob_narrowing = 0.8;
   double blob_radii = 2;
@@ -38,6 +39,7 @@ struct Ring {
   double radius = 0;             // √(area/π) of the loop, mesh units
   double growth = 0;             // d(radius)/d(distance) over the last local radius
   bool closed = true;            // false: the loop runs into a hole of the mesh
+  bool split = false;            // the level also holds another loop of comparable length
 };
 
 struct RingTrace {
