@@ -1,6 +1,7 @@
 // sweep-fit: fits a sweep (key cross sections and radius samples) to a tubular part of a mesh,
-// named by a root point and a tip point, and writes it into a rig file (created, or updated by
-// adding or replacing the sweep of that name). The work is in lib/fit/fit.h.
+// named by a tip point (and optionally a root point), and writes it into a rig file (created, or
+// updated by adding or replacing the sweep of that name). --list finds the mesh's parts, --all
+// fits them all. The work is in lib/fit/ (fit.h, discover.h); report.h prints and reports.
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <chrono>
@@ -14,11 +15,13 @@
 #include "common/tool_main.h"
 #include "core/error.h"
 #include "core/limits.h"
+#include "fit/discover.h"
 #include "fit/fit.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/path_checks.h"
 #include "io/rig_json.h"
+#include "sweep-fit/report.h"
 
 namespace fs = std::filesystem;
 using sweep::ErrorCategory;
@@ -40,6 +43,9 @@ struct Settings {
   double tolerance = 0;  // > 0: fewest sections with fit_rms ≤ tolerance × mean radius
   fs::path report;       // optional JSON report
   bool verbose = false;
+  bool list = false;      // --list: print the parts found, write no rig
+  bool all = false;       // --all: fit every part found into the rig
+  std::string names;      // --names a,b,c for --all
 };
 
 // "X,Y,Z" → a point; our own parse so that the message names the flag and the text given.
@@ -84,86 +90,33 @@ std::vector<Vec3> read_axis(const fs::path& path) {
   return points;
 }
 
+// "a,b,c" → names (empty: none given); each must be a non-empty UTF-8 name.
+std::vector<std::string> split_names(const std::string& text) {
+  std::vector<std::string> names;
+  if (text.empty()) return names;
+  std::size_t at = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', at);
+    names.push_back(text.substr(at, comma == std::string::npos ? comma : comma - at));
+    if (names.back().empty()) fail(ErrorCategory::usage, "--names: an empty name in '" + text + "'");
+    sweep::io::check_utf8(names.back(), "--names");
+    if (comma == std::string::npos) break;
+    at = comma + 1;
+  }
+  return names;
+}
+
 // The rig's mesh path: relative to the rig file's folder.
 std::string mesh_path_for(const fs::path& rig, const fs::path& mesh) {
   const fs::path rig_dir = fs::weakly_canonical(fs::absolute(rig)).parent_path();
   return fs::weakly_canonical(fs::absolute(mesh)).lexically_relative(rig_dir).generic_string();
 }
 
-nlohmann::ordered_json report_entry(const sweep::fit::FitResult& r) {
-  nlohmann::ordered_json s;
-  s["name"] = r.sweep.name;
-  s["sections"] = r.sweep.rest.section_count();
-  s["radial"] = r.sweep.rest.radial_count;
-  s["ok"] = r.problems.empty();
-  s["problems"] = r.problems;
-  s["tip_vertex"] = r.tip_vertex;
-  s["root"] = {r.root.x(), r.root.y(), r.root.z()};
-  s["root_found"] = r.root_found;
-  s["root_reason"] = r.root_reason;
-  s["part_vertex_count"] = r.part_vertices.size();
-  s["measured_vertex_count"] = r.error.measured_count;
-  s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
-  s["in_range_share"] = r.in_range_share();
-  s["leaked_vertex_count"] = r.leaked_count;
-  s["length"] = r.length;
-  s["traced_length"] = r.traced_length;
-  s["surface_length"] = r.surface_length;
-  s["traced_over_surface"] = r.surface_length > 0 ? r.traced_length / r.surface_length : 0.0;
-  s["mean_radius"] = r.mean_radius;
-  const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
-  s["fit_rms"] = r.error.rms;
-  s["fit_max"] = r.error.max;
-  s["fit_rms_relative"] = r.error.rms / mr;
-  s["fit_p90_relative"] = r.error.p90 / mr;
-  s["fit_max_relative"] = r.error.max / mr;
-  s["surface_rms_relative"] = r.error.surface_rms / mr;
-  s["surface_max_relative"] = r.error.surface_max / mr;
-  s["radial_rms_relative"] = r.error.radial_rms / mr;
-  s["axis_points"] = r.axis.points.size();
-  auto& v = s["star_violations"] = nlohmann::ordered_json::array();
-  for (const auto& x : r.star_violations) {
-    v.push_back({{"section", x.section},
-                 {"multi_crossing_rays", x.multi_crossing_rays},
-                 {"missed_rays", x.missed_rays}});
-  }
-  s["warnings"] = r.warnings;
-  s["seconds"] = r.seconds;
-  return s;
-}
-
-// The report, also when the fit fails (written = false), so that a script sees the numbers.
-void write_report(const Settings& s, const sweep::fit::FitResult& r, bool written, double seconds) {
-  nlohmann::ordered_json rep;
-  rep["format"] = "sweep-fit-report";
-  rep["version"] = 2;
-  rep["mesh"] = s.mesh.generic_string();
-  rep["rig"] = s.rig.generic_string();
-  rep["rig_written"] = written;
-  rep["sweeps"] = nlohmann::ordered_json::array({report_entry(r)});
-  rep["seconds_total"] = seconds;
-  sweep::io::write_file_atomically(s.report, rep.dump(2) + "\n");
-}
-
-int run(const Settings& s) {
-  const auto start = std::chrono::steady_clock::now();
-  sweep::io::check_utf8(s.name, "--name");
-  sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}},
-                         {{"-o", s.rig}, {"--report", s.report}});
-  sweep::fit::FitOptions o;
-  o.name = s.name;
-  o.sections = s.sections;
-  o.radial = s.radial;
-  o.tolerance = s.tolerance;
-  if (!s.axis.empty()) o.axis = read_axis(s.axis);
-  if (!s.root.empty()) o.root = to_point(s.root, "--root");
-  if (!s.tip.empty()) o.tip = to_point(s.tip, "--tip");
-  o.tip_vertex = s.tip_vertex;
-
-  // Read the existing rig first, so a bad rig fails before any work.
+// Reads the rig to update (when -o exists), so that a bad rig fails before any work; checks that
+// it is a rig of this mesh.
+sweep::Rig open_rig(const Settings& s, bool& updating) {
   sweep::Rig rig;
-  const std::string mesh_in_rig = mesh_path_for(s.rig, s.mesh);
-  const bool updating = fs::exists(s.rig);
+  updating = fs::exists(s.rig);
   if (updating) {
     rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
     const fs::path rig_dir = fs::absolute(s.rig).parent_path();
@@ -172,69 +125,146 @@ int run(const Settings& s) {
                                      s.mesh.string() + "; write to another --rig file");
     }
   }
-  rig.mesh = mesh_in_rig;
+  rig.mesh = mesh_path_for(s.rig, s.mesh);
+  return rig;
+}
 
-  const sweep::Mesh mesh = sweep::io::read_mesh(s.mesh);
-  sweep::io::validate_mesh(mesh, s.mesh.string());
-  // Outputs are checked before the fit, so neither is written when the other cannot be.
-  sweep::io::check_can_create(s.rig);
-  if (!s.report.empty()) sweep::io::check_can_create(s.report);
-  const sweep::fit::FitResult r = sweep::fit::fit_sweep(mesh, o);
-  for (const std::string& w : r.warnings) sweep::tools::warn(s.name + ": " + w);
-  if (!r.problems.empty()) {
-    std::string all;
-    for (const std::string& p : r.problems) all += "\n  " + p;
-    if (!s.force) {
-      if (!s.report.empty()) write_report(s, r, false, 0);
-      fail(ErrorCategory::bad_input, s.name + ": the fit is not to be trusted:" + all +
-                                         "\n  (--force writes the rig anyway)");
-    }
-    sweep::tools::warn(s.name + ": written anyway (--force):" + all);
-  }
-
-  sweep::SweepDef def = r.sweep;
-  bool replaced = false;
+// Adds `def` to the rig, or replaces the sweep of its name keeping the user's spring settings
+// and force scales (per-section overrides no longer apply). True when it replaced one.
+bool put_sweep(sweep::Rig& rig, sweep::SweepDef def) {
   for (sweep::SweepDef& old : rig.sweeps) {
     if (old.name != def.name) continue;
-    // Keep the user's spring settings and force scales; per-section overrides no longer apply.
     def.default_springs = old.default_springs;
     def.springs.assign(def.springs.size(), def.default_springs);
     def.rotational_scale = old.rotational_scale;
     def.radial_scale = old.radial_scale;
-    old = def;
-    replaced = true;
+    old = std::move(def);
+    return true;
   }
-  if (!replaced) rig.sweeps.push_back(def);
+  rig.sweeps.push_back(std::move(def));
+  return false;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+sweep::fit::FitOptions fit_options(const Settings& s) {
+  sweep::fit::FitOptions o;
+  o.name = s.name;
+  o.sections = s.sections;
+  o.radial = s.radial;
+  o.tolerance = s.tolerance;
+  return o;
+}
+
+sweep::Mesh read_checked_mesh(const Settings& s) {
+  sweep::Mesh mesh = sweep::io::read_mesh(s.mesh);
+  sweep::io::validate_mesh(mesh, s.mesh.string());
+  return mesh;
+}
+
+// Warnings, then the problems: a fit that breaks a limit fails (exit 2) with the numbers and
+// what to try, after writing the report, unless --force.
+void check_problems(const Settings& s, const std::vector<sweep::fit::FitResult>& fits,
+                    double seconds) {
+  std::string all;
+  for (const sweep::fit::FitResult& r : fits) {
+    for (const std::string& w : r.warnings) sweep::tools::warn(r.sweep.name + ": " + w);
+    if (r.problems.empty()) continue;
+    all += "\n" + r.sweep.name + ": the fit is not to be trusted:";
+    for (const std::string& p : r.problems) all += "\n  " + p;
+  }
+  if (all.empty()) return;
+  if (!s.force) {
+    if (!s.report.empty()) sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, false, seconds);
+    fail(ErrorCategory::bad_input, all.substr(1) + "\n  (--force writes the rig anyway)");
+  }
+  sweep::tools::warn("written anyway (--force):" + all);
+}
+
+void write_rig_and_report(const Settings& s, sweep::Rig& rig, bool updating,
+                          const std::vector<sweep::fit::FitResult>& fits,
+                          std::chrono::steady_clock::time_point start) {
+  int replaced = 0;
+  for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep);
   sweep::io::write_rig(s.rig, rig);
+  const double seconds = seconds_since(start);
+  if (!s.report.empty())
+    sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, true, seconds);
+  for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
+  std::cout << (replaced > 0 ? "updated " : updating ? "added to " : "wrote ") << s.rig.string()
+            << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
+            << ") in " << seconds << " s\n";
+}
 
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!s.report.empty()) write_report(s, r, true, seconds);
+// One part, named by its tip (and root, or an axis).
+int run_one(const Settings& s) {
+  const auto start = std::chrono::steady_clock::now();
+  sweep::io::check_utf8(s.name, "--name");
+  sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}},
+                         {{"-o", s.rig}, {"--report", s.report}});
+  sweep::fit::FitOptions o = fit_options(s);
+  if (!s.axis.empty()) o.axis = read_axis(s.axis);
+  if (!s.root.empty()) o.root = to_point(s.root, "--root");
+  if (!s.tip.empty()) o.tip = to_point(s.tip, "--tip");
+  o.tip_vertex = s.tip_vertex;
+  bool updating = false;
+  sweep::Rig rig = open_rig(s, updating);
+  const sweep::Mesh mesh = read_checked_mesh(s);
+  // Outputs are checked before the fit, so neither is written when the other cannot be.
+  sweep::io::check_can_create(s.rig);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  const std::vector<sweep::fit::FitResult> fits{sweep::fit::fit_sweep(mesh, o)};
+  check_problems(s, fits, seconds_since(start));
+  write_rig_and_report(s, rig, updating, fits, start);
+  return 0;
+}
 
-  std::cout << s.name << ": " << r.sweep.rest.section_count() << " sections x "
-            << r.sweep.rest.radial_count << " radii, length " << r.length << ", mean radius "
-            << r.mean_radius << "\n"
-            << "  root " << r.root.x() << "," << r.root.y() << "," << r.root.z()
-            << (r.root_found ? " (found: " : " (") << r.root_reason << ")\n"
-            << "  part: " << r.part_vertices.size() << " vertices, "
-            << 100 * r.in_range_share() << "% between the end sections; axis "
-            << r.traced_length << " over a surface distance of " << r.surface_length << "\n"
-            << "  fit: rms " << 100 * r.error.rms / r.mean_radius << "%, 90% within "
-            << 100 * r.error.p90 / r.mean_radius << "%, max "
-            << 100 * r.error.max / r.mean_radius
-            << "% of the mean radius (part to surface); surface to part rms "
-            << 100 * r.error.surface_rms / r.mean_radius << "%, max "
-            << 100 * r.error.surface_max / r.mean_radius << "%\n"
-            << "  "
-            << (replaced   ? "replaced in "
-                : updating ? "added to "
-                           : "wrote ")
-            << s.rig.string() << " (" << rig.sweeps.size()
-            << (rig.sweeps.size() == 1 ? " sweep" : " sweeps") << ") in " << seconds << " s\n";
-  if (s.verbose) {
-    std::cout << "  axis: " << r.axis.points.size() << " points; tip vertex " << r.tip_vertex
-              << "; " << r.error.beyond_ends_count << " part vertices beyond the end sections\n";
+// Every part find_parts finds, into one rig.
+int run_all(const Settings& s) {
+  const auto start = std::chrono::steady_clock::now();
+  sweep::io::check_paths({{"the mesh", s.mesh}}, {{"-o", s.rig}, {"--report", s.report}});
+  const std::vector<std::string> names = split_names(s.names);
+  bool updating = false;
+  sweep::Rig rig = open_rig(s, updating);
+  const sweep::Mesh mesh = read_checked_mesh(s);
+  sweep::io::check_can_create(s.rig);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  const sweep::fit::SweepFitter fitter(mesh);
+  const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh, fitter.topology());
+  if (parts.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no tubular parts found");
+  if (!names.empty() && names.size() != parts.size()) {
+    fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) + " names for the " +
+                                   std::to_string(parts.size()) + " parts found (see --list)");
   }
+  std::vector<sweep::fit::FitResult> fits;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    sweep::fit::FitOptions o = fit_options(s);
+    o.name = names.empty() ? parts[i].name : names[i];
+    o.tip_vertex = parts[i].tip_vertex;
+    if (s.verbose) std::cout << "fitting " << o.name << " (" << i + 1 << "/" << parts.size() << ")\n";
+    fits.push_back(fitter.fit(o));
+  }
+  check_problems(s, fits, seconds_since(start));
+  write_rig_and_report(s, rig, updating, fits, start);
+  return 0;
+}
+
+// The parts found, as a table (and JSON with --report); no rig.
+int run_list(const Settings& s) {
+  const auto start = std::chrono::steady_clock::now();
+  sweep::io::check_paths({{"the mesh", s.mesh}}, {{"--report", s.report}});
+  const sweep::Mesh mesh = read_checked_mesh(s);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  const sweep::Topology topology = sweep::build_topology(mesh);
+  std::vector<std::string> passed_over;
+  const std::vector<sweep::fit::FoundPart> parts =
+      sweep::fit::find_parts(mesh, topology, {}, s.verbose ? &passed_over : nullptr);
+  sweep::fit_tool::print_parts(parts);
+  for (const std::string& x : passed_over) std::cout << "  passed over " << x << "\n";
+  if (!s.report.empty())
+    sweep::fit_tool::write_parts_report(s.report, s.mesh, parts, seconds_since(start));
   return 0;
 }
 
@@ -246,12 +276,19 @@ int main(int argc, char** argv) {
     CLI::App app{"Fit a sweep (key sections and radius samples) to a tubular part of a mesh"};
     app.set_version_flag("--version", std::string("sweep-fit ") + SWEEP_VERSION);
     app.add_option("mesh", s.mesh, "Input mesh (OFF, PLY, OBJ, STL, glTF/glb, FBX)")->required();
-    app.add_option("-o,--rig", s.rig, "Rig file to create, or to add/replace the sweep in")
-        ->required();
-    app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
-    app.add_option("--root", s.root,
-                   "X,Y,Z: where the part leaves the body (on its axis, its surface or inside the "
-                   "body); default: found where the part meets the body");
+    auto* rig = app.add_option("-o,--rig", s.rig,
+                               "Rig file to create, or to add/replace the sweep(s) in");
+    auto* list = app.add_flag("--list", s.list,
+                              "Find the mesh's tubular parts and list them (no rig is written)");
+    auto* all = app.add_flag("--all", s.all, "Find the mesh's tubular parts and fit every one");
+    auto* names = app.add_option("--names", s.names,
+                                 "With --all: the parts' names, comma-separated, in --list's order "
+                                 "(default: the suggested names)");
+    auto* name =
+        app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
+    auto* root = app.add_option("--root", s.root,
+                                "X,Y,Z: where the part leaves the body (on its axis, its surface or "
+                                "inside the body); default: found where the part meets the body");
     auto* tip = app.add_option("--tip", s.tip, "X,Y,Z: on or near the part's end");
     auto* tip_vertex =
         app.add_option("--tip-vertex", s.tip_vertex, "The part's end as a vertex index")
@@ -260,8 +297,8 @@ int main(int argc, char** argv) {
     app.add_flag("--force", s.force,
                  "Write the rig even when the fit breaks a limit (stops short, leaks into the "
                  "body, error too large)");
-    app.add_option("--axis", s.axis,
-                   "File of axis points 'X Y Z' per line, root first (instead of tracing)");
+    auto* axis = app.add_option(
+        "--axis", s.axis, "File of axis points 'X Y Z' per line, root first (instead of tracing)");
     auto* sections =
         app.add_option("-k,--sections", s.sections, "Key sections K (>= 2)")->capture_default_str();
     app.add_option("-n,--radial", s.radial, "Radius samples per section (>= 3)")
@@ -287,8 +324,21 @@ int main(int argc, char** argv) {
     }
     if (tolerance->count() > 0 && !(s.tolerance > 0))
       fail(ErrorCategory::usage, "--tolerance must be > 0");
-    if (s.axis.empty() && tip->count() == 0 && tip_vertex->count() == 0) {
-      fail(ErrorCategory::usage, "give --tip X,Y,Z or --tip-vertex N (or --axis FILE)");
+    // The modes: one part (named by --tip, --tip-vertex or --axis), --all, --list.
+    if (list->count() > 0 && all->count() > 0) fail(ErrorCategory::usage, "--list or --all, not both");
+    const bool finding = list->count() > 0 || all->count() > 0;
+    for (const CLI::Option* one : {tip, tip_vertex, root, axis, name}) {
+      if (finding && one->count() > 0) {
+        fail(ErrorCategory::usage, one->get_name() + " names one part: it does not go with " +
+                                       (s.list ? "--list" : "--all"));
+      }
+    }
+    if (names->count() > 0 && !s.all) fail(ErrorCategory::usage, "--names goes with --all");
+    if (!s.list && rig->count() == 0) fail(ErrorCategory::usage, "-o RIG is required (except with --list)");
+    if (s.list && rig->count() > 0) fail(ErrorCategory::usage, "--list writes no rig: drop -o");
+    if (!finding && s.axis.empty() && tip->count() == 0 && tip_vertex->count() == 0) {
+      fail(ErrorCategory::usage, "give --tip X,Y,Z or --tip-vertex N (or --axis FILE), or --list "
+                                 "or --all to find the parts");
     }
     if (s.sections < 2)
       fail(ErrorCategory::usage,
@@ -302,6 +352,8 @@ int main(int argc, char** argv) {
                " and --radial at most " + std::to_string(sweep::limits::kMaxRadial));
     }
     if (s.name.empty()) fail(ErrorCategory::usage, "--name must not be empty");
-    return run(s);
+    if (s.list) return run_list(s);
+    if (s.all) return run_all(s);
+    return run_one(s);
   });
 }
