@@ -193,18 +193,25 @@ int first_tube_ring(const RingTrace& rings, int last, const RingOptions& o) {
   return 0;
 }
 
-// How far the cap beyond ring `cap` reaches past the axis' end, along its last tangent: the
-// farthest projection of the surface nearer to the tip than that ring.
-double cap_reach(const Mesh& mesh, const std::vector<double>& d, const Ring& cap,
-                 const AxisTrace& axis) {
-  if (axis.points.empty()) return 0;
-  const Vec3& end = axis.points.back();
-  const Vec3& t = axis.tangents.back();
+// How far a cap reaches past an end of the axis along the axis' direction there: the farthest
+// projection of the surface nearer to the tip than `level` (the tip's cap: `tip_side`) or farther
+// (a far end without a body).
+double cap_reach(const Mesh& mesh, const std::vector<double>& d, double level, bool tip_side,
+                 const Vec3& end, const Vec3& outwards) {
   double reach = 0;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    if (d[v] <= cap.distance) reach = std::max(reach, (mesh.positions[v] - end).dot(t));
+    if (tip_side ? d[v] <= level : d[v] >= level)
+      reach = std::max(reach, (mesh.positions[v] - end).dot(outwards));
   }
   return reach;
+}
+
+// The axis the other way round: the extensions of its tip end then serve its start.
+void reverse_axis(AxisTrace& axis) {
+  std::reverse(axis.points.begin(), axis.points.end());
+  std::reverse(axis.tangents.begin(), axis.tangents.end());
+  for (Vec3& t : axis.tangents) t = -t;
+  std::reverse(axis.radii.begin(), axis.radii.end());
 }
 
 }  // namespace
@@ -370,6 +377,12 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     r.root_found = true;
     r.root_reason = rings.junction_reason;
   }
+  // No body: the rings ran to the far end of the surface, a cap like the tip's (they shrink
+  // over it). The axis runs through the rings before it, then straight on to its end.
+  const bool far_end = !root && rings.junction + 1 == static_cast<int>(rings.rings.size());
+  if (far_end) {
+    while (root_ring > 1 && ring(root_ring).growth < -o.rings.settled_growth) --root_ring;
+  }
   r.surface_length = ring(root_ring).distance;
 
   // 3. The axis: ring centroids from the root to the tip, refined by plane slices.
@@ -389,10 +402,23 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
       radii = {ring(first).radius, ring(0).radius};
     }
     r.axis = refine_axis(impl_->slicer, points, radii);
-    extend_axis(impl_->slicer, impl_->surface, r.axis, cap_reach(mesh, d, ring(cap), r.axis));
-    // Section 0 where the root projects onto the axis, which may lie a little before the
-    // nearest ring's centre.
-    if (root) trim_axis_start(impl_->slicer, r.axis, *root, 2 * ring(root_ring).radius);
+    if (!r.axis.points.empty()) {
+      extend_axis(impl_->slicer, impl_->surface, r.axis,
+                  cap_reach(mesh, d, ring(cap).distance, true, r.axis.points.back(),
+                            r.axis.tangents.back()));
+    }
+    if (far_end && !r.axis.points.empty()) {
+      reverse_axis(r.axis);
+      extend_axis(impl_->slicer, impl_->surface, r.axis,
+                  cap_reach(mesh, d, ring(root_ring).distance, false, r.axis.points.back(),
+                            r.axis.tangents.back()));
+      reverse_axis(r.axis);
+    } else {
+      // Section 0 where the root (or, found, the root ring's centre) projects onto the axis,
+      // which may lie a little before the first point kept.
+      trim_axis_start(r.axis, root ? *root : ring(root_ring).centroid,
+                      2 * ring(root_ring).radius);
+    }
   } else {
     r.axis = axis_from_polyline(impl_->slicer, o.axis);
   }
@@ -404,16 +430,22 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   r.traced_length = s.back();
   if (!o.axis.empty()) r.surface_length = r.traced_length;
   // The last key section: the point nearest the tip whose slice is a real loop at least
-  // kCapRadii of its radius from the tip.
+  // kCapRadii of its radius from the tip; likewise the first at a far end without a body.
   std::size_t end = r.axis.points.size() - 1;
   while (end > 1 &&
          !(r.axis.radii[end] > 0 && s.back() - s[end] >= kCapRadii * r.axis.radii[end])) {
     --end;
   }
-  AxisTrace cut = r.axis;
-  for (auto* v : {&cut.points}) v->resize(end + 1);
-  cut.tangents.resize(end + 1);
-  cut.radii.resize(end + 1);
+  std::size_t begin = 0;
+  while (far_end && begin + 1 < end &&
+         !(r.axis.radii[begin] > 0 && s[begin] >= kCapRadii * r.axis.radii[begin])) {
+    ++begin;
+  }
+  AxisTrace cut;
+  const auto first = static_cast<std::ptrdiff_t>(begin), last = static_cast<std::ptrdiff_t>(end + 1);
+  cut.points.assign(r.axis.points.begin() + first, r.axis.points.begin() + last);
+  cut.tangents.assign(r.axis.tangents.begin() + first, r.axis.tangents.begin() + last);
+  cut.radii.assign(r.axis.radii.begin() + first, r.axis.radii.begin() + last);
   for (double& x : cut.radii) {  // a missing slice keeps the local ring's size for the fallback
     if (!(x > 0)) x = ring(0).radius;
   }

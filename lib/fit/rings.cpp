@@ -14,6 +14,10 @@ namespace {
 // ring's continuation.
 constexpr double kSpeckFraction = 0.25;
 constexpr double kNearRadii = 3;
+// The junction: the last ring no more than this share wider than the tube over the few radii
+// (kTubeWindowRadii) before the knee.
+constexpr double kFlareShare = 0.1;
+constexpr double kTubeWindowRadii = 3;
 
 // The loop of this level that continues the previous ring: the one with the nearest centroid among
 // loops that are not specks; the longest one on the first level.
@@ -147,6 +151,18 @@ void locate_junction(RingTrace& trace, const RingOptions& o) {
         }
       }
     if (!narrows) {
+      // Growth is measured over a radius of distance, so the knee lags into the flare: back to
+      // the last ring still within kFlareShare of the tube's own size just before it.
+      std::vector<double> before;
+      for (int i = knee; i >= 0 && at(knee).distance - at(i).distance <= kTubeWindowRadii * at(knee).radius; --i) {
+        if (at(knee).distance - at(i).distance >= at(knee).radius) before.push_back(at(i).radius);
+      }
+      if (!before.empty()) {
+        std::nth_element(before.begin(), before.begin() + static_cast<std::ptrdiff_t>(before.size() / 2),
+                         before.end());
+        const double tube = before[before.size() / 2];
+        while (knee > 0 && at(knee).radius > (1 + kFlareShare) * tube) --knee;
+      }
       trace.junction = knee;
       trace.junction_reason = "the ring size jumps from " + format_number(at(knee).radius) + " to " +
                               format_number(at(peak).radius) + " at distance " + format_number(at(k).distance) +

@@ -29,6 +29,12 @@ constexpr double kMaxSliceRadii = 1.5;
 constexpr double kMinCapSliceShare = 0.8;
 // ... and while the axis turns by less than this per step (a quarter radius): a bend of a radius.
 constexpr double kMaxCapTurnDegrees = 15;
+// An end point where the refined axis turns by more than this is off centre (see
+// drop_kinked_ends); at most this many are dropped at each end.
+constexpr double kMaxEndTurnDegrees = 15;
+constexpr double kMinKinkDegrees = 3;
+constexpr double kKinkRatio = 3;
+constexpr int kMaxKinkedEndPoints = 4;
 
 }  // namespace
 
@@ -41,23 +47,24 @@ std::vector<double> arc_lengths(const std::vector<Vec3>& points) {
 
 namespace {
 
-// Smoothing over arc length by a local quadratic (Gaussian weights, window sigma[i] at point i):
-// the value at s_i of the weighted least-squares parabola through the neighbours. Unlike a plain
-// weighted mean it does not pull a bend inwards (a mean shrinks an arc of curvature κ by about
-// κσ²/2); it is exact on any quadratic curve. The ends stay fixed.
+// Smoothing over arc length by a local quadratic (Gaussian weights, window sigma[i] at point i,
+// but never narrower than a point and a half of the mean spacing): the value at s_i of the
+// weighted least-squares parabola through the neighbours. Unlike a plain weighted mean it does not
+// pull a bend inwards (a mean shrinks an arc of curvature κ by about κσ²/2); it is exact on any
+// quadratic curve, so the end points too are fitted, from one side, without being drawn inwards:
+// an end slice that caught some of the body or the cap is brought back in line with the rest.
 std::vector<Vec3> smooth(const std::vector<Vec3>& points, const std::vector<double>& sigma) {
   const std::vector<double> s = arc_lengths(points);
   std::vector<Vec3> out = points;
   const std::size_t m = points.size();
-  for (std::size_t i = 1; i + 1 < m; ++i) {
-    const double sg = sigma[i];
-    if (!(sg > 0)) continue;
-    // Shrink the window near the ends so that it stays symmetric: the ends pull no point inwards.
-    const double w = std::min({sg, s[i], s[m - 1] - s[i]});
-    if (!(w > 0)) continue;
+  if (m < 4 || !(s.back() > 0)) return out;
+  const double min_window = 1.5 * s.back() / static_cast<double>(m - 1);
+  for (std::size_t i = 0; i < m; ++i) {
+    if (!(sigma[i] > 0)) continue;
+    const double w = std::max(sigma[i], min_window);
     // Normal equations of p(u) = a + b u + c u² in u = (s_j − s_i)/w.
     Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-    Eigen::Matrix<double, 3, 3> rhs = Eigen::Matrix3d::Zero();  // rows: 1, u, u²; columns: xyz
+    Eigen::Matrix3d rhs = Eigen::Matrix3d::Zero();  // rows: 1, u, u²; columns: x, y, z
     std::size_t count = 0;
     const auto add = [&](std::size_t j) {
       const double u = (s[j] - s[i]) / w;
@@ -69,16 +76,10 @@ std::vector<Vec3> smooth(const std::vector<Vec3>& points, const std::vector<doub
     };
     for (std::size_t j = i; j-- > 0 && s[i] - s[j] <= 2 * w;) add(j);
     for (std::size_t j = i; j < m && s[j] - s[i] <= 2 * w; ++j) add(j);
-    if (count < 4) {  // too few neighbours for a parabola: their weighted mean
-      out[i] = (rhs.row(0) / normal(0, 0)).transpose();
-      continue;
-    }
+    if (count < 4) continue;  // too few neighbours for a parabola: keep the point
     const Eigen::LDLT<Eigen::Matrix3d> solve(normal);
-    const Eigen::Matrix3d coefficients = solve.solve(rhs);
-    const Vec3 fitted = coefficients.row(0).transpose();
-    out[i] = solve.info() == Eigen::Success && fitted.allFinite() ? fitted
-                                                                  : Vec3(rhs.row(0).transpose() /
-                                                                         normal(0, 0));
+    const Vec3 fitted = solve.solve(rhs).row(0).transpose();
+    if (solve.info() == Eigen::Success && fitted.allFinite()) out[i] = fitted;
   }
   return out;
 }
@@ -109,6 +110,52 @@ Vec3 point_at(const std::vector<double>& s, const std::vector<Vec3>& p, double x
   const double span = s[k] - s[k - 1];
   const double u = span > 0 ? (x - s[k - 1]) / span : 0;
   return (1 - u) * p[k - 1] + u * p[k];
+}
+
+}  // namespace
+
+namespace {
+
+// Drops end points where the axis kinks: turns in its last step by more than kMaxEndTurnDegrees,
+// or by more than kKinkRatio times the turns further in and at least kMinKinkDegrees (a
+// bend changes gently; an end that jumps aside does not bend). A ring at a junction or over a
+// flat end is tilted and off centre, and so is its slice; the inner points are not. What is
+// dropped is restored by the straight extensions of the ends.
+void drop_kinked_ends(AxisTrace& trace) {
+  const auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
+    const Vec3 u = trace.points[b] - trace.points[a], v = trace.points[c] - trace.points[b];
+    if (!(u.norm() > 0) || !(v.norm() > 0)) return 0.0;
+    return std::acos(std::clamp(u.normalized().dot(v.normalized()), -1.0, 1.0)) * 180 /
+           std::numbers::pi;
+  };
+  const auto kinked = [&](double last, double before) {
+    return last > kMaxEndTurnDegrees || (last > kMinKinkDegrees && last > kKinkRatio * before);
+  };
+  const auto erase = [&](std::size_t i) {
+    trace.points.erase(trace.points.begin() + static_cast<std::ptrdiff_t>(i));
+    trace.tangents.erase(trace.tangents.begin() + static_cast<std::ptrdiff_t>(i));
+    trace.radii.erase(trace.radii.begin() + static_cast<std::ptrdiff_t>(i));
+  };
+  // The turns further in: the median of the next three, the bend the end should continue.
+  const auto inner = [&](double a, double b, double c) {
+    return std::max(std::min(a, b), std::min(std::max(a, b), c));
+  };
+  bool dropped = false;
+  for (int k = 0; k < kMaxKinkedEndPoints && trace.points.size() > 6 &&
+                  kinked(turn(0, 1, 2), inner(turn(1, 2, 3), turn(2, 3, 4), turn(3, 4, 5)));
+       ++k) {
+    erase(0);
+    dropped = true;
+  }
+  for (int k = 0; k < kMaxKinkedEndPoints && trace.points.size() > 6; ++k) {
+    const std::size_t m = trace.points.size();
+    const double before =
+        inner(turn(m - 4, m - 3, m - 2), turn(m - 5, m - 4, m - 3), turn(m - 6, m - 5, m - 4));
+    if (!kinked(turn(m - 3, m - 2, m - 1), before)) break;
+    erase(m - 1);
+    dropped = true;
+  }
+  if (dropped) trace.tangents = central_tangents(trace.points);
 }
 
 }  // namespace
@@ -176,6 +223,7 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
     trace.tangents = central_tangents(trace.points);
   }
   trace.radii = sliced;
+  drop_kinked_ends(trace);
   return trace;
 }
 
@@ -220,25 +268,17 @@ void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, Axis
   }
 }
 
-void trim_axis_start(const MeshSlicer& slicer, AxisTrace& axis, const Vec3& point,
-                     double max_extension) {
+void trim_axis_start(AxisTrace& axis, const Vec3& point, double max_extension) {
   const std::size_t m = axis.points.size();
   if (m < 2) return;
-  // Before the start: extend along the first tangent, re-centred by a slice there.
-  const Vec3& t0 = axis.tangents[0];
+  // Before the start: extend straight along the first tangent. (Not re-centred by a slice: at a
+  // junction the part flares into the body, and a slice there is pulled aside by any tilt.)
+  const Vec3 t0 = axis.tangents[0];
   const double before = (axis.points[0] - point).dot(t0);
   if (before > 0 && (point - axis.points[0]).dot(axis.points[1] - axis.points[0]) <= 0) {
-    Vec3 p = axis.points[0] - std::min(before, max_extension) * t0;
-    double r = axis.radii[0];
-    const double reach = std::max(r, 1e-12);
-    const std::optional<Loop> loop = loop_around(slicer.slice(p, t0), p, t0, reach);
-    if (loop && loop->radius <= kMaxSliceRadii * reach && (loop->centroid - p).norm() <= reach) {
-      p = loop->centroid;
-      r = loop->radius;
-    }
-    axis.points.insert(axis.points.begin(), p);
+    axis.points.insert(axis.points.begin(), axis.points[0] - std::min(before, max_extension) * t0);
     axis.tangents.insert(axis.tangents.begin(), t0);
-    axis.radii.insert(axis.radii.begin(), r);
+    axis.radii.insert(axis.radii.begin(), axis.radii[0]);
     return;
   }
   std::size_t best_k = 0;

@@ -38,10 +38,9 @@ void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, Axis
 
 // Makes the axis start where `point` projects onto it: cut there (the nearest point of the
 // polyline; tangent and radius interpolated), or, when the point lies before the start (within
-// `max_extension` mesh units), extended straight back to its projection and centred in its slice.
-// The last point is never cut away.
-void trim_axis_start(const MeshSlicer& slicer, AxisTrace& axis, const Vec3& point,
-                     double max_extension);
+// `max_extension` mesh units), extended straight back to its projection. The last point is never
+// cut away.
+void trim_axis_start(AxisTrace& axis, const Vec3& point, double max_extension);
 
 // An axis given as a polyline from root to tip (at least 2 distinct points): tangents by central
 // chords, radii of the slice loops around each point (0 where there is none).

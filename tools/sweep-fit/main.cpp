@@ -193,7 +193,7 @@ void write_rig_and_report(const Settings& s, sweep::Rig& rig, bool updating,
   if (!s.report.empty())
     sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, true, seconds);
   for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
-  std::cout << (replaced > 0 ? "updated " : updating ? "added to " : "wrote ") << s.rig.string()
+  std::cout << (replaced > 0 ? "replaced in " : updating ? "added to " : "wrote ") << s.rig.string()
             << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
             << ") in " << seconds << " s\n";
 }
