@@ -19,6 +19,9 @@
 namespace sweep::fit {
 namespace {
 
+// A given root whose ring is this share wider than the junction's is warned about.
+constexpr double kWidenedRootShare = 0.25;
+
 // Section counts tried by the tolerance search, about √2 apart.
 constexpr int kSectionLadder[] = {2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64, 91, 128, 181, 256};
 // The last key section sits where the axis is at least this many local radii from the tip vertex
@@ -341,10 +344,9 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                                        "pieces of the mesh");
   }
   r.tip_vertex = o.axis.empty() ? climb(topo, field, tip0) : tip0;
-  if (r.tip_vertex != tip0) {
-    r.warnings.push_back("tip moved to the part's end, vertex " + std::to_string(r.tip_vertex) +
-                         " at " + format_point(mesh.positions[r.tip_vertex]));
-  }
+  // How far the part's end lies from the tip asked for: worth a warning past a radius (below).
+  const double tip_moved =
+      (mesh.positions[r.tip_vertex] - (o.tip_vertex >= 0 ? mesh.positions[tip0] : tip_point)).norm();
 
   // 2. Rings from the tip, and the root among them.
   const std::vector<double> d = surface_distances(mesh, topo, std::span(&r.tip_vertex, 1));
@@ -368,7 +370,9 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     }
     r.root_reason = "section 0 is cut through the ring nearest to the given root, at distance " +
                     format_number(ring(root_ring).distance) + " from the tip";
-    if (root_ring > rings.junction) {
+    // A root a little past the junction only adds a short flare; warn when it has widened.
+    if (root_ring > rings.junction &&
+        ring(root_ring).radius > (1 + kWidenedRootShare) * ring(rings.junction).radius) {
       r.warnings.push_back("the root lies past where the part meets the body (" +
                            rings.junction_reason +
                            "); section 0 is cut where the part has widened");
@@ -544,6 +548,12 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                            ": the part is not a tube where it is cut, or the axis strayed; try "
                            "--root nearer the tip, or more sections");
     }
+  }
+  if (tip_moved > r.mean_radius) {
+    r.warnings.push_back("tip moved to the part's end, vertex " + std::to_string(r.tip_vertex) +
+                         " at " + format_point(mesh.positions[r.tip_vertex]) + ", " +
+                         format_number(tip_moved / r.mean_radius) +
+                         " mean radii from the tip given");
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
