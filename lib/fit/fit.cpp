@@ -517,11 +517,17 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   const double leak_level = ring(root_ring).distance + kLeakRadii * ring(root_ring).radius;
   for (const std::uint32_t v : r.part_vertices) r.leaked_count += d[v] > leak_level;
   const double part_count = static_cast<double>(std::max<std::size_t>(r.part_vertices.size(), 1));
-  if (r.traced_length < o.min_length_ratio * r.surface_length) {
+  // Short against the surface and far from the tip: stopped early. (A foot or a head at the end
+  // lengthens the surface path without leaving the axis short of the tip.)
+  r.tip_gap = (mesh.positions[r.tip_vertex] - r.axis.points.back()).norm();
+  if (r.traced_length < o.min_length_ratio * r.surface_length &&
+      r.tip_gap > o.max_tip_gap * r.mean_radius) {
     r.problems.push_back("the axis (" + format_number(r.traced_length) + " long) covers only " +
                          format_percent(r.traced_length / r.surface_length) +
                          " of the surface distance from the tip to the root (" +
-                         format_number(r.surface_length) + "): the trace stopped short of the tip");
+                         format_number(r.surface_length) + ") and ends " +
+                         format_number(r.tip_gap / r.mean_radius) +
+                         " mean radii from the tip: the trace stopped short of the tip");
   }
   if (static_cast<double>(r.leaked_count) > o.max_leak_share * part_count) {
     r.problems.push_back(

@@ -58,8 +58,9 @@ struct FitOptions {
   // Limits beyond which the fit is a problem (FitResult::problems):
   // the traced axis, root to tip, against the surface distance from the tip to the root ring
   // (a tube's axis is a little shorter than its surface over the tip's cap; far shorter is a
-  // trace that stopped early);
+  // trace that stopped early, unless the axis ends within max_tip_gap mean radii of the tip);
   double min_length_ratio = 0.8;
+  double max_tip_gap = 2;
   // the part's vertices whose section plane lies within the sweep (the rest are carried along
   // beyond the end sections);
   double min_in_range_share = 0.5;
@@ -107,6 +108,7 @@ struct FitResult {
   double length = 0;       // arc length of the axis from section 0 to K-1, mesh units
   double traced_length = 0;    // the axis from the root to the tip vertex, mesh units
   double surface_length = 0;   // surface distance from the tip vertex to the root ring
+  double tip_gap = 0;          // from the axis' end to the tip vertex, mesh units
   double mean_radius = 0;  // mean of the K·n radius samples, mesh units
   std::size_t leaked_count = 0;  // part vertices far past the root ring (see max_leak_share)
   FitError error;          // distances between the part's vertices and the fitted surface

@@ -1,6 +1,6 @@
 // sweep-fit as a black box on each shape class a real part takes (curve_tubes.h): a curl of more
-// than 270°, an elbow of 90° two radii from a body, a helix, a taper to a point, a tube leaving a
-// broad body. Each is fitted from a tip clicked half a radius off its end (no root: the tool finds
+// than 270°, an elbow of 90° two radii from a body, a tube lying against the body along its
+// length, a helix, a taper to a point, a tube leaving a broad body. Each is fitted from a tip clicked half a radius off its end (no root: the tool finds
 // it), and the rig's key sections are checked against the generator's curve.
 #include <gtest/gtest.h>
 
@@ -136,6 +136,25 @@ TEST(Shapes, ElbowOfNinetyDegreesTwoRadiiFromTheBody) {
       return Vec3(lead + bend * std::sin(phi), bend * (1 - std::cos(phi)), 0);
     }
     return Vec3(lead + bend, bend + (a - lead - arc), 0);
+  };
+  s.tube.radius = with_body(kBodyRadius, kBodyLength, constant_tube());
+  expect_follows(s);
+}
+
+TEST(Shapes, LyingAgainstTheBodyAlongItsLength) {
+  // Out of the body's end for 2r, a U-turn of radius 2.75r, then 8r back along the body, its
+  // surface half a radius from the body's: planes normal to the tube there cut the body too.
+  const double lead = kBodyLength + 2 * kR, turn_radius = 2.75 * kR, arc = turn_radius * kPi,
+               back = 8 * kR;
+  Shape s{"along", {}, kBodyLength};
+  s.tube.curve = [=](double u) {
+    const double a = u * (lead + arc + back);
+    if (a <= lead) return Vec3(a, 0, 0);
+    if (a <= lead + arc) {
+      const double phi = (a - lead) / turn_radius;
+      return Vec3(lead + turn_radius * std::sin(phi), turn_radius * (1 - std::cos(phi)), 0);
+    }
+    return Vec3(lead - (a - lead - arc), 2 * turn_radius, 0);
   };
   s.tube.radius = with_body(kBodyRadius, kBodyLength, constant_tube());
   expect_follows(s);

@@ -35,6 +35,7 @@ Json fit_entry(const fit::FitResult& r) {
   s["traced_length"] = r.traced_length;
   s["surface_length"] = r.surface_length;
   s["traced_over_surface"] = r.surface_length > 0 ? r.traced_length / r.surface_length : 0.0;
+  s["tip_gap_relative"] = r.mean_radius > 0 ? r.tip_gap / r.mean_radius : 0.0;
   s["mean_radius"] = r.mean_radius;
   const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
   s["fit_rms"] = r.error.rms;
@@ -113,8 +114,8 @@ void print_fit(const fit::FitResult& r, bool verbose) {
             << 100 * r.error.surface_rms / mr << "%, max " << 100 * r.error.surface_max / mr
             << "%\n";
   if (verbose) {
-    std::cout << "  axis: " << r.axis.points.size() << " points; tip vertex " << r.tip_vertex
-              << "; " << r.error.beyond_ends_count << " part vertices beyond the end sections\n";
+    std::cout << "  axis: " << r.axis.points.size() << " points, ending " << r.tip_gap / mr
+              << " mean radii from tip vertex " << r.tip_vertex << "; " << r.error.beyond_ends_count << " part vertices beyond the end sections\n";
   }
 }
 
