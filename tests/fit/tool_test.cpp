@@ -66,8 +66,13 @@ TEST_F(Tool, VersionAndHelp) {
 TEST_F(Tool, FitsATubeAndWritesRigAndReport) {
   const std::string rig = path("rig.json"), report = path("report.json");
   const ToolRun r =
-      run_tool(tube_ + " -o " + rig + " --name hose --root 0,0,0.1 --tip 0,0,1 --report " + report);
+      run_tool(tube_ + " -o " + rig + " --name hose --root 0,0,0.1 --tip 0,0,1 --report " + report +
+               " --preview " + path("fit.png"));
   ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream png(path("fit.png"), std::ios::binary);
+  std::string signature(8, '\0');
+  png.read(signature.data(), 8);
+  EXPECT_EQ(signature, std::string("\x89PNG\r\n\x1a\n", 8)) << "--preview writes a PNG";
   EXPECT_NE(r.output.find("hose: 24 sections x 24 radii"), std::string::npos) << r.output;
   const Rig loaded = io::read_rig(rig);
   EXPECT_EQ(loaded.mesh, "tube.obj");  // relative to the rig file
@@ -139,6 +144,28 @@ TEST_F(Tool, TipOnAnotherPieceIsNotReachable) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("not reachable"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(path("rig.json")));
+}
+
+// A fit that breaks a limit (five lobes seen through three radius samples: a tenth of the
+// vertices are far off) fails with exit 2 and writes no rig, but still the report and the
+// preview, to show what went wrong; --force writes the rig.
+TEST_F(Tool, UntrustedFitWritesReportAndPreviewButNoRigUnlessForced) {
+  const fs::path lobed = fs::path(SWEEP_SOURCE_DIR) / "meshes" / "tube_lobed.obj";
+  const std::string args = lobed.string() + " -o " + path("rig.json") + " -n 3 --root 0,0,0.05 --tip 0,0,1.2" +
+                           " --report " + path("report.json") + " --preview " + path("fit.png");
+  ToolRun r = run_tool(args);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("the fit is not to be trusted"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("a tenth of the part's vertices are farther than"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(--force writes the rig anyway)"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("rig.json")));
+  EXPECT_TRUE(fs::exists(path("fit.png")));
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(path("report.json")));
+  EXPECT_FALSE(report.at("sweeps").at(0).at("ok").get<bool>());
+  r = run_tool(args + " --force");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("written anyway (--force)"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(path("rig.json")));
 }
 
 fs::path diplodocus() { return fs::path(SWEEP_SOURCE_DIR) / "meshes" / "cgal" / "diplodocus.off"; }
@@ -237,6 +264,8 @@ TEST_F(Tool, ModesThatDoNotGoTogetherAreUsageErrors) {
       {"--names a,b -o " + path("r.json") + " --tip 0,0,1", "--names goes with --all"},
       {"--all -o " + path("r.json") + " --names a,,b", "--names: an empty name"},
       {"-o " + path("r.json") + " --tip 0,0", "--tip expects three finite numbers X,Y,Z, got '0,0'"},
+      {"--list --preview " + path("p.png"), "--preview draws fitted parts"},
+      {"-o " + path("r.json") + " --tip 0,0,1 --preview " + path("p.jpg"), "its name must end in .png"},
       {"-o " + path("r.json") + " --tip 0,nan,1", "--tip expects three finite numbers"},
   };
   for (const auto& c : cases) {
@@ -244,6 +273,7 @@ TEST_F(Tool, ModesThatDoNotGoTogetherAreUsageErrors) {
     EXPECT_EQ(r.code, 1) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
     EXPECT_FALSE(fs::exists(path("r.json"))) << c.args;
+    EXPECT_FALSE(fs::exists(path("p.png"))) << c.args;
   }
 }
 

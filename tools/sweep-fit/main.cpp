@@ -21,6 +21,8 @@
 #include "io/mesh_io.h"
 #include "io/path_checks.h"
 #include "io/rig_json.h"
+#include "preview/png.h"
+#include "preview/render.h"
 #include "sweep-fit/report.h"
 
 namespace fs = std::filesystem;
@@ -46,6 +48,7 @@ struct Settings {
   bool list = false;      // --list: print the parts found, write no rig
   bool all = false;       // --all: fit every part found into the rig
   std::string names;      // --names a,b,c for --all
+  fs::path preview;       // optional PNG: the fit drawn over the mesh from three sides
 };
 
 // "X,Y,Z" → a point; our own parse so that the message names the flag and the text given.
@@ -164,10 +167,23 @@ sweep::Mesh read_checked_mesh(const Settings& s) {
   return mesh;
 }
 
+// The fits drawn over the mesh (--preview), written like the report: also when a fit fails, to
+// show what went wrong.
+void write_preview(const Settings& s, const sweep::Mesh& mesh,
+                   const std::vector<sweep::fit::FitResult>& fits) {
+  if (s.preview.empty()) return;
+  std::vector<sweep::preview::Overlay> parts;
+  for (const sweep::fit::FitResult& r : fits) {
+    parts.push_back({r.part_vertices, r.axis.points, sweep::preview::section_outlines(r.sweep.rest)});
+  }
+  sweep::io::write_file_atomically(
+      s.preview, sweep::preview::encode_png(sweep::preview::render_views(mesh, parts)));
+}
+
 // Warnings, then the problems: a fit that breaks a limit fails (exit 2) with the numbers and
 // what to try, after writing the report, unless --force.
-void check_problems(const Settings& s, const std::vector<sweep::fit::FitResult>& fits,
-                    double seconds) {
+void check_problems(const Settings& s, const sweep::Mesh& mesh,
+                    const std::vector<sweep::fit::FitResult>& fits, double seconds) {
   std::string all;
   for (const sweep::fit::FitResult& r : fits) {
     for (const std::string& w : r.warnings) sweep::tools::warn(r.sweep.name + ": " + w);
@@ -178,12 +194,13 @@ void check_problems(const Settings& s, const std::vector<sweep::fit::FitResult>&
   if (all.empty()) return;
   if (!s.force) {
     if (!s.report.empty()) sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, false, seconds);
+    write_preview(s, mesh, fits);
     fail(ErrorCategory::bad_input, all.substr(1) + "\n  (--force writes the rig anyway)");
   }
   sweep::tools::warn("written anyway (--force):" + all);
 }
 
-void write_rig_and_report(const Settings& s, sweep::Rig& rig, bool updating,
+void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, bool updating,
                           const std::vector<sweep::fit::FitResult>& fits,
                           std::chrono::steady_clock::time_point start) {
   int replaced = 0;
@@ -192,6 +209,7 @@ void write_rig_and_report(const Settings& s, sweep::Rig& rig, bool updating,
   const double seconds = seconds_since(start);
   if (!s.report.empty())
     sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, true, seconds);
+  write_preview(s, mesh, fits);
   for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
   std::cout << (replaced > 0 ? "replaced in " : updating ? "added to " : "wrote ") << s.rig.string()
             << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
@@ -203,7 +221,7 @@ int run_one(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
   sweep::io::check_utf8(s.name, "--name");
   sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}},
-                         {{"-o", s.rig}, {"--report", s.report}});
+                         {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
   sweep::fit::FitOptions o = fit_options(s);
   if (!s.axis.empty()) o.axis = read_axis(s.axis);
   if (!s.root.empty()) o.root = to_point(s.root, "--root");
@@ -215,22 +233,25 @@ int run_one(const Settings& s) {
   // Outputs are checked before the fit, so neither is written when the other cannot be.
   sweep::io::check_can_create(s.rig);
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
   const std::vector<sweep::fit::FitResult> fits{sweep::fit::fit_sweep(mesh, o)};
-  check_problems(s, fits, seconds_since(start));
-  write_rig_and_report(s, rig, updating, fits, start);
+  check_problems(s, mesh, fits, seconds_since(start));
+  write_outputs(s, mesh, rig, updating, fits, start);
   return 0;
 }
 
 // Every part find_parts finds, into one rig.
 int run_all(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
-  sweep::io::check_paths({{"the mesh", s.mesh}}, {{"-o", s.rig}, {"--report", s.report}});
+  sweep::io::check_paths({{"the mesh", s.mesh}},
+                         {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
   const std::vector<std::string> names = split_names(s.names);
   bool updating = false;
   sweep::Rig rig = open_rig(s, updating);
   const sweep::Mesh mesh = read_checked_mesh(s);
   sweep::io::check_can_create(s.rig);
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
   const sweep::fit::SweepFitter fitter(mesh);
   const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh, fitter.topology());
   if (parts.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no tubular parts found");
@@ -246,8 +267,8 @@ int run_all(const Settings& s) {
     if (s.verbose) std::cout << "fitting " << o.name << " (" << i + 1 << "/" << parts.size() << ")\n";
     fits.push_back(fitter.fit(o));
   }
-  check_problems(s, fits, seconds_since(start));
-  write_rig_and_report(s, rig, updating, fits, start);
+  check_problems(s, mesh, fits, seconds_since(start));
+  write_outputs(s, mesh, rig, updating, fits, start);
   return 0;
 }
 
@@ -308,6 +329,9 @@ int main(int argc, char** argv) {
                        "Use the fewest sections with fit_rms <= this fraction of the mean radius");
     app.add_option("--report", s.report, "Write a JSON report here")
         ->check(sweep::tools::kNonEmptyName);
+    auto* preview = app.add_option("--preview", s.preview,
+                                   "Draw the fit over the mesh from three sides into this PNG file")
+                        ->check(sweep::tools::kNonEmptyName);
     app.add_flag("-v,--verbose", s.verbose, "Say more");
     try {
       app.parse(argc, argv);
@@ -334,6 +358,13 @@ int main(int argc, char** argv) {
       }
     }
     if (names->count() > 0 && !s.all) fail(ErrorCategory::usage, "--names goes with --all");
+    if (preview->count() > 0 && s.list) {
+      fail(ErrorCategory::usage, "--preview draws fitted parts: use it with a fit or --all, not --list");
+    }
+    if (preview->count() > 0 && s.preview.extension() != ".png") {
+      fail(ErrorCategory::usage, "--preview writes a PNG: its name must end in .png, got '" +
+                                     s.preview.string() + "'");
+    }
     if (!s.list && rig->count() == 0) fail(ErrorCategory::usage, "-o RIG is required (except with --list)");
     if (s.list && rig->count() > 0) fail(ErrorCategory::usage, "--list writes no rig: drop -o");
     if (!finding && s.axis.empty() && tip->count() == 0 && tip_vertex->count() == 0) {
