@@ -11,6 +11,7 @@ packages=(
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libassimp-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libtinygltf-dev libtinyobjloader-dev
+  libpng-dev     # sweep-fit --preview pictures
   python3 python3-jsonschema python3-matplotlib python3-numpy  # schema checks, preview pictures
   libcgal-demo   # CGAL's sample meshes (diplodocus.off, ...) for the demo and real-mesh tests
   gnuplot-nox    # the plots of tools/bench/run-benchmarks.sh

@@ -10,7 +10,7 @@
 
 #include "bind/deform.h"
 #include "core/error.h"
-#include "fit/part.h"
+#include "core/topology.h"
 #include "io/rig_json.h"
 
 namespace sweep::bind {
@@ -77,13 +77,13 @@ void check_inputs(const Rig& rig, const Mesh& mesh, const BindOptions& o) {
   }
 }
 
-Candidates locate_part(const SweepDef& def, const Mesh& mesh, const fit::VertexAdjacency* adjacency,
+Candidates locate_part(const SweepDef& def, const Mesh& mesh, const Topology* topology,
                        const BindOptions& o) {
   const SweepShape& rest = def.rest;
   const Frame& root = rest.frames[0];
   Candidates c;
   if (def.part) {
-    c.vertices = fit::select_part(mesh, *adjacency, root, def.part->tip);
+    c.vertices = select_part(mesh, *topology, root, root_disc_radius(rest), def.part->tip);
   } else {
     const Vec3 normal = root.axis();
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -160,8 +160,8 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
 
   const bool any_seeds =
       std::any_of(rig.sweeps.begin(), rig.sweeps.end(), [](const SweepDef& d) { return d.part; });
-  std::optional<fit::VertexAdjacency> adjacency;
-  if (any_seeds) adjacency = fit::vertex_adjacency(mesh);
+  std::optional<Topology> topology;
+  if (any_seeds) topology = build_topology(mesh);
 
   // Candidates of every sweep, then ownership: strictly nearer surface wins, so ties stay with
   // the earlier sweep (sweeps are visited in rig order).
@@ -174,7 +174,7 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
     const Clock::time_point sweep_start = Clock::now();
     const SweepDef& def = rig.sweeps[i];
     try {
-      candidates[i] = locate_part(def, mesh, adjacency ? &*adjacency : nullptr, options);
+      candidates[i] = locate_part(def, mesh, topology ? &*topology : nullptr, options);
     } catch (const Error& e) {
       throw Error(e.category(), sweep_label(def, i) + ": " + e.what());
     }

@@ -8,8 +8,8 @@
 //
 // Which vertices a sweep binds:
 //  - a sweep with part seeds (SweepDef::part, written by sweep-fit): the vertices of
-//    fit::select_part(mesh, root plane = rest frame of section 0, tip = part->tip), i.e. the
-//    surface on the tip side of section 0's plane reached from the tip without crossing that plane;
+//    select_part (core/topology.h) from part->tip, bounded by section 0's disc
+//    (root_disc_radius), i.e. the surface reached from the tip without crossing the root section;
 //  - a sweep without seeds (a rig written by hand): every vertex on the tip side of section 0's
 //    plane whose located plane lies within the sweep (0 ≤ t ≤ L) and which lies inside the tube
 //    widened by `seedless_radius_factor` (s ≤ factor), plus cap vertices beyond the tip section no
@@ -29,7 +29,6 @@
 #include "core/locate.h"
 #include "core/mesh.h"
 #include "core/rig.h"
-#include "fit/part.h"
 
 namespace sweep::bind {
 

@@ -1,5 +1,9 @@
 #include "core/mesh.h"
 
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
 namespace sweep {
 
 std::vector<std::uint32_t> Mesh::triangles() const {
@@ -12,6 +16,43 @@ std::vector<std::uint32_t> Mesh::triangles() const {
     }
   }
   return out;
+}
+
+std::string check_mesh(const Mesh& mesh) {
+  const auto& off = mesh.face_offsets;
+  if (off.empty() || off.front() != 0 || off.back() != mesh.face_vertices.size() ||
+      !std::is_sorted(off.begin(), off.end())) {
+    return "malformed face table";
+  }
+  if (mesh.positions.empty()) return "no vertices";
+  if (mesh.face_count() == 0) return "no faces";
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const Vec3& p = mesh.positions[i];
+    // Component tests, not allFinite(): Eigen's version computes x - x, which raises FE_INVALID
+    // on an infinity under the tests' traps.
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
+      std::ostringstream s;
+      s << "vertex " << i << " has a non-finite coordinate (" << p.x() << ", " << p.y() << ", "
+        << p.z() << ")";
+      return s.str();
+    }
+  }
+  const std::size_t nv = mesh.positions.size();
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const std::uint32_t begin = off[f], end = off[f + 1];
+    if (end - begin < 3) {
+      return "face " + std::to_string(f) + " has " + std::to_string(end - begin) +
+             " vertices (a face needs at least 3)";
+    }
+    for (std::uint32_t k = begin; k < end; ++k) {
+      if (mesh.face_vertices[k] >= nv) {
+        return "face " + std::to_string(f) + " uses vertex " +
+               std::to_string(mesh.face_vertices[k]) + ", out of range (the mesh has " +
+               std::to_string(nv) + " vertices)";
+      }
+    }
+  }
+  return "";
 }
 
 }  // namespace sweep

@@ -3,6 +3,7 @@
 // depend on that order, so nothing here ever reorders vertices).
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace sweep {
@@ -25,5 +26,10 @@ struct Mesh {
   // Triangles by fanning each polygon from its first vertex (3 indices a triangle).
   std::vector<std::uint32_t> triangles() const;
 };
+
+// What is wrong with a mesh that the algorithms cannot take (a malformed face table, no vertices
+// or faces, a non-finite coordinate, a face of fewer than 3 vertices or one that names a vertex
+// out of range), or "" when nothing is. Readers turn it into a message naming the file.
+std::string check_mesh(const Mesh& mesh);
 
 }  // namespace sweep

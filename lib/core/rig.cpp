@@ -1,5 +1,7 @@
 #include "core/rig.h"
 
+#include <algorithm>
+
 namespace sweep {
 
 int SweepDef::section_index(const std::string& section_name) const {
@@ -24,6 +26,12 @@ SweepDef make_sweep(std::string name, SweepShape rest) {
   def.section_names.assign(k, "");
   def.springs.assign(k, def.default_springs);
   return def;
+}
+
+double root_disc_radius(const SweepShape& rest) {
+  double largest = 0;
+  for (const double r : rest.section_radii(0)) largest = std::max(largest, r);
+  return kRootDiscRadii * largest;
 }
 
 }  // namespace sweep

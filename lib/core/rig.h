@@ -55,4 +55,10 @@ struct Rig {
 // one before filling in the geometry.
 SweepDef make_sweep(std::string name, SweepShape rest);
 
+// The root section a part may not be crossed through, as select_part (core/topology.h) takes it:
+// section 0's plane, and a disc of kRootDiscRadii times its largest radius (the slice loop's
+// crossings lie within its largest ray; the margin takes edges that cross the plane just outside).
+inline constexpr double kRootDiscRadii = 1.5;
+double root_disc_radius(const SweepShape& rest);
+
 }  // namespace sweep

@@ -3,35 +3,36 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <numbers>
+#include <span>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/limits.h"
 #include "core/locate.h"
+#include "core/text.h"
 #include "fit/loop.h"
-#include "fit/part.h"
 #include "fit/slicer.h"
-#include "io/mesh_io.h"
+#include "fit/surface_distance.h"
 
 namespace sweep::fit {
 namespace {
 
+// A given root whose ring is this share wider than the junction's is warned about.
+constexpr double kWidenedRootShare = 0.25;
+
 // Section counts tried by the tolerance search, about √2 apart.
 constexpr int kSectionLadder[] = {2, 3, 4, 6, 8, 11, 16, 23, 32, 45, 64, 91, 128, 181, 256};
-// The part reached from the tip must come this close to the root section's centre, in units of
-// the root loop's extent (its farthest point from the centre); otherwise it is not the part
-// that the traced axis leaves from.
-constexpr double kRootReachExtents = 1.5;
-
-std::string format(const Vec3& v) {
-  std::ostringstream s;
-  s << v.x() << "," << v.y() << "," << v.z();
-  return s.str();
-}
-
-bool finite(const Vec3& v) {
-  return v.allFinite();
-}
+// The last key section sits where the axis is at least this many local radii from the tip vertex
+// (a blunt end's cap beyond it is carried rigidly; a sharp tip's last section is at the point).
+constexpr double kCapRadii = 0.15;
+// Part vertices farther from the tip than the root ring by more than this many root radii have
+// leaked past the root section.
+constexpr double kLeakRadii = 2;
+// The error's tessellation of the sweep surface: stations per span and angles per radius sample.
+constexpr int kErrorStationsPerSpan = 4;
+constexpr int kErrorAnglesPerSample = 2;
 
 // Position, tangent and RMF frame on the axis polyline at arc length t.
 struct AxisSample {
@@ -88,7 +89,7 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
       std::fill(out, out + radial, reach);
       if (warnings) {
         warnings->push_back("section " + std::to_string(i) + ": no slice loop around its centre " +
-                            format(a.point) + "; used a circle of the traced radius");
+                            format_point(a.point) + "; used a circle of the traced radius");
       }
       continue;
     }
@@ -109,32 +110,127 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
                            const std::vector<std::uint32_t>& vertices) {
   FitError e;
+  // The sweep's tube, tessellated: stations along t, 2n angles around.
+  const int k = shape.section_count();
+  const int stations = (k - 1) * kErrorStationsPerSpan + 1;
+  const int angles = kErrorAnglesPerSample * shape.radial_count;
+  std::vector<Vec3> points;
+  points.reserve(static_cast<std::size_t>(stations) * angles);
+  for (int i = 0; i < stations; ++i) {
+    const double t = shape.length() * i / (stations - 1);
+    for (int j = 0; j < angles; ++j) {
+      points.push_back(surface_point(shape, 2 * std::numbers::pi * j / angles, t));
+    }
+  }
+  std::vector<std::uint32_t> grid;
+  for (int i = 0; i + 1 < stations; ++i) {
+    for (int j = 0; j < angles; ++j) {
+      const auto id = [&](int a, int b) {
+        return static_cast<std::uint32_t>(a * angles + b % angles);
+      };
+      grid.insert(grid.end(), {id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1),
+                               id(i + 1, j)});
+    }
+  }
+  const TriangleDistance to_sweep(points, grid);
+
   const SweepLocator locator(shape);
-  double sum2 = 0;
+  std::vector<char> in_part(mesh.vertex_count(), 0);
+  double sum2 = 0, radial2 = 0;
+  std::vector<double> distances;
+  distances.reserve(vertices.size());
   for (const std::uint32_t v : vertices) {
+    in_part[v] = 1;
     const SweepCoords c = locator.locate(mesh.positions[v]);
     if (c.z != 0) {
       ++e.beyond_ends_count;
       continue;
     }
-    const double d = std::abs(c.s - 1) * radius_at(shape, c.theta, c.t);
+    const double radial = std::abs(c.s - 1) * radius_at(shape, c.theta, c.t);
+    const double d = std::min(radial, to_sweep.distance(mesh.positions[v]));
     sum2 += d * d;
+    distances.push_back(d);
+    radial2 += radial * radial;
     e.max = std::max(e.max, d);
     ++e.measured_count;
   }
-  e.rms = e.measured_count > 0 ? std::sqrt(sum2 / static_cast<double>(e.measured_count)) : 0;
+  if (e.measured_count > 0) {
+    e.rms = std::sqrt(sum2 / static_cast<double>(e.measured_count));
+    e.radial_rms = std::sqrt(radial2 / static_cast<double>(e.measured_count));
+    const auto p90 = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() * 9 / 10);
+    std::nth_element(distances.begin(), p90, distances.end());
+    e.p90 = *p90;
+  }
+  // The other way: the sweep's samples to the part's own faces.
+  std::vector<std::uint32_t> part_faces;
+  const std::vector<std::uint32_t> all = mesh.triangles();
+  for (std::size_t f = 0; f + 2 < all.size(); f += 3) {
+    if (in_part[all[f]] && in_part[all[f + 1]] && in_part[all[f + 2]]) {
+      part_faces.insert(part_faces.end(), {all[f], all[f + 1], all[f + 2]});
+    }
+  }
+  const TriangleDistance to_part(mesh.positions, part_faces);
+  if (!to_part.empty()) {
+    double s2 = 0;
+    for (const Vec3& p : points) {
+      const double d = to_part.distance(p);
+      s2 += d * d;
+      e.surface_max = std::max(e.surface_max, d);
+    }
+    e.surface_samples = points.size();
+    e.surface_rms = std::sqrt(s2 / static_cast<double>(points.size()));
+  }
   return e;
 }
 
+namespace {
+
+// The first ring past the tip's cap: where the rings stop growing fast (growth below the ring
+// options' settled_growth), searching up to `last`. Before it, rings spread over the end itself
+// (from a pole or, on a blunt bent end, from a vertex of its rim) and their centroids are not on
+// the axis.
+int first_tube_ring(const RingTrace& rings, int last, const RingOptions& o) {
+  for (int i = 0; i < last; ++i) {
+    if (rings.rings[static_cast<std::size_t>(i)].growth < o.settled_growth) return i;
+  }
+  return 0;
+}
+
+// How far a cap reaches past an end of the axis along the axis' direction there: the farthest
+// projection of the surface nearer to the tip than `level` (the tip's cap: `tip_side`) or farther
+// (a far end without a body).
+double cap_reach(const Mesh& mesh, const std::vector<double>& d, double level, bool tip_side,
+                 const Vec3& end, const Vec3& outwards) {
+  double reach = 0;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (tip_side ? d[v] <= level : d[v] >= level)
+      reach = std::max(reach, (mesh.positions[v] - end).dot(outwards));
+  }
+  return reach;
+}
+
+// The axis the other way round: the extensions of its tip end then serve its start.
+void reverse_axis(AxisTrace& axis) {
+  std::reverse(axis.points.begin(), axis.points.end());
+  std::reverse(axis.tangents.begin(), axis.tangents.end());
+  for (Vec3& t : axis.tangents) t = -t;
+  std::reverse(axis.radii.begin(), axis.radii.end());
+}
+
+}  // namespace
+
 struct SweepFitter::Impl {
-  explicit Impl(const Mesh& mesh) : slicer(mesh), adjacency(vertex_adjacency(mesh)) {}
+  explicit Impl(const Mesh& mesh)
+      : slicer(mesh), topology(build_topology(mesh)), surface(mesh.positions, topology.triangles) {}
   MeshSlicer slicer;
-  VertexAdjacency adjacency;
+  Topology topology;
+  TriangleDistance surface;  // the whole mesh: seeds off the surface, the axis' end inside it
   double diagonal = 0;
 };
 
 SweepFitter::SweepFitter(const Mesh& mesh) : mesh_(mesh) {
-  io::validate_mesh(mesh, "mesh");
+  const std::string why = check_mesh(mesh);
+  if (!why.empty()) fail(ErrorCategory::bad_input, why);
   impl_ = std::make_unique<Impl>(mesh);
   Vec3 lo = mesh.positions[0], hi = mesh.positions[0];
   for (const Vec3& p : mesh.positions) {
@@ -150,95 +246,231 @@ SweepFitter::SweepFitter(SweepFitter&&) noexcept = default;
 const MeshSlicer& SweepFitter::slicer() const {
   return impl_->slicer;
 }
+const Topology& SweepFitter::topology() const {
+  return impl_->topology;
+}
+double SweepFitter::diagonal() const {
+  return impl_->diagonal;
+}
 
-FitResult SweepFitter::fit(const FitOptions& o) const {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+void validate(const FitOptions& o) {
+  const auto bad = [](const std::string& what) { fail(ErrorCategory::usage, what); };
   if (o.tolerance == 0 && o.sections < 2) {
-    fail(ErrorCategory::usage, "--sections must be at least 2, got " + std::to_string(o.sections));
+    bad("sections must be at least 2, got " + std::to_string(o.sections));
   }
-  if (o.radial < 3) {
-    fail(ErrorCategory::usage, "--radial must be at least 3, got " + std::to_string(o.radial));
-  }
+  if (o.radial < 3) bad("radial must be at least 3, got " + std::to_string(o.radial));
   // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
   if (o.sections > limits::kMaxSections || o.max_sections > limits::kMaxSections ||
       o.radial > limits::kMaxRadial) {
-    fail(ErrorCategory::usage, "--sections must be at most " + std::to_string(limits::kMaxSections) +
-                                   " and --radial at most " + std::to_string(limits::kMaxRadial));
+    bad("sections must be at most " + std::to_string(limits::kMaxSections) +
+        " and radial at most " + std::to_string(limits::kMaxRadial));
   }
-  if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance)) {
-    fail(ErrorCategory::usage, "--tolerance must be a finite number ≥ 0");
-  }
-  if (o.tolerance > 0 && o.max_sections < 2) {
-    fail(ErrorCategory::usage, "the maximum number of sections must be at least 2");
-  }
-  if (!finite(o.root) || !finite(o.tip))
-    fail(ErrorCategory::usage, "--root and --tip must be finite");
+  if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance))
+    bad("tolerance must be a finite number >= 0");
+  if (o.tolerance > 0 && o.max_sections < 2) bad("max_sections must be at least 2");
+  if (!o.tip.allFinite() || (o.root && !o.root->allFinite())) bad("root and tip must be finite");
+  if (o.name.empty()) bad("name must not be empty");
   for (const Vec3& p : o.axis) {
-    if (!finite(p)) fail(ErrorCategory::bad_input, "the axis polyline has a non-finite point");
+    if (!p.allFinite()) fail(ErrorCategory::bad_input, "the axis polyline has a non-finite point");
   }
+}
 
-  // Root and tip must be on or near the mesh.
+}  // namespace
+
+FitResult SweepFitter::fit(const FitOptions& o) const {
+  const auto start = std::chrono::steady_clock::now();
+  validate(o);
+  const Mesh& mesh = mesh_;
+  const Topology& topo = impl_->topology;
+
+  // Seeds must be on or near the mesh: the nearest vertex is a bound on the distance to the
+  // surface; only a point past it is measured against the surface itself.
   const double seed_limit = o.seed_distance * impl_->diagonal;
-  auto check_seed = [&](const Vec3& p, const char* what) {
-    const double d = (mesh_.positions[nearest_vertex(mesh_, p)] - p).norm();
-    if (d > seed_limit) {
-      std::ostringstream s;
-      s << what << " " << format(p) << " is far from the mesh: its nearest vertex is " << d
-        << " away (more than " << o.seed_distance << " of the bounding box diagonal, " << seed_limit
-        << ")";
-      fail(ErrorCategory::bad_input, s.str());
+  auto seed_vertex = [&](const Vec3& p, const char* what) {
+    const std::uint32_t v = nearest_vertex(mesh, p);
+    const double dv = (mesh.positions[v] - p).norm();
+    if (dv > seed_limit) {
+      const double ds = impl_->surface.distance(p);
+      if (ds > seed_limit) {
+        fail(ErrorCategory::bad_input,
+             std::string(what) + " " + format_point(p) + " is far from the mesh: " + format_number(ds) +
+                 " from its surface, more than " + format_number(o.seed_distance) +
+                 " of its bounding box diagonal (" + format_number(seed_limit) + ")");
+      }
     }
+    return v;
   };
-  check_seed(o.root, "root");
-  check_seed(o.tip, "tip");
+  std::optional<Vec3> root = o.root;
+  Vec3 tip_point = o.tip;
+  if (!o.axis.empty()) {
+    if (!root) root = o.axis.front();
+    tip_point = o.axis.back();
+  }
+  std::uint32_t tip0 = 0;
+  if (o.tip_vertex >= 0) {
+    if (static_cast<std::uint64_t>(o.tip_vertex) >= mesh.vertex_count()) {
+      fail(ErrorCategory::usage, "tip_vertex " + std::to_string(o.tip_vertex) +
+                                     " is not a vertex of the mesh (it has " +
+                                     std::to_string(mesh.vertex_count()) + ")");
+    }
+    tip0 = static_cast<std::uint32_t>(o.tip_vertex);
+  } else {
+    tip0 = seed_vertex(tip_point, "tip");
+  }
+  tip0 = topo.weld[tip0];
 
   FitResult r;
-  TraceOptions trace_options = o.trace;
-  trace_options.root_max_distance = seed_limit;
-  r.axis = o.axis.empty() ? trace_axis(impl_->slicer, o.root, o.tip, trace_options)
-                          : axis_from_polyline(impl_->slicer, o.axis);
-  if (!r.axis.reached_tip) {
-    fail(ErrorCategory::bad_input,
-         "tip " + format(o.tip) + " is not reachable from root " + format(o.root) +
-             ": the axis trace lost the part (" + r.axis.stop_reason + ") " +
-             std::to_string((o.tip - r.axis.points.back()).norm()) + " away from the tip");
+  // 1. The tip: climb to the part's end, the local maximum of the distance from the body (the
+  //    root, or, without one, the point of the surface farthest from the tip, which lies on
+  //    another extremity).
+  std::uint32_t root_vertex = 0;
+  std::vector<double> field;
+  if (root) {
+    root_vertex = topo.weld[seed_vertex(*root, "root")];
+    field = surface_distances(mesh, topo, std::span(&root_vertex, 1));
+  } else {
+    const std::vector<double> from_tip = surface_distances(mesh, topo, std::span(&tip0, 1));
+    std::uint32_t far = tip0;
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+      if (std::isfinite(from_tip[v]) && from_tip[v] > from_tip[far]) far = v;
+    }
+    field = surface_distances(mesh, topo, std::span(&far, 1));
+  }
+  if (!std::isfinite(field[tip0])) {
+    fail(ErrorCategory::bad_input, "the tip (vertex " + std::to_string(tip0) +
+                                       ") is not reachable from the root: they lie on separate "
+                                       "pieces of the mesh");
+  }
+  r.tip_vertex = o.axis.empty() ? climb(topo, field, tip0) : tip0;
+  // How far the part's end lies from the tip asked for: worth a warning past a radius (below).
+  const double tip_moved =
+      (mesh.positions[r.tip_vertex] - (o.tip_vertex >= 0 ? mesh.positions[tip0] : tip_point)).norm();
+
+  // 2. Rings from the tip, and the root among them.
+  const std::vector<double> d = surface_distances(mesh, topo, std::span(&r.tip_vertex, 1));
+  const RingTrace rings = trace_rings(mesh, topo, d, r.tip_vertex,
+                                      std::numeric_limits<double>::infinity(), true, o.rings);
+  if (rings.rings.size() < 2) {
+    fail(ErrorCategory::bad_input, "no rings of surface distance around the tip (vertex " +
+                                       std::to_string(r.tip_vertex) +
+                                       "): the surface there is too small or not connected");
+  }
+  const auto ring = [&](int i) -> const Ring& { return rings.rings[static_cast<std::size_t>(i)]; };
+  int root_ring = rings.junction;
+  if (root) {
+    int last = rings.junction;
+    const int n = static_cast<int>(rings.rings.size());
+    while (last + 1 < n && ring(last + 1).distance <= d[root_vertex]) ++last;
+    root_ring = 0;
+    for (int i = 1; i <= last; ++i) {
+      if ((ring(i).centroid - *root).norm() < (ring(root_ring).centroid - *root).norm())
+        root_ring = i;
+    }
+    r.root_reason = "section 0 is cut through the ring nearest to the given root, at distance " +
+                    format_number(ring(root_ring).distance) + " from the tip";
+    // A root a little past the junction only adds a short flare; warn when it has widened.
+    if (root_ring > rings.junction &&
+        ring(root_ring).radius > (1 + kWidenedRootShare) * ring(rings.junction).radius) {
+      r.warnings.push_back("the root lies past where the part meets the body (" +
+                           rings.junction_reason +
+                           "); section 0 is cut where the part has widened");
+    }
+  } else {
+    r.root_found = true;
+    r.root_reason = rings.junction_reason;
+  }
+  // No body: the rings ran to the far end of the surface, a cap like the tip's (they shrink
+  // over it). The axis runs through the rings before it, then straight on to its end.
+  const bool far_end = !root && rings.junction + 1 == static_cast<int>(rings.rings.size());
+  if (far_end) {
+    while (root_ring > 1 && ring(root_ring).growth < -o.rings.settled_growth) --root_ring;
+  }
+  r.surface_length = ring(root_ring).distance;
+
+  // 3. The axis: ring centroids from the root to the tip, refined by plane slices.
+  if (o.axis.empty()) {
+    std::vector<Vec3> points;
+    std::vector<double> radii;
+    const int first = root_ring;
+    // The axis runs through the rings of the tube; past the tip's cap it goes straight on to
+    // the cap's farthest point.
+    const int cap = first_tube_ring(rings, first, o.rings);
+    for (int i = first; i >= cap; --i) {
+      points.push_back(ring(i).centroid);
+      radii.push_back(ring(i).radius);
+    }
+    if (points.size() < 2) {  // the tip's cap reaches the root: the rings alone
+      points = {ring(first).centroid, ring(0).centroid};
+      radii = {ring(first).radius, ring(0).radius};
+    }
+    r.axis = refine_axis(impl_->slicer, points, radii);
+    if (!r.axis.points.empty()) {
+      extend_axis(impl_->slicer, impl_->surface, r.axis,
+                  cap_reach(mesh, d, ring(cap).distance, true, r.axis.points.back(),
+                            r.axis.tangents.back()));
+    }
+    if (far_end && !r.axis.points.empty()) {
+      reverse_axis(r.axis);
+      extend_axis(impl_->slicer, impl_->surface, r.axis,
+                  cap_reach(mesh, d, ring(root_ring).distance, false, r.axis.points.back(),
+                            r.axis.tangents.back()));
+      reverse_axis(r.axis);
+    } else {
+      // Section 0 where the root (or, found, the root ring's centre) projects onto the axis,
+      // which may lie a little before the first point kept.
+      trim_axis_start(r.axis, root ? *root : ring(root_ring).centroid,
+                      2 * ring(root_ring).radius);
+    }
+  } else {
+    r.axis = axis_from_polyline(impl_->slicer, o.axis);
   }
   if (r.axis.points.size() < 2) {
-    fail(ErrorCategory::bad_input, "the part between root " + format(o.root) + " and tip " +
-                                       format(o.tip) + " is too short to trace (" +
-                                       r.axis.stop_reason + ")");
+    fail(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
+                                       " has no length to fit (" + r.root_reason + ")");
+  }
+  const std::vector<double> s = arc_lengths(r.axis.points);
+  r.traced_length = s.back();
+  if (!o.axis.empty()) r.surface_length = r.traced_length;
+  // The last key section: the point nearest the tip whose slice is a real loop at least
+  // kCapRadii of its radius from the tip; likewise the first at a far end without a body.
+  std::size_t end = r.axis.points.size() - 1;
+  while (end > 1 &&
+         !(r.axis.radii[end] > 0 && s.back() - s[end] >= kCapRadii * r.axis.radii[end])) {
+    --end;
+  }
+  std::size_t begin = 0;
+  while (far_end && begin + 1 < end &&
+         !(r.axis.radii[begin] > 0 && s[begin] >= kCapRadii * r.axis.radii[begin])) {
+    ++begin;
+  }
+  AxisTrace cut;
+  const auto first = static_cast<std::ptrdiff_t>(begin), last = static_cast<std::ptrdiff_t>(end + 1);
+  cut.points.assign(r.axis.points.begin() + first, r.axis.points.begin() + last);
+  cut.tangents.assign(r.axis.tangents.begin() + first, r.axis.tangents.begin() + last);
+  cut.radii.assign(r.axis.radii.begin() + first, r.axis.radii.begin() + last);
+  for (double& x : cut.radii) {  // a missing slice keeps the local ring's size for the fallback
+    if (!(x > 0)) x = ring(0).radius;
+  }
+  if (!(arc_lengths(cut.points).back() > 0)) {
+    fail(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
+                                       " is too short to cut two key sections");
   }
 
-  // The part: flood from the tip, bounded by the root plane.
-  const Frame root_plane{Quat::FromTwoVectors(Vec3::UnitZ(), r.axis.tangents[0]), r.axis.points[0]};
-  r.part_vertices = select_part(mesh_, impl_->adjacency, root_plane, o.tip);
-  if (r.part_vertices.empty()) fail(ErrorCategory::bad_input, "the part has no vertices");
-  double nearest_root = std::numeric_limits<double>::infinity();
-  for (const std::uint32_t v : r.part_vertices) {
-    nearest_root = std::min(nearest_root, (mesh_.positions[v] - r.axis.points[0]).norm());
-  }
-  const double root_reach = kRootReachExtents * r.axis.root_loop_extent;
-  if (nearest_root > root_reach) {
-    std::ostringstream s;
-    s << "tip " << format(o.tip) << " is not reachable from root " << format(o.root)
-      << ": the surface reached from the tip (" << r.part_vertices.size()
-      << " vertices) comes no closer than " << nearest_root << " to the root section";
-    fail(ErrorCategory::bad_input, s.str());
-  }
-
-  // Sections: a fixed K, or the fewest that meet the tolerance.
+  // 4. Sections (a fixed K, or the fewest that meet the tolerance), part, error.
   auto build = [&](int k) {
     r.star_violations.clear();
-    r.warnings.clear();
-    r.sweep.rest =
-        sections_along(impl_->slicer, r.axis, k, o.radial, &r.star_violations, &r.warnings);
+    r.sweep.rest = sections_along(impl_->slicer, cut, k, o.radial, &r.star_violations, &r.warnings);
     const std::vector<double>& radii = r.sweep.rest.radii;
     r.mean_radius = 0;
     for (const double x : radii) r.mean_radius += x;
     r.mean_radius /= static_cast<double>(radii.size());
     r.length = r.sweep.rest.length();
+    r.part_vertices = select_part(mesh, topo, r.sweep.rest.frames[0],
+                                  root_disc_radius(r.sweep.rest), mesh.positions[r.tip_vertex]);
     if (o.measure_error || o.tolerance > 0) {
-      r.error = measure_fit_error(r.sweep.rest, mesh_, r.part_vertices);
+      r.error = measure_fit_error(r.sweep.rest, mesh, r.part_vertices);
     }
   };
   if (o.tolerance > 0) {
@@ -253,33 +485,27 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
       if (k == o.max_sections) break;
     }
     if (!met) {
-      std::ostringstream s;
-      s << "tolerance " << o.tolerance << " not met with " << r.sweep.rest.section_count()
-        << " sections: fit_rms is " << r.error.rms / r.mean_radius << " of the mean radius";
-      r.warnings.push_back(s.str());
+      r.warnings.push_back("tolerance " + format_number(o.tolerance) + " not met with " +
+                           std::to_string(r.sweep.rest.section_count()) +
+                           " sections: the fit RMS is " + format_percent(r.error.rms / r.mean_radius) +
+                           " of the mean radius");
     }
   } else {
     build(o.sections);
   }
-
   if (const std::string why = check_shape(r.sweep.rest); !why.empty()) {
     fail(ErrorCategory::internal, "the fitted sweep is invalid: " + why);
   }
+  r.root = r.sweep.rest.frames[0].center;
   SweepShape shape = std::move(r.sweep.rest);
   r.sweep = make_sweep(o.name, std::move(shape));
-  r.sweep.part = PartSeeds{o.root, o.tip};
+  r.sweep.part = PartSeeds{r.root, mesh.positions[r.tip_vertex]};
+
+  // 5. What the user must know, and what makes the fit wrong.
   if (impl_->slicer.repaired_face_count() > 0) {
     r.warnings.push_back(
         std::to_string(impl_->slicer.repaired_face_count()) +
         " triangles were not manifold; the slicer duplicated vertices to take them");
-  }
-  if (r.error.measured_count < r.part_vertices.size() / 2) {
-    // Most of the part lies beyond the end sections: the root plane cut more than the part (a
-    // root at a junction whose plane also slices the body), or the tip stops short of the end.
-    r.warnings.push_back("only " + std::to_string(r.error.measured_count) + " of the part's " +
-                         std::to_string(r.part_vertices.size()) +
-                         " vertices lie between the end sections: move the root further out "
-                         "along the part, or the tip to its end");
   }
   if (!r.star_violations.empty()) {
     int rays = 0;
@@ -287,6 +513,53 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     r.warnings.push_back(std::to_string(r.star_violations.size()) +
                          " sections are not star-shaped about their centre (" +
                          std::to_string(rays) + " rays; the outermost crossing was used)");
+  }
+  const double leak_level = ring(root_ring).distance + kLeakRadii * ring(root_ring).radius;
+  for (const std::uint32_t v : r.part_vertices) r.leaked_count += d[v] > leak_level;
+  const double part_count = static_cast<double>(std::max<std::size_t>(r.part_vertices.size(), 1));
+  // Short against the surface and far from the tip: stopped early. (A foot or a head at the end
+  // lengthens the surface path without leaving the axis short of the tip.)
+  r.tip_gap = (mesh.positions[r.tip_vertex] - r.axis.points.back()).norm();
+  if (r.traced_length < o.min_length_ratio * r.surface_length &&
+      r.tip_gap > o.max_tip_gap * r.mean_radius) {
+    r.problems.push_back("the axis (" + format_number(r.traced_length) + " long) covers only " +
+                         format_percent(r.traced_length / r.surface_length) +
+                         " of the surface distance from the tip to the root (" +
+                         format_number(r.surface_length) + ") and ends " +
+                         format_number(r.tip_gap / r.mean_radius) +
+                         " mean radii from the tip: the trace stopped short of the tip");
+  }
+  if (static_cast<double>(r.leaked_count) > o.max_leak_share * part_count) {
+    r.problems.push_back(
+        "the part leaks past its root into the body: " + std::to_string(r.leaked_count) +
+        " of its " + std::to_string(r.part_vertices.size()) +
+        " vertices lie farther from the tip than the root section; give --root where the part "
+        "is still a tube");
+  }
+  if (o.measure_error || o.tolerance > 0) {
+    if (r.error.measured_count == 0) {
+      r.problems.push_back("none of the part's " + std::to_string(r.part_vertices.size()) +
+                           " vertices lies between the end sections: there is no fit to measure");
+    } else if (r.in_range_share() < o.min_in_range_share) {
+      r.problems.push_back("only " + std::to_string(r.error.measured_count) + " of the part's " +
+                           std::to_string(r.part_vertices.size()) +
+                           " vertices lie between the end sections: the root section does not "
+                           "close the part off; move --root along the part");
+    }
+    if (r.error.measured_count > 0 && r.error.p90 > o.max_error * r.mean_radius) {
+      r.problems.push_back("a tenth of the part's vertices are farther than " +
+                           format_percent(r.error.p90 / r.mean_radius) +
+                           " of the mean radius from the fit, above the limit of " +
+                           format_percent(o.max_error) +
+                           ": the part is not a tube where it is cut, or the axis strayed; try "
+                           "--root nearer the tip, or more sections");
+    }
+  }
+  if (tip_moved > r.mean_radius) {
+    r.warnings.push_back("tip moved to the part's end, vertex " + std::to_string(r.tip_vertex) +
+                         " at " + format_point(mesh.positions[r.tip_vertex]) + ", " +
+                         format_number(tip_moved / r.mean_radius) +
+                         " mean radii from the tip given");
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

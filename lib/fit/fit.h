@@ -1,46 +1,76 @@
 #pragma once
-// Fitting a sweep to a tubular part of a mesh (the work behind sweep-fit): trace the part's axis
-// by plane slices from a root point to a tip point, place K key sections along it with
-// rotation-minimizing frames (no added twist), sample n radii per section by rays in the section
-// plane, select the part's vertices, and measure how far they lie from the fitted surface.
+// Fitting a sweep to a tubular part of a mesh (the work behind sweep-fit):
+//  1. the tip: the vertex nearest to the given point (or the given vertex), moved to the part's
+//     end by climbing the surface distance from the body (a tip a few radii off is fine);
+//  2. rings of equal surface distance from it (fit/rings.h) up to the root — the given root
+//     (on the axis, on the surface or inside the body near where the part leaves it), or, when
+//     none is given, where the ring size jumps as the rings spread over the body;
+//  3. the ring centroids, smoothed and moved to the centroids of plane slices normal to them
+//     (fit/trace.h), are the axis; K key sections are cut by planes normal to it, evenly spaced
+//     in arc length, with rotation-minimizing frames (no added twist), n radii each by rays;
+//  4. the part: the surface reached from the tip without crossing the root section
+//     (select_part), and the fit's error as true distances both ways (fit/surface_distance.h).
+// A fit that stops short of the tip, a part that leaks past its root into the body, or an error
+// above the limits below is returned with `problems`, which the tool turns into an error unless
+// the user forces it: never a silently wrong rig.
 //
-//   FitResult r = fit_sweep(mesh, {.name = "tail", .root = {...}, .tip = {...}});
+//   FitResult r = fit_sweep(mesh, {.name = "tail", .tip = {...}});
 //
-// SweepFitter keeps the slicer (CGAL AABB tree) and the vertex adjacency for fitting several parts
-// of one mesh, or one part at several K and n.
+// SweepFitter keeps the slicer (CGAL AABB tree) and the topology for fitting several parts of
+// one mesh, or one part at several K and n.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/rig.h"
+#include "core/topology.h"
+#include "fit/rings.h"
 #include "fit/trace.h"
 
 namespace sweep::fit {
 
 struct FitOptions {
   std::string name = "part";  // the sweep's name in the rig, e.g. "tail"
-  Vec3 root = Vec3::Zero();   // where the part leaves the body, near its axis (mesh units)
-  Vec3 tip = Vec3::Zero();    // at or near the part's end (mesh units)
-  // An explicit axis polyline from root to tip (mesh units). When given it replaces the traced
-  // axis; root and tip above are still used for the part selection and the rig.
+  // Where the part leaves the body: on its axis, on its surface, or inside the body near the
+  // junction (mesh units). Absent: found where the ring size jumps (fit/rings.h).
+  std::optional<Vec3> root;
+  Vec3 tip = Vec3::Zero();          // at or near the part's end, a few radii off is fine
+  std::int64_t tip_vertex = -1;     // >= 0: the tip as a vertex index instead of `tip`
+  // An explicit axis polyline from root to tip (mesh units). When given it replaces the rings;
+  // its first and last points are the root and the tip.
   std::vector<Vec3> axis;
   // Key sections K ≥ 2, evenly spaced in arc length. 16 fits a diplodocus tail to ~1% of its
   // mean radius; error falls roughly as 1/K² on smooth parts.
   int sections = 24;
   // Radius samples n ≥ 3 per section. Error falls as n grows until the mesh's own facets dominate.
   int radial = 24;
-  // When > 0: use the fewest sections (at most max_sections) whose fit_rms is at most
+  // When > 0: use the fewest sections (at most max_sections) whose fit RMS is at most
   // tolerance × mean_radius; `sections` is then ignored. Unitless (0.01 = 1% of the mean radius).
   double tolerance = 0;
   int max_sections = 256;
-  // Root and tip may lie at most this far from the mesh's nearest vertex, as a fraction of the
-  // bounding box diagonal; farther means the request names a point off the mesh.
+  // Root and tip may lie at most this far from the mesh, as a fraction of the bounding box
+  // diagonal; farther means the request names a point off the mesh.
   double seed_distance = 0.1;
-  TraceOptions trace;
-  bool measure_error = true;  // locate every part vertex on the fitted sweep (costs ~2 µs a vertex)
+  RingOptions rings;
+  bool measure_error = true;  // the two-way distances (~5 ms for a 5,000-vertex part)
+  // Limits beyond which the fit is a problem (FitResult::problems):
+  // the traced axis, root to tip, against the surface distance from the tip to the root ring
+  // (a tube's axis is a little shorter than its surface over the tip's cap; far shorter is a
+  // trace that stopped early, unless the axis ends within max_tip_gap mean radii of the tip);
+  double min_length_ratio = 0.8;
+  double max_tip_gap = 2;
+  // the part's vertices whose section plane lies within the sweep (the rest are carried along
+  // beyond the end sections);
+  double min_in_range_share = 0.5;
+  // the part's vertices farther from the tip than the root ring by more than two root radii: the
+  // flood leaked past the root section into the body;
+  double max_leak_share = 0.05;
+  // The 90th percentile of the part vertices' distances from the fitted surface (FitError::p90),
+  // over the mean radius.
+  double max_error = 0.1;
 };
-
 // A key section whose loop is not star-shaped about its centre: some rays cross it more than
 // once (the outermost crossing is used), or miss it (the centre lies outside the loop).
 struct StarViolation {
@@ -49,40 +79,69 @@ struct StarViolation {
   int missed_rays = 0;
 };
 
+// Distances between the part and the fitted surface, mesh units. The surface is the sweep's tube
+// between its end sections, tessellated finely (its own interpolation error is < 0.2% of r).
 struct FitError {
-  double rms = 0;                  // RMS of |ρ − r(θ,t)| over the measured vertices, mesh units
-  double max = 0;                  // largest |ρ − r(θ,t)|, mesh units
-  std::size_t measured_count = 0;  // vertices with z == 0 (their plane lies within [0, L])
-  std::size_t beyond_ends_count = 0;  // vertices past the end sections (z ≠ 0), not measured
+  double rms = 0;  // RMS distance of the measured part vertices to the surface
+  double max = 0;  // largest such distance
+  // The 90th percentile of those distances: what "most of the part" is off by. Unlike the RMS it
+  // is blind to a few stray vertices (a fin, a spike), and still large when the axis strays.
+  double p90 = 0;
+  // The other way: samples of the sweep surface to the part's faces (a surface bulging where the
+  // mesh does not shows here, not above).
+  double surface_rms = 0;
+  double surface_max = 0;
+  double radial_rms = 0;  // RMS of |ρ − r(θ,t)|: the distance along the section's ray
+  std::size_t measured_count = 0;     // part vertices whose section plane lies in [0, L]
+  std::size_t beyond_ends_count = 0;  // part vertices past the end sections (caps), not measured
+  std::size_t surface_samples = 0;
 };
 
 struct FitResult {
   SweepDef sweep;  // name, rest shape (K sections, n radii), default springs, part seeds
   std::vector<std::uint32_t> part_vertices;  // the part's vertex indices, sorted
-  AxisTrace axis;                            // the traced (or given) axis polyline
+  AxisTrace axis;                            // the refined axis, root to tip end
+  std::uint32_t tip_vertex = 0;  // the part's end: where the rings start
+  Vec3 root = Vec3::Zero();      // centre of section 0
+  bool root_found = false;       // true: no root was given; found where the rings meet the body
+  std::string root_reason;       // how the root was placed, for messages
   double length = 0;       // arc length of the axis from section 0 to K-1, mesh units
+  double traced_length = 0;    // the axis from the root to the tip vertex, mesh units
+  double surface_length = 0;   // surface distance from the tip vertex to the root ring
+  double tip_gap = 0;          // from the axis' end to the tip vertex, mesh units
   double mean_radius = 0;  // mean of the K·n radius samples, mesh units
-  FitError error;          // distance of the part's vertices from the fitted surface
+  std::size_t leaked_count = 0;  // part vertices far past the root ring (see max_leak_share)
+  FitError error;          // distances between the part's vertices and the fitted surface
   std::vector<StarViolation> star_violations;  // sections that are not star-shaped
   std::vector<std::string> warnings;           // things a user should know; the fit still holds
+  // Limits of FitOptions that the fit breaks, with the numbers and what to try. Empty: a good fit.
+  std::vector<std::string> problems;
   double seconds = 0;  // wall time of the fit (tracing, sections, selection, error), seconds
+  double in_range_share() const {
+    return part_vertices.empty() ? 0.0
+                                 : static_cast<double>(error.measured_count) /
+                                       static_cast<double>(part_vertices.size());
+  }
 };
 
 class SweepFitter {
  public:
   // Checks the mesh (vertices, faces, finite coordinates: Error(bad_input) otherwise), and builds
-  // the slicer and adjacency. Keeps a reference to `mesh`, which must outlive the fitter.
+  // the slicer and topology. Keeps a reference to `mesh`, which must outlive the fitter.
   explicit SweepFitter(const Mesh& mesh);
   ~SweepFitter();
   SweepFitter(SweepFitter&&) noexcept;
   SweepFitter& operator=(SweepFitter&&) = delete;
 
-  // Throws Error(usage) for bad options (K < 2, n < 3, non-finite points) and Error(bad_input)
-  // for a request the mesh cannot meet (root or tip far from the mesh, tip not reachable from
-  // the root, empty part).
+  // Throws Error(usage) naming the option's field for bad options (sections < 2, radial < 3,
+  // non-finite points) and Error(bad_input) for a request the mesh cannot meet (root or tip far
+  // from the mesh, no ring around the tip, empty part). A fit that breaks a limit is returned
+  // with `problems`.
   FitResult fit(const FitOptions& options) const;
 
   const MeshSlicer& slicer() const;
+  const Topology& topology() const;
+  double diagonal() const;  // of the mesh's bounding box
 
  private:
   const Mesh& mesh_;
@@ -99,8 +158,7 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
                           std::vector<StarViolation>* violations = nullptr,
                           std::vector<std::string>* warnings = nullptr);
 
-// Radial distance |ρ − r(θ,t)| = |s − 1|·r(θ,t) of the given vertices from the sweep surface,
-// using SweepLocator; vertices beyond the end sections (z ≠ 0) are counted but not measured.
+// Distances between the given part vertices and the sweep's surface, both ways (see FitError).
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
                            const std::vector<std::uint32_t>& vertices);
 

@@ -141,14 +141,17 @@ RaySamples sample_radii(const Frame& frame, const std::vector<Vec3>& loop, int n
     const Vec2 dir(std::cos(theta), std::sin(theta));
     int crossings = 0;
     double outer = -1;
+    // A segment crosses the ray's line where its ends lie on opposite sides of it. The side of
+    // each vertex is computed once (on the line counts as below), so a ray through a vertex
+    // crosses exactly one of the two segments that meet there, whatever the rounding.
+    const auto side = [&](const Vec2& x) { return dir.x() * x.y() - dir.y() * x.x() > 0; };
     for (std::size_t i = 0, k = q.size() - 1; !q.empty() && i < q.size(); k = i++) {
-      // Segment q[k] → q[i], half-open at q[i] so a ray through a vertex counts once.
-      const Vec2 a = q[k], e = q[i] - q[k];
-      const double den = dir.x() * e.y() - dir.y() * e.x();  // dir × e
-      if (den == 0) continue;
-      const double s = (a.x() * e.y() - a.y() * e.x()) / den;  // along the ray: (a × e)/(dir × e)
-      const double u = (a.x() * dir.y() - a.y() * dir.x()) / den;  // along the segment
-      if (u < 0 || u >= 1 || s <= 0) continue;
+      const Vec2 a = q[k], b = q[i];
+      if (side(a) == side(b)) continue;
+      const double ha = dir.x() * a.y() - dir.y() * a.x(), hb = dir.x() * b.y() - dir.y() * b.x();
+      const double u = ha / (ha - hb);  // along the segment, where its height above the line is 0
+      const double s = (a + u * (b - a)).dot(dir);  // along the ray
+      if (!(s > 0)) continue;
       ++crossings;
       outer = std::max(outer, s);
     }

@@ -1,5 +1,7 @@
-// The one translation unit of the project that includes CGAL (see slicer.h).
+// One of the two translation units that include CGAL (see slicer.h).
 #include "fit/slicer.h"
+
+#include "core/fp_environment.h"
 
 #include <CGAL/AABB_halfedge_graph_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -22,19 +24,6 @@ using SurfaceMesh = CGAL::Surface_mesh<Point>;
 using EdgePrimitive = CGAL::AABB_halfedge_graph_segment_primitive<SurfaceMesh>;
 using EdgeTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, EdgePrimitive>>;
 using Slicer = CGAL::Polygon_mesh_slicer<SurfaceMesh, Kernel>;
-
-// Runs a scope with every FP exception masked and restores the caller's environment (flags and
-// traps) afterwards: CGAL's interval arithmetic overflows on purpose.
-class QuietFpEnvironment {
- public:
-  QuietFpEnvironment() { feholdexcept(&saved_); }
-  ~QuietFpEnvironment() { fesetenv(&saved_); }
-  QuietFpEnvironment(const QuietFpEnvironment&) = delete;
-  QuietFpEnvironment& operator=(const QuietFpEnvironment&) = delete;
-
- private:
-  fenv_t saved_;
-};
 
 Point to_point(const Vec3& v) {
   return {v.x(), v.y(), v.z()};

@@ -1,5 +1,5 @@
 #pragma once
-// Plane slices of a mesh, as plain point lists. The only door to CGAL in the project
+// Plane slices of a mesh, as plain point lists. One of two doors to CGAL (with surface_distance.h)
 // (Polygon_mesh_slicer over one AABB tree of the mesh's edges, built once in the constructor and
 // shared by every slice: ~22 ms to build for 24k vertices, then ~0.4 ms a slice).
 //

@@ -8,32 +8,33 @@
 #include <optional>
 #include <sstream>
 
+#include <Eigen/Dense>
+
 #include "core/error.h"
 #include "fit/loop.h"
 
 namespace sweep::fit {
 namespace {
 
-constexpr double kDegree = std::numbers::pi / 180;
-// Root direction: at most this many chord updates, stopping early when the direction moves by
-// less than 0.05 degrees.
-constexpr int kRootIterations = 8;
-// ... started from the direction to the tip and from kRootStarts directions tilted by
-// kRootStartTilt around it; another start wins only with a loop this much smaller (relative).
-constexpr int kRootStarts = 6;
-constexpr double kRootStartTilt = 40 * kDegree;
-constexpr double kRootAreaMargin = 0.02;
-const double kRootSettledCos = std::cos(0.05 * kDegree);
-// Trace corrector: a step whose chord turns from its plane's normal by more than 2 degrees is
-// sliced again with the plane turned to the chord, at most this often.
-constexpr int kCorrections = 4;
-const double kCorrectCos = std::cos(2 * kDegree);
-
-std::string format(const Vec3& v) {
-  std::ostringstream s;
-  s << v.x() << "," << v.y() << "," << v.z();
-  return s.str();
-}
+// Smoothing window of the ring centroids, in local radii: removes the jitter of level sets over
+// a faceted surface while keeping bends of a radius or more.
+constexpr double kSmoothRadii = 0.5;
+// Axis samples every this many median radii (bounded): enough to follow an elbow.
+constexpr double kStationRadii = 0.25;
+constexpr int kMinStations = 16;
+constexpr int kMaxStations = 1000;
+// A slice loop larger than this many local radii also cuts something else: keep the ring centre.
+constexpr double kMaxSliceRadii = 1.5;
+// Marching into the tip's cap goes on while each slice keeps this share of the last one's radius.
+constexpr double kMinCapSliceShare = 0.8;
+// ... and while the axis turns by less than this per step (a quarter radius): a bend of a radius.
+constexpr double kMaxCapTurnDegrees = 15;
+// An end point where the refined axis turns by more than this is off centre (see
+// drop_kinked_ends); at most this many are dropped at each end.
+constexpr double kMaxEndTurnDegrees = 15;
+constexpr double kMinKinkDegrees = 3;
+constexpr double kKinkRatio = 3;
+constexpr int kMaxKinkedEndPoints = 4;
 
 }  // namespace
 
@@ -44,137 +45,268 @@ std::vector<double> arc_lengths(const std::vector<Vec3>& points) {
   return s;
 }
 
-AxisTrace trace_axis(const MeshSlicer& slicer, const Vec3& root, const Vec3& tip,
-                     const TraceOptions& options) {
-  const double chord = (tip - root).norm();
-  if (!(chord > 0)) fail(ErrorCategory::bad_input, "root and tip are the same point");
-  const Vec3 toward_tip = (tip - root) / chord;
+namespace {
 
-  // 1. The root plane: the chord from the root loop's centroid to the centroid of the loop one
-  //    radius ahead gives the direction; iterate until it settles. Oblique cuts of a tube have
-  //    their centroids on its axis, so this converges in a few slices even when the straight
-  //    line to the tip is far from the part's direction (a curled tail).
-  auto root_loop = [&](const Vec3& d) {
-    std::optional<Loop> l = loop_around(slicer.slice(root, d), root, d, options.root_max_distance);
-    if (!l) {
-      fail(ErrorCategory::bad_input,
-           "root " + format(root) +
-               " is not inside the mesh: no slice loop around it (put the root on the part's "
-               "axis, where it leaves the body)");
-    }
-    return *l;
-  };
-  const double h_min = options.min_step_fraction * chord;
-  const double h_max = options.max_step_fraction * chord;
-  // The chord iteration from one starting direction; the root loop it settles on.
-  // The chord iteration from one starting direction: the direction it settles on, its root
-  // loop, and the area of the loop one radius ahead (away from a junction or an end cap, where
-  // a cut can be small without being perpendicular).
-  struct Settled {
-    Vec3 dir;
-    Loop loop;
-    double ahead_area = std::numeric_limits<double>::infinity();
-  };
-  auto settle = [&](Vec3 dir) {
-    Settled s{dir, root_loop(dir)};
-    for (int it = 0; it < kRootIterations; ++it) {
-      const double h = std::clamp(s.loop.radius, h_min, h_max);
-      const Vec3 q = s.loop.centroid + h * s.dir;
-      const std::optional<Loop> ahead =
-          loop_around(slicer.slice(q, s.dir), q, s.dir, s.loop.radius);
-      if (!ahead) break;
-      s.ahead_area = ahead->area;
-      const Vec3 next = (ahead->centroid - s.loop.centroid).normalized();
-      if (next.dot(toward_tip) <= 0) break;
-      const bool settled = next.dot(s.dir) > kRootSettledCos;
-      s.dir = next;
-      s.loop = root_loop(s.dir);
-      if (settled) break;
-    }
-    return s;
-  };
-  // Started towards the tip and from directions around it; where they settle differently (a
-  // root near a junction), the one whose loop ahead is least is along the part.
-  Settled best = settle(toward_tip);
-  const PlaneBasis around = plane_basis(root, toward_tip);
-  for (int a = 0; a < kRootStarts; ++a) {
-    const double phi = 2 * std::numbers::pi * a / kRootStarts;
-    const Vec3 start =
-        std::cos(kRootStartTilt) * toward_tip +
-        std::sin(kRootStartTilt) * (std::cos(phi) * around.u + std::sin(phi) * around.v);
-    Settled s = settle(start);
-    if (s.ahead_area < best.ahead_area * (1 - kRootAreaMargin)) best = std::move(s);
+// Smoothing over arc length by a local quadratic (Gaussian weights, window sigma[i] at point i,
+// but never narrower than a point and a half of the mean spacing): the value at s_i of the
+// weighted least-squares parabola through the neighbours. Unlike a plain weighted mean it does not
+// pull a bend inwards (a mean shrinks an arc of curvature κ by about κσ²/2); it is exact on any
+// quadratic curve, so the end points too are fitted, from one side, without being drawn inwards:
+// an end slice that caught some of the body or the cap is brought back in line with the rest.
+std::vector<Vec3> smooth(const std::vector<Vec3>& points, const std::vector<double>& sigma) {
+  const std::vector<double> s = arc_lengths(points);
+  std::vector<Vec3> out = points;
+  const std::size_t m = points.size();
+  if (m < 4 || !(s.back() > 0)) return out;
+  const double min_window = 1.5 * s.back() / static_cast<double>(m - 1);
+  for (std::size_t i = 0; i < m; ++i) {
+    if (!(sigma[i] > 0)) continue;
+    const double w = std::max(sigma[i], min_window);
+    // Normal equations of p(u) = a + b u + c u² in u = (s_j − s_i)/w.
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d rhs = Eigen::Matrix3d::Zero();  // rows: 1, u, u²; columns: x, y, z
+    std::size_t count = 0;
+    const auto add = [&](std::size_t j) {
+      const double u = (s[j] - s[i]) / w;
+      const double g = std::exp(-0.5 * u * u);
+      const Eigen::Vector3d basis(1, u, u * u);
+      normal += g * basis * basis.transpose();
+      rhs += g * basis * points[j].transpose();
+      ++count;
+    };
+    for (std::size_t j = i; j-- > 0 && s[i] - s[j] <= 2 * w;) add(j);
+    for (std::size_t j = i; j < m && s[j] - s[i] <= 2 * w; ++j) add(j);
+    if (count < 4) continue;  // too few neighbours for a parabola: keep the point
+    const Eigen::LDLT<Eigen::Matrix3d> solve(normal);
+    const Vec3 fitted = solve.solve(rhs).row(0).transpose();
+    if (solve.info() == Eigen::Success && fitted.allFinite()) out[i] = fitted;
   }
-  const Vec3 dir0 = best.dir;
+  return out;
+}
 
+std::vector<Vec3> central_tangents(const std::vector<Vec3>& points) {
+  const std::size_t m = points.size();
+  std::vector<Vec3> t(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    t[i] = (points[std::min(i + 1, m - 1)] - points[i == 0 ? 0 : i - 1]).normalized();
+  }
+  return t;
+}
+
+// Linear interpolation of per-point values at arc length x.
+double value_at(const std::vector<double>& s, const std::vector<double>& v, double x) {
+  const auto k = std::upper_bound(s.begin(), s.end(), x) - s.begin();
+  if (k <= 0) return v.front();
+  if (static_cast<std::size_t>(k) >= s.size()) return v.back();
+  const double span = s[k] - s[k - 1];
+  const double u = span > 0 ? (x - s[k - 1]) / span : 0;
+  return (1 - u) * v[k - 1] + u * v[k];
+}
+
+Vec3 point_at(const std::vector<double>& s, const std::vector<Vec3>& p, double x) {
+  const auto k = std::upper_bound(s.begin(), s.end(), x) - s.begin();
+  if (k <= 0) return p.front();
+  if (static_cast<std::size_t>(k) >= s.size()) return p.back();
+  const double span = s[k] - s[k - 1];
+  const double u = span > 0 ? (x - s[k - 1]) / span : 0;
+  return (1 - u) * p[k - 1] + u * p[k];
+}
+
+}  // namespace
+
+namespace {
+
+// Drops end points where the axis kinks: turns in its last step by more than kMaxEndTurnDegrees,
+// or by more than kKinkRatio times the turns further in and at least kMinKinkDegrees (a
+// bend changes gently; an end that jumps aside does not bend). A ring at a junction or over a
+// flat end is tilted and off centre, and so is its slice; the inner points are not. What is
+// dropped is restored by the straight extensions of the ends.
+void drop_kinked_ends(AxisTrace& trace) {
+  const auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
+    const Vec3 u = trace.points[b] - trace.points[a], v = trace.points[c] - trace.points[b];
+    if (!(u.norm() > 0) || !(v.norm() > 0)) return 0.0;
+    return std::acos(std::clamp(u.normalized().dot(v.normalized()), -1.0, 1.0)) * 180 /
+           std::numbers::pi;
+  };
+  const auto kinked = [&](double last, double before) {
+    return last > kMaxEndTurnDegrees || (last > kMinKinkDegrees && last > kKinkRatio * before);
+  };
+  const auto erase = [&](std::size_t i) {
+    trace.points.erase(trace.points.begin() + static_cast<std::ptrdiff_t>(i));
+    trace.tangents.erase(trace.tangents.begin() + static_cast<std::ptrdiff_t>(i));
+    trace.radii.erase(trace.radii.begin() + static_cast<std::ptrdiff_t>(i));
+  };
+  // The turns further in: the median of the next three, the bend the end should continue.
+  const auto inner = [&](double a, double b, double c) {
+    return std::max(std::min(a, b), std::min(std::max(a, b), c));
+  };
+  bool dropped = false;
+  for (int k = 0; k < kMaxKinkedEndPoints && trace.points.size() > 6 &&
+                  kinked(turn(0, 1, 2), inner(turn(1, 2, 3), turn(2, 3, 4), turn(3, 4, 5)));
+       ++k) {
+    erase(0);
+    dropped = true;
+  }
+  for (int k = 0; k < kMaxKinkedEndPoints && trace.points.size() > 6; ++k) {
+    const std::size_t m = trace.points.size();
+    const double before =
+        inner(turn(m - 4, m - 3, m - 2), turn(m - 5, m - 4, m - 3), turn(m - 6, m - 5, m - 4));
+    if (!kinked(turn(m - 3, m - 2, m - 1), before)) break;
+    erase(m - 1);
+    dropped = true;
+  }
+  if (dropped) trace.tangents = central_tangents(trace.points);
+}
+
+}  // namespace
+
+AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
+                      const std::vector<double>& radii) {
   AxisTrace trace;
-  const Vec3 root_dir = dir0;
-  Vec3 dir = dir0;
-  Vec3 c = best.loop.centroid;
-  double r = best.loop.radius;
-  for (const Vec3& p : best.loop.points)
-    trace.root_loop_extent = std::max(trace.root_loop_extent, (p - c).norm());
-  trace.points.push_back(c);
-  trace.radii.push_back(r);
-
-  // 2. March towards the tip.
-  const double max_turn_cos = std::cos(options.max_turn_degrees * kDegree);
-  for (int step = 0;; ++step) {
-    if (step == options.max_steps) {
-      trace.stop_reason =
-          "the trace took more than " + std::to_string(options.max_steps) + " steps";
-      break;
-    }
-    const double h = std::clamp(options.step_fraction * r, h_min, h_max);
-    const Vec3 q = c + h * dir;
-    const double tip_reach = options.tip_reach_radii * r + h;
-    // Done when the next plane passes the tip while the tip is near this section (a plane can
-    // pass the tip's level long before a bending part gets there).
-    if ((tip - q).dot(dir) <= 0 && (tip - c).norm() <= options.tip_pass_radii * r + h) {
-      trace.reached_tip = true;
-      trace.stop_reason = "the next plane passes the tip";
-      break;
-    }
-    std::optional<Loop> l = loop_around(slicer.slice(q, dir), q, dir, r);
-    if (!l) {
-      trace.reached_tip = (tip - c).norm() <= tip_reach;
-      trace.stop_reason = "no slice loop around the axis at " + format(q);
-      break;
-    }
-    Vec3 next_dir = (l->centroid - c).normalized();
-    // Corrector: in a bend the plane ahead is oblique to the axis and its centroid pulls the
-    // chord round; turn the plane to the chord and slice again until the chord settles.
-    Vec3 normal = dir;
-    for (int it = 0; it < kCorrections && next_dir.dot(normal) < kCorrectCos; ++it) {
-      const Vec3 q2 = c + h * next_dir;
-      std::optional<Loop> l2 = loop_around(slicer.slice(q2, next_dir), q2, next_dir, r);
-      if (!l2) break;
-      normal = next_dir;
-      l = std::move(l2);
-      next_dir = (l->centroid - c).normalized();
-    }
-    if (next_dir.dot(dir) < max_turn_cos) {
-      trace.reached_tip = (tip - c).norm() <= tip_reach;
-      trace.stop_reason = "the axis turned by more than " +
-                          std::to_string(options.max_turn_degrees) + " degrees in one step at " +
-                          format(q);
-      break;
-    }
-    c = l->centroid;
-    r = l->radius;
-    dir = next_dir;
-    trace.points.push_back(c);
-    trace.radii.push_back(r);
+  if (points.size() < 2) return trace;
+  std::vector<double> half(radii.size());
+  for (std::size_t i = 0; i < radii.size(); ++i) half[i] = kSmoothRadii * radii[i];
+  const std::vector<Vec3> smoothed = smooth(points, half);
+  const std::vector<double> s = arc_lengths(smoothed);
+  const double length = s.back();
+  if (!(length > 0)) return trace;
+  std::vector<double> sorted = radii;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                   sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const int stations =
+      std::clamp(static_cast<int>(std::ceil(length / std::max(kStationRadii * median, 1e-12))),
+                 kMinStations, kMaxStations);
+  for (int i = 0; i <= stations; ++i) {
+    const double x = length * i / stations;
+    trace.points.push_back(point_at(s, smoothed, x));
+    trace.radii.push_back(value_at(s, radii, x));
   }
-
-  // 3. Tangents: the root plane's normal, central chords inside, the last chord at the end.
-  const std::size_t m = trace.points.size();
-  trace.tangents.resize(m);
-  trace.tangents[0] = root_dir;
-  for (std::size_t i = 1; i < m; ++i) {
-    trace.tangents[i] = (trace.points[std::min(i + 1, m - 1)] - trace.points[i - 1]).normalized();
+  trace.tangents = central_tangents(trace.points);
+  // Slice centroids: the centre of the section a key section would be cut around.
+  // Two passes: slice at each point normal to the current tangent and move the point to its
+  // loop's centroid, then smooth lightly; the second pass slices along the tangents of the first.
+  // An end point takes its neighbour's tangent (its own is a one-sided chord through a point
+  // not yet centred).
+  std::vector<double> sliced;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::size_t m = trace.points.size();
+    sliced.assign(m, 0.0);
+    for (std::size_t i = 0; i < m; ++i) {
+      const Vec3 p = trace.points[i];
+      const Vec3 t = trace.tangents[std::clamp<std::size_t>(i, 1, std::max<std::size_t>(m, 2) - 2)];
+      const double r = std::max(trace.radii[i], 1e-12);
+      const std::optional<Loop> loop = loop_around(slicer.slice(p, t), p, t, r);
+      if (!loop || !(loop->radius <= kMaxSliceRadii * r) || (loop->centroid - p).norm() > r) {
+        continue;
+      }
+      sliced[i] = loop->radius;
+      trace.points[i] = loop->centroid;
+    }
+    // An end whose slice failed is not on the axis (a ring over a cap or past a hole): drop it.
+    std::size_t first = 0, last = m - 1;
+    while (last - first > 1 && !(sliced[first] > 0)) ++first;
+    while (last - first > 1 && !(sliced[last] > 0)) --last;
+    const auto keep = [&](auto& v) {
+      v.erase(v.begin() + static_cast<std::ptrdiff_t>(last + 1), v.end());
+      v.erase(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(first));
+    };
+    keep(trace.points);
+    keep(trace.radii);
+    keep(sliced);
+    std::vector<double> quarter(trace.points.size());
+    for (std::size_t i = 0; i < quarter.size(); ++i) {
+      quarter[i] = 0.5 * kSmoothRadii * std::max(sliced[i], trace.radii[i]);
+      if (sliced[i] > 0) trace.radii[i] = sliced[i];
+    }
+    trace.points = smooth(trace.points, quarter);
+    trace.tangents = central_tangents(trace.points);
   }
+  trace.radii = sliced;
+  drop_kinked_ends(trace);
   return trace;
+}
+
+void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis,
+                 double length) {
+  const std::size_t m = axis.points.size();
+  if (m < 2 || !(length > 0)) return;
+  const Vec3 start = axis.points.back();
+  const Vec3 forward = axis.tangents.back();
+  const double spacing = std::max((axis.points[m - 1] - axis.points[m - 2]).norm(), 1e-12);
+  const double reach = std::max(axis.radii.back(), 1e-12);
+  double radius = axis.radii.back();
+  const double min_turn_cos = std::cos(kMaxCapTurnDegrees * std::numbers::pi / 180);
+  Vec3 p = start, t = forward;
+  for (int k = 0; k < kMaxStations; ++k) {
+    const double left = length - (p - start).dot(forward);
+    if (left <= spacing) break;
+    const Vec3 ahead = p + spacing * t;
+    // Only while the slice is still a section of the tube (not much smaller than the last, not
+    // pulled aside): a slice that also cuts the end face or a bulb is off centre.
+    const std::optional<Loop> loop = loop_around(slicer.slice(ahead, t), ahead, t, reach);
+    if (!loop || !(loop->radius <= kMaxSliceRadii * reach) ||
+        (loop->centroid - ahead).norm() > reach || loop->radius < kMinCapSliceShare * radius) {
+      break;
+    }
+    const Vec3 chord = loop->centroid - p;
+    if (!(chord.norm() > 0) || chord.normalized().dot(t) < min_turn_cos) break;
+    t = chord.normalized();
+    p = loop->centroid;
+    radius = loop->radius;
+    axis.points.push_back(p);
+    axis.tangents.push_back(t);
+    axis.radii.push_back(radius);
+  }
+  // Straight on to the cap's reach, but not out of the mesh.
+  const double left = length - (p - start).dot(forward);
+  const double go = std::min(left / std::max(t.dot(forward), 0.5), surface.ray_distance(p, t));
+  if (go > 0 && std::isfinite(go)) {
+    axis.points.push_back(p + go * t);
+    axis.tangents.push_back(t);
+    axis.radii.push_back(0);
+  }
+}
+
+void trim_axis_start(AxisTrace& axis, const Vec3& point, double max_extension) {
+  const std::size_t m = axis.points.size();
+  if (m < 2) return;
+  // Before the start: extend straight along the first tangent. (Not re-centred by a slice: at a
+  // junction the part flares into the body, and a slice there is pulled aside by any tilt.)
+  const Vec3 t0 = axis.tangents[0];
+  const double before = (axis.points[0] - point).dot(t0);
+  if (before > 0 && (point - axis.points[0]).dot(axis.points[1] - axis.points[0]) <= 0) {
+    axis.points.insert(axis.points.begin(), axis.points[0] - std::min(before, max_extension) * t0);
+    axis.tangents.insert(axis.tangents.begin(), t0);
+    axis.radii.insert(axis.radii.begin(), axis.radii[0]);
+    return;
+  }
+  std::size_t best_k = 0;
+  double best_u = 0, best_d = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k + 1 < m; ++k) {
+    const Vec3 ab = axis.points[k + 1] - axis.points[k];
+    const double len2 = ab.squaredNorm();
+    const double u = len2 > 0 ? std::clamp((point - axis.points[k]).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    const double d = (axis.points[k] + u * ab - point).norm();
+    if (d < best_d) {
+      best_d = d;
+      best_k = k;
+      best_u = u;
+    }
+  }
+  if (best_k + 1 == m - 1 && best_u >= 1) return;  // would leave nothing but the tip
+  const auto lerp = [&](const auto& v) { return (1 - best_u) * v[best_k] + best_u * v[best_k + 1]; };
+  const Vec3 p = lerp(axis.points);
+  const Vec3 t = Vec3(lerp(axis.tangents)).normalized();
+  const double a = axis.radii[best_k], b = axis.radii[best_k + 1];
+  const double r = a > 0 && b > 0 ? (1 - best_u) * a + best_u * b : std::max(a, b);
+  const std::size_t drop = best_u >= 1 ? best_k + 1 : best_k;
+  axis.points.erase(axis.points.begin(), axis.points.begin() + static_cast<std::ptrdiff_t>(drop));
+  axis.tangents.erase(axis.tangents.begin(), axis.tangents.begin() + static_cast<std::ptrdiff_t>(drop));
+  axis.radii.erase(axis.radii.begin(), axis.radii.begin() + static_cast<std::ptrdiff_t>(drop));
+  axis.points[0] = p;
+  axis.tangents[0] = t;
+  axis.radii[0] = r;
 }
 
 AxisTrace axis_from_polyline(const MeshSlicer& slicer, const std::vector<Vec3>& points) {
@@ -191,16 +323,8 @@ AxisTrace axis_from_polyline(const MeshSlicer& slicer, const std::vector<Vec3>& 
         (trace.points[std::min(i + 1, m - 1)] - trace.points[i == 0 ? 0 : i - 1]).normalized();
     const std::optional<Loop> l = loop_around(slicer.slice(trace.points[i], trace.tangents[i]),
                                               trace.points[i], trace.tangents[i], 0);
-    if (!l) continue;
-    trace.radii[i] = l->radius;
-    if (i == 0) {
-      for (const Vec3& p : l->points) {
-        trace.root_loop_extent = std::max(trace.root_loop_extent, (p - trace.points[0]).norm());
-      }
-    }
+    if (l) trace.radii[i] = l->radius;
   }
-  trace.reached_tip = true;
-  trace.stop_reason = "the axis polyline was given";
   return trace;
 }
 

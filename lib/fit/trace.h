@@ -1,61 +1,49 @@
 #pragma once
-// Tracing a part's axis by successive plane slices, and rotation-minimizing frames along it.
-//
-// The trace starts at the root: the plane through the root point is turned until its normal
-// points from its loop's area centroid to the centroid of the loop one radius ahead (oblique cuts
-// of a tube are centred on its axis, so a few slices settle it); that centroid is the first axis
-// point. Each step then slices a plane a
-// little ahead (a fraction of the local radius), perpendicular to the current direction, picks
-// the loop around the predicted point, takes its centroid as the next axis point and the chord
-// to it as the new direction. It follows curls and bends, and stops when the plane passes the tip
-// or the part ends (no loop around the predicted point).
+// The axis of a part as a polyline with tangents and local radii, and rotation-minimizing frames
+// along it. The axis starts as the centroids of rings of equal surface distance from the tip
+// (fit/rings.h), which run around the part whatever its curl; refine_axis then smooths it and
+// moves each point to the area centroid of the plane slice normal to it, the centre that the key
+// sections are cut around.
 #include <string>
 #include <vector>
 
 #include "core/frame.h"
 #include "fit/slicer.h"
+#include "fit/surface_distance.h"
 
 namespace sweep::fit {
 
-struct TraceOptions {
-  // Step along the axis as a fraction of the local equivalent radius (sqrt(area/π) of the loop).
-  // Smaller follows tighter bends and costs more slices (~0.4 ms each for 24k vertices).
-  double step_fraction = 0.5;
-  // Bounds on the step, as fractions of the root-to-tip distance.
-  double min_step_fraction = 1.0 / 250;
-  double max_step_fraction = 1.0 / 25;
-  // A step that turns the direction by more than this has jumped to another part: the trace
-  // stops there. Degrees.
-  double max_turn_degrees = 60;
-  int max_steps = 5000;
-  // The trace ends "at the tip" when it runs out of loops no farther from the tip than this many
-  // local radii (plus one step): the end cap of the part. Farther away, the tip was not reached.
-  double tip_reach_radii = 3;
-  // The trace also ends when its next plane passes the tip while the tip lies within this many
-  // local radii (plus one step) of the current axis point. Tighter than the above, because a
-  // plane can pass the tip's level long before a bending part gets there.
-  double tip_pass_radii = 1.5;
-  // The root may lie outside every slice loop by at most this distance (mesh units) and still
-  // pick the nearest loop; 0 requires it to lie inside one.
-  double root_max_distance = 0;
-};
-
 struct AxisTrace {
-  std::vector<Vec3> points;     // axis points from root to tip end, area centroids of slice loops
-  std::vector<Vec3> tangents;   // unit axis direction at each point
-  std::vector<double> radii;    // equivalent radius of each point's loop, mesh units
-  double root_loop_extent = 0;  // largest distance of the root loop from points[0], mesh units
-  bool reached_tip = false;     // false: the part was lost before the tip (see stop_reason)
-  std::string stop_reason;      // why the trace stopped, for messages
+  std::vector<Vec3> points;    // axis points from root to tip end
+  std::vector<Vec3> tangents;  // unit axis direction at each point
+  std::vector<double> radii;   // equivalent radius √(area/π) of each point's slice, 0 where none
 };
 
-// Throws Error(bad_input) when no slice loop lies around the root (the root is not inside or
-// near the mesh) or root and tip coincide.
-AxisTrace trace_axis(const MeshSlicer& slicer, const Vec3& root, const Vec3& tip,
-                     const TraceOptions& options = {});
+// Smooths `points` (root first; `radii` the local radius at each, mesh units) over about half a
+// local radius, resamples it every quarter of the median radius, and moves each sample to the
+// centroid of its slice loop normal to the axis (when that loop lies around it and is no larger
+// than 1.5 local radii: elsewhere the plane also cuts the body or another part), twice: the second
+// pass slices along the tangents of the first. Ends whose slice fails are dropped (a ring over a
+// cap is not on the axis). Smoothing is by local parabolas, which keep bends where they are.
+AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
+                      const std::vector<double>& radii);
+
+// Continues the axis into the tip's cap until it has gone `length` (mesh units) along its last
+// tangent: first by slices as closely spaced as its own last points, centred in their loops,
+// while each loop keeps most of the last one's size and the axis turns gently; then straight on,
+// stopping short of the surface (`surface`) if the cap ends sooner. Each point carries its slice
+// loop's radius; the last point, the part's end, radius 0.
+void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis,
+                 double length);
+
+// Makes the axis start where `point` projects onto it: cut there (the nearest point of the
+// polyline; tangent and radius interpolated), or, when the point lies before the start (within
+// `max_extension` mesh units), extended straight back to its projection. The last point is never
+// cut away.
+void trim_axis_start(AxisTrace& axis, const Vec3& point, double max_extension);
 
 // An axis given as a polyline from root to tip (at least 2 distinct points): tangents by central
-// chords, radii of the slice loops around each point (0 where there is none), reached_tip true.
+// chords, radii of the slice loops around each point (0 where there is none).
 AxisTrace axis_from_polyline(const MeshSlicer& slicer, const std::vector<Vec3>& points);
 
 // Arc length at each point of a polyline (0 at the first).

@@ -297,7 +297,7 @@ TEST(BindAdjacency, RowsAreSortedUniqueAndSymmetric) {
   meshes[0].add_face({0, 1, 1, 900});  // a repeated corner and a long edge
   if (const Diplodocus* d = diplodocus()) meshes.push_back(d->mesh);
   for (const Mesh& m : meshes) {
-    const fit::VertexAdjacency a = fit::vertex_adjacency(m);
+    const VertexAdjacency a = vertex_adjacency(m);
     ASSERT_EQ(a.offsets.size(), m.vertex_count() + 1);
     auto row = [&](std::uint32_t v) {
       return std::vector<std::uint32_t>(a.neighbours.begin() + a.offsets[v], a.neighbours.begin() + a.offsets[v + 1]);
@@ -339,8 +339,7 @@ TEST(BindErrors, BadOptionsAndBadShapesAreRefusedWithMessages) {
     EXPECT_EQ(e.category(), ErrorCategory::bad_input);
     EXPECT_NE(std::string(e.what()).find("sweep 1 ('bad')"), std::string::npos) << e.what();
   }
-  // A tip seed on the body's side of the root plane.
-  // A tip seed on the body's side of the root plane (the tube shifted to straddle it).
+  // A tip seed on the body's side of the root section (the tube shifted to straddle it).
   Mesh shifted = mesh;
   for (Vec3& p : shifted.positions) p.z() -= 0.5;
   SweepDef backwards = straight_sweep("backwards");
@@ -350,7 +349,7 @@ TEST(BindErrors, BadOptionsAndBadShapesAreRefusedWithMessages) {
     FAIL() << "tip behind the root accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.category(), ErrorCategory::bad_input);
-    EXPECT_NE(std::string(e.what()).find("behind the root plane"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("behind the root section"), std::string::npos) << e.what();
   }
 }
 

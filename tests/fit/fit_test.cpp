@@ -10,7 +10,7 @@
 #include <numeric>
 
 #include "core/error.h"
-#include "fit/part.h"
+#include "core/topology.h"
 #include "io/mesh_io.h"
 #include "tubes.h"
 
@@ -72,10 +72,15 @@ TEST(TubeFit, BentTubeAxisMatchesTheExactArc) {
   const FitResult r = fit_sweep(mesh, o);
   expect_valid(r);
   const double bend_radius = 1 / tube.kappa();  // the arc's centre is (bend_radius, 0, 0)
+  // On the arc up to its end; past it (inside the flat tip cap, where no section is cut) the
+  // axis runs straight on, ending within a quarter radius of the cap's centre.
   for (const Vec3& p : r.axis.points) {
+    if (std::atan2(p.z(), bend_radius - p.x()) > tube.bend) continue;
     const double off_arc = std::hypot(std::hypot(p.x() - bend_radius, p.z()) - bend_radius, p.y());
     EXPECT_LT(off_arc, 0.005 * tube.radius) << p.transpose();
   }
+  EXPECT_LT((r.axis.points.back() - tube.axis(tube.length)).norm(), 0.25 * tube.radius);
+  EXPECT_LT((r.axis.points.front() - tube.axis(0.05)).norm(), 0.005 * tube.radius);
   for (const Frame& f : r.sweep.rest.frames) {
     // The exact tangent at the section's arc angle; its x axis stays the binormal (no twist).
     const double a = std::atan2(f.center.z(), bend_radius - f.center.x());
@@ -259,10 +264,14 @@ TEST_F(Diplodocus, FitErrorFallsAsSectionsAndRadiiGrow) {
   }
   // Along each row and column the error falls (n = 4 is too coarse to resolve a section at all,
   // so K cannot help it: only its column is exempt from falling with K).
-  // At K = 4 the axial error dominates and more radii change nothing: allow 1% there.
+  // At K = 4 the error between sections (a third of the tail apart) dominates: past n = 16 more
+  // radii only reshape the key sections, which the span between them does not follow, so the
+  // error stays level there (within 2%) rather than falling.
   for (int a = 0; a < 5; ++a) {
-    for (int b = 1; b < 4; ++b)
-      EXPECT_LT(table[a][b], 1.01 * table[a][b - 1]) << "K " << ks[a] << " n " << ns[b];
+    for (int b = 1; b < 4; ++b) {
+      const double allowed = a == 0 && ns[b] > 16 ? 1.02 : 1.0;
+      EXPECT_LT(table[a][b], allowed * table[a][b - 1]) << "K " << ks[a] << " n " << ns[b];
+    }
   }
   for (int b = 1; b < 4; ++b) {
     for (int a = 1; a < 5; ++a)

@@ -1,12 +1,13 @@
 // Small exact cases: loops in a plane, rotation-minimizing frames, the part flood.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "core/error.h"
 #include "fit/loop.h"
-#include "fit/part.h"
+#include "core/topology.h"
 #include "fit/trace.h"
 
 namespace sweep::fit {
@@ -103,7 +104,7 @@ TEST(Frames, RotationMinimizingOnAHelixHasNoSpin) {
 // A strip of triangles along x (a "body" and "tail") with a "leg" in front of the root plane
 // that is attached only to the body behind it:
 //
-//   b0---b1---b2---b3---b4        y = 1        root plane x = 1.5, normal +x
+//   b0---b1---b2---b3---b4        y = 1        root plane x = 1.5, normal +x, disc radius 1
 //   | \  | \  | \  | \  |                      tip at (4, 0.5): part = {a2..a4, b2..b4}
 //   a0---a1---a2---a3---a4        y = 0
 //   leg: l0 (3, -5), l1 (4, -5), joined to a0 by the triangle (a0, l1, l0)
@@ -121,12 +122,43 @@ TEST(Part, FloodStopsAtTheRootPlaneAndLeavesLegsOut) {
   Frame root;
   root.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitX());
   root.center = {1.5, 0.5, 0};
-  const std::vector<std::uint32_t> part = select_part(m, root, {4, 0.5, 0});
+  const Topology topology = build_topology(m);
+  const std::vector<std::uint32_t> part = select_part(m, topology, root, 1.0, {4, 0.5, 0});
   EXPECT_EQ(part, (std::vector<std::uint32_t>{2, 3, 4, 7, 8, 9}));
   // A half-space would have taken the leg too.
   EXPECT_GT((m.positions[10] - root.center).dot(root.axis()), 0);
-  // The tip on the body's side of the root is a bad request.
-  EXPECT_THROW(select_part(m, root, {0, 0.5, 0}), Error);
+  // The tip behind the root section itself is a bad request.
+  EXPECT_THROW(select_part(m, topology, root, 1.0, {1, 0.1, 0}), Error);
+  // A disc too small to close the strip off: the flood passes the plane beside it, and takes
+  // the body and the leg as well.
+  EXPECT_EQ(select_part(m, topology, root, 0.2, {4, 0.5, 0}).size(), 12u);
+}
+
+// A vertex split along a UV seam (same position, two indices) is one vertex to the flood: the
+// part goes on across the seam and takes both copies.
+TEST(Part, SeamSplitVerticesAreWeldedForTheWalk) {
+  Mesh m;
+  for (int i = 0; i < 4; ++i) m.positions.emplace_back(i, 0, 0);  // 0..3
+  for (int i = 0; i < 4; ++i) m.positions.emplace_back(i, 1, 0);  // 4..7
+  m.positions.emplace_back(2, 0, 0);                              // 8: a copy of 2
+  m.positions.emplace_back(2, 1, 0);                              // 9: a copy of 6
+  m.add_face({0, 1, 4});
+  m.add_face({1, 5, 4});
+  m.add_face({1, 2, 5});
+  m.add_face({2, 6, 5});
+  m.add_face({8, 3, 9});  // the far side of the seam uses the copies
+  m.add_face({3, 7, 9});
+  const Topology topology = build_topology(m);
+  EXPECT_EQ(topology.welded_count, 2u);
+  EXPECT_EQ(topology.weld[8], 2u);
+  EXPECT_EQ(topology.weld[9], 6u);
+  Frame root;
+  root.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), -Vec3::UnitX());
+  root.center = {-0.5, 0.5, 0};  // behind everything: nothing blocks
+  EXPECT_EQ(select_part(m, topology, root, 0.1, {0, 0, 0}).size(), 10u);
+  // Without the weld the walk would stop at the seam: the own-edges adjacency has no edge 2–3.
+  const VertexAdjacency own = vertex_adjacency(m);
+  EXPECT_EQ(std::count(own.neighbours.begin() + own.offsets[2], own.neighbours.begin() + own.offsets[3], 3u), 0);
 }
 
 }  // namespace

@@ -66,8 +66,13 @@ TEST_F(Tool, VersionAndHelp) {
 TEST_F(Tool, FitsATubeAndWritesRigAndReport) {
   const std::string rig = path("rig.json"), report = path("report.json");
   const ToolRun r =
-      run_tool(tube_ + " -o " + rig + " --name hose --root 0,0,0.1 --tip 0,0,1 --report " + report);
+      run_tool(tube_ + " -o " + rig + " --name hose --root 0,0,0.1 --tip 0,0,1 --report " + report +
+               " --preview " + path("fit.png"));
   ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream png(path("fit.png"), std::ios::binary);
+  std::string signature(8, '\0');
+  png.read(signature.data(), 8);
+  EXPECT_EQ(signature, std::string("\x89PNG\r\n\x1a\n", 8)) << "--preview writes a PNG";
   EXPECT_NE(r.output.find("hose: 24 sections x 24 radii"), std::string::npos) << r.output;
   const Rig loaded = io::read_rig(rig);
   EXPECT_EQ(loaded.mesh, "tube.obj");  // relative to the rig file
@@ -99,8 +104,11 @@ TEST_F(Tool, BadRequestsExitNonZeroAndWriteNoRig) {
       {tube_ + " -o " + rig + ok + " --radial 2", 1, "--radial must be at least 3"},
       {tube_ + " -o " + rig + ok + " --sections 8 --tolerance 0.01", 1,
        "--sections and --tolerance"},
-      {tube_ + " -o " + rig + " --root 0,0,0.1", 1, "--root and --tip"},
-      {tube_ + " -o " + rig + " --root 0,0,zero --tip 0,0,1", 1, "--root expects three"},
+      {tube_ + " -o " + rig + " --root 0,0,0.1", 1, "give --tip X,Y,Z or --tip-vertex N"},
+      {tube_ + " -o " + rig + " --root 0,0,zero --tip 0,0,1", 1, "--root expects three finite numbers X,Y,Z, got '0,0,zero'"},
+      {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,0,1,2", 1, "--tip expects three"},
+      {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,0", 1, "--tip expects three"},
+      {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,inf,1", 1, "--tip expects three"},
       {tube_ + " -o " + rig + " --root 5,5,5 --tip 0,0,1", 2, "root 5,5,5 is far from the mesh"},
       {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,3,1", 2, "tip 0,3,1 is far from the mesh"},
       {path("empty.off") + " -o " + rig + ok, 2, "empty.off"},
@@ -136,6 +144,137 @@ TEST_F(Tool, TipOnAnotherPieceIsNotReachable) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("not reachable"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(path("rig.json")));
+}
+
+// A fit that breaks a limit (five lobes seen through three radius samples: a tenth of the
+// vertices are far off) fails with exit 2 and writes no rig, but still the report and the
+// preview, to show what went wrong; --force writes the rig.
+TEST_F(Tool, UntrustedFitWritesReportAndPreviewButNoRigUnlessForced) {
+  const fs::path lobed = fs::path(SWEEP_SOURCE_DIR) / "meshes" / "tube_lobed.obj";
+  const std::string args = lobed.string() + " -o " + path("rig.json") + " -n 3 --root 0,0,0.05 --tip 0,0,1.2" +
+                           " --report " + path("report.json") + " --preview " + path("fit.png");
+  ToolRun r = run_tool(args);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("the fit is not to be trusted"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("a tenth of the part's vertices are farther than"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(--force writes the rig anyway)"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("rig.json")));
+  EXPECT_TRUE(fs::exists(path("fit.png")));
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(path("report.json")));
+  EXPECT_FALSE(report.at("sweeps").at(0).at("ok").get<bool>());
+  r = run_tool(args + " --force");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("written anyway (--force)"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(path("rig.json")));
+}
+
+fs::path diplodocus() { return fs::path(SWEEP_SOURCE_DIR) / "meshes" / "cgal" / "diplodocus.off"; }
+
+// The audit's silent bad fit: a root clicked on the tail's upper surface, not on its axis, gave a
+// sweep 0.014 long over 4,979 "part" vertices. Now the whole tail is fitted (or the tool fails).
+TEST_F(Tool, RootOnTheTailsUpperSurfaceFitsTheWholeTail) {
+  if (!fs::exists(diplodocus())) GTEST_SKIP() << "run tools/setup-deps.sh";
+  const auto fit = [&](const std::string& root, const char* name) {
+    const ToolRun r = run_tool(diplodocus().string() + " -o " + path(name) + " --report " +
+                               path("report.json") + " --root=" + root + " --tip=-0.5,-0.345,-0.012");
+    EXPECT_EQ(r.code, 0) << r.output;
+    return nlohmann::json::parse(std::ifstream(path("report.json"))).at("sweeps").at(0);
+  };
+  // Vertex 15321: on the upper surface, 0.048 from the axis of a tail 0.042 thick there.
+  const nlohmann::json surface = fit("-0.340464,-0.137985,-0.0114867", "surface.rig.json");
+  const nlohmann::json axis = fit("-0.29,-0.16,-0.015", "axis.rig.json");
+  EXPECT_NEAR(surface.at("length").get<double>(), axis.at("length").get<double>(),
+              0.05 * axis.at("length").get<double>());
+  EXPECT_GE(surface.at("traced_over_surface").get<double>(), 0.95);
+  EXPECT_LE(surface.at("fit_rms_relative").get<double>(), 0.02);
+  // The tail alone: not the legs and body (the mesh has 26,000 vertices; the tail about 1,800).
+  EXPECT_LT(surface.at("part_vertex_count").get<int>(), 1.2 * axis.at("part_vertex_count").get<int>());
+}
+
+// --list names what a person sees on the diplodocus: a neck, a tail and four legs, by where their
+// tips are (the mesh is +Y up, head towards +X), and writes no rig.
+TEST_F(Tool, ListFindsTheDiplodocusNeckTailAndFourLegs) {
+  if (!fs::exists(diplodocus())) GTEST_SKIP() << "run tools/setup-deps.sh";
+  const ToolRun r = run_tool(diplodocus().string() + " --list --report " + path("parts.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(path("parts.json")));
+  EXPECT_EQ(report.at("format"), "sweep-fit-parts");
+  int necks = 0, tails = 0, legs = 0;
+  for (const nlohmann::json& part : report.at("parts")) {
+    const std::string name = part.at("name");
+    const double x = part.at("tip").at(0), y = part.at("tip").at(1);
+    if (name == "neck") {
+      ++necks;
+      EXPECT_GT(x, 0.4) << "the head is at +X";
+      EXPECT_GT(y, 0.3);
+    } else if (name == "tail") {
+      ++tails;
+      EXPECT_LT(x, -0.45);
+    } else if (name.rfind("leg", 0) == 0) {
+      ++legs;
+      EXPECT_LT(y, -0.35) << name << ": a foot is at the bottom";
+    }
+    EXPECT_GT(part.at("length").get<double>(), 0.2) << name;
+    EXPECT_LT(part.at("vertex_count").get<int>(), 4000) << name;
+    EXPECT_NE(r.output.find(name), std::string::npos) << "the table names " << name;
+  }
+  EXPECT_EQ(necks, 1);
+  EXPECT_EQ(tails, 1);
+  EXPECT_EQ(legs, 4);
+  EXPECT_EQ(report.at("parts").size(), 6u) << r.output;
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator{}), 2)
+      << "tube.obj and parts.json only: --list writes no rig";
+}
+
+// --all fits every part into one rig under the names given, in the order --list shows them, each
+// trusted (no --force).
+TEST_F(Tool, AllFitsEveryPartIntoOneRigUnderTheNamesGiven) {
+  if (!fs::exists(diplodocus())) GTEST_SKIP() << "run tools/setup-deps.sh";
+  const std::string rig = path("all.rig.json");
+  ToolRun r = run_tool(diplodocus().string() + " --all -o " + rig + " --names a,b");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("--names gives 2 names for the 6 parts"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(rig));
+  r = run_tool(diplodocus().string() + " --all -o " + rig +
+               " --names neck,tail,fl,fr,bl,br --report " + path("all.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const Rig loaded = io::read_rig(rig);
+  ASSERT_EQ(loaded.sweeps.size(), 6u);
+  const std::vector<std::string> names{"neck", "tail", "fl", "fr", "bl", "br"};
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(path("all.json")));
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    EXPECT_EQ(loaded.sweeps[i].name, names[i]);
+    EXPECT_TRUE(loaded.sweeps[i].part.has_value());
+    const nlohmann::json& entry = report.at("sweeps").at(i);
+    EXPECT_LE(entry.at("fit_rms_relative").get<double>(), 0.02) << names[i];
+    // Each axis reaches its tip (the legs' feet lengthen the surface path, not the axis).
+    EXPECT_LE(entry.at("tip_gap_relative").get<double>(), 1.5) << names[i];
+    EXPECT_GE(entry.at("traced_over_surface").get<double>(), 0.75) << names[i];
+  }
+}
+
+TEST_F(Tool, ModesThatDoNotGoTogetherAreUsageErrors) {
+  const std::string mesh = tube_;
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {"--list --all -o " + path("r.json"), "--list or --all, not both"},
+      {"--list -o " + path("r.json"), "--list writes no rig: drop -o"},
+      {"--all -o " + path("r.json") + " --tip 0,0,1", "does not go with"},
+      {"--names a,b -o " + path("r.json") + " --tip 0,0,1", "--names goes with --all"},
+      {"--all -o " + path("r.json") + " --names a,,b", "--names: an empty name"},
+      {"-o " + path("r.json") + " --tip 0,0", "--tip expects three finite numbers X,Y,Z, got '0,0'"},
+      {"--list --preview " + path("p.png"), "--preview draws fitted parts"},
+      {"-o " + path("r.json") + " --tip 0,0,1 --preview " + path("p.jpg"), "its name must end in .png"},
+      {"-o " + path("r.json") + " --tip 0,nan,1", "--tip expects three finite numbers"},
+  };
+  for (const auto& c : cases) {
+    const ToolRun r = run_tool(mesh + " " + c.args);
+    EXPECT_EQ(r.code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(path("r.json"))) << c.args;
+    EXPECT_FALSE(fs::exists(path("p.png"))) << c.args;
+  }
 }
 
 TEST_F(Tool, DiplodocusTailAndNeckShareOneRig) {

@@ -1,6 +1,7 @@
 // sweep-fit: fits a sweep (key cross sections and radius samples) to a tubular part of a mesh,
-// named by a root point and a tip point, and writes it into a rig file (created, or updated by
-// adding or replacing the sweep of that name). The work is in lib/fit/fit.h.
+// named by a tip point (and optionally a root point), and writes it into a rig file (created, or
+// updated by adding or replacing the sweep of that name). --list finds the mesh's parts, --all
+// fits them all. The work is in lib/fit/ (fit.h, discover.h); report.h prints and reports.
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <chrono>
@@ -13,11 +14,16 @@
 #include "common/cli_checks.h"
 #include "common/tool_main.h"
 #include "core/error.h"
+#include "core/limits.h"
+#include "fit/discover.h"
 #include "fit/fit.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/path_checks.h"
 #include "io/rig_json.h"
+#include "preview/png.h"
+#include "preview/render.h"
+#include "sweep-fit/report.h"
 
 namespace fs = std::filesystem;
 using sweep::ErrorCategory;
@@ -30,31 +36,38 @@ struct Settings {
   fs::path mesh;              // input mesh (any format io::read_mesh reads)
   fs::path rig;               // rig file to create or update
   std::string name = "part";  // the sweep's name in the rig
-  std::string root, tip;      // "X,Y,Z" in mesh units
+  std::string root, tip;  // X,Y,Z in mesh units (root optional: found where the part meets the body)
+  std::int64_t tip_vertex = -1;   // the tip as a vertex index
+  bool force = false;             // write the rig even when the fit breaks a limit
   fs::path axis;              // optional axis polyline: "X Y Z" (or X,Y,Z) per line, root first
   int sections = sweep::fit::FitOptions{}.sections;
   int radial = sweep::fit::FitOptions{}.radial;
   double tolerance = 0;  // > 0: fewest sections with fit_rms ≤ tolerance × mean radius
   fs::path report;       // optional JSON report
   bool verbose = false;
+  bool list = false;      // --list: print the parts found, write no rig
+  bool all = false;       // --all: fit every part found into the rig
+  std::string names;      // --names a,b,c for --all
+  fs::path preview;       // optional PNG: the fit drawn over the mesh from three sides
 };
 
-Vec3 parse_point(const std::string& text, const char* flag) {
+// "X,Y,Z" → a point; our own parse so that the message names the flag and the text given.
+Vec3 to_point(const std::string& text, const char* flag) {
   Vec3 p;
-  std::size_t pos = 0;
-  for (int k = 0; k < 3; ++k) {
-    const std::size_t end = k < 2 ? text.find(',', pos) : text.size();
-    const std::string field =
-        end == std::string::npos ? std::string() : text.substr(pos, end - pos);
-    double v = 0;
-    const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
-    if (field.empty() || ec != std::errc() || ptr != field.data() + field.size() ||
-        !std::isfinite(v)) {
-      fail(ErrorCategory::usage,
-           std::string(flag) + " expects three finite numbers X,Y,Z, got '" + text + "'");
-    }
-    p[k] = v;
-    pos = end + 1;
+  std::size_t at = 0;
+  bool ok = true;
+  for (int i = 0; i < 3 && ok; ++i) {
+    const std::size_t end = i < 2 ? text.find(',', at) : text.size();
+    const std::string field = text.substr(at, end == std::string::npos ? end : end - at);
+    char* stop = nullptr;
+    p[i] = field.empty() ? 0 : std::strtod(field.c_str(), &stop);
+    ok = !field.empty() && stop == field.c_str() + field.size() && std::isfinite(p[i]) &&
+         end != std::string::npos;
+    at = end + 1;
+  }
+  if (!ok) {  // (a fourth number stays in the third field and fails its parse)
+    fail(ErrorCategory::usage,
+         std::string(flag) + " expects three finite numbers X,Y,Z, got '" + text + "'");
   }
   return p;
 }
@@ -80,59 +93,33 @@ std::vector<Vec3> read_axis(const fs::path& path) {
   return points;
 }
 
+// "a,b,c" → names (empty: none given); each must be a non-empty UTF-8 name.
+std::vector<std::string> split_names(const std::string& text) {
+  std::vector<std::string> names;
+  if (text.empty()) return names;
+  std::size_t at = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', at);
+    names.push_back(text.substr(at, comma == std::string::npos ? comma : comma - at));
+    if (names.back().empty()) fail(ErrorCategory::usage, "--names: an empty name in '" + text + "'");
+    sweep::io::check_utf8(names.back(), "--names");
+    if (comma == std::string::npos) break;
+    at = comma + 1;
+  }
+  return names;
+}
+
 // The rig's mesh path: relative to the rig file's folder.
 std::string mesh_path_for(const fs::path& rig, const fs::path& mesh) {
   const fs::path rig_dir = fs::weakly_canonical(fs::absolute(rig)).parent_path();
   return fs::weakly_canonical(fs::absolute(mesh)).lexically_relative(rig_dir).generic_string();
 }
 
-nlohmann::ordered_json report_entry(const sweep::fit::FitResult& r) {
-  nlohmann::ordered_json s;
-  s["name"] = r.sweep.name;
-  s["sections"] = r.sweep.rest.section_count();
-  s["radial"] = r.sweep.rest.radial_count;
-  s["part_vertex_count"] = r.part_vertices.size();
-  s["measured_vertex_count"] = r.error.measured_count;
-  s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
-  s["length"] = r.length;
-  s["mean_radius"] = r.mean_radius;
-  s["fit_rms"] = r.error.rms;
-  s["fit_max"] = r.error.max;
-  s["fit_rms_relative"] = r.mean_radius > 0 ? r.error.rms / r.mean_radius : 0.0;
-  s["axis_points"] = r.axis.points.size();
-  auto& v = s["star_violations"] = nlohmann::ordered_json::array();
-  for (const auto& x : r.star_violations) {
-    v.push_back({{"section", x.section},
-                 {"multi_crossing_rays", x.multi_crossing_rays},
-                 {"missed_rays", x.missed_rays}});
-  }
-  s["warnings"] = r.warnings;
-  s["seconds"] = r.seconds;
-  return s;
-}
-
-int run(const Settings& s) {
-  const auto start = std::chrono::steady_clock::now();
-  sweep::io::check_utf8(s.name, "--name");
-  sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}},
-                         {{"-o", s.rig}, {"--report", s.report}});
-  sweep::fit::FitOptions o;
-  o.name = s.name;
-  o.sections = s.sections;
-  o.radial = s.radial;
-  o.tolerance = s.tolerance;
-  if (!s.axis.empty()) {
-    o.axis = read_axis(s.axis);
-    o.root = o.axis.front();
-    o.tip = o.axis.back();
-  }
-  if (!s.root.empty()) o.root = parse_point(s.root, "--root");
-  if (!s.tip.empty()) o.tip = parse_point(s.tip, "--tip");
-
-  // Read the existing rig first, so a bad rig fails before any work.
+// Reads the rig to update (when -o exists), so that a bad rig fails before any work; checks that
+// it is a rig of this mesh.
+sweep::Rig open_rig(const Settings& s, bool& updating) {
   sweep::Rig rig;
-  const std::string mesh_in_rig = mesh_path_for(s.rig, s.mesh);
-  const bool updating = fs::exists(s.rig);
+  updating = fs::exists(s.rig);
   if (updating) {
     rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
     const fs::path rig_dir = fs::absolute(s.rig).parent_path();
@@ -141,60 +128,164 @@ int run(const Settings& s) {
                                      s.mesh.string() + "; write to another --rig file");
     }
   }
-  rig.mesh = mesh_in_rig;
+  rig.mesh = mesh_path_for(s.rig, s.mesh);
+  return rig;
+}
 
-  const sweep::Mesh mesh = sweep::io::read_mesh(s.mesh);
-  sweep::io::validate_mesh(mesh, s.mesh.string());
-  // Outputs are checked before the fit, so neither is written when the other cannot be.
-  sweep::io::check_can_create(s.rig);
-  if (!s.report.empty()) sweep::io::check_can_create(s.report);
-  const sweep::fit::FitResult r = sweep::fit::fit_sweep(mesh, o);
-  for (const std::string& w : r.warnings) sweep::tools::warn(s.name + ": " + w);
-
-  sweep::SweepDef def = r.sweep;
-  bool replaced = false;
+// Adds `def` to the rig, or replaces the sweep of its name keeping the user's spring settings
+// and force scales (per-section overrides no longer apply). True when it replaced one.
+bool put_sweep(sweep::Rig& rig, sweep::SweepDef def) {
   for (sweep::SweepDef& old : rig.sweeps) {
     if (old.name != def.name) continue;
-    // Keep the user's spring settings and force scales; per-section overrides no longer apply.
     def.default_springs = old.default_springs;
     def.springs.assign(def.springs.size(), def.default_springs);
     def.rotational_scale = old.rotational_scale;
     def.radial_scale = old.radial_scale;
-    old = def;
-    replaced = true;
+    old = std::move(def);
+    return true;
   }
-  if (!replaced) rig.sweeps.push_back(def);
+  rig.sweeps.push_back(std::move(def));
+  return false;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+sweep::fit::FitOptions fit_options(const Settings& s) {
+  sweep::fit::FitOptions o;
+  o.name = s.name;
+  o.sections = s.sections;
+  o.radial = s.radial;
+  o.tolerance = s.tolerance;
+  return o;
+}
+
+sweep::Mesh read_checked_mesh(const Settings& s) {
+  sweep::Mesh mesh = sweep::io::read_mesh(s.mesh);
+  sweep::io::validate_mesh(mesh, s.mesh.string());
+  return mesh;
+}
+
+// The fits drawn over the mesh (--preview), written like the report: also when a fit fails, to
+// show what went wrong.
+void write_preview(const Settings& s, const sweep::Mesh& mesh,
+                   const std::vector<sweep::fit::FitResult>& fits) {
+  if (s.preview.empty()) return;
+  std::vector<sweep::preview::Overlay> parts;
+  for (const sweep::fit::FitResult& r : fits) {
+    parts.push_back({r.part_vertices, r.axis.points, sweep::preview::section_outlines(r.sweep.rest)});
+  }
+  sweep::io::write_file_atomically(
+      s.preview, sweep::preview::encode_png(sweep::preview::render_views(mesh, parts)));
+}
+
+// Warnings, then the problems: a fit that breaks a limit fails (exit 2) with the numbers and
+// what to try, after writing the report, unless --force.
+void check_problems(const Settings& s, const sweep::Mesh& mesh,
+                    const std::vector<sweep::fit::FitResult>& fits, double seconds) {
+  std::string all;
+  for (const sweep::fit::FitResult& r : fits) {
+    for (const std::string& w : r.warnings) sweep::tools::warn(r.sweep.name + ": " + w);
+    if (r.problems.empty()) continue;
+    all += "\n" + r.sweep.name + ": the fit is not to be trusted:";
+    for (const std::string& p : r.problems) all += "\n  " + p;
+  }
+  if (all.empty()) return;
+  if (!s.force) {
+    if (!s.report.empty()) sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, false, seconds);
+    write_preview(s, mesh, fits);
+    fail(ErrorCategory::bad_input, all.substr(1) + "\n  (--force writes the rig anyway)");
+  }
+  sweep::tools::warn("written anyway (--force):" + all);
+}
+
+void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, bool updating,
+                          const std::vector<sweep::fit::FitResult>& fits,
+                          std::chrono::steady_clock::time_point start) {
+  int replaced = 0;
+  for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep);
   sweep::io::write_rig(s.rig, rig);
+  const double seconds = seconds_since(start);
+  if (!s.report.empty())
+    sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, true, seconds);
+  write_preview(s, mesh, fits);
+  for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
+  std::cout << (replaced > 0 ? "replaced in " : updating ? "added to " : "wrote ") << s.rig.string()
+            << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
+            << ") in " << seconds << " s\n";
+}
 
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!s.report.empty()) {
-    nlohmann::ordered_json rep;
-    rep["format"] = "sweep-fit-report";
-    rep["version"] = 1;
-    rep["mesh"] = s.mesh.generic_string();
-    rep["rig"] = s.rig.generic_string();
-    rep["sweeps"] = nlohmann::ordered_json::array({report_entry(r)});
-    rep["seconds_total"] = seconds;
-    sweep::io::write_file_atomically(s.report, rep.dump(2) + "\n");
-  }
+// One part, named by its tip (and root, or an axis).
+int run_one(const Settings& s) {
+  const auto start = std::chrono::steady_clock::now();
+  sweep::io::check_utf8(s.name, "--name");
+  sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}},
+                         {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
+  sweep::fit::FitOptions o = fit_options(s);
+  if (!s.axis.empty()) o.axis = read_axis(s.axis);
+  if (!s.root.empty()) o.root = to_point(s.root, "--root");
+  if (!s.tip.empty()) o.tip = to_point(s.tip, "--tip");
+  o.tip_vertex = s.tip_vertex;
+  bool updating = false;
+  sweep::Rig rig = open_rig(s, updating);
+  const sweep::Mesh mesh = read_checked_mesh(s);
+  // Outputs are checked before the fit, so neither is written when the other cannot be.
+  sweep::io::check_can_create(s.rig);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
+  const std::vector<sweep::fit::FitResult> fits{sweep::fit::fit_sweep(mesh, o)};
+  check_problems(s, mesh, fits, seconds_since(start));
+  write_outputs(s, mesh, rig, updating, fits, start);
+  return 0;
+}
 
-  std::cout << s.name << ": " << r.sweep.rest.section_count() << " sections x "
-            << r.sweep.rest.radial_count << " radii, length " << r.length << ", mean radius "
-            << r.mean_radius << "\n"
-            << "  part: " << r.part_vertices.size() << " vertices (" << r.error.measured_count
-            << " measured); fit rms " << r.error.rms << " (" << 100 * r.error.rms / r.mean_radius
-            << "% of mean radius), max " << r.error.max << "\n"
-            << "  "
-            << (replaced   ? "replaced in "
-                : updating ? "added to "
-                           : "wrote ")
-            << s.rig.string() << " (" << rig.sweeps.size()
-            << (rig.sweeps.size() == 1 ? " sweep" : " sweeps") << ") in " << seconds << " s\n";
-  if (s.verbose) {
-    std::cout << "  axis: " << r.axis.points.size()
-              << " traced points, stopped: " << r.axis.stop_reason << "\n";
+// Every part find_parts finds, into one rig.
+int run_all(const Settings& s) {
+  const auto start = std::chrono::steady_clock::now();
+  sweep::io::check_paths({{"the mesh", s.mesh}},
+                         {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
+  const std::vector<std::string> names = split_names(s.names);
+  bool updating = false;
+  sweep::Rig rig = open_rig(s, updating);
+  const sweep::Mesh mesh = read_checked_mesh(s);
+  sweep::io::check_can_create(s.rig);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
+  const sweep::fit::SweepFitter fitter(mesh);
+  const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh, fitter.topology());
+  if (parts.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no tubular parts found");
+  if (!names.empty() && names.size() != parts.size()) {
+    fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) + " names for the " +
+                                   std::to_string(parts.size()) + " parts found (see --list)");
   }
+  std::vector<sweep::fit::FitResult> fits;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    sweep::fit::FitOptions o = fit_options(s);
+    o.name = names.empty() ? parts[i].name : names[i];
+    o.tip_vertex = parts[i].tip_vertex;
+    if (s.verbose) std::cout << "fitting " << o.name << " (" << i + 1 << "/" << parts.size() << ")\n";
+    fits.push_back(fitter.fit(o));
+  }
+  check_problems(s, mesh, fits, seconds_since(start));
+  write_outputs(s, mesh, rig, updating, fits, start);
+  return 0;
+}
+
+// The parts found, as a table (and JSON with --report); no rig.
+int run_list(const Settings& s) {
+  const auto start = std::chrono::steady_clock::now();
+  sweep::io::check_paths({{"the mesh", s.mesh}}, {{"--report", s.report}});
+  const sweep::Mesh mesh = read_checked_mesh(s);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  const sweep::Topology topology = sweep::build_topology(mesh);
+  std::vector<std::string> passed_over;
+  const std::vector<sweep::fit::FoundPart> parts =
+      sweep::fit::find_parts(mesh, topology, {}, s.verbose ? &passed_over : nullptr);
+  sweep::fit_tool::print_parts(parts);
+  for (const std::string& x : passed_over) std::cout << "  passed over " << x << "\n";
+  if (!s.report.empty())
+    sweep::fit_tool::write_parts_report(s.report, s.mesh, parts, seconds_since(start));
   return 0;
 }
 
@@ -206,13 +297,29 @@ int main(int argc, char** argv) {
     CLI::App app{"Fit a sweep (key sections and radius samples) to a tubular part of a mesh"};
     app.set_version_flag("--version", std::string("sweep-fit ") + SWEEP_VERSION);
     app.add_option("mesh", s.mesh, "Input mesh (OFF, PLY, OBJ, STL, glTF/glb, FBX)")->required();
-    app.add_option("-o,--rig", s.rig, "Rig file to create, or to add/replace the sweep in")
-        ->required();
-    app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
-    app.add_option("--root", s.root, "X,Y,Z: where the part leaves the body, near its axis");
-    app.add_option("--tip", s.tip, "X,Y,Z: at or near the part's end");
-    app.add_option("--axis", s.axis,
-                   "File of axis points 'X Y Z' per line, root first (instead of tracing)");
+    auto* rig = app.add_option("-o,--rig", s.rig,
+                               "Rig file to create, or to add/replace the sweep(s) in");
+    auto* list = app.add_flag("--list", s.list,
+                              "Find the mesh's tubular parts and list them (no rig is written)");
+    auto* all = app.add_flag("--all", s.all, "Find the mesh's tubular parts and fit every one");
+    auto* names = app.add_option("--names", s.names,
+                                 "With --all: the parts' names, comma-separated, in --list's order "
+                                 "(default: the suggested names)");
+    auto* name =
+        app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
+    auto* root = app.add_option("--root", s.root,
+                                "X,Y,Z: where the part leaves the body (on its axis, its surface or "
+                                "inside the body); default: found where the part meets the body");
+    auto* tip = app.add_option("--tip", s.tip, "X,Y,Z: on or near the part's end");
+    auto* tip_vertex =
+        app.add_option("--tip-vertex", s.tip_vertex, "The part's end as a vertex index")
+            ->check(CLI::NonNegativeNumber)
+            ->excludes(tip);
+    app.add_flag("--force", s.force,
+                 "Write the rig even when the fit breaks a limit (stops short, leaks into the "
+                 "body, error too large)");
+    auto* axis = app.add_option(
+        "--axis", s.axis, "File of axis points 'X Y Z' per line, root first (instead of tracing)");
     auto* sections =
         app.add_option("-k,--sections", s.sections, "Key sections K (>= 2)")->capture_default_str();
     app.add_option("-n,--radial", s.radial, "Radius samples per section (>= 3)")
@@ -222,6 +329,9 @@ int main(int argc, char** argv) {
                        "Use the fewest sections with fit_rms <= this fraction of the mean radius");
     app.add_option("--report", s.report, "Write a JSON report here")
         ->check(sweep::tools::kNonEmptyName);
+    auto* preview = app.add_option("--preview", s.preview,
+                                   "Draw the fit over the mesh from three sides into this PNG file")
+                        ->check(sweep::tools::kNonEmptyName);
     app.add_flag("-v,--verbose", s.verbose, "Say more");
     try {
       app.parse(argc, argv);
@@ -238,15 +348,43 @@ int main(int argc, char** argv) {
     }
     if (tolerance->count() > 0 && !(s.tolerance > 0))
       fail(ErrorCategory::usage, "--tolerance must be > 0");
-    if (s.axis.empty() && (s.root.empty() || s.tip.empty())) {
-      fail(ErrorCategory::usage, "give both --root and --tip (or --axis FILE)");
+    // The modes: one part (named by --tip, --tip-vertex or --axis), --all, --list.
+    if (list->count() > 0 && all->count() > 0) fail(ErrorCategory::usage, "--list or --all, not both");
+    const bool finding = list->count() > 0 || all->count() > 0;
+    for (const CLI::Option* one : {tip, tip_vertex, root, axis, name}) {
+      if (finding && one->count() > 0) {
+        fail(ErrorCategory::usage, one->get_name() + " names one part: it does not go with " +
+                                       (s.list ? "--list" : "--all"));
+      }
+    }
+    if (names->count() > 0 && !s.all) fail(ErrorCategory::usage, "--names goes with --all");
+    if (preview->count() > 0 && s.list) {
+      fail(ErrorCategory::usage, "--preview draws fitted parts: use it with a fit or --all, not --list");
+    }
+    if (preview->count() > 0 && s.preview.extension() != ".png") {
+      fail(ErrorCategory::usage, "--preview writes a PNG: its name must end in .png, got '" +
+                                     s.preview.string() + "'");
+    }
+    if (!s.list && rig->count() == 0) fail(ErrorCategory::usage, "-o RIG is required (except with --list)");
+    if (s.list && rig->count() > 0) fail(ErrorCategory::usage, "--list writes no rig: drop -o");
+    if (!finding && s.axis.empty() && tip->count() == 0 && tip_vertex->count() == 0) {
+      fail(ErrorCategory::usage, "give --tip X,Y,Z or --tip-vertex N (or --axis FILE), or --list "
+                                 "or --all to find the parts");
     }
     if (s.sections < 2)
       fail(ErrorCategory::usage,
            "--sections must be at least 2, got " + std::to_string(s.sections));
     if (s.radial < 3)
       fail(ErrorCategory::usage, "--radial must be at least 3, got " + std::to_string(s.radial));
+    // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
+    if (s.sections > sweep::limits::kMaxSections || s.radial > sweep::limits::kMaxRadial) {
+      fail(ErrorCategory::usage,
+           "--sections must be at most " + std::to_string(sweep::limits::kMaxSections) +
+               " and --radial at most " + std::to_string(sweep::limits::kMaxRadial));
+    }
     if (s.name.empty()) fail(ErrorCategory::usage, "--name must not be empty");
-    return run(s);
+    if (s.list) return run_list(s);
+    if (s.all) return run_all(s);
+    return run_one(s);
   });
 }

@@ -1,0 +1,56 @@
+#pragma once
+// Mesh topology for the algorithms that walk the surface (part selection, geodesic distance, level
+// sets): neighbours over the mesh's edges, built over positions welded for the purpose. Exporters
+// split vertices along UV and normal seams; the file's vertices stay as they are (their order and
+// count are what a point cache and a binding index), but the walk must not see a seam as a hole.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/frame.h"
+#include "core/mesh.h"
+
+namespace sweep {
+
+// Index of the vertex nearest to p (the lowest index among equals). The mesh must have vertices.
+std::uint32_t nearest_vertex(const Mesh& mesh, const Vec3& p);
+
+// Neighbours in compressed rows: vertex v's neighbours are neighbours[offsets[v] .. offsets[v+1]),
+// sorted and unique.
+struct VertexAdjacency {
+  std::vector<std::uint32_t> offsets;
+  std::vector<std::uint32_t> neighbours;
+  std::span<const std::uint32_t> of(std::uint32_t v) const {
+    return {neighbours.data() + offsets[v], neighbours.data() + offsets[v + 1]};
+  }
+};
+
+struct Topology {
+  // weld[v]: the representative of vertex v, the lowest index with exactly v's position. Every
+  // row below is over representatives; a non-representative vertex has no neighbours of its own.
+  std::vector<std::uint32_t> weld;
+  VertexAdjacency adjacency;
+  // Triangles over representatives (polygons fanned from their first vertex), degenerate ones
+  // (a repeated representative) left out.
+  std::vector<std::uint32_t> triangles;
+  // The triangles around each representative, in compressed rows like the adjacency.
+  VertexAdjacency vertex_triangles;
+  std::size_t welded_count = 0;  // vertices that share their position with a lower index
+};
+Topology build_topology(const Mesh& mesh);
+
+// Neighbours over the mesh's own polygon edges, no welding (what the tests compare against).
+VertexAdjacency vertex_adjacency(const Mesh& mesh);
+
+// The part a sweep drives (DESIGN.md §2.4), sorted: the vertices reached over the surface from the
+// vertex nearest to `tip` without crossing the root section — the disc of radius `root_radius`
+// around root_plane.center in the plane with normal root_plane.axis(). Walking over an edge that
+// passes through that plane inside the disc is crossing it; elsewhere the plane may be crossed,
+// so a part that curls back behind its root plane stays whole while the body, reached from the
+// part only through the root section, stays out. Throws Error(bad_input) when the tip's nearest
+// vertex lies behind the plane inside the disc.
+std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
+                                       const Frame& root_plane, double root_radius,
+                                       const Vec3& tip);
+
+}  // namespace sweep

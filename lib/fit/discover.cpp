@@ -1,0 +1,260 @@
+#include "fit/discover.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/text.h"
+#include "fit/geodesic.h"
+
+namespace sweep::fit {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Names: a part pointing down this much that reaches this near the lowest point is a leg.
+constexpr double kDownCos = 0.5;
+constexpr double kGroundShare = 0.05;
+// ... or that points steeply down and reaches this near it (a lifted foot of a walking pose).
+constexpr double kSteepCos = 0.8;
+constexpr double kLiftedShare = 0.15;
+// Pointing up this much: a neck (along the body) or a top (ears, horns, a head).
+constexpr double kRisingCos = 0.3;
+constexpr double kTopCos = 0.7;
+// A body this much taller than long stands upright (a biped): its side parts are arms.
+constexpr double kUprightRatio = 1.2;
+// Rings that never grow past this many median radii from the tip to the far end: one tube.
+constexpr double kWholeTubeWidening = 2;
+// ... and that are this many median radii long: a thick blob (a fist, a pebble) is not a tube.
+constexpr double kLoneTubeAspect = 8;
+
+// The average surface distance from `samples` sources spread by farthest-point sampling; NaN
+// where no source reaches.
+std::vector<double> average_distance(const Mesh& mesh, const Topology& topology, int samples) {
+  const std::size_t n = mesh.vertex_count();
+  std::vector<double> sum(n, 0.0), nearest(n, kInf);
+  std::vector<int> count(n, 0);
+  // Start at the point farthest from vertex 0: an extremity, not the middle of the body.
+  std::uint32_t source = topology.weld[0];
+  {
+    const std::vector<double> d = surface_distances(mesh, topology, std::span(&source, 1));
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (std::isfinite(d[v]) && d[v] > d[source]) source = v;
+    }
+  }
+  for (int k = 0; k < samples; ++k) {
+    const std::vector<double> d = surface_distances(mesh, topology, std::span(&source, 1));
+    for (std::size_t v = 0; v < n; ++v) {
+      if (!std::isfinite(d[v])) continue;
+      sum[v] += d[v];
+      ++count[v];
+      nearest[v] = std::min(nearest[v], d[v]);
+    }
+    // The next source: the vertex farthest from every source so far (another piece first).
+    std::uint32_t next = source;
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (topology.weld[v] == v && nearest[v] > nearest[next]) next = v;
+    }
+    if (!(nearest[next] > 0)) break;
+    source = next;
+  }
+  std::vector<double> average(n, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t v = 0; v < n; ++v) {
+    if (count[v] > 0) average[v] = sum[v] / count[v];
+  }
+  return average;
+}
+
+// Vertices (weld representatives) where `field` is largest among their neighbours, highest
+// first; ties go to the lower index so that a flat top gives one candidate.
+std::vector<std::uint32_t> local_maxima(const Topology& topology, const std::vector<double>& field) {
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t v = 0; v < field.size(); ++v) {
+    if (topology.weld[v] != v || !std::isfinite(field[v])) continue;
+    bool top = true;
+    for (const std::uint32_t w : topology.adjacency.of(v)) {
+      if (field[w] > field[v] || (field[w] == field[v] && w < v)) {
+        top = false;
+        break;
+      }
+    }
+    if (top) out.push_back(v);
+  }
+  std::sort(out.begin(), out.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return field[a] != field[b] ? field[a] > field[b] : a < b;
+  });
+  return out;
+}
+
+// Suggested names from where each part points (see find_parts).
+void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& up_in,
+                std::vector<FoundPart>& parts) {
+  const Vec3 up = up_in.normalized();
+  double low = kInf, high = -kInf;
+  for (const Vec3& p : mesh.positions) {
+    low = std::min(low, p.dot(up));
+    high = std::max(high, p.dot(up));
+  }
+  // The body: the vertices of no part. Its long axis is its widest horizontal direction.
+  Vec3 centre = Vec3::Zero();
+  std::size_t count = 0;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (!in_part[v]) {
+      centre += mesh.positions[v];
+      ++count;
+    }
+  }
+  if (count == 0) return;
+  centre /= static_cast<double>(count);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  double body_low = kInf, body_high = -kInf;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (in_part[v]) continue;
+    const Vec3 d = mesh.positions[v] - centre;
+    const Vec3 flat = d - d.dot(up) * up;
+    cov += flat * flat.transpose();
+    body_low = std::min(body_low, d.dot(up));
+    body_high = std::max(body_high, d.dot(up));
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const Vec3 along = eig.eigenvectors().col(2);
+  const Vec3 side = up.cross(along).normalized();
+  double long_low = kInf, long_high = -kInf;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (in_part[v]) continue;
+    const double x = (mesh.positions[v] - centre).dot(along);
+    long_low = std::min(long_low, x);
+    long_high = std::max(long_high, x);
+  }
+  const bool upright = body_high - body_low > kUprightRatio * (long_high - long_low);
+  std::map<std::string, int> total, used;
+  for (FoundPart& p : parts) {
+    const Vec3 dir = (p.tip - p.root).normalized();
+    const double rise = dir.dot(up);
+    const bool along_body = std::abs(dir.dot(along)) >= std::abs(dir.dot(side));
+    const double above_ground = (p.bottom - low) / std::max(high - low, 1e-300);
+    if ((rise < -kDownCos && above_ground <= kGroundShare) ||
+        (rise < -kSteepCos && above_ground <= kLiftedShare)) {
+      p.name = "leg";
+    } else if (rise > kTopCos && (upright || !along_body)) {
+      p.name = "top";
+    } else if (along_body && !upright) {
+      p.name = rise > kRisingCos ? "neck" : "tail";
+    } else if (rise >= -kDownCos) {
+      p.name = "arm";
+    } else {
+      p.name = "part";
+    }
+    ++total[p.name];
+  }
+  for (FoundPart& p : parts) {
+    if (total[p.name] > 1) p.name += std::to_string(++used[p.name]);
+  }
+}
+
+}  // namespace
+
+std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
+                                  const DiscoverOptions& o, std::vector<std::string>* passed_over) {
+  std::vector<FoundPart> parts;
+  const std::size_t n = mesh.vertex_count();
+  if (n == 0) return parts;
+  const std::vector<double> average = average_distance(mesh, topology, std::max(o.samples, 1));
+  std::vector<char> covered(n, 0), in_part(n, 0);
+  int traced = 0;
+  std::optional<FoundPart> lone_tube;
+  for (const std::uint32_t tip : local_maxima(topology, average)) {
+    if (covered[tip]) continue;
+    if (traced++ >= o.max_candidates) break;
+    const std::vector<double> d = surface_distances(mesh, topology, std::span(&tip, 1));
+    const RingTrace rings = trace_rings(mesh, topology, d, tip, kInf, true, o.rings);
+    const auto cover = [&](double up_to) {
+      for (std::size_t v = 0; v < n; ++v) covered[v] |= d[topology.weld[v]] <= up_to;
+    };
+    if (rings.rings.size() < 2 || rings.junction < 1) {
+      cover(0);
+      continue;
+    }
+    const Ring& junction = rings.rings[static_cast<std::size_t>(rings.junction)];
+    // The tube between the tip's cap and the junction: its median ring radius.
+    int cap = 0;
+    while (cap < rings.junction && rings.rings[static_cast<std::size_t>(cap)].growth >=
+                                       o.rings.settled_growth) {
+      ++cap;
+    }
+    std::vector<double> radii;
+    for (int i = cap; i <= rings.junction; ++i)
+      radii.push_back(rings.rings[static_cast<std::size_t>(i)].radius);
+    std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2),
+                     radii.end());
+    const double radius = radii[radii.size() / 2];
+    std::size_t count = 0;
+    for (std::size_t v = 0; v < n; ++v) count += d[topology.weld[v]] <= junction.distance;
+    // No junction and no ring much wider than the tube: the whole mesh is one tube (a part
+    // without a body). Rings that reach the far end after widening crossed the body instead.
+    double widest = 0;
+    for (int i = cap; i <= rings.junction; ++i)
+      widest = std::max(widest, rings.rings[static_cast<std::size_t>(i)].radius);
+    const bool whole_mesh = rings.junction + 1 == static_cast<int>(rings.rings.size()) &&
+                            widest <= kWholeTubeWidening * radius;
+    const bool long_enough = junction.distance >= o.min_aspect * radius;
+    const bool not_the_body =
+        static_cast<double>(count) <= o.max_vertex_share * static_cast<double>(n);
+    if (whole_mesh && junction.distance >= kLoneTubeAspect * radius && !not_the_body &&
+        !lone_tube) {
+      // Perhaps the mesh is one tube; only if no part is found (else these rings crossed a body).
+      lone_tube = FoundPart{};
+      lone_tube->tip_vertex = tip;
+      lone_tube->tip = mesh.positions[tip];
+      lone_tube->root = junction.centroid;
+      lone_tube->length = junction.distance;
+      lone_tube->mean_radius = radius;
+      lone_tube->vertex_count = count;
+      lone_tube->junction_reason = rings.junction_reason;
+    }
+    if ((!long_enough || !not_the_body) && passed_over) {
+      passed_over->push_back(
+          "vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": " +
+          (long_enough ? "its rings hold " + std::to_string(count) + " of the " +
+                             std::to_string(n) + " vertices (the body)"
+                       : "a bump, " + format_number(junction.distance / radius) +
+                             " radii long (" + rings.junction_reason + ")"));
+    }
+    if (!long_enough || !not_the_body) {
+      // A bump (cover it) or the body itself (cover only the tip's cap, so that the parts
+      // around it are still found).
+      cover(long_enough ? 2 * rings.rings[static_cast<std::size_t>(cap)].radius
+                        : junction.distance);
+      continue;
+    }
+    FoundPart p;
+    p.tip_vertex = tip;
+    p.tip = mesh.positions[tip];
+    p.root = junction.centroid;
+    p.length = junction.distance;
+    p.mean_radius = radius;
+    p.vertex_count = count;
+    p.junction_reason = rings.junction_reason;
+    cover(junction.distance);
+    p.bottom = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < n; ++v) {
+      if (d[topology.weld[v]] > junction.distance) continue;
+      in_part[v] = 1;
+      p.bottom = std::min(p.bottom, mesh.positions[v].dot(o.up.normalized()));
+    }
+    parts.push_back(p);
+  }
+  if (parts.empty() && lone_tube) {
+    parts.push_back(*lone_tube);
+    in_part.assign(n, 0);  // no body to name it by
+  }
+  std::stable_sort(parts.begin(), parts.end(),
+                   [](const FoundPart& a, const FoundPart& b) { return a.length > b.length; });
+  name_parts(mesh, in_part, o.up, parts);
+  return parts;
+}
+
+}  // namespace sweep::fit

@@ -1,0 +1,139 @@
+#include "sweep-fit/report.h"
+
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "io/atomic_file.h"
+
+namespace sweep::fit_tool {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json point(const Vec3& p) {
+  return Json::array({p.x(), p.y(), p.z()});
+}
+
+Json fit_entry(const fit::FitResult& r) {
+  Json s;
+  s["name"] = r.sweep.name;
+  s["sections"] = r.sweep.rest.section_count();
+  s["radial"] = r.sweep.rest.radial_count;
+  s["ok"] = r.problems.empty();
+  s["problems"] = r.problems;
+  s["tip_vertex"] = r.tip_vertex;
+  s["root"] = point(r.root);
+  s["root_found"] = r.root_found;
+  s["root_reason"] = r.root_reason;
+  s["part_vertex_count"] = r.part_vertices.size();
+  s["measured_vertex_count"] = r.error.measured_count;
+  s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
+  s["in_range_share"] = r.in_range_share();
+  s["leaked_vertex_count"] = r.leaked_count;
+  s["length"] = r.length;
+  s["traced_length"] = r.traced_length;
+  s["surface_length"] = r.surface_length;
+  s["traced_over_surface"] = r.surface_length > 0 ? r.traced_length / r.surface_length : 0.0;
+  s["tip_gap_relative"] = r.mean_radius > 0 ? r.tip_gap / r.mean_radius : 0.0;
+  s["mean_radius"] = r.mean_radius;
+  const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
+  s["fit_rms"] = r.error.rms;
+  s["fit_max"] = r.error.max;
+  s["fit_rms_relative"] = r.error.rms / mr;
+  s["fit_p90_relative"] = r.error.p90 / mr;
+  s["fit_max_relative"] = r.error.max / mr;
+  s["surface_rms_relative"] = r.error.surface_rms / mr;
+  s["surface_max_relative"] = r.error.surface_max / mr;
+  s["radial_rms_relative"] = r.error.radial_rms / mr;
+  s["axis_points"] = r.axis.points.size();
+  auto& v = s["star_violations"] = Json::array();
+  for (const auto& x : r.star_violations) {
+    v.push_back({{"section", x.section},
+                 {"multi_crossing_rays", x.multi_crossing_rays},
+                 {"missed_rays", x.missed_rays}});
+  }
+  s["warnings"] = r.warnings;
+  s["seconds"] = r.seconds;
+  return s;
+}
+
+}  // namespace
+
+void write_fit_report(const std::filesystem::path& report, const std::filesystem::path& mesh,
+                      const std::filesystem::path& rig, const std::vector<fit::FitResult>& fits,
+                      bool rig_written, double seconds) {
+  Json rep;
+  rep["format"] = "sweep-fit-report";
+  rep["version"] = 2;
+  rep["mesh"] = mesh.generic_string();
+  rep["rig"] = rig.generic_string();
+  rep["rig_written"] = rig_written;
+  auto& sweeps = rep["sweeps"] = Json::array();
+  for (const fit::FitResult& r : fits) sweeps.push_back(fit_entry(r));
+  rep["seconds_total"] = seconds;
+  io::write_file_atomically(report, rep.dump(2) + "\n");
+}
+
+void write_parts_report(const std::filesystem::path& report, const std::filesystem::path& mesh,
+                        const std::vector<fit::FoundPart>& parts, double seconds) {
+  Json rep;
+  rep["format"] = "sweep-fit-parts";
+  rep["version"] = 1;
+  rep["mesh"] = mesh.generic_string();
+  auto& list = rep["parts"] = Json::array();
+  for (const fit::FoundPart& p : parts) {
+    Json e;
+    e["name"] = p.name;
+    e["tip_vertex"] = p.tip_vertex;
+    e["tip"] = point(p.tip);
+    e["root"] = point(p.root);
+    e["length"] = p.length;
+    e["mean_radius"] = p.mean_radius;
+    e["vertex_count"] = p.vertex_count;
+    e["junction"] = p.junction_reason;
+    list.push_back(e);
+  }
+  rep["seconds_total"] = seconds;
+  io::write_file_atomically(report, rep.dump(2) + "\n");
+}
+
+void print_fit(const fit::FitResult& r, bool verbose) {
+  const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
+  std::cout << r.sweep.name << ": " << r.sweep.rest.section_count() << " sections x "
+            << r.sweep.rest.radial_count << " radii, length " << r.length << ", mean radius "
+            << r.mean_radius << "\n"
+            << "  root " << r.root.x() << "," << r.root.y() << "," << r.root.z()
+            << (r.root_found ? " (found: " : " (") << r.root_reason << ")\n"
+            << "  part: " << r.part_vertices.size() << " vertices, "
+            << 100 * r.in_range_share() << "% between the end sections; axis "
+            << r.traced_length << " over a surface distance of " << r.surface_length << "\n"
+            << "  fit: rms " << 100 * r.error.rms / mr << "%, 90% within "
+            << 100 * r.error.p90 / mr << "%, max " << 100 * r.error.max / mr
+            << "% of the mean radius (part to surface); surface to part rms "
+            << 100 * r.error.surface_rms / mr << "%, max " << 100 * r.error.surface_max / mr
+            << "%\n";
+  if (verbose) {
+    std::cout << "  axis: " << r.axis.points.size() << " points, ending " << r.tip_gap / mr
+              << " mean radii from tip vertex " << r.tip_vertex << "; " << r.error.beyond_ends_count << " part vertices beyond the end sections\n";
+  }
+}
+
+void print_parts(const std::vector<fit::FoundPart>& parts) {
+  if (parts.empty()) {
+    std::cout << "no tubular parts found\n";
+    return;
+  }
+  std::printf("%-8s %8s  %-28s %-28s %10s %10s %8s\n", "name", "tip", "tip at", "root at",
+              "length", "radius", "vertices");
+  for (const fit::FoundPart& p : parts) {
+    char tip[64], root[64];
+    std::snprintf(tip, sizeof tip, "%.4g,%.4g,%.4g", p.tip.x(), p.tip.y(), p.tip.z());
+    std::snprintf(root, sizeof root, "%.4g,%.4g,%.4g", p.root.x(), p.root.y(), p.root.z());
+    std::printf("%-8s %8u  %-28s %-28s %10.4g %10.4g %8zu\n", p.name.c_str(), p.tip_vertex, tip,
+                root, p.length, p.mean_radius, p.vertex_count);
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace sweep::fit_tool

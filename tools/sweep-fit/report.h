@@ -1,0 +1,29 @@
+#pragma once
+// What sweep-fit tells: the JSON report (--report) and the lines on stdout, for fits and for the
+// list of parts found (--list).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fit/discover.h"
+#include "fit/fit.h"
+
+namespace sweep::fit_tool {
+
+// The report of one or more fits: written also when a fit fails (rig_written false), so that a
+// script sees the numbers. Format "sweep-fit-report", version 2 (README: sweep-fit's report).
+void write_fit_report(const std::filesystem::path& report, const std::filesystem::path& mesh,
+                      const std::filesystem::path& rig, const std::vector<fit::FitResult>& fits,
+                      bool rig_written, double seconds);
+
+// The parts found: format "sweep-fit-parts", version 1.
+void write_parts_report(const std::filesystem::path& report, const std::filesystem::path& mesh,
+                        const std::vector<fit::FoundPart>& parts, double seconds);
+
+// A fit's summary for a person: sections, root, part, error (and the axis with `verbose`).
+void print_fit(const fit::FitResult& r, bool verbose);
+
+// The parts found, as a table.
+void print_parts(const std::vector<fit::FoundPart>& parts);
+
+}  // namespace sweep::fit_tool
