@@ -581,6 +581,8 @@ TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
   uchar_items.replace(uchar_items.find("uchar int"), 9, "uchar uchar");
   expect_bad(write("uchar.ply", uchar_items + "0 0 0\n1 0 0\n0 1 0\n3 0 1 256\n"),
              ErrorCategory::bad_input, "line 13: face 0: '256' is not a whole number");
+  expect_bad(write("digits.ply", header + "0 0 0\n1 020000000000000000000000 0\n0 1 0\n3 0 1 2\n"),
+             ErrorCategory::bad_input, "line 11: vertex 1: '020000000000000000000000' is not a number");
   // A vertical tab is a blank to some readers and part of a number to assimp: refused.
   expect_bad(write("vtab.ply", header + "0 0 0\n1\v 0 0\n0 1 0\n3 0 1 2\n"),
              ErrorCategory::bad_input, "line 11: a control character (byte 11)");
