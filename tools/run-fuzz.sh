@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer target (tests/fuzz/) for a bounded time: tools/run-fuzz.sh [seconds-per-target]
-# (default 30). Configures its own clang build (build/fuzz: SWEEP_FUZZ=ON, which instruments the
+# (default 60). The mutation seed is SWEEP_FUZZ_SEED (default 1, so that a run is repeatable and a
+# red CI reproduces here; SWEEP_FUZZ_SEED=0 lets libFuzzer pick one, for exploring). Configures its own clang build (build/fuzz: SWEEP_FUZZ=ON, which instruments the
 # library for coverage under ASan+UBSan), builds only the fuzz targets, and runs each on a scratch
 # copy of its committed seed corpus (tests/fuzz/corpus/<target>/; new inputs it finds stay in the
 # scratch copy). Any crash, leak, sanitizer report or timeout fails the script; the input that did
@@ -8,7 +9,8 @@
 # are replayed by test_fuzz_regressions in the regular suite). Prints each target's executions.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-seconds=${1:-30}
+seconds=${1:-60}
+seed=${SWEEP_FUZZ_SEED:-1}
 build=${SWEEP_FUZZ_BUILD_DIR:-build/fuzz}
 jobs=${SWEEP_JOBS:-2}
 targets=(rig_json scene binding off_mesh obj_mesh ply_mesh)
@@ -28,7 +30,7 @@ for t in "${targets[@]}"; do
   if [ -f tests/fuzz/"$t".dict ]; then dict=(-dict=tests/fuzz/"$t".dict); fi
   set +e
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-    "$build/tests/fuzz/fuzz_$t" "$work/$t/corpus" -max_total_time="$seconds" -timeout=10 \
+    "$build/tests/fuzz/fuzz_$t" "$work/$t/corpus" -max_total_time="$seconds" -timeout=10 -seed="$seed" \
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "${dict[@]}" \
     -artifact_prefix="$work/$t/artifacts/" >"$work/$t/log" 2>&1
   status=$?
