@@ -11,7 +11,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 seconds=${1:-30}
 build=${SWEEP_FUZZ_BUILD_DIR:-build/fuzz}
 jobs=${SWEEP_JOBS:-2}
-targets=(rig_json scene binding off_mesh obj_mesh ply_mesh)
+targets=(rig_json scene binding off_mesh obj_mesh ply_mesh fit_off)
 
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DSWEEP_FUZZ=ON -DSWEEP_WERROR=ON -DSWEEP_BUILD_TESTS=OFF >/dev/null

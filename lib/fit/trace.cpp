@@ -177,9 +177,10 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
                    sorted.end());
   const double median = sorted[sorted.size() / 2];
-  const int stations =
-      std::clamp(static_cast<int>(std::ceil(length / std::max(kStationRadii * median, 1e-12))),
-                 kMinStations, kMaxStations);
+  // Clamped as a double: a needle-thin ring over a long axis would overflow an int.
+  const int stations = static_cast<int>(
+      std::clamp(std::ceil(length / std::max(kStationRadii * median, 1e-12)),
+                 static_cast<double>(kMinStations), static_cast<double>(kMaxStations)));
   for (int i = 0; i <= stations; ++i) {
     const double x = length * i / stations;
     trace.points.push_back(point_at(s, smoothed, x));
