@@ -13,7 +13,7 @@ seconds=${1:-60}
 seed=${SWEEP_FUZZ_SEED:-1}
 build=${SWEEP_FUZZ_BUILD_DIR:-build/fuzz}
 jobs=${SWEEP_JOBS:-2}
-targets=(rig_json scene binding off_mesh obj_mesh ply_mesh)
+targets=(rig_json scene binding off_mesh obj_mesh ply_mesh fit_off)
 
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DSWEEP_FUZZ=ON -DSWEEP_WERROR=ON -DSWEEP_BUILD_TESTS=OFF >/dev/null

@@ -26,6 +26,12 @@ constexpr double kRisingCos = 0.3;
 constexpr double kTopCos = 0.7;
 // A body this much taller than long stands upright (a biped): its side parts are arms.
 constexpr double kUprightRatio = 1.2;
+// A part shorter than this share of the longest, rooted in the upper part of the mesh (above this
+// share of its height) and not hanging, is a horn (pointing up or along the body) or an ear (sideways).
+constexpr double kSmallPartShare = 0.4;
+constexpr double kHeadHeightShare = 0.6;
+// (Hanging down more than this, it is a tail.)
+constexpr double kHangingCos = 0.3;
 // Rings that never grow past this many median radii from the tip to the far end: one tube.
 constexpr double kWholeTubeWidening = 2;
 // ... and that are this many median radii long: a thick blob (a fist, a pebble) is not a tube.
@@ -130,6 +136,8 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
     long_high = std::max(long_high, x);
   }
   const bool upright = body_high - body_low > kUprightRatio * (long_high - long_low);
+  double longest = 0;
+  for (const FoundPart& p : parts) longest = std::max(longest, p.length);
   std::map<std::string, int> total, used;
   for (FoundPart& p : parts) {
     const Vec3 dir = (p.tip - p.root).normalized();
@@ -139,6 +147,9 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
     if ((rise < -kDownCos && above_ground <= kGroundShare) ||
         (rise < -kSteepCos && above_ground <= kLiftedShare)) {
       p.name = "leg";
+    } else if (p.length < kSmallPartShare * longest && rise > -kHangingCos &&
+               (p.root.dot(up) - low) / std::max(high - low, 1e-300) >= kHeadHeightShare) {
+      p.name = rise > kTopCos || along_body ? "horn" : "ear";
     } else if (rise > kTopCos && (upright || !along_body)) {
       p.name = "top";
     } else if (along_body && !upright) {

@@ -144,6 +144,7 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
     const SweepCoords c = locator.locate(mesh.positions[v]);
     if (c.z != 0) {
       ++e.beyond_ends_count;
+      e.beyond_root_count += c.z < 0;  // before section 0 (its axis points to the tip)
       continue;
     }
     const double radial = std::abs(c.s - 1) * radius_at(shape, c.theta, c.t);
@@ -540,10 +541,10 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     if (r.error.measured_count == 0) {
       r.problems.push_back("none of the part's " + std::to_string(r.part_vertices.size()) +
                            " vertices lies between the end sections: there is no fit to measure");
-    } else if (r.in_range_share() < o.min_in_range_share) {
-      r.problems.push_back("only " + std::to_string(r.error.measured_count) + " of the part's " +
+    } else if (r.beyond_root_share() > o.max_beyond_root_share) {
+      r.problems.push_back(std::to_string(r.error.beyond_root_count) + " of the part's " +
                            std::to_string(r.part_vertices.size()) +
-                           " vertices lie between the end sections: the root section does not "
+                           " vertices lie before the root section: the root section does not "
                            "close the part off; move --root along the part");
     }
     if (r.error.measured_count > 0 && r.error.p90 > o.max_error * r.mean_radius) {

@@ -61,9 +61,9 @@ struct FitOptions {
   // trace that stopped early, unless the axis ends within max_tip_gap mean radii of the tip);
   double min_length_ratio = 0.8;
   double max_tip_gap = 2;
-  // the part's vertices whose section plane lies within the sweep (the rest are carried along
-  // beyond the end sections);
-  double min_in_range_share = 0.5;
+  // the part's vertices that lie before the root section (those beyond the tip section, a foot or
+  // a head, are carried along by it; those before the root are not the part);
+  double max_beyond_root_share = 0.25;
   // the part's vertices farther from the tip than the root ring by more than two root radii: the
   // flood leaked past the root section into the body;
   double max_leak_share = 0.05;
@@ -94,6 +94,7 @@ struct FitError {
   double radial_rms = 0;  // RMS of |ρ − r(θ,t)|: the distance along the section's ray
   std::size_t measured_count = 0;     // part vertices whose section plane lies in [0, L]
   std::size_t beyond_ends_count = 0;  // part vertices past the end sections (caps), not measured
+  std::size_t beyond_root_count = 0;  // ... of them, before section 0
   std::size_t surface_samples = 0;
 };
 
@@ -120,6 +121,11 @@ struct FitResult {
   double in_range_share() const {
     return part_vertices.empty() ? 0.0
                                  : static_cast<double>(error.measured_count) /
+                                       static_cast<double>(part_vertices.size());
+  }
+  double beyond_root_share() const {
+    return part_vertices.empty() ? 0.0
+                                 : static_cast<double>(error.beyond_root_count) /
                                        static_cast<double>(part_vertices.size());
   }
 };

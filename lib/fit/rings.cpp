@@ -14,6 +14,7 @@ namespace {
 // ring's continuation.
 constexpr double kSpeckFraction = 0.25;
 constexpr double kNearRadii = 3;
+constexpr double kMaxLevels = 4096;
 // The junction: the last ring no more than this share wider than the tube over the few radii
 // (kTubeWindowRadii) before the knee.
 constexpr double kFlareShare = 0.1;
@@ -84,9 +85,13 @@ RingTrace trace_rings(const Mesh& mesh, const Topology& topology,
   for (const double x : distance) {
     if (std::isfinite(x)) farthest = std::max(farthest, x);
   }
-  const double spacing = o.spacing_edges * median_edge_length(mesh, topology);
+  const double reach = std::min(farthest, stop_distance);
+  // At most kMaxLevels rings: a stray vertex far from the rest (bad data) would otherwise ask
+  // for millions of levels at the edges' spacing (fit_off fuzz find, kept).
+  const double spacing =
+      std::max(o.spacing_edges * median_edge_length(mesh, topology), reach / kMaxLevels);
   if (!(spacing > 0) || !(farthest > 0)) return trace;
-  const LevelSets levels(mesh, topology, distance, spacing, std::min(farthest, stop_distance));
+  const LevelSets levels(mesh, topology, distance, spacing, reach);
 
   double previous_length = 0;
   for (int k = 0; k < levels.level_count(); ++k) {

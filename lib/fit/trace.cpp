@@ -25,6 +25,9 @@ constexpr int kMinStations = 16;
 constexpr int kMaxStations = 1000;
 // A slice loop larger than this many local radii also cuts something else: keep the ring centre.
 constexpr double kMaxSliceRadii = 1.5;
+// ... and one whose centre lies farther than this many radii from the ring's has caught another
+// surface beside the part (a tusk by a trunk): keep the ring centre.
+constexpr double kMaxSliceShiftRadii = 0.5;
 // Marching into the tip's cap goes on while each slice keeps this share of the last one's radius.
 constexpr double kMinCapSliceShare = 0.8;
 // ... and while the axis turns by less than this per step (a quarter radius): a bend of a radius.
@@ -174,9 +177,10 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
                    sorted.end());
   const double median = sorted[sorted.size() / 2];
-  const int stations =
-      std::clamp(static_cast<int>(std::ceil(length / std::max(kStationRadii * median, 1e-12))),
-                 kMinStations, kMaxStations);
+  // Clamped as a double: a needle-thin ring over a long axis would overflow an int.
+  const int stations = static_cast<int>(
+      std::clamp(std::ceil(length / std::max(kStationRadii * median, 1e-12)),
+                 static_cast<double>(kMinStations), static_cast<double>(kMaxStations)));
   for (int i = 0; i <= stations; ++i) {
     const double x = length * i / stations;
     trace.points.push_back(point_at(s, smoothed, x));
@@ -197,7 +201,7 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
       const Vec3 t = trace.tangents[std::clamp<std::size_t>(i, 1, std::max<std::size_t>(m, 2) - 2)];
       const double r = std::max(trace.radii[i], 1e-12);
       const std::optional<Loop> loop = loop_around(slicer.slice(p, t), p, t, r);
-      if (!loop || !(loop->radius <= kMaxSliceRadii * r) || (loop->centroid - p).norm() > r) {
+      if (!loop || !(loop->radius <= kMaxSliceRadii * r) || (loop->centroid - p).norm() > kMaxSliceShiftRadii * r) {
         continue;
       }
       sliced[i] = loop->radius;

@@ -4,7 +4,8 @@
 // output. Its layout, every block 4-byte aligned (all elements are 4 bytes):
 //   rest POSITION (n × vec3) | rest NORMAL (n × vec3) | triangle indices (uint32) |
 //   [sparse target indices (uint32, ascending, shared by every target)] |
-//   animation times (F floats) | animation weights (F × F floats, one-hot) |
+//   animation times (F floats) | animation weights, one-hot F × F as a sparse accessor
+//   (F uint32 flat indices k·F + k, then F floats 1) |
 //   frame 0 deltas | frame 1 deltas | ...   (s × vec3 each: s = listed vertices, or n when dense)
 // finish() builds the JSON with tinygltf (its serializer sorts keys, so the bytes are stable),
 // then writes the GLB header, the JSON chunk and the scratch file's bytes as the BIN chunk into a
@@ -67,7 +68,7 @@ class GltfWriter final : public detail::BakeWriterBase {
   bool sparse_ = false;
   std::vector<std::uint32_t> targets_;  // the listed vertices when sparse
   std::size_t triangle_index_count_ = 0;
-  Block positions_, normals_, indices_, sparse_indices_, times_, weights_;
+  Block positions_, normals_, indices_, sparse_indices_, times_, weight_indices_, weights_;
   Eigen::Vector3f rest_min_, rest_max_;
   float last_time_ = 0;
   std::vector<Eigen::Vector3f> delta_;  // one frame's deltas, reused
@@ -93,9 +94,16 @@ void GltfWriter::start(const Mesh& mesh) {
   const std::uint64_t s = sparse_ ? targets_.size() : n;
 
   // A .glb is at most 4 GiB: say so now, not after the whole simulation.
+  // The weights are F × F values, one-hot: stored sparse (an index and a 1 per key), so their
+  // flat index k·F + k must fit a uint32.
+  if (frames * frames > std::uint64_t{UINT32_MAX}) {
+    fail(ErrorCategory::unsupported,
+         out().string() + ": " + std::to_string(frames) +
+             " frames are more morph targets than a .glb's weights can index (at most 65,535); "
+             "bake to .pc2 or an .obj sequence");
+  }
   const std::uint64_t bin = 24 * std::uint64_t{n} + 4 * std::uint64_t{triangles.size()} +
-                            (sparse_ ? 4 * s : 0) + 4 * frames + 4 * frames * frames +
-                            12 * s * frames;
+                            (sparse_ ? 4 * s : 0) + 4 * frames + 8 * frames + 12 * s * frames;
   const std::uint64_t estimate = 28 + kJsonBytesFixed + kJsonBytesPerFrame * frames + bin;
   if (estimate > kGlbMaxBytes) {
     fail(ErrorCategory::unsupported,
@@ -152,16 +160,14 @@ void GltfWriter::start(const Mesh& mesh) {
     last_time_ = times.back();
     times_ = append_block(times.data(), frames * 4);
   }
-  // One-hot weights, key by key: written one row at a time so F² floats never sit in memory.
+  // One-hot weights (key k: target k at 1, the rest 0) as a sparse accessor over zeros: the flat
+  // indices k·F + k, then F ones. O(F), where the dense F × F floats grew with frames squared.
   {
-    std::vector<float> row(frames, 0.0f);
-    weights_.offset = scratch_->size();
-    for (std::uint64_t k = 0; k < frames; ++k) {
-      row[k] = 1.0f;
-      scratch_->write(row.data(), frames * 4);
-      row[k] = 0.0f;
-    }
-    weights_.length = scratch_->size() - weights_.offset;
+    std::vector<std::uint32_t> at(frames);
+    for (std::uint64_t k = 0; k < frames; ++k) at[k] = static_cast<std::uint32_t>(k * frames + k);
+    weight_indices_ = append_block(at.data(), frames * 4);
+    const std::vector<float> ones(frames, 1.0f);
+    weights_ = append_block(ones.data(), frames * 4);
   }
 
   delta_.resize(s);
@@ -242,8 +248,18 @@ tinygltf::Model GltfWriter::build_model() const {
                                  static_cast<std::size_t>(frames));
   model.accessors[times].minValues = {0.0};
   model.accessors[times].maxValues = {double{last_time_}};
-  const int weights = add_accessor(add_view(weights_, 0), kFloat, TINYGLTF_TYPE_SCALAR,
-                                   static_cast<std::size_t>(frames) * frames);
+  const int weights = add_accessor(-1, kFloat, TINYGLTF_TYPE_SCALAR,
+                                   static_cast<std::size_t>(frames) * static_cast<std::size_t>(frames));
+  {
+    auto& sparse = model.accessors[weights].sparse;
+    sparse.isSparse = true;
+    sparse.count = frames;
+    sparse.indices.bufferView = add_view(weight_indices_, 0);
+    sparse.indices.byteOffset = 0;
+    sparse.indices.componentType = kUint;
+    sparse.values.bufferView = add_view(weights_, 0);
+    sparse.values.byteOffset = 0;
+  }
 
   tinygltf::Primitive primitive;
   primitive.attributes["POSITION"] = position;

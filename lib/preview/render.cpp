@@ -122,6 +122,11 @@ void fill_triangle(Canvas& canvas, const Projection& proj, const Projected& a, c
 // drawn whole when `on_top`. `thick` doubles it a pixel to the right and below.
 void draw_segment(Canvas& canvas, const Projected& a, const Projected& b, const Rgb& color,
                   double tolerance, bool on_top, bool thick) {
+  // Overlays come from fits, which may reach far past the mesh: such a segment is not drawn.
+  constexpr double kFar = 1e5;  // pixels
+  for (const Projected* p : {&a, &b}) {
+    if (!(std::abs(p->x) < kFar && std::abs(p->y) < kFar && std::isfinite(p->z))) return;
+  }
   const int steps = static_cast<int>(std::ceil(std::max(std::abs(b.x - a.x), std::abs(b.y - a.y)))) + 1;
   for (int i = 0; i <= steps; ++i) {
     const double u = static_cast<double>(i) / steps;

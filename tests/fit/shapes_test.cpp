@@ -24,13 +24,15 @@ struct Shape {
   std::string name;
   CurveTube tube;
   double part_start = 0;  // arc length where the part begins (the body's end), 0: none
+  double click_off = 0.5;  // how far beside the end the tip is clicked, in radii
 };
 
-// A point a person would click for the tip: half a radius beside the end of the tube.
-Vec3 clicked_tip(const CurveTube& t) {
+// A point a person would click for the tip: `off` radii beside the end of the tube (half a radius
+// by default: on its surface near the end).
+Vec3 clicked_tip(const CurveTube& t, double off = 0.5) {
   const Vec3 tangent = t.tangent_at(t.length());
   const Vec3 side = (std::abs(tangent.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX()).cross(tangent).normalized();
-  return t.axis_at(t.length()) + 0.5 * t.radius(t.length()) * side;
+  return t.axis_at(t.length()) + off * t.radius(t.length()) * side;
 }
 
 std::string point_arg(const Vec3& p) {
@@ -54,7 +56,7 @@ Checked fit_and_check(Shape& shape) {
   io::write_obj(dir / "shape.obj", mesh);
   const ToolRun r = run_tool(SWEEP_FIT_EXE,
                              quoted(dir / "shape.obj") + " -o " + quoted(dir / "rig.json") +
-                                 " --name " + shape.name + " --tip " + point_arg(clicked_tip(shape.tube)) +
+                                 " --name " + shape.name + " --tip " + point_arg(clicked_tip(shape.tube, shape.click_off)) +
                                  " --report " + quoted(dir / "report.json"),
                              dir);
   Checked c;
@@ -156,6 +158,15 @@ TEST(Shapes, LyingAgainstTheBodyAlongItsLength) {
     }
     return Vec3(lead - (a - lead - arc), 2 * turn_radius, 0);
   };
+  s.tube.radius = with_body(kBodyRadius, kBodyLength, constant_tube());
+  expect_follows(s);
+}
+
+TEST(Shapes, TipClickedThreeRadiiBesideTheEnd) {
+  // The broad-body tube of the test below, its tip clicked in the air three radii beside its end.
+  const double tube_length = 12 * kR;
+  Shape s{"offtip", {}, kBodyLength, 3.0};
+  s.tube.curve = [=](double u) { return Vec3(0, 0, u * (kBodyLength + tube_length)); };
   s.tube.radius = with_body(kBodyRadius, kBodyLength, constant_tube());
   expect_follows(s);
 }

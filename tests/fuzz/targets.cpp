@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstdio>
@@ -12,6 +13,8 @@
 
 #include "bind/binding_file.h"
 #include "core/error.h"
+#include "fit/discover.h"
+#include "fit/fit.h"
 #include "io/mesh_io.h"
 #include "io/rig_json.h"
 #include "sim/scene.h"
@@ -264,13 +267,49 @@ void ply_mesh(std::string_view data) {
   expect_vertices(m, expected, "ply_mesh");
 }
 
+void fit_off(std::string_view data) {
+  Mesh m;
+  try {
+    m = io::parse_off(data, "fuzz.off");
+    io::validate_mesh(m, "fuzz.off");
+  } catch (const Error& e) {
+    ignore(e);
+    return;
+  }
+  if (m.vertex_count() > 2000) return;  // keeps each run short; size is not what is tested
+  try {
+    const fit::SweepFitter fitter(m);
+    fit::DiscoverOptions discover;
+    discover.samples = 4;
+    const std::vector<fit::FoundPart> parts = fit::find_parts(m, fitter.topology(), discover);
+    fit::FitOptions o;
+    o.sections = 8;
+    o.radial = 8;
+    o.tip_vertex = parts.empty() ? 0 : static_cast<std::int64_t>(parts.front().tip_vertex);
+    const fit::FitResult r = fitter.fit(o);
+    const SweepShape& shape = r.sweep.rest;
+    bool finite = std::isfinite(r.mean_radius) && std::isfinite(r.length);
+    for (const double x : shape.radii) finite = finite && std::isfinite(x) && x > 0;
+    for (std::size_t i = 0; i < shape.frames.size(); ++i) {
+      finite = finite && shape.frames[i].center.allFinite() && std::isfinite(shape.t[i]);
+    }
+    if (!finite) throw std::logic_error("fit_off: a fit returned a non-finite or non-positive number");
+    for (const std::uint32_t v : r.part_vertices) {
+      if (v >= m.vertex_count()) throw std::logic_error("fit_off: a part vertex outside the mesh");
+    }
+  } catch (const Error& e) {
+    ignore(e);
+  }
+}
+
 const std::vector<Target>& targets() {
   static const std::vector<Target> all = {{"rig_json", rig_json},
                                           {"scene", scene},
                                           {"binding", binding},
                                           {"off_mesh", off_mesh},
                                           {"obj_mesh", obj_mesh},
-                                          {"ply_mesh", ply_mesh}};
+                                          {"ply_mesh", ply_mesh},
+                                          {"fit_off", fit_off}};
   return all;
 }
 

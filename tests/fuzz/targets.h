@@ -20,6 +20,10 @@ void binding(std::string_view data);   // bind::parse_binding + check_binding, r
 void off_mesh(std::string_view data);  // io::parse_off
 void obj_mesh(std::string_view data);  // io::parse_obj
 void ply_mesh(std::string_view data);  // io::parse_ply (the ASCII body check, then assimp)
+// sweep-fit's work on any mesh the OFF reader accepts (up to 2,000 vertices): find_parts, then a
+// fit from its first part's tip (or vertex 0) with the root found; a fit that returns holds only
+// finite numbers and part vertices of the mesh.
+void fit_off(std::string_view data);
 
 struct Target {
   const char* name;  // also the folder name under tests/fuzz/corpus/ and tests/fuzz/regressions/

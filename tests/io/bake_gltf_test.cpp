@@ -43,32 +43,38 @@ std::vector<std::array<T, N>> read_dense(const tinygltf::Model& m, const tinyglt
   return out;
 }
 
+// Every element of an accessor: the dense part (zeros without a bufferView), then the sparse
+// entries over it, their indices checked to ascend.
+template <typename T, int N>
+std::vector<std::array<T, N>> read_accessor(const tinygltf::Model& m, const tinygltf::Accessor& a) {
+  std::vector<std::array<T, N>> out = read_dense<T, N>(m, a);
+  if (!a.sparse.isSparse) return out;
+  EXPECT_EQ(a.sparse.indices.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
+  tinygltf::Accessor idx;
+  idx.bufferView = a.sparse.indices.bufferView;
+  idx.byteOffset = static_cast<std::size_t>(a.sparse.indices.byteOffset);
+  idx.count = static_cast<std::size_t>(a.sparse.count);
+  tinygltf::Accessor val;
+  val.bufferView = a.sparse.values.bufferView;
+  val.byteOffset = static_cast<std::size_t>(a.sparse.values.byteOffset);
+  val.count = static_cast<std::size_t>(a.sparse.count);
+  const auto indices = read_dense<std::uint32_t, 1>(m, idx);
+  const auto values = read_dense<T, N>(m, val);
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    if (i > 0) {
+      EXPECT_LT(indices[i - 1][0], indices[i][0]) << "sparse indices must ascend";
+    }
+    out.at(indices[i][0]) = values[i];
+  }
+  return out;
+}
+
 std::vector<Eigen::Vector3f> read_vec3(const tinygltf::Model& m, int index) {
   const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
   EXPECT_EQ(a.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
   EXPECT_EQ(a.type, TINYGLTF_TYPE_VEC3);
-  const auto dense = read_dense<float, 3>(m, a);
   std::vector<Eigen::Vector3f> out;
-  for (const auto& e : dense) out.emplace_back(e[0], e[1], e[2]);
-  if (a.sparse.isSparse) {
-    EXPECT_EQ(a.sparse.indices.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
-    tinygltf::Accessor idx;
-    idx.bufferView = a.sparse.indices.bufferView;
-    idx.byteOffset = static_cast<std::size_t>(a.sparse.indices.byteOffset);
-    idx.count = static_cast<std::size_t>(a.sparse.count);
-    tinygltf::Accessor val;
-    val.bufferView = a.sparse.values.bufferView;
-    val.byteOffset = static_cast<std::size_t>(a.sparse.values.byteOffset);
-    val.count = static_cast<std::size_t>(a.sparse.count);
-    const auto indices = read_dense<std::uint32_t, 1>(m, idx);
-    const auto values = read_dense<float, 3>(m, val);
-    for (std::size_t i = 0; i < indices.size(); ++i) {
-      if (i > 0) {
-        EXPECT_LT(indices[i - 1][0], indices[i][0]) << "sparse indices must ascend";
-      }
-      out.at(indices[i][0]) = Eigen::Vector3f(values[i][0], values[i][1], values[i][2]);
-    }
-  }
+  for (const auto& e : read_accessor<float, 3>(m, a)) out.emplace_back(e[0], e[1], e[2]);
   return out;
 }
 
@@ -76,9 +82,8 @@ std::vector<float> read_floats(const tinygltf::Model& m, int index) {
   const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
   EXPECT_EQ(a.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
   EXPECT_EQ(a.type, TINYGLTF_TYPE_SCALAR);
-  EXPECT_FALSE(a.sparse.isSparse);
   std::vector<float> out;
-  for (const auto& e : read_dense<float, 1>(m, a)) out.push_back(e[0]);
+  for (const auto& e : read_accessor<float, 1>(m, a)) out.push_back(e[0]);
   return out;
 }
 
@@ -170,6 +175,11 @@ bool check_glb_matches(const fs::path& path, const TestBake& bake) {
   for (int k = 0; k < frames; ++k) {
     EXPECT_EQ(times[static_cast<std::size_t>(k)], static_cast<float>(k / bake.info.fps)) << k;
   }
+  // Stored sparse: one entry a key, so the file grows with frames, not frames squared.
+  const tinygltf::Accessor& output = m.accessors[static_cast<std::size_t>(sampler.output)];
+  EXPECT_TRUE(output.sparse.isSparse);
+  EXPECT_EQ(output.sparse.count, frames);
+  EXPECT_LT(output.bufferView, 0) << "zeros under the sparse entries are implied, not stored";
   const std::vector<float> weights = read_floats(m, sampler.output);
   if (weights.size() != static_cast<std::size_t>(frames) * static_cast<std::size_t>(frames)) {
     ADD_FAILURE() << "animation has " << weights.size() << " weights";
@@ -204,6 +214,25 @@ TEST(BakeGltf, NothingMovesStillGivesAValidTargetPerFrame) {
   const fs::path out = fresh_dir("") / "still.glb";
   write_bake(out, bake);
   EXPECT_TRUE(check_glb_matches(out, bake));
+}
+
+TEST(BakeGltf, MoreFramesThanTheWeightsCanIndexAreRefusedAtTheStart) {
+  // 65,536² one-hot weights overflow a uint32 sparse index: refused before any frame, no file.
+  TestBake bake = make_test_bake(3, 3, 1, 0.3);
+  bake.info.frame_count = 65536;
+  const fs::path out = fresh_dir("") / "long.glb";
+  auto writer = io::make_bake_writer(out);
+  try {
+    writer->begin(bake.mesh, bake.info);
+    ADD_FAILURE() << "65,536 frames were accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.category(), ErrorCategory::unsupported);
+    EXPECT_NE(std::string(e.what()).find("more morph targets than a .glb's weights can index"),
+              std::string::npos)
+        << e.what();
+  }
+  writer.reset();
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(BakeGltf, DeltaPrecisionWhenAVertexMovesFarRelativeToItsCoordinates) {

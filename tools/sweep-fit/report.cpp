@@ -29,6 +29,7 @@ Json fit_entry(const fit::FitResult& r) {
   s["part_vertex_count"] = r.part_vertices.size();
   s["measured_vertex_count"] = r.error.measured_count;
   s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
+  s["beyond_root_vertex_count"] = r.error.beyond_root_count;
   s["in_range_share"] = r.in_range_share();
   s["leaked_vertex_count"] = r.leaked_count;
   s["length"] = r.length;
