@@ -28,12 +28,14 @@ class BakeWriterBase : public BakeWriter {
   void begin(const Mesh& rest, const BakeInfo& info) final;
   void frame(int index, std::span<const Eigen::Vector3f> positions) final;
   void finish() final;
+  void finish_into(Publication& outputs) final;
 
  protected:
   virtual void start(const Mesh& rest) = 0;
   // Called with positions already checked.
   virtual void write_frame(int index, std::span<const Eigen::Vector3f> positions) = 0;
-  virtual void complete() = 0;
+  // Seals what is left and hands every temporary to `outputs`.
+  virtual void complete(Publication& outputs) = 0;
   virtual void abandon() noexcept = 0;
 
   const std::filesystem::path& out() const { return out_; }

@@ -47,7 +47,7 @@ class GltfWriter final : public detail::BakeWriterBase {
  protected:
   void start(const Mesh& mesh) override;
   void write_frame(int index, std::span<const Eigen::Vector3f> positions) override;
-  void complete() override;
+  void complete(Publication& outputs) override;
   void abandon() noexcept override {
     if (scratch_) scratch_->discard();
     if (final_) final_->discard();
@@ -325,7 +325,7 @@ tinygltf::Model GltfWriter::build_model() const {
   return model;
 }
 
-void GltfWriter::complete() {
+void GltfWriter::complete(Publication& outputs) {
   // tinygltf serializes everything but the buffer (it would want the bytes in memory); the one
   // buffer, the GLB's BIN chunk, is added here with its length.
   const tinygltf::Model model = build_model();
@@ -354,7 +354,8 @@ void GltfWriter::complete() {
   final_->write(text);
   final_->write(bin_header, sizeof bin_header);
   scratch_->copy_to(*final_);
-  final_->commit();
+  final_->seal();
+  outputs.add(std::move(final_));
   scratch_.reset();
 }
 

@@ -51,7 +51,10 @@ class Pc2Writer final : public detail::BakeWriterBase {
     }
   }
 
-  void complete() override { file_->commit(); }
+  void complete(Publication& outputs) override {
+    file_->seal();
+    outputs.add(std::move(file_));
+  }
   void abandon() noexcept override {
     if (file_) file_->discard();
   }

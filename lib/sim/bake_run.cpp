@@ -116,7 +116,11 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   }
   auto t0 = Clock::now();
   for (auto& w : writers) {
-    w->finish();
+    if (options.publication) {
+      w->finish_into(*options.publication);
+    } else {
+      w->finish();
+    }
     for (const auto& f : w->files()) report.files.push_back(f);
   }
   report.write_seconds += seconds_since(t0);

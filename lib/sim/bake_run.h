@@ -17,6 +17,10 @@
 #include "sim/scene.h"
 #include "sim/simulator.h"
 
+namespace sweep::io {
+class Publication;  // io/atomic_file.h
+}
+
 namespace sweep::sim {
 
 struct BakeOptions {
@@ -26,6 +30,9 @@ struct BakeOptions {
   SleepSettings sleep;
   // Called after each frame is written: (frames done, frames in all).
   std::function<void(int, int)> progress;
+  // Where the finished files go: with one, they are handed to it (the caller adds its report and
+  // puts them all in place at once); without, each writer puts its own in place.
+  io::Publication* publication = nullptr;
 };
 
 struct FrameStats {
