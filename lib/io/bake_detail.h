@@ -29,6 +29,7 @@ class BakeWriterBase : public BakeWriter {
   void frame(int index, std::span<const Eigen::Vector3f> positions) final;
   void finish() final;
   void finish_into(Publication& outputs) final;
+  std::uint64_t estimated_bytes() const final { return estimate_; }
 
  protected:
   virtual void start(const Mesh& rest) = 0;
@@ -44,6 +45,8 @@ class BakeWriterBase : public BakeWriter {
   const std::vector<Eigen::Vector3f>& rest() const { return rest_; }
   // Ascending, unique vertices that may move (every vertex when none were listed).
   const std::vector<std::uint32_t>& animated() const { return animated_; }
+  // start() records its estimate of the files' size (estimated_bytes()).
+  void set_estimate(std::uint64_t bytes) { estimate_ = bytes; }
   bool all_animated() const { return animated_.size() == rest_.size(); }
 
  private:
@@ -58,6 +61,7 @@ class BakeWriterBase : public BakeWriter {
   std::vector<std::uint32_t> animated_;
   State state_ = State::created;
   int next_frame_ = 0;
+  std::uint64_t estimate_ = 0;
 };
 
 // "1.5", "-0", "nan": shortest round-trippable text of a float32, locale-independent.

@@ -48,6 +48,7 @@ class GltfWriter final : public detail::BakeWriterBase {
   void start(const Mesh& mesh) override;
   void write_frame(int index, std::span<const Eigen::Vector3f> positions) override;
   void complete(Publication& outputs) override;
+  int morph_targets() const override { return info().frame_count; }
   void abandon() noexcept override {
     if (scratch_) scratch_->discard();
     if (final_) final_->discard();
@@ -105,6 +106,7 @@ void GltfWriter::start(const Mesh& mesh) {
   const std::uint64_t bin = 24 * std::uint64_t{n} + 4 * std::uint64_t{triangles.size()} +
                             (sparse_ ? 4 * s : 0) + 4 * frames + 8 * frames + 12 * s * frames;
   const std::uint64_t estimate = 28 + kJsonBytesFixed + kJsonBytesPerFrame * frames + bin;
+  set_estimate(estimate);
   if (estimate > kGlbMaxBytes) {
     fail(ErrorCategory::unsupported,
          out().string() + ": " + std::to_string(frames) + " frames of " + std::to_string(s) +

@@ -61,6 +61,9 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
       rest_line_start_[n] = rest_lines_.size();
     }
     frames_.reserve(static_cast<std::size_t>(info().frame_count));
+    constexpr std::uint64_t kVertexLineBytes = 36;  // "v " and three shortest floats: typical
+    set_estimate(static_cast<std::uint64_t>(info().frame_count) *
+                 (64 + kVertexLineBytes * n + faces_.size()));
     // The files are made frame by frame; find out now, before any simulation, whether the folder
     // takes files at all (a nameless scratch file leaves nothing behind).
     TempFile probe(out(), /*scratch=*/true);

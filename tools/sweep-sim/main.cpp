@@ -45,6 +45,7 @@ struct Settings {
   int stations = 8;               // fast path: stations per span
   bool sleep = true;
   bool quiet = false;
+  std::uint64_t max_output_bytes = 0;  // --max-output-size: refuse a bake that would write more
 };
 
 double since(Clock::time_point start) {
@@ -145,6 +146,8 @@ int run(const Settings& s) {
   // The bake's files and the report go into place together, or none of them.
   sweep::io::Publication publication;
   options.publication = &publication;
+  options.max_output_bytes = s.max_output_bytes;
+  options.warn = sweep::tools::warn;
   const sweep::sim::BakeReport report = sweep::sim::run_bake(mesh, rig, binding, scene, options);
   bar.finish();
   const double total = since(start);
@@ -185,6 +188,10 @@ int main(int argc, char** argv) {
         ->check(sweep::tools::kNonEmptyName);
     app.add_option("-s,--scene", s.scene, "Scene file (default: the rig file's own \"scene\")")
         ->check(sweep::tools::kNonEmptyName);
+    app.add_option("--max-output-size", s.max_output_bytes,
+                   "Refuse, before simulating, a bake whose files would take more than this many "
+                   "bytes (suffixes K, M, G: powers of 1000)")
+        ->transform(CLI::AsSizeValue(/*kb_is_1024=*/false));
     app.add_option("--report", s.report,
                    "Write a JSON report: frames, per-frame displacement, timings")
         ->check(sweep::tools::kNonEmptyName);
