@@ -1,6 +1,7 @@
 #include "io/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -8,13 +9,16 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/error.h"
+#include "io/interrupt.h"
 
 namespace sweep::io {
 namespace fs = std::filesystem;
@@ -93,6 +97,43 @@ std::string temp_base(const std::string& name) {
 
 }  // namespace
 
+namespace {
+
+// ".<name>.<tool>-<pid>.tmp-XXXXXX" of one of these tools: the pid, or 0 when `file` is not one.
+long temporary_pid(const std::string& file) {
+  const std::size_t tmp = file.rfind(".tmp-");
+  if (file.empty() || file[0] != '.' || tmp == std::string::npos || file.size() != tmp + 11) return 0;
+  const std::size_t dash = file.rfind('-', tmp);
+  const std::size_t dot = file.rfind('.', dash);
+  if (dash == std::string::npos || dot == std::string::npos || dash < dot) return 0;
+  const std::string tool = file.substr(dot + 1, dash - dot - 1);
+  if (tool != "sweep" && tool.rfind("sweep-", 0) != 0) return 0;
+  long pid = 0;
+  for (std::size_t i = dash + 1; i < tmp; ++i) {
+    if (file[i] < '0' || file[i] > '9' || pid > 100000000) return 0;
+    pid = pid * 10 + (file[i] - '0');
+  }
+  return pid;
+}
+
+}  // namespace
+
+void remove_stale_temporaries(const fs::path& folder) {
+  static std::set<fs::path> done;  // once a folder per run
+  if (!done.insert(folder).second) return;
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string file = it->path().filename().string();
+    const long pid = temporary_pid(file);
+    if (pid <= 0 || pid == ::getpid()) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours)
+    if (::unlink(it->path().c_str()) == 0) {
+      note("removed " + it->path().string() + ", left by a run that was killed (process " +
+           std::to_string(pid) + " is gone)");
+    }
+  }
+}
+
 fs::path set_aside(const fs::path& target) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   struct stat st {};
@@ -138,9 +179,11 @@ TempFile::TempFile(fs::path target, bool scratch) : target_(std::move(target)) {
     fail(ErrorCategory::output, target_.string() + ": is " + what +
                                     "; outputs replace regular files only (give another name)");
   }
+  if (!scratch) remove_stale_temporaries(dir);
   std::string name =
       (dir / ("." + temp_base(target_.filename().string()) +
-              (scratch ? ".scratch-XXXXXX" : ".tmp-XXXXXX")))
+              (scratch ? std::string(".scratch-XXXXXX")
+                       : "." + tool_name() + "-" + std::to_string(::getpid()) + ".tmp-XXXXXX")))
           .string();
   fd_ = ::mkostemp(name.data(), O_CLOEXEC);
   if (fd_ < 0) {
@@ -150,6 +193,7 @@ TempFile::TempFile(fs::path target, bool scratch) : target_(std::move(target)) {
   if (scratch) {
     ::unlink(name.c_str());  // nameless from now on: nothing to clean up, ever
   } else {
+    slot_ = track_temporary(name, target_.string());
     temp_ = std::move(name);
   }
 }
@@ -167,6 +211,7 @@ void TempFile::discard() noexcept {
     ::unlink(temp_.c_str());
     temp_.clear();
   }
+  untrack_temporary(std::exchange(slot_, -1));
   std::vector<char>().swap(buffer_);
 }
 
@@ -258,6 +303,49 @@ void TempFile::publish() {
   }
   if (::rename(temp_.c_str(), target_.c_str()) != 0) fail_errno("cannot rename into place");
   temp_.clear();
+  untrack_temporary(std::exchange(slot_, -1));
+}
+
+void Publication::add(std::unique_ptr<TempFile> sealed) { files_.push_back(std::move(sealed)); }
+
+void Publication::add(const fs::path& path, std::string_view bytes) {
+  auto file = std::make_unique<TempFile>(path);
+  file->write(bytes);
+  file->seal();
+  add(std::move(file));
+}
+
+std::vector<fs::path> Publication::targets() const {
+  std::vector<fs::path> out;
+  for (const auto& f : files_) out.push_back(f->target());
+  return out;
+}
+
+void Publication::commit() {
+  const SignalsHeld hold;
+  // Folders in a fixed order, so two runs publishing into the same folders cannot deadlock.
+  std::set<fs::path> folders;
+  for (const auto& f : files_) {
+    folders.insert(f->target().has_parent_path() ? f->target().parent_path() : fs::path("."));
+  }
+  std::vector<std::unique_ptr<FolderLock>> locks;
+  for (const fs::path& folder : folders) locks.push_back(std::make_unique<FolderLock>(folder));
+  std::vector<fs::path> earlier(files_.size());
+  std::size_t aside = 0, published = 0;
+  try {
+    for (; aside < files_.size(); ++aside) earlier[aside] = set_aside(files_[aside]->target());
+    for (; published < files_.size(); ++published) files_[published]->publish();
+  } catch (...) {
+    for (std::size_t k = 0; k < published; ++k) ::unlink(files_[k]->target().c_str());
+    for (std::size_t k = 0; k < aside; ++k) {
+      if (!earlier[k].empty()) std::rename(earlier[k].c_str(), files_[k]->target().c_str());
+    }
+    throw;
+  }
+  for (const fs::path& old : earlier) {
+    if (!old.empty()) ::unlink(old.c_str());
+  }
+  files_.clear();
 }
 
 }  // namespace sweep::io

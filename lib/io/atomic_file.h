@@ -3,6 +3,7 @@
 // complete, so a failure or a kill never leaves a half-written file under the final name.
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,8 +14,10 @@ namespace sweep::io {
 std::string read_text_file(const std::filesystem::path& path);
 
 // A file being written: a temporary beside `target`, buffered, renamed onto `target` by commit().
-// The temporary is named ".<target name>.tmp-XXXXXX", or for a name too long for that
-// ".<its first 200 bytes>-<hash>.tmp-XXXXXX", so any name the file system takes can be written.
+// The temporary is named ".<target name>.<tool>-<pid>.tmp-XXXXXX" (a name too long for that keeps
+// its first 200 bytes and a hash), so any name the file system takes can be written, and a signal
+// removes it (io/interrupt.h). The first temporary a run creates in a folder removes the ones there
+// that runs of these tools left when they were killed (their process is gone), with a note.
 // A target that exists and is not a regular file (a FIFO, a device, a symlink, a folder) is
 // refused, Error(output): renaming onto it would replace the node, not write through it.
 // A scratch file (scratch = true) is unlinked as soon as it is created, so it never has a name
@@ -48,16 +51,45 @@ class TempFile {
 
   std::filesystem::path target_;
   std::string temp_;  // the temporary's name; empty for a scratch file
+  int slot_ = -1;     // its slot among the temporaries a signal removes (io/interrupt.h)
   int fd_ = -1;
   std::vector<char> buffer_;
   std::uint64_t size_ = 0;
 };
 
 
+// Sealed temporaries that go into place together: a run with several outputs (a bake to .glb and
+// .pc2 with its report, a rig with its report and preview) publishes none of them unless it can
+// publish all. commit(): with SIGINT, SIGTERM and SIGHUP held off (they wait until it returns) and
+// each destination folder locked (FolderLock), every earlier file under a target name is set aside,
+// then every temporary renamed into place; if any step fails, what was renamed is removed and the
+// earlier files are put back, and the error is raised. Destroyed uncommitted, it removes them all.
+class Publication {
+ public:
+  Publication() = default;
+  Publication(const Publication&) = delete;
+  Publication& operator=(const Publication&) = delete;
+  ~Publication() = default;  // the files' own destructors remove uncommitted temporaries
+
+  // A sealed (TempFile::seal) named temporary.
+  void add(std::unique_ptr<TempFile> sealed);
+  // `bytes` written to a sealed temporary for `path`, added.
+  void add(const std::filesystem::path& path, std::string_view bytes);
+  void commit();
+  std::vector<std::filesystem::path> targets() const;
+
+ private:
+  std::vector<std::unique_ptr<TempFile>> files_;
+};
+
 // Renames an existing `target` to a hidden unique name beside it and returns that name (empty
 // when there was no target), so that a set of files can be replaced all or nothing: put each
 // back with std::rename on failure, remove them on success. Error(output) when it cannot.
 std::filesystem::path set_aside(const std::filesystem::path& target);
+
+// Removes, once a run per folder, the temporaries in `folder` that these tools' runs left when
+// they were killed (named as TempFile names them, their process gone), each with a note().
+void remove_stale_temporaries(const std::filesystem::path& folder);
 
 // Holds an exclusive lock on a folder (flock; released when destroyed, or when the process
 // dies), so that runs publishing a set of files into it take turns. Error(output) on failure.

@@ -242,6 +242,12 @@ void BakeWriterBase::frame(int index, std::span<const Eigen::Vector3f> positions
 }
 
 void BakeWriterBase::finish() {
+  Publication outputs;
+  finish_into(outputs);
+  outputs.commit();
+}
+
+void BakeWriterBase::finish_into(Publication& outputs) {
   if (state_ != State::begun) {
     fail(ErrorCategory::internal,
          out_.string() + ": finish() without begin(), twice, or after an error");
@@ -252,7 +258,7 @@ void BakeWriterBase::finish() {
                                         std::to_string(next_frame_) + " of " +
                                         std::to_string(info_.frame_count) + " frames");
     }
-    complete();
+    complete(outputs);
     state_ = State::finished;
   });
 }

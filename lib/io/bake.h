@@ -70,6 +70,8 @@ struct BakeInfo {
 // A streaming bake: begin() once, frame() for k = 0, 1, ..., frame_count-1 in that order, then
 // finish(), which puts the files in place. Nothing keeps all frames in memory (the glTF writer
 // streams its binary chunk through an unnamed scratch file beside the output).
+class Publication;
+
 class BakeWriter {
  public:
   virtual ~BakeWriter() = default;
@@ -83,6 +85,14 @@ class BakeWriter {
   virtual void frame(int index, std::span<const Eigen::Vector3f> positions) = 0;
   // Writes what is left and renames every file into place.
   virtual void finish() = 0;
+  // Writes what is left into sealed temporaries and hands them to `outputs`, which puts them in
+  // place with the run's other outputs (all or nothing: io/atomic_file.h).
+  virtual void finish_into(Publication& outputs) = 0;
+  // About how many bytes the finished files will take (after begin(): from the mesh, the frame
+  // count and the moving vertices), for a warning or a refusal before the bake starts.
+  virtual std::uint64_t estimated_bytes() const = 0;
+  // The morph targets a .glb will hold (0 for other formats).
+  virtual int morph_targets() const { return 0; }
   // The final paths this bake writes (known after begin(); they exist after finish()).
   virtual std::vector<std::filesystem::path> files() const = 0;
 };

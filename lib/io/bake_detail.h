@@ -28,12 +28,15 @@ class BakeWriterBase : public BakeWriter {
   void begin(const Mesh& rest, const BakeInfo& info) final;
   void frame(int index, std::span<const Eigen::Vector3f> positions) final;
   void finish() final;
+  void finish_into(Publication& outputs) final;
+  std::uint64_t estimated_bytes() const final { return estimate_; }
 
  protected:
   virtual void start(const Mesh& rest) = 0;
   // Called with positions already checked.
   virtual void write_frame(int index, std::span<const Eigen::Vector3f> positions) = 0;
-  virtual void complete() = 0;
+  // Seals what is left and hands every temporary to `outputs`.
+  virtual void complete(Publication& outputs) = 0;
   virtual void abandon() noexcept = 0;
 
   const std::filesystem::path& out() const { return out_; }
@@ -42,6 +45,8 @@ class BakeWriterBase : public BakeWriter {
   const std::vector<Eigen::Vector3f>& rest() const { return rest_; }
   // Ascending, unique vertices that may move (every vertex when none were listed).
   const std::vector<std::uint32_t>& animated() const { return animated_; }
+  // start() records its estimate of the files' size (estimated_bytes()).
+  void set_estimate(std::uint64_t bytes) { estimate_ = bytes; }
   bool all_animated() const { return animated_.size() == rest_.size(); }
 
  private:
@@ -56,6 +61,7 @@ class BakeWriterBase : public BakeWriter {
   std::vector<std::uint32_t> animated_;
   State state_ = State::created;
   int next_frame_ = 0;
+  std::uint64_t estimate_ = 0;
 };
 
 // "1.5", "-0", "nan": shortest round-trippable text of a float32, locale-independent.

@@ -47,7 +47,8 @@ class GltfWriter final : public detail::BakeWriterBase {
  protected:
   void start(const Mesh& mesh) override;
   void write_frame(int index, std::span<const Eigen::Vector3f> positions) override;
-  void complete() override;
+  void complete(Publication& outputs) override;
+  int morph_targets() const override { return info().frame_count; }
   void abandon() noexcept override {
     if (scratch_) scratch_->discard();
     if (final_) final_->discard();
@@ -105,6 +106,7 @@ void GltfWriter::start(const Mesh& mesh) {
   const std::uint64_t bin = 24 * std::uint64_t{n} + 4 * std::uint64_t{triangles.size()} +
                             (sparse_ ? 4 * s : 0) + 4 * frames + 8 * frames + 12 * s * frames;
   const std::uint64_t estimate = 28 + kJsonBytesFixed + kJsonBytesPerFrame * frames + bin;
+  set_estimate(estimate);
   if (estimate > kGlbMaxBytes) {
     fail(ErrorCategory::unsupported,
          out().string() + ": " + std::to_string(frames) + " frames of " + std::to_string(s) +
@@ -325,7 +327,7 @@ tinygltf::Model GltfWriter::build_model() const {
   return model;
 }
 
-void GltfWriter::complete() {
+void GltfWriter::complete(Publication& outputs) {
   // tinygltf serializes everything but the buffer (it would want the bytes in memory); the one
   // buffer, the GLB's BIN chunk, is added here with its length.
   const tinygltf::Model model = build_model();
@@ -354,7 +356,8 @@ void GltfWriter::complete() {
   final_->write(text);
   final_->write(bin_header, sizeof bin_header);
   scratch_->copy_to(*final_);
-  final_->commit();
+  final_->seal();
+  outputs.add(std::move(final_));
   scratch_.reset();
 }
 

@@ -61,6 +61,9 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
       rest_line_start_[n] = rest_lines_.size();
     }
     frames_.reserve(static_cast<std::size_t>(info().frame_count));
+    constexpr std::uint64_t kVertexLineBytes = 36;  // "v " and three shortest floats: typical
+    set_estimate(static_cast<std::uint64_t>(info().frame_count) *
+                 (64 + kVertexLineBytes * n + faces_.size()));
     // The files are made frame by frame; find out now, before any simulation, whether the folder
     // takes files at all (a nameless scratch file leaves nothing behind).
     TempFile probe(out(), /*scratch=*/true);
@@ -92,30 +95,11 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     frames_.push_back(std::move(file));
   }
 
-  void complete() override {
-    // Runs publishing into one folder take turns, so two bakes of the same sequence each put
-    // their whole set in place and the frames never mix.
-    const FolderLock lock(out().parent_path());
-    // All or nothing, and nothing lost: a frame of an earlier bake under the same name is set
-    // aside, and put back if the set cannot be completed.
-    std::vector<std::filesystem::path> earlier(frames_.size());
-    std::size_t published = 0;
-    try {
-      for (; published < frames_.size(); ++published) {
-        earlier[published] = set_aside(frames_[published]->target());
-        frames_[published]->publish();
-      }
-    } catch (...) {
-      for (std::size_t k = 0; k <= published && k < frames_.size(); ++k) {
-        const std::filesystem::path& target = frames_[k]->target();
-        if (k < published) ::unlink(target.c_str());
-        if (!earlier[k].empty()) std::rename(earlier[k].c_str(), target.c_str());
-      }
-      throw;
-    }
-    for (const auto& e : earlier) {
-      if (!e.empty()) ::unlink(e.c_str());
-    }
+  // The frames go into place together (and with the run's other outputs): two runs publishing
+  // the same sequence take turns, so frames never mix, and a frame of an earlier bake under the
+  // same name is set aside and put back if the set cannot be completed (Publication).
+  void complete(Publication& outputs) override {
+    for (auto& frame : frames_) outputs.add(std::move(frame));
     frames_.clear();
   }
 

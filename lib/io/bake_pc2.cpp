@@ -36,6 +36,8 @@ class Pc2Writer final : public detail::BakeWriterBase {
     put_u32(header + 24, std::bit_cast<std::uint32_t>(1.0f));              // sample rate
     put_u32(header + 28, static_cast<std::uint32_t>(info().frame_count));  // samples
     file_->write(header, sizeof header);
+    set_estimate(sizeof header + 12 * std::uint64_t{rest().size()} *
+                                     static_cast<std::uint64_t>(info().frame_count));
     if constexpr (std::endian::native != std::endian::little) scratch_.resize(rest().size() * 12);
   }
 
@@ -51,7 +53,10 @@ class Pc2Writer final : public detail::BakeWriterBase {
     }
   }
 
-  void complete() override { file_->commit(); }
+  void complete(Publication& outputs) override {
+    file_->seal();
+    outputs.add(std::move(file_));
+  }
   void abandon() noexcept override {
     if (file_) file_->discard();
   }

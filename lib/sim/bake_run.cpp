@@ -1,7 +1,9 @@
 #include "sim/bake_run.h"
 
+#include <cstdio>
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <memory>
 
 #include "bind/deform.h"
@@ -15,6 +17,45 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+namespace {
+
+// Engines keep every morph target of a mesh on the GPU: three.js (r133 and later) as one layer
+// each of a WebGL 2 texture array, and WebGL 2 promises only 256 layers
+// (MAX_ARRAY_TEXTURE_LAYERS, its specification's minimum). Past that a .glb bake may not play.
+constexpr int kPortableMorphTargets = 256;
+
+std::string megabytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MB", static_cast<double>(bytes) / 1e6);
+  return text;
+}
+
+// Before the simulation: the files' estimated size against the limit, and what engines take.
+void check_output_size(const BakeOptions& options,
+                       const std::vector<std::unique_ptr<io::BakeWriter>>& writers) {
+  std::uint64_t total = 0;
+  std::string each;
+  for (std::size_t k = 0; k < writers.size(); ++k) {
+    total += writers[k]->estimated_bytes();
+    each += (k ? ", " : "") + options.outputs[k].string() + " " + megabytes(writers[k]->estimated_bytes());
+    const int targets = writers[k]->morph_targets();
+    if (targets > kPortableMorphTargets && options.warn) {
+      options.warn(options.outputs[k].string() + ": " + std::to_string(targets) +
+                   " morph targets (one a frame); engines keep them all on the GPU, and three.js "
+                   "on WebGL 2 is only sure of " + std::to_string(kPortableMorphTargets) +
+                   " (texture array layers): it may not play. For Blender, Houdini or 3ds Max "
+                   "bake to .pc2; for engines, fewer frames (a lower fps in the scene)");
+    }
+  }
+  if (options.max_output_bytes > 0 && total > options.max_output_bytes) {
+    fail(ErrorCategory::output, "the bake would write about " + megabytes(total) + " (" + each +
+                                    "), more than the limit of " + megabytes(options.max_output_bytes) +
+                                    "; nothing was written");
+  }
 }
 
 }  // namespace
@@ -66,6 +107,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     writers.push_back(io::make_bake_writer(out));
     writers.back()->begin(mesh, info);
   }
+  check_output_size(options, writers);
 
   // The exact path rebuilds the whole mesh in double from the binding (the reference).
   std::vector<Vec3> exact_out(options.exact ? nv : 0);
@@ -116,7 +158,11 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   }
   auto t0 = Clock::now();
   for (auto& w : writers) {
-    w->finish();
+    if (options.publication) {
+      w->finish_into(*options.publication);
+    } else {
+      w->finish();
+    }
     for (const auto& f : w->files()) report.files.push_back(f);
   }
   report.write_seconds += seconds_since(t0);

@@ -17,6 +17,10 @@
 #include "sim/scene.h"
 #include "sim/simulator.h"
 
+namespace sweep::io {
+class Publication;  // io/atomic_file.h
+}
+
 namespace sweep::sim {
 
 struct BakeOptions {
@@ -26,6 +30,14 @@ struct BakeOptions {
   SleepSettings sleep;
   // Called after each frame is written: (frames done, frames in all).
   std::function<void(int, int)> progress;
+  // Where the finished files go: with one, they are handed to it (the caller adds its report and
+  // puts them all in place at once); without, each writer puts its own in place.
+  io::Publication* publication = nullptr;
+  // Refuse (Error(output)) before simulating when the files would take more bytes than this
+  // (estimated by the writers); 0: no limit.
+  std::uint64_t max_output_bytes = 0;
+  // Told what a person should know before a long bake (a .glb too large for engines to load).
+  std::function<void(const std::string&)> warn;
 };
 
 struct FrameStats {

@@ -5,8 +5,11 @@
 //    given back by the first failed allocation, so that the std::bad_alloc it raises can unwind
 //    (destructors remove temporaries; some allocate) and be reported; should memory run out again
 //    before that, the message is written with no allocation and the process exits 6 at once.
+//  - SIGINT, SIGTERM and SIGHUP remove the run's temporaries, end the progress line, say what was
+//    not written and exit 130, 143 and 129 (io/interrupt.h).
 //  - A closed stdout (`sweep-sim ... | head -1`) is not an error: SIGPIPE is ignored and what
 //    would have been printed is dropped; outputs and the exit code are those of the run.
+#include <errno.h>  // program_invocation_short_name (GNU)
 #include <unistd.h>
 
 #include <csignal>
@@ -16,6 +19,7 @@
 #include <new>
 
 #include "core/error.h"
+#include "io/interrupt.h"
 
 namespace sweep::tools {
 
@@ -39,6 +43,10 @@ inline void out_of_memory() {
 
 inline int guarded_main(const std::function<int()>& body) {
   std::signal(SIGPIPE, SIG_IGN);
+  // SIGINT, SIGTERM, SIGHUP: temporaries removed, "error: interrupted ...", exit 130/143/129.
+  io::install_interrupt_handlers(program_invocation_short_name);
+  // Notes (a killed run's leftovers removed) go to stderr; -q turns them off.
+  io::set_note_sink([](const std::string& text) { std::cerr << "note: " << text << "\n"; });
   detail::memory_reserve = new char[detail::kMemoryReserveBytes];
   // Touch the reserve so that it is really held (an untouched block may be only promised).
   for (std::size_t i = 0; i < detail::kMemoryReserveBytes; i += 4096) detail::memory_reserve[i] = 1;

@@ -14,6 +14,7 @@
 #include "bind/bind.h"
 #include "bind/binding_file.h"
 #include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "io/mesh_io.h"
 #include "io/path_checks.h"
 #include "io/rig_json.h"
@@ -44,8 +45,8 @@ std::string format_ms(double seconds) {
   return buf;
 }
 
-void write_report(const Settings& s, const fs::path& mesh_path, const fs::path& output,
-                  const sweep::bind::BindResult& r, double load_seconds, double write_seconds) {
+std::string report_text(const Settings& s, const fs::path& mesh_path, const fs::path& output,
+                        const sweep::bind::BindResult& r, double load_seconds, double write_seconds) {
   nlohmann::ordered_json doc;
   doc["format"] = "sweep-bind-report";
   doc["version"] = 1;
@@ -71,7 +72,7 @@ void write_report(const Settings& s, const fs::path& mesh_path, const fs::path& 
   }
   doc["sweeps"] = std::move(sweeps);
   doc["seconds"] = {{"load", load_seconds}, {"bind", r.seconds}, {"write", write_seconds}};
-  sweep::io::write_file_atomically(s.report, doc.dump(2) + "\n");
+  return doc.dump(2) + "\n";
 }
 
 int run(const Settings& s) {
@@ -98,6 +99,7 @@ int run(const Settings& s) {
   // binding behind (nor a binding that cannot be written cost a bind).
   sweep::io::check_can_create(output);
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  sweep::io::declare_outputs({output, s.report});
   sweep::bind::BindResult r;
   try {
     r = sweep::bind::bind(rig, mesh, s.options);
@@ -105,9 +107,14 @@ int run(const Settings& s) {
     throw sweep::Error(e.category(), s.rig.string() + ": " + e.what());
   }
   const Clock::time_point write_start = Clock::now();
-  sweep::bind::write_binding(output, r.binding);
+  // The binding and its report go into place together, or neither.
+  sweep::io::Publication outputs;
+  outputs.add(output, sweep::bind::binding_bytes(r.binding));
   const double write_seconds = since(write_start);
-  if (!s.report.empty()) write_report(s, mesh_path, output, r, load_seconds, write_seconds);
+  if (!s.report.empty()) {
+    outputs.add(s.report, report_text(s, mesh_path, output, r, load_seconds, write_seconds));
+  }
+  outputs.commit();
 
   if (!s.quiet) {
     std::cout << s.rig.string() << ": " << mesh_path.string() << ", " << mesh.vertex_count()
@@ -159,6 +166,7 @@ int main(int argc, char** argv) {
       std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
       return sweep::exit_code(sweep::ErrorCategory::usage);
     }
+    if (s.quiet) sweep::io::set_note_sink(nullptr);
     if (!s.check.empty() && (!s.output.empty() || !s.report.empty())) {
       sweep::fail(sweep::ErrorCategory::usage,
                   "--check cannot be combined with --output or --report");

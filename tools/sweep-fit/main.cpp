@@ -18,6 +18,7 @@
 #include "fit/discover.h"
 #include "fit/fit.h"
 #include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "io/mesh_io.h"
 #include "io/path_checks.h"
 #include "io/rig_json.h"
@@ -167,17 +168,21 @@ sweep::Mesh read_checked_mesh(const Settings& s) {
   return mesh;
 }
 
-// The fits drawn over the mesh (--preview), written like the report: also when a fit fails, to
-// show what went wrong.
-void write_preview(const Settings& s, const sweep::Mesh& mesh,
-                   const std::vector<sweep::fit::FitResult>& fits) {
-  if (s.preview.empty()) return;
-  std::vector<sweep::preview::Overlay> parts;
-  for (const sweep::fit::FitResult& r : fits) {
-    parts.push_back({r.part_vertices, r.axis.points, sweep::preview::section_outlines(r.sweep.rest)});
+// The report and the preview (--report, --preview), which are written also when a fit fails, to
+// show what went wrong; with the rig when it is written, all in place together or none.
+void add_report_and_preview(sweep::io::Publication& outputs, const Settings& s,
+                            const sweep::Mesh& mesh, const std::vector<sweep::fit::FitResult>& fits,
+                            bool rig_written, double seconds) {
+  if (!s.report.empty()) {
+    outputs.add(s.report, sweep::fit_tool::fit_report_text(s.mesh, s.rig, fits, rig_written, seconds));
   }
-  sweep::io::write_file_atomically(
-      s.preview, sweep::preview::encode_png(sweep::preview::render_views(mesh, parts)));
+  if (!s.preview.empty()) {
+    std::vector<sweep::preview::Overlay> parts;
+    for (const sweep::fit::FitResult& r : fits) {
+      parts.push_back({r.part_vertices, r.axis.points, sweep::preview::section_outlines(r.sweep.rest)});
+    }
+    outputs.add(s.preview, sweep::preview::encode_png(sweep::preview::render_views(mesh, parts)));
+  }
 }
 
 // Warnings, then the problems: a fit that breaks a limit fails (exit 2) with the numbers and
@@ -193,8 +198,9 @@ void check_problems(const Settings& s, const sweep::Mesh& mesh,
   }
   if (all.empty()) return;
   if (!s.force) {
-    if (!s.report.empty()) sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, false, seconds);
-    write_preview(s, mesh, fits);
+    sweep::io::Publication outputs;
+    add_report_and_preview(outputs, s, mesh, fits, false, seconds);
+    outputs.commit();
     fail(ErrorCategory::bad_input, all.substr(1) + "\n  (--force writes the rig anyway)");
   }
   sweep::tools::warn("written anyway (--force):" + all);
@@ -205,11 +211,11 @@ void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, 
                           std::chrono::steady_clock::time_point start) {
   int replaced = 0;
   for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep);
-  sweep::io::write_rig(s.rig, rig);
   const double seconds = seconds_since(start);
-  if (!s.report.empty())
-    sweep::fit_tool::write_fit_report(s.report, s.mesh, s.rig, fits, true, seconds);
-  write_preview(s, mesh, fits);
+  sweep::io::Publication outputs;
+  outputs.add(s.rig, sweep::io::format_rig(rig));
+  add_report_and_preview(outputs, s, mesh, fits, true, seconds);
+  outputs.commit();
   for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
   std::cout << (replaced > 0 ? "replaced in " : updating ? "added to " : "wrote ") << s.rig.string()
             << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
@@ -234,6 +240,7 @@ int run_one(const Settings& s) {
   sweep::io::check_can_create(s.rig);
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
+  sweep::io::declare_outputs({s.rig, s.report, s.preview});
   const std::vector<sweep::fit::FitResult> fits{sweep::fit::fit_sweep(mesh, o)};
   check_problems(s, mesh, fits, seconds_since(start));
   write_outputs(s, mesh, rig, updating, fits, start);
@@ -252,6 +259,7 @@ int run_all(const Settings& s) {
   sweep::io::check_can_create(s.rig);
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
+  sweep::io::declare_outputs({s.rig, s.report, s.preview});
   const sweep::fit::SweepFitter fitter(mesh);
   const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh, fitter.topology());
   if (parts.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no tubular parts found");

@@ -61,9 +61,9 @@ Json fit_entry(const fit::FitResult& r) {
 
 }  // namespace
 
-void write_fit_report(const std::filesystem::path& report, const std::filesystem::path& mesh,
-                      const std::filesystem::path& rig, const std::vector<fit::FitResult>& fits,
-                      bool rig_written, double seconds) {
+std::string fit_report_text(const std::filesystem::path& mesh, const std::filesystem::path& rig,
+                            const std::vector<fit::FitResult>& fits, bool rig_written,
+                            double seconds) {
   Json rep;
   rep["format"] = "sweep-fit-report";
   rep["version"] = 2;
@@ -73,7 +73,7 @@ void write_fit_report(const std::filesystem::path& report, const std::filesystem
   auto& sweeps = rep["sweeps"] = Json::array();
   for (const fit::FitResult& r : fits) sweeps.push_back(fit_entry(r));
   rep["seconds_total"] = seconds;
-  io::write_file_atomically(report, rep.dump(2) + "\n");
+  return rep.dump(2) + "\n";
 }
 
 void write_parts_report(const std::filesystem::path& report, const std::filesystem::path& mesh,

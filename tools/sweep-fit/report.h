@@ -12,9 +12,9 @@ namespace sweep::fit_tool {
 
 // The report of one or more fits: written also when a fit fails (rig_written false), so that a
 // script sees the numbers. Format "sweep-fit-report", version 2 (README: sweep-fit's report).
-void write_fit_report(const std::filesystem::path& report, const std::filesystem::path& mesh,
-                      const std::filesystem::path& rig, const std::vector<fit::FitResult>& fits,
-                      bool rig_written, double seconds);
+std::string fit_report_text(const std::filesystem::path& mesh, const std::filesystem::path& rig,
+                            const std::vector<fit::FitResult>& fits, bool rig_written,
+                            double seconds);
 
 // The parts found: format "sweep-fit-parts", version 1.
 void write_parts_report(const std::filesystem::path& report, const std::filesystem::path& mesh,

@@ -15,6 +15,7 @@
 
 #include "bind/binding_file.h"
 #include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "io/bake.h"
 #include "io/path_checks.h"
 #include "io/mesh_io.h"
@@ -44,14 +45,15 @@ struct Settings {
   int stations = 8;               // fast path: stations per span
   bool sleep = true;
   bool quiet = false;
+  std::uint64_t max_output_bytes = 0;  // --max-output-size: refuse a bake that would write more
 };
 
 double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-void write_report(const Settings& s, const sweep::sim::BakeReport& r, double load_seconds,
-                  double total_seconds) {
+std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, double load_seconds,
+                        double total_seconds) {
   nlohmann::ordered_json doc;
   doc["format"] = "sweep-sim-report";
   doc["version"] = 1;
@@ -86,7 +88,7 @@ void write_report(const Settings& s, const sweep::sim::BakeReport& r, double loa
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   for (const auto& f : r.files) files.push_back(f.string());
   doc["files"] = std::move(files);
-  sweep::io::write_file_atomically(s.report, doc.dump(2) + "\n");
+  return doc.dump(2) + "\n";
 }
 
 int run(const Settings& s) {
@@ -129,6 +131,9 @@ int run(const Settings& s) {
   // before the bake is, so a failure leaves nothing behind.
   for (const fs::path& out : s.outputs) sweep::io::check_can_create(out);
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  std::vector<fs::path> declared = s.outputs;
+  if (!s.report.empty()) declared.push_back(s.report);
+  sweep::io::declare_outputs(declared);
   const double load_seconds = since(start);
 
   sweep::sim::BakeOptions options;
@@ -138,10 +143,16 @@ int run(const Settings& s) {
   options.sleep.enabled = s.sleep;
   sweep::tools::ProgressBar bar("baking");
   if (!s.quiet) options.progress = [&](int done, int total) { bar.update(done, total); };
+  // The bake's files and the report go into place together, or none of them.
+  sweep::io::Publication publication;
+  options.publication = &publication;
+  options.max_output_bytes = s.max_output_bytes;
+  options.warn = sweep::tools::warn;
   const sweep::sim::BakeReport report = sweep::sim::run_bake(mesh, rig, binding, scene, options);
   bar.finish();
   const double total = since(start);
-  if (!s.report.empty()) write_report(s, report, load_seconds, total);
+  if (!s.report.empty()) publication.add(s.report, report_text(s, report, load_seconds, total));
+  publication.commit();
 
   if (!s.quiet) {
     std::printf(
@@ -177,6 +188,10 @@ int main(int argc, char** argv) {
         ->check(sweep::tools::kNonEmptyName);
     app.add_option("-s,--scene", s.scene, "Scene file (default: the rig file's own \"scene\")")
         ->check(sweep::tools::kNonEmptyName);
+    app.add_option("--max-output-size", s.max_output_bytes,
+                   "Refuse, before simulating, a bake whose files would take more than this many "
+                   "bytes (suffixes K, M, G: powers of 1000)")
+        ->transform(CLI::AsSizeValue(/*kb_is_1024=*/false));
     app.add_option("--report", s.report,
                    "Write a JSON report: frames, per-frame displacement, timings")
         ->check(sweep::tools::kNonEmptyName);
@@ -205,6 +220,7 @@ int main(int argc, char** argv) {
       std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
       return sweep::exit_code(sweep::ErrorCategory::usage);
     }
+    if (s.quiet) sweep::io::set_note_sink(nullptr);
     return run(s);
   });
 }

@@ -4,6 +4,8 @@
 
 #include <cstdio>
 
+#include "io/interrupt.h"
+
 namespace sweep::tools {
 
 ProgressBar::ProgressBar(std::string label) : label_(std::move(label)), enabled_(::isatty(STDERR_FILENO) == 1) {}
@@ -18,12 +20,14 @@ void ProgressBar::update(int done, int total) {
   std::fprintf(stderr, "\r%s [%s%s] %d/%d", label_.c_str(), std::string(filled, '#').c_str(),
                std::string(kWidth - filled, '.').c_str(), done, total);
   std::fflush(stderr);
+  io::set_progress_line_open(true);  // an interrupt ends the line before its message
 }
 
 void ProgressBar::finish() {
   if (!enabled_) return;
   std::fprintf(stderr, "\r\033[K");
   std::fflush(stderr);
+  io::set_progress_line_open(false);
 }
 
 }  // namespace sweep::tools
