@@ -174,6 +174,19 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
   const std::size_t n = mesh.vertex_count();
   if (n == 0) return parts;
   const std::vector<double> average = average_distance(mesh, topology, std::max(o.samples, 1));
+  // Each vertex's share of the surface: a third of its triangles' areas.
+  std::vector<double> vertex_area(n, 0.0);
+  double total_area = 0;
+  {
+    const std::vector<std::uint32_t> tris = mesh.triangles();
+    for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+      const Vec3& a = mesh.positions[tris[t]];
+      const double third =
+          (mesh.positions[tris[t + 1]] - a).cross(mesh.positions[tris[t + 2]] - a).norm() / 6;
+      for (int k = 0; k < 3; ++k) vertex_area[tris[t + static_cast<std::size_t>(k)]] += third;
+      total_area += 3 * third;
+    }
+  }
   std::vector<char> covered(n, 0), in_part(n, 0);
   int traced = 0;
   std::optional<FoundPart> lone_tube;
@@ -203,7 +216,12 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
                      radii.end());
     const double radius = radii[radii.size() / 2];
     std::size_t count = 0;
-    for (std::size_t v = 0; v < n; ++v) count += d[topology.weld[v]] <= junction.distance;
+    double area = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      if (d[topology.weld[v]] > junction.distance) continue;
+      ++count;
+      area += vertex_area[v];
+    }
     // No junction and no ring much wider than the tube: the whole mesh is one tube (a part
     // without a body). Rings that reach the far end after widening crossed the body instead.
     double widest = 0;
@@ -211,10 +229,11 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
       widest = std::max(widest, rings.rings[static_cast<std::size_t>(i)].radius);
     const bool whole_mesh = rings.junction + 1 == static_cast<int>(rings.rings.size()) &&
                             widest <= kWholeTubeWidening * radius;
-    const bool long_enough = junction.distance >= o.min_aspect * radius;
+    // (A flat piece, a lone triangle or an open sheet, has rings that enclose nothing: no tube.)
+    const bool long_enough = radius > 0 && junction.distance >= o.min_aspect * radius;
     const bool not_the_body =
-        static_cast<double>(count) <= o.max_vertex_share * static_cast<double>(n);
-    if (whole_mesh && junction.distance >= kLoneTubeAspect * radius && !not_the_body &&
+        area <= o.max_area_share * total_area;
+    if (whole_mesh && radius > 0 && junction.distance >= kLoneTubeAspect * radius && !not_the_body &&
         !lone_tube) {
       // Perhaps the mesh is one tube; only if no part is found (else these rings crossed a body).
       lone_tube = FoundPart{};
@@ -229,10 +248,11 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
     if ((!long_enough || !not_the_body) && passed_over) {
       passed_over->push_back(
           "vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": " +
-          (long_enough ? "its rings hold " + std::to_string(count) + " of the " +
-                             std::to_string(n) + " vertices (the body)"
-                       : "a bump, " + format_number(junction.distance / radius) +
-                             " radii long (" + rings.junction_reason + ")"));
+          (long_enough ? "its rings hold " + format_percent(area / total_area) +
+                             " of the surface (the body)"
+                       : !(radius > 0) ? std::string("flat: its rings enclose no area")
+                                       : "a bump, " + format_number(junction.distance / radius) +
+                                             " radii long (" + rings.junction_reason + ")"));
     }
     if (!long_enough || !not_the_body) {
       // A bump (cover it) or the body itself (cover only the tip's cap, so that the parts

@@ -22,8 +22,9 @@ struct DiscoverOptions {
   // A part is at least this many of its median radii long (tip to junction): a bump or a
   // nose is shorter.
   double min_aspect = 3;
-  // ... and holds at most this share of the mesh's vertices (else it is the body itself).
-  double max_vertex_share = 0.5;
+  // ... and holds at most this share of the mesh's surface area (else it is the body itself;
+  // area, not vertices, so that a finely meshed part is not taken for the body).
+  double max_area_share = 0.5;
   // The up direction of the names (glTF and most tools: +Y); names only, never the geometry.
   Vec3 up = Vec3::UnitY();
   RingOptions rings;

@@ -82,6 +82,13 @@ const Json* at(const Json& doc, const char* array, const Json& index) {
 
 void check_gltf_indices(const std::filesystem::path& path) {
   const Bytes file = read_file(path);
+  // glTF JSON is UTF-8 without a byte order mark (glTF 2.0, "JSON encoding"); assimp then finds
+  // no reader at all, so say what is wrong.
+  if (file.compare(0, 3, "\xEF\xBB\xBF") == 0) {
+    fail(ErrorCategory::bad_input, path.string() +
+                                       ": starts with a UTF-8 byte order mark, which glTF does not "
+                                       "allow before its JSON; save it without one");
+  }
   Bytes json_text = file, bin;
   if (file.size() >= 20 && file.compare(0, 4, "glTF") == 0) {
     const std::uint32_t json_length = u32_at(file, 12);

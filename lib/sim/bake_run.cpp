@@ -27,6 +27,9 @@ namespace {
 // each of a WebGL 2 texture array, and WebGL 2 promises only 256 layers
 // (MAX_ARRAY_TEXTURE_LAYERS, its specification's minimum). Past that a .glb bake may not play.
 constexpr int kPortableMorphTargets = 256;
+// Many loaders hold a buffer with a signed 32-bit size (a JavaScript ArrayBuffer in most browsers,
+// .NET arrays in Unity importers): past 2 GiB few viewers open a .glb, though the format takes 4.
+constexpr std::uint64_t kPortableGlbBytes = std::uint64_t{1} << 31;
 
 std::string megabytes(std::uint64_t bytes) {
   char text[32];
@@ -49,6 +52,11 @@ void check_output_size(const BakeOptions& options,
                    "on WebGL 2 is only sure of " + std::to_string(kPortableMorphTargets) +
                    " (texture array layers): it may not play. For Blender, Houdini or 3ds Max "
                    "bake to .pc2; for engines, fewer frames (a lower fps in the scene)");
+    }
+    if (targets > 0 && writers[k]->estimated_bytes() > kPortableGlbBytes && options.warn) {
+      options.warn(options.outputs[k].string() + ": about " + megabytes(writers[k]->estimated_bytes()) +
+                   "; past 2 GiB few viewers open a .glb (browsers and Unity hold a buffer with a "
+                   "signed 32-bit size). For Blender, Houdini or 3ds Max bake to .pc2");
     }
   }
   if (options.max_output_bytes > 0 && total > options.max_output_bytes) {

@@ -601,6 +601,12 @@ TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
   EXPECT_EQ(ok.positions[2], Vec3(0, 1, -7));
 }
 
+TEST_F(MeshIo, GltfWithAByteOrderMarkIsRefusedWithTheReason) {
+  // glTF's JSON is UTF-8 without a BOM; assimp would say only "no suitable reader".
+  expect_bad(write("bom.gltf", "\xEF\xBB\xBF{\"asset\": {\"version\": \"2.0\"}}"), ErrorCategory::bad_input,
+             "starts with a UTF-8 byte order mark, which glTF does not allow");
+}
+
 TEST_F(MeshIo, FaceIndexOutOfRangeNamesTheFace) {
   expect_bad(write("oor.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n4 3 2 1 7\n"),
              ErrorCategory::bad_input,
