@@ -597,6 +597,16 @@ TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
   blank_line.replace(blank_line.find("property float y\n"), 17, "property float y\n\n");
   expect_bad(write("blank.ply", blank_line + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
              ErrorCategory::bad_input, "line 6: a blank line in the header");
+  // An element or a property named twice: readers differ in which one they keep.
+  std::string twice = header;
+  twice.replace(twice.find("element vertex 3"), 16,
+                "element vertex 0\nproperty float x\nproperty float y\nproperty float z\nelement vertex 3");
+  expect_bad(write("twice.ply", twice + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 7: a second element 'vertex' (the first is on line 3)");
+  std::string prop_twice = header;
+  prop_twice.replace(prop_twice.find("property int z"), 14, "property int z\nproperty float x");
+  expect_bad(write("prop_twice.ply", prop_twice + "0 0 0 0\n1 0 0 0\n0 1 0 0\n3 0 1 2\n"),
+             ErrorCategory::bad_input, "line 7: a second property 'x' in element 'vertex'");
   const Mesh ok = read_mesh(write("ok.ply", header + "0 0 0\n1 0 0\n0 1 -7\n3 0 1 2\n"));
   EXPECT_EQ(ok.positions[2], Vec3(0, 1, -7));
 }
