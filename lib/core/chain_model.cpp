@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <numbers>
 
 #include "core/section_properties.h"
 
@@ -36,6 +37,7 @@ ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>
     stiff_len[i] += 0.5 * h;
     stiff_len[i - 1] += 0.5 * h;
   }
+  const std::vector<double> patch_len = mass_len;  // the root's radial handles stand for a half span too
   mass_len[0] = 0;
   stiff_len[1] += stiff_len[0];
   stiff_len[0] = 0;
@@ -99,6 +101,24 @@ ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>
       // m ẍ + c ẋ + k x = f in metres is (m s) ẍ_u + (c s) ẋ_u + (k s) x_u = f in mesh units.
       const double damping = 2 * mat.damping_ratio * std::sqrt(ks[c] * beyond);
       m.positional[3 * i + c] = {beyond * s, damping * s, ks[c] * s};
+    }
+  }
+
+  // Radial handles: handle j of section i moves the wedge of the section around it (angle 2π/n,
+  // radius r) over the length the section stands for, h. A radial field growing linearly from the
+  // axis, u = δ ρ/r, strains the wedge uniformly by δ/r: its energy ½ E (δ/r)² V with V = π r² h/n
+  // gives k = E π h / n, and its kinetic energy the moving mass ρ V / 2. So ω = √(2E/ρ) / r: the
+  // surface of a thin part is stiffer than a thick one's, as it should be.
+  m.radial.assign(static_cast<std::size_t>(k) * n, OscillatorParams{});
+  for (int i = 0; i < k; ++i) {
+    const Material& mat = materials[i];
+    const double h = patch_len[i];
+    for (int j = 0; j < n; ++j) {
+      const double r = s * rest.radius_sample(i, j);
+      const double mass = mat.density * std::numbers::pi * r * r * h / (2.0 * n);
+      const double stiffness = mat.youngs_modulus * std::numbers::pi * h / n;
+      const double damping = 2 * mat.damping_ratio * std::sqrt(stiffness * mass);
+      m.radial[static_cast<std::size_t>(i) * n + j] = {mass * s, damping * s, stiffness * s};
     }
   }
   return m;

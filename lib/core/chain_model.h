@@ -12,7 +12,8 @@
 //    (mesh units × metres_per_unit).
 // The modes (K φ = ω² M φ, M-orthonormal) are computed once; each is a damped oscillator stepped
 // in closed form. Positional springs stay independent: stretch E A / ℓ and shear κ G A / ℓ on the
-// mass beyond the joint. (Radial handles keep the rig's radial springs.)
+// mass beyond the joint. Radial handles: each moves the wedge of its section around it (k = E π h / n,
+// moving mass ρ π r² h / 2n; chain_model.cpp says why).
 #include <vector>
 
 #include <Eigen/Dense>
@@ -38,6 +39,8 @@ struct ChainModel {
   // Positional springs of each section (3 per section, its own axes), in mesh units: kg·(m/unit)
   // and N/unit, so that displacements stay in mesh units.
   std::vector<OscillatorParams> positional;
+  // Radial springs, K·n entries (section-major), in mesh units as the positional ones.
+  std::vector<OscillatorParams> radial;
 };
 
 // `materials` has one entry per section (the sweep's, overrides applied).

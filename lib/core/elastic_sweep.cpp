@@ -38,6 +38,7 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
   if (def_.material) {
     chain_ = std::make_shared<const ChainModel>(build_chain_model(def_.rest, def_.section_materials));
     positional_.params = chain_->positional;
+    radial_.params = chain_->radial;
     const std::size_t dim = static_cast<std::size_t>(3) * chain_->joints;
     modal_.width = 0;  // every mode moves
     for (std::vector<double>* v : {&modal_.x, &modal_.v, &modal_.f, &modal_.x0, &modal_.v0}) v->assign(dim, 0.0);

@@ -184,14 +184,17 @@ OrderedJson springs_json(const SectionSprings& s, const SectionSprings* base) {
 
 OrderedJson material_json(const Material& m, const Material* base) {
   OrderedJson j = OrderedJson::object();
-  auto put = [&](const char* key, double v, double b) {
-    if (!base || v != b) j[key] = v;
+  auto put = [&](const char* key, double v, double b, bool always = false) {
+    if (!base || always || v != b) j[key] = v;
   };
   put("youngs_modulus_pa", m.youngs_modulus, base ? base->youngs_modulus : 0);
+  // A section that sets its shear modulus another way than the sweep does must say so, even with
+  // the same number (the sweep's unused Poisson ratio is no override).
+  const bool other_way = base && (m.shear_modulus > 0) != (base->shear_modulus > 0);
   if (m.shear_modulus > 0) {
-    put("shear_modulus_pa", m.shear_modulus, base ? base->shear_modulus : 0);
+    put("shear_modulus_pa", m.shear_modulus, base ? base->shear_modulus : 0, other_way);
   } else {
-    put("poisson_ratio", m.poisson_ratio, base ? base->poisson_ratio : 0);
+    put("poisson_ratio", m.poisson_ratio, base ? base->poisson_ratio : 0, other_way);
   }
   put("density_kg_m3", m.density, base ? base->density : 0);
   if (!base) j["metres_per_unit"] = m.metres_per_unit;

@@ -177,6 +177,66 @@ TEST(BeamTheory, PreloadedGravityLeavesTheRestPoseStill) {
   EXPECT_EQ(sweep.max_displacement(), 0.0);
 }
 
+// The same part modelled at ten times the size in mesh units, with its scale set to match, is the
+// same object: under the same push it moves the same in metres — bends, shifts and bulges alike.
+TEST(MaterialMode, AMeshTenTimesLargerWithItsScaleMovesTheSameInMetres) {
+  std::vector<double> motion[2];
+  for (int big = 0; big < 2; ++big) {
+    const double size = big ? 10.0 : 1.0;
+    SweepShape shape = test::straight_shape(12, 16, kRadius * size);
+    for (int i = 0; i < 12; ++i) {
+      shape.t[i] *= size;
+      shape.frames[i].center *= size;
+      for (int j = 0; j < 16; ++j) shape.radii[static_cast<std::size_t>(i) * 16 + j] *= 1.0 + 0.2 * std::sin(j);
+    }
+    SweepDef def = test::sweep_def(shape);
+    def.material = rubber(0.05);
+    def.material->metres_per_unit = kScale / size;
+    def.section_materials.assign(12, *def.material);
+    ElasticSweep sweep(def);
+    ForceSpec f;
+    f.t = 7.3 * size;
+    f.theta = 0.6;
+    f.vector = Vec3(0.02, -0.05, 0.01);  // N
+    f.components = kPositional | kRotational | kRadial;
+    f.target = RotationTarget::chain;
+    f.moment = MomentModel::physical;
+    sweep.add_force(f);
+    for (int s = 0; s < 200; ++s) {
+      sweep.step(1.0 / 480);
+      const double to_metres = def.material->metres_per_unit;
+      for (int i = 0; i < 12; ++i) {
+        const Frame& d = sweep.deformed().frames[i];
+        for (int c = 0; c < 3; ++c) motion[big].push_back(to_metres * (d.center[c] - def.rest.frames[i].center[c]));
+        motion[big].push_back(d.rotation.angularDistance(def.rest.frames[i].rotation));
+        for (int j = 0; j < 16; ++j) motion[big].push_back(to_metres * sweep.radial_offset(i, j));
+      }
+    }
+  }
+  double largest = 0, difference = 0;
+  for (std::size_t m = 0; m < motion[0].size(); ++m) {
+    largest = std::max(largest, std::abs(motion[0][m]));
+    difference = std::max(difference, std::abs(motion[0][m] - motion[1][m]));
+  }
+  EXPECT_GT(largest, 1e-6);
+  EXPECT_LE(difference, 1e-9 * largest);
+}
+
+// A radial handle's spring is the wedge of flesh under it: ω = √(2E/ρ) / r, whatever the span.
+TEST(MaterialMode, RadialHandlesRingAtTheirWedgesFrequency) {
+  const SweepDef def = tube(kRadius, kRadius, 0.0);
+  ElasticSweep sweep(def);
+  sweep.set_radial_offset(9, 3, 1e-4);
+  const double r = kScale * kRadius;
+  const double omega = std::sqrt(2 * 1e7 / 1100) / r;
+  const double period = 2 * std::numbers::pi / omega;
+  // Undamped: after a quarter period it passes through rest, after half it is at the other side.
+  sweep.step(period / 4);
+  EXPECT_NEAR(sweep.radial_offset(9, 3), 0.0, 1e-12);
+  sweep.step(period / 4);
+  EXPECT_NEAR(sweep.radial_offset(9, 3), -1e-4, 1e-12);
+}
+
 TEST(MaterialMode, FreeMotionNeverGainsEnergy) {
   for (double zeta : {0.0, 0.05, 2.0}) {
     ElasticSweep sweep(tube(kRadius, kRadius, zeta));

@@ -54,6 +54,33 @@ TEST(RigJson, RoundTripKeepsEveryBit) {
   EXPECT_EQ(format_rig(back), text);  // byte-identical when written again
 }
 
+TEST(RigJson, MaterialsAndTheirPerSectionOverridesRoundTrip) {
+  Rig rig = small_rig();
+  SweepDef& def = rig.sweeps[0];
+  Material m;
+  m.youngs_modulus = 3.5e6;
+  m.shear_modulus = 1.1e6;
+  m.density = 1060;
+  m.metres_per_unit = 0.013;
+  m.damping_ratio = 0.07;
+  def.material = m;
+  def.section_materials.assign(2, m);
+  def.section_materials[1].youngs_modulus = 2.25e5;  // a softer tip
+  // whose shear modulus follows from the (default) Poisson ratio instead of the sweep's G
+  def.section_materials[1].shear_modulus = 0;
+  const std::string text = format_rig(rig);
+  const Rig back = parse_rig(text, "mem.json");
+  const SweepDef& b = back.sweeps[0];
+  ASSERT_TRUE(b.material.has_value());
+  EXPECT_EQ(*b.material, m);
+  EXPECT_EQ(b.section_materials, def.section_materials);
+  EXPECT_EQ(format_rig(back), text);
+  // Only what a section changes is written for it.
+  const auto doc = nlohmann::json::parse(text);
+  EXPECT_FALSE(doc["sweeps"][0]["sections"][0].contains("material"));
+  EXPECT_EQ(doc["sweeps"][0]["sections"][1]["material"].size(), 2u);
+}
+
 // Parses `text`, expects a bad-input error whose message contains `expected`.
 void expect_bad(const std::string& text, const std::string& expected,
                 ErrorCategory category = ErrorCategory::bad_input) {
