@@ -2,7 +2,7 @@
 # The main job from a fresh clone: install what is missing, build the release preset, then fit the
 # tail and the neck of a mesh into one rig, bind it, and bake the scene of the paper's Fig. 4
 # (bending, twisting and cross-sectional change at once) to .glb and .pc2, with a JSON report and
-# a preview picture.
+# a preview picture; then, for the bundled example, a second demo in material mode with gravity.
 #
 #   tools/run-demo.sh                     # CGAL's diplodocus (23,982 vertices), the bundled example
 #   MESH=my.off TAIL_ROOT=x,y,z TAIL_TIP=x,y,z NECK_ROOT=x,y,z NECK_TIP=x,y,z SCENE=my.scene.json \
@@ -34,6 +34,23 @@ rm -f "$out.rig.json"  # fit adds sweeps to an existing rig: start a fresh one
   --report "$out.sim.json"
 tools/sweep-preview.py "$out.pc2" -o "$out.png" --report "$out.sim.json" --views xz,xy
 
+# The second demo (the diplodocus only): the same parts in material mode — a 25 m animal of flesh
+# over a stiff spine (rigs/diplodocus-*.material.json) — drooping under gravity from an unloaded
+# rest, then a tail swing and a neck push in newtons (rigs/diplodocus-material.scene.json).
+material_demo=""
+if [ -z "${MESH:-}" ]; then
+  material_demo="$out-material"
+  rm -f "$material_demo.rig.json"
+  "$bin/sweep-fit/sweep-fit" "$mesh" -o "$material_demo.rig.json" --name tail --root "$tail_root" --tip "$tail_tip" \
+    --material rigs/diplodocus-tail.material.json
+  "$bin/sweep-fit/sweep-fit" "$mesh" -o "$material_demo.rig.json" --name neck --root "$neck_root" --tip "$neck_tip" \
+    --material rigs/diplodocus-neck.material.json
+  "$bin/sweep-bind/sweep-bind" "$material_demo.rig.json" --blend 0.02 -q
+  "$bin/sweep-sim/sweep-sim" "$material_demo.rig.json" --scene rigs/diplodocus-material.scene.json \
+    -o "$material_demo.glb" -o "$material_demo.pc2" --report "$material_demo.sim.json"
+  tools/sweep-preview.py "$material_demo.pc2" -o "$material_demo.png" --report "$material_demo.sim.json" --views xz,xy
+fi
+
 cat <<MSG
 
 Done. The baked files:
@@ -43,3 +60,8 @@ Done. The baked files:
 Reports (JSON): $out.fit-tail.json $out.fit-neck.json $out.bind.json $out.sim.json
 The rig and its binding: $out.rig.json $out.rig.bind
 MSG
+if [ -n "$material_demo" ]; then
+  cat <<MSG
+Material mode with gravity (the second demo): $material_demo.glb $material_demo.pc2 $material_demo.png
+MSG
+fi

@@ -1,15 +1,27 @@
 #!/usr/bin/env bash
-# Runs every libFuzzer target (tests/fuzz/) for a bounded time: tools/run-fuzz.sh [seconds-per-target]
-# (default 60). The mutation seed is SWEEP_FUZZ_SEED (default 1, so that a run is repeatable and a
-# red CI reproduces here; SWEEP_FUZZ_SEED=0 lets libFuzzer pick one, for exploring). Configures its own clang build (build/fuzz: SWEEP_FUZZ=ON, which instruments the
-# library for coverage under ASan+UBSan), builds only the fuzz targets, and runs each on a scratch
-# copy of its committed seed corpus (tests/fuzz/corpus/<target>/; new inputs it finds stay in the
-# scratch copy). Any crash, leak, sanitizer report or timeout fails the script; the input that did
-# it is copied to tests/fuzz/regressions/<target>/ so that it can be fixed and kept (those files
-# are replayed by test_fuzz_regressions in the regular suite). Prints each target's executions.
+# Runs every libFuzzer target (tests/fuzz/) on its committed corpus, in one of two ways:
+#   tools/run-fuzz.sh --runs N     N executions per parser target (a fit target gets N/40: one fit
+#                                  costs about as much as 40 parses), seed SWEEP_FUZZ_SEED (default
+#                                  1). The same binary then does the same work on any machine, so a
+#                                  red CI reproduces here and a green run here stays green in CI.
+#                                  This is what the test suite runs.
+#   tools/run-fuzz.sh [SECONDS]    SECONDS per target (default 60), for exploring; bounded by time,
+#                                  so two runs differ. SWEEP_FUZZ_SEED=0 also lets libFuzzer pick a seed.
+# Configures its own clang build (build/fuzz: SWEEP_FUZZ=ON, which instruments the library for
+# coverage under ASan+UBSan), builds only the fuzz targets, and runs each on a scratch copy of its
+# committed seed corpus (tests/fuzz/corpus/<target>/; new inputs it finds stay in the scratch
+# copy). Any crash, leak, sanitizer report or timeout fails the script; the input that did it is
+# copied to tests/fuzz/regressions/<target>/ so that it can be fixed and kept (those files are
+# replayed by the Fuzz/Replay tests of the regular suite). Prints each target's executions.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-seconds=${1:-60}
+runs=""
+seconds=60
+if [ "${1:-}" = --runs ]; then
+  runs=${2:?--runs needs a count}
+elif [ -n "${1:-}" ]; then
+  seconds=$1
+fi
 seed=${SWEEP_FUZZ_SEED:-1}
 build=${SWEEP_FUZZ_BUILD_DIR:-build/fuzz}
 jobs=${SWEEP_JOBS:-2}
@@ -25,12 +37,19 @@ failed=()
 for t in "${targets[@]}"; do
   mkdir -p "$work/$t/corpus" "$work/$t/artifacts"
   cp tests/fuzz/corpus/"$t"/* "$work/$t/corpus/"
-  echo "== fuzz_$t: $seconds s"
+  if [ -n "$runs" ]; then
+    budget=(-runs="$runs")
+    if [ "$t" = fit_off ]; then budget=(-runs=$((runs / 40))); fi
+    echo "== fuzz_$t: ${budget[0]#-runs=} runs"
+  else
+    budget=(-max_total_time="$seconds")
+    echo "== fuzz_$t: $seconds s"
+  fi
   dict=()
   if [ -f tests/fuzz/"$t".dict ]; then dict=(-dict=tests/fuzz/"$t".dict); fi
   set +e
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-    "$build/tests/fuzz/fuzz_$t" "$work/$t/corpus" -max_total_time="$seconds" -timeout=10 -seed="$seed" \
+    "$build/tests/fuzz/fuzz_$t" "$work/$t/corpus" "${budget[@]}" -timeout=10 -seed="$seed" \
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "${dict[@]}" \
     -artifact_prefix="$work/$t/artifacts/" >"$work/$t/log" 2>&1
   status=$?
@@ -48,4 +67,5 @@ if [ ${#failed[@]} -ne 0 ]; then
   echo "fuzzing found crashes in: ${failed[*]}"
   exit 1
 fi
-echo "fuzzing: no crashes in ${#targets[@]} targets x $seconds s"
+if [ -n "$runs" ]; then budget_text="$runs runs"; else budget_text="$seconds s"; fi
+echo "fuzzing: no crashes in ${#targets[@]} targets ($budget_text each, seed $seed)"

@@ -71,9 +71,12 @@ ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>
       ja.middleCols<3>(3 * (j - 1)) = rj;
     }
     m.mass.noalias() += m.node_mass[i] * jl.transpose() * jl + ja.transpose() * inertia * ja;
-    const double l = stiff_len[i];
+    // Bending: the joint's compliance is that of the half spans around it (a midpoint rule for the
+    // deflection, whose lever arms start at the joint). Twist has no lever arm: the angle at
+    // section i is the sum of the twists of the spans before it, so joint i stands for its span.
+    const double l = stiff_len[i], span = s * (rest.t[i] - rest.t[i - 1]);
     m.stiffness.block<3, 3>(3 * (i - 1), 3 * (i - 1)) =
-        Eigen::Vector3d(mat.youngs_modulus * p.i_xx / l, mat.youngs_modulus * p.i_yy / l, mat.shear() * p.torsion / l)
+        Eigen::Vector3d(mat.youngs_modulus * p.i_xx / l, mat.youngs_modulus * p.i_yy / l, mat.shear() * p.torsion / span)
             .asDiagonal();
   }
 

@@ -188,9 +188,11 @@ void ElasticSweep::apply_impulse(const ForceSpec& impulse) {
     for (std::size_t m = 0; m < modal_.v.size(); ++m) modal_.v[m] += modal_.f[m];
     joints_from_modes();
   }
+  // Section 0 is fixed (advance_banks never moves it): a kick there would be a speed that never
+  // decays, counted as energy and as motion forever.
   for (Bank* b : {&positional_, &rotational_, &radial_}) {
     if (chain_ && b == &rotational_) continue;
-    for (std::size_t m = 0; m < b->v.size(); ++m) b->v[m] += b->f[m] / b->params[m].mass;
+    for (std::size_t m = static_cast<std::size_t>(b->width); m < b->v.size(); ++m) b->v[m] += b->f[m] / b->params[m].mass;
   }
 }
 

@@ -271,6 +271,19 @@ Rig read_rig(const std::filesystem::path& path, const WarningSink& warn) {
   return parse_rig(read_file(path, limits::kMaxJsonBytes), path.string(), warn);
 }
 
+Material parse_material(const std::string& text, const std::string& source, const WarningSink& warn) {
+  const Json doc = parse_json_text(text, source);
+  const JsonReader r(source, warn);
+  if (!doc.is_object()) r.fail_at("", "must be an object of material members, got " + describe(doc));
+  Material m;
+  read_material(r, doc, "", m);
+  return m;
+}
+
+Material read_material_file(const std::filesystem::path& path, const WarningSink& warn) {
+  return parse_material(read_file(path, limits::kMaxJsonBytes), path.string(), warn);
+}
+
 std::string format_rig(const Rig& rig) {
   OrderedJson doc;
   doc["format"] = kFormatName;

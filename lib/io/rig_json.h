@@ -19,6 +19,12 @@ Rig read_rig(const std::filesystem::path& path, const WarningSink& warn = {});
 
 std::string format_rig(const Rig& rig);
 
+// A material on its own (sweep-fit --material): a JSON object with the members of a rig sweep's
+// "material" (youngs_modulus_pa, poisson_ratio or shear_modulus_pa, density_kg_m3,
+// metres_per_unit, damping_ratio), checked by the same rules, errors naming the file and pointer.
+Material parse_material(const std::string& text, const std::string& source, const WarningSink& warn = {});
+Material read_material_file(const std::filesystem::path& path, const WarningSink& warn = {});
+
 // The rig's mesh path is stored relative to the rig file's folder (or absolute).
 std::filesystem::path resolve_mesh_path(const std::filesystem::path& rig_path, const Rig& rig);
 std::string mesh_path_for_rig(const std::filesystem::path& rig_path, const std::filesystem::path& mesh_path);

@@ -109,6 +109,9 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
       }
     }
   }
+  // A material-mode sweep is in newtons and metres: its moments are the real ones unless the
+  // scene asks for the paper's scaled torque.
+  if (def.material) f.spec.moment = MomentModel::physical;
   if (const Json* m = r.optional(v, "moment")) {
     const std::string name = r.string(*m, member(ptr, "moment"));
     if (name == "scaled") {

@@ -1,5 +1,6 @@
 // Material mode against beam theory (issue 12): generated straight tubes, K = 32 sections, a
 // chain of hinges with masses and stiffnesses from the material and each section's polygon.
+// (BENCHMARKS.md's table gives the same measures at K = 8, 16, 32 and 64.)
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -7,50 +8,12 @@
 
 #include "core/elastic_sweep.h"
 #include "core/section_properties.h"
-#include "sample_sweeps.h"
+#include "beam_tubes.h"
 
 namespace sweep {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr int kSections = 32, kRadii = 32;
-constexpr double kRadius = 0.5;  // mesh units
-constexpr double kScale = 0.1;   // metres per unit: a tube 3.1 m long, 5 cm in radius
-
-Material rubber(double damping_ratio) {
-  Material m;
-  m.youngs_modulus = 1e7;
-  m.poisson_ratio = 0.45;
-  m.density = 1100;
-  m.metres_per_unit = kScale;
-  m.damping_ratio = damping_ratio;
-  return m;
-}
-
-// A straight tube along z (sections 1 unit apart) whose sections are the ellipse with semi-axes
-// a (x) and b (y), in mesh units; a == b is the circular tube.
-SweepDef tube(double a, double b, double damping_ratio) {
-  SweepShape shape = test::straight_shape(kSections, kRadii, kRadius);
-  for (int i = 0; i < kSections; ++i) {
-    for (int j = 0; j < kRadii; ++j) {
-      const double th = 2 * kPi * j / kRadii;
-      shape.radii[static_cast<std::size_t>(i) * kRadii + j] =
-          a * b / std::hypot(b * std::cos(th), a * std::sin(th));
-    }
-  }
-  SweepDef def = test::sweep_def(shape);
-  def.material = rubber(damping_ratio);
-  def.section_materials.assign(kSections, *def.material);
-  return def;
-}
-
-SectionProperties props_of(const SweepDef& def) {
-  std::vector<double> r(kRadii);
-  for (int j = 0; j < kRadii; ++j) r[j] = kScale * def.rest.radius_sample(1, j);
-  return section_properties(r);
-}
-
-double length_m(const SweepDef& def) { return kScale * def.rest.length(); }
+using namespace test::beam;  // the tubes and their measurements, shared with tools/bench/bench_beam.cpp
 
 TEST(SectionProperties, CircleAndEllipseMatchTheirFormulas) {
   const double r = 0.3;
@@ -73,20 +36,6 @@ TEST(SectionProperties, CircleAndEllipseMatchTheirFormulas) {
   EXPECT_NEAR(p.torsion / (kPi * std::pow(a * b, 3) / (a * a + b * b)), 1.0, 0.02);
 }
 
-// Frequencies (rad/s) of the modes that turn mostly about `axis` (0, 1: bend; 2: twist).
-std::vector<double> frequencies_about(const ChainModel& m, int axis) {
-  std::vector<double> out;
-  for (Eigen::Index c = 0; c < m.modes.cols(); ++c) {
-    double on = 0, all = 0;
-    for (Eigen::Index r = 0; r < m.modes.rows(); ++r) {
-      all += m.modes(r, c) * m.modes(r, c);
-      if (r % 3 == axis) on += m.modes(r, c) * m.modes(r, c);
-    }
-    if (on > 0.9 * all) out.push_back(std::sqrt(m.omega2[c]));
-  }
-  return out;
-}
-
 TEST(BeamTheory, FirstThreeBendingFrequenciesWithinTwoPercentOfEulerBernoulli) {
   const SweepDef def = tube(kRadius, kRadius, 0.0);
   const ElasticSweep sweep(def);
@@ -94,9 +43,8 @@ TEST(BeamTheory, FirstThreeBendingFrequenciesWithinTwoPercentOfEulerBernoulli) {
   const double l = length_m(def);
   const std::vector<double> w = frequencies_about(*sweep.chain(), 0);
   ASSERT_GE(w.size(), 3u);
-  const double beta_l[3] = {1.8751, 4.6941, 7.8548};
   for (int n = 0; n < 3; ++n) {
-    const double expected = beta_l[n] * beta_l[n] * std::sqrt(1e7 * p.i_xx / (1100 * p.area * std::pow(l, 4)));
+    const double expected = euler_bernoulli(n, p, l);
     std::printf("bending mode %d: %.5g rad/s, Euler-Bernoulli %.5g (%+.3f%%)\n", n + 1, w[n], expected,
                 100 * (w[n] / expected - 1));
     EXPECT_NEAR(w[n] / expected, 1.0, 0.02) << "mode " << n + 1;
@@ -109,37 +57,16 @@ TEST(BeamTheory, FirstTwistFrequencyWithinTwoPercent) {
   const SectionProperties p = props_of(def);
   const std::vector<double> w = frequencies_about(*sweep.chain(), 2);
   ASSERT_GE(w.size(), 1u);
-  const double expected = kPi / 2 * std::sqrt(def.material->shear() * p.torsion / (1100 * p.polar)) / length_m(def);
+  const double expected = first_twist(def, p);
   std::printf("twist mode 1: %.5g rad/s, expected %.5g (%+.3f%%)\n", w[0], expected, 100 * (w[0] / expected - 1));
   EXPECT_NEAR(w[0] / expected, 1.0, 0.02);
-}
-
-// Settles the tube under a tip force (N, world) pushing along `dir`; returns the tip's deflection
-// along it, in metres. Critically damped modes: settled to e^-40 of the start.
-double settled_tip_deflection(const SweepDef& def, const Vec3& force, double gravity) {
-  ElasticSweep sweep(def);
-  if (gravity != 0) sweep.set_gravity(Vec3(0, -gravity, 0), false);
-  if (force != Vec3::Zero()) {
-    ForceSpec f;
-    f.t = def.rest.length();
-    f.theta = std::atan2(force.y(), force.x());  // the arm along the force: no twist
-    f.vector = force;
-    f.components = kRotational;
-    f.target = RotationTarget::chain;
-    f.moment = MomentModel::physical;
-    sweep.add_force(f);
-  }
-  const double w1 = std::sqrt(sweep.chain()->omega2[0]);
-  for (int s = 0; s < 400; ++s) sweep.step(0.1 / w1);
-  const Vec3 d = sweep.deformed().frames.back().center - def.rest.frames.back().center;
-  return kScale * d.dot(force != Vec3::Zero() ? force.normalized() : Vec3(0, -1, 0));
 }
 
 TEST(BeamTheory, StaticTipLoadWithinOnePercentOfFL3Over3EI) {
   const SweepDef def = tube(kRadius, kRadius, 1.0);
   const SectionProperties p = props_of(def);
   const double l = length_m(def), force = 0.01;  // N: a deflection of ~1e-4 of the length
-  const double expected = force * l * l * l / (3 * 1e7 * p.i_xx);
+  const double expected = force * l * l * l / (3 * kYoung * p.i_xx);
   const double got = settled_tip_deflection(def, Vec3(0, force, 0), 0);
   std::printf("tip load: %.6g m, FL^3/3EI %.6g m (%+.3f%%)\n", got, expected, 100 * (got / expected - 1));
   EXPECT_LT(expected, 1e-3 * l);
@@ -150,8 +77,8 @@ TEST(BeamTheory, OwnWeightWithinOnePercentOfWL4Over8EI) {
   const SweepDef def = tube(kRadius, kRadius, 1.0);
   const SectionProperties p = props_of(def);
   const double l = length_m(def), g = 0.01;  // m/s²: small deflection
-  const double w = 1100 * p.area * g;        // N/m
-  const double expected = w * std::pow(l, 4) / (8 * 1e7 * p.i_xx);
+  const double w = kDensity * p.area * g;      // N/m
+  const double expected = w * std::pow(l, 4) / (8 * kYoung * p.i_xx);
   const double got = settled_tip_deflection(def, Vec3::Zero(), g);
   std::printf("own weight: %.6g m, wL^4/8EI %.6g m (%+.3f%%)\n", got, expected, 100 * (got / expected - 1));
   EXPECT_NEAR(got / expected, 1.0, 0.01);
@@ -228,7 +155,7 @@ TEST(MaterialMode, RadialHandlesRingAtTheirWedgesFrequency) {
   ElasticSweep sweep(def);
   sweep.set_radial_offset(9, 3, 1e-4);
   const double r = kScale * kRadius;
-  const double omega = std::sqrt(2 * 1e7 / 1100) / r;
+  const double omega = std::sqrt(2 * kYoung / kDensity) / r;
   const double period = 2 * std::numbers::pi / omega;
   // Undamped: after a quarter period it passes through rest, after half it is at the other side.
   sweep.step(period / 4);

@@ -165,6 +165,21 @@ TEST(ElasticSweepForces, TipPushBendsAlongTheForceAndReleaseDecaysToRest) {
   EXPECT_LT(sweep.energy(), 1e-10);
 }
 
+TEST(ElasticSweepForces, AnImpulseOnTheFixedRootLeavesNothingMoving) {
+  // The root ring's handles and its positional spring take the loads of a push on the root ring
+  // (the rotational part goes to section 1, the nearest that can turn), but the root never moves:
+  // a kick there must not become a speed that never decays (energy, sleep).
+  ElasticSweep sweep(test::sweep_def(test::straight_shape(6, 8, 0.3)));
+  ForceSpec f;
+  f.t = 0.0;
+  f.theta = 0.4;
+  f.vector = Vec3(-3, 1, 2);
+  f.components = kPositional | kRadial;
+  sweep.apply_impulse(f);
+  EXPECT_EQ(sweep.max_speed(), 0.0);
+  EXPECT_EQ(sweep.energy(), 0.0);
+}
+
 TEST(ElasticSweepForces, ForceAtAWorldPointIsProjectedToTheSurface) {
   ElasticSweep sweep(test::sweep_def(test::straight_shape(5, 8, 0.5)));
   ForceSpec f;

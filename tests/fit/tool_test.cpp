@@ -253,6 +253,37 @@ TEST_F(Tool, AllFitsEveryPartIntoOneRigUnderTheNamesGiven) {
   }
 }
 
+TEST_F(Tool, MaterialGivesTheSweepItsMaterialAndARefitKeepsIt) {
+  write("rubber.json", R"({"youngs_modulus_pa": 2e6, "density_kg_m3": 1100, "metres_per_unit": 0.05})");
+  const std::string rig = path("rig.json");
+  ToolRun r = run_tool(tube_ + " -o " + rig + " --name hose --tip 0,0,1 --material " + path("rubber.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  Rig loaded = io::read_rig(rig);
+  ASSERT_TRUE(loaded.sweeps[0].material.has_value());
+  EXPECT_EQ(loaded.sweeps[0].material->youngs_modulus, 2e6);
+  EXPECT_EQ(loaded.sweeps[0].material->metres_per_unit, 0.05);
+  EXPECT_EQ(loaded.sweeps[0].material->poisson_ratio, Material{}.poisson_ratio);  // not given: the default
+  EXPECT_EQ(loaded.sweeps[0].section_materials.size(), static_cast<std::size_t>(loaded.sweeps[0].rest.section_count()));
+  // Fitting the part again (other sections) keeps its material, as it keeps its springs.
+  r = run_tool(tube_ + " -o " + rig + " --name hose --tip 0,0,1 -k 12");
+  ASSERT_EQ(r.code, 0) << r.output;
+  loaded = io::read_rig(rig);
+  ASSERT_TRUE(loaded.sweeps[0].material.has_value());
+  EXPECT_EQ(loaded.sweeps[0].material->youngs_modulus, 2e6);
+  EXPECT_EQ(loaded.sweeps[0].section_materials.size(), 12u);
+  // A bad material file: its place and what is wrong, exit 2, the rig untouched.
+  const std::string before = io::format_rig(loaded);
+  write("bad.json", R"({"youngs_modulus_pa": -3, "density_kg_m3": 1100})");
+  r = run_tool(tube_ + " -o " + rig + " --name hose --tip 0,0,1 --material " + path("bad.json"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.json: /youngs_modulus_pa: must be a positive number"), std::string::npos) << r.output;
+  EXPECT_EQ(io::format_rig(io::read_rig(rig)), before);
+  // The material file is an input: writing over it is refused.
+  r = run_tool(tube_ + " -o " + path("rubber.json") + " --name hose --tip 0,0,1 --material " + path("rubber.json"));
+  EXPECT_NE(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("rubber.json"), std::string::npos) << r.output;
+}
+
 TEST_F(Tool, ModesThatDoNotGoTogetherAreUsageErrors) {
   const std::string mesh = tube_;
   const struct {
@@ -267,6 +298,7 @@ TEST_F(Tool, ModesThatDoNotGoTogetherAreUsageErrors) {
       {"--list --preview " + path("p.png"), "--preview draws fitted parts"},
       {"-o " + path("r.json") + " --tip 0,0,1 --preview " + path("p.jpg"), "its name must end in .png"},
       {"-o " + path("r.json") + " --tip 0,nan,1", "--tip expects three finite numbers"},
+      {"--list --material " + path("m.json"), "--material goes with a fit or --all, not --list"},
   };
   for (const auto& c : cases) {
     const ToolRun r = run_tool(mesh + " " + c.args);

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Checks every example in rigs/ against its JSON Schema (rigs/rig.schema.json for *.rig.json,
-rigs/scene.schema.json for *.scene.json and a rig's "scene" member), and that the schemas
+rigs/scene.schema.json for *.scene.json and a rig's "scene" member, the rig schema's material for
+*.material.json), and that the schemas
 themselves are valid. Prints 'N passed, M failed' and exits non-zero on any failure."""
 import json
 import pathlib
@@ -21,6 +22,10 @@ for path in sorted(rigs.glob("*.rig.json")):
         checks.append((path.name + "#/scene", scene_schema, doc["scene"]))
 for path in sorted(rigs.glob("*.scene.json")):
     checks.append((path.name, scene_schema, json.loads(path.read_text())))
+# A material file (sweep-fit --material) is a rig sweep's "material" on its own.
+material_schema = {"$schema": rig_schema.get("$schema"), "$defs": rig_schema["$defs"], "$ref": "#/$defs/material"}
+for path in sorted(rigs.glob("*.material.json")):
+    checks.append((path.name, material_schema, json.loads(path.read_text())))
 failed = 0
 for name, schema, doc in checks:
     errors = sorted(jsonschema.Draft202012Validator(schema).iter_errors(doc), key=lambda e: list(e.path))

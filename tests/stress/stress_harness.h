@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -37,6 +38,10 @@ struct StressParams {
   double dt = 1.0 / 60;  // s
   double force = 10;     // N: largest force magnitude drawn
   Integrator integrator = Integrator::exact;
+  // Material mode (issue 12): when set, the sweep's springs and masses follow from it (the spring
+  // members above but dt, force and the force scales are then unused; damping_ratio is the
+  // material's).
+  std::optional<Material> material;
 };
 
 struct StressResult {
@@ -58,6 +63,8 @@ inline SweepDef with_params(SweepDef def, const StressParams& p) {
   for (SectionSprings& sec : def.springs) sec = {s, s, s, s};
   def.rotational_scale = p.c_rot;
   def.radial_scale = p.c_rad;
+  def.material = p.material;
+  def.section_materials.assign(p.material ? def.rest.section_count() : 0, p.material.value_or(Material{}));
   return def;
 }
 
@@ -94,10 +101,23 @@ inline std::string check_state(const ElasticSweep& body, StressResult& res) {
   return {};
 }
 
-// Slowest decay rate of a damped oscillator, 1/s: ζω for ζ ≤ 1, ω(ζ − √(ζ² − 1)) above.
-inline double slowest_decay_rate(const StressParams& p) {
-  const double w = 2 * std::numbers::pi * p.frequency_hz, z = p.damping_ratio;
-  return z <= 1 ? z * w : w * (z - std::sqrt(z * z - 1));
+// Decay rate of a damped oscillator, 1/s: ζω for ζ ≤ 1, ω(ζ − √(ζ² − 1)) above.
+inline double decay_rate(double w, double z) { return z <= 1 ? z * w : w * (z - std::sqrt(z * z - 1)); }
+
+// Slowest decay rate of the sweep's springs (of its modes, in material mode: the lowest frequency
+// decays slowest at one damping ratio, under- or over-damped alike).
+inline double slowest_decay_rate(const StressParams& p, const ElasticSweep& body) {
+  if (!p.material) return decay_rate(2 * std::numbers::pi * p.frequency_hz, p.damping_ratio);
+  const ChainModel& c = *body.chain();
+  double w2 = c.omega2.minCoeff();
+  const std::size_t root_entries[2] = {3, static_cast<std::size_t>(body.rest().radial_count)};
+  int which = 0;
+  for (const auto* bank : {&c.positional, &c.radial}) {
+    // (section 0 is fixed: its entries never move)
+    for (std::size_t m = root_entries[which]; m < bank->size(); ++m) w2 = std::min(w2, (*bank)[m].stiffness / (*bank)[m].mass);
+    ++which;
+  }
+  return decay_rate(std::sqrt(std::max(w2, 0.0)), p.material->damping_ratio);
 }
 
 // Runs `steps` steps: the first `forced_steps` under random forces (a new random set every
@@ -150,7 +170,8 @@ inline StressResult run_stress(const SweepDef& base, const StressParams& p, std:
       res.failure = "step " + std::to_string(s + 1) + ": energy not finite";
       return res;
     }
-    if (!forced && p.damping_ratio > 0 && p.integrator == Integrator::exact) {
+    const double damping = p.material ? p.material->damping_ratio : p.damping_ratio;
+    if (!forced && damping > 0 && p.integrator == Integrator::exact) {
       const double growth =
           energy > kEnergyFloor ? (e - energy) / energy : (e > kEnergyFloor ? 1.0 : 0.0);
       res.max_energy_growth = std::max(res.max_energy_growth, growth);
@@ -165,7 +186,7 @@ inline StressResult run_stress(const SweepDef& base, const StressParams& p, std:
   res.final_displacement = body.max_displacement();
   // Return to rest: expected when the slowest spring mode has decayed by e^-30 over the free part.
   const double free_time = static_cast<double>(steps - forced_steps) * p.dt;
-  res.rest_expected = p.integrator == Integrator::exact && slowest_decay_rate(p) * free_time > 30;
+  res.rest_expected = p.integrator == Integrator::exact && slowest_decay_rate(p, body) * free_time > 30;
   res.returned_to_rest =
       res.final_displacement <= 1e-9 * std::max(res.peak_displacement, 1e-300) + 1e-300;
   if (res.rest_expected && !res.returned_to_rest) {

@@ -6,13 +6,17 @@
 // form (evaluated here in long double, independently of lib/core) for m = 1 kg, f0 = 1.5 Hz,
 // ζ = 0.1, x0 = 1, v0 = 0, under a constant force of 2 N. "diverged" = the value left 1e6 of it.
 // Frame-rate spread measure: the largest distance of any bound vertex (exact path) from the same
-// vertex of the reference bake at the same time, over every time all frame rates share (every
-// 1/6 s), relative to the part's length. Reference: the exact integrator at 144 fps × 16 substeps.
+// vertex of the 144 fps bake with the same clock and integrator, over every time all frame rates
+// share (every 1/6 s), relative to the part's length. With a step of its own the simulator's
+// internal steps do not depend on the frame rate (frames are reached by an exact partial step), so
+// the spread is rounding; with the old clock (substeps per frame) the step follows the frame rate.
+// Then the follower-load step table: see its section below.
 #include <random>
 
 #include "bench_common.h"
 #include "bind/deform.h"
 #include "core/oscillator.h"
+#include "sim/scene.h"
 #include "sim/simulator.h"
 
 namespace sweep::bench {
@@ -30,7 +34,7 @@ long double closed_form(long double m, long double c, long double k, long double
 
 struct SpreadRow {
   std::string integrator;
-  int substeps = 0;
+  std::string clock;
   int fps = 0;
   double max_dev = 0, max_dev_rel = 0;
 };
@@ -97,11 +101,13 @@ int main(int argc, char** argv) {
 
   // ---- frame-rate spread ----------------------------------------------------------------------
   const RealRig dino = diplodocus_rig();
-  auto make_scene = [&](int fps, int substeps, Integrator integ) {
+  // step > 0: the simulator's own clock; else the old one, `substeps` steps per frame.
+  auto make_scene = [&](int fps, double step, int substeps, Integrator integ) {
     sim::Scene s;
     s.duration = 2.0;
     s.fps = fps;
-    s.substeps = substeps;
+    s.step = step;
+    s.substeps = step > 0 ? 0 : substeps;
     s.integrator = integ;
     // The tail pushed sideways at its tip for half a second (chain: it bends as a whole) and the
     // neck pushed down for a third of a second; both then swing free.
@@ -135,39 +141,100 @@ int main(int argc, char** argv) {
     }
     return poses;
   };
-  const auto reference = bake(make_scene(144, 16, Integrator::exact));
   double length = 0;
   for (const auto& d : dino.rig.sweeps) length = std::max(length, d.rest.length());
+  auto deviation = [&](const std::vector<std::vector<Vec3>>& a, const std::vector<std::vector<Vec3>>& b) {
+    double dev = 0;
+    for (std::size_t q = 0; q < std::min(a.size(), b.size()); ++q) {
+      for (const auto& sw : dino.binding.sweeps) {
+        for (std::uint32_t v : sw.vertices) dev = std::max(dev, (a[q][v] - b[q][v]).norm());
+      }
+    }
+    return dev;
+  };
+  struct Clock {
+    std::string name;
+    double step;
+    int substeps;
+  };
+  const Clock clocks[] = {{fmt("step %.4g s (the default)", sim::Scene::kDefaultStep), sim::Scene::kDefaultStep, 0},
+                          {"step 1/100 s", 0.01, 0},
+                          {"1 substep per frame (old clock)", 0, 1},
+                          {"4 substeps per frame (old clock)", 0, 4}};
   std::vector<SpreadRow> rows;
-  for (Integrator integ : integrators) {
-    for (int substeps : {1, 4}) {
-      for (int fps : {24, 30, 60, 144}) {
-        const auto poses = bake(make_scene(fps, substeps, integ));
-        double dev = 0;
-        for (std::size_t q = 0; q < std::min(poses.size(), reference.size()); ++q) {
-          for (const auto& sw : dino.binding.sweeps) {
-            for (std::uint32_t v : sw.vertices)
-              dev = std::max(dev, (poses[q][v] - reference[q][v]).norm());
-          }
-        }
-        rows.push_back({std::string(integrator_name(integ)), substeps, fps, dev, dev / length});
+  for (const Clock& clock : clocks) {
+    for (Integrator integ : integrators) {
+      const auto reference = bake(make_scene(144, clock.step, clock.substeps, integ));
+      for (int fps : {24, 30, 60}) {
+        const double dev = deviation(bake(make_scene(fps, clock.step, clock.substeps, integ)), reference);
+        rows.push_back({std::string(integrator_name(integ)), clock.name, fps, dev, dev / length});
       }
     }
   }
-  csv = "integrator,substeps,fps,max_vertex_deviation,max_vertex_deviation_over_length\n";
-  md =
-      "| integrator | substeps | 24 fps | 30 fps | 60 fps | 144 fps |\n|---|---|---|---|---|---|\n";
-  for (std::size_t r = 0; r < rows.size(); r += 4) {
-    md += fmt("| %s | %d |", rows[r].integrator.c_str(), rows[r].substeps);
-    for (std::size_t c = 0; c < 4; ++c) md += fmt(" %.2e |", rows[r + c].max_dev_rel);
+  csv = "integrator,clock,fps,max_vertex_deviation_from_144fps,over_length\n";
+  md = "| clock | integrator | 24 fps | 30 fps | 60 fps |\n|---|---|---|---|---|\n";
+  for (std::size_t r = 0; r < rows.size(); r += 3) {
+    md += fmt("| %s | %s |", rows[r].clock.c_str(), rows[r].integrator.c_str());
+    for (std::size_t c = 0; c < 3; ++c) md += fmt(" %.2e |", rows[r + c].max_dev_rel);
     md += "\n";
   }
   for (const SpreadRow& r : rows) {
-    csv += fmt("%s,%d,%d,%.6g,%.6g\n", r.integrator.c_str(), r.substeps, r.fps, r.max_dev,
-               r.max_dev_rel);
+    csv += fmt("%s,%s,%d,%.6g,%.6g\n", r.integrator.c_str(), r.clock.c_str(), r.fps, r.max_dev, r.max_dev_rel);
   }
   write_text(args.out / "framerate.csv", csv);
   write_text(args.out / "framerate.md", md);
+  std::fputs(md.c_str(), stdout);
+
+  // ---- follower loads: step against error and cost -------------------------------------------
+  // The diplodocus Fig. 4 scene (rigs/diplodocus-fig4.scene.json), exact integrator: loads that
+  // follow the moving surface are re-split at the predicted mid-step pose (second order). Error:
+  // the largest section pose difference (centres, radii, rotation angle × length) over every frame
+  // against a step 64 times finer than the default, over the part's length.
+  sim::Scene fig4 = sim::read_scene(source_dir() / "rigs/diplodocus-fig4.scene.json", dino.rig);
+  fig4.substeps = 0;
+  auto section_poses = [&](double step) {
+    sim::Scene s = fig4;
+    s.step = step;
+    sim::Simulator sim(dino.rig, s, sim::SleepSettings{0, 0, 0, false});
+    std::vector<double> out;
+    for (int k = 1; k < s.frame_count(); ++k) {
+      sim.advance_frame();
+      for (int i = 0; i < sim.sweep_count(); ++i) {
+        const ElasticSweep& e = sim.sweep(i);
+        const double len = e.rest().length();
+        for (int j = 0; j < e.rest().section_count(); ++j) {
+          const Frame& f = e.deformed().frames[j];
+          for (int c = 0; c < 3; ++c) out.push_back(f.center[c] / len);
+          out.push_back(f.rotation.angularDistance(e.rest().frames[j].rotation));
+        }
+        for (const double r : e.deformed().radii) out.push_back(r / len);
+      }
+    }
+    return out;
+  };
+  const std::vector<double> fine = section_poses(sim::Scene::kDefaultStep / 64);
+  csv = "step_s,error_over_length,ms_per_simulated_second\n";
+  md = "| step (s) | error / length | error ratio to the step twice as long | ms per simulated second |\n"
+       "|---|---|---|---|\n";
+  double previous = 0;
+  for (const int per_second : {60, 120, 240, 480, 960, 1920}) {
+    const double step = 1.0 / per_second;
+    const std::vector<double> poses = section_poses(step);
+    double err = 0;
+    for (std::size_t m = 0; m < poses.size(); ++m) err = std::max(err, std::abs(poses[m] - fine[m]));
+    sim::Scene s = fig4;
+    s.step = step;
+    const double seconds = median_seconds(args.quick ? 3 : 7, [&] {
+      sim::Simulator sim(dino.rig, s, sim::SleepSettings{0, 0, 0, false});
+      for (int k = 1; k < s.frame_count(); ++k) sim.advance_frame();
+    }) / s.duration;
+    md += fmt("| 1/%d%s | %.2e | %s | %.3g |\n", per_second, per_second == 480 ? " (default)" : "", err,
+              previous > 0 ? fmt("%.2f", previous / err).c_str() : "", 1e3 * seconds);
+    csv += fmt("%.6g,%.6g,%.6g\n", step, err, 1e3 * seconds);
+    previous = err;
+  }
+  write_text(args.out / "follower.csv", csv);
+  write_text(args.out / "follower.md", md);
   std::fputs(md.c_str(), stdout);
   return 0;
 }

@@ -50,6 +50,7 @@ struct Settings {
   bool all = false;       // --all: fit every part found into the rig
   std::string names;      // --names a,b,c for --all
   fs::path preview;       // optional PNG: the fit drawn over the mesh from three sides
+  fs::path material;      // optional material file: the fitted sweeps move in material mode
 };
 
 // "X,Y,Z" → a point; our own parse so that the message names the flag and the text given.
@@ -133,13 +134,22 @@ sweep::Rig open_rig(const Settings& s, bool& updating) {
   return rig;
 }
 
-// Adds `def` to the rig, or replaces the sweep of its name keeping the user's spring settings
-// and force scales (per-section overrides no longer apply). True when it replaced one.
-bool put_sweep(sweep::Rig& rig, sweep::SweepDef def) {
+// Gives every section of `def` the sweep's material `m` (or none).
+void set_material(sweep::SweepDef& def, const std::optional<sweep::Material>& m) {
+  def.material = m;
+  def.section_materials.assign(m ? def.rest.section_count() : 0, m.value_or(sweep::Material{}));
+}
+
+// Adds `def` to the rig, or replaces the sweep of its name keeping the user's spring settings,
+// material and force scales (per-section overrides no longer apply: the sections are new). A
+// material given now (--material) replaces the sweep's. True when it replaced one.
+bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::Material>& material) {
+  set_material(def, material);
   for (sweep::SweepDef& old : rig.sweeps) {
     if (old.name != def.name) continue;
     def.default_springs = old.default_springs;
     def.springs.assign(def.springs.size(), def.default_springs);
+    if (!material) set_material(def, old.material);
     def.rotational_scale = old.rotational_scale;
     def.radial_scale = old.radial_scale;
     old = std::move(def);
@@ -147,6 +157,11 @@ bool put_sweep(sweep::Rig& rig, sweep::SweepDef def) {
   }
   rig.sweeps.push_back(std::move(def));
   return false;
+}
+
+std::optional<sweep::Material> read_material_option(const Settings& s) {
+  if (s.material.empty()) return std::nullopt;
+  return sweep::io::read_material_file(s.material, sweep::tools::warn);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -207,10 +222,10 @@ void check_problems(const Settings& s, const sweep::Mesh& mesh,
 }
 
 void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, bool updating,
-                          const std::vector<sweep::fit::FitResult>& fits,
-                          std::chrono::steady_clock::time_point start) {
+                   const std::optional<sweep::Material>& material,
+                   const std::vector<sweep::fit::FitResult>& fits, std::chrono::steady_clock::time_point start) {
   int replaced = 0;
-  for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep);
+  for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep, material);
   const double seconds = seconds_since(start);
   sweep::io::Publication outputs;
   outputs.add(s.rig, sweep::io::format_rig(rig));
@@ -226,8 +241,9 @@ void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, 
 int run_one(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
   sweep::io::check_utf8(s.name, "--name");
-  sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}},
+  sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}, {"--material", s.material}},
                          {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
+  const std::optional<sweep::Material> material = read_material_option(s);
   sweep::fit::FitOptions o = fit_options(s);
   if (!s.axis.empty()) o.axis = read_axis(s.axis);
   if (!s.root.empty()) o.root = to_point(s.root, "--root");
@@ -243,15 +259,16 @@ int run_one(const Settings& s) {
   sweep::io::declare_outputs({s.rig, s.report, s.preview});
   const std::vector<sweep::fit::FitResult> fits{sweep::fit::fit_sweep(mesh, o)};
   check_problems(s, mesh, fits, seconds_since(start));
-  write_outputs(s, mesh, rig, updating, fits, start);
+  write_outputs(s, mesh, rig, updating, material, fits, start);
   return 0;
 }
 
 // Every part find_parts finds, into one rig.
 int run_all(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
-  sweep::io::check_paths({{"the mesh", s.mesh}},
+  sweep::io::check_paths({{"the mesh", s.mesh}, {"--material", s.material}},
                          {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
+  const std::optional<sweep::Material> material = read_material_option(s);
   const std::vector<std::string> names = split_names(s.names);
   bool updating = false;
   sweep::Rig rig = open_rig(s, updating);
@@ -276,7 +293,7 @@ int run_all(const Settings& s) {
     fits.push_back(fitter.fit(o));
   }
   check_problems(s, mesh, fits, seconds_since(start));
-  write_outputs(s, mesh, rig, updating, fits, start);
+  write_outputs(s, mesh, rig, updating, material, fits, start);
   return 0;
 }
 
@@ -340,6 +357,10 @@ int main(int argc, char** argv) {
     auto* preview = app.add_option("--preview", s.preview,
                                    "Draw the fit over the mesh from three sides into this PNG file")
                         ->check(sweep::tools::kNonEmptyName);
+    auto* material = app.add_option("--material", s.material,
+                                    "JSON file of a material (youngs_modulus_pa, density_kg_m3, "
+                                    "metres_per_unit, ...): the fitted sweeps move in material mode")
+                         ->check(sweep::tools::kNonEmptyName);
     app.add_flag("-v,--verbose", s.verbose, "Say more");
     try {
       app.parse(argc, argv);
@@ -366,6 +387,7 @@ int main(int argc, char** argv) {
       }
     }
     if (names->count() > 0 && !s.all) fail(ErrorCategory::usage, "--names goes with --all");
+    if (material->count() > 0 && s.list) fail(ErrorCategory::usage, "--material goes with a fit or --all, not --list");
     if (preview->count() > 0 && s.list) {
       fail(ErrorCategory::usage, "--preview draws fitted parts: use it with a fit or --all, not --list");
     }
