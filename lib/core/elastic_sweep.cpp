@@ -35,6 +35,7 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
   init_bank(rotational_, 3, pick_rotational);
   init_bank(radial_, def_.rest.radial_count, pick_radial);
   loads_.resize(k, def_.rest.radial_count);
+  section_velocity_.assign(k, Vec3::Zero());
   if (def_.material) {
     chain_ = std::make_shared<const ChainModel>(build_chain_model(def_.rest, def_.section_materials));
     positional_.params = chain_->positional;
@@ -113,29 +114,57 @@ bool ElasticSweep::remove_force(ForceId id) {
 
 void ElasticSweep::clear_forces() { forces_.clear(); }
 
-// Weights m_i g at the section centres of the current shape: each joint j takes the moment of
-// the weight beyond it, Σ_{i>j} (c_i − c_j) × W_i, and each positional spring the weight beyond it.
-void ElasticSweep::add_gravity_loads() {
+bool ElasticSweep::body_loads() const {
+  return (chain_ && body_.gravity != Vec3::Zero()) || body_.acceleration != Vec3::Zero() ||
+         body_.angular_velocity != Vec3::Zero() || body_.angular_acceleration != Vec3::Zero();
+}
+
+// Each section's share of the body's motion at the centres of the current shape, as a field of
+// accelerations g_i (per unit mass); each joint j takes the moment of what lies beyond it,
+// Σ_{i>j} (c_i − c_j) × m_i g_i, and each positional spring the force beyond it.
+void ElasticSweep::add_body_loads(const BodyMotion& motion) {
   const int k = def_.rest.section_count();
-  Vec3 weight = Vec3::Zero(), moment = Vec3::Zero();  // Σ W_i and Σ c_i × W_i over i > j
+  const double s = chain_ ? chain_->metres_per_unit : 1.0;  // mesh-unit accelerations to m/s²
+  const Vec3& w = motion.angular_velocity;
+  if (w != Vec3::Zero()) {
+    // Centre velocities relative to the body, from the spring speeds along the chain: joint j
+    // turns everything beyond it about c_j (Ω_j) and shifts it (u_j), so
+    // v_i = Σ_{j≤i} Ω_j × (c_i − c_j) + u_j = (Σ Ω_j) × c_i − Σ Ω_j × c_j + Σ u_j.
+    Vec3 spin = Vec3::Zero(), spin_moment = Vec3::Zero(), shift = Vec3::Zero();
+    section_velocity_[0] = Vec3::Zero();
+    for (int i = 1; i < k; ++i) {
+      const Quat& axes = pre_[i].rotation;
+      const Vec3& c = deformed_.frames[i].center;
+      const Vec3 omega = axes * Vec3(rotational_.v[3 * i], rotational_.v[3 * i + 1], rotational_.v[3 * i + 2]);
+      spin += omega;
+      spin_moment += omega.cross(c);
+      shift += axes * Vec3(positional_.v[3 * i], positional_.v[3 * i + 1], positional_.v[3 * i + 2]);
+      section_velocity_[i] = spin.cross(c) - spin_moment + shift;
+    }
+  }
+  const Vec3 gravity = chain_ ? motion.gravity : Vec3::Zero();
+  Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // Σ F_i and Σ c_i × F_i over i ≥ j
   for (int j = k - 1; j >= 1; --j) {
-    const Vec3 w = chain_->node_mass[j] * gravity_;
     const Vec3& c = deformed_.frames[j].center;
-    weight += w;
-    moment += c.cross(w);
-    loads_.force[j] += weight;
-    loads_.torque[j] += moment - c.cross(weight);
+    Vec3 frame_acceleration = motion.acceleration + motion.angular_acceleration.cross(c);
+    if (w != Vec3::Zero()) frame_acceleration += w.cross(w.cross(c)) + 2.0 * w.cross(section_velocity_[j]);
+    const double mass = chain_ ? chain_->node_mass[j] : def_.springs[j].positional.mass;
+    const Vec3 f = mass * (gravity - s * frame_acceleration);
+    force += f;
+    moment += c.cross(f);
+    loads_.force[j] += force;
+    loads_.torque[j] += moment - c.cross(force);
   }
 }
 
 void ElasticSweep::set_gravity(const Vec3& g, bool preloaded) {
   if (!chain_) return;
-  gravity_ = g;
+  body_.gravity = g;
   gravity_preload_.clear();
   if (!preloaded || g == Vec3::Zero()) return;
   // The loads at the rest pose, in the springs' rest axes: subtracted from every later split.
   ElasticSweep at_rest(def_);
-  at_rest.gravity_ = g;
+  at_rest.body_.gravity = g;
   at_rest.gather_loads({});
   const int k = def_.rest.section_count();
   gravity_preload_.assign(static_cast<std::size_t>(6) * k, 0.0);
@@ -145,13 +174,34 @@ void ElasticSweep::set_gravity(const Vec3& g, bool preloaded) {
   }
 }
 
-// Splits the given forces on the current shape and writes each spring's load, in its own frame.
+void ElasticSweep::set_body_motion(const BodyMotion& motion) {
+  body_ = motion;
+  if (!chain_) body_.gravity = Vec3::Zero();
+}
+
+void ElasticSweep::apply_body_kick(const Vec3& dv, const Vec3& dw) {
+  if (dv == Vec3::Zero() && dw == Vec3::Zero()) return;
+  loads_.clear();
+  BodyMotion kick_motion;
+  kick_motion.acceleration = dv;
+  kick_motion.angular_acceleration = dw;
+  add_body_loads(kick_motion);
+  loads_to_springs(false);
+  kick();
+}
+
+// Splits the given forces and the body's loads on the current shape and writes each spring's
+// load, in its own frame.
 void ElasticSweep::gather_loads(const std::vector<ActiveForce>& forces) {
   loads_.clear();
   for (const ActiveForce& a : forces) {
     accumulate_force(deformed_, a.spec, a.t, a.theta, def_.rotational_scale, def_.radial_scale, loads_);
   }
-  if (chain_ && gravity_ != Vec3::Zero()) add_gravity_loads();
+  if (body_loads()) add_body_loads(body_);
+  loads_to_springs(true);
+}
+
+void ElasticSweep::loads_to_springs(bool subtract_preload) {
   const int k = def_.rest.section_count();
   for (int i = 0; i < k; ++i) {
     const Quat to_local = pre_[i].rotation.conjugate();
@@ -162,7 +212,7 @@ void ElasticSweep::gather_loads(const std::vector<ActiveForce>& forces) {
       rotational_.f[3 * i + c] = tau[c];
     }
   }
-  if (!gravity_preload_.empty()) {
+  if (subtract_preload && !gravity_preload_.empty()) {
     for (int m = 3; m < 3 * k; ++m) {
       positional_.f[m] -= gravity_preload_[m];
       rotational_.f[m] -= gravity_preload_[3 * k + m];
@@ -181,7 +231,14 @@ void ElasticSweep::apply_impulse(const ForceSpec& impulse) {
     a.t = c.t;
     a.theta = c.theta;
   }
-  gather_loads({a});
+  // The impulse alone: the body's loads (gravity, motion) are forces over time, not part of it.
+  loads_.clear();
+  accumulate_force(deformed_, a.spec, a.t, a.theta, def_.rotational_scale, def_.radial_scale, loads_);
+  loads_to_springs(false);
+  kick();
+}
+
+void ElasticSweep::kick() {
   if (chain_) {
     // Δq̇ = M⁻¹ τ, i.e. Δη̇ = Φᵀ τ.
     project_rotational_loads();
@@ -234,7 +291,7 @@ void ElasticSweep::advance_banks(int slot) {
 void ElasticSweep::step(double dt) {
   assert(dt > 0);
   gather_loads(forces_);
-  if (!forces_.empty()) {
+  if (!forces_.empty() || body_loads()) {
     // Midpoint rule for follower loads: predict the pose at dt/2 with the start-of-step loads,
     // re-split the forces there, and take the whole step from the start with those loads. A load
     // that does not depend on the pose is the same at both places, so the step stays exact for it.
@@ -269,6 +326,7 @@ void ElasticSweep::copy_state_from(const ElasticSweep& other) {
   forces_ = other.forces_;  // reuses its capacity: allocates only when the force count grows
   next_id_ = other.next_id_;
   integrator_ = other.integrator_;
+  body_ = other.body_;
 }
 
 void ElasticSweep::rebuild() {

@@ -73,6 +73,26 @@ class ElasticSweep {
   // unloaded and sags.
   void set_gravity(const Vec3& g, bool preloaded = true);
 
+  // The body's motion as the part feels it (issue 13), in the body's axes (the mesh's, which the
+  // sweep lives in): the acceleration of the body's origin (mesh units/s²), its angular velocity
+  // (rad/s) and angular acceleration (rad/s²), and gravity (m/s², in the body's axes: it turns
+  // with the body; material mode only). Held until set again. Each section of mass m at centre c
+  // moving at v relative to the body takes −m (a + α × c + ω × (ω × c) + 2 ω × v) + m g, loading
+  // the chain as weight does (the positional and joint springs carry what lies beyond them). The
+  // masses are the material's (lengths in metres), else the positional springs' masses (lengths
+  // in mesh units). A body at rest or moving at constant velocity loads nothing.
+  struct BodyMotion {
+    Vec3 acceleration = Vec3::Zero();
+    Vec3 angular_velocity = Vec3::Zero();
+    Vec3 angular_acceleration = Vec3::Zero();
+    Vec3 gravity = Vec3::Zero();
+  };
+  void set_body_motion(const BodyMotion& motion);
+  const BodyMotion& body_motion() const { return body_; }
+  // An instant change of the body's velocity (Δv of its origin, Δω; body axes): each section
+  // takes the impulse −m (Δv + Δω × c), as at the corner of a linear keyframed path.
+  void apply_body_kick(const Vec3& dv, const Vec3& dw);
+
   // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
   const ChainModel* chain() const { return chain_.get(); }
 
@@ -125,9 +145,13 @@ class ElasticSweep {
   std::shared_ptr<const ChainModel> chain_;  // shared: built once per rig, copies of a sweep share it
   Bank modal_;
   std::vector<double> joint_scratch_;
-  Vec3 gravity_ = Vec3::Zero();
+  BodyMotion body_;
   std::vector<double> gravity_preload_;  // rest-pose gravity loads in spring axes (3K pos, 3K rot)
-  void add_gravity_loads();
+  std::vector<Vec3> section_velocity_;   // scratch: each centre's velocity relative to the body
+  bool body_loads() const;               // whether body_ loads anything
+  void add_body_loads(const BodyMotion& motion);
+  void loads_to_springs(bool subtract_preload);  // loads_ into each bank's f, in spring axes
+  void kick();                                    // loads in the banks' f as impulses (N·s)
   SectionLoads loads_;
   std::vector<ActiveForce> forces_;
   ForceId next_id_ = 1;

@@ -229,16 +229,39 @@ void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> pos
   }
 }
 
-void BakeWriterBase::frame(int index, std::span<const Eigen::Vector3f> positions) {
+void BakeWriterBase::frame(int index, std::span<const Eigen::Vector3f> positions, const BodyPose& body) {
   if (state_ != State::begun) {
     fail(ErrorCategory::internal,
          out_.string() + ": frame() outside begin() .. finish(), or after an error");
   }
   guarded([&] {
     check_frame(index, positions);
+    const bool identity = body.rotation.coeffs() == Eigen::Quaterniond::Identity().coeffs() &&
+                          body.translation == Eigen::Vector3d::Zero();
+    if (!info_.body_moves && !identity) {
+      fail(ErrorCategory::internal, out_.string() + ": a body pose for a bake whose body does not move");
+    }
+    if (!body.rotation.coeffs().allFinite() || !body.translation.allFinite() ||
+        body.translation.cwiseAbs().maxCoeff() > kMaxBakeCoordinate) {
+      fail(ErrorCategory::diverged, out_.string() + ": frame " + std::to_string(index) + ": the body's pose is not finite");
+    }
+    body_ = body;
     write_frame(index, positions);
     ++next_frame_;
   });
+}
+
+std::span<const Eigen::Vector3f> BakeWriterBase::world_positions(std::span<const Eigen::Vector3f> positions) {
+  world_.resize(positions.size());
+  const Eigen::Matrix3d r = body_.rotation.normalized().toRotationMatrix();
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    const Eigen::Vector3d w = r * positions[v].cast<double>() + body_.translation;
+    if (!(w.cwiseAbs().maxCoeff() <= kMaxBakeCoordinate)) {
+      fail(ErrorCategory::diverged, out_.string() + ": vertex " + std::to_string(v) + " moved by the body leaves the float range");
+    }
+    world_[v] = w.cast<float>();
+  }
+  return world_;
 }
 
 void BakeWriterBase::finish() {

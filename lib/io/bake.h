@@ -41,6 +41,7 @@
 // Error(internal). After any error the writer is closed: it has removed its temporaries and
 // refuses further calls.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -65,6 +66,17 @@ struct BakeInfo {
   std::optional<std::vector<std::uint32_t>> animated_vertices;
   // Name of the glTF node and mesh (Blender's object name). Not used by the other formats.
   std::string name = "sweep_bake";
+  // Whether the body moves (issue 13): each frame then comes with the body's pose. The .pc2 and
+  // .obj writers write world positions (pose applied); the .glb writer keeps the deformation in
+  // the body's frame (morph targets) and animates its node's translation and rotation (LINEAR:
+  // slerp), so engines play both. Without it every pose must be the identity.
+  bool body_moves = false;
+};
+
+// The body's pose for one frame: world = rotation · position + translation.
+struct BodyPose {
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
 };
 
 // A streaming bake: begin() once, frame() for k = 0, 1, ..., frame_count-1 in that order, then
@@ -81,8 +93,10 @@ class BakeWriter {
 
   // `rest` is the mesh as read (vertex order kept; its double positions are stored as float32).
   virtual void begin(const Mesh& rest, const BakeInfo& info) = 0;
-  // Positions of all vertices in the mesh's vertex order for frame `index`.
-  virtual void frame(int index, std::span<const Eigen::Vector3f> positions) = 0;
+  // Positions of all vertices in the mesh's vertex order for frame `index`, in the body's frame,
+  // and the body's pose at that frame.
+  virtual void frame(int index, std::span<const Eigen::Vector3f> positions, const BodyPose& body) = 0;
+  void frame(int index, std::span<const Eigen::Vector3f> positions) { frame(index, positions, BodyPose{}); }
   // Writes what is left and renames every file into place.
   virtual void finish() = 0;
   // Writes what is left into sealed temporaries and hands them to `outputs`, which puts them in

@@ -26,15 +26,21 @@ class BakeWriterBase : public BakeWriter {
   explicit BakeWriterBase(std::filesystem::path out);
 
   void begin(const Mesh& rest, const BakeInfo& info) final;
-  void frame(int index, std::span<const Eigen::Vector3f> positions) final;
+  using BakeWriter::frame;
+  void frame(int index, std::span<const Eigen::Vector3f> positions, const BodyPose& body) final;
   void finish() final;
   void finish_into(Publication& outputs) final;
   std::uint64_t estimated_bytes() const final { return estimate_; }
 
  protected:
   virtual void start(const Mesh& rest) = 0;
-  // Called with positions already checked.
+  // Called with positions already checked, in the body's frame (see world_positions()).
   virtual void write_frame(int index, std::span<const Eigen::Vector3f> positions) = 0;
+  // The body's pose of the frame being written (identity unless info().body_moves).
+  const BodyPose& body_pose() const { return body_; }
+  // `positions` moved by the body's pose into world space (a scratch buffer, valid until the next
+  // call), for the writers that store world positions.
+  std::span<const Eigen::Vector3f> world_positions(std::span<const Eigen::Vector3f> positions);
   // Seals what is left and hands every temporary to `outputs`.
   virtual void complete(Publication& outputs) = 0;
   virtual void abandon() noexcept = 0;
@@ -62,6 +68,8 @@ class BakeWriterBase : public BakeWriter {
   State state_ = State::created;
   int next_frame_ = 0;
   std::uint64_t estimate_ = 0;
+  BodyPose body_;
+  std::vector<Eigen::Vector3f> world_;
 };
 
 // "1.5", "-0", "nan": shortest round-trippable text of a float32, locale-independent.

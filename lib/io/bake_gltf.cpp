@@ -6,7 +6,8 @@
 //   [sparse target indices (uint32, ascending, shared by every target)] |
 //   animation times (F floats) | animation weights, one-hot F × F as a sparse accessor
 //   (F uint32 flat indices k·F + k, then F floats 1) |
-//   frame 0 deltas | frame 1 deltas | ...   (s × vec3 each: s = listed vertices, or n when dense)
+//   frame 0 deltas | frame 1 deltas | ...   (s × vec3 each: s = listed vertices, or n when dense) |
+//   [a moving body: translations (F × vec3) | rotations (F × vec4), the node's animation]
 // finish() builds the JSON with tinygltf (its serializer sorts keys, so the bytes are stable),
 // then writes the GLB header, the JSON chunk and the scratch file's bytes as the BIN chunk into a
 // temporary that is renamed onto the output.
@@ -75,6 +76,9 @@ class GltfWriter final : public detail::BakeWriterBase {
   std::vector<Eigen::Vector3f> delta_;  // one frame's deltas, reused
   std::vector<Block> frame_blocks_;
   std::vector<Eigen::Vector3f> frame_min_, frame_max_;
+  // A moving body: its pose per frame (translation xyz, rotation xyzw), animated on the node.
+  std::vector<float> body_translations_, body_rotations_;
+  Block body_translation_block_, body_rotation_block_;
 };
 
 void GltfWriter::start(const Mesh& mesh) {
@@ -104,7 +108,8 @@ void GltfWriter::start(const Mesh& mesh) {
              "bake to .pc2 or an .obj sequence");
   }
   const std::uint64_t bin = 24 * std::uint64_t{n} + 4 * std::uint64_t{triangles.size()} +
-                            (sparse_ ? 4 * s : 0) + 4 * frames + 8 * frames + 12 * s * frames;
+                            (sparse_ ? 4 * s : 0) + 4 * frames + 8 * frames + 12 * s * frames +
+                            (info().body_moves ? 28 * frames : 0);
   const std::uint64_t estimate = 28 + kJsonBytesFixed + kJsonBytesPerFrame * frames + bin;
   set_estimate(estimate);
   if (estimate > kGlbMaxBytes) {
@@ -179,6 +184,20 @@ void GltfWriter::start(const Mesh& mesh) {
 }
 
 void GltfWriter::write_frame(int, std::span<const Eigen::Vector3f> positions) {
+  if (info().body_moves) {
+    const BodyPose& b = body_pose();
+    Eigen::Quaterniond q = b.rotation.normalized();
+    // Keep the quaternion on one side from frame to frame, so that LINEAR (slerp) between two
+    // keys takes the short way.
+    if (!body_rotations_.empty()) {
+      const std::size_t at = body_rotations_.size() - 4;
+      const double dot = q.x() * body_rotations_[at] + q.y() * body_rotations_[at + 1] +
+                         q.z() * body_rotations_[at + 2] + q.w() * body_rotations_[at + 3];
+      if (dot < 0) q.coeffs() *= -1;
+    }
+    for (int c = 0; c < 3; ++c) body_translations_.push_back(static_cast<float>(b.translation[c]));
+    for (const double c : {q.x(), q.y(), q.z(), q.w()}) body_rotations_.push_back(static_cast<float>(c));
+  }
   const std::vector<Eigen::Vector3f>& r = rest();
   Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();
   auto put = [&](std::size_t slot, std::size_t v) {
@@ -305,6 +324,10 @@ tinygltf::Model GltfWriter::build_model() const {
   tinygltf::Node node;
   node.name = info().name;
   node.mesh = 0;
+  if (info().body_moves) {  // frame 0's pose, for a viewer that does not play the animation
+    node.translation = {body_translations_[0], body_translations_[1], body_translations_[2]};
+    node.rotation = {body_rotations_[0], body_rotations_[1], body_rotations_[2], body_rotations_[3]};
+  }
   model.nodes.push_back(std::move(node));
   tinygltf::Scene scene;
   scene.nodes = {0};
@@ -323,6 +346,25 @@ tinygltf::Model GltfWriter::build_model() const {
   channel.target_node = 0;
   channel.target_path = "weights";
   animation.channels.push_back(std::move(channel));
+  if (info().body_moves) {
+    // The body: translation and rotation of the same node, keyed at the same times.
+    const int translations = add_accessor(add_view(body_translation_block_, 0), kFloat, TINYGLTF_TYPE_VEC3,
+                                          static_cast<std::size_t>(frames));
+    const int rotations = add_accessor(add_view(body_rotation_block_, 0), kFloat, TINYGLTF_TYPE_VEC4,
+                                       static_cast<std::size_t>(frames));
+    for (const auto& [accessor, path] : {std::pair{translations, "translation"}, std::pair{rotations, "rotation"}}) {
+      tinygltf::AnimationSampler body_sampler;
+      body_sampler.input = times;
+      body_sampler.output = accessor;
+      body_sampler.interpolation = "LINEAR";
+      animation.samplers.push_back(std::move(body_sampler));
+      tinygltf::AnimationChannel body_channel;
+      body_channel.sampler = static_cast<int>(animation.samplers.size() - 1);
+      body_channel.target_node = 0;
+      body_channel.target_path = path;
+      animation.channels.push_back(std::move(body_channel));
+    }
+  }
   model.animations.push_back(std::move(animation));
   return model;
 }
@@ -330,6 +372,10 @@ tinygltf::Model GltfWriter::build_model() const {
 void GltfWriter::complete(Publication& outputs) {
   // tinygltf serializes everything but the buffer (it would want the bytes in memory); the one
   // buffer, the GLB's BIN chunk, is added here with its length.
+  if (info().body_moves) {
+    body_translation_block_ = append_block(body_translations_.data(), body_translations_.size() * sizeof(float));
+    body_rotation_block_ = append_block(body_rotations_.data(), body_rotations_.size() * sizeof(float));
+  }
   const tinygltf::Model model = build_model();
   std::ostringstream stream;
   tinygltf::TinyGLTF gltf;

@@ -51,7 +51,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     header_tail_ = " of " + std::to_string(info().frame_count) + ", " + std::to_string(n) +
                    " vertices, " + std::to_string(mesh.face_count()) + " faces\n";
     // Vertices that never move are formatted once: their lines are copied from here each frame.
-    if (!all_animated()) {
+    if (!all_animated() && !info().body_moves) {
       rest_lines_.clear();
       rest_line_start_.resize(n + 1);
       for (std::size_t v = 0; v < n; ++v) {
@@ -69,13 +69,16 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     TempFile probe(out(), /*scratch=*/true);
   }
 
-  void write_frame(int index, std::span<const Eigen::Vector3f> positions) override {
+  void write_frame(int index, std::span<const Eigen::Vector3f> body_positions) override {
+    // World positions: with a moving body every vertex moves.
+    const std::span<const Eigen::Vector3f> positions =
+        info().body_moves ? world_positions(body_positions) : body_positions;
     std::string& text = text_;
     text.clear();
     text += "# sweep bake 1: frame ";
     text += std::to_string(index);
     text += header_tail_;
-    if (all_animated()) {
+    if (all_animated() || info().body_moves) {
       for (const Eigen::Vector3f& p : positions) append_vertex_line(text, p);
     } else {
       std::size_t next = 0;  // first vertex not yet written

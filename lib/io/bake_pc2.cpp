@@ -41,7 +41,9 @@ class Pc2Writer final : public detail::BakeWriterBase {
     if constexpr (std::endian::native != std::endian::little) scratch_.resize(rest().size() * 12);
   }
 
-  void write_frame(int, std::span<const Eigen::Vector3f> positions) override {
+  void write_frame(int, std::span<const Eigen::Vector3f> body_positions) override {
+    const std::span<const Eigen::Vector3f> positions =
+        info().body_moves ? world_positions(body_positions) : body_positions;
     if constexpr (std::endian::native == std::endian::little) {
       file_->write(positions.data(), positions.size_bytes());
     } else {

@@ -111,6 +111,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   info.frame_count = scene.frame_count();
   info.fps = scene.fps;
   info.animated_vertices = animated;
+  info.body_moves = scene.body.moves();
   for (const auto& out : options.outputs) {
     writers.push_back(io::make_bake_writer(out));
     writers.back()->begin(mesh, info);
@@ -159,7 +160,13 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     report.deform_seconds += seconds_since(t0);
 
     t0 = Clock::now();
-    for (auto& w : writers) w->frame(k, positions);
+    io::BodyPose pose;
+    if (info.body_moves) {
+      const BodyState body = sim.body();
+      pose.rotation = body.rotation;
+      pose.translation = body.translation;
+    }
+    for (auto& w : writers) w->frame(k, positions, pose);
     report.write_seconds += seconds_since(t0);
     report.per_frame.push_back(stats);
     if (options.progress) options.progress(k + 1, info.frame_count);
@@ -175,6 +182,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   }
   report.write_seconds += seconds_since(t0);
   for (int i = 0; i < sweeps; ++i) report.sweeps[i].steps = sim.steps_taken(i);
+  for (const int frame : sim.teleports()) report.teleport_times.push_back(frame / scene.fps);
   return report;
 }
 

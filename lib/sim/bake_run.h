@@ -67,6 +67,7 @@ struct BakeReport {
   double deform_seconds = 0;                 // wall time rebuilding vertices
   double write_seconds = 0;                  // wall time in the writers
   std::vector<std::filesystem::path> files;  // every file written
+  std::vector<double> teleport_times;        // s: frames where the body jumped and the parts were put to rest
 };
 
 // Runs the bake. `binding` must match `mesh` and `rig` (bind::check_binding). Throws Error: bad

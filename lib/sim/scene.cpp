@@ -1,6 +1,7 @@
 #include "sim/scene.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "core/error.h"
 #include "core/limits.h"
@@ -126,6 +127,61 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
   return f;
 }
 
+// The body's path: {"interpolation": "linear" | "cubic", "keys": [{"time", "translation",
+// "rotation" | "turn_degrees" (+ "turn_axis")}, ...]}.
+BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& ptr) {
+  r.object(v, ptr, {"interpolation", "keys"});
+  BodyInterpolation interpolation = BodyInterpolation::linear;
+  if (const Json* i = r.optional(v, "interpolation")) {
+    const std::string name = r.string(*i, member(ptr, "interpolation"));
+    if (name == "cubic") {
+      interpolation = BodyInterpolation::cubic;
+    } else if (name != "linear") {
+      r.fail_at(member(ptr, "interpolation"), "must be \"linear\" or \"cubic\", got " + io::describe(*i));
+    }
+  }
+  const std::string kp = member(ptr, "keys");
+  const Json& keys = r.required(v, ptr, "keys");
+  r.array(keys, kp);
+  if (keys.empty()) r.fail_at(kp, "needs at least one key");
+  std::vector<BodyKey> out;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const std::string p = element(kp, k);
+    const Json& key = keys[k];
+    r.object(key, p, {"time", "translation", "rotation", "turn_degrees", "turn_axis"});
+    BodyKey b;
+    b.time = r.bounded(r.required(key, p, "time"), member(p, "time"), 0, limits::kMaxDuration);
+    if (!out.empty() && !(b.time > out.back().time))
+      r.fail_at(member(p, "time"), "keys must come in increasing time: " + io::describe(key["time"]) +
+                                       " is not after the key before");
+    if (const Json* t = r.optional(key, "translation")) b.translation = r.bounded_vec3(*t, member(p, "translation"), limits::kMaxLength);
+    const Json* q = r.optional(key, "rotation");
+    const Json* turn = r.optional(key, "turn_degrees");
+    if (q && turn) r.fail_at(p, "give either \"rotation\" or \"turn_degrees\", not both");
+    if (!turn && r.optional(key, "turn_axis")) r.fail_at(member(p, "turn_axis"), "goes with \"turn_degrees\"");
+    if (q) {
+      const std::string qp = member(p, "rotation");
+      if (!q->is_array() || q->size() != 4) r.fail_at(qp, "must be a quaternion [x, y, z, w], got " + io::describe(*q));
+      double c[4];
+      for (int i = 0; i < 4; ++i) c[i] = r.number((*q)[i], element(qp, i));
+      b.rotation = Quat(c[3], c[0], c[1], c[2]);
+      // Hand-written quaternions carry a few digits: near unit is taken as meant, and normalized.
+      if (std::abs(b.rotation.norm() - 1.0) > 1e-3)
+        r.fail_at(qp, "must be a unit quaternion [x, y, z, w], its length is " + std::to_string(b.rotation.norm()));
+      b.rotation.normalize();
+    }
+    if (turn) {
+      const double degrees = r.bounded(*turn, member(p, "turn_degrees"), -1e6, 1e6);
+      Vec3 axis = Vec3::UnitY();
+      if (const Json* a = r.optional(key, "turn_axis")) axis = r.bounded_vec3(*a, member(p, "turn_axis"), limits::kMaxLength);
+      if (!(axis.norm() > 0)) r.fail_at(member(p, "turn_axis"), "must not be zero");
+      b.rotation = Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180, axis.normalized()));
+    }
+    out.push_back(b);
+  }
+  return BodyPath(std::move(out), interpolation);
+}
+
 }  // namespace
 
 int Scene::frame_count() const {
@@ -135,7 +191,8 @@ int Scene::frame_count() const {
 Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
                   const Rig& rig) {
   r.object(json, pointer,
-           {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces"});
+           {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces",
+            "body", "teleport"});
   Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
@@ -185,6 +242,18 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
     if (!parse_integrator(name, &scene.integrator)) {
       r.fail_at(member(pointer, "integrator"),
                 "must be \"exact\", \"semi-implicit-euler\" or \"rk4\", got " + io::describe(*i));
+    }
+  }
+  if (const Json* b = r.optional(json, "body")) scene.body = read_body(r, *b, member(pointer, "body"));
+  if (const Json* t = r.optional(json, "teleport")) {
+    const std::string tp = member(pointer, "teleport");
+    if (t->is_boolean()) {
+      scene.teleport_enabled = t->get<bool>();
+    } else {
+      r.object(*t, tp, {"distance", "angle_degrees"});
+      if (const Json* d = r.optional(*t, "distance")) scene.teleport_distance = r.positive(*d, member(tp, "distance"));
+      if (const Json* a = r.optional(*t, "angle_degrees"))
+        scene.teleport_angle = r.bounded(*a, member(tp, "angle_degrees"), 1e-6, 180) * std::numbers::pi / 180;
     }
   }
   const std::string fp = member(pointer, "forces");

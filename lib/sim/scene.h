@@ -10,6 +10,7 @@
 #include "core/oscillator.h"
 #include "core/rig.h"
 #include "io/json_reader.h"
+#include "sim/body_path.h"
 
 namespace sweep::sim {
 
@@ -41,6 +42,15 @@ struct Scene {
   Vec3 gravity = Vec3::Zero();
   bool gravity_preloaded = true;
   std::vector<SceneForce> forces;
+  // The body's motion (issue 13): the whole mesh moves with it, each part's root with the body, and
+  // the parts feel its accelerations. Empty: the body stands still.
+  BodyPath body;
+  // A body that jumps farther than this in one frame (mesh units), or turns by more than this
+  // (radians), has been cut or respawned: the parts are put to rest in the new place instead of
+  // feeling the jump. 0 = the default: the longest part's length, and a quarter turn.
+  double teleport_distance = 0;
+  double teleport_angle = 0;
+  bool teleport_enabled = true;
 
   // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. At it the follower loads of the diplodocus
   // Fig. 4 scene are within 1e-5 of the part's length of a 16× finer step (BENCHMARKS.md).

@@ -17,8 +17,10 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
     sweeps_.back().body.set_integrator(scene.integrator);
     sweeps_.back().view.set_integrator(scene.integrator);
     if (def.material && scene.gravity != Vec3::Zero()) {
-      sweeps_.back().body.set_gravity(scene.gravity, scene.gravity_preloaded);
-      sweeps_.back().view.set_gravity(scene.gravity, scene.gravity_preloaded);
+      // Gravity in the body's axes at time 0: what the modelled pose is pre-loaded with.
+      const Vec3 g = scene.body.at(0).rotation.conjugate() * scene.gravity;
+      sweeps_.back().body.set_gravity(g, scene.gravity_preloaded);
+      sweeps_.back().view.set_gravity(g, scene.gravity_preloaded);
       // Starting unloaded, the part sags from frame 0: it is driven and awake.
       if (!scene.gravity_preloaded) sweeps_.back().driven = sweeps_.back().awake = true;
     }
@@ -31,7 +33,37 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   for (SweepState& s : sweeps_) {
     s.ids.assign(s.forces.size(), 0);
     s.view_ids.assign(s.forces.size(), 0);
+    // A moving body reaches every part (a part it never loads sleeps all the same).
+    if (scene.body.moves()) s.driven = true;
   }
+  kink_keys_ = scene.body.kink_keys();
+  for (const std::size_t k : kink_keys_) kinks_.push_back(scene.body.keys()[k].time);
+  double longest = 0;
+  for (const SweepDef& def : rig.sweeps) longest = std::max(longest, def.rest.length());
+  teleport_distance_ = scene.teleport_distance > 0 ? scene.teleport_distance : longest;
+  teleport_angle_ = scene.teleport_angle > 0 ? scene.teleport_angle : 0.5 * 3.141592653589793;
+}
+
+bool Simulator::jumps(double from, double to) const {
+  if (!scene_.teleport_enabled || !scene_.body.moves()) return false;
+  const BodyState a = scene_.body.at(from), b = scene_.body.at(to);
+  return (b.translation - a.translation).norm() > teleport_distance_ ||
+         a.rotation.angularDistance(b.rotation) > teleport_angle_;
+}
+
+void Simulator::set_body_motion(ElasticSweep& sweep, double mid) const {
+  if (!scene_.body.moves()) return;  // a body at rest: gravity, if any, was set once
+  ElasticSweep::BodyMotion m;
+  if (!teleporting_) {
+    const BodyState b = scene_.body.at(mid);
+    m.acceleration = b.acceleration;
+    m.angular_velocity = b.angular_velocity;
+    m.angular_acceleration = b.angular_acceleration;
+    m.gravity = b.rotation.conjugate() * scene_.gravity;
+  } else {
+    m.gravity = scene_.body.at(mid).rotation.conjugate() * scene_.gravity;
+  }
+  sweep.set_body_motion(m);
 }
 
 namespace {
@@ -54,6 +86,17 @@ void Simulator::advance_frame() {
   const double grid_time = static_cast<double>(n) * h;
   const double partial = target - grid_time > kOnGridTolerance * h ? target - grid_time : 0.0;
 
+  // A body that jumps during this frame (a cut, a respawn) puts the parts to rest in the new place
+  // rather than whipping them: no body loads this frame.
+  teleporting_ = jumps(static_cast<double>(frame_) / scene_.fps, target);
+  if (teleporting_) {
+    teleports_.push_back(frame_ + 1);
+    for (SweepState& st : sweeps_) {
+      st.body.reset();
+      st.view.reset();
+      st.moved = true;
+    }
+  }
   int busy = 0;
   for (std::size_t i = 0; i < sweeps_.size(); ++i) {
     sweeps_[i].failure = {};
@@ -108,6 +151,7 @@ bool Simulator::has_work(int i, double from, double to) const {
   const SweepState& st = sweeps_[i];
   if (!st.driven) return false;
   if (st.awake) return true;
+  if (!teleporting_ && scene_.body.loads_between(from, to)) return true;
   for (std::size_t f : st.forces) {
     const SceneForce& force = scene_.forces[f];
     if (force.start < to && force.end >= from) return true;
@@ -128,6 +172,22 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
     for (std::size_t fi : s.forces) {
       for (double sw : {scene_.forces[fi].start, scene_.forces[fi].end}) {
         if (sw > cur && sw < next) next = sw;
+      }
+    }
+    for (double kink : kinks_) {
+      if (kink > cur && kink < next) next = kink;
+    }
+    // The corner of a linear body path is a kick (pieces start at switching times, so a corner
+    // in [cur, next) is at cur).
+    if (!teleporting_) {
+      for (std::size_t k = 0; k < kinks_.size(); ++k) {
+        if (kinks_[k] >= cur && kinks_[k] < next) {
+          Vec3 dv, dw;
+          scene_.body.jump_at(kink_keys_[k], dv, dw);
+          body.apply_body_kick(dv, dw);
+          awake = true;
+          if (!on_view) s.quiet = 0;
+        }
       }
     }
     const double mid = cur + 0.5 * (next - cur);
@@ -152,7 +212,12 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
         ids[k] = 0;
       }
     }
+    if (!awake && !teleporting_ && scene_.body.loads_between(cur, next)) {
+      awake = true;
+      if (!on_view) s.quiet = 0;
+    }
     if (awake) {
+      set_body_motion(body, cur + 0.5 * (next - cur));
       // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
       // bits, and a step of new length costs new step maps.
       const bool whole = grid_step && cur == from && next == to;
@@ -169,6 +234,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
   if (!grid_step) return;
   ++s.steps;
   if (!sleep_.enabled || body.force_count() > 0) return;
+  if (!teleporting_ && scene_.body.loads_between(from, to)) return;
   const bool quiet = body.max_speed() < sleep_.speed && body.max_displacement() < sleep_.displacement;
   s.quiet = quiet ? s.quiet + (to - from) : 0.0;
   if (s.quiet >= sleep_.quiet_time) s.awake = false;

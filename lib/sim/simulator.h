@@ -53,6 +53,10 @@ class Simulator {
   // Whether sweep i's shape changed during the last advance_frame (it must be re-deformed).
   bool moved_last_frame(int i) const { return sweeps_[i].moved; }
   long long steps_taken(int i) const { return sweeps_[i].steps; }
+  // The body at the current frame's time (world = rotation · mesh + translation).
+  BodyState body() const { return scene_.body.at(time()); }
+  // Frames (their numbers) at which the body jumped and the parts were put to rest.
+  const std::vector<int>& teleports() const { return teleports_; }
 
  private:
   struct SweepState {
@@ -78,10 +82,20 @@ class Simulator {
   bool has_work(int i, double from, double to) const;
   void check_finite(const ElasticSweep& body, double t) const;
 
+  // The body's loads on sweep i over a piece centred on `mid` (inertia, turning gravity).
+  void set_body_motion(ElasticSweep& sweep, double mid) const;
+  // Whether the body jumps between the two times (cut, respawn): see Scene::teleport_distance.
+  bool jumps(double from, double to) const;
+
   const Scene& scene_;
   SleepSettings sleep_;
   std::vector<SweepState> sweeps_;
   int frame_ = 0;
+  bool teleporting_ = false;  // during a frame in which the body jumps: no body loads
+  std::vector<double> kinks_;  // times where a linear path's velocity jumps
+  std::vector<std::size_t> kink_keys_;  // and their keys
+  double teleport_distance_ = 0, teleport_angle_ = 0;
+  std::vector<int> teleports_;
 };
 
 }  // namespace sweep::sim

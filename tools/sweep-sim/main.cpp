@@ -80,6 +80,8 @@ std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, doub
                       {"awake_sweeps", f.awake_sweeps}});
   }
   doc["per_frame"] = std::move(frames);
+  // Times at which the body jumped (a cut, a respawn) and the parts were put to rest there.
+  doc["teleports"] = r.teleport_times;
   doc["seconds"] = {{"load", load_seconds},
                     {"simulate", r.simulate_seconds},
                     {"deform", r.deform_seconds},
@@ -164,6 +166,9 @@ int run(const Settings& s) {
       std::printf("  %-12s %s, %lld steps, deformed in %d frames, %zu vertices\n", st.name.c_str(),
                   st.driven ? "driven" : "no force reaches it: skipped", st.steps,
                   st.frames_deformed, st.bound_vertex_count);
+    }
+    for (const double t : report.teleport_times) {
+      std::printf("  the body jumped at t = %.4g s (a cut or respawn): the parts were put to rest there\n", t);
     }
     for (const auto& f : report.files) std::printf("wrote %s\n", f.string().c_str());
     if (!s.report.empty()) std::printf("report %s\n", s.report.string().c_str());
