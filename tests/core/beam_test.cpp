@@ -164,6 +164,18 @@ TEST(MaterialMode, RadialHandlesRingAtTheirWedgesFrequency) {
   EXPECT_NEAR(sweep.radial_offset(9, 3), -1e-4, 1e-12);
 }
 
+TEST(MaterialMode, AnImpulseGivesOnlyItsOwnKickNotTheWeights) {
+  // An impulse is N·s at one instant; the weight is a force over time. (The impulse once took the
+  // loads of the whole split with it: under unloaded gravity, a second of the part's weight.)
+  ElasticSweep sweep(tube(kRadius, kRadius, 0.05));
+  sweep.set_gravity(Vec3(0, -9.81, 0), false);
+  ForceSpec nothing;
+  nothing.t = 20;
+  nothing.vector = Vec3::Zero();
+  sweep.apply_impulse(nothing);
+  EXPECT_EQ(sweep.max_speed(), 0.0);
+}
+
 TEST(MaterialMode, FreeMotionNeverGainsEnergy) {
   for (double zeta : {0.0, 0.05, 2.0}) {
     ElasticSweep sweep(tube(kRadius, kRadius, zeta));
