@@ -38,6 +38,7 @@ ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>
     stiff_len[i - 1] += 0.5 * h;
   }
   const std::vector<double> patch_len = mass_len;  // the root's radial handles stand for a half span too
+  m.section_length = patch_len;
   mass_len[0] = 0;
   stiff_len[1] += stiff_len[0];
   stiff_len[0] = 0;

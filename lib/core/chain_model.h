@@ -43,6 +43,8 @@ struct ChainModel {
   std::vector<OscillatorParams> positional;
   // Radial springs, K·n entries (section-major), in mesh units as the positional ones.
   std::vector<OscillatorParams> radial;
+  // The length of the part each section stands for (half of each span beside it), metres.
+  std::vector<double> section_length;
 };
 
 // `materials` has one entry per section (the sweep's, overrides applied).

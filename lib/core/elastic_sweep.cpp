@@ -115,18 +115,21 @@ bool ElasticSweep::remove_force(ForceId id) {
 void ElasticSweep::clear_forces() { forces_.clear(); }
 
 bool ElasticSweep::body_loads() const {
-  return (chain_ && body_.gravity != Vec3::Zero()) || body_.acceleration != Vec3::Zero() ||
+  return (chain_ && (body_.gravity != Vec3::Zero() || body_.drag > 0)) || body_.acceleration != Vec3::Zero() ||
          body_.angular_velocity != Vec3::Zero() || body_.angular_acceleration != Vec3::Zero();
 }
 
 // Each section's share of the body's motion at the centres of the current shape, as a field of
-// accelerations g_i (per unit mass); each joint j takes the moment of what lies beyond it,
-// Σ_{i>j} (c_i − c_j) × m_i g_i, and each positional spring the force beyond it.
+// accelerations g_i (per unit mass). In material mode each joint j takes the moment of what lies
+// beyond it, Σ_{i>j} (c_i − c_j) × m_i g_i, and each positional spring the force beyond it (the
+// chain's mass matrix carries those masses too); with the paper's springs each section's own
+// positional spring takes its own share.
 void ElasticSweep::add_body_loads(const BodyMotion& motion) {
   const int k = def_.rest.section_count();
   const double s = chain_ ? chain_->metres_per_unit : 1.0;  // mesh-unit accelerations to m/s²
   const Vec3& w = motion.angular_velocity;
-  if (w != Vec3::Zero()) {
+  const bool wind = chain_ && motion.drag > 0;
+  if (w != Vec3::Zero() || wind) {
     // Centre velocities relative to the body, from the spring speeds along the chain: joint j
     // turns everything beyond it about c_j (Ω_j) and shifts it (u_j), so
     // v_i = Σ_{j≤i} Ω_j × (c_i − c_j) + u_j = (Σ Ω_j) × c_i − Σ Ω_j × c_j + Σ u_j.
@@ -149,7 +152,25 @@ void ElasticSweep::add_body_loads(const BodyMotion& motion) {
     Vec3 frame_acceleration = motion.acceleration + motion.angular_acceleration.cross(c);
     if (w != Vec3::Zero()) frame_acceleration += w.cross(w.cross(c)) + 2.0 * w.cross(section_velocity_[j]);
     const double mass = chain_ ? chain_->node_mass[j] : def_.springs[j].positional.mass;
-    const Vec3 f = mass * (gravity - s * frame_acceleration);
+    Vec3 f = mass * (gravity - s * frame_acceleration);
+    if (wind) {
+      // The air against the section (m/s), across the part's axis: cross-flow drag on the span.
+      const Vec3 air = motion.wind - s * (motion.velocity + w.cross(c) + section_velocity_[j]);
+      const Vec3 axis = deformed_.frames[j].axis();
+      const Vec3 across = air - air.dot(axis) * axis;
+      const int n = def_.rest.radial_count;
+      double radius = 0;
+      for (int r = 0; r < n; ++r) radius += deformed_.radii[static_cast<std::size_t>(j) * n + r];
+      const double diameter = 2 * s * radius / n;
+      f += motion.drag * diameter * chain_->section_length[j] * across.norm() * across;
+    }
+    if (!chain_) {
+      // The paper's springs are independent, each with its own mass and no other: a section's
+      // share loads its own positional spring only. (Carried down the chain, the weight of every
+      // later section would load a spring whose mass is one section's: a tenfold, violent lag.)
+      loads_.force[j] += f;
+      continue;
+    }
     force += f;
     moment += c.cross(f);
     loads_.force[j] += force;

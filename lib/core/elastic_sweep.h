@@ -77,15 +77,24 @@ class ElasticSweep {
   // sweep lives in): the acceleration of the body's origin (mesh units/s²), its angular velocity
   // (rad/s) and angular acceleration (rad/s²), and gravity (m/s², in the body's axes: it turns
   // with the body; material mode only). Held until set again. Each section of mass m at centre c
-  // moving at v relative to the body takes −m (a + α × c + ω × (ω × c) + 2 ω × v) + m g, loading
-  // the chain as weight does (the positional and joint springs carry what lies beyond them). The
-  // masses are the material's (lengths in metres), else the positional springs' masses (lengths
-  // in mesh units). A body at rest or moving at constant velocity loads nothing.
+  // moving at v relative to the body takes −m (a + α × c + ω × (ω × c) + 2 ω × v) + m g. In
+  // material mode that loads the chain as weight does (the positional and joint springs carry what
+  // lies beyond them; lengths in metres); with the paper's independent springs each section's own
+  // positional spring takes its share, with that spring's mass (lengths in mesh units): the
+  // offsets add up along the chain, so the tip lags most. A body at rest or moving at constant
+  // velocity loads nothing.
+  // Wind (material mode only, like gravity): each span of the part, a cylinder of its section's
+  // mean diameter and the length the section stands for, takes the cross-flow drag
+  // ½ ρ C_d · d h · |u⊥| u⊥, u⊥ the air's speed relative to the section across the part's axis
+  // (the body's own velocity and the section's motion included).
   struct BodyMotion {
     Vec3 acceleration = Vec3::Zero();
     Vec3 angular_velocity = Vec3::Zero();
     Vec3 angular_acceleration = Vec3::Zero();
     Vec3 gravity = Vec3::Zero();
+    Vec3 velocity = Vec3::Zero();  // of the body's origin, body axes, mesh units/s (for the wind)
+    Vec3 wind = Vec3::Zero();      // the air's velocity, body axes, m/s
+    double drag = 0;               // ½ ρ_air C_d, kg/m³; 0: no wind
   };
   void set_body_motion(const BodyMotion& motion);
   const BodyMotion& body_motion() const { return body_; }

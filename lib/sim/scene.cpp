@@ -192,7 +192,7 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
                   const Rig& rig) {
   r.object(json, pointer,
            {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces",
-            "body", "teleport"});
+            "body", "teleport", "wind"});
   Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
@@ -255,6 +255,20 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
       if (const Json* a = r.optional(*t, "angle_degrees"))
         scene.teleport_angle = r.bounded(*a, member(tp, "angle_degrees"), 1e-6, 180) * std::numbers::pi / 180;
     }
+  }
+  if (const Json* w = r.optional(json, "wind")) {
+    const std::string wp = member(pointer, "wind");
+    r.object(*w, wp, {"velocity", "gust", "gust_period", "turbulence", "seed", "air_density", "drag_coefficient"});
+    WindSettings ws;
+    ws.enabled = true;
+    ws.velocity = r.bounded_vec3(r.required(*w, wp, "velocity"), member(wp, "velocity"), 1e3);
+    if (const Json* x = r.optional(*w, "gust")) ws.gust = r.bounded(*x, member(wp, "gust"), 0, 10);
+    if (const Json* x = r.optional(*w, "gust_period")) ws.gust_period = r.bounded(*x, member(wp, "gust_period"), 0.01, 1e4);
+    if (const Json* x = r.optional(*w, "turbulence")) ws.turbulence = r.bounded(*x, member(wp, "turbulence"), 0, 10);
+    if (const Json* x = r.optional(*w, "seed")) ws.seed = static_cast<std::uint64_t>(r.integer(*x, member(wp, "seed"), 0, 1LL << 53));
+    if (const Json* x = r.optional(*w, "air_density")) ws.air_density = r.bounded(*x, member(wp, "air_density"), 0, 1e4);
+    if (const Json* x = r.optional(*w, "drag_coefficient")) ws.drag_coefficient = r.bounded(*x, member(wp, "drag_coefficient"), 0, 100);
+    scene.wind = Wind(ws);
   }
   const std::string fp = member(pointer, "forces");
   const Json& forces = r.required(json, pointer, "forces");

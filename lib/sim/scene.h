@@ -11,6 +11,7 @@
 #include "core/rig.h"
 #include "io/json_reader.h"
 #include "sim/body_path.h"
+#include "sim/wind.h"
 
 namespace sweep::sim {
 
@@ -51,6 +52,8 @@ struct Scene {
   double teleport_distance = 0;
   double teleport_angle = 0;
   bool teleport_enabled = true;
+  // Wind on material-mode parts (sim/wind.h); none by default.
+  Wind wind;
 
   // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. At it the follower loads of the diplodocus
   // Fig. 4 scene are within 1e-5 of the part's length of a 16× finer step (BENCHMARKS.md).

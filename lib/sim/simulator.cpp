@@ -33,8 +33,12 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   for (SweepState& s : sweeps_) {
     s.ids.assign(s.forces.size(), 0);
     s.view_ids.assign(s.forces.size(), 0);
-    // A moving body reaches every part (a part it never loads sleeps all the same).
+    // A moving body reaches every part (a part it never loads sleeps all the same), and wind every
+    // part with a material.
     if (scene.body.moves()) s.driven = true;
+  }
+  for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
+    if (rig.sweeps[i].material && scene.wind.settings().any()) sweeps_[i].driven = sweeps_[i].awake = sweeps_[i].windy = true;
   }
   kink_keys_ = scene.body.kink_keys();
   for (const std::size_t k : kink_keys_) kinks_.push_back(scene.body.keys()[k].time);
@@ -52,16 +56,21 @@ bool Simulator::jumps(double from, double to) const {
 }
 
 void Simulator::set_body_motion(ElasticSweep& sweep, double mid) const {
-  if (!scene_.body.moves()) return;  // a body at rest: gravity, if any, was set once
+  const bool windy = scene_.wind.settings().any();
+  if (!scene_.body.moves() && !windy) return;  // a body at rest: gravity, if any, was set once
   ElasticSweep::BodyMotion m;
+  const BodyState b = scene_.body.at(mid);
+  const Quat to_body = b.rotation.conjugate();
+  m.gravity = to_body * scene_.gravity;
   if (!teleporting_) {
-    const BodyState b = scene_.body.at(mid);
     m.acceleration = b.acceleration;
     m.angular_velocity = b.angular_velocity;
     m.angular_acceleration = b.angular_acceleration;
-    m.gravity = b.rotation.conjugate() * scene_.gravity;
-  } else {
-    m.gravity = scene_.body.at(mid).rotation.conjugate() * scene_.gravity;
+    m.velocity = to_body * b.velocity;
+  }
+  if (windy) {
+    m.wind = to_body * scene_.wind.at(mid);
+    m.drag = scene_.wind.drag();
   }
   sweep.set_body_motion(m);
 }
@@ -233,7 +242,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
   s.moved = true;
   if (!grid_step) return;
   ++s.steps;
-  if (!sleep_.enabled || body.force_count() > 0) return;
+  if (!sleep_.enabled || body.force_count() > 0 || s.windy) return;
   if (!teleporting_ && scene_.body.loads_between(from, to)) return;
   const bool quiet = body.max_speed() < sleep_.speed && body.max_displacement() < sleep_.displacement;
   s.quiet = quiet ? s.quiet + (to - from) : 0.0;

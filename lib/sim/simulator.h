@@ -66,6 +66,7 @@ class Simulator {
     bool driven = false;
     bool awake = false;
     bool moved = false;
+    bool windy = false;  // a material part in a wind: always loaded, never asleep
     double quiet = 0;  // s spent under the sleep tolerances
     long long steps = 0;
     long long grid = 0;                 // internal steps done

@@ -1,6 +1,8 @@
 #!/bin/sh
 # CTest driver for check_bake.py: bakes the bent-tube example (rigs/tube-bent.rig.json, its own scene
-# at 24 fps and the same scene at 30 fps) to .glb and .pc2 and has Blender play both.
+# at 24 fps, the same scene at 30 fps, and at 30 fps on a body that walks and turns) to .glb and
+# .pc2 and has Blender play both (the moving body: world positions in the .pc2, the node's animation
+# in the .glb).
 #   run_check.sh SOURCE_DIR WORK_DIR SWEEP_BIND SWEEP_SIM
 # Exits 77 (CTest: skipped) when Blender is not installed; tools/setup-deps.sh installs it.
 set -eu
@@ -15,20 +17,27 @@ rm -rf "$work" && mkdir -p "$work"
 "$bind" -q "$rig" -o "$work/tube.bind"
 python3 -c 'import json, sys; s = {"format": "sweep-scene", "version": 1, **json.load(open(sys.argv[1]))["scene"], "fps": 30}; json.dump(s, open(sys.argv[2], "w"))' \
   "$rig" "$work/scene-30fps.json"
+python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); s["body"] = {"interpolation": "cubic", "keys": [
+  {"time": 0, "translation": [0, 0, 0]}, {"time": 0.8, "translation": [0.15, 0.05, 0], "turn_degrees": 10},
+  {"time": 1.6, "translation": [0.25, 0.05, 0.1], "turn_degrees": 20, "turn_axis": [0, 0.3, 1]}]}; json.dump(s, open(sys.argv[2], "w"))' \
+  "$work/scene-30fps.json" "$work/scene-moving.json"
 status=0
-for fps in 24 30; do
-  if [ "$fps" = 24 ]; then
-    "$sim" -q "$rig" -b "$work/tube.bind" -o "$work/tube-$fps.glb" -o "$work/tube-$fps.pc2"
-  else
-    "$sim" -q "$rig" -b "$work/tube.bind" --scene "$work/scene-30fps.json" \
-      -o "$work/tube-$fps.glb" -o "$work/tube-$fps.pc2"
-  fi
-  echo "== $fps fps"
+for run in 24 30 moving; do
+  fps=$run
+  case $run in
+    24) "$sim" -q "$rig" -b "$work/tube.bind" -o "$work/tube-$run.glb" -o "$work/tube-$run.pc2" ;;
+    30) "$sim" -q "$rig" -b "$work/tube.bind" --scene "$work/scene-30fps.json" \
+          -o "$work/tube-$run.glb" -o "$work/tube-$run.pc2" ;;
+    moving) fps=30
+      "$sim" -q "$rig" -b "$work/tube.bind" --scene "$work/scene-moving.json" \
+        -o "$work/tube-$run.glb" -o "$work/tube-$run.pc2" ;;
+  esac
+  echo "== $run ($fps fps)"
   if blender -b --factory-startup --python-exit-code 1 --python "$src/tests/blender/check_bake.py" -- \
-    "$src/meshes/tube_bent.obj" "$work/tube-$fps.glb" "$work/tube-$fps.pc2" "$fps" >"$work/blender-$fps.log" 2>&1; then
-    grep -E '^(ok|FAIL|blender check)' "$work/blender-$fps.log" || cat "$work/blender-$fps.log"
+    "$src/meshes/tube_bent.obj" "$work/tube-$run.glb" "$work/tube-$run.pc2" "$fps" >"$work/blender-$run.log" 2>&1; then
+    grep -E '^(ok|FAIL|blender check)' "$work/blender-$run.log" || cat "$work/blender-$run.log"
   else
-    cat "$work/blender-$fps.log"
+    cat "$work/blender-$run.log"
     status=1
   fi
 done

@@ -164,6 +164,46 @@ TEST(MaterialMode, RadialHandlesRingAtTheirWedgesFrequency) {
   EXPECT_NEAR(sweep.radial_offset(9, 3), -1e-4, 1e-12);
 }
 
+TEST(Wind, ASteadyWindBendsTheTubeByQL4Over8EI) {
+  // A steady cross wind U loads each span with the drag ½ ρ C_d d U² per unit length, uniform
+  // along a round tube: the tip deflects by q L⁴ / 8EI (small deflection), like its own weight.
+  const SweepDef def = tube(kRadius, kRadius, 1.0);
+  const SectionProperties p = props_of(def);
+  const double l = length_m(def), u = 0.2, half_rho_cd = 0.5 * 1.225 * 1.2;
+  const double diameter = 2 * kScale * kRadius;
+  // The polygon's mean radius is the circle's; its area (and I) is the 32-gon's.
+  const double q = half_rho_cd * diameter * u * u;
+  const double expected = q * std::pow(l, 4) / (8 * kYoung * p.i_xx);
+  ElasticSweep sweep(def);
+  ElasticSweep::BodyMotion air;
+  air.wind = Vec3(u, 0, 0);
+  air.drag = half_rho_cd;
+  sweep.set_body_motion(air);
+  const double w1 = std::sqrt(sweep.chain()->omega2[0]);
+  for (int s = 0; s < 400; ++s) sweep.step(0.1 / w1);
+  const double got = kScale * (sweep.deformed().frames.back().center.x() - def.rest.frames.back().center.x());
+  std::printf("steady wind: %.6g m, qL^4/8EI %.6g m (%+.3f%%)\n", got, expected, 100 * (got / expected - 1));
+  EXPECT_LT(expected, 1e-3 * l);
+  EXPECT_NEAR(got / expected, 1.0, 0.01);
+}
+
+TEST(Wind, TheAirDampsAPartSwingingThroughIt) {
+  // Still air (a wind of 0): the drag on the moving part takes energy out, never puts it in.
+  ElasticSweep still(tube(kRadius, kRadius, 0.0)), in_air(tube(kRadius, kRadius, 0.0));
+  ElasticSweep::BodyMotion air;
+  air.drag = 0.5 * 1.225 * 1.2;
+  in_air.set_body_motion(air);
+  for (ElasticSweep* s : {&still, &in_air}) s->set_section_pose(20, Vec3::Zero(), Vec3(0.02, 0, 0));
+  double e = in_air.energy();
+  for (int s = 0; s < 2000; ++s) {
+    still.step(1.0 / 480);
+    in_air.step(1.0 / 480);
+    ASSERT_LE(in_air.energy(), e * (1 + 1e-9));
+    e = in_air.energy();
+  }
+  EXPECT_LT(in_air.energy(), (1 - 1e-3) * still.energy());  // (air is thin: 0.3% in 4 s here)
+}
+
 TEST(MaterialMode, AnImpulseGivesOnlyItsOwnKickNotTheWeights) {
   // An impulse is N·s at one instant; the weight is a force over time. (The impulse once took the
   // loads of the whole split with it: under unloaded gravity, a second of the part's weight.)

@@ -238,6 +238,44 @@ TEST(Body, AnyFrameRateGivesTheSameMotionWithTheBodyMoving) {
   }
 }
 
+TEST(Body, GustyWindIsTheSameEveryRunAndAtAnyFrameRateAndFollowsItsSeed) {
+  Rig rig = bent_part();
+  Material m;
+  m.youngs_modulus = 2e5;
+  m.metres_per_unit = 0.1;
+  rig.sweeps[0].material = m;
+  rig.sweeps[0].section_materials.assign(rig.sweeps[0].rest.section_count(), m);
+  auto windy = [](double fps, std::uint64_t seed) {
+    Scene s = scene_of(BodyPath(), 2.0, fps, 1.0 / 700);
+    WindSettings w;
+    w.enabled = true;
+    w.velocity = Vec3(6, 0, 2);
+    w.gust = 0.5;
+    w.gust_period = 1.5;
+    w.turbulence = 0.3;
+    w.seed = seed;
+    s.wind = Wind(w);
+    return s;
+  };
+  const Scene a = windy(30, 7), again = windy(30, 7), faster = windy(60, 7), other = windy(30, 8);
+  const auto pa = bake_poses(rig, a), pagain = bake_poses(rig, again), pfast = bake_poses(rig, faster),
+             pother = bake_poses(rig, other);
+  double moved = 0, seeds_differ = 0;
+  for (const auto& [time, p] : pa) {
+    ASSERT_EQ(p, pagain.at(time));  // bit for bit
+    ASSERT_LE(max_difference(p, pfast.at(time)), 1e-9 * rig.sweeps[0].rest.length()) << time / 720.0;
+    moved = std::max(moved, max_difference(p, pa.at(0)));
+    seeds_differ = std::max(seeds_differ, max_difference(p, pother.at(time)));
+  }
+  EXPECT_GT(moved, 1e-3);
+  EXPECT_GT(seeds_differ, 1e-2 * moved);
+  // Gusts only strengthen the mean wind; turbulence wanders about it.
+  for (double t = 0; t < 10; t += 0.01) {
+    const Vec3 v = a.wind.at(t);
+    EXPECT_GE(v.dot(Vec3(6, 0, 2).normalized()), (1 - 0.3 * std::sqrt(3.0)) * Vec3(6, 0, 2).norm() - 1e-9);
+  }
+}
+
 TEST(Body, AStillBodyWakesNothing) {
   // A path whose keys all agree is a body at rest: no part is driven or stepped.
   const Rig rig = bent_part();
