@@ -2,7 +2,8 @@
 # The main job from a fresh clone: install what is missing, build the release preset, then fit the
 # tail and the neck of a mesh into one rig, bind it, and bake the scene of the paper's Fig. 4
 # (bending, twisting and cross-sectional change at once) to .glb and .pc2, with a JSON report and
-# a preview picture; then, for the bundled example, a second demo in material mode with gravity.
+# a preview picture; then, for the bundled example, a second demo in material mode with gravity and
+# a third on a body that walks, turns and stops.
 #
 #   tools/run-demo.sh                     # CGAL's diplodocus (23,982 vertices), the bundled example
 #   MESH=my.off TAIL_ROOT=x,y,z TAIL_TIP=x,y,z NECK_ROOT=x,y,z NECK_TIP=x,y,z SCENE=my.scene.json \
@@ -49,6 +50,12 @@ if [ -z "${MESH:-}" ]; then
   "$bin/sweep-sim/sweep-sim" "$material_demo.rig.json" --scene rigs/diplodocus-material.scene.json \
     -o "$material_demo.glb" -o "$material_demo.pc2" --report "$material_demo.sim.json"
   tools/sweep-preview.py "$material_demo.pc2" -o "$material_demo.png" --report "$material_demo.sim.json" --views xz,xy
+  # The third: the same rig on a body that walks, turns and stops (rigs/diplodocus-walk.scene.json,
+  # a keyframed root, with gravity and a breeze): tail and neck lag, swing and settle.
+  walk_demo="$out-walk"
+  "$bin/sweep-sim/sweep-sim" "$material_demo.rig.json" --scene rigs/diplodocus-walk.scene.json \
+    -o "$walk_demo.glb" -o "$walk_demo.pc2" --report "$walk_demo.sim.json"
+  tools/sweep-preview.py "$walk_demo.pc2" -o "$walk_demo.png" --report "$walk_demo.sim.json" --views xz,xy
 fi
 
 cat <<MSG
@@ -63,5 +70,6 @@ MSG
 if [ -n "$material_demo" ]; then
   cat <<MSG
 Material mode with gravity (the second demo): $material_demo.glb $material_demo.pc2 $material_demo.png
+Walking, turning and stopping (the third): $walk_demo.glb $walk_demo.pc2 $walk_demo.png
 MSG
 fi

@@ -176,7 +176,8 @@ rows pace them like a 60 fps runtime, where between frames the caches cool and t
 fall asleep (waking them is part of the cost). The two "step 1/480 s" rows compare material mode (issue
 12: the coupled chain stepped by its modes, with gravity, real moments; E = 50 MPa, ρ = 1000 kg/m³,
 25 m per unit, the demo's material) with the paper's independent springs, same forces, same clock,
-measured in alternating rounds.
+measured in alternating rounds. The last row (issue 13) runs the same material frame on a body that walks
+and turns all the way (a cubic path) in a gusty wind: inertia and drag against the still body's frame.
 
 $(cat "$results/skip.md")
 
