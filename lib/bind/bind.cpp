@@ -10,8 +10,8 @@
 
 #include "bind/deform.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/topology.h"
-#include "io/rig_json.h"
 
 namespace sweep::bind {
 namespace {
@@ -20,17 +20,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
-constexpr std::uint64_t kFnvPrime = 1099511628211ull;
-
-std::uint64_t fnv1a(std::uint64_t h, std::uint64_t word_le, int bytes) {
-  for (int b = 0; b < bytes; ++b) {
-    h ^= (word_le >> (8 * b)) & 0xffu;
-    h *= kFnvPrime;
-  }
-  return h;
 }
 
 double smoothstep01(double x) {
@@ -55,12 +44,13 @@ std::string sweep_label(const SweepDef& def, std::size_t index) {
 
 void check_inputs(const Rig& rig, const Mesh& mesh, const BindOptions& o) {
   if (!(o.blend >= 0) || !std::isfinite(o.blend)) {
-    fail(ErrorCategory::usage, "--blend must be a finite distance >= 0");
+    fail(ErrorCategory::usage, "BindOptions::blend must be a finite distance >= 0, got " + std::to_string(o.blend));
   }
   if (!(o.seedless_radius_factor >= 1) || !std::isfinite(o.seedless_radius_factor)) {
-    fail(ErrorCategory::usage, "the seedless radius factor must be finite and >= 1");
+    fail(ErrorCategory::usage, "BindOptions::seedless_radius_factor must be finite and >= 1, got " +
+                                   std::to_string(o.seedless_radius_factor));
   }
-  if (o.stations_per_span < 1) fail(ErrorCategory::usage, "stations per span must be >= 1");
+  if (o.stations_per_span < 1) fail(ErrorCategory::usage, "BindOptions::stations_per_span must be >= 1, got " + std::to_string(o.stations_per_span));
   if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
   if (mesh.vertex_count() > std::numeric_limits<std::uint32_t>::max()) {
     fail(ErrorCategory::unsupported, "meshes of more than 2^32 - 1 vertices are not supported");
@@ -131,21 +121,34 @@ std::size_t Binding::bound_count() const {
 std::uint64_t hash_positions(const std::vector<Vec3>& positions) {
   std::uint64_t h = kFnvOffset;
   for (const Vec3& p : positions) {
-    for (int a = 0; a < 3; ++a) h = fnv1a(h, std::bit_cast<std::uint64_t>(p[a]), 8);
+    for (int a = 0; a < 3; ++a) h = fnv1a_double(h, p[a]);
   }
   return h;
 }
 
 std::uint64_t hash_sweeps(const Rig& rig) {
-  Rig geometry;
+  // The byte layout of bind.h, fed to FNV-1a as it goes; integers and doubles little-endian.
+  std::uint64_t h = fnv1a(kFnvOffset, kSweepHashTag);
+  h = fnv1a_le(h, rig.sweeps.size(), 4);
   for (const SweepDef& def : rig.sweeps) {
-    SweepDef g = make_sweep(def.name, def.rest);
-    g.part = def.part;
-    geometry.sweeps.push_back(std::move(g));
+    const SweepShape& rest = def.rest;
+    h = fnv1a_le(h, def.name.size(), 4);
+    h = fnv1a(h, def.name);
+    h = fnv1a_le(h, static_cast<std::uint64_t>(rest.section_count()), 4);
+    h = fnv1a_le(h, static_cast<std::uint64_t>(rest.radial_count), 4);
+    for (int i = 0; i < rest.section_count(); ++i) {
+      const Frame& f = rest.frames[i];
+      h = fnv1a_double(h, rest.t[i]);
+      for (double x : {f.rotation.w(), f.rotation.x(), f.rotation.y(), f.rotation.z()}) h = fnv1a_double(h, x);
+      for (int a = 0; a < 3; ++a) h = fnv1a_double(h, f.center[a]);
+      for (double r : rest.section_radii(i)) h = fnv1a_double(h, r);
+    }
+    h = fnv1a_le(h, def.part ? 1 : 0, 1);
+    if (def.part) {
+      for (int a = 0; a < 3; ++a) h = fnv1a_double(h, def.part->root[a]);
+      for (int a = 0; a < 3; ++a) h = fnv1a_double(h, def.part->tip[a]);
+    }
   }
-  const std::string text = io::format_rig(geometry);
-  std::uint64_t h = kFnvOffset;
-  for (unsigned char ch : text) h = fnv1a(h, ch, 1);
   return h;
 }
 

@@ -24,6 +24,7 @@
 // The result does not depend on the number of OpenMP threads (each vertex is independent).
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/locate.h"
@@ -103,9 +104,14 @@ inline Binding bind_rig(const Rig& rig, const Mesh& mesh, const BindOptions& opt
 
 // FNV-1a 64 over the positions' exact bytes (x, y, z of each vertex as little-endian doubles).
 std::uint64_t hash_positions(const std::vector<Vec3>& positions);
-// FNV-1a 64 of io::format_rig of a rig holding only what binding depends on: each sweep's name,
-// rest shape and part seeds (not the mesh path, springs or force scales, so retuning springs or
-// moving the mesh file keeps a binding valid).
+// FNV-1a 64 of what binding depends on, and only that (not the mesh path, springs, materials or
+// force scales, so retuning a rig or moving its mesh keeps a binding valid), as numbers, not as
+// any file's text: the bytes of kSweepHashTag, then u32 sweep count, then per sweep in rig order
+//   u32 name length, the name's UTF-8 bytes, u32 K, u32 n,
+//   per section i: f64 t_i, f64 quaternion w x y z, f64 centre x y z, f64 radii[i*n .. i*n+n-1],
+//   u8 1 and f64 part root x y z, tip x y z when the sweep has part seeds, else u8 0;
+// u32 and f64 little-endian (f64 as its IEEE-754 bits). Binding format 2 and later store it.
+inline constexpr std::string_view kSweepHashTag = "sweep-rig-hash-2";
 std::uint64_t hash_sweeps(const Rig& rig);
 
 }  // namespace sweep::bind

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "io/interrupt.h"
 
 namespace sweep::io {
@@ -88,8 +89,7 @@ namespace {
 std::string temp_base(const std::string& name) {
   constexpr std::size_t kKeep = 200;  // + "-" + 16 hex + ".scratch-XXXXXX" + "." < 255
   if (name.size() <= kKeep) return name;
-  std::uint64_t h = 14695981039346656037ull;  // FNV-1a
-  for (unsigned char c : name) h = (h ^ c) * 1099511628211ull;
+  const std::uint64_t h = fnv1a(name);
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
   return name.substr(0, kKeep) + "-" + hex;

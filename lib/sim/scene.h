@@ -1,15 +1,13 @@
 #pragma once
 // A simulation scene (schema: rigs/scene.schema.json): how long, at what frame rate, and which
-// forces act where and when. It sits in its own file ("format": "sweep-scene") or under "scene"
-// in the rig file. Validated like the rig: every error names the file and the JSON pointer.
-#include <filesystem>
+// forces act where and when. Plain data: io/scene_json.h reads it from its own file ("format":
+// "sweep-scene") or from under "scene" in the rig file.
 #include <string>
 #include <vector>
 
 #include "core/force.h"
 #include "core/oscillator.h"
 #include "core/rig.h"
-#include "io/json_reader.h"
 #include "sim/body_path.h"
 #include "sim/wind.h"
 
@@ -66,14 +64,5 @@ struct Scene {
     return kDefaultStep;
   }
 };
-
-// `json` is the scene object; `pointer` where it sits in its file ("" or "/scene"). Forces are
-// resolved against `rig` (sweep and section names, t fraction to arc length).
-Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader,
-                  const Rig& rig);
-
-// A scene file (format "sweep-scene"), or a rig file that holds one under "scene".
-Scene read_scene(const std::filesystem::path& path, const Rig& rig,
-                 const io::WarningSink& warn = {});
 
 }  // namespace sweep::sim

@@ -3,9 +3,11 @@
 // through the sweep-bind program (--check) with its exit code.
 #include <omp.h>
 
+#include <cstring>
+
 #include <nlohmann/json.hpp>
 
-#include "bind/binding_file.h"
+#include "io/binding_file.h"
 #include "io/rig_json.h"
 #include "support.h"
 
@@ -63,7 +65,7 @@ TEST(BindingFile, RoundTripKeepsEveryValueAndTheLayoutIsAsDocumented) {
   for (const auto& s : b.sweeps) expected += 4 + s.name.size() + 8 + 24 * s.size();
   EXPECT_EQ(bytes.size(), expected);
   EXPECT_EQ(bytes.substr(0, 8), std::string("SWPBIND\0", 8));
-  EXPECT_EQ(bytes[8], 1);  // version 1, little-endian
+  EXPECT_EQ(bytes[8], 2);  // version 2, little-endian
   const Binding back = bind::parse_binding(bytes, "mem.bind");
   EXPECT_EQ(back.vertex_count, b.vertex_count);
   EXPECT_EQ(back.mesh_hash, b.mesh_hash);
@@ -136,6 +138,44 @@ TEST(BindingFile, HashesFollowPositionsAndSweepGeometryButNotSpringsOrMeshPath) 
   EXPECT_NE(bind::hash_sweeps(rig), bind::hash_sweeps(reseeded));
 }
 
+// The rig hash is of the documented byte layout (bind.h), built here independently of bind.cpp:
+// the binding depends on the sweep's numbers, not on how any file prints them. A material, a
+// one-ulp change of a radius and a sweep without seeds are all covered.
+TEST(BindingFile, RigHashIsFnvOfTheDocumentedByteLayout) {
+  Rig rig = rig_of({straight_sweep("tail"), straight_sweep("neck", false)}, "a.obj");
+  rig.sweeps[0].rest.radii[3] = std::nextafter(rig.sweeps[0].rest.radii[3], 1.0);
+  rig.sweeps[1].material = Material{};
+  std::string bytes(bind::kSweepHashTag);
+  auto u32 = [&](std::uint64_t v) { for (int b = 0; b < 4; ++b) bytes += static_cast<char>((v >> (8 * b)) & 0xff); };
+  auto f64 = [&](double x) {
+    std::uint64_t v;
+    std::memcpy(&v, &x, 8);
+    for (int b = 0; b < 8; ++b) bytes += static_cast<char>((v >> (8 * b)) & 0xff);
+  };
+  u32(rig.sweeps.size());
+  for (const SweepDef& d : rig.sweeps) {
+    u32(d.name.size());
+    bytes += d.name;
+    u32(d.rest.section_count());
+    u32(d.rest.radial_count);
+    for (int i = 0; i < d.rest.section_count(); ++i) {
+      const Frame& f = d.rest.frames[i];
+      f64(d.rest.t[i]);
+      for (double x : {f.rotation.w(), f.rotation.x(), f.rotation.y(), f.rotation.z()}) f64(x);
+      for (int a = 0; a < 3; ++a) f64(f.center[a]);
+      for (int j = 0; j < d.rest.radial_count; ++j) f64(d.rest.radius_sample(i, j));
+    }
+    bytes += static_cast<char>(d.part ? 1 : 0);
+    if (d.part) {
+      for (int a = 0; a < 3; ++a) f64(d.part->root[a]);
+      for (int a = 0; a < 3; ++a) f64(d.part->tip[a]);
+    }
+  }
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64, written out
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  EXPECT_EQ(bind::hash_sweeps(rig), h);
+}
+
 TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
   const OnDisk d = write_tube_rig("loader");
   const fs::path path = d.dir / "tube.bind";
@@ -206,9 +246,14 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
   }
   // A newer format version is "unsupported", not "corrupt".
   std::string newer = good;
-  newer[8] = 2;
+  newer[8] = 3;
   expect_refused([&] { bind::parse_binding(newer, src); }, ErrorCategory::unsupported,
-                 {"binding format version 2 is not supported"});
+                 {"binding format version 3 is not supported"});
+  // Format 1 hashed the rig's JSON text: refused with what to do, whatever else it holds.
+  std::string older = good;
+  older[8] = 1;
+  expect_refused([&] { bind::parse_binding(older, src); }, ErrorCategory::bad_input,
+                 {src.c_str(), "binding format 1", "run sweep-bind again"});
   // A missing file.
   expect_refused([&] { bind::read_binding(d.dir / "missing.bind"); }, ErrorCategory::bad_input,
                  {"missing.bind"});
@@ -268,7 +313,7 @@ TEST(BindTool, WritesTheBindingBesideTheRigAndAReport) {
   const ToolRun version = run_bind_tool("--version", d.dir);
   EXPECT_EQ(version.exit_code, 0);
   EXPECT_NE(version.out.find("sweep-bind"), std::string::npos);
-  EXPECT_NE(version.out.find("binding format 1"), std::string::npos);
+  EXPECT_NE(version.out.find("binding format 2"), std::string::npos);
   const ToolRun usage = run_bind_tool(quoted(d.rig_path) + " --blend -3", d.dir);
   EXPECT_EQ(usage.exit_code, 1);
   EXPECT_NE(usage.err.find("error: "), std::string::npos);

@@ -12,13 +12,13 @@
 #include <sstream>
 #include <string>
 
+#include "assets/mesh_io.h"
 #include "bind/bind.h"
 #include "core/error.h"
 #include "core/rig.h"
+#include "diplodocus_seeds.h"
 #include "fit/fit.h"
 #include "io/atomic_file.h"
-#include "io/mesh_io.h"
-#include "diplodocus_seeds.h"
 #include "tube.h"
 
 namespace sweep::test {

@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <numeric>
 
+#include "assets/mesh_io.h"
 #include "core/error.h"
 #include "core/topology.h"
-#include "io/mesh_io.h"
 #include "tubes.h"
 
 namespace sweep::fit {

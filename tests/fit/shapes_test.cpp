@@ -9,8 +9,8 @@
 #include <numbers>
 #include <string>
 
+#include "assets/mesh_io.h"
 #include "curve_tubes.h"
-#include "io/mesh_io.h"
 #include "io/rig_json.h"
 #include "tools/tool_runner.h"
 

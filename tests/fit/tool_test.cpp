@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "io/mesh_io.h"
+#include "assets/mesh_io.h"
 #include "io/rig_json.h"
 #include "tubes.h"
 
@@ -100,10 +100,10 @@ TEST_F(Tool, BadRequestsExitNonZeroAndWriteNoRig) {
   };
   const std::string ok = " --root 0,0,0.1 --tip 0,0,1";
   const Case cases[] = {
-      {tube_ + " -o " + rig + ok + " --sections 1", 1, "--sections must be at least 2"},
-      {tube_ + " -o " + rig + ok + " --radial 2", 1, "--radial must be at least 3"},
+      {tube_ + " -o " + rig + ok + " --sections 1", 1, "--sections: Value 1 not in range 2 to 100000"},
+      {tube_ + " -o " + rig + ok + " --radial 2", 1, "--radial: Value 2 not in range 3 to 4096"},
       {tube_ + " -o " + rig + ok + " --sections 8 --tolerance 0.01", 1,
-       "--sections and --tolerance"},
+       "--sections excludes --tolerance"},
       {tube_ + " -o " + rig + " --root 0,0,0.1", 1, "give --tip X,Y,Z or --tip-vertex N"},
       {tube_ + " -o " + rig + " --root 0,0,zero --tip 0,0,1", 1, "--root expects three finite numbers X,Y,Z, got '0,0,zero'"},
       {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,0,1,2", 1, "--tip expects three"},
@@ -289,7 +289,7 @@ TEST_F(Tool, ModesThatDoNotGoTogetherAreUsageErrors) {
   const struct {
     std::string args, message;
   } cases[] = {
-      {"--list --all -o " + path("r.json"), "--list or --all, not both"},
+      {"--list --all -o " + path("r.json"), "--list excludes --all"},
       {"--list -o " + path("r.json"), "--list writes no rig: drop -o"},
       {"--all -o " + path("r.json") + " --tip 0,0,1", "does not go with"},
       {"--names a,b -o " + path("r.json") + " --tip 0,0,1", "--names goes with --all"},

@@ -11,12 +11,14 @@
 #include <stdexcept>
 #include <string>
 
-#include "bind/binding_file.h"
+#include "assets/mesh_io.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "fit/discover.h"
 #include "fit/fit.h"
-#include "io/mesh_io.h"
+#include "io/binding_file.h"
 #include "io/rig_json.h"
+#include "io/scene_json.h"
 #include "sim/scene.h"
 
 namespace sweep::fuzz {
@@ -52,15 +54,6 @@ void ignore(const Error& e) {
   if (e.category() == ErrorCategory::internal) {
     throw std::logic_error(std::string("internal error on input: ") + e.what());
   }
-}
-
-std::uint64_t fnv1a(std::string_view bytes) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
 }
 
 void put_u64(std::string& s, std::size_t at, std::uint64_t v) {

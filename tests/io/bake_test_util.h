@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "assets/bake.h"
 #include "core/mesh.h"
-#include "io/bake.h"
 
 namespace sweep::test {
 

@@ -1,6 +1,6 @@
 // Mesh reading and writing: the vertex order each format keeps, exact positions per index, the
 // faces, and one clear error per kind of bad file.
-#include "io/mesh_io.h"
+#include "assets/mesh_io.h"
 
 #include <assimp/material.h>
 #include <assimp/scene.h>

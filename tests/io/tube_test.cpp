@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "assets/mesh_io.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
-#include "io/mesh_io.h"
 
 namespace sweep::tube {
 namespace {

@@ -9,9 +9,9 @@
 #include <fstream>
 #include <numbers>
 
+#include "assets/bake_run.h"
 #include "bind/bind.h"
 #include "bind/support.h"
-#include "sim/bake_run.h"
 #include "sim/fast_deform.h"
 
 namespace sweep::sim {

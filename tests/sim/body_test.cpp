@@ -10,10 +10,10 @@
 #include <map>
 #include <numbers>
 
+#include "assets/bake_run.h"
 #include "bind/bind.h"
 #include "bind/support.h"
 #include "core/sample_sweeps.h"
-#include "sim/bake_run.h"
 #include "sim/simulator.h"
 
 namespace sweep::sim {

@@ -7,6 +7,7 @@
 
 #include "bind/support.h"
 #include "core/sample_sweeps.h"
+#include "io/scene_json.h"
 #include "sim/simulator.h"
 
 namespace sweep::sim {

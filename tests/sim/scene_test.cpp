@@ -3,6 +3,7 @@
 
 #include "core/sample_sweeps.h"
 #include "io/json_reader.h"
+#include "io/scene_json.h"
 #include "sim/scene.h"
 
 namespace sweep::sim {

@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <numbers>
 
+#include "assets/mesh_io.h"
 #include "core/error.h"
 #include "core/locate.h"
 #include "core/sample_sweeps.h"
 #include "fit/fit.h"
-#include "io/mesh_io.h"
 #include "io/rig_json.h"
 #include "sim/fast_deform.h"
 #include "sim/simulator.h"

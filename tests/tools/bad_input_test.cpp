@@ -15,7 +15,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "io/mesh_io.h"
+#include "assets/mesh_io.h"
 #include "pipeline.h"
 #include "tube.h"
 
@@ -395,12 +395,12 @@ std::vector<Case> fit_cases() {
        fit,
        [](const Workspace& ws) { return fit_args(ws, "tube.obj") + " -n 4097"; },
        1,
-       {"--radial at most 4096"}},
+       {"--radial: Value 4097 not in range 3 to 4096"}},
       {"Fit_SectionsAboveLimit",
        fit,
        [](const Workspace& ws) { return fit_args(ws, "tube.obj") + " -k 100001"; },
        1,
-       {"--sections must be at most 100000"}},
+       {"--sections: Value 100001 not in range 2 to 100000"}},
       {"Fit_NameNotUtf8",
        fit,
        [](const Workspace& ws) {

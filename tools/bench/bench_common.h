@@ -18,12 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "assets/mesh_io.h"
 #include "bind/bind.h"
 #include "core/locate.h"
 #include "core/rig.h"
-#include "fit/fit.h"
-#include "io/mesh_io.h"
 #include "diplodocus_seeds.h"
+#include "fit/fit.h"
 #include "tube.h"
 
 namespace sweep::bench {

@@ -16,6 +16,7 @@
 #include "bench_common.h"
 #include "bind/deform.h"
 #include "core/oscillator.h"
+#include "io/scene_json.h"
 #include "sim/scene.h"
 #include "sim/simulator.h"
 

@@ -1,7 +1,7 @@
 // Frame cost: one frame of the diplodocus with tail and neck moving (step plus deform), and
 // skipping — four sweeps with a force on 1, 2, 3 or all 4 of them, and all four asleep.
 //
-// A frame is what sweep-sim does per output frame (lib/sim/bake_run.cpp): Simulator::advance_frame
+// A frame is what sweep-sim does per output frame (lib/assets/bake_run.cpp): Simulator::advance_frame
 // (the default step, 1/480 s, exact integrator; sweeps side by side on the threads) and the fast path
 // (8 stations per span) on every sweep that moved (deform_sweeps: side by side too). Time: median
 // over the frames after the first 5, wall clock, per frame.

@@ -17,6 +17,9 @@
 #include <functional>
 #include <iostream>
 #include <new>
+#include <optional>
+
+#include <CLI/CLI.hpp>
 
 #include "core/error.h"
 #include "io/interrupt.h"
@@ -63,6 +66,20 @@ inline int guarded_main(const std::function<int()>& body) {
     std::cerr << "error: internal: " << e.what() << "\n";
     return exit_code(ErrorCategory::internal);
   }
+}
+
+// Parses the command line. Returns the exit code when the tool should stop here: 0 after --help or
+// --version, 1 (usage) after a bad command line, reported as "error: ..." (CLI11's own exit codes,
+// 105, 106, 109, ..., are not ours: every bad command line is usage).
+inline std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
+    return exit_code(ErrorCategory::usage);
+  }
+  return std::nullopt;
 }
 
 inline void warn(const std::string& message) { std::cerr << "warning: " << message << "\n"; }

@@ -1,6 +1,6 @@
 // sweep-bind: reads a rig and its mesh, binds every vertex of each sweep's part to its sweep
 // coordinates (lib/bind/bind.h: part selection, ownership and blend rules) and writes the binding
-// file (lib/bind/binding_file.h: layout). With --check it instead verifies an existing binding
+// file (lib/io/binding_file.h: layout). With --check it instead verifies an existing binding
 // against the rig and mesh. Exit codes as in core/error.h: 1 usage, 2 bad input (including a
 // stale or damaged binding), 3 unsupported, 4 output.
 #include <CLI/CLI.hpp>
@@ -11,11 +11,11 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "assets/mesh_io.h"
 #include "bind/bind.h"
-#include "bind/binding_file.h"
 #include "io/atomic_file.h"
+#include "io/binding_file.h"
 #include "io/interrupt.h"
-#include "io/mesh_io.h"
 #include "io/path_checks.h"
 #include "io/rig_json.h"
 #include "tools/common/cli_checks.h"
@@ -146,31 +146,24 @@ int main(int argc, char** argv) {
     Settings s;
     CLI::App app{"Bind every vertex of each sweep's part to its sweep coordinates", "sweep-bind"};
     app.add_option("rig", s.rig, "Rig file (JSON) written by sweep-fit")->required();
-    app.add_option("-o,--output", s.output, "Binding file (default: the rig's path with .bind)")
+    auto* output = app.add_option("-o,--output", s.output, "Binding file (default: the rig's path with .bind)")
         ->check(sweep::tools::kNonEmptyName);
-    app.add_option("--report", s.report, "Write a JSON report (counts, rest error, timings)")
+    auto* report = app.add_option("--report", s.report, "Write a JSON report (counts, rest error, timings)")
         ->check(sweep::tools::kNonEmptyName);
     app.add_option("--blend", s.options.blend,
                    "Depth of the blend zone beyond each part's root plane (mesh units; 0 = none)")
+        ->check(sweep::tools::kNonNegative)
         ->capture_default_str();
     app.add_option("--check", s.check,
-                   "Verify this existing binding against the rig and its mesh instead of binding");
+                   "Verify this existing binding against the rig and its mesh instead of binding")
+        ->excludes(output)
+        ->excludes(report);
     app.add_flag("-q,--quiet", s.quiet, "Print nothing on success");
     app.set_version_flag("--version", std::string("sweep-bind ") + SWEEP_VERSION +
                                           " (binding format " +
                                           std::to_string(sweep::bind::kBindingFormatVersion) + ")");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-      std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
-      return sweep::exit_code(sweep::ErrorCategory::usage);
-    }
+    if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);
-    if (!s.check.empty() && (!s.output.empty() || !s.report.empty())) {
-      sweep::fail(sweep::ErrorCategory::usage,
-                  "--check cannot be combined with --output or --report");
-    }
     return run(s);
   });
 }

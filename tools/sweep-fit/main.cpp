@@ -11,6 +11,7 @@
 #include <optional>
 #include <sstream>
 
+#include "assets/mesh_io.h"
 #include "common/cli_checks.h"
 #include "common/tool_main.h"
 #include "core/error.h"
@@ -19,7 +20,6 @@
 #include "fit/fit.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
-#include "io/mesh_io.h"
 #include "io/path_checks.h"
 #include "io/rig_json.h"
 #include "preview/png.h"
@@ -326,7 +326,8 @@ int main(int argc, char** argv) {
                                "Rig file to create, or to add/replace the sweep(s) in");
     auto* list = app.add_flag("--list", s.list,
                               "Find the mesh's tubular parts and list them (no rig is written)");
-    auto* all = app.add_flag("--all", s.all, "Find the mesh's tubular parts and fit every one");
+    auto* all = app.add_flag("--all", s.all, "Find the mesh's tubular parts and fit every one")
+                    ->excludes(list);
     auto* names = app.add_option("--names", s.names,
                                  "With --all: the parts' names, comma-separated, in --list's order "
                                  "(default: the suggested names)");
@@ -345,13 +346,18 @@ int main(int argc, char** argv) {
                  "body, error too large)");
     auto* axis = app.add_option(
         "--axis", s.axis, "File of axis points 'X Y Z' per line, root first (instead of tracing)");
-    auto* sections =
-        app.add_option("-k,--sections", s.sections, "Key sections K (>= 2)")->capture_default_str();
-    app.add_option("-n,--radial", s.radial, "Radius samples per section (>= 3)")
+    // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
+    auto* sections = app.add_option("-k,--sections", s.sections, "Key sections K")
+                         ->check(CLI::Range(2, sweep::limits::kMaxSections))
+                         ->capture_default_str();
+    app.add_option("-n,--radial", s.radial, "Radius samples per section")
+        ->check(CLI::Range(3, sweep::limits::kMaxRadial))
         ->capture_default_str();
-    auto* tolerance =
-        app.add_option("--tolerance", s.tolerance,
-                       "Use the fewest sections with fit_rms <= this fraction of the mean radius");
+    app.add_option("--tolerance", s.tolerance,
+                   "Use the fewest sections with fit_rms <= this fraction of the mean radius "
+                   "(--tolerance chooses K)")
+        ->check(sweep::tools::kPositive)
+        ->excludes(sections);
     app.add_option("--report", s.report, "Write a JSON report here")
         ->check(sweep::tools::kNonEmptyName);
     auto* preview = app.add_option("--preview", s.preview,
@@ -362,23 +368,8 @@ int main(int argc, char** argv) {
                                     "metres_per_unit, ...): the fitted sweeps move in material mode")
                          ->check(sweep::tools::kNonEmptyName);
     app.add_flag("-v,--verbose", s.verbose, "Say more");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-      // CLI11's own codes (105, 106, 109, ...) are not ours: a bad command line is usage, 1.
-      std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
-      return sweep::exit_code(ErrorCategory::usage);
-    }
-    // Conflicts, once, after parsing.
-    if (sections->count() > 0 && tolerance->count() > 0) {
-      fail(ErrorCategory::usage,
-           "--sections and --tolerance cannot be combined: --tolerance chooses K");
-    }
-    if (tolerance->count() > 0 && !(s.tolerance > 0))
-      fail(ErrorCategory::usage, "--tolerance must be > 0");
+    if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     // The modes: one part (named by --tip, --tip-vertex or --axis), --all, --list.
-    if (list->count() > 0 && all->count() > 0) fail(ErrorCategory::usage, "--list or --all, not both");
     const bool finding = list->count() > 0 || all->count() > 0;
     for (const CLI::Option* one : {tip, tip_vertex, root, axis, name}) {
       if (finding && one->count() > 0) {
@@ -400,17 +391,6 @@ int main(int argc, char** argv) {
     if (!finding && s.axis.empty() && tip->count() == 0 && tip_vertex->count() == 0) {
       fail(ErrorCategory::usage, "give --tip X,Y,Z or --tip-vertex N (or --axis FILE), or --list "
                                  "or --all to find the parts");
-    }
-    if (s.sections < 2)
-      fail(ErrorCategory::usage,
-           "--sections must be at least 2, got " + std::to_string(s.sections));
-    if (s.radial < 3)
-      fail(ErrorCategory::usage, "--radial must be at least 3, got " + std::to_string(s.radial));
-    // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
-    if (s.sections > sweep::limits::kMaxSections || s.radial > sweep::limits::kMaxRadial) {
-      fail(ErrorCategory::usage,
-           "--sections must be at most " + std::to_string(sweep::limits::kMaxSections) +
-               " and --radial at most " + std::to_string(sweep::limits::kMaxRadial));
     }
     if (s.name.empty()) fail(ErrorCategory::usage, "--name must not be empty");
     if (s.list) return run_list(s);

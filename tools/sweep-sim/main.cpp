@@ -13,14 +13,15 @@
 #include <string>
 #include <vector>
 
-#include "bind/binding_file.h"
+#include "assets/bake.h"
+#include "assets/bake_run.h"
+#include "assets/mesh_io.h"
 #include "io/atomic_file.h"
+#include "io/binding_file.h"
 #include "io/interrupt.h"
-#include "io/bake.h"
 #include "io/path_checks.h"
-#include "io/mesh_io.h"
 #include "io/rig_json.h"
-#include "sim/bake_run.h"
+#include "io/scene_json.h"
 #include "sim/scene.h"
 #include "tools/common/cli_checks.h"
 #include "tools/common/tool_main.h"
@@ -218,13 +219,7 @@ int main(int argc, char** argv) {
         "--no-sleep", [&](std::int64_t) { s.sleep = false; },
         "Keep stepping sweeps whose motion has died out");
     app.add_flag("-q,--quiet", s.quiet, "No summary and no progress bar");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-      std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
-      return sweep::exit_code(sweep::ErrorCategory::usage);
-    }
+    if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);
     return run(s);
   });

@@ -5,7 +5,7 @@
 #include <iostream>
 #include <string>
 
-#include "io/mesh_io.h"
+#include "assets/mesh_io.h"
 #include "tools/common/tool_main.h"
 #include "tube.h"
 
@@ -66,13 +66,7 @@ int main(int argc, char** argv) {
     app.add_flag("--caps,!--no-caps", t.caps, "Close the ends with triangle fans (default on)");
     app.add_flag("--triangulate", t.triangulate, "Split the side quads into triangles");
     app.add_flag("-q,--quiet", s.quiet, "Print nothing on success");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      if (e.get_exit_code() == 0) return app.exit(e);  // --help
-      std::cerr << "error: " << e.what() << " (run with --help for more information)\n";
-      return sweep::exit_code(sweep::ErrorCategory::usage);
-    }
+    if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     t.shape = shape == "ellipse" ? sweep::tube::CrossSection::ellipse
               : shape == "lobed" ? sweep::tube::CrossSection::lobed
                                  : sweep::tube::CrossSection::circle;

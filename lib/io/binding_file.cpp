@@ -1,4 +1,4 @@
-#include "bind/binding_file.h"
+#include "io/binding_file.h"
 
 #include <algorithm>
 #include <bit>
@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/limits.h"
 #include "io/atomic_file.h"
 
@@ -19,18 +20,6 @@ constexpr std::size_t kHeaderSize = 48;
 constexpr std::size_t kTrailerSize = 8;
 // θ is stored as float32 of a double in [0, 2π): the rounding may land on float(2π).
 constexpr float kThetaMax = static_cast<float>(2 * std::numbers::pi);
-
-constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
-constexpr std::uint64_t kFnvPrime = 1099511628211ull;
-
-std::uint64_t fnv1a(std::string_view bytes) {
-  std::uint64_t h = kFnvOffset;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= kFnvPrime;
-  }
-  return h;
-}
 
 // Little-endian writer into a string.
 class Writer {
@@ -160,6 +149,10 @@ Binding parse_binding(std::string_view bytes, const std::string& source) {
   }
   Reader header(bytes, sizeof kMagic, kHeaderSize, source);
   const std::uint32_t version = header.u32("version");
+  if (version == 1) {
+    // Format 1 hashed the rig's JSON text, so its rig hash cannot be checked any more.
+    refuse(source, "binding format 1 (written by an older sweep-bind) is no longer read; run sweep-bind again");
+  }
   if (version != kBindingFormatVersion) {
     std::ostringstream s;
     s << source << ": binding format version " << version

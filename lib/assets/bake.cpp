@@ -1,6 +1,6 @@
 // The parts every bake writer shares: choosing a writer, temporary files, and the begin/frame/
 // finish protocol with its checks (see bake.h and bake_detail.h).
-#include "io/bake.h"
+#include "assets/bake.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -14,8 +14,8 @@
 #include <cstring>
 #include <utility>
 
+#include "assets/bake_detail.h"
 #include "core/error.h"
-#include "io/bake_detail.h"
 
 namespace sweep::io {
 namespace fs = std::filesystem;

@@ -23,9 +23,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "assets/bake.h"
+#include "assets/bake_detail.h"
 #include "core/error.h"
-#include "io/bake.h"
-#include "io/bake_detail.h"
 
 namespace sweep::io {
 namespace {

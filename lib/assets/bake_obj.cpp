@@ -7,10 +7,10 @@
 #include <memory>
 #include <string>
 
+#include "assets/bake.h"
+#include "assets/bake_detail.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
-#include "io/bake.h"
-#include "io/bake_detail.h"
 
 namespace sweep::io {
 namespace {

@@ -31,7 +31,9 @@
 
 namespace sweep::bind {
 
-inline constexpr std::uint32_t kBindingFormatVersion = 1;
+// 2: the rig hash is of the sweeps' numbers (bind.h, hash_sweeps); format 1 hashed the rig's JSON
+// text and is refused with a message to bind again.
+inline constexpr std::uint32_t kBindingFormatVersion = 2;
 
 std::string binding_bytes(const Binding& binding);
 

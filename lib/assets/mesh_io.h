@@ -40,9 +40,8 @@ Mesh parse_off(std::string_view text, const std::string& source);
 Mesh parse_obj(const std::string& text, const std::string& source);
 Mesh parse_ply(std::string_view bytes, const std::string& source);  // via assimp, from memory
 
-// Checks that a mesh is usable by the tools: has vertices and faces, finite coordinates, face
-// indices in range, faces of at least 3 vertices. Throws Error(bad_input) naming `source`, and the
-// vertex or face index at fault.
+// check_mesh (core/mesh.h) as a reader's error: throws Error(bad_input) "source: what is wrong",
+// naming the vertex or face index at fault.
 void validate_mesh(const Mesh& mesh, const std::string& source);
 
 // Wavefront OBJ with `v` lines in vertex order and the mesh's polygons; deterministic bytes.

@@ -7,9 +7,9 @@
 #include <cstring>
 #include <optional>
 
+#include "assets/mesh_checks.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
-#include "io/mesh_checks.h"
 
 namespace sweep::io::detail {
 namespace {

@@ -1,4 +1,4 @@
-#include "io/mesh_io.h"
+#include "assets/mesh_io.h"
 
 #include <assimp/scene.h>
 
@@ -15,9 +15,10 @@
 #include <system_error>
 #include <unordered_map>
 
+#include "assets/mesh_checks.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "io/atomic_file.h"
-#include "io/mesh_checks.h"
 
 namespace sweep::io {
 namespace {
@@ -425,8 +426,8 @@ struct PositionKey {
 };
 struct PositionKeyHash {
   std::size_t operator()(const PositionKey& k) const {
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    for (std::uint64_t b : k.bits) h = (h ^ b) * 0x100000001b3ull;
+    std::uint64_t h = kFnvOffset;  // FNV-1a's constants, a 64-bit word at a time: a table key, not a file's hash
+    for (std::uint64_t b : k.bits) h = (h ^ b) * kFnvPrime;
     return static_cast<std::size_t>(h ^ (h >> 29));
   }
 };
@@ -540,34 +541,7 @@ Mesh read_mesh(const fs::path& path) {
 }
 
 void validate_mesh(const Mesh& mesh, const std::string& source) {
-  const auto& off = mesh.face_offsets;
-  if (off.empty() || off.front() != 0 || off.back() != mesh.face_vertices.size() ||
-      !std::is_sorted(off.begin(), off.end())) {
-    bad(source, "malformed face table");
-  }
-  if (mesh.positions.empty()) bad(source, "no vertices");
-  if (mesh.face_count() == 0) bad(source, "no faces");
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    if (!finite(mesh.positions[i])) {
-      bad(source, "vertex " + std::to_string(i) + " has a non-finite coordinate " +
-                      format_position(mesh.positions[i]));
-    }
-  }
-  const std::size_t nv = mesh.positions.size();
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    const std::uint32_t begin = off[f], end = off[f + 1];
-    if (end - begin < 3) {
-      bad(source, "face " + std::to_string(f) + " has " + std::to_string(end - begin) +
-                      " vertices (a face needs at least 3)");
-    }
-    for (std::uint32_t k = begin; k < end; ++k) {
-      if (mesh.face_vertices[k] >= nv) {
-        bad(source, "face " + std::to_string(f) + " uses vertex " +
-                        std::to_string(mesh.face_vertices[k]) + ", out of range (the mesh has " +
-                        std::to_string(nv) + " vertices)");
-      }
-    }
-  }
+  if (const std::string why = check_mesh(mesh); !why.empty()) bad(source, why);
 }
 
 namespace {

@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "assets/bake.h"
 #include "io/atomic_file.h"
-#include "io/bake.h"
 
 namespace sweep::io::detail {
 

@@ -5,9 +5,9 @@
 #include <cstring>
 #include <memory>
 
+#include "assets/bake.h"
+#include "assets/bake_detail.h"
 #include "core/error.h"
-#include "io/bake.h"
-#include "io/bake_detail.h"
 
 namespace sweep::io {
 namespace {

@@ -1,14 +1,13 @@
-#include "sim/bake_run.h"
+#include "assets/bake_run.h"
 
-#include <cstdio>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
 
+#include "assets/bake.h"
 #include "bind/deform.h"
 #include "core/error.h"
-#include "io/bake.h"
 #include "sim/fast_deform.h"
 
 namespace sweep::sim {

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "assets/mesh_checks.h"
 #include "core/error.h"
-#include "io/mesh_checks.h"
 
 namespace sweep::io::detail {
 namespace {

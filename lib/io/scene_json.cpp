@@ -1,0 +1,298 @@
+#include "io/scene_json.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/limits.h"
+#include "io/atomic_file.h"
+
+namespace sweep::sim {
+namespace {
+
+using io::element;
+using io::Json;
+using io::member;
+
+
+std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::string& ptr) {
+  r.array(v, ptr);
+  std::uint8_t mask = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const std::string name = r.string(v[i], element(ptr, i));
+    if (name == "rotational") {
+      mask |= kRotational;
+    } else if (name == "radial") {
+      mask |= kRadial;
+    } else if (name == "positional") {
+      mask |= kPositional;
+    } else {
+      r.fail_at(element(ptr, i),
+                "unknown component \"" + name + "\" (expected rotational, radial or positional)");
+    }
+  }
+  if (mask == 0) r.fail_at(ptr, "must name at least one component");
+  return mask;
+}
+
+SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr,
+                      const Rig& rig) {
+  r.object(v, ptr,
+           {"sweep", "point", "t", "theta", "vector", "frame", "start", "end", "components",
+            "sections", "moment"});
+  SceneForce f;
+  f.sweep = r.string(r.required(v, ptr, "sweep"), member(ptr, "sweep"));
+  for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
+    if (rig.sweeps[i].name == f.sweep) f.sweep_index = static_cast<int>(i);
+  }
+  if (f.sweep_index < 0)
+    r.fail_at(member(ptr, "sweep"), "the rig has no sweep named \"" + f.sweep + "\"");
+  const SweepDef& def = rig.sweeps[f.sweep_index];
+
+  const Json* point = r.optional(v, "point");
+  const Json* t = r.optional(v, "t");
+  const Json* theta = r.optional(v, "theta");
+  if (point && (t || theta))
+    r.fail_at(ptr, "give either \"point\" or \"t\" and \"theta\", not both");
+  if (point) {
+    f.spec.at_world_point = true;
+    f.spec.point = r.bounded_vec3(*point, member(ptr, "point"), limits::kMaxLength);
+  } else {
+    if (!t || !theta) r.fail_at(ptr, "missing the place: \"point\", or \"t\" and \"theta\"");
+    const double frac = r.number(*t, member(ptr, "t"));
+    if (frac < 0 || frac > 1)
+      r.fail_at(member(ptr, "t"), "must be between 0 (root) and 1 (tip), got " + io::describe(*t));
+    f.spec.t = frac * def.rest.length();
+    f.spec.theta = r.number(*theta, member(ptr, "theta"));
+  }
+  f.spec.vector = r.vec3(r.required(v, ptr, "vector"), member(ptr, "vector"));
+  if (!(f.spec.vector.norm() <= limits::kMaxForce)) {
+    r.fail_at(member(ptr, "vector"), "a force of at most 1e+09 N, got one of length " +
+                                         std::to_string(f.spec.vector.norm()));
+  }
+  if (const Json* fr = r.optional(v, "frame")) {
+    const std::string name = r.string(*fr, member(ptr, "frame"));
+    if (name == "world") {
+      f.spec.frame = VectorFrame::world;
+    } else if (name == "surface") {
+      f.spec.frame = VectorFrame::surface;
+    } else {
+      r.fail_at(member(ptr, "frame"), "must be \"world\" or \"surface\", got " + io::describe(*fr));
+    }
+  }
+  f.start = r.bounded(r.required(v, ptr, "start"), member(ptr, "start"), 0, limits::kMaxTime);
+  f.end = f.start;
+  if (const Json* e = r.optional(v, "end"))
+    f.end = r.bounded(*e, member(ptr, "end"), -limits::kMaxTime, limits::kMaxTime);
+  if (f.end < f.start) r.fail_at(member(ptr, "end"), "must not be before \"start\"");
+  if (const Json* c = r.optional(v, "components"))
+    f.spec.components = read_components(r, *c, member(ptr, "components"));
+  if (const Json* s = r.optional(v, "sections")) {
+    const std::string sp = member(ptr, "sections");
+    if (s->is_number_integer()) {
+      f.spec.target = RotationTarget::section;
+      f.spec.target_section = static_cast<int>(r.integer(*s, sp, 1, def.rest.section_count() - 1));
+    } else {
+      const std::string name = r.string(*s, sp);
+      if (name == "nearest") {
+        f.spec.target = RotationTarget::nearest;
+      } else if (name == "chain") {
+        f.spec.target = RotationTarget::chain;
+      } else {
+        const int i = def.section_index(name);
+        if (i < 0)
+          r.fail_at(sp, "expected \"nearest\", \"chain\", or a section of sweep \"" + def.name +
+                            "\"; it has no section \"" + name + "\"");
+        if (i == 0)
+          r.fail_at(sp, "section \"" + name + "\" is the root, which is fixed to the body");
+        f.spec.target = RotationTarget::section;
+        f.spec.target_section = i;
+      }
+    }
+  }
+  // A material-mode sweep is in newtons and metres: its moments are the real ones unless the
+  // scene asks for the paper's scaled torque.
+  if (def.material) f.spec.moment = MomentModel::physical;
+  if (const Json* m = r.optional(v, "moment")) {
+    const std::string name = r.string(*m, member(ptr, "moment"));
+    if (name == "scaled") {
+      f.spec.moment = MomentModel::scaled;
+    } else if (name == "physical") {
+      f.spec.moment = MomentModel::physical;
+    } else {
+      r.fail_at(member(ptr, "moment"),
+                "must be \"scaled\" or \"physical\", got " + io::describe(*m));
+    }
+  }
+  return f;
+}
+
+// The body's path: {"interpolation": "linear" | "cubic", "keys": [{"time", "translation",
+// "rotation" | "turn_degrees" (+ "turn_axis")}, ...]}.
+BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& ptr) {
+  r.object(v, ptr, {"interpolation", "keys"});
+  BodyInterpolation interpolation = BodyInterpolation::linear;
+  if (const Json* i = r.optional(v, "interpolation")) {
+    const std::string name = r.string(*i, member(ptr, "interpolation"));
+    if (name == "cubic") {
+      interpolation = BodyInterpolation::cubic;
+    } else if (name != "linear") {
+      r.fail_at(member(ptr, "interpolation"), "must be \"linear\" or \"cubic\", got " + io::describe(*i));
+    }
+  }
+  const std::string kp = member(ptr, "keys");
+  const Json& keys = r.required(v, ptr, "keys");
+  r.array(keys, kp);
+  if (keys.empty()) r.fail_at(kp, "needs at least one key");
+  std::vector<BodyKey> out;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const std::string p = element(kp, k);
+    const Json& key = keys[k];
+    r.object(key, p, {"time", "translation", "rotation", "turn_degrees", "turn_axis"});
+    BodyKey b;
+    b.time = r.bounded(r.required(key, p, "time"), member(p, "time"), 0, limits::kMaxDuration);
+    if (!out.empty() && !(b.time > out.back().time))
+      r.fail_at(member(p, "time"), "keys must come in increasing time: " + io::describe(key["time"]) +
+                                       " is not after the key before");
+    if (const Json* t = r.optional(key, "translation")) b.translation = r.bounded_vec3(*t, member(p, "translation"), limits::kMaxLength);
+    const Json* q = r.optional(key, "rotation");
+    const Json* turn = r.optional(key, "turn_degrees");
+    if (q && turn) r.fail_at(p, "give either \"rotation\" or \"turn_degrees\", not both");
+    if (!turn && r.optional(key, "turn_axis")) r.fail_at(member(p, "turn_axis"), "goes with \"turn_degrees\"");
+    if (q) {
+      const std::string qp = member(p, "rotation");
+      if (!q->is_array() || q->size() != 4) r.fail_at(qp, "must be a quaternion [x, y, z, w], got " + io::describe(*q));
+      double c[4];
+      for (int i = 0; i < 4; ++i) c[i] = r.number((*q)[i], element(qp, i));
+      b.rotation = Quat(c[3], c[0], c[1], c[2]);
+      // Hand-written quaternions carry a few digits: near unit is taken as meant, and normalized.
+      if (std::abs(b.rotation.norm() - 1.0) > 1e-3)
+        r.fail_at(qp, "must be a unit quaternion [x, y, z, w], its length is " + std::to_string(b.rotation.norm()));
+      b.rotation.normalize();
+    }
+    if (turn) {
+      const double degrees = r.bounded(*turn, member(p, "turn_degrees"), -1e6, 1e6);
+      Vec3 axis = Vec3::UnitY();
+      if (const Json* a = r.optional(key, "turn_axis")) axis = r.bounded_vec3(*a, member(p, "turn_axis"), limits::kMaxLength);
+      if (!(axis.norm() > 0)) r.fail_at(member(p, "turn_axis"), "must not be zero");
+      b.rotation = Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180, axis.normalized()));
+    }
+    out.push_back(b);
+  }
+  return BodyPath(std::move(out), interpolation);
+}
+
+}  // namespace
+
+Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
+                  const Rig& rig) {
+  r.object(json, pointer,
+           {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces",
+            "body", "teleport", "wind"});
+  Scene scene;
+  const bool own_file = pointer.empty();
+  if (own_file) {
+    const std::string format = r.string(r.required(json, pointer, "format"), "/format");
+    if (format != "sweep-scene")
+      r.fail_at("/format", "must be \"sweep-scene\", got " + io::describe(json["format"]));
+  }
+  if (const Json* version =
+          own_file ? &r.required(json, pointer, "version") : r.optional(json, "version")) {
+    const long long v = r.integer(*version, member(pointer, "version"), 1, 1 << 30);
+    if (v != Scene::kFormatVersion) {
+      fail(ErrorCategory::unsupported, r.source() + ": " + member(pointer, "version") +
+                                           ": scene format version " + std::to_string(v) +
+                                           " is not supported (this build reads version 1)");
+    }
+  }
+  scene.duration = r.positive(r.required(json, pointer, "duration"), member(pointer, "duration"));
+  if (scene.duration > limits::kMaxDuration)
+    r.fail_at(member(pointer, "duration"), "must be at most 86400 s");
+  const Json& fps = r.required(json, pointer, "fps");
+  r.positive(fps, member(pointer, "fps"));  // the sign first, with its own message
+  scene.fps = r.bounded(fps, member(pointer, "fps"), limits::kMinFps, limits::kMaxFps);
+  if (scene.duration * scene.fps + 1 > limits::kMaxFrames) {
+    r.fail_at(member(pointer, "fps"), "duration × fps makes more than " +
+                                          std::to_string(limits::kMaxFrames) + " frames");
+  }
+  if (const Json* s = r.optional(json, "substeps")) {
+    scene.substeps =
+        static_cast<int>(r.integer(*s, member(pointer, "substeps"), 1, limits::kMaxSubsteps));
+  }
+  if (const Json* st = r.optional(json, "step")) {
+    if (r.optional(json, "substeps"))
+      r.fail_at(member(pointer, "step"), "give either \"step\" or \"substeps\", not both");
+    scene.step = r.positive(*st, member(pointer, "step"));
+    if (scene.step < limits::kMinStep || scene.step > limits::kMaxStep)
+      r.fail_at(member(pointer, "step"), "must be between 1e-6 and 1 s, got " + io::describe(*st));
+  }
+  if (const Json* g = r.optional(json, "gravity")) scene.gravity = r.vec3(*g, member(pointer, "gravity"));
+  if (const Json* g = r.optional(json, "gravity_start")) {
+    const std::string name = r.string(*g, member(pointer, "gravity_start"));
+    if (name != "as-modelled" && name != "unloaded")
+      r.fail_at(member(pointer, "gravity_start"), "must be \"as-modelled\" or \"unloaded\", got " + io::describe(*g));
+    scene.gravity_preloaded = name == "as-modelled";
+  }
+  if (const Json* i = r.optional(json, "integrator")) {
+    const std::string name = r.string(*i, member(pointer, "integrator"));
+    if (!parse_integrator(name, &scene.integrator)) {
+      r.fail_at(member(pointer, "integrator"),
+                "must be \"exact\", \"semi-implicit-euler\" or \"rk4\", got " + io::describe(*i));
+    }
+  }
+  if (const Json* b = r.optional(json, "body")) scene.body = read_body(r, *b, member(pointer, "body"));
+  if (const Json* t = r.optional(json, "teleport")) {
+    const std::string tp = member(pointer, "teleport");
+    if (t->is_boolean()) {
+      scene.teleport_enabled = t->get<bool>();
+    } else {
+      r.object(*t, tp, {"distance", "angle_degrees"});
+      if (const Json* d = r.optional(*t, "distance")) scene.teleport_distance = r.positive(*d, member(tp, "distance"));
+      if (const Json* a = r.optional(*t, "angle_degrees"))
+        scene.teleport_angle = r.bounded(*a, member(tp, "angle_degrees"), 1e-6, 180) * std::numbers::pi / 180;
+    }
+  }
+  if (const Json* w = r.optional(json, "wind")) {
+    const std::string wp = member(pointer, "wind");
+    r.object(*w, wp, {"velocity", "gust", "gust_period", "turbulence", "seed", "air_density", "drag_coefficient"});
+    WindSettings ws;
+    ws.enabled = true;
+    ws.velocity = r.bounded_vec3(r.required(*w, wp, "velocity"), member(wp, "velocity"), 1e3);
+    if (const Json* x = r.optional(*w, "gust")) ws.gust = r.bounded(*x, member(wp, "gust"), 0, 10);
+    if (const Json* x = r.optional(*w, "gust_period")) ws.gust_period = r.bounded(*x, member(wp, "gust_period"), 0.01, 1e4);
+    if (const Json* x = r.optional(*w, "turbulence")) ws.turbulence = r.bounded(*x, member(wp, "turbulence"), 0, 10);
+    if (const Json* x = r.optional(*w, "seed")) ws.seed = static_cast<std::uint64_t>(r.integer(*x, member(wp, "seed"), 0, 1LL << 53));
+    if (const Json* x = r.optional(*w, "air_density")) ws.air_density = r.bounded(*x, member(wp, "air_density"), 0, 1e4);
+    if (const Json* x = r.optional(*w, "drag_coefficient")) ws.drag_coefficient = r.bounded(*x, member(wp, "drag_coefficient"), 0, 100);
+    scene.wind = Wind(ws);
+  }
+  const std::string fp = member(pointer, "forces");
+  const Json& forces = r.required(json, pointer, "forces");
+  r.array(forces, fp);
+  for (std::size_t i = 0; i < forces.size(); ++i) {
+    scene.forces.push_back(read_force(r, forces[i], element(fp, i), rig));
+    // Legal, but surely not meant: the bake ends before the force begins.
+    if (scene.forces.back().start > scene.duration) {
+      r.warn_at(member(element(fp, i), "start"),
+                "the force starts after the scene ends (duration " + io::describe(json["duration"]) +
+                    " s): it never acts");
+    }
+  }
+  return scene;
+}
+
+Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn) {
+  const Json doc = io::parse_json_text(io::read_file(path, limits::kMaxJsonBytes), path.string());
+  const io::JsonReader r(path.string(), warn);
+  if (!doc.is_object()) r.fail_at("", "must be a JSON object");
+  // A rig file that carries its scene. (A "format" that is not a string is reported by
+  // parse_scene, with its pointer.)
+  const auto format = doc.find("format");
+  const bool is_rig =
+      format != doc.end() && format->is_string() && format->get<std::string>() == "sweep-rig";
+  if (is_rig && doc.contains("scene")) return parse_scene(doc["scene"], "/scene", r, rig);
+  if (is_rig) r.fail_at("", "this rig file has no \"scene\"; give a scene file");
+  return parse_scene(doc, "", r, rig);
+}
+
+}  // namespace sweep::sim

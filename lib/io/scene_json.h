@@ -1,0 +1,22 @@
+#pragma once
+// Reading a scene (sim/scene.h; schema: rigs/scene.schema.json) from JSON. Validated like the rig:
+// every error names the file and the JSON pointer, unknown members are warnings.
+#include <filesystem>
+#include <string>
+
+#include "core/rig.h"
+#include "io/json_reader.h"
+#include "sim/scene.h"
+
+namespace sweep::sim {
+
+// `json` is the scene object; `pointer` where it sits in its file ("" or "/scene"). Forces are
+// resolved against `rig` (sweep and section names, t fraction to arc length).
+Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader,
+                  const Rig& rig);
+
+// A scene file (format "sweep-scene"), or a rig file that holds one under "scene".
+Scene read_scene(const std::filesystem::path& path, const Rig& rig,
+                 const io::WarningSink& warn = {});
+
+}  // namespace sweep::sim
