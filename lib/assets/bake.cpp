@@ -7,40 +7,29 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <utility>
 
 #include "assets/bake_detail.h"
 #include "core/error.h"
+#include "core/frame.h"
+#include "core/text.h"
 
 namespace sweep::io {
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string lower_extension(const fs::path& out) {
-  std::string ext = out.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
-
-}  // namespace
-
 bool is_bake_extension(const fs::path& out) {
   const std::string ext = lower_extension(out);
-  return ext == ".glb" || ext == ".pc2" || ext == ".obj";
+  return ext == "glb" || ext == "pc2" || ext == "obj";
 }
 
 std::unique_ptr<BakeWriter> make_bake_writer(const fs::path& out) {
   const std::string ext = lower_extension(out);
-  if (ext == ".glb") return make_gltf_bake_writer(out);
-  if (ext == ".pc2") return make_pc2_bake_writer(out);
-  if (ext == ".obj") return make_obj_bake_writer(out);
+  if (ext == "glb") return make_gltf_bake_writer(out);
+  if (ext == "pc2") return make_pc2_bake_writer(out);
+  if (ext == "obj") return make_obj_bake_writer(out);
   fail(ErrorCategory::unsupported,
        out.string() + ": cannot bake to '" + out.extension().string() +
            "' files; the output's extension must be .glb (glTF 2.0), .pc2 (point cache) or .obj "
@@ -58,7 +47,7 @@ fs::path obj_sequence_path(const fs::path& out, int index, int frame_count) {
 }
 
 std::vector<fs::path> bake_files(const fs::path& out, int frame_count) {
-  if (lower_extension(out) != ".obj") return {out};
+  if (lower_extension(out) != "obj") return {out};
   std::vector<fs::path> files;
   for (int k = 0; k < frame_count; ++k) files.push_back(obj_sequence_path(out, k, frame_count));
   return files;
@@ -66,35 +55,8 @@ std::vector<fs::path> bake_files(const fs::path& out, int frame_count) {
 
 namespace detail {
 
-void append_float(std::string& out, float value) {
-  char buf[32];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
-  if (ec != std::errc()) fail(ErrorCategory::internal, "cannot format a number");
-  out.append(buf, end);
-}
-
-void append_uint(std::string& out, std::uint64_t value) {
-  char buf[24];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
-  if (ec != std::errc()) fail(ErrorCategory::internal, "cannot format a number");
-  out.append(buf, end);
-}
-
 // ---------------------------------------------------------------------------------------------
 // BakeWriterBase
-
-namespace {
-
-std::string vertex_text(const Eigen::Vector3f& p) {
-  std::string s = "(";
-  for (int c = 0; c < 3; ++c) {
-    if (c) s += ", ";
-    append_float(s, p[c]);
-  }
-  return s + ")";
-}
-
-}  // namespace
 
 BakeWriterBase::BakeWriterBase(fs::path out) : out_(std::move(out)) {}
 
@@ -203,9 +165,9 @@ void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> pos
     for (std::size_t v = 0; v < n; ++v) {
       const Eigen::Vector3f& p = positions[v];
       if (!in_range(p)) {
-        const bool finite = std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
+        const bool finite = is_finite(p);
         fail(ErrorCategory::diverged, where + "frame " + std::to_string(index) + ", vertex " +
-                                          std::to_string(v) + ": position " + vertex_text(p) +
+                                          std::to_string(v) + ": position " + format_exact_point(p) +
                                           (finite ? " is beyond ±1e30: the simulation ran away"
                                                   : " is not finite: the simulation diverged") +
                                           "; nothing was written");
@@ -222,7 +184,7 @@ void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> pos
       if (positions[v] != rest_[v]) {
         fail(ErrorCategory::internal,
              where + "frame " + std::to_string(index) + ": vertex " + std::to_string(v) +
-                 " moved to " + vertex_text(positions[v]) + " from " + vertex_text(rest_[v]) +
+                 " moved to " + format_exact_point(positions[v]) + " from " + format_exact_point(rest_[v]) +
                  " but is not in the animated-vertex list");
       }
     }
@@ -241,7 +203,7 @@ void BakeWriterBase::frame(int index, std::span<const Eigen::Vector3f> positions
     if (!info_.body_moves && !identity) {
       fail(ErrorCategory::internal, out_.string() + ": a body pose for a bake whose body does not move");
     }
-    if (!body.rotation.coeffs().allFinite() || !body.translation.allFinite() ||
+    if (!is_finite(body.rotation.coeffs()) || !is_finite(body.translation) ||
         body.translation.cwiseAbs().maxCoeff() > kMaxBakeCoordinate) {
       fail(ErrorCategory::diverged, out_.string() + ": frame " + std::to_string(index) + ": the body's pose is not finite");
     }

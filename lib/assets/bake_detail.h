@@ -72,8 +72,4 @@ class BakeWriterBase : public BakeWriter {
   std::vector<Eigen::Vector3f> world_;
 };
 
-// "1.5", "-0", "nan": shortest round-trippable text of a float32, locale-independent.
-void append_float(std::string& out, float value);
-void append_uint(std::string& out, std::uint64_t value);
-
 }  // namespace sweep::io::detail

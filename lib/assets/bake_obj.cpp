@@ -9,20 +9,12 @@
 
 #include "assets/bake.h"
 #include "assets/bake_detail.h"
+#include "assets/mesh_io_detail.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
 
 namespace sweep::io {
 namespace {
-
-void append_vertex_line(std::string& out, const Eigen::Vector3f& p) {
-  out += 'v';
-  for (int c = 0; c < 3; ++c) {
-    out += ' ';
-    detail::append_float(out, p[c]);
-  }
-  out += '\n';
-}
 
 class ObjSequenceWriter final : public detail::BakeWriterBase {
  public:
@@ -40,14 +32,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
   void start(const Mesh& mesh) override {
     const std::size_t n = rest().size();
     faces_.clear();
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-      faces_ += 'f';
-      for (std::uint32_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
-        faces_ += ' ';
-        detail::append_uint(faces_, std::uint64_t{mesh.face_vertices[k]} + 1);
-      }
-      faces_ += '\n';
-    }
+    detail::append_obj_faces(faces_, mesh);
     header_tail_ = " of " + std::to_string(info().frame_count) + ", " + std::to_string(n) +
                    " vertices, " + std::to_string(mesh.face_count()) + " faces\n";
     // Vertices that never move are formatted once: their lines are copied from here each frame.
@@ -56,7 +41,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
       rest_line_start_.resize(n + 1);
       for (std::size_t v = 0; v < n; ++v) {
         rest_line_start_[v] = rest_lines_.size();
-        append_vertex_line(rest_lines_, rest()[v]);
+        detail::append_vertex_line(rest_lines_, "v ", rest()[v]);
       }
       rest_line_start_[n] = rest_lines_.size();
     }
@@ -79,13 +64,13 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     text += std::to_string(index);
     text += header_tail_;
     if (all_animated() || info().body_moves) {
-      for (const Eigen::Vector3f& p : positions) append_vertex_line(text, p);
+      for (const Eigen::Vector3f& p : positions) detail::append_vertex_line(text, "v ", p);
     } else {
       std::size_t next = 0;  // first vertex not yet written
       for (const std::uint32_t a : animated()) {
         text.append(rest_lines_, rest_line_start_[next],
                     rest_line_start_[a] - rest_line_start_[next]);
-        append_vertex_line(text, positions[a]);
+        detail::append_vertex_line(text, "v ", positions[a]);
         next = std::size_t{a} + 1;
       }
       text.append(rest_lines_, rest_line_start_[next], std::string::npos);

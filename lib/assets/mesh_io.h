@@ -9,7 +9,7 @@
 //    or an index out of range is refused with its line; `l`, `p`, `vt`, `vn`, groups are ignored.
 //  - PLY, glTF/glb: assimp with no post-processing, which keeps the stored vertices, their order
 //    and count, and the polygons (checked by tests/io). Single precision (assimp stores floats).
-//    Checked first (io/mesh_checks.h), since assimp silently shifts or drops data otherwise: an
+//    Checked first (assets/mesh_checks.h), since assimp silently shifts or drops data otherwise: an
 //    ASCII PLY must hold exactly the elements its header announces, one a line; a glTF index
 //    past its primitive's vertices is refused.
 //  - Text formats (OFF, OBJ, PLY) may start with a UTF-8 byte order mark, which is skipped.
@@ -23,6 +23,8 @@
 // and line primitives are dropped. An identity transform is applied without arithmetic.
 // Bad files raise sweep::Error (bad_input) naming the file and what is wrong, as one line
 // "<path>: <what>"; unsupported formats raise ErrorCategory::unsupported.
+// Three files, one job each: mesh_text_readers.cpp (OFF, OBJ), mesh_import.cpp (read_mesh, and
+// assimp for PLY, glTF and the rest: the only file that sees assimp), mesh_writers.cpp.
 #include <filesystem>
 #include <string>
 #include <string_view>

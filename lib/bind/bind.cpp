@@ -10,6 +10,7 @@
 
 #include "bind/deform.h"
 #include "core/error.h"
+#include "core/frame.h"
 #include "core/hash.h"
 #include "core/topology.h"
 
@@ -56,7 +57,7 @@ void check_inputs(const Rig& rig, const Mesh& mesh, const BindOptions& o) {
     fail(ErrorCategory::unsupported, "meshes of more than 2^32 - 1 vertices are not supported");
   }
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    if (!mesh.positions[v].allFinite()) {
+    if (!is_finite(mesh.positions[v])) {
       fail(ErrorCategory::bad_input, "vertex " + std::to_string(v) + " is not finite");
     }
   }

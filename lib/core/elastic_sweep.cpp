@@ -93,16 +93,20 @@ void ElasticSweep::init_bank(Bank& bank, int width, const SpringSettings& (*pick
   }
 }
 
-ForceId ElasticSweep::add_force(const ForceSpec& force) {
-  ActiveForce a{next_id_++, force, force.t, force.theta};
+ElasticSweep::ActiveForce ElasticSweep::placed(const ForceSpec& force, ForceId id) const {
+  ActiveForce a{id, force, force.t, force.theta};
   if (force.at_world_point) {
     const SweepCoords c = SweepLocator(deformed_).locate(force.point);
     a.t = c.t;
     a.theta = c.theta;
   }
   a.t = std::clamp(a.t, 0.0, def_.rest.length());
-  forces_.push_back(a);
-  return a.id;
+  return a;
+}
+
+ForceId ElasticSweep::add_force(const ForceSpec& force) {
+  forces_.push_back(placed(force, next_id_++));
+  return forces_.back().id;
 }
 
 bool ElasticSweep::remove_force(ForceId id) {
@@ -246,12 +250,7 @@ void ElasticSweep::loads_to_springs(bool subtract_preload) {
 }
 
 void ElasticSweep::apply_impulse(const ForceSpec& impulse) {
-  ActiveForce a{0, impulse, impulse.t, impulse.theta};
-  if (impulse.at_world_point) {
-    const SweepCoords c = SweepLocator(deformed_).locate(impulse.point);
-    a.t = c.t;
-    a.theta = c.theta;
-  }
+  const ActiveForce a = placed(impulse, 0);
   // The impulse alone: the body's loads (gravity, motion) are forces over time, not part of it.
   loads_.clear();
   accumulate_force(deformed_, a.spec, a.t, a.theta, def_.rotational_scale, def_.radial_scale, loads_);

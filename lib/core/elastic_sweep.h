@@ -133,6 +133,9 @@ class ElasticSweep {
     ForceSpec spec;
     double t, theta;
   };
+  // Where a force or an impulse acts: its world point located on the current shape (or its own
+  // t, θ), t clamped to [0, L] — one rule for add_force and apply_impulse.
+  ActiveForce placed(const ForceSpec& force, ForceId id) const;
 
   void init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int));
   void gather_loads(const std::vector<ActiveForce>& forces);

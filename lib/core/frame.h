@@ -3,12 +3,26 @@
 // R is kept as a unit quaternion so that interpolation (slerp) and composition stay orthonormal.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace sweep {
 
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Quat = Eigen::Quaterniond;
+
+// Whether every coefficient of `v` is finite, tested one by one: Eigen's allFinite() computes
+// x - x, which raises FE_INVALID on an infinity (the tests trap it). For any data that could hold
+// an infinity (a file's, a user's, a solver's result).
+template <typename Derived>
+bool is_finite(const Eigen::MatrixBase<Derived>& v) {
+  for (Eigen::Index c = 0; c < v.cols(); ++c) {
+    for (Eigen::Index r = 0; r < v.rows(); ++r) {
+      if (!std::isfinite(v(r, c))) return false;
+    }
+  }
+  return true;
+}
 
 struct Frame {
   Quat rotation = Quat::Identity();

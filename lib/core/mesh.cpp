@@ -1,8 +1,9 @@
 #include "core/mesh.h"
 
 #include <algorithm>
-#include <cmath>
 #include <sstream>
+
+#include "core/frame.h"
 
 namespace sweep {
 
@@ -28,9 +29,7 @@ std::string check_mesh(const Mesh& mesh) {
   if (mesh.face_count() == 0) return "no faces";
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     const Vec3& p = mesh.positions[i];
-    // Component tests, not allFinite(): Eigen's version computes x - x, which raises FE_INVALID
-    // on an infinity under the tests' traps.
-    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
+    if (!is_finite(p)) {
       std::ostringstream s;
       s << "vertex " << i << " has a non-finite coordinate (" << p.x() << ", " << p.y() << ", "
         << p.z() << ")";

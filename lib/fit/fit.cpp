@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/frame.h"
 #include "core/limits.h"
 #include "core/locate.h"
 #include "core/text.h"
@@ -271,10 +272,10 @@ void validate(const FitOptions& o) {
   if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance))
     bad("tolerance must be a finite number >= 0");
   if (o.tolerance > 0 && o.max_sections < 2) bad("max_sections must be at least 2");
-  if (!o.tip.allFinite() || (o.root && !o.root->allFinite())) bad("root and tip must be finite");
+  if (!is_finite(o.tip) || (o.root && !is_finite(*o.root))) bad("root and tip must be finite");
   if (o.name.empty()) bad("name must not be empty");
   for (const Vec3& p : o.axis) {
-    if (!p.allFinite()) fail(ErrorCategory::bad_input, "the axis polyline has a non-finite point");
+    if (!is_finite(p)) fail(ErrorCategory::bad_input, "the axis polyline has a non-finite point");
   }
 }
 

@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 
 #include "core/error.h"
+#include "core/frame.h"
 #include "fit/loop.h"
 
 namespace sweep::fit {
@@ -82,7 +83,7 @@ std::vector<Vec3> smooth(const std::vector<Vec3>& points, const std::vector<doub
     if (count < 4) continue;  // too few neighbours for a parabola: keep the point
     const Eigen::LDLT<Eigen::Matrix3d> solve(normal);
     const Vec3 fitted = solve.solve(rhs).row(0).transpose();
-    if (solve.info() == Eigen::Success && fitted.allFinite()) out[i] = fitted;
+    if (solve.info() == Eigen::Success && is_finite(fitted)) out[i] = fitted;
   }
   return out;
 }

@@ -10,9 +10,6 @@
 
 namespace sweep::io {
 
-// read_file for text: a UTF-8 byte order mark at the start is skipped (it is not content).
-std::string read_text_file(const std::filesystem::path& path);
-
 // A file being written: a temporary beside `target`, buffered, renamed onto `target` by commit().
 // The temporary is named ".<target name>.<tool>-<pid>.tmp-XXXXXX" (a name too long for that keeps
 // its first 200 bytes and a hash), so any name the file system takes can be written, and a signal
@@ -114,11 +111,5 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view b
 // that cannot be written is found before the others are written. Creates and removes a
 // temporary; the target itself is not touched.
 void check_can_create(const std::filesystem::path& path);
-
-// Reads a whole file. Throws Error(bad_input) naming the path when it is missing, unreadable, not
-// a regular file (a FIFO or a device would block or never end) or larger than `max_bytes`
-// (checked before reading: JSON inputs pass limits::kMaxJsonBytes).
-std::string read_file(const std::filesystem::path& path,
-                      std::uint64_t max_bytes = UINT64_MAX);
 
 }  // namespace sweep::io

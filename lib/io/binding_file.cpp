@@ -11,6 +11,7 @@
 #include "core/hash.h"
 #include "core/limits.h"
 #include "io/atomic_file.h"
+#include "io/read_file.h"
 
 namespace sweep::bind {
 namespace {

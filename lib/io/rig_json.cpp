@@ -7,6 +7,7 @@
 #include "core/limits.h"
 #include "io/atomic_file.h"
 #include "io/json_reader.h"
+#include "io/read_file.h"
 
 namespace sweep::io {
 namespace {

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/limits.h"
 #include "io/atomic_file.h"
+#include "io/read_file.h"
 
 namespace sweep::sim {
 namespace {
@@ -128,7 +129,7 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
 }
 
 // The body's path: {"interpolation": "linear" | "cubic", "keys": [{"time", "translation",
-// "rotation" | "turn_degrees" (+ "turn_axis")}, ...]}.
+// "rotation" | "turn_degrees" (+ "turn_axis")}, ...]} (or {"node", "animation"}: parse_scene).
 BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& ptr) {
   r.object(v, ptr, {"interpolation", "keys"});
   BodyInterpolation interpolation = BodyInterpolation::linear;
@@ -240,7 +241,18 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
                 "must be \"exact\", \"semi-implicit-euler\" or \"rk4\", got " + io::describe(*i));
     }
   }
-  if (const Json* b = r.optional(json, "body")) scene.body = read_body(r, *b, member(pointer, "body"));
+  if (const Json* b = r.optional(json, "body")) {
+    const std::string bp = member(pointer, "body");
+    if (b->is_object() && b->contains("node")) {
+      // The glTF mesh's own animation of a node: the tools read it from the mesh.
+      r.object(*b, bp, {"node", "animation"});
+      scene.body_node = r.string((*b)["node"], member(bp, "node"));
+      if (scene.body_node.empty()) r.fail_at(member(bp, "node"), "must name a node of the glTF mesh");
+      if (const Json* a = r.optional(*b, "animation")) scene.body_animation = r.string(*a, member(bp, "animation"));
+    } else {
+      scene.body = read_body(r, *b, bp);
+    }
+  }
   if (const Json* t = r.optional(json, "teleport")) {
     const std::string tp = member(pointer, "teleport");
     if (t->is_boolean()) {

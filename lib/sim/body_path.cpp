@@ -49,8 +49,8 @@ std::vector<Vec3> tangents(const std::vector<double>& t, const std::vector<Vec3>
 
 }  // namespace
 
-BodyPath::BodyPath(std::vector<BodyKey> keys, BodyInterpolation interpolation)
-    : keys_(std::move(keys)), interpolation_(interpolation) {
+BodyPath::BodyPath(std::vector<BodyKey> keys, BodyInterpolation interpolation, const Vec3& pivot)
+    : keys_(std::move(keys)), interpolation_(interpolation), pivot_(pivot) {
   for (BodyKey& k : keys_) k.rotation.normalize();
   for (std::size_t k = 1; k < keys_.size(); ++k) {
     if (keys_[k].translation != keys_[0].translation || keys_[k].rotation.angularDistance(keys_[0].rotation) > 0)
@@ -86,6 +86,22 @@ std::size_t BodyPath::piece(double t) const {
 }
 
 BodyState BodyPath::at(double t) const {
+  BodyState s = about_pivot(t);
+  if (pivot_ == Vec3::Zero()) return s;
+  // The origin of the mesh is at p − R c: it moves with the pivot and swings about it,
+  //   v_O = ṗ − ω_w × (R c),   a_O = p̈ − α_w × (R c) − ω_w × (ω_w × (R c))   (world axes),
+  // and the accelerations are kept in body axes, where R c becomes c.
+  const Vec3 arm = s.rotation * pivot_;
+  const Vec3 w = s.rotation * s.angular_velocity;
+  s.translation -= arm;
+  s.velocity -= w.cross(arm);
+  s.acceleration -= s.angular_acceleration.cross(pivot_) + s.angular_velocity.cross(s.angular_velocity.cross(pivot_));
+  return s;
+}
+
+// The path of the pivot (the origin when there is none): translation p, velocity ṗ, acceleration
+// p̈ in body axes, and the rotation with its angular velocity and acceleration.
+BodyState BodyPath::about_pivot(double t) const {
   BodyState s;
   if (keys_.empty()) return s;
   if (t <= keys_.front().time || t >= keys_.back().time || keys_.size() == 1) {
@@ -151,8 +167,9 @@ void BodyPath::jump_at(std::size_t key, Vec3& dv, Vec3& dw) const {
     // vector (a rotation about its own axis leaves it unchanged).
   }
   const Quat& at = keys_[key].rotation;
-  dv = at.conjugate() * (v[1] - v[0]);
   dw = w[1] - w[0];
+  // The origin's jump: the pivot's, less the jump of the swing about it (ω × c, body axes).
+  dv = at.conjugate() * (v[1] - v[0]) - dw.cross(pivot_);
 }
 
 bool BodyPath::loads_between(double from, double to) const {

@@ -9,6 +9,10 @@
 //    rotation vector from the first key's rotation (exact for turns about one axis) — velocity and
 //    angular velocity continuous, no kicks.
 // Before the first key and after the last the body holds still. An empty path is a body at rest.
+// A pivot c (mesh coordinates) makes the keys' translation the pivot's world position p, so that
+//     world = rotation · (mesh − c) + p
+// and the body turns about c, not about the mesh's origin: a glTF node's animation (rotation
+// about the node) is then exactly linear pieces (assets/gltf_motion.h). No pivot: c = 0.
 #include <vector>
 
 #include "core/frame.h"
@@ -37,11 +41,12 @@ class BodyPath {
  public:
   BodyPath() = default;
   // Keys in strictly increasing time (checked by the scene reader), rotations unit.
-  BodyPath(std::vector<BodyKey> keys, BodyInterpolation interpolation);
+  BodyPath(std::vector<BodyKey> keys, BodyInterpolation interpolation, const Vec3& pivot = Vec3::Zero());
 
   bool empty() const { return keys_.empty(); }
   const std::vector<BodyKey>& keys() const { return keys_; }
   BodyInterpolation interpolation() const { return interpolation_; }
+  const Vec3& pivot() const { return pivot_; }
 
   // Whether the body ever moves (keys that differ).
   bool moves() const { return moves_; }
@@ -58,9 +63,11 @@ class BodyPath {
 
  private:
   std::size_t piece(double t) const;  // keys_[p] ≤ t < keys_[p+1]
+  BodyState about_pivot(double t) const;
   std::vector<BodyKey> keys_;
   BodyInterpolation interpolation_ = BodyInterpolation::linear;
   bool moves_ = false;
+  Vec3 pivot_ = Vec3::Zero();
   // Cubic: the rotation vectors ρ_k (from the first key's rotation, unwrapped to be continuous)
   // and the tangents of both splines.
   std::vector<Vec3> rho_, rho_tangent_, tangent_;

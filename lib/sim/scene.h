@@ -44,6 +44,10 @@ struct Scene {
   // The body's motion (issue 13): the whole mesh moves with it, each part's root with the body, and
   // the parts feel its accelerations. Empty: the body stands still.
   BodyPath body;
+  // Or the animation of a node of the glTF mesh (scene "body": {"node", "animation"}): the tools,
+  // which read meshes, turn it into `body` (assets/gltf_motion.h). "" = none.
+  std::string body_node;
+  std::string body_animation;  // the animation's name; "" = the first one that moves the node
   // A body that jumps farther than this in one frame (mesh units), or turns by more than this
   // (radians), has been cut or respawned: the parts are put to rest in the new place instead of
   // feeling the jump. 0 = the default: the longest part's length, and a quarter turn.

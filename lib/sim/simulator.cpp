@@ -11,6 +11,11 @@ namespace sweep::sim {
 
 Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
     : scene_(scene), sleep_(sleep) {
+  if (!scene.body_node.empty() && scene.body.empty()) {
+    fail(ErrorCategory::usage, "the scene's body follows node '" + scene.body_node +
+                                   "' of the glTF mesh's animation, which has not been read: fill "
+                                   "Scene::body with io::read_gltf_body_path first (sweep-sim does)");
+  }
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
     sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def)});

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/binding_file.h"
+#include "io/read_file.h"
 #include "io/rig_json.h"
 #include "support.h"
 
@@ -15,22 +16,6 @@ namespace sweep::test {
 namespace {
 
 using bind::Binding;
-
-// Expects `body` to throw Error(category) whose message contains every fragment.
-template <typename F>
-void expect_refused(F&& body, ErrorCategory category,
-                    std::initializer_list<const char*> fragments) {
-  try {
-    body();
-    ADD_FAILURE() << "accepted; expected a message containing " << *fragments.begin();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.category(), category) << e.what();
-    for (const char* f : fragments) {
-      EXPECT_NE(std::string(e.what()).find(f), std::string::npos)
-          << "message: " << e.what() << "\nexpected to contain: " << f;
-    }
-  }
-}
 
 // A tube mesh and rig on disk (rig.json next to tube.obj), as a user would have them.
 struct OnDisk {

@@ -19,6 +19,7 @@
 #include "diplodocus_seeds.h"
 #include "fit/fit.h"
 #include "io/atomic_file.h"
+#include "io/read_file.h"
 #include "tube.h"
 
 namespace sweep::test {
@@ -27,6 +28,22 @@ namespace fs = std::filesystem;
 
 // A straight circular tube along +z from the origin: length 1, radius 0.1, 41 rings (every
 // 0.025) of 24 vertices, both ends capped (vertex 984 = root cap centre, 985 = tip cap centre).
+// Expects `body` to throw Error(category) whose message contains every fragment.
+template <typename F>
+void expect_refused(F&& body, ErrorCategory category,
+                    std::initializer_list<const char*> fragments) {
+  try {
+    body();
+    ADD_FAILURE() << "accepted; expected a message containing " << *fragments.begin();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.category(), category) << e.what();
+    for (const char* f : fragments) {
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos)
+          << "message: " << e.what() << "\nexpected to contain: " << f;
+    }
+  }
+}
+
 inline tube::TubeParams straight_tube_params() {
   tube::TubeParams p;
   p.length = 1.0;

@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "fp_guard.h"
 #include "io/atomic_file.h"
+#include "io/read_file.h"
 
 namespace sweep::io {
 namespace {

@@ -16,6 +16,7 @@
 #include "assets/mesh_io.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/read_file.h"
 
 namespace sweep::tube {
 namespace {

@@ -21,6 +21,7 @@
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "io/path_checks.h"
+#include "io/read_file.h"
 #include "io/rig_json.h"
 #include "preview/png.h"
 #include "preview/render.h"

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "core/text.h"
 #include "io/atomic_file.h"
 
 namespace sweep::fit_tool {
@@ -128,11 +129,9 @@ void print_parts(const std::vector<fit::FoundPart>& parts) {
   std::printf("%-8s %8s  %-28s %-28s %10s %10s %8s\n", "name", "tip", "tip at", "root at",
               "length", "radius", "vertices");
   for (const fit::FoundPart& p : parts) {
-    char tip[64], root[64];
-    std::snprintf(tip, sizeof tip, "%.4g,%.4g,%.4g", p.tip.x(), p.tip.y(), p.tip.z());
-    std::snprintf(root, sizeof root, "%.4g,%.4g,%.4g", p.root.x(), p.root.y(), p.root.z());
-    std::printf("%-8s %8u  %-28s %-28s %10.4g %10.4g %8zu\n", p.name.c_str(), p.tip_vertex, tip,
-                root, p.length, p.mean_radius, p.vertex_count);
+    const std::string tip = format_point(p.tip, 4), root = format_point(p.root, 4);
+    std::printf("%-8s %8u  %-28s %-28s %10.4g %10.4g %8zu\n", p.name.c_str(), p.tip_vertex,
+                tip.c_str(), root.c_str(), p.length, p.mean_radius, p.vertex_count);
   }
   std::fflush(stdout);
 }

@@ -15,6 +15,7 @@
 
 #include "assets/bake.h"
 #include "assets/bake_run.h"
+#include "assets/gltf_motion.h"
 #include "assets/mesh_io.h"
 #include "io/atomic_file.h"
 #include "io/binding_file.h"
@@ -105,6 +106,9 @@ int run(const Settings& s) {
   const sweep::bind::Binding binding = sweep::bind::load_binding(binding_path, mesh, rig);
   sweep::sim::Scene scene =
       sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
+  if (!scene.body_node.empty()) {
+    scene.body = sweep::io::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
+  }
   if (!s.integrator.empty() && !sweep::parse_integrator(s.integrator, &scene.integrator)) {
     sweep::fail(
         sweep::ErrorCategory::usage,
