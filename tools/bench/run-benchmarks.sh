@@ -38,7 +38,13 @@ cmake --build "$build" -j "${SWEEP_BENCH_JOBS:-2}" --target "${targets[@]}"
 
 results="$here/tools/bench/results"
 mkdir -p "$results"
-rm -f "$results"/*.csv "$results"/*.md "$results"/*.png
+# Clear only what this script writes: fit-evidence.{md,png} (tools/bench/fit-evidence.py) and
+# glb_frames.md (tools/bench/glb-frames.sh) come from their own scripts and are kept.
+for b in deform skip integrate beam fit stress framerate follower; do rm -f "$results/$b".csv "$results/$b".md; done
+rm -f "$results"/deform_*.png "$results"/fit_*.png "$results"/integrate.png
+for kept in fit-evidence.md fit-evidence.png glb_frames.md; do
+  [ -s "$results/$kept" ] || { echo "error: $results/$kept is missing: run the script that writes it first (see BENCHMARKS.md)" >&2; exit 1; }
+done
 bin="$build/tools/bench"
 start=$(date +%s)
 for b in deform skip integrate beam fit stress; do
