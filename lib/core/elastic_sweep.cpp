@@ -407,11 +407,19 @@ void ElasticSweep::reset() {
 
 double ElasticSweep::energy() const {
   double e = 0;
-  // In material mode the modes carry the rotational energy (½ η̇² + ½ ω² η², J).
+  // In material mode the modes carry the rotational energy (½ η̇² + ½ ω² η², J); the positional
+  // and radial springs are in mesh units (N/unit, kg·m/unit), their energy in N·unit: × metres per
+  // unit makes it joules too, so that the sum means one thing.
   for (const Bank* b : {&positional_, chain_ ? &modal_ : &rotational_, &radial_}) {
-    for (std::size_t m = 0; m < b->x.size(); ++m) e += oscillator_energy(b->params[m], b->x[m], b->v[m]);
+    double bank = 0;
+    for (std::size_t m = 0; m < b->x.size(); ++m) bank += oscillator_energy(b->params[m], b->x[m], b->v[m]);
+    e += bank * energy_unit(*b);
   }
   return e;
+}
+
+double ElasticSweep::energy_unit(const Bank& bank) const {
+  return chain_ && &bank != &modal_ ? chain_->metres_per_unit : 1.0;
 }
 
 double ElasticSweep::max_speed() const {

@@ -9,6 +9,7 @@
 // local z) and n radial (δ_i[j]: the deformed radius is r_i[j] + δ_i[j], floored at
 // kMinRadiusFraction·r_i[j] so a handle can never invert its section).
 #include <array>
+#include <span>
 #include <vector>
 
 #include <memory>
@@ -62,7 +63,8 @@ class ElasticSweep {
   void set_radial_offset(int i, int j, double delta);
   void reset();  // back to rest, at rest, forces kept
 
-  double energy() const;     // Σ ½ m v² + ½ k x² over every spring (force potential not counted)
+  // Σ ½ m v² + ½ k x² over every spring (force potential not counted); joules in material mode.
+  double energy() const;
   double max_speed() const;  // largest |v| over every spring coordinate
   double max_displacement() const;  // largest |x| over every spring coordinate
   bool is_finite() const;    // false once any state is NaN or Inf (a diverged integrator)
@@ -101,6 +103,30 @@ class ElasticSweep {
   // An instant change of the body's velocity (Δv of its origin, Δω; body axes): each section
   // takes the impulse −m (Δv + Δω × c), as at the corner of a linear keyframed path.
   void apply_body_kick(const Vec3& dv, const Vec3& dw);
+
+  // Contact (sim/contact.h). A contact row is one direction d at a point of the axis (t its arc
+  // length), as the springs see it: J = ∂(d·p)/∂q over the offsets and joint turns of the sections
+  // up to the point (linearised: the point taken between its two sections, which move it), built
+  // on the current pose. Through the rows the solver moves the part as a force held there would
+  // (each spring by its compliance 1/k: the least spring energy for the move) and kicks it as an
+  // impulse there would (each spring by its mass, the chain's mass matrix in material mode).
+  struct ContactRow {
+    int first = 1, last = 0;                    // sections first..last take part
+    std::vector<double> positional, rotational;  // J, index 3·(i − first) + c
+    std::vector<double> modal;                   // material mode: Φᵀ Jᵀ over the joints (per metre)
+  };
+  void contact_row(double t, const Vec3& direction, ContactRow& row) const;
+  // J_a M⁻¹ J_bᵀ (by_mass: the speed along b per N·s of impulse along a; with a == b the point's
+  // mobility) or J_a C J_bᵀ (the move along b per N of force along a).
+  double row_coupling(const ContactRow& a, const ContactRow& b, bool by_mass) const;
+  // J q̇: the point's speed along the row's direction, relative to the body.
+  double row_speed(const ContactRow& row) const;
+  // Kicks (amounts in N·s: q̇ += M⁻¹ Σ Jᵀ amount) or moves (amounts in N: q += C Σ Jᵀ amount, and
+  // the shape is rebuilt).
+  // With speeds_too, a move also adds itself over `dt` to the speeds (q̇ += Δq / dt): the step's
+  // motion the move took back is taken out of its speeds as well.
+  void apply_rows(std::span<const ContactRow> rows, std::span<const double> amounts, bool as_impulses,
+                  double speeds_dt = 0);
 
   // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
   const ChainModel* chain() const { return chain_.get(); }
@@ -157,6 +183,10 @@ class ElasticSweep {
   std::shared_ptr<const ChainModel> chain_;  // shared: built once per rig, copies of a sweep share it
   Bank modal_;
   std::vector<double> joint_scratch_;
+  std::vector<double> modal_scratch_;  // contact: the modal sum of apply_rows
+  double positional_share(std::size_t m, bool by_mass) const;  // contact: 1/mass or 1/stiffness
+  double energy_unit(const Bank& bank) const;  // what turns a bank's ½ m v² + ½ k x² into energy()'s
+  double rotational_share(std::size_t m, bool by_mass) const;
   BodyMotion body_;
   std::vector<double> gravity_preload_;  // rest-pose gravity loads in spring axes (3K pos, 3K rot)
   std::vector<Vec3> section_velocity_;   // scratch: each centre's velocity relative to the body

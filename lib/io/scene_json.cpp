@@ -1,5 +1,6 @@
 #include "io/scene_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -128,6 +129,18 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
   return f;
 }
 
+// A rotation as a unit quaternion [x, y, z, w]. Hand-written quaternions carry a few digits: near
+// unit is taken as meant, and normalized.
+Quat read_rotation(const io::JsonReader& r, const Json& q, const std::string& ptr) {
+  if (!q.is_array() || q.size() != 4) r.fail_at(ptr, "must be a quaternion [x, y, z, w], got " + io::describe(q));
+  double c[4];
+  for (int i = 0; i < 4; ++i) c[i] = r.number(q[i], element(ptr, i));
+  Quat rotation(c[3], c[0], c[1], c[2]);
+  if (std::abs(rotation.norm() - 1.0) > 1e-3)
+    r.fail_at(ptr, "must be a unit quaternion [x, y, z, w], its length is " + std::to_string(rotation.norm()));
+  return rotation.normalized();
+}
+
 // The body's path: {"interpolation": "linear" | "cubic", "keys": [{"time", "translation",
 // "rotation" | "turn_degrees" (+ "turn_axis")}, ...]} (or {"node", "animation"}: parse_scene).
 BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& ptr) {
@@ -160,17 +173,7 @@ BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& pt
     const Json* turn = r.optional(key, "turn_degrees");
     if (q && turn) r.fail_at(p, "give either \"rotation\" or \"turn_degrees\", not both");
     if (!turn && r.optional(key, "turn_axis")) r.fail_at(member(p, "turn_axis"), "goes with \"turn_degrees\"");
-    if (q) {
-      const std::string qp = member(p, "rotation");
-      if (!q->is_array() || q->size() != 4) r.fail_at(qp, "must be a quaternion [x, y, z, w], got " + io::describe(*q));
-      double c[4];
-      for (int i = 0; i < 4; ++i) c[i] = r.number((*q)[i], element(qp, i));
-      b.rotation = Quat(c[3], c[0], c[1], c[2]);
-      // Hand-written quaternions carry a few digits: near unit is taken as meant, and normalized.
-      if (std::abs(b.rotation.norm() - 1.0) > 1e-3)
-        r.fail_at(qp, "must be a unit quaternion [x, y, z, w], its length is " + std::to_string(b.rotation.norm()));
-      b.rotation.normalize();
-    }
+    if (q) b.rotation = read_rotation(r, *q, member(p, "rotation"));
     if (turn) {
       const double degrees = r.bounded(*turn, member(p, "turn_degrees"), -1e6, 1e6);
       Vec3 axis = Vec3::UnitY();
@@ -183,13 +186,72 @@ BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& pt
   return BodyPath(std::move(out), interpolation);
 }
 
+// One collider: {"shape": "sphere" | "capsule" | "box" | "plane", its sizes, "attached":
+// "world" | "body", "margin", "friction", "name"}.
+Collider read_collider(const io::JsonReader& r, const Json& v, const std::string& ptr, std::size_t index) {
+  r.object(v, ptr, {"name", "shape", "center", "radius", "from", "to", "half_size", "rotation", "point",
+                    "normal", "attached", "margin", "friction"});
+  const std::string sp = member(ptr, "shape");
+  const std::string shape = r.string(r.required(v, ptr, "shape"), sp);
+  const auto position = [&](const char* key) {
+    return r.bounded_vec3(r.required(v, ptr, key), member(ptr, key), limits::kMaxLength);
+  };
+  const auto size = [&](const char* key) {
+    const double x = r.positive(r.required(v, ptr, key), member(ptr, key));
+    if (x > limits::kMaxLength) r.fail_at(member(ptr, key), "must be at most 1e9 mesh units");
+    return x;
+  };
+  const auto only = [&](std::initializer_list<const char*> keys) {
+    // A member of another shape is a mistake worth stopping for: the user meant something else.
+    for (const char* key : {"center", "radius", "from", "to", "half_size", "rotation", "point", "normal"}) {
+      if (!v.contains(key)) continue;
+      if (std::find_if(keys.begin(), keys.end(), [&](const char* k) { return std::string(k) == key; }) == keys.end())
+        r.fail_at(member(ptr, key), "is not a member of a " + shape + " collider");
+    }
+  };
+  Collider c;
+  if (shape == "sphere") {
+    only({"center", "radius"});
+    c = Collider::sphere(position("center"), size("radius"));
+  } else if (shape == "capsule") {
+    only({"from", "to", "radius"});
+    c = Collider::capsule(position("from"), position("to"), size("radius"));
+  } else if (shape == "box") {
+    only({"center", "half_size", "rotation"});
+    const Vec3 half = r.bounded_vec3(r.required(v, ptr, "half_size"), member(ptr, "half_size"), limits::kMaxLength);
+    if (!(half.minCoeff() > 0))
+      r.fail_at(member(ptr, "half_size"), "every half size must be positive (a plate is a thin box, not a flat one)");
+    Quat rotation = Quat::Identity();
+    if (const Json* q = r.optional(v, "rotation")) rotation = read_rotation(r, *q, member(ptr, "rotation"));
+    c = Collider::box(position("center"), half, rotation);
+  } else if (shape == "plane") {
+    only({"point", "normal"});
+    const Vec3 normal = r.bounded_vec3(r.required(v, ptr, "normal"), member(ptr, "normal"), limits::kMaxLength);
+    if (!(normal.norm() > 1e-12)) r.fail_at(member(ptr, "normal"), "must not be zero: it points out of the solid side");
+    c = Collider::plane(position("point"), normal);
+  } else {
+    r.fail_at(sp, "must be \"sphere\", \"capsule\", \"box\" or \"plane\", got " + io::describe(v["shape"]));
+  }
+  c.name = "collider " + std::to_string(index);
+  if (const Json* n = r.optional(v, "name")) c.name = r.string(*n, member(ptr, "name"));
+  if (const Json* a = r.optional(v, "attached")) {
+    const std::string where = r.string(*a, member(ptr, "attached"));
+    if (where != "world" && where != "body")
+      r.fail_at(member(ptr, "attached"), "must be \"world\" (stays put) or \"body\" (moves with it), got " + io::describe(*a));
+    c.carried = where == "body";
+  }
+  if (const Json* m = r.optional(v, "margin")) c.margin = r.bounded(*m, member(ptr, "margin"), 0, limits::kMaxLength);
+  if (const Json* f = r.optional(v, "friction")) c.friction = r.bounded(*f, member(ptr, "friction"), 0, 100);
+  return c;
+}
+
 }  // namespace
 
 Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
                   const Rig& rig) {
   r.object(json, pointer,
            {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces",
-            "body", "teleport", "wind"});
+            "body", "teleport", "wind", "colliders", "contact_stations"});
   Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
@@ -277,6 +339,14 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
     if (const Json* x = r.optional(*w, "air_density")) ws.air_density = r.bounded(*x, member(wp, "air_density"), 0, 1e4);
     if (const Json* x = r.optional(*w, "drag_coefficient")) ws.drag_coefficient = r.bounded(*x, member(wp, "drag_coefficient"), 0, 100);
     scene.wind = Wind(ws);
+  }
+  if (const Json* cs = r.optional(json, "colliders")) {
+    const std::string cp = member(pointer, "colliders");
+    r.array(*cs, cp);
+    for (std::size_t i = 0; i < cs->size(); ++i) scene.colliders.push_back(read_collider(r, (*cs)[i], element(cp, i), i));
+  }
+  if (const Json* st = r.optional(json, "contact_stations")) {
+    scene.contact_stations = static_cast<int>(r.integer(*st, member(pointer, "contact_stations"), 1, 64));
   }
   const std::string fp = member(pointer, "forces");
   const Json& forces = r.required(json, pointer, "forces");

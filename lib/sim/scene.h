@@ -9,6 +9,7 @@
 #include "core/oscillator.h"
 #include "core/rig.h"
 #include "sim/body_path.h"
+#include "sim/collider.h"
 #include "sim/wind.h"
 
 namespace sweep::sim {
@@ -56,6 +57,11 @@ struct Scene {
   bool teleport_enabled = true;
   // Wind on material-mode parts (sim/wind.h); none by default.
   Wind wind;
+  // Colliders the parts may not enter (sim/collider.h, sim/contact.h); none by default. A world
+  // collider stays put while the body moves; a carried one moves with it.
+  std::vector<Collider> colliders;
+  // Chords per span between key sections that meet the colliders (sim/contact.h).
+  int contact_stations = 4;
 
   // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. At it the follower loads of the diplodocus
   // Fig. 4 scene are within 1e-5 of the part's length of a 16× finer step (BENCHMARKS.md).

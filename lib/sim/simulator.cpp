@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <sstream>
 
 #include "core/error.h"
@@ -16,9 +17,18 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
                                    "' of the glTF mesh's animation, which has not been read: fill "
                                    "Scene::body with io::read_gltf_body_path first (sweep-sim does)");
   }
+  for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
+    const std::string wrong = scene.colliders[c].check();
+    if (!wrong.empty()) {
+      fail(ErrorCategory::usage, "Scene::colliders[" + std::to_string(c) + "] (\"" + scene.colliders[c].name +
+                                     "\", a " + shape_name(scene.colliders[c].shape) + "): " + wrong);
+    }
+  }
+  if (scene.contact_stations < 1) fail(ErrorCategory::usage, "Scene::contact_stations must be at least 1");
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
-    sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def)});
+    sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def),
+                                 .contact = ContactSolver(def.rest, scene.contact_stations)});
     sweeps_.back().body.set_integrator(scene.integrator);
     sweeps_.back().view.set_integrator(scene.integrator);
     if (def.material && scene.gravity != Vec3::Zero()) {
@@ -161,6 +171,17 @@ void Simulator::advance_frame() {
   ++frame_;
 }
 
+void Simulator::place_colliders(double t, std::vector<PlacedCollider>& out) const {
+  out.resize(scene_.colliders.size());
+  const BodyState b = scene_.body.at(t);
+  const Frame mesh_to_world{b.rotation, b.translation};
+  const Frame world_to_mesh = mesh_to_world.inverse();
+  for (std::size_t c = 0; c < out.size(); ++c) {
+    const Collider& col = scene_.colliders[c];
+    out[c] = {&col, col.carried ? col.pose : world_to_mesh * col.pose};
+  }
+}
+
 bool Simulator::has_work(int i, double from, double to) const {
   const SweepState& st = sweeps_[i];
   if (!st.driven) return false;
@@ -178,6 +199,9 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
   ElasticSweep& body = on_view ? s.view : s.body;
   std::vector<ForceId>& ids = on_view ? s.view_ids : s.ids;
   bool awake = s.awake;  // the view's waking is its own: the body wakes when it gets there
+  if (grid_step) {
+    s.touched = false;
+  }
   bool stepped = false;
   double cur = from;
   while (cur < to) {
@@ -232,10 +256,19 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
     }
     if (awake) {
       set_body_motion(body, cur + 0.5 * (next - cur));
+      const bool contacts = !scene_.colliders.empty();
+      if (contacts) {
+        place_colliders(cur, s.placed);
+        s.contact.begin_step(body, s.placed);
+      }
       // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
       // bits, and a step of new length costs new step maps.
       const bool whole = grid_step && cur == from && next == to;
       body.step(whole ? scene_.step_seconds() : next - cur);
+      if (contacts) {
+        place_colliders(next, s.placed);
+        if (s.contact.resolve(body, s.placed, next - cur) && !on_view) s.touched = true;
+      }
       stepped = true;
     }
     cur = next;
@@ -249,7 +282,24 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
   ++s.steps;
   if (!sleep_.enabled || body.force_count() > 0 || s.windy) return;
   if (!teleporting_ && scene_.body.loads_between(from, to)) return;
-  const bool quiet = body.max_speed() < sleep_.speed && body.max_displacement() < sleep_.displacement;
+  bool quiet = body.max_speed() < sleep_.speed && body.max_displacement() < sleep_.displacement;
+  if (s.touched) {
+    // A part held by a collider rests away from its rest pose, and each step its springs take up
+    // a step's weight that the contact then takes out: its speeds never fall still. Its pose does:
+    // it is quiet while no section has left, by more than kHeldDrift of the part's length, where
+    // it was when this quiet stretch began.
+    const std::vector<Frame>& frames = body.deformed().frames;
+    double drift = s.held_at.size() == frames.size() ? 0.0 : std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < s.held_at.size() && k < frames.size(); ++k)
+      drift = std::max(drift, (frames[k].center - s.held_at[k]).norm());
+    quiet = drift < kHeldDrift * body.rest().length();
+    if (!quiet) {
+      s.held_at.resize(frames.size());
+      for (std::size_t k = 0; k < frames.size(); ++k) s.held_at[k] = frames[k].center;
+    }
+  } else {
+    s.held_at.clear();
+  }
   s.quiet = quiet ? s.quiet + (to - from) : 0.0;
   if (s.quiet >= sleep_.quiet_time) s.awake = false;
 }

@@ -21,6 +21,7 @@
 
 #include "core/elastic_sweep.h"
 #include "core/rig.h"
+#include "sim/contact.h"
 #include "sim/scene.h"
 
 namespace sweep::sim {
@@ -31,6 +32,11 @@ struct SleepSettings {
   double quiet_time = 0.25;    // s the sweep must stay under both before it sleeps
   bool enabled = true;
 };
+
+// A part resting on a collider sleeps once no section has moved by more than this share of the
+// part's length for SleepSettings::quiet_time (a thousandth of a percent: invisible; its resting
+// contacts keep it trembling by about a tenth of that).
+inline constexpr double kHeldDrift = 1e-5;
 
 // A spring displacement this many times the sweep's length (or 1, if larger) means the simulation
 // has run away: no elastic part bends that far.
@@ -74,7 +80,13 @@ class Simulator {
     std::vector<ForceId> ids{}, view_ids{};  // per entry of `forces`: its id in body / view, 0 = off
     std::exception_ptr failure{};       // divergence during the current frame, at failure_step
     long long failure_step = 0;
+    ContactSolver contact;              // its contacts with the scene's colliders
+    std::vector<PlacedCollider> placed{};  // scratch: the colliders in mesh coordinates at one time
+    bool touched = false;               // touched a collider during the current internal step
+    std::vector<Vec3> held_at{};        // its section centres when it last moved, while it touches
   };
+  // The scene's colliders in mesh coordinates at time t (world ones moved by the body's inverse).
+  void place_colliders(double t, std::vector<PlacedCollider>& out) const;
 
   // Advances sweep i (its body, or its view) over [from, to], split at switching times; a step
   // of the internal clock when `grid_step` (sleep is decided there, and only there).

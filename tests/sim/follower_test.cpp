@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "bind/support.h"
+#include "diplodocus_seeds.h"
 #include "core/sample_sweeps.h"
 #include "io/scene_json.h"
 #include "sim/simulator.h"
@@ -104,13 +105,8 @@ TEST(MaterialMode, DiplodocusFig4CostAgainstThePapersModeInTheSameRun) {
   if (dino == nullptr) GTEST_SKIP() << "CGAL's diplodocus is absent (tools/setup-deps.sh)";
   Rig material_rig = dino->rig;
   for (SweepDef& d : material_rig.sweeps) {
-    Material m;  // a rubbery animal part: the diplodocus mesh is ~1 unit long, taken as 25 m
-    m.youngs_modulus = 5e7;
-    m.density = 1000;
-    m.metres_per_unit = 25;
-    m.damping_ratio = 0.1;
-    d.material = m;
-    d.section_materials.assign(d.rest.section_count(), m);
+    d.material = test::diplodocus_flesh();
+    d.section_materials.assign(d.rest.section_count(), *d.material);
   }
   Scene scene = read_scene(std::filesystem::path(SWEEP_SOURCE_DIR) / "rigs/diplodocus-fig4.scene.json", dino->rig);
   scene.substeps = 0;

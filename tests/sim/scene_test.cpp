@@ -1,6 +1,7 @@
 // Scene defaults that depend on the rig.
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "core/sample_sweeps.h"
 #include "io/json_reader.h"
 #include "io/scene_json.h"
@@ -29,6 +30,63 @@ TEST(Scene, AMaterialSweepsForcesTakeTheRealMomentUnlessTheSceneSaysScaled) {
   EXPECT_EQ(scene.forces[0].spec.moment, MomentModel::scaled);
   EXPECT_EQ(scene.forces[1].spec.moment, MomentModel::physical);
   EXPECT_EQ(scene.forces[2].spec.moment, MomentModel::scaled);
+}
+
+// The message a scene is refused with ("" if it is read).
+std::string refusal(const std::string& colliders) {
+  Rig rig;
+  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
+  rig.sweeps.back().name = "tube";
+  const io::Json json = io::Json::parse(R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30,
+    "forces": [], "colliders": )" + colliders + "}");
+  try {
+    parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, CollidersAreReadWithTheirShapesAndPlaces) {
+  Rig rig;
+  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
+  rig.sweeps.back().name = "tube";
+  const io::Json json = io::Json::parse(R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30,
+    "forces": [], "contact_stations": 2, "colliders": [
+      {"name": "ball", "shape": "sphere", "center": [1, 2, 3], "radius": 0.5, "margin": 0.01, "friction": 0.2},
+      {"shape": "capsule", "from": [0, 0, 0], "to": [0, 2, 0], "radius": 0.1, "attached": "body"},
+      {"shape": "box", "center": [0, 0, 5], "half_size": [1, 2, 0.01], "rotation": [0, 0, 0.7071068, 0.7071068]},
+      {"shape": "plane", "point": [0, -1, 0], "normal": [0, 3, 0]}]})");
+  const Scene scene = parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+  ASSERT_EQ(scene.colliders.size(), 4u);
+  EXPECT_EQ(scene.contact_stations, 2);
+  const Collider& ball = scene.colliders[0];
+  EXPECT_EQ(ball.name, "ball");
+  EXPECT_EQ(ball.shape, ColliderShape::sphere);
+  EXPECT_EQ(ball.pose.center, Vec3(1, 2, 3));
+  EXPECT_EQ(ball.margin, 0.01);
+  EXPECT_EQ(ball.friction, 0.2);
+  EXPECT_FALSE(ball.carried);
+  const Collider& rod = scene.colliders[1];
+  EXPECT_EQ(rod.name, "collider 1");
+  EXPECT_TRUE(rod.carried);
+  EXPECT_EQ(rod.half_length, 1.0);
+  EXPECT_NEAR((rod.pose.rotation * Vec3::UnitZ() - Vec3::UnitY()).norm(), 0, 1e-12);  // along from → to
+  EXPECT_NEAR((scene.colliders[2].pose.rotation * Vec3::UnitX() - Vec3::UnitY()).norm(), 0, 1e-6);
+  EXPECT_NEAR((scene.colliders[3].pose.rotation * Vec3::UnitZ() - Vec3::UnitY()).norm(), 0, 1e-12);
+}
+
+TEST(Scene, BadCollidersAreRefusedWithWhereAndWhy) {
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 0}])").find("/colliders/0/radius: must be a positive number"), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "cone", "center": [0, 0, 0]}])").find("/colliders/0/shape: must be \"sphere\", \"capsule\", \"box\" or \"plane\""), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}])").find("/colliders/0/normal: must not be zero"), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "box", "center": [0, 0, 0], "half_size": [1, 0, 1]}])").find("/colliders/0/half_size: every half size must be positive"), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "from": [0, 0, 0]}])").find("/colliders/0/from: is not a member of a sphere collider"), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "attached": "leg"}])").find("/colliders/0/attached: must be \"world\""), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "friction": -1}])").find("/colliders/0/friction"), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "capsule", "from": [0, 0, 0], "radius": 1}])").find("/colliders/0: "), std::string::npos);
+  EXPECT_NE(refusal(R"({"shape": "plane"})").find("/colliders: "), std::string::npos);
+  EXPECT_EQ(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1}])"), "");
 }
 
 }  // namespace

@@ -115,6 +115,15 @@ RealRig four_tubes() {
   return r;
 }
 
+// The rig's sweeps in material mode, of the demo's flesh.
+RealRig in_material(RealRig rig) {
+  for (SweepDef& d : rig.rig.sweeps) {
+    d.material = test::diplodocus_flesh();
+    d.section_materials.assign(d.rest.section_count(), *d.material);
+  }
+  return rig;
+}
+
 }  // namespace
 }  // namespace sweep::bench
 
@@ -167,16 +176,7 @@ int main(int argc, char** argv) {
   // independent springs. Rounds alternate the two; median over rounds.
   {
     const RealRig paper = diplodocus_rig();
-    RealRig material = paper;
-    for (SweepDef& d : material.rig.sweeps) {
-      Material m;  // the demo's: rigs/diplodocus-tail.material.json
-      m.youngs_modulus = 5e7;
-      m.density = 1000;
-      m.metres_per_unit = 25;
-      m.damping_ratio = 0.1;
-      d.material = m;
-      d.section_materials.assign(d.rest.section_count(), m);
-    }
+    const RealRig material = in_material(paper);
     sim::Scene scene;
     scene.step = sim::Scene::kDefaultStep;
     scene.duration = frames / scene.fps + 1;
@@ -223,6 +223,56 @@ int main(int argc, char** argv) {
                  c.deform_us, c.median_us / (mode == 2 ? b.median_us : a.median_us), c.awake_at_end);
       md += fmt("| %s | %d | %.1f | %.1f | %.1f | %s |\n", labels[mode], threads, c.median_us, c.step_us,
                 c.deform_us, ratio.c_str());
+    }
+  }
+
+  // ---- colliders (issue 16): 0, 4 and 16 near the walking diplodocus, and a tail on the ground --
+  // The walking material frame above with the demo's ground and four leg capsules (none touched:
+  // the broad phase's cost), then 12 more spheres around the body, then a floor raised into the
+  // tail's way so that it lies on it (the contact solver's cost). Same rounds, same run.
+  {
+    const RealRig material = in_material(diplodocus_rig());
+    sim::Scene walking;
+    walking.step = sim::Scene::kDefaultStep;
+    walking.duration = frames / walking.fps + 1;
+    walking.gravity = Vec3(0, -9.81, 0);
+    std::vector<sim::BodyKey> keys;
+    for (int k = 0; k <= 12; ++k) {
+      keys.push_back({2.0 * k, Vec3(0.05 * k, 0, 0.01 * (k % 3)), Quat(Eigen::AngleAxisd(0.1 * std::sin(k), Vec3::UnitY()))});
+    }
+    walking.body = sim::BodyPath(keys, sim::BodyInterpolation::cubic);
+    using sim::Collider;
+    const std::vector<Collider> demo = {  // rigs/diplodocus-walk.scene.json
+        Collider::plane(Vec3(0, -0.462, 0), Vec3::UnitY()),
+        Collider::capsule(Vec3(-0.1915, -0.1739, -0.0871), Vec3(-0.2894, -0.3609, -0.1242), 0.0441),
+        Collider::capsule(Vec3(0.1538, -0.2441, 0.13), Vec3(0.2263, -0.4616, 0.1177), 0.0333),
+        Collider::capsule(Vec3(0.1483, -0.211, -0.0537), Vec3(0.176, -0.4187, -0.0961), 0.0376),
+        Collider::capsule(Vec3(-0.1134, -0.2334, 0.1045), Vec3(-0.1207, -0.4139, 0.0611), 0.0387)};
+    std::vector<sim::Scene> scenes(5, walking);
+    scenes[1].colliders.assign(demo.begin(), demo.begin() + 4);
+    scenes[2].colliders = demo;
+    for (int k = 0; k < 11; ++k) {
+      scenes[2].colliders.push_back(Collider::sphere(Vec3(-0.6 + 0.12 * k, 0.5, 0.3 * ((k % 3) - 1)), 0.03));
+    }
+    scenes[3] = scenes[2];
+    scenes[3].colliders[0] = Collider::plane(Vec3(0, -0.30, 0), Vec3::UnitY());  // in the tail's way
+    scenes[4] = scenes[3];
+    scenes[4].body = {};  // the tail lying on the floor, the body still: settles, then sleeps
+    scenes[4].gravity_preloaded = false;  // it sags onto the floor: driven until it sleeps
+    const char* labels[5] = {"walking diplodocus (material, gravity), no collider",
+                             "… ground and three legs, none touched", "… 16 colliders, none touched",
+                             "… 16 colliders, the tail on a raised floor", "… the same, body still (settles, sleeps)"};
+    std::vector<FrameCost> runs[5];
+    for (int r = 0; r < rounds; ++r) {
+      for (int c = 0; c < 5; ++c) runs[c].push_back(frame_cost(material, scenes[c], frames, 5));
+    }
+    const FrameCost base = median_cost(runs[0]);
+    for (int c = 0; c < 5; ++c) {
+      const FrameCost m = median_cost(runs[c]);
+      csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g,%d\n", labels[c], omp_get_max_threads(), m.median_us, m.step_us,
+                 m.deform_us, m.median_us / base.median_us, m.awake_at_end);
+      md += fmt("| %s | %d | %.1f | %.1f | %.1f | %.2f × no collider |\n", labels[c], omp_get_max_threads(),
+                m.median_us, m.step_us, m.deform_us, m.median_us / base.median_us);
     }
   }
 

@@ -23,6 +23,7 @@
 #include "io/path_checks.h"
 #include "io/rig_json.h"
 #include "io/scene_json.h"
+#include "sim/contact.h"
 #include "sim/scene.h"
 #include "tools/common/cli_checks.h"
 #include "tools/common/tool_main.h"
@@ -108,6 +109,12 @@ int run(const Settings& s) {
       sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
   if (!scene.body_node.empty()) {
     scene.body = sweep::io::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
+  }
+  {
+    const sweep::sim::BodyState b = scene.body.at(0);
+    for (const std::string& m : sweep::sim::rest_pose_overlaps(rig, scene.colliders, {b.rotation, b.translation},
+                                                               scene.contact_stations))
+      sweep::tools::warn(m);
   }
   if (!s.integrator.empty() && !sweep::parse_integrator(s.integrator, &scene.integrator)) {
     sweep::fail(

@@ -1,0 +1,153 @@
+// ElasticSweep's contact rows (elastic_sweep.h): how a point of the axis moves with the springs,
+// and moving or kicking the part through them. The contact solver (sim/contact.cpp) decides where.
+#include <algorithm>
+#include <cassert>
+
+#include "core/elastic_sweep.h"
+
+namespace sweep {
+
+// The axis point at t, between sections j and j+1 at u, taken as (1−u)·c_j + u·c_{j+1}: the
+// Hermite curve between them moves with both ends, and the solver re-measures the true curve after
+// every move, so this linearisation sets how fast the solver converges, not where it ends. Section
+// i's offset x_i moves every section from i on by A_i x_i; its joint turn φ_i turns every section
+// from i on about c_i, in A_i's axes.
+void ElasticSweep::contact_row(double t, const Vec3& direction, ContactRow& row) const {
+  const SpanCoord sc = locate_span(deformed_, t);
+  const int j = sc.span;
+  const double w[2] = {1.0 - sc.u, sc.u};
+  row.first = 1;
+  row.last = sc.u > 0 ? j + 1 : j;
+  const std::size_t count = static_cast<std::size_t>(3) * std::max(row.last - row.first + 1, 0);
+  row.positional.resize(count);
+  row.rotational.resize(count);
+  for (int i = row.first; i <= row.last; ++i) {
+    double share = 0;
+    Vec3 lever = Vec3::Zero();
+    for (int e = 0; e < 2; ++e) {
+      const int k = j + e;
+      if (k < i || k > row.last) continue;
+      share += w[e];
+      lever += w[e] * (deformed_.frames[k].center - deformed_.frames[i].center);
+    }
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 axis = pre_[i].rotation * Vec3::Unit(c);
+      const std::size_t q = static_cast<std::size_t>(3) * (i - row.first) + c;
+      row.positional[q] = share * direction.dot(axis);
+      row.rotational[q] = direction.dot(axis.cross(lever));
+    }
+  }
+  if (!chain_) return;
+  // Φᵀ Jᵀ, J zero past the point: only the first 3·last rows of Φ take part.
+  const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
+  const Eigen::Index used = static_cast<Eigen::Index>(count);
+  row.modal.resize(static_cast<std::size_t>(dim));
+  Eigen::Map<Eigen::VectorXd>(row.modal.data(), dim).noalias() =
+      chain_->modes.topRows(used).transpose() * Eigen::Map<const Eigen::VectorXd>(row.rotational.data(), used);
+}
+
+double ElasticSweep::row_coupling(const ContactRow& a, const ContactRow& b, bool by_mass) const {
+  // Both rows start at section 1: they share the shorter one's coordinates.
+  const std::size_t shared = std::min(a.positional.size(), b.positional.size());
+  double sum = 0;
+  for (std::size_t q = 0; q < shared; ++q) {
+    sum += a.positional[q] * b.positional[q] * positional_share(3 + q, by_mass);
+    if (!chain_ || !by_mass) sum += a.rotational[q] * b.rotational[q] * rotational_share(3 + q, by_mass);
+  }
+  if (!chain_ || !by_mass) return sum;
+  // J_a Φ Φᵀ J_bᵀ (M⁻¹ = Φ Φᵀ, SI) with the lever arms in mesh units: × metres per unit.
+  const Eigen::Index dim = static_cast<Eigen::Index>(a.modal.size());
+  return sum + chain_->metres_per_unit * Eigen::Map<const Eigen::VectorXd>(a.modal.data(), dim)
+                                             .dot(Eigen::Map<const Eigen::VectorXd>(b.modal.data(), dim));
+}
+
+// Per coordinate: 1/mass (a kick) or 1/stiffness (a move). A material joint's stiffness is the
+// chain's (N·m/rad; the diagonal of its block), its lever arms in mesh units: × metres per unit.
+double ElasticSweep::positional_share(std::size_t m, bool by_mass) const {
+  if (by_mass) return 1.0 / positional_.params[m].mass;
+  // Material mode moves by bending alone: its stretch and shear springs are stiff and carry
+  // whatever fast oscillation a kick gave them, so moving one, however little, can hand the part
+  // that spring's energy.
+  return chain_ ? 0.0 : 1.0 / positional_.params[m].stiffness;
+}
+double ElasticSweep::rotational_share(std::size_t m, bool by_mass) const {
+  if (!chain_) return by_mass ? 1.0 / rotational_.params[m].mass : 1.0 / rotational_.params[m].stiffness;
+  assert(!by_mass);  // the chain's masses are coupled: the modal part of the row carries them
+  const Eigen::Index q = static_cast<Eigen::Index>(m) - 3;
+  return chain_->metres_per_unit / chain_->stiffness(q, q);
+}
+
+double ElasticSweep::row_speed(const ContactRow& row) const {
+  double v = 0;
+  for (std::size_t q = 0; q < row.positional.size(); ++q) {
+    v += row.positional[q] * positional_.v[3 + q] + row.rotational[q] * rotational_.v[3 + q];
+  }
+  return v;
+}
+
+void ElasticSweep::apply_rows(std::span<const ContactRow> rows, std::span<const double> amounts, bool as_impulses,
+                              double speeds_dt) {
+  assert(rows.size() == amounts.size());
+  const bool speeds_too = !as_impulses && speeds_dt > 0;
+  Bank* moving = chain_ ? &modal_ : &rotational_;
+  if (speeds_too) {
+    // The speeds before, to take the move's share of them back out below.
+    for (Bank* b : {&positional_, &rotational_, &modal_}) std::copy(b->v.begin(), b->v.end(), b->v0.begin());
+  }
+  std::vector<double>& pos = as_impulses ? positional_.v : positional_.x;
+  std::vector<double>& rot = as_impulses ? rotational_.v : rotational_.x;
+  const bool modal = chain_ && as_impulses;
+  const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
+  if (modal) modal_scratch_.assign(static_cast<std::size_t>(dim), 0.0);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const double s = amounts[k];
+    if (s == 0) continue;
+    const ContactRow& row = rows[k];
+    for (std::size_t q = 0; q < row.positional.size(); ++q) {
+      const double dp = s * row.positional[q] * positional_share(3 + q, as_impulses);
+      pos[3 + q] += dp;
+      if (speeds_dt > 0) positional_.v[3 + q] += dp / speeds_dt;
+      if (!modal) {
+        const double dr = s * row.rotational[q] * rotational_share(3 + q, as_impulses);
+        rot[3 + q] += dr;
+        if (speeds_dt > 0) rotational_.v[3 + q] += dr / speeds_dt;
+      }
+    }
+    if (modal) {
+      Eigen::Map<Eigen::VectorXd>(modal_scratch_.data(), dim) +=
+          (s * chain_->metres_per_unit) * Eigen::Map<const Eigen::VectorXd>(row.modal.data(), dim);
+    }
+  }
+  positional_.active = rotational_.active = true;
+  if (chain_) {
+    modal_.active = true;
+    if (modal) {
+      // Δη̇ = Φᵀ Jᵀ s (per metre × metres per unit), then the joints follow the modes.
+      Eigen::Map<Eigen::VectorXd>(modal_.v.data(), dim) += Eigen::Map<const Eigen::VectorXd>(modal_scratch_.data(), dim);
+      joints_from_modes();
+    } else {
+      modes_from_joints();  // the joints moved: the modes follow them
+    }
+  }
+  if (!as_impulses) rebuild();
+  if (!speeds_too) return;
+  // Δq / dt is a change of speed not made by an impulse (the move shares itself by compliance, an
+  // impulse by mass), so it could add kinetic energy where it does not only cancel the step's own
+  // motion. Take the part α ∈ [0, 1] of it that leaves the least kinetic energy: all of it when it
+  // only cancels motion (a part resting on the ground), never more energy than before.
+  double along = 0, square = 0;  // Σ m v0 Δv and Σ m Δv², over the coordinates that carry energy
+  for (const Bank* b : {static_cast<const Bank*>(&positional_), static_cast<const Bank*>(moving)}) {
+    const double unit = energy_unit(*b);
+    for (std::size_t m = static_cast<std::size_t>(b->width); m < b->v.size(); ++m) {
+      const double dv = b->v[m] - b->v0[m];
+      along += unit * b->params[m].mass * b->v0[m] * dv;
+      square += unit * b->params[m].mass * dv * dv;
+    }
+  }
+  const double alpha = square > 0 ? std::clamp(-along / square, 0.0, 1.0) : 0.0;
+  for (Bank* b : {&positional_, &rotational_, &modal_}) {
+    for (std::size_t m = 0; m < b->v.size(); ++m) b->v[m] = b->v0[m] + alpha * (b->v[m] - b->v0[m]);
+  }
+}
+
+}  // namespace sweep

@@ -1,0 +1,332 @@
+#include "sim/contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "core/sweep_shape.h"
+
+namespace sweep::sim {
+namespace {
+
+// Gauss–Seidel passes over a step's contacts, and the gap (× the part's length) they must reach.
+constexpr int kPasses = 64;
+// Solves per step: each moves the part by the linear model, then the true curve is re-measured.
+constexpr int kRounds = 16;
+constexpr double kGapTolerance = 1e-9;
+// A contact whose gap is within this (× the length) after the pushes is touching: its approach
+// speed is taken out even if this step's motion did not push it.
+constexpr double kTouchSlack = 1e-7;
+
+// The point of segment [a, b] nearest the convex collider (its signed distance is convex along
+// the segment: golden-section search to a 1e-9 of the segment).
+Vec3 nearest_on_segment(const Collider& c, const Vec3& a, const Vec3& b) {
+  Vec3 out;
+  if (c.shape == ColliderShape::plane) return c.local_distance(a, &out) <= c.local_distance(b, &out) ? a : b;
+  constexpr double kInvPhi = 0.6180339887498949;
+  double lo = 0, hi = 1;
+  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  double f1 = c.local_distance(a + x1 * (b - a), &out), f2 = c.local_distance(a + x2 * (b - a), &out);
+  for (int it = 0; it < 44 && hi - lo > 1e-9; ++it) {
+    if (f1 <= f2) {
+      hi = x2, x2 = x1, f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo);
+      f1 = c.local_distance(a + x1 * (b - a), &out);
+    } else {
+      lo = x1, x1 = x2, f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo);
+      f2 = c.local_distance(a + x2 * (b - a), &out);
+    }
+  }
+  const double s = 0.5 * (lo + hi);
+  // The ends too: a minimum at an end is reached only to the bracket's width otherwise.
+  const double fa = c.local_distance(a, &out), fb = c.local_distance(b, &out), fs = c.local_distance(a + s * (b - a), &out);
+  if (fa <= fs && fa <= fb) return a;
+  if (fb <= fs) return b;
+  return a + s * (b - a);
+}
+
+// The smallest sphere about the mean of the points that holds them all, grown by `grow`: whether
+// it stays clear of the collider (its signed distance is 1-Lipschitz).
+bool clear_of(const Collider& c, std::span<const Vec3> points, double grow) {
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& p : points) centre += p;
+  centre /= static_cast<double>(points.size());
+  double radius = 0;
+  for (const Vec3& p : points) radius = std::max(radius, (p - centre).norm());
+  Vec3 out;
+  return c.local_distance(centre, &out) > radius + grow;
+}
+
+double largest_radius(const SweepShape& shape) {
+  return shape.radii.empty() ? 0.0 : *std::max_element(shape.radii.begin(), shape.radii.end());
+}
+
+std::vector<double> station_parameters(const SweepShape& shape, int per_span) {
+  std::vector<double> t;
+  for (int i = 0; i + 1 < shape.section_count(); ++i) {
+    for (int k = 0; k < per_span; ++k) t.push_back(shape.t[i] + (shape.t[i + 1] - shape.t[i]) * k / per_span);
+  }
+  t.push_back(shape.length());
+  return t;
+}
+
+}  // namespace
+
+double section_support(const SweepShape& shape, double t, const Vec3& direction, std::vector<double>& scratch) {
+  const Vec3 local = rotation_at(shape, t).conjugate() * direction;
+  const double across = std::hypot(local.x(), local.y());
+  if (!(across > 0)) return 0;
+  const int n = shape.radial_count;
+  scratch.resize(static_cast<std::size_t>(n));
+  radii_at_samples(shape, t, scratch);
+  double reach = radius_at(shape, std::atan2(local.y(), local.x()), t) * across;
+  for (int j = 0; j < n; ++j) {
+    const double a = shape.sample_angle(j);
+    reach = std::max(reach, scratch[j] * (std::cos(a) * local.x() + std::sin(a) * local.y()));
+  }
+  return reach;
+}
+
+Clearance clearance(const SweepShape& shape, const PlacedCollider& placed, int stations_per_span) {
+  const std::vector<double> t = station_parameters(shape, stations_per_span);
+  std::vector<double> scratch;
+  Clearance worst{std::numeric_limits<double>::infinity(), 0};
+  const Collider& c = *placed.collider;
+  for (std::size_t s = 0; s + 1 < t.size(); ++s) {
+    const Vec3 a = placed.to_mesh.to_local(center_at(shape, t[s]));
+    const Vec3 b = placed.to_mesh.to_local(center_at(shape, t[s + 1]));
+    const Vec3 x = nearest_on_segment(c, a, b);
+    Vec3 out;
+    const double d = c.local_distance(x, &out);
+    const double u = (b - a).squaredNorm() > 0 ? std::clamp((x - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0) : 0.0;
+    const double ts = t[s] + u * (t[s + 1] - t[s]);
+    const double gap = d - section_support(shape, ts, -(placed.to_mesh.rotation * out), scratch) - c.margin;
+    if (gap < worst.gap) worst = {gap, ts};
+  }
+  return worst;
+}
+
+std::vector<std::string> rest_pose_overlaps(const Rig& rig, const std::vector<Collider>& colliders,
+                                            const Frame& body_at_start, int stations_per_span) {
+  std::vector<std::string> out;
+  const Frame world_to_mesh = body_at_start.inverse();
+  for (const SweepDef& def : rig.sweeps) {
+    for (const Collider& c : colliders) {
+      const PlacedCollider placed{&c, c.carried ? c.pose : world_to_mesh * c.pose};
+      const Clearance cl = clearance(def.rest, placed, stations_per_span);
+      if (cl.gap >= 0) continue;
+      std::ostringstream msg;
+      msg << "collider \"" << c.name << "\" (a " << shape_name(c.shape) << ") cuts sweep \"" << def.name
+          << "\" in its rest pose, " << -cl.gap << " deep at " << cl.t / def.rest.length()
+          << " of its length (margin included): the part is pushed out on its first step";
+      out.push_back(msg.str());
+    }
+  }
+  return out;
+}
+
+ContactSolver::ContactSolver(const SweepShape& rest, int stations_per_span)
+    : per_span_(stations_per_span), stations_(station_parameters(rest, stations_per_span)), start_shape_(rest) {
+  start_.resize(stations_.size());
+  end_.resize(stations_.size());
+  local_start_.resize(stations_.size());
+  local_end_.resize(stations_.size());
+  for (int i = 0; i + 1 < rest.section_count(); ++i) longest_span_ = std::max(longest_span_, rest.t[i + 1] - rest.t[i]);
+}
+
+// A sphere that holds the whole surface: about the mean of the key sections' centres, out to the
+// farthest of them, plus a third of the longest span (each span's Hermite curve lies within its
+// Bézier hull: within h/3 of its chord) and half again the largest radius sample (the
+// interpolated radius may swell past its samples a little).
+ContactSolver::Bound ContactSolver::bound(const SweepShape& shape) const {
+  Bound b;
+  for (const Frame& f : shape.frames) b.centre += f.center;
+  b.centre /= static_cast<double>(shape.frames.size());
+  for (const Frame& f : shape.frames) b.radius = std::max(b.radius, (f.center - b.centre).norm());
+  b.radius += longest_span_ / 3 + 1.5 * largest_radius(shape);
+  return b;
+}
+
+bool ContactSolver::near(const Bound& b, const PlacedCollider& placed) {
+  Vec3 out;
+  return placed.collider->local_distance(placed.to_mesh.to_local(b.centre), &out) <= b.radius + placed.collider->margin;
+}
+
+void ContactSolver::begin_step(const ElasticSweep& sweep, std::span<const PlacedCollider> colliders) {
+  // Only what the end of the step may need: the start's shape (copied, not evaluated) and where
+  // the colliders were.
+  const SweepShape& shape = sweep.deformed();
+  std::copy(shape.frames.begin(), shape.frames.end(), start_shape_.frames.begin());
+  std::copy(shape.radii.begin(), shape.radii.end(), start_shape_.radii.begin());
+  start_pose_.resize(colliders.size());
+  for (std::size_t c = 0; c < colliders.size(); ++c) start_pose_[c] = colliders[c].to_mesh;
+}
+
+double ContactSolver::gap(const ElasticSweep& sweep, const Plane& plane, const PlacedCollider& placed) {
+  const SweepShape& shape = sweep.deformed();
+  const double t = stations_[plane.station];
+  const Vec3 local = placed.to_mesh.to_local(center_at(shape, t));
+  return plane.normal.dot(local - plane.point) -
+         section_support(shape, t, -(placed.to_mesh.rotation * plane.normal), scratch_) - plane.margin;
+}
+
+void ContactSolver::solve(const Eigen::MatrixXd& w, const std::vector<double>& r, const std::vector<double>& total,
+                          std::vector<double>& a) {
+  const std::size_t n = r.size();
+  a.assign(n, 0.0);
+  std::vector<double>& w_a = coupled_;  // W a, kept up to date
+  w_a.assign(n, 0.0);
+  for (int pass = 0; pass < kPasses; ++pass) {
+    double change = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+      const double wpp = w(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p));
+      if (!(wpp > 0) || !std::isfinite(r[p])) continue;  // the root, or a contact left out
+      const double next = std::max(a[p] - (r[p] + w_a[p]) / wpp, -total[p]);
+      const double delta = next - a[p];
+      if (delta == 0) continue;
+      a[p] = next;
+      for (std::size_t q = 0; q < n; ++q) w_a[q] += w(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(p)) * delta;
+      change = std::max(change, std::abs(delta) * wpp);
+    }
+    if (change == 0) break;
+  }
+}
+
+bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
+  const SweepShape& shape = sweep.deformed();
+  const double length = shape.length();
+  // Broad phase: a collider clear of the part's bounding sphere at both ends of the step (in its
+  // own frame) cannot have been reached; with none left, nothing more is computed.
+  const Bound before = bound(start_shape_), after = bound(shape);
+  bool any_near = false;
+  for (std::size_t c = 0; c < colliders.size() && !any_near; ++c) {
+    any_near = near(before, {colliders[c].collider, start_pose_[c]}) || near(after, colliders[c]);
+  }
+  if (!any_near) return false;
+  // How far the surface may reach from a chord: 1.5× the radius, as in bound(), and the curve's
+  // own bulge between two stations (half a chord's parameter length bounds it, loosely: the
+  // Hermite curve's speed stays under 1.5 over a span and its Bézier hull within a third).
+  const double reach = 1.5 * std::max(largest_radius(start_shape_), largest_radius(shape)) +
+                       0.5 * longest_span_ / per_span_;
+  for (std::size_t s = 0; s < stations_.size(); ++s) {
+    start_[s] = center_at(start_shape_, stations_[s]);
+    end_[s] = center_at(shape, stations_[s]);
+  }
+
+  // The planes that separated each chord near a collider from it at the step's start.
+  planes_.clear();
+  for (std::size_t c = 0; c < colliders.size(); ++c) {
+    const Collider& col = *colliders[c].collider;
+    for (std::size_t s = 0; s < stations_.size(); ++s) {
+      local_start_[s] = start_pose_[c].to_local(start_[s]);
+      local_end_[s] = colliders[c].to_mesh.to_local(end_[s]);
+    }
+    const double grow = reach + col.margin;
+    if (clear_of(col, local_start_, grow) && clear_of(col, local_end_, grow)) continue;
+    for (std::size_t s = 0; s + 1 < stations_.size(); ++s) {
+      const Vec3 chord[4] = {local_start_[s], local_start_[s + 1], local_end_[s], local_end_[s + 1]};
+      if (clear_of(col, chord, grow)) continue;
+      const Vec3 x = nearest_on_segment(col, local_start_[s], local_start_[s + 1]);
+      Vec3 outward;
+      const double d = col.local_distance(x, &outward);
+      const Vec3 surface = x - d * outward;
+      for (std::size_t e : {s, s + 1}) {
+        // The chord before this one may have left the same plane on this end (a flat collider).
+        const bool again = !planes_.empty() && planes_.back().station == static_cast<int>(e) &&
+                           planes_.back().collider == c && planes_.back().normal == outward &&
+                           planes_.back().point == surface;
+        if (!again) planes_.push_back({static_cast<int>(e), c, outward, surface, col.margin});
+      }
+    }
+  }
+  if (planes_.empty()) return false;
+  const std::size_t n = planes_.size();
+
+  // The contact rows along each plane's normal, on the pose the springs reached, and their
+  // couplings: the linear model the solves below use.
+  rows_.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    const Vec3 normal = colliders[planes_[p].collider].to_mesh.rotation * planes_[p].normal;
+    sweep.contact_row(stations_[planes_[p].station], normal, rows_[p]);
+  }
+  by_mass_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  by_compliance_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  for (std::size_t p = 0; p < n; ++p) {
+    for (std::size_t q = p; q < n; ++q) {
+      const Eigen::Index a = static_cast<Eigen::Index>(p), b = static_cast<Eigen::Index>(q);
+      by_mass_(a, b) = by_mass_(b, a) = sweep.row_coupling(rows_[p], rows_[q], true);
+      by_compliance_(a, b) = by_compliance_(b, a) = sweep.row_coupling(rows_[p], rows_[q], false);
+    }
+  }
+
+  // Move the ends back onto their planes; the true curve is re-measured after each solve.
+  residual_.resize(n);
+  total_.assign(n, 0.0);
+  for (int round = 0; round < kRounds; ++round) {
+    double worst = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+      residual_[p] = gap(sweep, planes_[p], colliders[planes_[p].collider]);
+      worst = std::min(worst, residual_[p]);
+    }
+    if (worst >= -kGapTolerance * length) break;
+    solve(by_compliance_, residual_, total_, amount_);
+    // The step's motion the move took back leaves the speeds too (q̇ += Δq / dt, as in
+    // position-based dynamics): else a part lying on the ground keeps its fall in its speeds,
+    // falls through each step, is pushed back, and never comes to rest.
+    sweep.apply_rows(rows_, amount_, false, dt);
+    for (std::size_t p = 0; p < n; ++p) total_[p] += amount_[p];
+  }
+
+  // Touching: pushed, or resting on the plane. Their approach speeds out, all together.
+  bool touching = false;
+  for (std::size_t p = 0; p < n; ++p) {
+    const PlacedCollider& placed = colliders[planes_[p].collider];
+    const bool touches = total_[p] > 0 || gap(sweep, planes_[p], placed) <= kTouchSlack * length;
+    touching = touching || touches;
+    residual_[p] = std::numeric_limits<double>::infinity();  // not in contact: free to leave
+    if (!touches) continue;
+    // The collider's own speed there, relative to the body (a world collider on a moving body).
+    const Vec3 here = center_at(sweep.deformed(), stations_[planes_[p].station]);
+    const Vec3 was = start_pose_[planes_[p].collider].to_world(placed.to_mesh.to_local(here));
+    const Vec3 normal = placed.to_mesh.rotation * planes_[p].normal;
+    residual_[p] = sweep.row_speed(rows_[p]) - normal.dot(here - was) / dt;
+  }
+  if (!touching) return false;
+  // A contact the step pushed back is held on its plane for the step (its speed along the normal
+  // made zero, a pull allowed): the push already took it out, and letting the velocity solve
+  // leave it a speed off the plane sets a resting part jittering. One only resting there is
+  // free to leave.
+  for (std::size_t p = 0; p < n; ++p) total_[p] = total_[p] > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+  solve(by_mass_, residual_, total_, amount_);
+  sweep.apply_rows(rows_, amount_, true);
+
+  // Sliding speeds, each contact on its own, up to μ times its impulse: each kick only slows its
+  // own point, so it can only take energy out.
+  for (std::size_t p = 0; p < n; ++p) {
+    const PlacedCollider& placed = colliders[planes_[p].collider];
+    const double mu = placed.collider->friction;
+    if (!(amount_[p] > 0) || !(mu > 0)) continue;
+    const double t = stations_[planes_[p].station];
+    const Vec3 normal = placed.to_mesh.rotation * planes_[p].normal;
+    const Vec3 here = center_at(sweep.deformed(), t);
+    const Vec3 collider_velocity = (here - start_pose_[planes_[p].collider].to_world(placed.to_mesh.to_local(here))) / dt;
+    Vec3 v = -collider_velocity;
+    for (int c = 0; c < 3; ++c) {
+      sweep.contact_row(t, Vec3::Unit(c), slide_row_);
+      v[c] += sweep.row_speed(slide_row_);
+    }
+    const Vec3 slide = v - normal.dot(v) * normal;
+    const double speed = slide.norm();
+    if (!(speed > 0)) continue;
+    sweep.contact_row(t, -slide / speed, slide_row_);
+    const double mobility = sweep.row_coupling(slide_row_, slide_row_, true);
+    if (!(mobility > 0)) continue;
+    const double impulse = std::min(speed / mobility, mu * amount_[p]);
+    sweep.apply_rows({&slide_row_, 1}, {&impulse, 1}, true);
+  }
+  return true;
+}
+
+}  // namespace sweep::sim

@@ -1,0 +1,104 @@
+#pragma once
+// Contact between one sweep and the scene's colliders (issue 16), resolved after every step of the
+// springs, so that no point of the part's surface ends a step inside a collider — continuously in
+// time: a part cannot step over a thin collider, however fast it moves.
+//
+// The part's surface is taken as its axis, cut into chords (`stations_per_span` per span between
+// key sections, not sample points: a thin collider between two stations is still met by the
+// chord), each carrying the section's extent toward the collider (its radius profile in that
+// direction: support(), below). At the start of a step, each chord near a collider gets the plane
+// that separates it from the collider there: the tangent plane at the collider's point nearest the
+// chord (or, for a chord already inside, out through the nearest face). A convex collider lies
+// wholly on one side of that plane, so a chord whose two ends end the step on the other side, by
+// their radius and the margin, cannot have crossed the collider on its way (the speculative
+// contacts of game physics). The contacts of a step are solved together, as the complementarity
+// problem they are (a push ≥ 0 only where the gap closes; projected Gauss–Seidel on the couplings
+// of the contact rows, ElasticSweep::contact_row), so that pushes do not fight and lift the part
+// off elsewhere: first the ends are moved back onto their planes through the springs (by their
+// compliance: the least spring energy that does it; the true curve is re-measured and the solve
+// repeated until it holds), then the approach speeds are taken out by impulses (by the masses:
+// inelastic), then the sliding speeds by friction up to μ times each contact's impulse (Coulomb).
+// Where nothing touches, nothing is done: the springs keep their exact integration.
+//
+// What it costs: a sweep far from every collider (its bounding sphere over the step clear of the
+// collider's) costs one distance per collider; a chord clear of the collider one more.
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/elastic_sweep.h"
+#include "core/rig.h"
+#include "sim/collider.h"
+
+namespace sweep::sim {
+
+// A collider placed in the sweep's (the mesh's) coordinates at one time: local → mesh.
+struct PlacedCollider {
+  const Collider* collider = nullptr;
+  Frame to_mesh;
+};
+
+// How far the section at t reaches in the unit direction `direction` from its centre: the largest
+// of its radius samples' projections and of the radius toward that direction (exact for a round
+// section), times the share of `direction` across the axis.
+double section_support(const SweepShape& shape, double t, const Vec3& direction, std::vector<double>& scratch);
+
+// Signed clearance of the sweep's surface from a collider over the axis stations (negative: a
+// penetration), with the station parameter of the worst one (the tests' and warnings' measure).
+struct Clearance {
+  double gap = 0;
+  double t = 0;
+};
+Clearance clearance(const SweepShape& shape, const PlacedCollider& placed, int stations_per_span);
+
+// Colliders that cut a part's surface in its rest pose at time 0 (the part is pushed out on its
+// first step: rarely what a user meant), one message each naming both and how deep.
+std::vector<std::string> rest_pose_overlaps(const Rig& rig, const std::vector<Collider>& colliders,
+                                            const Frame& body_at_start, int stations_per_span);
+
+class ContactSolver {
+ public:
+  static constexpr int kDefaultStationsPerSpan = 4;
+  ContactSolver(const SweepShape& rest, int stations_per_span = kDefaultStationsPerSpan);
+
+  // Before a step: where the axis is, and where each collider is at the step's start.
+  void begin_step(const ElasticSweep& sweep, std::span<const PlacedCollider> colliders);
+  // After the step (`dt` s long), colliders where they are at its end: pushes the part out and
+  // takes out its approach and sliding speeds. Returns whether any part of it touches.
+  bool resolve(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt);
+
+ private:
+  struct Plane {  // in the collider's local coordinates
+    int station = 0;
+    std::size_t collider = 0;
+    Vec3 normal, point;
+    double margin = 0;
+  };
+  double gap(const ElasticSweep& sweep, const Plane& plane, const PlacedCollider& placed);
+  // Projected Gauss–Seidel for amounts a ≥ 0 with r + W a ≥ 0, a·(r + W a) = 0, starting from and
+  // keeping `total` + a ≥ 0 (a may take back part of what earlier solves pushed).
+  void solve(const Eigen::MatrixXd& w, const std::vector<double>& r, const std::vector<double>& total,
+             std::vector<double>& a);
+
+  struct Bound {
+    Vec3 centre = Vec3::Zero();
+    double radius = 0;
+  };
+  Bound bound(const SweepShape& shape) const;
+  static bool near(const Bound& b, const PlacedCollider& placed);
+
+  int per_span_ = 1;
+  std::vector<double> stations_;      // axis parameters of the chords' ends
+  SweepShape start_shape_;            // the part at the step's start
+  double longest_span_ = 0;           // between two key sections
+  std::vector<Vec3> start_, end_;     // their points at the step's start and end (mesh coordinates)
+  std::vector<Frame> start_pose_;     // each collider's local → mesh at the step's start
+  std::vector<Plane> planes_;
+  std::vector<ElasticSweep::ContactRow> rows_;  // one per plane, along its normal
+  Eigen::MatrixXd by_mass_, by_compliance_;     // J M⁻¹ Jᵀ and J C Jᵀ over the rows
+  std::vector<double> residual_, amount_, total_, coupled_, scratch_;
+  std::vector<Vec3> local_start_, local_end_;
+  ElasticSweep::ContactRow slide_row_;
+};
+
+}  // namespace sweep::sim

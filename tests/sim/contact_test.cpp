@@ -1,0 +1,332 @@
+// Colliders (issue 16): shapes against their closed forms, and parts that hit them — a fast swing
+// into a thin plate, a thin capsule between two key sections, a part coming to rest on the ground
+// — measured on the deformed surface itself, densely sampled, not on the solver's own stations.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/beam_tubes.h"
+#include "core/sample_sweeps.h"
+#include "sim/contact.h"
+#include "sim/simulator.h"
+
+namespace sweep::sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The deepest any point of the surface lies inside the collider (0 if none does), over a grid
+// far finer than the solver's stations: 400 rings along the part, 48 points round each.
+double penetration(const SweepShape& shape, const Collider& c) {
+  double deepest = 0;
+  Vec3 out;
+  for (int a = 0; a <= 400; ++a) {
+    const double t = shape.length() * a / 400;
+    for (int b = 0; b < 48; ++b) {
+      const Vec3 p = surface_point(shape, 2 * kPi * b / 48, t);
+      deepest = std::max(deepest, -c.local_distance(c.pose.to_local(p), &out));
+    }
+  }
+  return deepest;
+}
+
+// The largest local coordinate `axis` of the surface in a box's frame, over the points within
+// the box's span in its other two axes (which side of a plate the part is on where the plate is).
+double farthest(const SweepShape& shape, const Collider& c, int axis) {
+  double far = -1e300;
+  for (int a = 0; a <= 400; ++a) {
+    for (int b = 0; b < 48; ++b) {
+      const Vec3 p = c.pose.to_local(surface_point(shape, 2 * kPi * b / 48, shape.length() * a / 400));
+      bool behind = true;
+      for (int o = 0; o < 3; ++o) behind = behind && (o == axis || std::abs(p[o]) <= c.half_size[o]);
+      if (behind) far = std::max(far, p[axis]);
+    }
+  }
+  return far;
+}
+
+SceneForce tip_impulse(const SweepDef& def, const Vec3& impulse) {
+  SceneForce f;
+  f.sweep = def.name;
+  f.sweep_index = 0;
+  f.spec.t = def.rest.length();
+  f.spec.vector = impulse;
+  f.spec.target = RotationTarget::chain;
+  if (def.material) f.spec.moment = MomentModel::physical;
+  f.start = f.end = 0;  // an impulse at t = 0
+  return f;
+}
+
+Rig rubber_tube(double damping_ratio) {
+  Rig rig;
+  rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, damping_ratio));
+  rig.sweeps.back().name = "tube";
+  return rig;
+}
+
+TEST(Collider, DistancesMatchTheirClosedForms) {
+  Vec3 out;
+  const Collider s = Collider::sphere(Vec3(1, 2, 3), 2);
+  EXPECT_NEAR(s.local_distance(s.pose.to_local(Vec3(1, 2, 8)), &out), 3, 1e-12);
+  EXPECT_NEAR(out.z(), 1, 1e-12);
+  const Collider c = Collider::capsule(Vec3(0, 0, 0), Vec3(4, 0, 0), 0.5);
+  EXPECT_NEAR(c.local_distance(c.pose.to_local(Vec3(2, 3, 0)), &out), 2.5, 1e-12);  // beside the segment
+  EXPECT_NEAR(c.local_distance(c.pose.to_local(Vec3(7, 0, 4)), &out), 4.5, 1e-12);  // past its end: 3-4-5
+  EXPECT_NEAR(c.local_distance(c.pose.to_local(Vec3(1, 0.1, 0)), &out), -0.4, 1e-12);
+  const Collider b = Collider::box(Vec3::Zero(), Vec3(1, 2, 3), Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitZ())));
+  // Turned a quarter about z, the box's local x (half size 1) lies along world y.
+  EXPECT_NEAR(b.local_distance(b.pose.to_local(Vec3(0, 4, 0)), &out), 3, 1e-12);
+  EXPECT_NEAR(b.local_distance(b.pose.to_local(Vec3(0, 0.25, 0)), &out), -0.75, 1e-12);  // nearest face: ±y
+  EXPECT_NEAR(std::abs((b.pose.rotation * out).y()), 1, 1e-12);
+  EXPECT_NEAR(b.local_distance(b.pose.to_local(Vec3(5, 4, 6)), &out), std::sqrt(9.0 + 9 + 9), 1e-12);  // a corner
+  const Collider p = Collider::plane(Vec3(0, -1, 0), Vec3(0, 2, 0));
+  EXPECT_NEAR(p.local_distance(p.pose.to_local(Vec3(5, 1, 7)), &out), 2, 1e-12);
+  EXPECT_NEAR(p.local_distance(p.pose.to_local(Vec3(5, -3, 7)), &out), -2, 1e-12);
+  EXPECT_NE(Collider::sphere(Vec3::Zero(), 0).check(), "");
+  EXPECT_NE(Collider::box(Vec3::Zero(), Vec3(1, 0, 1)).check(), "");
+  EXPECT_EQ(Collider::capsule(Vec3::Zero(), Vec3(0, 1, 0), 0.1).check(), "");
+}
+
+// The rubber tube (3.1 m, 31 units) kicked sideways at its tip at `fps`; returns the deepest the
+// surface went into `plate` over every output frame, and where the tube's far side got to.
+struct Swing {
+  double deepest = 0;
+  double far_side = -1e300;  // the largest local x of the surface in the plate's frame
+  double fastest_step = 0;   // the tip's largest move in one internal step (units)
+};
+Swing swing_into(const Rig& rig, const std::vector<Collider>& colliders, double fps, double duration) {
+  Scene scene;
+  scene.duration = duration;
+  scene.fps = fps;
+  scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
+  scene.colliders = colliders;
+  Simulator sim(rig, scene);
+  Swing out;
+  const double h = scene.step_seconds();
+  Vec3 last_tip = sim.sweep(0).deformed().frames.back().center;
+  double last_time = 0;
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    sim.advance_frame();
+    const SweepShape& shape = sim.sweep(0).deformed();
+    const Vec3 tip = shape.frames.back().center;
+    out.fastest_step = std::max(out.fastest_step, (tip - last_tip).norm() * h / (sim.time() - last_time));
+    last_tip = tip;
+    last_time = sim.time();
+    for (const Collider& c : colliders) {
+      out.deepest = std::max(out.deepest, penetration(shape, c));
+      out.far_side = std::max(out.far_side, farthest(shape, c, 0));
+    }
+  }
+  return out;
+}
+
+TEST(Contact, AFastSwingNeverEndsAFrameThroughAThinPlate) {
+  const Rig rig = rubber_tube(0.02);
+  const double length = rig.sweeps[0].rest.length();
+  // A plate 0.02 units thick (1/1550 of the length) beside the outer half of the tube, 1.5 radii
+  // from its axis, across the way the kick sends it.
+  const Collider plate = Collider::box(Vec3(1.5 * test::beam::kRadius + 0.01, 0, 0.75 * length),
+                                       Vec3(0.01, 5, 0.25 * length + 1));
+  // Without it the tube swings far past where the plate is, moving many plate thicknesses a step.
+  Scene probe;
+  probe.duration = 0.25;
+  probe.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
+  Simulator sim(rig, probe);
+  double reach = 0;
+  for (int k = 1; k < probe.frame_count(); ++k) {
+    sim.advance_frame();
+    reach = std::max(reach, sim.sweep(0).deformed().frames.back().center.x());
+  }
+  ASSERT_GT(reach, 4 * test::beam::kRadius) << "the kick must send the tube well past the plate";
+  for (const double fps : {24.0, 144.0}) {
+    const Swing hit = swing_into(rig, {plate}, fps, 0.25);
+    EXPECT_GT(hit.fastest_step, 10 * 0.02) << fps << " fps: the test needs a part that outruns the plate";
+    EXPECT_LE(hit.deepest, 1e-3 * length) << fps << " fps";
+    EXPECT_LT(hit.far_side, -0.01 + 1e-3 * length) << fps << " fps: the surface got past the plate's near face";
+  }
+}
+
+TEST(Contact, AThinCapsuleBetweenTwoKeySectionsIsCaught) {
+  // Four key sections 10 units apart: a rod 0.1 thick across the tube's way, half-way between
+  // sections 2 and 3, touches no key section and no sample point there — only the surface between.
+  SweepDef def = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.02, 4);
+  def.name = "tube";
+  Rig rig;
+  rig.sweeps.push_back(def);
+  const double length = def.rest.length();
+  const double z = 0.5 * (def.rest.t[2] + def.rest.t[3]);
+  const Collider rod = Collider::capsule(Vec3(1.0, -3, z), Vec3(1.0, 3, z), 0.05);
+  Scene scene;
+  scene.duration = 0.3;
+  scene.fps = 60;
+  scene.forces.push_back(tip_impulse(def, Vec3(40, 0, 0)));
+  // Unhindered, the tube passes where the rod is.
+  Scene free = scene;
+  Simulator probe(rig, free);
+  double reach = 0;
+  for (int k = 1; k < free.frame_count(); ++k) {
+    probe.advance_frame();
+    reach = std::max(reach, center_at(probe.sweep(0).deformed(), z).x());
+  }
+  ASSERT_GT(reach, 1.0 + 0.05 + 2 * test::beam::kRadius);
+  scene.colliders = {rod};
+  Simulator sim(rig, scene);
+  double deepest = 0, farthest_there = -1e300;
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    sim.advance_frame();
+    deepest = std::max(deepest, penetration(sim.sweep(0).deformed(), rod));
+    farthest_there = std::max(farthest_there, center_at(sim.sweep(0).deformed(), z).x());
+  }
+  EXPECT_LE(deepest, 1e-3 * length);
+  // Stopped on the rod's near side: its axis at most a radius and the rod's radius short of it.
+  EXPECT_LE(farthest_there, 1.0 - 0.05 - test::beam::kRadius + 1e-3 * length);
+}
+
+TEST(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
+  // A stiff rubber tube held out level sags under its weight onto a floor 0.3 units below it, and
+  // comes to rest on it, keeping the floor's margin.
+  Rig rig;
+  rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2, 16));
+  rig.sweeps[0].name = "tube";
+  for (Material& m : rig.sweeps[0].section_materials) m.youngs_modulus = 2e8;
+  rig.sweeps[0].material->youngs_modulus = 2e8;
+  Scene scene;
+  scene.duration = 8;
+  scene.fps = 30;
+  scene.gravity = Vec3(0, -9.81, 0);
+  scene.gravity_preloaded = false;  // starts unloaded: it sags from frame 0
+  Collider floor = Collider::plane(Vec3(0, -test::beam::kRadius - 0.3, 0), Vec3(0, 1, 0));
+  floor.margin = 0.02;
+  scene.colliders = {floor};
+  const double length = rig.sweeps[0].rest.length();
+  // Without the floor it sags well below it.
+  {
+    Scene free = scene;
+    free.colliders.clear();
+    free.duration = 2;
+    Simulator sim(rig, free);
+    double lowest = 0;
+    for (int k = 1; k < free.frame_count(); ++k) {
+      sim.advance_frame();
+      lowest = std::min(lowest, sim.sweep(0).deformed().frames.back().center.y());
+    }
+    ASSERT_LT(lowest, -1.0);
+  }
+  Simulator sim(rig, scene);
+  Collider inflated = floor;  // the floor and its margin
+  inflated.pose.center.y() += floor.margin;
+  int slept_at = -1;
+  long long steps_when_asleep = 0;
+  double deepest = 0;
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    sim.advance_frame();
+    deepest = std::max(deepest, penetration(sim.sweep(0).deformed(), floor));
+    if (!sim.is_awake(0) && slept_at < 0) {
+      slept_at = k;
+      steps_when_asleep = sim.steps_taken(0);
+    }
+    if (slept_at >= 0) {
+      EXPECT_FALSE(sim.is_awake(0)) << "woke at frame " << k;
+    }
+  }
+  EXPECT_EQ(deepest, 0.0) << "into the floor itself";
+  const SweepShape& rest = sim.sweep(0).deformed();
+  EXPECT_LE(penetration(rest, inflated), 1e-4 * length) << "at rest, within the margin";
+  EXPECT_LT(sim.sweep(0).deformed().frames.back().center.y(), -0.2) << "it did come down onto the floor";
+  ASSERT_GE(slept_at, 0) << "never fell asleep";
+  EXPECT_EQ(sim.steps_taken(0), steps_when_asleep) << "asleep, it is not stepped";
+}
+
+// Undamped, kicked into a sphere: what the springs hold (kinetic and elastic, in joules in
+// material mode) never grows past the kick's energy, and the inelastic hit takes some of it (the
+// part's own ringing keeps most).
+void expect_no_energy_gain(const Rig& rig, const Vec3& kick, const Collider& ball) {
+  Scene scene;
+  scene.duration = 1;
+  scene.fps = 240;
+  scene.forces.push_back(tip_impulse(rig.sweeps[0], kick));
+  scene.colliders = {ball};
+  Simulator sim(rig, scene);
+  sim.advance_frame();
+  const double kicked = sim.sweep(0).energy();
+  ASSERT_GE(clearance(sim.sweep(0).deformed(), {&ball, ball.pose}, 4).gap, 0.0) << "not touching yet";
+  double most = 0, last = 0;
+  for (int k = 2; k < scene.frame_count(); ++k) {
+    sim.advance_frame();
+    last = sim.sweep(0).energy();
+    most = std::max(most, last);
+  }
+  EXPECT_LE(most, kicked * (1 + 1e-9));
+  // Undamped and untouched, the closed-form springs keep it to rounding (4e-15 here): a loss
+  // beyond that is the hit's.
+  EXPECT_LT(last, (1 - 1e-4) * kicked) << "the hit took none (the test must touch)";
+}
+
+TEST(Contact, ContactsNeverAddEnergy) {
+  Rig material = rubber_tube(0.0);
+  for (Material& m : material.sweeps[0].section_materials) m.youngs_modulus = 2e8;
+  material.sweeps[0].material->youngs_modulus = 2e8;
+  expect_no_energy_gain(material, Vec3(40, 0, 0), Collider::sphere(Vec3(2.5, 0, 0.8 * 31), 1.0));
+  // The paper's independent springs, undamped.
+  Rig paper;
+  paper.sweeps.push_back(test::sweep_def(test::straight_shape(12, 16, 0.3)));
+  paper.sweeps[0].name = "tube";
+  for (SectionSprings& s : paper.sweeps[0].springs) {
+    for (SpringSettings* k : {&s.positional, &s.bend, &s.twist, &s.radial}) k->damping_ratio = 0;
+  }
+  expect_no_energy_gain(paper, Vec3(1, 0, 0), Collider::sphere(Vec3(0.6 + 0.3 + 0.1, 0, 8.8), 0.1));
+}
+
+TEST(Contact, TheSameMotionAtEveryFrameRate) {
+  // Contacts are resolved on the internal clock: frames at a shared time are the same bits.
+  const Rig rig = rubber_tube(0.02);
+  std::vector<std::vector<double>> at_one_second;
+  for (const double fps : {24.0, 30.0, 60.0, 144.0}) {
+    Scene scene;
+    scene.duration = 1;
+    scene.fps = fps;
+    scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
+    scene.colliders = {Collider::box(Vec3(1.3, 0, 25), Vec3(0.05, 4, 4))};
+    Simulator sim(rig, scene);
+    for (int k = 1; k < scene.frame_count(); ++k) sim.advance_frame();
+    std::vector<double> pose;
+    for (const Frame& f : sim.sweep(0).deformed().frames) pose.insert(pose.end(), f.center.data(), f.center.data() + 3);
+    at_one_second.push_back(pose);
+  }
+  for (std::size_t r = 1; r < at_one_second.size(); ++r) EXPECT_EQ(at_one_second[r], at_one_second[0]) << r;
+}
+
+TEST(Contact, CollidersOutOfReachChangeNothing) {
+  // Far from the part (the broad phase's business), or carried by a body: the same bits as none.
+  const Rig rig = rubber_tube(0.02);
+  Scene scene;
+  scene.duration = 0.5;
+  scene.fps = 30;
+  scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
+  Simulator plain(rig, scene);
+  scene.colliders = {Collider::sphere(Vec3(100, 0, 0), 1), Collider::plane(Vec3(0, -50, 0), Vec3(0, 1, 0)),
+                     Collider::capsule(Vec3(-20, 0, 0), Vec3(-20, 0, 30), 2)};
+  Simulator far(rig, scene);
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    plain.advance_frame();
+    far.advance_frame();
+    for (int i = 0; i < rig.sweeps[0].rest.section_count(); ++i)
+      ASSERT_EQ(plain.sweep(0).deformed().frames[i].center, far.sweep(0).deformed().frames[i].center) << k;
+  }
+}
+
+TEST(Contact, ARestPoseInsideAColliderIsNamed) {
+  const Rig rig = rubber_tube(0.02);
+  // Its centre 0.3 beside the axis, 0.5 in radius: the tube's surface (radius 0.5) is 0.7 inside.
+  Collider ball = Collider::sphere(Vec3(0.3, 0, 20), 0.5);
+  ball.name = "ball";
+  const std::vector<std::string> found = rest_pose_overlaps(rig, {ball, Collider::sphere(Vec3(9, 0, 0), 1)}, Frame{}, 4);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_NE(found[0].find("\"ball\""), std::string::npos) << found[0];
+  EXPECT_NE(found[0].find("\"tube\""), std::string::npos) << found[0];
+  EXPECT_NE(found[0].find("0.7 deep"), std::string::npos) << found[0];
+}
+
+}  // namespace
+}  // namespace sweep::sim
