@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Preview a bake as a PNG contact sheet: a few frames of a .pc2 point cache, seen from the side and
 from above, each vertex coloured by how far it has moved from frame 0. With --report (sweep-sim's
-JSON report) a last panel plots the largest displacement over time.
+JSON report) a last panel plots the largest displacement over time; with --scene, the scene's
+colliders are drawn in grey where they are in the world (those carried by a moving body, at its rest
+place).
 
     tools/sweep-preview.py out/diplodocus.pc2 -o out/diplodocus.png --report out/report.json
 
@@ -36,6 +38,71 @@ def read_pc2(path):
     return data.reshape(samples, points, 3)
 
 
+def collider_outlines(scene):
+    """The colliders of a scene file (or of a rig's scene), as the JSON gives them."""
+    doc = json.load(open(scene))
+    if doc.get("format") == "sweep-rig":
+        doc = doc.get("scene", {})
+    return [c for c in doc.get("colliders", []) if isinstance(c, dict)]
+
+
+def quat_matrix(q):
+    x, y, z, w = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def convex_hull(points):
+    """Andrew's monotone chain: the hull of 2-D points, counter-clockwise."""
+    pts = sorted(map(tuple, points))
+
+    def half(seq):
+        out = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1]) -
+                                     (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+    lower, upper = half(pts), half(reversed(pts))
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def draw_collider(ax, c, a, b, lo, hi):
+    """The collider's shadow on the view plane of axes a, b, in light grey."""
+    style = dict(color="0.55", alpha=0.35, linewidth=0)
+    shape = c.get("shape")
+    if shape == "sphere":
+        ax.add_patch(plt.Circle((c["center"][a], c["center"][b]), c["radius"], **style))
+    elif shape == "capsule":
+        p, q, r = np.array(c["from"], float), np.array(c["to"], float), c["radius"]
+        for s in np.linspace(0, 1, 24):
+            x = p + s * (q - p)
+            ax.add_patch(plt.Circle((x[a], x[b]), r, **style))
+    elif shape == "box":
+        e = np.array(c["half_size"], float)
+        m = quat_matrix(c.get("rotation", [0, 0, 0, 1]))
+        corners = np.array([np.array(c["center"]) + m @ (e * np.array(s)) for s in
+                            [(i, j, k) for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)]])
+        ax.add_patch(plt.Polygon(convex_hull(corners[:, [a, b]]), **style))
+    elif shape == "plane":
+        n, p = np.array(c["normal"], float), np.array(c["point"], float)
+        other = 3 - a - b
+        if abs(n[other]) > 1e-9 * np.linalg.norm(n):
+            return  # not seen edge-on in this view
+        # The solid side: n·(x − p) ≤ 0, shaded across the view.
+        xs = np.linspace(lo[a], hi[a], 2)
+        if abs(n[b]) > 1e-12:
+            ys = p[b] - n[a] * (xs - p[a]) / n[b]
+            edge = hi[b] + (hi[b] - lo[b]) if n[b] < 0 else lo[b] - (hi[b] - lo[b])
+            ax.fill_between(xs, ys, edge, **style)
+        else:
+            x0 = p[a]
+            edge = lo[a] - (hi[a] - lo[a]) if n[a] > 0 else hi[a] + (hi[a] - lo[a])
+            ax.axvspan(min(x0, edge), max(x0, edge), **style)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("pc2", help="baked point cache (.pc2) from sweep-sim")
@@ -45,12 +112,18 @@ def main():
     ap.add_argument("--fps", type=float, default=None, help="label frames with times at this rate")
     ap.add_argument("--views", default="xy,xz", help="axis pairs to project on (default xy,xz)")
     ap.add_argument("--dpi", type=int, default=110, help="resolution of the picture (default 110)")
+    ap.add_argument("--scene", help="scene (or rig with a scene) whose colliders to draw")
     args = ap.parse_args()
     try:
         frames = read_pc2(args.pc2)
         report = json.load(open(args.report)) if args.report else None
     except (OSError, ValueError) as e:
         print(f"error: {args.pc2 if not isinstance(e, json.JSONDecodeError) else args.report}: {e}", file=sys.stderr)
+        return 2
+    try:
+        colliders = collider_outlines(args.scene) if args.scene else []
+    except (OSError, ValueError, AttributeError) as e:
+        print(f"error: {args.scene}: {e}", file=sys.stderr)
         return 2
     fps = args.fps or (report["fps"] if report else None)
     rest = frames[0]
@@ -61,6 +134,8 @@ def main():
     fig, axes = plt.subplots(rows, len(picks), figsize=(3.2 * len(picks), 3.0 * rows), squeeze=False)
     vmax = max(np.linalg.norm(frames[:, moving] - rest[moving], axis=2).max(), 1e-12) if moving.any() else 1.0
     lo, hi = frames.reshape(-1, 3).min(axis=0), frames.reshape(-1, 3).max(axis=0)
+    if colliders:  # room for what the part runs into
+        lo, hi = lo - 0.15 * (hi - lo).max(), hi + 0.15 * (hi - lo).max()
     for c, k in enumerate(picks):
         d = np.linalg.norm(frames[k] - rest, axis=1)
         for r, (a, b) in enumerate(views):
@@ -68,6 +143,11 @@ def main():
             ax.scatter(frames[k][~moving, a], frames[k][~moving, b], s=0.2, c="0.75", linewidths=0)
             ax.scatter(frames[k][moving, a], frames[k][moving, b], s=0.4, c=d[moving], cmap="viridis",
                        vmin=0, vmax=vmax, linewidths=0)
+            for col in colliders:
+                try:
+                    draw_collider(ax, col, a, b, lo, hi)
+                except (KeyError, TypeError, ValueError, IndexError):
+                    pass  # sweep-sim reads the scene and says what is wrong with it; here: not drawn
             ax.set_xlim(lo[a], hi[a])
             ax.set_ylim(lo[b], hi[b])
             ax.set_aspect("equal")

@@ -115,10 +115,15 @@ class ElasticSweep {
     std::vector<double> positional, rotational;  // J, index 3·(i − first) + c
     std::vector<double> modal;                   // material mode: Φᵀ Jᵀ over the joints (per metre)
   };
-  void contact_row(double t, const Vec3& direction, ContactRow& row) const;
+  // Without `with_modal`, only good for row_speed (the modal part is what couplings and kicks need).
+  void contact_row(double t, const Vec3& direction, ContactRow& row, bool with_modal = true) const;
   // J_a M⁻¹ J_bᵀ (by_mass: the speed along b per N·s of impulse along a; with a == b the point's
   // mobility) or J_a C J_bᵀ (the move along b per N of force along a).
   double row_coupling(const ContactRow& a, const ContactRow& b, bool by_mass) const;
+  // Every row_coupling of `rows` at once, by mass and by compliance (n × n), as matrix products
+  // (the other three matrices are scratch).
+  void row_couplings(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr, Eigen::MatrixXd& modal,
+                     Eigen::MatrixXd& by_mass, Eigen::MatrixXd& by_compliance) const;
   // J q̇: the point's speed along the row's direction, relative to the body.
   double row_speed(const ContactRow& row) const;
   // Kicks (amounts in N·s: q̇ += M⁻¹ Σ Jᵀ amount) or moves (amounts in N: q += C Σ Jᵀ amount, and

@@ -2,6 +2,7 @@
 // and moving or kicking the part through them. The contact solver (sim/contact.cpp) decides where.
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 
 #include "core/elastic_sweep.h"
 
@@ -12,7 +13,7 @@ namespace sweep {
 // every move, so this linearisation sets how fast the solver converges, not where it ends. Section
 // i's offset x_i moves every section from i on by A_i x_i; its joint turn φ_i turns every section
 // from i on about c_i, in A_i's axes.
-void ElasticSweep::contact_row(double t, const Vec3& direction, ContactRow& row) const {
+void ElasticSweep::contact_row(double t, const Vec3& direction, ContactRow& row, bool with_modal) const {
   const SpanCoord sc = locate_span(deformed_, t);
   const int j = sc.span;
   const double w[2] = {1.0 - sc.u, sc.u};
@@ -37,7 +38,7 @@ void ElasticSweep::contact_row(double t, const Vec3& direction, ContactRow& row)
       row.rotational[q] = direction.dot(axis.cross(lever));
     }
   }
-  if (!chain_) return;
+  if (!chain_ || !with_modal) return;
   // Φᵀ Jᵀ, J zero past the point: only the first 3·last rows of Φ take part.
   const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
   const Eigen::Index used = static_cast<Eigen::Index>(count);
@@ -59,6 +60,39 @@ double ElasticSweep::row_coupling(const ContactRow& a, const ContactRow& b, bool
   const Eigen::Index dim = static_cast<Eigen::Index>(a.modal.size());
   return sum + chain_->metres_per_unit * Eigen::Map<const Eigen::VectorXd>(a.modal.data(), dim)
                                              .dot(Eigen::Map<const Eigen::VectorXd>(b.modal.data(), dim));
+}
+
+void ElasticSweep::row_couplings(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr,
+                                 Eigen::MatrixXd& modal, Eigen::MatrixXd& by_mass, Eigen::MatrixXd& by_compliance) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index coords = static_cast<Eigen::Index>(positional_.x.size()) - 3;  // sections 1..K−1
+  // Each row's J as a column, zero past its point; scaled by √share so that JᵀJ is J D Jᵀ.
+  const auto fill = [&](Eigen::MatrixXd& m, bool positional, bool kick) {
+    m.setZero(coords, n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const std::vector<double>& j = positional ? rows[k].positional : rows[k].rotational;
+      for (std::size_t q = 0; q < j.size(); ++q) {
+        const double share = positional ? positional_share(3 + q, kick) : rotational_share(3 + q, kick);
+        m(static_cast<Eigen::Index>(q), k) = j[q] * std::sqrt(share);
+      }
+    }
+  };
+  fill(jp, true, false);
+  fill(jr, false, false);
+  by_compliance.noalias() = jp.transpose() * jp;
+  by_compliance.noalias() += jr.transpose() * jr;
+  fill(jp, true, true);
+  by_mass.noalias() = jp.transpose() * jp;
+  if (!chain_) {
+    fill(jr, false, true);
+    by_mass.noalias() += jr.transpose() * jr;
+    return;
+  }
+  // J Φ Φᵀ Jᵀ × metres per unit: the modal columns.
+  const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
+  modal.resize(dim, n);
+  for (Eigen::Index k = 0; k < n; ++k) modal.col(k) = Eigen::Map<const Eigen::VectorXd>(rows[k].modal.data(), dim);
+  by_mass.noalias() += chain_->metres_per_unit * (modal.transpose() * modal);
 }
 
 // Per coordinate: 1/mass (a kick) or 1/stiffness (a move). A material joint's stiffness is the

@@ -12,9 +12,12 @@ namespace {
 
 // Gauss–Seidel passes over a step's contacts, and the gap (× the part's length) they must reach.
 constexpr int kPasses = 64;
+// A projected Gauss–Seidel solve stops when a pass changes no residual by more than this share of
+// the largest residual it started from.
+constexpr double kSolveTolerance = 1e-6;
 // Solves per step: each moves the part by the linear model, then the true curve is re-measured.
 constexpr int kRounds = 16;
-constexpr double kGapTolerance = 1e-9;
+constexpr double kGapTolerance = 1e-7;
 // A contact whose gap is within this (× the length) after the pushes is touching: its approach
 // speed is taken out even if this step's motion did not push it.
 constexpr double kTouchSlack = 1e-7;
@@ -74,24 +77,32 @@ std::vector<double> station_parameters(const SweepShape& shape, int per_span) {
 
 }  // namespace
 
-double section_support(const SweepShape& shape, double t, const Vec3& direction, std::vector<double>& scratch) {
+double section_support(const SweepShape& shape, double t, const Vec3& direction, SupportScratch& scratch) {
   const Vec3 local = rotation_at(shape, t).conjugate() * direction;
   const double across = std::hypot(local.x(), local.y());
   if (!(across > 0)) return 0;
   const int n = shape.radial_count;
-  scratch.resize(static_cast<std::size_t>(n));
-  radii_at_samples(shape, t, scratch);
+  const std::size_t count = static_cast<std::size_t>(n);
+  if (scratch.cos.size() != count) {
+    scratch.cos.resize(count);
+    scratch.sin.resize(count);
+    for (int j = 0; j < n; ++j) {
+      scratch.cos[j] = std::cos(shape.sample_angle(j));
+      scratch.sin[j] = std::sin(shape.sample_angle(j));
+    }
+  }
+  scratch.radii.resize(count);
+  radii_at_samples(shape, t, scratch.radii);
   double reach = radius_at(shape, std::atan2(local.y(), local.x()), t) * across;
-  for (int j = 0; j < n; ++j) {
-    const double a = shape.sample_angle(j);
-    reach = std::max(reach, scratch[j] * (std::cos(a) * local.x() + std::sin(a) * local.y()));
+  for (std::size_t j = 0; j < count; ++j) {
+    reach = std::max(reach, scratch.radii[j] * (scratch.cos[j] * local.x() + scratch.sin[j] * local.y()));
   }
   return reach;
 }
 
 Clearance clearance(const SweepShape& shape, const PlacedCollider& placed, int stations_per_span) {
   const std::vector<double> t = station_parameters(shape, stations_per_span);
-  std::vector<double> scratch;
+  SupportScratch scratch;
   Clearance worst{std::numeric_limits<double>::infinity(), 0};
   const Collider& c = *placed.collider;
   for (std::size_t s = 0; s + 1 < t.size(); ++s) {
@@ -131,8 +142,7 @@ ContactSolver::ContactSolver(const SweepShape& rest, int stations_per_span)
     : per_span_(stations_per_span), stations_(station_parameters(rest, stations_per_span)), start_shape_(rest) {
   start_.resize(stations_.size());
   end_.resize(stations_.size());
-  local_start_.resize(stations_.size());
-  local_end_.resize(stations_.size());
+  evaluated_.resize(stations_.size());
   for (int i = 0; i + 1 < rest.section_count(); ++i) longest_span_ = std::max(longest_span_, rest.t[i + 1] - rest.t[i]);
 }
 
@@ -154,6 +164,18 @@ bool ContactSolver::near(const Bound& b, const PlacedCollider& placed) {
   return placed.collider->local_distance(placed.to_mesh.to_local(b.centre), &out) <= b.radius + placed.collider->margin;
 }
 
+bool ContactSolver::may_reach(const SweepShape& shape, std::span<const PlacedCollider> from,
+                              std::span<const PlacedCollider> to) const {
+  Bound b = bound(shape);
+  for (std::size_t c = 0; c < from.size() && c < to.size(); ++c) {
+    // Grown by how far the collider's own origin travels: it may pass the part in between.
+    Bound swept = b;
+    swept.radius += (to[c].to_mesh.center - from[c].to_mesh.center).norm();
+    if (near(swept, from[c]) || near(swept, to[c])) return true;
+  }
+  return false;
+}
+
 void ContactSolver::begin_step(const ElasticSweep& sweep, std::span<const PlacedCollider> colliders) {
   // Only what the end of the step may need: the start's shape (copied, not evaluated) and where
   // the colliders were.
@@ -169,7 +191,7 @@ double ContactSolver::gap(const ElasticSweep& sweep, const Plane& plane, const P
   const double t = stations_[plane.station];
   const Vec3 local = placed.to_mesh.to_local(center_at(shape, t));
   return plane.normal.dot(local - plane.point) -
-         section_support(shape, t, -(placed.to_mesh.rotation * plane.normal), scratch_) - plane.margin;
+         section_support(shape, t, -(placed.to_mesh.rotation * plane.normal), support_) - plane.margin;
 }
 
 void ContactSolver::solve(const Eigen::MatrixXd& w, const std::vector<double>& r, const std::vector<double>& total,
@@ -178,6 +200,11 @@ void ContactSolver::solve(const Eigen::MatrixXd& w, const std::vector<double>& r
   a.assign(n, 0.0);
   std::vector<double>& w_a = coupled_;  // W a, kept up to date
   w_a.assign(n, 0.0);
+  // Converged once no pass changes any residual by more than this share of the largest one.
+  double scale = 0;
+  for (const double x : r) {
+    if (std::isfinite(x)) scale = std::max(scale, std::abs(x));
+  }
   for (int pass = 0; pass < kPasses; ++pass) {
     double change = 0;
     for (std::size_t p = 0; p < n; ++p) {
@@ -190,7 +217,7 @@ void ContactSolver::solve(const Eigen::MatrixXd& w, const std::vector<double>& r
       for (std::size_t q = 0; q < n; ++q) w_a[q] += w(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(p)) * delta;
       change = std::max(change, std::abs(delta) * wpp);
     }
-    if (change == 0) break;
+    if (change <= kSolveTolerance * scale) break;
   }
 }
 
@@ -210,34 +237,48 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   // Hermite curve's speed stays under 1.5 over a span and its Bézier hull within a third).
   const double reach = 1.5 * std::max(largest_radius(start_shape_), largest_radius(shape)) +
                        0.5 * longest_span_ / per_span_;
-  for (std::size_t s = 0; s < stations_.size(); ++s) {
-    start_[s] = center_at(start_shape_, stations_[s]);
-    end_[s] = center_at(shape, stations_[s]);
-  }
+  // Stations are evaluated only on spans some collider comes near (a span's curve lies within a
+  // third of its length of its chord: a sphere about the two sections' centres holds it).
+  const int spans = start_shape_.section_count() - 1;
+  std::fill(evaluated_.begin(), evaluated_.end(), 0);
+  const auto station_points = [&](std::size_t s) {
+    if (!evaluated_[s]) {
+      start_[s] = center_at(start_shape_, stations_[s]);
+      end_[s] = center_at(shape, stations_[s]);
+      evaluated_[s] = 1;
+    }
+  };
 
   // The planes that separated each chord near a collider from it at the step's start.
   planes_.clear();
   for (std::size_t c = 0; c < colliders.size(); ++c) {
     const Collider& col = *colliders[c].collider;
-    for (std::size_t s = 0; s < stations_.size(); ++s) {
-      local_start_[s] = start_pose_[c].to_local(start_[s]);
-      local_end_[s] = colliders[c].to_mesh.to_local(end_[s]);
-    }
+    if (!near(before, {&col, start_pose_[c]}) && !near(after, colliders[c])) continue;
     const double grow = reach + col.margin;
-    if (clear_of(col, local_start_, grow) && clear_of(col, local_end_, grow)) continue;
-    for (std::size_t s = 0; s + 1 < stations_.size(); ++s) {
-      const Vec3 chord[4] = {local_start_[s], local_start_[s + 1], local_end_[s], local_end_[s + 1]};
-      if (clear_of(col, chord, grow)) continue;
-      const Vec3 x = nearest_on_segment(col, local_start_[s], local_start_[s + 1]);
-      Vec3 outward;
-      const double d = col.local_distance(x, &outward);
-      const Vec3 surface = x - d * outward;
-      for (std::size_t e : {s, s + 1}) {
-        // The chord before this one may have left the same plane on this end (a flat collider).
-        const bool again = !planes_.empty() && planes_.back().station == static_cast<int>(e) &&
-                           planes_.back().collider == c && planes_.back().normal == outward &&
-                           planes_.back().point == surface;
-        if (!again) planes_.push_back({static_cast<int>(e), c, outward, surface, col.margin});
+    for (int j = 0; j < spans; ++j) {
+      const Vec3 ends[4] = {start_pose_[c].to_local(start_shape_.frames[j].center),
+                            start_pose_[c].to_local(start_shape_.frames[j + 1].center),
+                            colliders[c].to_mesh.to_local(shape.frames[j].center),
+                            colliders[c].to_mesh.to_local(shape.frames[j + 1].center)};
+      if (clear_of(col, ends, grow + (start_shape_.t[j + 1] - start_shape_.t[j]) / 3)) continue;
+      for (int k = 0; k < per_span_; ++k) {
+        const std::size_t s = static_cast<std::size_t>(j * per_span_ + k);
+        station_points(s);
+        station_points(s + 1);
+        const Vec3 a0 = start_pose_[c].to_local(start_[s]), b0 = start_pose_[c].to_local(start_[s + 1]);
+        const Vec3 chord[4] = {a0, b0, colliders[c].to_mesh.to_local(end_[s]), colliders[c].to_mesh.to_local(end_[s + 1])};
+        if (clear_of(col, chord, grow)) continue;
+        const Vec3 x = nearest_on_segment(col, a0, b0);
+        Vec3 outward;
+        const double d = col.local_distance(x, &outward);
+        const Vec3 surface = x - d * outward;
+        for (std::size_t e : {s, s + 1}) {
+          // The chord before this one may have left the same plane on this end (a flat collider).
+          const bool again = !planes_.empty() && planes_.back().station == static_cast<int>(e) &&
+                             planes_.back().collider == c && planes_.back().normal == outward &&
+                             planes_.back().point == surface;
+          if (!again) planes_.push_back({static_cast<int>(e), c, outward, surface, col.margin});
+        }
       }
     }
   }
@@ -251,15 +292,7 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     const Vec3 normal = colliders[planes_[p].collider].to_mesh.rotation * planes_[p].normal;
     sweep.contact_row(stations_[planes_[p].station], normal, rows_[p]);
   }
-  by_mass_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  by_compliance_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  for (std::size_t p = 0; p < n; ++p) {
-    for (std::size_t q = p; q < n; ++q) {
-      const Eigen::Index a = static_cast<Eigen::Index>(p), b = static_cast<Eigen::Index>(q);
-      by_mass_(a, b) = by_mass_(b, a) = sweep.row_coupling(rows_[p], rows_[q], true);
-      by_compliance_(a, b) = by_compliance_(b, a) = sweep.row_coupling(rows_[p], rows_[q], false);
-    }
-  }
+  sweep.row_couplings(rows_, jp_, jr_, modal_, by_mass_, by_compliance_);
 
   // Move the ends back onto their planes; the true curve is re-measured after each solve.
   residual_.resize(n);
@@ -314,7 +347,7 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     const Vec3 collider_velocity = (here - start_pose_[planes_[p].collider].to_world(placed.to_mesh.to_local(here))) / dt;
     Vec3 v = -collider_velocity;
     for (int c = 0; c < 3; ++c) {
-      sweep.contact_row(t, Vec3::Unit(c), slide_row_);
+      sweep.contact_row(t, Vec3::Unit(c), slide_row_, false);
       v[c] += sweep.row_speed(slide_row_);
     }
     const Vec3 slide = v - normal.dot(v) * normal;

@@ -41,7 +41,11 @@ struct PlacedCollider {
 // How far the section at t reaches in the unit direction `direction` from its centre: the largest
 // of its radius samples' projections and of the radius toward that direction (exact for a round
 // section), times the share of `direction` across the axis.
-double section_support(const SweepShape& shape, double t, const Vec3& direction, std::vector<double>& scratch);
+// `scratch` holds the radii there and the samples' cos θ_j, sin θ_j (filled once per sample count).
+struct SupportScratch {
+  std::vector<double> radii, cos, sin;
+};
+double section_support(const SweepShape& shape, double t, const Vec3& direction, SupportScratch& scratch);
 
 // Signed clearance of the sweep's surface from a collider over the axis stations (negative: a
 // penetration), with the station parameter of the worst one (the tests' and warnings' measure).
@@ -58,8 +62,13 @@ std::vector<std::string> rest_pose_overlaps(const Rig& rig, const std::vector<Co
 
 class ContactSolver {
  public:
-  static constexpr int kDefaultStationsPerSpan = 4;
+  static constexpr int kDefaultStationsPerSpan = 2;  // = Scene::contact_stations by default
   ContactSolver(const SweepShape& rest, int stations_per_span = kDefaultStationsPerSpan);
+
+  // Whether a collider at `from` or `to` (its places at two times, in the part's coordinates) may
+  // reach the part in `shape` in between: a sleeping part a world collider comes at must wake.
+  bool may_reach(const SweepShape& shape, std::span<const PlacedCollider> from,
+                 std::span<const PlacedCollider> to) const;
 
   // Before a step: where the axis is, and where each collider is at the step's start.
   void begin_step(const ElasticSweep& sweep, std::span<const PlacedCollider> colliders);
@@ -96,8 +105,10 @@ class ContactSolver {
   std::vector<Plane> planes_;
   std::vector<ElasticSweep::ContactRow> rows_;  // one per plane, along its normal
   Eigen::MatrixXd by_mass_, by_compliance_;     // J M⁻¹ Jᵀ and J C Jᵀ over the rows
-  std::vector<double> residual_, amount_, total_, coupled_, scratch_;
-  std::vector<Vec3> local_start_, local_end_;
+  std::vector<double> residual_, amount_, total_, coupled_;
+  SupportScratch support_;
+  Eigen::MatrixXd jp_, jr_, modal_;  // the rows' J (positional, rotational) and Φᵀ Jᵀ, one column each
+  std::vector<char> evaluated_;       // whether start_/end_ hold station s this step
   ElasticSweep::ContactRow slide_row_;
 };
 

@@ -61,7 +61,7 @@ struct Scene {
   // collider stays put while the body moves; a carried one moves with it.
   std::vector<Collider> colliders;
   // Chords per span between key sections that meet the colliders (sim/contact.h).
-  int contact_stations = 4;
+  int contact_stations = 2;
 
   // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. At it the follower loads of the diplodocus
   // Fig. 4 scene are within 1e-5 of the part's length of a 16× finer step (BENCHMARKS.md).

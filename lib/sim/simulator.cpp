@@ -182,11 +182,23 @@ void Simulator::place_colliders(double t, std::vector<PlacedCollider>& out) cons
   }
 }
 
+bool Simulator::collider_comes(int i, double from, double to) const {
+  if (!scene_.body.moves()) return false;
+  const bool any_world = std::any_of(scene_.colliders.begin(), scene_.colliders.end(),
+                                     [](const Collider& c) { return !c.carried; });
+  if (!any_world) return false;  // carried ones never come nearer
+  std::vector<PlacedCollider> a, b;
+  place_colliders(from, a);
+  place_colliders(to, b);
+  return sweeps_[i].contact.may_reach(sweeps_[i].body.deformed(), a, b);
+}
+
 bool Simulator::has_work(int i, double from, double to) const {
   const SweepState& st = sweeps_[i];
   if (!st.driven) return false;
   if (st.awake) return true;
   if (!teleporting_ && scene_.body.loads_between(from, to)) return true;
+  if (collider_comes(i, from, to)) return true;
   for (std::size_t f : st.forces) {
     const SceneForce& force = scene_.forces[f];
     if (force.start < to && force.end >= from) return true;
@@ -250,7 +262,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
         ids[k] = 0;
       }
     }
-    if (!awake && !teleporting_ && scene_.body.loads_between(cur, next)) {
+    if (!awake && !teleporting_ && (scene_.body.loads_between(cur, next) || collider_comes(i, cur, next))) {
       awake = true;
       if (!on_view) s.quiet = 0;
     }

@@ -93,6 +93,8 @@ class Simulator {
   void advance_span(int i, bool on_view, double from, double to, bool grid_step);
   // Whether sweep i may move during [from, to): driven, and awake or with a force in that time.
   bool has_work(int i, double from, double to) const;
+  // Whether a world collider, moving against the moving body, may reach sweep i over [from, to].
+  bool collider_comes(int i, double from, double to) const;
   void check_finite(const ElasticSweep& body, double t) const;
 
   // The body's loads on sweep i over a piece centred on `mid` (inertia, turning gravity).

@@ -316,6 +316,41 @@ TEST(Contact, CollidersOutOfReachChangeNothing) {
   }
 }
 
+TEST(Contact, AWorldColliderStaysPutWhileACarriedOneMovesWithTheBody) {
+  // The body glides along +x at 2 units/s (constant velocity: no load on the part). A ball fixed in
+  // the world ahead of the tube's outer half is met and pushes the part back; the same ball carried
+  // by the body never comes nearer, and the part never moves.
+  const Rig rig = rubber_tube(0.1);
+  const double length = rig.sweeps[0].rest.length();
+  Scene scene;
+  scene.duration = 2;
+  scene.fps = 30;
+  scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()}, {10, Vec3(20, 0, 0), Quat::Identity()}},
+                        BodyInterpolation::linear);
+  Collider ball = Collider::sphere(Vec3(2.0, 0, 0.8 * length), 0.5);
+  scene.colliders = {ball};
+  Simulator world(rig, scene);
+  Scene riding = scene;  // (a simulator keeps a reference to its scene)
+  riding.colliders[0].carried = true;
+  Simulator carried(rig, riding);
+  const std::vector<Frame> rest = rig.sweeps[0].rest.frames;
+  double deepest = 0, pushed = 0;
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    world.advance_frame();
+    carried.advance_frame();
+    // The world ball in mesh coordinates now: it has moved by −(the body's travel).
+    const BodyState b = world.body();
+    Collider here = ball;
+    here.pose = Frame{b.rotation, b.translation}.inverse() * ball.pose;
+    deepest = std::max(deepest, penetration(world.sweep(0).deformed(), here));
+    pushed = std::min(pushed, world.sweep(0).deformed().frames.back().center.x());
+    for (std::size_t i = 0; i < rest.size(); ++i)
+      ASSERT_EQ(carried.sweep(0).deformed().frames[i].center, rest[i].center) << "frame " << k;
+  }
+  EXPECT_LT(pushed, -0.5) << "the world ball met the part and pushed its tip back";
+  EXPECT_LE(deepest, 1e-3 * length);
+}
+
 TEST(Contact, ARestPoseInsideAColliderIsNamed) {
   const Rig rig = rubber_tube(0.02);
   // Its centre 0.3 beside the axis, 0.5 in radius: the tube's surface (radius 0.5) is 0.7 inside.

@@ -755,6 +755,18 @@ std::vector<Case> sim_cases() {
           "Sim_NegativeFps", [](json& j) { j["fps"] = -10; }, 2,
           "scene.json: /fps: must be a positive number, got -10"),
       scene_case(
+          "Sim_ColliderOfNoSize",
+          [](json& j) { j["colliders"] = json::parse(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 0}])"); }, 2,
+          "scene.json: /colliders/0/radius: must be a positive number, got 0"),
+      scene_case(
+          "Sim_FlatBoxCollider",
+          [](json& j) { j["colliders"] = json::parse(R"([{"shape": "box", "center": [0, 0, 0], "half_size": [1, 1, 0]}])"); }, 2,
+          "scene.json: /colliders/0/half_size: every half size must be positive (a plate is a thin box, not a flat one)"),
+      scene_case(
+          "Sim_PlaneWithoutNormal",
+          [](json& j) { j["colliders"] = json::parse(R"([{"shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}])"); }, 2,
+          "scene.json: /colliders/0/normal: must not be zero: it points out of the solid side"),
+      scene_case(
           "Sim_ForceBeyondTheTip", [](json& j) { j["forces"][0]["t"] = 1.5; }, 2,
           "scene.json: /forces/0/t: must be between 0 (root) and 1 (tip), got 1.5"),
       scene_case(
