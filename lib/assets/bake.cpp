@@ -1,15 +1,12 @@
-// The parts every bake writer shares: choosing a writer, temporary files, and the begin/frame/
-// finish protocol with its checks (see bake.h and bake_detail.h).
+// The parts every bake writer shares: choosing a writer by extension, the .obj sequence's file
+// names, and the begin/frame/finish protocol with its checks (see bake.h and bake_detail.h). No
+// file is opened here: each writer writes its own temporaries (io::TempFile, io/atomic_file.h) and
+// hands them, sealed, to an io::Publication (finish_into: the run's; finish: one of its own), which
+// renames them into place together.
 #include "assets/bake.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <utility>
 
 #include "assets/bake_detail.h"

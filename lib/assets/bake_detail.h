@@ -1,5 +1,7 @@
 #pragma once
-// Private to the bake writers (bake*.cpp): temporary files and the protocol every writer shares.
+// Private to the bake writers (bake*.cpp): the begin/frame/finish protocol every writer shares.
+// The files themselves are each writer's: io::TempFile temporaries (io/atomic_file.h), sealed and
+// handed to an io::Publication in complete(), discarded in abandon().
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>

@@ -33,9 +33,10 @@
 
 namespace sweep::bind {
 
-// Loops over fewer vertices than this run on one thread: waking an OpenMP team costs tens of µs on
-// an idle VM and whole time slices on a busy one (the diplodocus bound in 24 ms on one thread and
-// 68 ms on two while the other core was busy), so only large parts are worth splitting.
+// The per-vertex loops of bind() (over a sweep's part) and of deform_exact and max_rebuild_error
+// (over its bound vertices) run on one thread below this many vertices, across the OpenMP threads
+// otherwise; the results are the same either way (measurements: BENCHMARKS.md, section "Layout
+// and thread thresholds").
 inline constexpr std::ptrdiff_t kMinParallelVertices = 16384;
 
 struct BindOptions {

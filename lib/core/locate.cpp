@@ -7,8 +7,9 @@
 namespace sweep {
 namespace {
 
-// Secant refinement stops when the bracket is this small, as a fraction of the sweep's length
-// (1e-13·L: far below float precision of the mesh, so rebuilding a vertex is exact in float).
+// The regula falsi refinement stops when the bracket is this small, as a fraction of the sweep's
+// length (1e-13·L: far below float precision of the mesh, so rebuilding a vertex is exact in
+// float), or after kMaxRefineSteps steps.
 constexpr double kParamTolerance = 1e-13;
 constexpr int kMaxRefineSteps = 100;
 

@@ -19,7 +19,9 @@ struct SweepCoords {
 
 // Finds sweep coordinates for many points against one shape: builds a table of stations once
 // (centre and axis at `stations_per_span` points per span), scans it for sign changes of the
-// signed plane distance, and refines each by safeguarded secant steps on the exact sweep.
+// signed plane distance, and refines each bracket by the Illinois variant of regula falsi on the
+// exact sweep's plane distance (the bracket always keeps the sign change), until the bracket is
+// 1e-13 of the sweep's length (at most 100 steps).
 class SweepLocator {
  public:
   explicit SweepLocator(const SweepShape& shape, int stations_per_span = 16);

@@ -41,10 +41,12 @@ struct FitOptions {
   // An explicit axis polyline from root to tip (mesh units). When given it replaces the rings;
   // its first and last points are the root and the tip.
   std::vector<Vec3> axis;
-  // Key sections K ≥ 2, evenly spaced in arc length. 16 fits a diplodocus tail to ~1% of its
-  // mean radius; error falls roughly as 1/K² on smooth parts.
+  // Key sections K ≥ 2, evenly spaced in arc length. The fit error falls as K grows until the
+  // radius samples and the mesh's own facets dominate (measurements: BENCHMARKS.md, section
+  // "Fitting: K × n against fit time and fit error").
   int sections = 24;
-  // Radius samples n ≥ 3 per section. Error falls as n grows until the mesh's own facets dominate.
+  // Radius samples n ≥ 3 per section. Error falls as n grows until the mesh's own facets dominate
+  // (same section).
   int radial = 24;
   // When > 0: use the fewest sections (at most max_sections) whose fit RMS is at most
   // tolerance × mean_radius; `sections` is then ignored. Unitless (0.01 = 1% of the mean radius).

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/limits.h"
+#include "core/text.h"
 #include "io/atomic_file.h"
 #include "io/read_file.h"
 
@@ -69,7 +70,8 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
   }
   f.spec.vector = r.vec3(r.required(v, ptr, "vector"), member(ptr, "vector"));
   if (!(f.spec.vector.norm() <= limits::kMaxForce)) {
-    r.fail_at(member(ptr, "vector"), "a force of at most 1e+09 N, got one of length " +
+    r.fail_at(member(ptr, "vector"), "a force of at most " + format_number(limits::kMaxForce) +
+                                         " N, got one of length " +
                                          std::to_string(f.spec.vector.norm()));
   }
   if (const Json* fr = r.optional(v, "frame")) {
@@ -265,12 +267,14 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
     if (v != Scene::kFormatVersion) {
       fail(ErrorCategory::unsupported, r.source() + ": " + member(pointer, "version") +
                                            ": scene format version " + std::to_string(v) +
-                                           " is not supported (this build reads version 1)");
+                                           " is not supported (this build reads version " +
+                                           std::to_string(Scene::kFormatVersion) + ")");
     }
   }
   scene.duration = r.positive(r.required(json, pointer, "duration"), member(pointer, "duration"));
   if (scene.duration > limits::kMaxDuration)
-    r.fail_at(member(pointer, "duration"), "must be at most 86400 s");
+    r.fail_at(member(pointer, "duration"),
+              "must be at most " + format_number(limits::kMaxDuration, 6) + " s");
   const Json& fps = r.required(json, pointer, "fps");
   r.positive(fps, member(pointer, "fps"));  // the sign first, with its own message
   scene.fps = r.bounded(fps, member(pointer, "fps"), limits::kMinFps, limits::kMaxFps);
@@ -287,7 +291,9 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
       r.fail_at(member(pointer, "step"), "give either \"step\" or \"substeps\", not both");
     scene.step = r.positive(*st, member(pointer, "step"));
     if (scene.step < limits::kMinStep || scene.step > limits::kMaxStep)
-      r.fail_at(member(pointer, "step"), "must be between 1e-6 and 1 s, got " + io::describe(*st));
+      r.fail_at(member(pointer, "step"), "must be between " + format_number(limits::kMinStep) +
+                                             " and " + format_number(limits::kMaxStep) +
+                                             " s, got " + io::describe(*st));
   }
   if (const Json* g = r.optional(json, "gravity")) scene.gravity = r.vec3(*g, member(pointer, "gravity"));
   if (const Json* g = r.optional(json, "gravity_start")) {

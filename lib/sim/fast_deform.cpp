@@ -27,8 +27,8 @@ void hermite(double u, double* h) {
 
 using Run = FastDeformer::Run;
 // The radii loop runs in whole vectors of kPad floats (AVX2's 8; baseline's 4 divides it), so a
-// short angle-cell segment costs no scalar remainder (-18 % instructions a vertex on the ring-
-// ordered tube, callgrind); u_ and w_ carry kPad floats of padding for the reads past the end.
+// short angle-cell segment costs no scalar remainder (BENCHMARKS.md, section "Layout and
+// thread thresholds"); u_ and w_ carry kPad floats of padding for the reads past the end.
 constexpr std::ptrdiff_t kPad = 8;
 using Segment = FastDeformer::Segment;
 
@@ -164,7 +164,47 @@ __attribute__((target_clones("avx2", "default"))) void deform_block_axial(
   deform_block_impl<true>(k, A, B, seg, begin, end, runs);
 }
 
+// The same kernels compiled for one target only, for tests that compare the forms
+// (FastDeformer::force_kernel_form); production calls the target_clones above.
+using BlockFunction = void (*)(const Kernel&, const float*, const float*, const Segment*,
+                               std::uint32_t, std::uint32_t, const Run*);
+
+void deform_block_baseline(const Kernel& k, const float* A, const float* B, const Segment* seg,
+                           std::uint32_t begin, std::uint32_t end, const Run* runs) {
+  deform_block_impl<false>(k, A, B, seg, begin, end, runs);
+}
+
+void deform_block_axial_baseline(const Kernel& k, const float* A, const float* B,
+                                 const Segment* seg, std::uint32_t begin, std::uint32_t end,
+                                 const Run* runs) {
+  deform_block_impl<true>(k, A, B, seg, begin, end, runs);
+}
+
+__attribute__((target("avx2"))) void deform_block_avx2(const Kernel& k, const float* A,
+                                                       const float* B, const Segment* seg,
+                                                       std::uint32_t begin, std::uint32_t end,
+                                                       const Run* runs) {
+  deform_block_impl<false>(k, A, B, seg, begin, end, runs);
+}
+
+__attribute__((target("avx2"))) void deform_block_axial_avx2(const Kernel& k, const float* A,
+                                                             const float* B, const Segment* seg,
+                                                             std::uint32_t begin,
+                                                             std::uint32_t end, const Run* runs) {
+  deform_block_impl<true>(k, A, B, seg, begin, end, runs);
+}
+
 }  // namespace
+
+bool cpu_has_avx2() {
+  return __builtin_cpu_supports("avx2");
+}
+
+void FastDeformer::force_kernel_form(KernelForm form) {
+  if (form == KernelForm::avx2 && !cpu_has_avx2())
+    fail(ErrorCategory::unsupported, "this CPU has no AVX2: the AVX2 kernel cannot run");
+  form_ = form;
+}
 
 FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound,
                            std::span<const Vec3f> rest_positions, int stations_per_span)
@@ -461,7 +501,13 @@ void FastDeformer::deform_vertices(std::span<Vec3f> out, bool split) const {
     const float* A = tab + static_cast<std::size_t>(blk.span) * row_;
     const Segment* seg = segments_.data() + blk.segments;
     const Run* runs = blk.runs == kNoRuns ? nullptr : runs_.data() + blk.runs;
-    if (blk.axial) {
+    if (form_ != KernelForm::automatic) {
+      const bool avx2 = form_ == KernelForm::avx2;
+      const BlockFunction forced =
+          blk.axial ? (avx2 ? deform_block_axial_avx2 : deform_block_axial_baseline)
+                    : (avx2 ? deform_block_avx2 : deform_block_baseline);
+      forced(k, A, A + row_, seg, blk.begin, blk.end, runs);
+    } else if (blk.axial) {
       deform_block_axial(k, A, A + row_, seg, blk.begin, blk.end, runs);
     } else {
       deform_block(k, A, A + row_, seg, blk.begin, blk.end, runs);

@@ -20,28 +20,20 @@
 // writes 12. Each block of at most kBlockVertices vertices of one piece is done in short loops —
 // radii segment by segment (each segment's cubic is loop invariant), then positions over the
 // block — vectorized by the compiler, 8 vertices a vector with AVX2 (no FMA) and 4 on baseline
-// x86-64.
+// x86-64; both forms give the same bits (KernelForm). Layout and thresholds were chosen by
+// measurement (measurements: BENCHMARKS.md, section "Layout and thread thresholds").
 //
-// Measured (tools/bench/sweep-bench-deform, 1M-vertex tube, 8 stations a span, 2 threads): sorted
-// by cell, the ring-ordered tube wrote 17 rings' worth of scattered runs a span and took ~1.7× the
-// copy floor; mesh order with direct stores takes ~0.8–1.2× the floor (it moves 28 bytes a vertex,
-// the floor 36), bit-identical output. The same tube numbered at random (no order to exploit) takes
-// ~4 ns a vertex: every store lands on a different cache line.
+// Results do not depend on the thread count, the vertex order or the kernel form: every vertex is
+// computed on its own, by the same IEEE operations in the same order, whichever thread, layout or
+// form runs its block.
 //
-// Results do not depend on the thread count: every vertex is computed on its own, by the same
-// instructions, whichever thread runs its block.
-//
-// Error against the exact path (deform_point in double, same binding, same deformed shape): the
-// largest distance over every bound vertex, measured by tools/bench/sweep-bench-deform
-// (BENCHMARKS.md) with bending, twisting and radial change on every section (K = 16, n = 16):
-//   stations per span              1        2        4        8        16       32
-//   diplodocus tail + neck / L   5.2e-3   1.9e-3   5.9e-4   1.6e-4   4.0e-5   1.0e-5
-//   1M-vertex bent tube / L        —      1.0e-3     —      8.6e-5     —        —
-// (L: the longer part's length). It falls as the square of the station spacing (linear
-// interpolation in t of smooth curves) until float rounding (~1e-6 of the part's size) is reached.
-// At the stations themselves and the sample angles the table is the exact sweep to float precision
-// (tests/sim/fast_deform_test.cpp). The default, 8 stations per span, is 1.6e-4 of the length:
-// 0.16 mm on a 1 m tail.
+// Error against the exact path (deform_point in double, same binding, same shape): at the stations
+// the fast path is the exact sweep to float precision; between them it interpolates linearly in t,
+// so the error falls as the square of the station spacing until float rounding (~1e-6 of the
+// part's size) is reached. That holds for the rest shape too: a bound vertex comes back to its
+// rest position to float precision only on a station plane, elsewhere to that interpolation error
+// (tests/sim/fast_deform_test.cpp). The default is 8 stations per span (measurements:
+// BENCHMARKS.md, section "Deformation: stations per span against error").
 #include <Eigen/Core>
 #include <cstdint>
 #include <span>
@@ -54,25 +46,30 @@ namespace sweep::sim {
 
 using Vec3f = Eigen::Vector3f;
 
-// Below this many bound vertices the loop runs on one thread: waking a thread team costs tens of
-// µs on these machines (DESIGN.md §6), more than the loop saves below ~40k vertices at its 4–6 ns a
-// vertex on one thread (tools/bench/sweep-bench-deform, BENCHMARKS.md).
+// Below this many bound vertices deform() runs on one thread (waking a thread team costs more than
+// the loop saves; measurements: BENCHMARKS.md, section "Layout and thread thresholds").
 inline constexpr std::size_t kParallelVertexThreshold = 40000;
-// A sweep that is the only one moving in a frame is split across the threads from this many
-// bound vertices: the threads are already awake from the simulator's and the last frame's work, so
-// a split costs a few µs rather than tens (tools/bench/sweep-bench-skip, "1 driven" on 2 threads).
+// A sweep that is the only one moving in a frame is split across the threads (deform_sweeps) from
+// this many bound vertices (same section).
 inline constexpr std::size_t kSplitLoneSweepVertices = 4096;
 
 // Vertices of one work block (one station span): the block's scratch (4 floats a vertex) stays in
 // L1.
 inline constexpr std::uint32_t kBlockVertices = 256;
 
+// The compiled forms of the per-vertex kernel (deform_vertices). `automatic` is what production
+// runs: the AVX2 form on a CPU with AVX2, baseline x86-64 otherwise, picked once at load time.
+// Neither form uses FMA and both do the same IEEE operations in the same order, so they give the
+// same bits; forcing one form is how the tests check that (tests/sim/fast_deform_test.cpp).
+enum class KernelForm { automatic, baseline, avx2 };
+// Whether this CPU can run KernelForm::avx2.
+bool cpu_has_avx2();
+
 class FastDeformer {
  public:
   // Consecutive bound vertices (mesh order) laid out together: their 768 KB of output stays in
-  // cache while it is written, whatever the mesh order. Measured on the 1M-vertex tube numbered
-  // at random, 2 threads, loop ns/vertex (same run, tiles vs none): 16k 0.78×, 32k 0.66×,
-  // 64k 0.63×, 128k 0.63×; ring order unchanged.
+  // cache while it is written, whatever the mesh order (the size: BENCHMARKS.md, section "Layout
+  // and thread thresholds").
   static constexpr std::uint32_t kTileVertices = 65536;
   // A piece (a span's vertices within a tile) keeps mesh order when its angle-cell segments in
   // that order are at least this long on average. (A block of such a piece may still hold some
@@ -115,6 +112,11 @@ class FastDeformer {
   std::size_t block_count() const { return blocks_.size(); }
   std::size_t direct_block_count() const;
 
+  // For tests: run deform_vertices with one compiled form of the kernel from now on (default
+  // automatic). Throws Error(unsupported) for KernelForm::avx2 when !cpu_has_avx2().
+  void force_kernel_form(KernelForm form);
+  KernelForm kernel_form() const { return form_; }
+
  private:
   struct Block {
     std::uint32_t begin = 0, end = 0;  // vertices [begin, end) of the grouped arrays
@@ -153,6 +155,7 @@ class FastDeformer {
   std::vector<float> blend_weight_;
   std::vector<Vec3f> blend_rest_;
   float radius_floor_ = 0;
+  KernelForm form_ = KernelForm::automatic;
 };
 
 // One sweep's share of a frame: its fast path and its deformed shape.

@@ -1,7 +1,9 @@
 // The simulator: scene timing, what it skips, sleep, substep independence, divergence.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
+#include <numbers>
 
 #include "core/error.h"
 #include "core/sample_sweeps.h"
@@ -142,14 +144,39 @@ TEST(Simulator, MotionDiesOutAndTheSweepSleepsUntilWoken) {
 }
 
 TEST(Simulator, ImpulseChangesVelocityOnce) {
+  // J = 3 N·s along y at t = L, the tip: all of its positional part goes to section 5's spring
+  // (mass m), whose velocity must jump by J/m at t = 0.5 s, once. From then on that spring swings
+  // freely from its rest position, y(τ) = (J/m) e^(−ζω₀τ) sin(ω_d τ) / ω_d, τ = t − 0.5, and no
+  // other spring moves: a second kick (in a later piece, substep or frame) would change the
+  // amplitude or the phase of every later frame.
   const Rig rig = two_sweep_rig();
   Scene scene = one_force_scene(0.5, 0.5, 4);  // end == start: an impulse
   scene.forces[0].spec.components = kPositional;
+  const SpringSettings& spring = rig.sweeps[0].springs[5].positional;
+  const double jump = scene.forces[0].spec.vector.y() / spring.mass;  // J/m, m/s
+  {
+    ElasticSweep sweep(rig.sweeps[0]);
+    sweep.apply_impulse(scene.forces[0].spec);
+    EXPECT_DOUBLE_EQ(sweep.max_speed(), jump);
+  }
+  const double w0 = 2 * std::numbers::pi * spring.frequency_hz, zeta = spring.damping_ratio;
+  const double wd = w0 * std::sqrt(1 - zeta * zeta);
   Simulator sim(rig, scene, {.enabled = false});
   for (int k = 0; k < 15; ++k) sim.advance_frame();  // until t = 0.5: nothing yet
   EXPECT_EQ(sim.sweep(0).max_speed(), 0.0);
-  sim.advance_frame();
-  EXPECT_GT(sim.sweep(0).max_speed(), 0.0);
+  double peak = 0;
+  for (int k = 16; k < scene.frame_count(); ++k) {
+    sim.advance_frame();
+    const double tau = sim.time() - 0.5;
+    const double y = jump * std::exp(-zeta * w0 * tau) * std::sin(wd * tau) / wd;
+    const ElasticSweep& tail = sim.sweep(0);
+    ASSERT_NEAR(tail.section_offset(5).y(), y, 1e-9 * jump / wd) << "frame " << k;
+    ASSERT_EQ(tail.section_offset(5).x(), 0.0) << "frame " << k;
+    ASSERT_EQ(tail.section_offset(5).z(), 0.0) << "frame " << k;
+    for (int i = 0; i < 5; ++i) ASSERT_EQ(tail.section_offset(i), Vec3::Zero()) << "section " << i;
+    peak = std::max(peak, std::abs(y));
+  }
+  EXPECT_GT(peak, 0.1 * jump / wd);  // it swung
 }
 
 TEST(Simulator, DivergenceIsReportedNotWritten) {
@@ -170,12 +197,69 @@ TEST(Simulator, DivergenceIsReportedNotWritten) {
 }
 
 TEST(Simulator, ExactIntegratorIsStableWhereEulerIsNot) {
+  // Every spring of the tail at 201.7 Hz and undamped: a frame's step (1/30 s) is ω·dt = 42 rad,
+  // twenty times semi-implicit Euler's limit of 2. A push of f = 3 N along y at the tip, positional
+  // only (a load that does not follow the pose), from t = 0 to 1 s: only section 5's spring is
+  // loaded, and the closed form of a step force on and then off is
+  //   y(t) = (f/k) [(1 − cos ωt) − H(t − 1)(1 − cos ω(t − 1))],
+  // bounded by 2 f/k, with the energy ½ m v² + ½ k y² conserved once the force is off.
   Rig rig = two_sweep_rig();
-  for (SectionSprings& s : rig.sweeps[0].springs) s.bend.frequency_hz = s.twist.frequency_hz = 200;
-  const Scene scene = one_force_scene(0, 1, 1);
-  Simulator sim(rig, scene);
-  for (int k = 1; k < scene.frame_count(); ++k) sim.advance_frame();
-  EXPECT_TRUE(sim.sweep(0).is_finite());
+  const double hz = 201.7;  // not a multiple of the frame rate: every frame shows a new phase
+  for (SectionSprings& s : rig.sweeps[0].springs) {
+    for (SpringSettings* k : {&s.positional, &s.bend, &s.twist, &s.radial}) {
+      k->frequency_hz = hz;
+      k->damping_ratio = 0;
+    }
+  }
+  Scene scene = one_force_scene(0, 1, 1);
+  scene.forces[0].spec.components = kPositional;
+  const SpringSettings& spring = rig.sweeps[0].springs[5].positional;
+  const double f = scene.forces[0].spec.vector.y(), w = 2 * std::numbers::pi * hz;
+  const double static_offset = f / spring.stiffness();  // f/k
+  ASSERT_GT(w * scene.step_seconds(), 20 * 2.0);  // one step a frame: ω dt past 20 × the limit
+
+  // Semi-implicit Euler at that step grows by ~(ω dt)² a step: far past the exact bound at once,
+  // then a runaway.
+  {
+    test::FpTrapsOff traps_off;
+    Scene euler = scene;
+    euler.integrator = Integrator::semi_implicit_euler;
+    Simulator sim(rig, euler, {.enabled = false});
+    int past_bound = -1;
+    try {
+      for (int k = 1; k < euler.frame_count(); ++k) {
+        sim.advance_frame();
+        if (past_bound < 0 && !(std::abs(sim.sweep(0).section_offset(5).y()) <= 2 * static_offset))
+          past_bound = k;
+      }
+      ADD_FAILURE() << "semi-implicit Euler did not diverge";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.category(), ErrorCategory::diverged) << e.what();
+    }
+    EXPECT_EQ(past_bound, 1);
+  }
+
+  // The exact integrator: the closed form at every frame, so it moves, stays bounded and keeps its
+  // energy.
+  Simulator sim(rig, scene, {.enabled = false});
+  double peak = 0, energy_at_release = -1;
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    sim.advance_frame();
+    const double t = sim.time();
+    const double y =
+        static_offset * ((1 - std::cos(w * t)) - (t > 1 ? 1 - std::cos(w * (t - 1)) : 0.0));
+    const ElasticSweep& tail = sim.sweep(0);
+    ASSERT_TRUE(tail.is_finite()) << "frame " << k;
+    ASSERT_NEAR(tail.section_offset(5).y(), y, 1e-9 * static_offset) << "frame " << k;
+    ASSERT_LE(tail.max_displacement(), 2 * static_offset * (1 + 1e-9)) << "frame " << k;
+    peak = std::max(peak, tail.max_displacement());
+    if (k == 30) energy_at_release = tail.energy();
+    if (k > 30) {
+      ASSERT_NEAR(tail.energy(), energy_at_release, 1e-9 * energy_at_release) << "frame " << k;
+    }
+  }
+  EXPECT_GT(peak, static_offset);  // it moved: past the static offset, up to twice it
+  EXPECT_GT(energy_at_release, 0.0);
 }
 
 }  // namespace

@@ -167,6 +167,33 @@ $(cat "$results/deform.md")
 ![diplodocus](tools/bench/results/deform_dino.png) ![tube](tools/bench/results/deform_tube.png)
 ![tube, random order](tools/bench/results/deform_tube_random.png)
 
+### Layout and thread thresholds
+
+Recorded by hand when the fast path's layout and the constants in \`lib/sim/fast_deform.h\` and
+\`lib/bind/bind.h\` were chosen (\`tools/bench/sweep-bench-deform\`, \`sweep-bench-skip\`, callgrind and
+timed binding runs; Release build, this 2-core VM); this script does not measure them again.
+
+- **Mesh order** (\`FastDeformer::kMinMeanSegmentLength\`). The 1M-vertex tube, 8 stations a span,
+  2 threads: sorted by angle cell, the ring-ordered tube wrote 17 rings' worth of scattered runs a
+  span and took ~1.7× the copy floor; kept in mesh order with direct stores it takes ~0.8–1.2× the
+  floor (it moves 28 bytes a vertex, the floor 36), with bit-identical output. The same tube
+  numbered at random (no order to exploit) takes ~4 ns a vertex: every store lands on a different
+  cache line.
+- **Tiles** (\`FastDeformer::kTileVertices\` = 65,536). The 1M-vertex tube numbered at random,
+  2 threads, loop ns/vertex with tiles of this size against none, same run: 16k 0.78×, 32k 0.66×,
+  64k 0.63×, 128k 0.63×; ring order unchanged.
+- **Whole vectors of radii** (\`kPad\` in \`fast_deform.cpp\`): a short angle-cell segment costs no
+  scalar remainder, −18 % instructions a vertex on the ring-ordered tube (callgrind).
+- **One thread for small parts** (\`kParallelVertexThreshold\` = 40,000). Waking a thread team costs
+  tens of µs on these machines (DESIGN.md §6), more than the loop saves below ~40k vertices at its
+  4–6 ns a vertex on one thread.
+- **A lone moving sweep is split** (\`kSplitLoneSweepVertices\` = 4,096). The threads are already
+  awake from the simulator's and the last frame's work, so a split costs a few µs rather than tens
+  ("4 sweeps, 1 driven" on 2 threads in the frame-cost table below).
+- **Binding on one thread for small parts** (\`bind::kMinParallelVertices\` = 16,384). Waking an
+  OpenMP team costs tens of µs on an idle VM and whole time slices on a busy one: the diplodocus
+  bound in 24 ms on one thread and 68 ms on two while the other core was busy.
+
 ## Frame cost and skipping
 
 One frame = \`Simulator::advance_frame\` (the default step, 1/480 s, exact integrator) + the fast path on every sweep
