@@ -235,8 +235,20 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   // How far the surface may reach from a chord: 1.5× the radius, as in bound(), and the curve's
   // own bulge between two stations (half a chord's parameter length bounds it, loosely: the
   // Hermite curve's speed stays under 1.5 over a span and its Bézier hull within a third).
-  const double reach = 1.5 * std::max(largest_radius(start_shape_), largest_radius(shape)) +
-                       0.5 * longest_span_ / per_span_;
+  // Per span j: the largest radius sample of the sections its interpolation reads (j − 1 … j + 2),
+  // at either end of the step.
+  const int sections = shape.section_count();
+  span_reach_.assign(static_cast<std::size_t>(sections - 1), 0.0);
+  for (int i = 0; i < sections; ++i) {
+    double r = 0;
+    for (const SweepShape* sh : {static_cast<const SweepShape*>(&start_shape_), &shape}) {
+      for (const double x : sh->section_radii(i)) r = std::max(r, x);
+    }
+    for (int j = std::max(i - 2, 0); j <= std::min(i + 1, sections - 2); ++j) {
+      span_reach_[static_cast<std::size_t>(j)] = std::max(span_reach_[static_cast<std::size_t>(j)], r);
+    }
+  }
+  const double bulge = 0.5 * longest_span_ / per_span_;
   // Stations are evaluated only on spans some collider comes near (a span's curve lies within a
   // third of its length of its chord: a sphere about the two sections' centres holds it).
   const int spans = start_shape_.section_count() - 1;
@@ -254,8 +266,8 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   for (std::size_t c = 0; c < colliders.size(); ++c) {
     const Collider& col = *colliders[c].collider;
     if (!near(before, {&col, start_pose_[c]}) && !near(after, colliders[c])) continue;
-    const double grow = reach + col.margin;
     for (int j = 0; j < spans; ++j) {
+      const double grow = 1.5 * span_reach_[static_cast<std::size_t>(j)] + bulge + col.margin;
       const Vec3 ends[4] = {start_pose_[c].to_local(start_shape_.frames[j].center),
                             start_pose_[c].to_local(start_shape_.frames[j + 1].center),
                             colliders[c].to_mesh.to_local(shape.frames[j].center),
@@ -284,6 +296,25 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   }
   if (planes_.empty()) return false;
   const std::size_t n = planes_.size();
+  // Most steps near a collider end clear of it: then nothing touches and nothing is built. A
+  // station whose centre is farther from its plane than 1.5× its span's radius is clear without
+  // measuring its section's reach.
+  bool may_touch = false;
+  for (std::size_t p = 0; p < n && !may_touch; ++p) {
+    const Plane& pl = planes_[p];
+    const PlacedCollider& placed = colliders[pl.collider];
+    const double centre = pl.normal.dot(placed.to_mesh.to_local(end_[static_cast<std::size_t>(pl.station)]) - pl.point);
+    const std::size_t span = std::min(static_cast<std::size_t>(pl.station / per_span_), span_reach_.size() - 1);
+    may_touch = centre - 1.5 * span_reach_[span] - pl.margin <= kTouchSlack * length;
+  }
+  if (!may_touch) return false;
+  residual_.resize(n);
+  double closest = std::numeric_limits<double>::infinity();
+  for (std::size_t p = 0; p < n; ++p) {
+    residual_[p] = gap(sweep, planes_[p], colliders[planes_[p].collider]);
+    closest = std::min(closest, residual_[p]);
+  }
+  if (closest > kTouchSlack * length) return false;
 
   // The contact rows along each plane's normal, on the pose the springs reached, and their
   // couplings: the linear model the solves below use.
@@ -295,12 +326,11 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   sweep.row_couplings(rows_, jp_, jr_, modal_, by_mass_, by_compliance_);
 
   // Move the ends back onto their planes; the true curve is re-measured after each solve.
-  residual_.resize(n);
   total_.assign(n, 0.0);
   for (int round = 0; round < kRounds; ++round) {
     double worst = 0;
     for (std::size_t p = 0; p < n; ++p) {
-      residual_[p] = gap(sweep, planes_[p], colliders[planes_[p].collider]);
+      if (round > 0) residual_[p] = gap(sweep, planes_[p], colliders[planes_[p].collider]);
       worst = std::min(worst, residual_[p]);
     }
     if (worst >= -kGapTolerance * length) break;

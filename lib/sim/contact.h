@@ -109,6 +109,7 @@ class ContactSolver {
   SupportScratch support_;
   Eigen::MatrixXd jp_, jr_, modal_;  // the rows' J (positional, rotational) and Φᵀ Jᵀ, one column each
   std::vector<char> evaluated_;       // whether start_/end_ hold station s this step
+  std::vector<double> span_reach_;    // each span's largest radius over the step
   ElasticSweep::ContactRow slide_row_;
 };
 
