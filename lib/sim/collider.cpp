@@ -38,8 +38,11 @@ Collider Collider::capsule(const Vec3& a, const Vec3& b, double radius) {
   Collider c;
   c.shape = ColliderShape::capsule;
   c.pose.center = 0.5 * (a + b);
-  if (b != a) c.pose.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), b - a);
-  c.half_length = 0.5 * (b - a).norm();
+  // Ends a rounding apart make a sphere: FromTwoVectors would square a vanishing length.
+  if ((b - a).norm() > 1e-12 * std::max({1.0, a.norm(), b.norm()})) {
+    c.pose.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), b - a);
+    c.half_length = 0.5 * (b - a).norm();
+  }
   c.radius = radius;
   return c;
 }
@@ -56,7 +59,8 @@ Collider Collider::plane(const Vec3& point, const Vec3& normal) {
   Collider c;
   c.shape = ColliderShape::plane;
   c.pose.center = point;
-  if (normal.norm() > 0) c.pose.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), normal);
+  // No normal, no plane: a zero rotation, which check() refuses.
+  c.pose.rotation = normal.norm() > 0 ? Quat::FromTwoVectors(Vec3::UnitZ(), normal) : Quat(0, 0, 0, 0);
   return c;
 }
 
@@ -105,6 +109,8 @@ double Collider::bounding_radius() const {
 
 std::string Collider::check() const {
   if (!is_finite(pose.center) || !is_finite(pose.rotation.coeffs())) return "its place is not finite";
+  if (std::abs(pose.rotation.norm() - 1) > 1e-9)
+    return shape == ColliderShape::plane ? "its normal must not be zero" : "its rotation must be a unit quaternion";
   if (!(margin >= 0) || !std::isfinite(margin)) return "its margin must be a finite number ≥ 0";
   if (!(friction >= 0) || !std::isfinite(friction)) return "its friction must be a finite number ≥ 0";
   switch (shape) {

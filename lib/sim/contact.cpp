@@ -21,6 +21,8 @@ constexpr double kGapTolerance = 1e-7;
 // A contact whose gap is within this (× the length) after the pushes is touching: its approach
 // speed is taken out even if this step's motion did not push it.
 constexpr double kTouchSlack = 1e-7;
+// Pieces of a step shorter than this (s) move nothing worth a speed: no collider speed, no friction.
+constexpr double kShortestPiece = 1e-9;
 
 // The point of segment [a, b] nearest the convex collider (its signed distance is convex along
 // the segment: golden-section search to a 1e-9 of the segment).
@@ -131,7 +133,7 @@ std::vector<std::string> rest_pose_overlaps(const Rig& rig, const std::vector<Co
       std::ostringstream msg;
       msg << "collider \"" << c.name << "\" (a " << shape_name(c.shape) << ") cuts sweep \"" << def.name
           << "\" in its rest pose, " << -cl.gap << " deep at " << cl.t / def.rest.length()
-          << " of its length (margin included): the part is pushed out on its first step";
+          << " of its length (margin included): the part is pushed out when it is first stepped";
       out.push_back(msg.str());
     }
   }
@@ -168,9 +170,14 @@ bool ContactSolver::may_reach(const SweepShape& shape, std::span<const PlacedCol
                               std::span<const PlacedCollider> to) const {
   Bound b = bound(shape);
   for (std::size_t c = 0; c < from.size() && c < to.size(); ++c) {
-    // Grown by how far the collider's own origin travels: it may pass the part in between.
+    // Grown by how far any of its points may travel: its origin's move, and its turn (an angle)
+    // times its size (a plane: times how far the part is from its point).
     Bound swept = b;
-    swept.radius += (to[c].to_mesh.center - from[c].to_mesh.center).norm();
+    const double turn = from[c].to_mesh.rotation.angularDistance(to[c].to_mesh.rotation);
+    const double size = std::isfinite(from[c].collider->bounding_radius())
+                            ? from[c].collider->bounding_radius()
+                            : (b.centre - from[c].to_mesh.center).norm() + b.radius;
+    swept.radius += (to[c].to_mesh.center - from[c].to_mesh.center).norm() + turn * size;
     if (near(swept, from[c]) || near(swept, to[c])) return true;
   }
   return false;
@@ -184,6 +191,16 @@ void ContactSolver::begin_step(const ElasticSweep& sweep, std::span<const Placed
   std::copy(shape.radii.begin(), shape.radii.end(), start_shape_.radii.begin());
   start_pose_.resize(colliders.size());
   for (std::size_t c = 0; c < colliders.size(); ++c) start_pose_[c] = colliders[c].to_mesh;
+}
+
+Vec3 ContactSolver::collider_velocity(std::size_t c, const PlacedCollider& placed, const Vec3& here, double dt) const {
+  // Where the collider's point now at `here` was at the step's start. Equal poses (a collider the
+  // body carries, a body at rest) are exactly still; and over a sliver of a step (a switching time
+  // a hair off the step grid) a rounding of `here` over dt would be a speed of nothing real.
+  const Frame& before = start_pose_[c];
+  if (dt < kShortestPiece || (before.center == placed.to_mesh.center && before.rotation.coeffs() == placed.to_mesh.rotation.coeffs()))
+    return Vec3::Zero();
+  return (here - before.to_world(placed.to_mesh.to_local(here))) / dt;
 }
 
 double ContactSolver::gap(const ElasticSweep& sweep, const Plane& plane, const PlacedCollider& placed) {
@@ -331,7 +348,10 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     double worst = 0;
     for (std::size_t p = 0; p < n; ++p) {
       if (round > 0) residual_[p] = gap(sweep, planes_[p], colliders[planes_[p].collider]);
-      worst = std::min(worst, residual_[p]);
+      // A point no spring can move (the root, and in material mode the first span, which only the
+      // stiff stretch and shear springs carry) cannot be pushed: it is not waited for.
+      const Eigen::Index i = static_cast<Eigen::Index>(p);
+      if (by_compliance_(i, i) > 0) worst = std::min(worst, residual_[p]);
     }
     if (worst >= -kGapTolerance * length) break;
     solve(by_compliance_, residual_, total_, amount_);
@@ -352,30 +372,40 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     if (!touches) continue;
     // The collider's own speed there, relative to the body (a world collider on a moving body).
     const Vec3 here = center_at(sweep.deformed(), stations_[planes_[p].station]);
-    const Vec3 was = start_pose_[planes_[p].collider].to_world(placed.to_mesh.to_local(here));
     const Vec3 normal = placed.to_mesh.rotation * planes_[p].normal;
-    residual_[p] = sweep.row_speed(rows_[p]) - normal.dot(here - was) / dt;
+    residual_[p] = sweep.row_speed(rows_[p]) - normal.dot(collider_velocity(planes_[p].collider, placed, here, dt));
   }
   if (!touching) return false;
   // A contact the step pushed back is held on its plane for the step (its speed along the normal
   // made zero, a pull allowed): the push already took it out, and letting the velocity solve
   // leave it a speed off the plane sets a resting part jittering. One only resting there is
   // free to leave.
+  // The normal impulse each contact's move gave it (its point's speed change Δq/dt along the
+  // normal over its mobility): most of what holds a resting part up, and what its friction may use.
+  moved_.assign(n, 0.0);
+  if (dt >= kShortestPiece) {
+    for (std::size_t p = 0; p < n; ++p) {
+      const Eigen::Index i = static_cast<Eigen::Index>(p);
+      double shift = 0;  // the point's move along its normal, J C Jᵀ total
+      for (std::size_t q = 0; q < n; ++q) shift += by_compliance_(i, static_cast<Eigen::Index>(q)) * total_[q];
+      if (by_mass_(i, i) > 0) moved_[p] = std::max(shift / dt / by_mass_(i, i), 0.0);
+    }
+  }
   for (std::size_t p = 0; p < n; ++p) total_[p] = total_[p] > 0 ? std::numeric_limits<double>::infinity() : 0.0;
   solve(by_mass_, residual_, total_, amount_);
   sweep.apply_rows(rows_, amount_, true);
 
-  // Sliding speeds, each contact on its own, up to μ times its impulse: each kick only slows its
-  // own point, so it can only take energy out.
+  // Sliding speeds, each contact on its own, up to μ times its normal impulse (the move's and the
+  // approach's): each kick only slows its own point, so it can only take energy out.
   for (std::size_t p = 0; p < n; ++p) {
     const PlacedCollider& placed = colliders[planes_[p].collider];
     const double mu = placed.collider->friction;
-    if (!(amount_[p] > 0) || !(mu > 0)) continue;
+    const double pressed = amount_[p] + moved_[p];
+    if (!(pressed > 0) || !(mu > 0) || dt < kShortestPiece) continue;
     const double t = stations_[planes_[p].station];
     const Vec3 normal = placed.to_mesh.rotation * planes_[p].normal;
     const Vec3 here = center_at(sweep.deformed(), t);
-    const Vec3 collider_velocity = (here - start_pose_[planes_[p].collider].to_world(placed.to_mesh.to_local(here))) / dt;
-    Vec3 v = -collider_velocity;
+    Vec3 v = -collider_velocity(planes_[p].collider, placed, here, dt);
     for (int c = 0; c < 3; ++c) {
       sweep.contact_row(t, Vec3::Unit(c), slide_row_, false);
       v[c] += sweep.row_speed(slide_row_);
@@ -386,7 +416,7 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     sweep.contact_row(t, -slide / speed, slide_row_);
     const double mobility = sweep.row_coupling(slide_row_, slide_row_, true);
     if (!(mobility > 0)) continue;
-    const double impulse = std::min(speed / mobility, mu * amount_[p]);
+    const double impulse = std::min(speed / mobility, mu * pressed);
     sweep.apply_rows({&slide_row_, 1}, {&impulse, 1}, true);
   }
   return true;

@@ -24,7 +24,8 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
                                      "\", a " + shape_name(scene.colliders[c].shape) + "): " + wrong);
     }
   }
-  if (scene.contact_stations < 1) fail(ErrorCategory::usage, "Scene::contact_stations must be at least 1");
+  if (scene.contact_stations < 1 || scene.contact_stations > 64)
+    fail(ErrorCategory::usage, "Scene::contact_stations must be between 1 and 64");
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
     sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def),
@@ -190,6 +191,9 @@ bool Simulator::collider_comes(int i, double from, double to) const {
   std::vector<PlacedCollider> a, b;
   place_colliders(from, a);
   place_colliders(to, b);
+  // Only the world's colliders come nearer: one the body carries stays where it is beside the part.
+  std::erase_if(a, [](const PlacedCollider& p) { return p.collider->carried; });
+  std::erase_if(b, [](const PlacedCollider& p) { return p.collider->carried; });
   return sweeps_[i].contact.may_reach(sweeps_[i].body.deformed(), a, b);
 }
 

@@ -86,6 +86,12 @@ TEST(Collider, DistancesMatchTheirClosedForms) {
   EXPECT_NE(Collider::sphere(Vec3::Zero(), 0).check(), "");
   EXPECT_NE(Collider::box(Vec3::Zero(), Vec3(1, 0, 1)).check(), "");
   EXPECT_EQ(Collider::capsule(Vec3::Zero(), Vec3(0, 1, 0), 0.1).check(), "");
+  EXPECT_EQ(Collider::plane(Vec3::Zero(), Vec3::Zero()).check(), "its normal must not be zero");
+  // Ends a rounding apart: a sphere, not a capsule along a direction that squared to nothing.
+  const Collider dot = Collider::capsule(Vec3(1, 2, 3), Vec3(1, 2, 3 + 1e-200), 0.5);
+  EXPECT_EQ(dot.check(), "");
+  EXPECT_EQ(dot.half_length, 0.0);
+  EXPECT_NEAR(dot.local_distance(dot.pose.to_local(Vec3(1, 2, 5)), &out), 1.5, 1e-12);
 }
 
 // The rubber tube (3.1 m, 31 units) kicked sideways at its tip at `fps`; returns the deepest the
@@ -93,7 +99,6 @@ TEST(Collider, DistancesMatchTheirClosedForms) {
 struct Swing {
   double deepest = 0;
   double far_side = -1e300;  // the largest local x of the surface in the plate's frame
-  double fastest_step = 0;   // the tip's largest move in one internal step (units)
 };
 Swing swing_into(const Rig& rig, const std::vector<Collider>& colliders, double fps, double duration) {
   Scene scene;
@@ -103,16 +108,9 @@ Swing swing_into(const Rig& rig, const std::vector<Collider>& colliders, double 
   scene.colliders = colliders;
   Simulator sim(rig, scene);
   Swing out;
-  const double h = scene.step_seconds();
-  Vec3 last_tip = sim.sweep(0).deformed().frames.back().center;
-  double last_time = 0;
   for (int k = 1; k < scene.frame_count(); ++k) {
     sim.advance_frame();
     const SweepShape& shape = sim.sweep(0).deformed();
-    const Vec3 tip = shape.frames.back().center;
-    out.fastest_step = std::max(out.fastest_step, (tip - last_tip).norm() * h / (sim.time() - last_time));
-    last_tip = tip;
-    last_time = sim.time();
     for (const Collider& c : colliders) {
       out.deepest = std::max(out.deepest, penetration(shape, c));
       out.far_side = std::max(out.far_side, farthest(shape, c, 0));
@@ -129,19 +127,25 @@ TEST(Contact, AFastSwingNeverEndsAFrameThroughAThinPlate) {
   const Collider plate = Collider::box(Vec3(1.5 * test::beam::kRadius + 0.01, 0, 0.75 * length),
                                        Vec3(0.01, 5, 0.25 * length + 1));
   // Without it the tube swings far past where the plate is, moving many plate thicknesses a step.
+  // A frame a step (480 fps): the tip's largest move in one step.
   Scene probe;
   probe.duration = 0.25;
+  probe.fps = 1 / Scene::kDefaultStep;
   probe.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
   Simulator sim(rig, probe);
-  double reach = 0;
+  double reach = 0, fastest_step = 0;
+  Vec3 last = sim.sweep(0).deformed().frames.back().center;
   for (int k = 1; k < probe.frame_count(); ++k) {
     sim.advance_frame();
-    reach = std::max(reach, sim.sweep(0).deformed().frames.back().center.x());
+    const Vec3 tip = sim.sweep(0).deformed().frames.back().center;
+    reach = std::max(reach, tip.x());
+    fastest_step = std::max(fastest_step, (tip - last).norm());
+    last = tip;
   }
   ASSERT_GT(reach, 4 * test::beam::kRadius) << "the kick must send the tube well past the plate";
+  ASSERT_GT(fastest_step, 10 * 0.02) << "the tip must outrun the plate: ten thicknesses a step";
   for (const double fps : {24.0, 144.0}) {
     const Swing hit = swing_into(rig, {plate}, fps, 0.25);
-    EXPECT_GT(hit.fastest_step, 10 * 0.02) << fps << " fps: the test needs a part that outruns the plate";
     EXPECT_LE(hit.deepest, 1e-3 * length) << fps << " fps";
     EXPECT_LT(hit.far_side, -0.01 + 1e-3 * length) << fps << " fps: the surface got past the plate's near face";
   }
@@ -281,33 +285,73 @@ TEST(Contact, ContactsNeverAddEnergy) {
 TEST(Contact, TheSameMotionAtEveryFrameRate) {
   // Contacts are resolved on the internal clock: frames at a shared time are the same bits.
   const Rig rig = rubber_tube(0.02);
-  std::vector<std::vector<double>> at_one_second;
-  for (const double fps : {24.0, 30.0, 60.0, 144.0}) {
+  const auto pose_at_one_second = [&](double fps, bool with_box) {
     Scene scene;
     scene.duration = 1;
     scene.fps = fps;
     scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
-    scene.colliders = {Collider::box(Vec3(1.3, 0, 25), Vec3(0.05, 4, 4))};
+    if (with_box) scene.colliders = {Collider::box(Vec3(1.3, 0, 25), Vec3(0.05, 4, 4))};
     Simulator sim(rig, scene);
     for (int k = 1; k < scene.frame_count(); ++k) sim.advance_frame();
     std::vector<double> pose;
     for (const Frame& f : sim.sweep(0).deformed().frames) pose.insert(pose.end(), f.center.data(), f.center.data() + 3);
-    at_one_second.push_back(pose);
-  }
-  for (std::size_t r = 1; r < at_one_second.size(); ++r) EXPECT_EQ(at_one_second[r], at_one_second[0]) << r;
+    return pose;
+  };
+  const std::vector<double> at24 = pose_at_one_second(24, true);
+  ASSERT_NE(at24, pose_at_one_second(24, false)) << "the box must change the motion (the test must touch)";
+  for (const double fps : {30.0, 60.0, 144.0}) EXPECT_EQ(pose_at_one_second(fps, true), at24) << fps << " fps";
+}
+
+TEST(Contact, FrictionDragsAPartTheBodyPullsOverTheGround) {
+  // A tube held out level lies on a world floor while the body glides along +x at constant
+  // velocity (no inertial load). Without friction the floor only holds it up; with friction it drags
+  // the part back (−x).
+  Rig rig;
+  rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2, 12));
+  rig.sweeps[0].name = "tube";
+  for (Material& m : rig.sweeps[0].section_materials) m.youngs_modulus = 2e8;
+  rig.sweeps[0].material->youngs_modulus = 2e8;
+  const auto lag = [&](double mu) {
+    Scene scene;
+    scene.duration = 2;
+    scene.fps = 30;
+    scene.gravity = Vec3(0, -9.81, 0);
+    scene.gravity_preloaded = false;
+    scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()}, {10, Vec3(10, 0, 0), Quat::Identity()}},
+                          BodyInterpolation::linear);
+    Collider floor = Collider::plane(Vec3(0, -test::beam::kRadius - 0.3, 0), Vec3(0, 1, 0));
+    floor.friction = mu;
+    scene.colliders = {floor};
+    Simulator sim(rig, scene);
+    double most = 0;
+    for (int k = 1; k < scene.frame_count(); ++k) {
+      sim.advance_frame();
+      most = std::max(most, -sim.sweep(0).deformed().frames.back().center.x());
+    }
+    return most;
+  };
+  EXPECT_LT(lag(0), 1e-6 * 31) << "no friction, no drag";
+  for (const double mu : {0.3, 1.0}) EXPECT_GT(lag(mu), 0.01) << "friction " << mu << " drags the tip back";
 }
 
 TEST(Contact, CollidersOutOfReachChangeNothing) {
-  // Far from the part (the broad phase's business), or carried by a body: the same bits as none.
+  // Far from the part, or beside it but out of its way (the broad phase's business), carried by the
+  // body or not: the same bits as none.
   const Rig rig = rubber_tube(0.02);
   Scene scene;
   scene.duration = 0.5;
   scene.fps = 30;
   scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
+  scene.forces[0].spec.vector = Vec3(4, 0, 0);  // a swing of about 2 units at the tip, in x
   Simulator plain(rig, scene);
-  scene.colliders = {Collider::sphere(Vec3(100, 0, 0), 1), Collider::plane(Vec3(0, -50, 0), Vec3(0, 1, 0)),
-                     Collider::capsule(Vec3(-20, 0, 0), Vec3(-20, 0, 30), 2)};
-  Simulator far(rig, scene);
+  Scene others = scene;  // (a simulator keeps a reference to its scene)
+  Collider riding = Collider::capsule(Vec3(-20, 0, 0), Vec3(-20, 0, 30), 2);
+  riding.carried = true;
+  // The last ball is inside the part's bounding sphere, beside it in y: only the span and chord
+  // culls keep it out.
+  others.colliders = {Collider::sphere(Vec3(100, 0, 0), 1), Collider::plane(Vec3(0, -50, 0), Vec3(0, 1, 0)), riding,
+                      Collider::sphere(Vec3(0, 3, 20), 0.5)};
+  Simulator far(rig, others);
   for (int k = 1; k < scene.frame_count(); ++k) {
     plain.advance_frame();
     far.advance_frame();

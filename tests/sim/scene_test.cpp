@@ -83,8 +83,8 @@ TEST(Scene, BadCollidersAreRefusedWithWhereAndWhy) {
   EXPECT_NE(refusal(R"([{"shape": "box", "center": [0, 0, 0], "half_size": [1, 0, 1]}])").find("/colliders/0/half_size: every half size must be positive"), std::string::npos);
   EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "from": [0, 0, 0]}])").find("/colliders/0/from: is not a member of a sphere collider"), std::string::npos);
   EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "attached": "leg"}])").find("/colliders/0/attached: must be \"world\""), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "friction": -1}])").find("/colliders/0/friction"), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "capsule", "from": [0, 0, 0], "radius": 1}])").find("/colliders/0: "), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "friction": -1}])").find("/colliders/0/friction: must be between 0 and 100"), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "capsule", "from": [0, 0, 0], "radius": 1}])").find("/colliders/0: missing required member \"to\""), std::string::npos);
   EXPECT_NE(refusal(R"({"shape": "plane"})").find("/colliders: "), std::string::npos);
   EXPECT_EQ(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1}])"), "");
 }

@@ -227,8 +227,8 @@ int main(int argc, char** argv) {
   }
 
   // ---- colliders (issue 16): 0, 4 and 16 near the walking diplodocus, and a tail on the ground --
-  // The walking material frame above with the demo's ground and four leg capsules (none touched:
-  // the broad phase's cost), then 12 more spheres around the body, then a floor raised into the
+  // The walking material frame above with the demo's ground and three leg capsules (none touched:
+  // the broad phase's cost), then the fourth leg and 11 spheres around the body (16), then a floor raised into the
   // tail's way so that it lies on it (the contact solver's cost). Same rounds, same run.
   {
     const RealRig material = in_material(diplodocus_rig());

@@ -213,7 +213,7 @@ measured in alternating rounds. The last row (issue 13) runs the same material f
 and turns all the way (a cubic path) in a gusty wind: inertia and drag against the still body's frame.
 The "collider" rows (issue 16) run that walking material frame (without the wind) with the
 demo's ground plane and leg capsules (rigs/diplodocus-walk.scene.json): first the ground and three
-legs, then 16 colliders (12 more spheres about the body), none of which the parts touch — what the
+legs, then 16 colliders (the fourth leg and 11 spheres about the body), none of which the parts touch — what the
 broad phase costs: a part's bounding sphere against each collider, then each span near one, then
 each chord near one, with the tail passing within a radius and a half of a hind leg for much of
 the walk —; then a floor raised into the tail's way, so that the tail lies on it while the body
