@@ -35,78 +35,7 @@ constexpr double kLeakRadii = 2;
 constexpr int kErrorStationsPerSpan = 4;
 constexpr int kErrorAnglesPerSample = 2;
 
-// Position, tangent and RMF frame on the axis polyline at arc length t.
-struct AxisSample {
-  Vec3 point;
-  Vec3 tangent;
-  double radius;
-};
-
-AxisSample sample_axis(const AxisTrace& axis, const std::vector<double>& s, double t) {
-  const std::size_t m = axis.points.size();
-  std::size_t k = static_cast<std::size_t>(std::upper_bound(s.begin(), s.end(), t) - s.begin());
-  k = std::clamp<std::size_t>(k, 1, m - 1) - 1;  // segment k → k+1
-  const double span = s[k + 1] - s[k];
-  const double u = span > 0 ? std::clamp((t - s[k]) / span, 0.0, 1.0) : 0.0;
-  return {(1 - u) * axis.points[k] + u * axis.points[k + 1],
-          ((1 - u) * axis.tangents[k] + u * axis.tangents[k + 1]).normalized(),
-          (1 - u) * axis.radii[k] + u * axis.radii[k + 1]};
-}
-
 }  // namespace
-
-SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int sections, int radial,
-                          std::vector<StarViolation>* violations,
-                          std::vector<std::string>* warnings) {
-  const std::vector<double> s = arc_lengths(axis.points);
-  const double length = s.back();
-  const std::vector<Quat> rmf = rotation_minimizing_frames(axis.points, axis.tangents);
-
-  SweepShape shape;
-  shape.radial_count = radial;
-  shape.t.resize(static_cast<std::size_t>(sections));
-  shape.frames.resize(static_cast<std::size_t>(sections));
-  shape.radii.resize(static_cast<std::size_t>(sections) * radial);
-  for (int i = 0; i < sections; ++i) {
-    const double t = i == sections - 1 ? length : length * i / (sections - 1);
-    const AxisSample a = sample_axis(axis, s, t);
-    // Carry the frame of the axis point at or before t to t by one double-reflection step.
-    const std::size_t k = static_cast<std::size_t>(
-        std::max<std::ptrdiff_t>(0, std::upper_bound(s.begin(), s.end(), t) - s.begin() - 1));
-    const Vec3 x_k = rmf[k] * Vec3::UnitX();
-    const Quat q = rotation_minimizing_frames({axis.points[k], a.point},
-                                              {axis.tangents[k], a.tangent}, x_k)[1];
-    Frame frame{q, a.point};
-    shape.t[static_cast<std::size_t>(i)] = t;
-    shape.frames[static_cast<std::size_t>(i)] = frame;
-
-    const double reach = std::max(a.radius, 1e-9 * std::max(length, 1.0));
-    const std::optional<Loop> loop =
-        loop_around(slicer.slice(a.point, a.tangent), a.point, a.tangent, reach);
-    double* out = shape.radii.data() + static_cast<std::size_t>(i) * radial;
-    if (!loop) {
-      // Only possible where the section plane, turned to the interpolated tangent, slips off a
-      // tiny end cap: keep a circle of the traced radius.
-      std::fill(out, out + radial, reach);
-      if (warnings) {
-        warnings->push_back("section " + std::to_string(i) + ": no slice loop around its centre " +
-                            format_point(a.point) + "; used a circle of the traced radius");
-      }
-      continue;
-    }
-    const RaySamples rays = sample_radii(frame, loop->points, radial);
-    std::copy(rays.radii.begin(), rays.radii.end(), out);
-    if ((rays.multi_crossing_rays > 0 || rays.missed_rays > 0) && violations) {
-      violations->push_back({i, rays.multi_crossing_rays, rays.missed_rays});
-    }
-    if (loop->was_open && warnings) {
-      warnings->push_back(
-          "section " + std::to_string(i) +
-          ": the slice is an open polyline (a hole in the mesh), closed by its gap");
-    }
-  }
-  return shape;
-}
 
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
                            const std::vector<std::uint32_t>& vertices) {
@@ -452,9 +381,10 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   cut.points.assign(r.axis.points.begin() + first, r.axis.points.begin() + last);
   cut.tangents.assign(r.axis.tangents.begin() + first, r.axis.tangents.begin() + last);
   cut.radii.assign(r.axis.radii.begin() + first, r.axis.radii.begin() + last);
-  for (double& x : cut.radii) {  // a missing slice keeps the local ring's size for the fallback
-    if (!(x > 0)) x = ring(0).radius;
-  }
+  // A missing slice (0) takes its neighbours' size (sections_along); with none at all, the tip
+  // ring's size serves the fallback circles.
+  if (std::none_of(cut.radii.begin(), cut.radii.end(), [](double x) { return x > 0; }))
+    std::fill(cut.radii.begin(), cut.radii.end(), ring(0).radius);
   if (!(arc_lengths(cut.points).back() > 0)) {
     fail(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
                                        " is too short to cut two key sections");
@@ -471,6 +401,8 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     r.length = r.sweep.rest.length();
     r.part_vertices = select_part(mesh, topo, r.sweep.rest.frames[0],
                                   root_disc_radius(r.sweep.rest), mesh.positions[r.tip_vertex]);
+    // The radii that best match the part's vertices (the slices run through facets' chords).
+    fit_radii(r.sweep.rest, mesh, r.part_vertices);
     if (o.measure_error || o.tolerance > 0) {
       r.error = measure_fit_error(r.sweep.rest, mesh, r.part_vertices);
     }

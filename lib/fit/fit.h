@@ -159,12 +159,21 @@ class SweepFitter {
 
 FitResult fit_sweep(const Mesh& mesh, const FitOptions& options);
 
-// The K-section, n-radius sweep along an axis: sections evenly spaced in arc length, frames
-// rotation-minimizing from the axis start, radii by rays (sample_radii). Star-shape violations
-// and warnings are appended when the pointers are given.
+// The K-section, n-radius sweep along an axis (sections.cpp): sections evenly spaced in arc
+// length, frames rotation-minimizing from the axis start, radii by rays (sample_radii). A section
+// whose plane also cuts another surface (its loop over 1.5 local radii) is moved along the axis
+// within 3/8 of the spacing, an end section inwards by up to a quarter of the length, to a plane
+// that cuts the part alone; failing that, an interior section's radii are interpolated from its
+// neighbours. Star-shape violations and warnings are appended when the pointers are given.
 SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int sections, int radial,
                           std::vector<StarViolation>* violations = nullptr,
                           std::vector<std::string>* warnings = nullptr);
+
+// Fits the radius samples of `shape` to the given part vertices by least squares (radii_fit.cpp):
+// the radius r(θ, t) the samples give against each vertex's distance from the axis, with a
+// small pull to the current (slice) radii and a second, robust pass. Centres and frames are kept.
+// Returns the number of vertices used (0: nothing changed).
+int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32_t>& vertices);
 
 // Distances between the given part vertices and the sweep's surface, both ways (see FitError).
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,

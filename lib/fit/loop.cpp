@@ -115,6 +115,7 @@ std::optional<Loop> loop_around(const std::vector<SlicePolyline>& slice, const V
   Loop loop;
   loop.points = slice[*pick].points;
   loop.was_open = !slice[*pick].closed;
+  loop.around = best_inside.has_value();
   measure_loop(basis, loop);
   return loop;
 }

@@ -31,6 +31,7 @@ struct Loop {
   double area = 0;               // unsigned area, mesh units²
   double radius = 0;             // equivalent radius sqrt(area/π), mesh units
   bool was_open = false;         // the slice was an open polyline (a hole in the mesh) closed here
+  bool around = true;            // its polygon contains the point it was picked for (loop_around)
 };
 
 // The loop of `slice` around `point` (a plane point of the slice): among loops whose polygon

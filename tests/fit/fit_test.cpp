@@ -12,6 +12,9 @@
 #include "assets/mesh_io.h"
 #include "core/error.h"
 #include "core/topology.h"
+#include "curve_tubes.h"
+#include "fit/slicer.h"
+#include "fit/trace.h"
 #include "tubes.h"
 
 namespace sweep::fit {
@@ -340,6 +343,79 @@ TEST(OtherMeshes, TriceratopsTailTapers) {
   const double tip_mean = std::accumulate(radii.end() - n, radii.end(), 0.0) / n;
   EXPECT_LT(tip_mean, 0.5 * root_mean);
   for (const std::uint32_t v : r.part_vertices) EXPECT_LT(mesh.positions[v].x(), -5.5);
+}
+
+// A coarse mesh (8 vertices round, as on the thin tails of CGAL's camel and cow): a plane slice runs
+// through the facets' chords, inside the vertices, so radii read off slices leave the vertices
+// outside the surface. The radii fitted to the vertices (fit_radii) must bring them onto it without
+// taking the surface far off the facets (the other direction of the error), and change nothing else.
+TEST(TubeFit, CoarseFacetsAreFittedAtTheirVertices) {
+  test::Tube tube;
+  tube.segments = 8;
+  tube.rings = 11;  // a radius apart
+  tube.bend = 0.7;
+  const Mesh mesh = tube.mesh();
+  const MeshSlicer slicer(mesh);
+  // The exact axis, short of the end fans; sections cut by slices, then their radii fitted.
+  std::vector<Vec3> polyline;
+  for (double x = 0.1; x <= 0.9 + 1e-9; x += 0.02) polyline.push_back(tube.axis(x));
+  const SweepShape slices_only = sections_along(slicer, axis_from_polyline(slicer, polyline), 24, 24);
+  SweepShape fitted = slices_only;
+  std::vector<std::uint32_t> all(mesh.vertex_count());
+  std::iota(all.begin(), all.end(), 0u);
+  const int used = fit_radii(fitted, mesh, all);
+  EXPECT_GT(used, static_cast<int>(mesh.vertex_count() / 2));
+  ASSERT_EQ(check_shape(fitted), "");
+  const FitError before = measure_fit_error(slices_only, mesh, all);
+  const FitError after = measure_fit_error(fitted, mesh, all);
+  std::printf("8-gon tube: vertices to surface rms %.2f%% -> %.2f%% of r; surface to mesh rms %.2f%% -> %.2f%%\n",
+              100 * before.rms / tube.radius, 100 * after.rms / tube.radius,
+              100 * before.surface_rms / tube.radius, 100 * after.surface_rms / tube.radius);
+  EXPECT_LT(after.rms, before.rms / 4);
+  EXPECT_LT(after.rms, 0.001 * tube.radius);
+  // A smooth surface through the vertices bulges past the flat facets between them (the circle
+  // through an 8-gon's corners is 5.5% of r from its sides, RMS, 7.6% at most): the fit trades
+  // some of that for the vertices, but must stay well inside the circle's bulge.
+  const double circle_rms = 0.0555 * tube.radius;
+  EXPECT_LT(after.surface_rms, 0.5 * circle_rms);
+  // Only the radii change.
+  EXPECT_EQ(fitted.t, slices_only.t);
+  for (int i = 0; i < fitted.section_count(); ++i) {
+    EXPECT_EQ(fitted.frames[static_cast<std::size_t>(i)].center, slices_only.frames[static_cast<std::size_t>(i)].center);
+  }
+}
+
+// A section whose plane also cuts the body: the axis of a tube given from inside the body it
+// leaves (radius 4r there, the tube's r beyond). Section 0 moves inwards to where its plane cuts
+// the tube alone, and no section takes in the body.
+TEST(Sections, AnEndPlaneCuttingTheBodyMovesInwardsToTheTube) {
+  constexpr double r = 0.1, body = 10 * r, tube_length = 12 * r;
+  test::CurveTube t;
+  t.curve = [=](double u) { return Vec3(0, 0, u * (body + tube_length)); };
+  t.radius = test::with_body(4 * r, body, [=](double) { return r; });
+  t.resample();
+  const Mesh mesh = t.mesh();
+  const MeshSlicer slicer(mesh);
+  AxisTrace axis;
+  for (double z = 0.6 * body; z <= body + tube_length - r; z += 0.25 * r) {
+    axis.points.push_back(Vec3(0, 0, z));
+    axis.tangents.push_back(Vec3::UnitZ());
+    axis.radii.push_back(r);  // the tube's, as the rings would measure it
+  }
+  std::vector<std::string> warnings;
+  const SweepShape shape = sections_along(slicer, axis, 24, 24, nullptr, &warnings);
+  ASSERT_EQ(check_shape(shape), "");
+  const double start = shape.frames[0].center.z();
+  // Where the body's radius has come down to 1.5r (the bar a section's loop may reach).
+  double bar = 0.6 * body;
+  while (t.radius(bar) > 1.5 * r) bar += 1e-3 * r;
+  EXPECT_GE(start, bar - 0.3 * r);
+  EXPECT_LE(start, bar + 0.3 * (tube_length / 23));  // the first good plane, a quarter step on
+  for (int i = 0; i < shape.section_count(); ++i) {
+    for (int j = 0; j < shape.radial_count; ++j) EXPECT_LE(shape.radius_sample(i, j), 1.5 * r) << i;
+  }
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].find("section 0 moved"), std::string::npos) << warnings[0];
 }
 
 }  // namespace
