@@ -12,7 +12,7 @@ foreach(module IN LISTS SWEEP_RUNTIME_MODULES)
   target_link_libraries(sweep_runtime INTERFACE sweep_${module})
   set_target_properties(sweep_${module} PROPERTIES EXPORT_NAME ${module})
   install(DIRECTORY lib/${module}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sweep/${module}
-          FILES_MATCHING PATTERN "*.h")
+          FILES_MATCHING PATTERN "*.h" PATTERN "*_detail.h" EXCLUDE)
 endforeach()
 add_library(sweep::runtime ALIAS sweep_runtime)
 

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/frame.h"
 #include "core/hash.h"
+#include "core/locate.h"
 #include "core/topology.h"
 
 namespace sweep::bind {

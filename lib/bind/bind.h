@@ -27,7 +27,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/locate.h"
+#include "core/deform_point.h"
 #include "core/mesh.h"
 #include "core/rig.h"
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 
+#include "core/deform_point.h"
+
 namespace sweep::bind {
 
 void deform_exact(const Binding& binding, std::span<const SweepShape* const> deformed_per_sweep,

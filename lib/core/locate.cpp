@@ -15,15 +15,8 @@ constexpr int kMaxRefineSteps = 100;
 
 }  // namespace
 
-SweepLocator::SweepLocator(const SweepShape& shape, int stations_per_span) : shape_(shape) {
-  const int k = shape.section_count();
-  for (int s = 0; s + 1 < k; ++s) {
-    for (int q = 0; q < stations_per_span; ++q) {
-      const double t = shape.t[s] + (shape.t[s + 1] - shape.t[s]) * q / stations_per_span;
-      station_t_.push_back(t);
-    }
-  }
-  station_t_.push_back(shape.t.back());
+SweepLocator::SweepLocator(const SweepShape& shape, int stations_per_span)
+    : shape_(shape), station_t_(station_parameters(shape, stations_per_span)) {
   for (double t : station_t_) {
     const Frame f = frame_at(shape, t);
     station_center_.push_back(f.center);
@@ -104,12 +97,6 @@ SweepCoords SweepLocator::locate(const Vec3& v) const {
   const double rho = std::hypot(local.x(), local.y());
   c.s = rho / radius_at(shape_, theta, best_t);
   return c;
-}
-
-Vec3 deform_point(const SweepShape& shape, const SweepCoords& c) {
-  const Frame f = frame_at(shape, c.t);
-  const double r = c.s * radius_at(shape, c.theta, c.t);
-  return f.to_world(Vec3(r * std::cos(c.theta), r * std::sin(c.theta), c.z));
 }
 
 }  // namespace sweep

@@ -1,21 +1,15 @@
 #pragma once
-// Sweep coordinates of a point (DESIGN.md §2.4): the parameter t whose cross-section plane passes
-// through it (the nearest such plane where several do), its angle θ in that plane, the ratio s of
-// its distance from the axis to the surface radius there, and an axial offset z for points beyond
-// the end sections (t is then clamped to 0 or L). Rebuilding with deform_point on the same shape
-// gives the point back; on a deformed shape it follows bending, twisting and radial change.
+// Sweep coordinates of a point (DESIGN.md §2.4; SweepCoords in core/deform_point.h): the parameter
+// t whose cross-section plane passes through it (the nearest such plane where several do), its
+// angle θ in that plane, the ratio s of its distance from the axis to the surface radius there,
+// and an axial offset z for points beyond the end sections (t is then clamped to 0 or L).
+// Rebuilding with deform_point on the same shape gives the point back.
 #include <vector>
 
+#include "core/deform_point.h"
 #include "core/sweep_shape.h"
 
 namespace sweep {
-
-struct SweepCoords {
-  double t = 0;      // arc-length parameter in [0, L]
-  double theta = 0;  // angle in the cross-section plane, [0, 2π), measured from the frame's x axis
-  double s = 0;      // distance from the axis over r(θ, t): 1 on the surface, < 1 inside
-  double z = 0;      // offset along the end section's axis (0 unless t was clamped to an end)
-};
 
 // Finds sweep coordinates for many points against one shape: builds a table of stations once
 // (centre and axis at `stations_per_span` points per span), scans it for sign changes of the
@@ -34,8 +28,5 @@ class SweepLocator {
   std::vector<Vec3> station_center_;
   std::vector<Vec3> station_axis_;
 };
-
-// v' = C(t) + R(t)·(s r(θ,t) cos θ, s r(θ,t) sin θ, z): the exact per-vertex path.
-Vec3 deform_point(const SweepShape& shape, const SweepCoords& c);
 
 }  // namespace sweep

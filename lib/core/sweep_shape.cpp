@@ -10,37 +10,63 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// Cubic Hermite basis on u ∈ [0,1].
-struct Hermite {
-  double h00, h10, h01, h11;
-  explicit Hermite(double u) {
-    const double u2 = u * u, u3 = u2 * u;
-    h00 = 2 * u3 - 3 * u2 + 1;
-    h10 = u3 - 2 * u2 + u;
-    h01 = -2 * u3 + 3 * u2;
-    h11 = u3 - u2;
-  }
-};
-
-int wrap(int j, int n) { return ((j % n) + n) % n; }
-
-// Periodic uniform Catmull-Rom through section i's samples, at angle coordinate a.
-double radius_in_section(const SweepShape& s, int i, const AngleCoord& a) {
-  const int n = s.radial_count;
-  const double p0 = s.radius_sample(i, wrap(a.j - 1, n)), p1 = s.radius_sample(i, a.j);
-  const double p2 = s.radius_sample(i, wrap(a.j + 1, n)), p3 = s.radius_sample(i, wrap(a.j + 2, n));
-  const Hermite b(a.w);
-  return b.h00 * p1 + b.h10 * 0.5 * (p2 - p0) + b.h01 * p2 + b.h11 * 0.5 * (p3 - p1);
-}
-
-double min_sample(const SweepShape& s, int i, const AngleCoord& a) {
-  const int n = s.radial_count;
-  double m = s.radius_sample(i, a.j);
-  for (int d : {-1, 1, 2}) m = std::min(m, s.radius_sample(i, wrap(a.j + d, n)));
-  return m;
+// The periodic Catmull-Rom cell of section i that angle coordinate a falls in.
+CatmullRomCell cell_of(const SweepShape& s, int i, const AngleCoord& a) {
+  return CatmullRomCell(s.section_radii(i), a.j);
 }
 
 }  // namespace
+
+Slerp::Slerp(const Quat& a, const Quat& b) {
+  // Eigen's Quaternion::slerp, its pair-only part: the weight of b is negated there when the dot
+  // product is negative; here b is (the same bits: negation is exact).
+  const double d = a.dot(b);
+  const double abs_d = std::abs(d);
+  linear_ = abs_d >= 1.0 - Eigen::NumTraits<double>::epsilon();
+  if (!linear_) {
+    theta_ = std::acos(abs_d);
+    sin_theta_ = std::sin(theta_);
+  }
+  a_ = a.coeffs();
+  b_ = (d < 0 ? -1.0 : 1.0) * b.coeffs();
+}
+
+Quat Slerp::at(double u) const {
+  Quat q;
+  if (linear_) {
+    q.coeffs() = (1.0 - u) * a_ + u * b_;
+  } else {
+    q.coeffs() = (std::sin((1.0 - u) * theta_) / sin_theta_) * a_ +
+                 (std::sin(u * theta_) / sin_theta_) * b_;
+  }
+  return q;
+}
+
+void Slerp::at_steps(std::span<Quat> out) const {
+  const int steps = static_cast<int>(out.size()) - 1;
+  if (linear_) {
+    for (int q = 0; q <= steps; ++q) {
+      const double u = static_cast<double>(q) / steps;
+      out[q].coeffs() = (1 - u) * a_ + u * b_;
+    }
+    return;
+  }
+  // sin(q·δ), δ = θ/S, by the recurrence, held in the w slots of `out` until the pair of points
+  // that weights by them (q and S − q) is written.
+  const auto sine = [&](int q) -> double& { return out[q].w(); };
+  const double delta = theta_ / steps;
+  const double c2 = 2 * std::cos(delta);
+  sine(0) = 0;
+  sine(1) = std::sin(delta);
+  for (int q = 1; q < steps; ++q) sine(q + 1) = c2 * sine(q) - sine(q - 1);
+  sine(steps) = sin_theta_;  // exact at the end
+  const double inv_sin = 1.0 / sin_theta_;
+  for (int q = 0; 2 * q <= steps; ++q) {
+    const double near = sine(q), far = sine(steps - q);  // sin(qδ), sin((S − q)δ)
+    out[q].coeffs() = (far * inv_sin) * a_ + (near * inv_sin) * b_;
+    out[steps - q].coeffs() = (near * inv_sin) * a_ + (far * inv_sin) * b_;
+  }
+}
 
 double SweepShape::sample_angle(int j) const { return kTwoPi * j / radial_count; }
 
@@ -72,7 +98,7 @@ Vec3 center_at(const SweepShape& shape, double t) {
   const Frame& a = shape.frames[sc.span];
   const Frame& b = shape.frames[sc.span + 1];
   const double h = shape.t[sc.span + 1] - shape.t[sc.span];
-  const Hermite w(sc.u);
+  const HermiteBasis w(sc.u);
   return w.h00 * a.center + w.h10 * h * a.axis() + w.h01 * b.center + w.h11 * h * b.axis();
 }
 
@@ -80,7 +106,8 @@ Quat rotation_at(const SweepShape& shape, double t) {
   const SpanCoord sc = locate_span(shape, t);
   if (sc.u == 0.0) return shape.frames[sc.span].rotation;
   if (sc.u == 1.0) return shape.frames[sc.span + 1].rotation;
-  return shape.frames[sc.span].rotation.slerp(sc.u, shape.frames[sc.span + 1].rotation).normalized();
+  const Slerp arc(shape.frames[sc.span].rotation, shape.frames[sc.span + 1].rotation);
+  return arc.at(sc.u).normalized();
 }
 
 Frame frame_at(const SweepShape& shape, double t) { return {rotation_at(shape, t), center_at(shape, t)}; }
@@ -90,7 +117,8 @@ double radius_at(const SweepShape& shape, double theta, double t) {
   const AngleCoord ac = locate_angle(shape.radial_count, theta);
   const int k = shape.section_count();
   const int i0 = sc.span, i1 = sc.span + 1;
-  const double r0 = radius_in_section(shape, i0, ac), r1 = radius_in_section(shape, i1, ac);
+  const CatmullRomCell c0 = cell_of(shape, i0, ac), c1 = cell_of(shape, i1, ac);
+  const double r0 = c0.at(ac.w), r1 = c1.at(ac.w);
   if (sc.u == 0.0) return r0;  // exact at the key sections (the floor cannot bite on a sample)
   if (sc.u == 1.0) return r1;
   // Finite-difference slopes dr/dt at both ends of the span (one-sided at the end sections),
@@ -98,11 +126,12 @@ double radius_at(const SweepShape& shape, double theta, double t) {
   const double h = shape.t[i1] - shape.t[i0];
   auto slope = [&](int i) {
     const int lo = std::max(i - 1, 0), hi = std::min(i + 1, k - 1);
-    return (radius_in_section(shape, hi, ac) - radius_in_section(shape, lo, ac)) / (shape.t[hi] - shape.t[lo]);
+    const double r_hi = cell_of(shape, hi, ac).at(ac.w), r_lo = cell_of(shape, lo, ac).at(ac.w);
+    return (r_hi - r_lo) / (shape.t[hi] - shape.t[lo]);
   };
-  const Hermite w(sc.u);
+  const HermiteBasis w(sc.u);
   const double r = w.h00 * r0 + w.h10 * h * slope(i0) + w.h01 * r1 + w.h11 * h * slope(i1);
-  const double floor = kMinRadiusFraction * std::min(min_sample(shape, i0, ac), min_sample(shape, i1, ac));
+  const double floor = kMinRadiusFraction * std::min(c0.min_sample(), c1.min_sample());
   return std::max(r, floor);
 }
 
@@ -114,7 +143,7 @@ void radii_at_samples(const SweepShape& shape, double t, std::span<double> out) 
   const int lo1 = std::max(i1 - 1, 0), hi1 = std::min(i1 + 1, k - 1);
   const double h = shape.t[i1] - shape.t[i0];
   const double g0 = h / (shape.t[hi0] - shape.t[lo0]), g1 = h / (shape.t[hi1] - shape.t[lo1]);
-  const Hermite w(sc.u);
+  const HermiteBasis w(sc.u);
   for (int j = 0; j < n; ++j) {
     // At a sample angle the periodic Catmull-Rom in θ is the sample itself; what is left is the
     // Hermite in t with finite-difference slopes, exactly as radius_at does it.
@@ -123,6 +152,18 @@ void radii_at_samples(const SweepShape& shape, double t, std::span<double> out) 
     const double m1 = g1 * (shape.radius_sample(hi1, j) - shape.radius_sample(lo1, j));
     out[j] = w.h00 * r0 + w.h10 * m0 + w.h01 * r1 + w.h11 * m1;
   }
+}
+
+std::vector<double> station_parameters(const SweepShape& shape, int stations_per_span) {
+  const int k = shape.section_count();
+  std::vector<double> t;
+  t.reserve(static_cast<std::size_t>(std::max(k - 1, 0)) * stations_per_span + 1);
+  for (int s = 0; s + 1 < k; ++s) {
+    for (int q = 0; q < stations_per_span; ++q)
+      t.push_back(shape.t[s] + (shape.t[s + 1] - shape.t[s]) * q / stations_per_span);
+  }
+  t.push_back(shape.length());
+  return t;
 }
 
 Vec3 surface_point(const SweepShape& shape, double theta, double t) {

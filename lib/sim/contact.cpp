@@ -68,15 +68,6 @@ double largest_radius(const SweepShape& shape) {
   return shape.radii.empty() ? 0.0 : *std::max_element(shape.radii.begin(), shape.radii.end());
 }
 
-std::vector<double> station_parameters(const SweepShape& shape, int per_span) {
-  std::vector<double> t;
-  for (int i = 0; i + 1 < shape.section_count(); ++i) {
-    for (int k = 0; k < per_span; ++k) t.push_back(shape.t[i] + (shape.t[i + 1] - shape.t[i]) * k / per_span);
-  }
-  t.push_back(shape.length());
-  return t;
-}
-
 }  // namespace
 
 double section_support(const SweepShape& shape, double t, const Vec3& direction, SupportScratch& scratch) {

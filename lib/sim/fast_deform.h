@@ -1,6 +1,11 @@
 #pragma once
-// The fast deformation path (DESIGN.md §4, §6). Each frame the moving sweep is evaluated once at
-// `stations_per_span` stations per span of its key sections (tabulate): centre, the three frame
+// The fast deformation path (DESIGN.md §4, §6), in three parts: the layout of the bound vertices,
+// planned at construction (fast_deform_layout.cpp); the per-frame station table (tabulate,
+// fast_deform_stations.cpp); and the kernel that rebuilds the vertices from it (deform_vertices,
+// fast_deform_kernel.cpp).
+//
+// Each frame the moving sweep is evaluated once at `stations_per_span` stations per span of its
+// key sections (tabulate, with the core's interpolants): centre, the three frame
 // axes, and for every angle cell [θ_j, θ_{j+1}) the cubic in the cell's local coordinate w that
 // the periodic Catmull-Rom through the station's radii reduces to. A bound vertex is then rebuilt
 // (deform_vertices) from the two stations around it, linear in t between them:
@@ -133,13 +138,13 @@ class FastDeformer {
   int stations_per_span_ = 0;    // S
   int station_count_ = 0;        // (K − 1)·S + 1
   int row_ = 0;                  // floats per station: 12 (C, X, Y, Z) + 4 per angle cell
-  std::vector<double> basis_;    // Hermite basis h00, h10, h01, h11 at u = q/S, q = 0..S
+  std::vector<HermiteBasis> basis_;  // at u = q/S, q = 0..S
   std::vector<float> stations_;  // row_ floats a station, rewritten each frame
   // Per-frame scratch of tabulate: each section's cell cubics (K·4n); and, one set for each
-  // thread working on a span, its cubics' slopes in t at both ends (2·4n) and sin(q·δ) of the
-  // slerp (S + 1).
+  // thread working on a span, its cubics' slopes in t at both ends (2·4n) and the slerped
+  // rotations of its stations (S + 1).
   std::vector<float> section_cells_, slopes_;
-  std::vector<double> sines_;
+  std::vector<Quat> rotations_;
 
   // Per vertex, grouped by station span (then by angle cell, or in mesh order). Hot fields first.
   std::vector<float> u_;               // position between the span's two stations, [0, 1]

@@ -2,7 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <numbers>
+#include <random>
+#include <utility>
+#include <vector>
 
+#include "core/deform_point.h"
 #include "core/elastic_sweep.h"
 #include "core/locate.h"
 #include "core/sweep_shape.h"
@@ -90,6 +94,79 @@ TEST(SweepShape, CheckShapeNamesWhatIsWrong) {
   EXPECT_NE(check_shape(s).find("section 1, radius 1"), std::string::npos);
   s = straight_shape(3, 2);
   EXPECT_NE(check_shape(s).find("at least 3"), std::string::npos);
+}
+
+// The interpolants the exact path and the fast path's station table share (core/sweep_shape.h).
+Quat random_rotation(std::mt19937& rng) {
+  std::normal_distribution<double> normal;
+  Quat q;
+  q.coeffs() = Eigen::Vector4d(normal(rng), normal(rng), normal(rng), normal(rng)).normalized();
+  return q;
+}
+
+// Pairs of rotations far apart, on both sides of the hypersphere (a negative dot product: the
+// shorter arc flips one), equal, opposite and nearly equal (Eigen's linear case).
+std::vector<std::pair<Quat, Quat>> rotation_pairs(std::mt19937& rng) {
+  std::vector<std::pair<Quat, Quat>> pairs;
+  for (int i = 0; i < 100; ++i) {
+    const Quat a = random_rotation(rng), b = random_rotation(rng);
+    Quat nudged, opposite;
+    nudged.coeffs() = (a.coeffs() + 1e-10 * b.coeffs()).normalized();
+    opposite.coeffs() = -a.coeffs();
+    for (const Quat& c : {b, a, opposite, nudged}) pairs.emplace_back(a, c);
+  }
+  return pairs;
+}
+
+TEST(Interpolants, SlerpIsEigensSlerpBitForBit) {
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const auto& [a, b] : rotation_pairs(rng)) {
+    const Slerp arc(a, b);
+    for (double u : {0.0, 0.125, 0.25, 1.0 / 3.0, 0.5, 0.875, 1.0, unit(rng), unit(rng)}) {
+      EXPECT_EQ(arc.at(u).coeffs(), a.slerp(u, b).coeffs()) << "u " << u;
+    }
+  }
+}
+
+TEST(Interpolants, SlerpStepsFollowTheArc) {
+  std::mt19937 rng(20);
+  for (const auto& [a, b] : rotation_pairs(rng)) {
+    const Slerp arc(a, b);
+    const bool linear = std::abs(a.dot(b)) >= 1.0 - Eigen::NumTraits<double>::epsilon();
+    for (int steps : {1, 2, 7, 8, 16}) {
+      std::vector<Quat> out(steps + 1);
+      arc.at_steps(out);
+      for (int q = 0; q <= steps; ++q) {
+        const Quat exact = arc.at(static_cast<double>(q) / steps);
+        // The recurrence's sines differ from sin() in the last bits; the linear case is the same.
+        if (linear) {
+          EXPECT_EQ(out[q].coeffs(), exact.coeffs()) << "step " << q << " of " << steps;
+        } else {
+          EXPECT_LT((out[q].coeffs() - exact.coeffs()).norm(), 1e-14)
+              << "step " << q << " of " << steps;
+        }
+      }
+    }
+  }
+}
+
+TEST(Interpolants, CatmullRomFormsAreOneCubicThroughTheSamples) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> radius(0.5, 2.0), unit(0.0, 1.0);
+  std::vector<double> samples(7);
+  for (double& r : samples) r = radius(rng);
+  const int n = static_cast<int>(samples.size());
+  for (int j = 0; j < n; ++j) {
+    const CatmullRomCell cell(samples, j);
+    EXPECT_EQ(cell.at(0.0), samples[j]);  // through the samples
+    EXPECT_NEAR(cell.at(1.0), samples[(j + 1) % n], 1e-15);
+    const auto [c0, c1, c2, c3] = cell.cubic();
+    for (double w : {0.0, 0.25, 0.5, 0.75, 1.0, unit(rng), unit(rng)}) {
+      EXPECT_NEAR(c0 + w * (c1 + w * (c2 + w * c3)), cell.at(w), 1e-14)
+          << "cell " << j << " w " << w;
+    }
+  }
 }
 
 TEST(Locate, RestPointsRoundTrip) {

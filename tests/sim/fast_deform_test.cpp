@@ -10,6 +10,7 @@
 #include <random>
 
 #include "bind/support.h"
+#include "core/deform_point.h"
 #include "core/elastic_sweep.h"
 #include "core/sample_sweeps.h"
 #include "sim/simulator.h"

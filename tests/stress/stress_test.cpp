@@ -11,7 +11,7 @@
 
 #include "assets/mesh_io.h"
 #include "core/error.h"
-#include "core/locate.h"
+#include "core/deform_point.h"
 #include "core/sample_sweeps.h"
 #include "fit/fit.h"
 #include "io/rig_json.h"

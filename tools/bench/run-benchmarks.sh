@@ -182,7 +182,7 @@ timed binding runs; Release build, this 2-core VM); this script does not measure
 - **Tiles** (\`FastDeformer::kTileVertices\` = 65,536). The 1M-vertex tube numbered at random,
   2 threads, loop ns/vertex with tiles of this size against none, same run: 16k 0.78×, 32k 0.66×,
   64k 0.63×, 128k 0.63×; ring order unchanged.
-- **Whole vectors of radii** (\`kPad\` in \`fast_deform.cpp\`): a short angle-cell segment costs no
+- **Whole vectors of radii** (\`kPad\` in \`fast_deform_detail.h\`): a short angle-cell segment costs no
   scalar remainder, −18 % instructions a vertex on the ring-ordered tube (callgrind).
 - **One thread for small parts** (\`kParallelVertexThreshold\` = 40,000). Waking a thread team costs
   tens of µs on these machines (DESIGN.md §6), more than the loop saves below ~40k vertices at its
