@@ -34,6 +34,12 @@ constexpr double kLeakRadii = 2;
 // The error's tessellation of the sweep surface: stations per span and angles per radius sample.
 constexpr int kErrorStationsPerSpan = 4;
 constexpr int kErrorAnglesPerSample = 2;
+// A section plane that passes through vertices of the mesh (a ring of a generated tube, an end cap
+// lying in it) gets a degenerate slice from the slicer: polylines that double back on
+// themselves, or a flat cap's fan cut along its spokes, so rays cross the loop twice or miss it.
+// Such a section is cut again this share of its radius off its plane, along the axis (inwards
+// first), where the plane meets edges, not vertices: far below any change of the shape.
+constexpr double kSectionNudge = 1e-6;
 
 // Position, tangent and RMF frame on the axis polyline at arc length t.
 struct AxisSample {
@@ -51,6 +57,23 @@ AxisSample sample_axis(const AxisTrace& axis, const std::vector<double>& s, doub
   return {(1 - u) * axis.points[k] + u * axis.points[k + 1],
           ((1 - u) * axis.tangents[k] + u * axis.tangents[k + 1]).normalized(),
           (1 - u) * axis.radii[k] + u * axis.radii[k + 1]};
+}
+
+// A key section's loop and its radius samples, the plane moved `offset` along the tangent from
+// the frame's centre (the rays still start at the centre, in the frame's plane).
+struct SectionCut {
+  std::optional<Loop> loop;
+  RaySamples rays;
+  bool star_shaped() const { return rays.multi_crossing_rays == 0 && rays.missed_rays == 0; }
+};
+
+SectionCut cut_section(const MeshSlicer& slicer, const Frame& frame, const Vec3& tangent,
+                       double reach, int radial, double offset) {
+  const Vec3 at = frame.center + offset * tangent;
+  SectionCut c;
+  c.loop = loop_around(slicer.slice(at, tangent), at, tangent, reach);
+  if (c.loop) c.rays = sample_radii(frame, c.loop->points, radial);
+  return c;
 }
 
 }  // namespace
@@ -80,9 +103,20 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
     shape.t[static_cast<std::size_t>(i)] = t;
     shape.frames[static_cast<std::size_t>(i)] = frame;
 
-    const double reach = std::max(a.radius, 1e-9 * std::max(length, 1.0));
-    const std::optional<Loop> loop =
-        loop_around(slicer.slice(a.point, a.tangent), a.point, a.tangent, reach);
+    const double reach = std::max(a.radius, 1e-9 * length);
+    SectionCut cut = cut_section(slicer, frame, a.tangent, reach, radial, 0);
+    if (cut.loop && !cut.star_shaped()) {  // through vertices? (see kSectionNudge)
+      const double inwards = i == 0 ? 1 : -1;
+      for (const double side : {inwards, -inwards}) {
+        SectionCut again = cut_section(slicer, frame, a.tangent, reach, radial,
+                                       side * kSectionNudge * reach);
+        if (again.loop && again.star_shaped()) {
+          cut = std::move(again);
+          break;
+        }
+      }
+    }
+    const std::optional<Loop>& loop = cut.loop;
     double* out = shape.radii.data() + static_cast<std::size_t>(i) * radial;
     if (!loop) {
       // Only possible where the section plane, turned to the interpolated tangent, slips off a
@@ -94,7 +128,7 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
       }
       continue;
     }
-    const RaySamples rays = sample_radii(frame, loop->points, radial);
+    const RaySamples& rays = cut.rays;
     std::copy(rays.radii.begin(), rays.radii.end(), out);
     if ((rays.multi_crossing_rays > 0 || rays.missed_rays > 0) && violations) {
       violations->push_back({i, rays.multi_crossing_rays, rays.missed_rays});
