@@ -8,6 +8,7 @@
 #include "assets/bake.h"
 #include "bind/deform.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "sim/fast_deform.h"
 
 namespace sweep::sim {
@@ -31,9 +32,8 @@ constexpr int kPortableMorphTargets = 256;
 constexpr std::uint64_t kPortableGlbBytes = std::uint64_t{1} << 31;
 
 std::string megabytes(std::uint64_t bytes) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f MB", static_cast<double>(bytes) / 1e6);
-  return text;
+  const double mb = static_cast<double>(bytes) / 1e6;
+  return mb < 1000 ? format_number(mb, 3) + " MB" : format_number(mb / 1000, 3) + " GB";
 }
 
 // Before the simulation: the files' estimated size against the limit, and what engines take.

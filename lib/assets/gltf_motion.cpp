@@ -187,7 +187,7 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
     const Affine B = P * L * L0.inverse() * P.inverse();
     const Eigen::Matrix3d R = B.linear();
     if (!((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6)) {
-      refuse(gltf, "node '" + node_name + "' does not move rigidly at " + std::to_string(t) +
+      refuse(gltf, "node '" + node_name + "' does not move rigidly at " + format_number(t) +
                        " s (a non-uniform scale above it turns its rotation into a shear)");
     }
     // The key is the node's own origin in world axes, p(t) = P · T(t): linear where T is, while

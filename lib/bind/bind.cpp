@@ -13,6 +13,7 @@
 #include "core/frame.h"
 #include "core/hash.h"
 #include "core/locate.h"
+#include "core/text.h"
 #include "core/topology.h"
 
 namespace sweep::bind {
@@ -46,11 +47,11 @@ std::string sweep_label(const SweepDef& def, std::size_t index) {
 
 void check_inputs(const Rig& rig, const Mesh& mesh, const BindOptions& o) {
   if (!(o.blend >= 0) || !std::isfinite(o.blend)) {
-    fail(ErrorCategory::usage, "BindOptions::blend must be a finite distance >= 0, got " + std::to_string(o.blend));
+    fail(ErrorCategory::usage, "BindOptions::blend must be a finite distance >= 0, got " + format_exact(o.blend));
   }
   if (!(o.seedless_radius_factor >= 1) || !std::isfinite(o.seedless_radius_factor)) {
     fail(ErrorCategory::usage, "BindOptions::seedless_radius_factor must be finite and >= 1, got " +
-                                   std::to_string(o.seedless_radius_factor));
+                                   format_exact(o.seedless_radius_factor));
   }
   if (o.stations_per_span < 1) fail(ErrorCategory::usage, "BindOptions::stations_per_span must be >= 1, got " + std::to_string(o.stations_per_span));
   if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");

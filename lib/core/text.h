@@ -52,6 +52,13 @@ void append_number(std::string& out, T value) {
   out.append(buf, end);
 }
 
+// A number exactly, for a message that must name it: append_number's text.
+inline std::string format_exact(double x) {
+  std::string s;
+  append_number(s, x);
+  return s;
+}
+
 // The three coordinates of `p` by append_number, with `separator` between them: "1 2.5 -0".
 template <typename Scalar>
 void append_numbers(std::string& out, const Eigen::Matrix<Scalar, 3, 1>& p,

@@ -216,22 +216,25 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   const Mesh& mesh = mesh_;
   const Topology& topo = impl_->topology;
 
-  // Seeds must be on or near the mesh: the nearest vertex is a bound on the distance to the
-  // surface; only a point past it is measured against the surface itself.
-  const double seed_limit = o.seed_distance * impl_->diagonal;
-  auto seed_vertex = [&](const Vec3& p, const char* what) {
-    const std::uint32_t v = nearest_vertex(mesh, p);
-    const double dv = (mesh.positions[v] - p).norm();
-    if (dv > seed_limit) {
-      const double ds = impl_->surface.distance(p);
-      if (ds > seed_limit) {
-        fail(ErrorCategory::bad_input,
-             std::string(what) + " " + format_point(p) + " is far from the mesh: " + format_number(ds) +
-                 " from its surface, more than " + format_number(o.seed_distance) +
-                 " of its bounding box diagonal (" + format_number(seed_limit) + ")");
-      }
+  FitResult r;
+  r.sweep.name = o.name;
+  // Refusals carry the fit as far as it got (FitFailure), for the report.
+  const auto refuse = [&r](ErrorCategory category, const std::string& message) {
+    throw FitFailure(category, message, r);
+  };
+  // Seeds must be on or near the mesh: their distance from its surface (a point on a large
+  // face may be far from every vertex).
+  r.seed_limit = o.seed_distance * impl_->diagonal;
+  auto seed_vertex = [&](const Vec3& p, const char* what, double& off_surface) {
+    off_surface = impl_->surface.distance(p);
+    if (off_surface > r.seed_limit) {
+      refuse(ErrorCategory::bad_input,
+             std::string(what) + " " + format_point(p) + " is far from the mesh: " +
+                 format_number(off_surface) + " from its surface, more than " +
+                 format_number(o.seed_distance) + " of its bounding box diagonal (" +
+                 format_number(r.seed_limit) + ")");
     }
-    return v;
+    return nearest_vertex(mesh, p);
   };
   std::optional<Vec3> root = o.root;
   Vec3 tip_point = o.tip;
@@ -239,27 +242,28 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     if (!root) root = o.axis.front();
     tip_point = o.axis.back();
   }
+  if (root) r.root = *root;  // (until section 0 is cut: a refusal reports the root given)
   std::uint32_t tip0 = 0;
   if (o.tip_vertex >= 0) {
     if (static_cast<std::uint64_t>(o.tip_vertex) >= mesh.vertex_count()) {
-      fail(ErrorCategory::usage, "tip_vertex " + std::to_string(o.tip_vertex) +
-                                     " is not a vertex of the mesh (it has " +
-                                     std::to_string(mesh.vertex_count()) + ")");
+      refuse(ErrorCategory::usage, "tip_vertex " + std::to_string(o.tip_vertex) +
+                                       " is not a vertex of the mesh (it has " +
+                                       std::to_string(mesh.vertex_count()) + ")");
     }
     tip0 = static_cast<std::uint32_t>(o.tip_vertex);
   } else {
-    tip0 = seed_vertex(tip_point, "tip");
+    tip0 = seed_vertex(tip_point, "tip", r.tip_off_surface);
   }
   tip0 = topo.weld[tip0];
+  r.tip_vertex = tip0;
 
-  FitResult r;
   // 1. The tip: climb to the part's end, the local maximum of the distance from the body (the
   //    root, or, without one, the point of the surface farthest from the tip, which lies on
   //    another extremity).
   std::uint32_t root_vertex = 0;
   std::vector<double> field;
   if (root) {
-    root_vertex = topo.weld[seed_vertex(*root, "root")];
+    root_vertex = topo.weld[seed_vertex(*root, "root", r.root_off_surface)];
     field = surface_distances(mesh, topo, std::span(&root_vertex, 1));
   } else {
     const std::vector<double> from_tip = surface_distances(mesh, topo, std::span(&tip0, 1));
@@ -270,9 +274,9 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     field = surface_distances(mesh, topo, std::span(&far, 1));
   }
   if (!std::isfinite(field[tip0])) {
-    fail(ErrorCategory::bad_input, "the tip (vertex " + std::to_string(tip0) +
-                                       ") is not reachable from the root: they lie on separate "
-                                       "pieces of the mesh");
+    refuse(ErrorCategory::bad_input, "the tip (vertex " + std::to_string(tip0) +
+                                         ") is not reachable from the root: they lie on separate "
+                                         "pieces of the mesh");
   }
   r.tip_vertex = o.axis.empty() ? climb(topo, field, tip0) : tip0;
   // How far the part's end lies from the tip asked for: worth a warning past a radius (below).
@@ -284,9 +288,9 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   const RingTrace rings = trace_rings(mesh, topo, d, r.tip_vertex,
                                       std::numeric_limits<double>::infinity(), true, o.rings);
   if (rings.rings.size() < 2) {
-    fail(ErrorCategory::bad_input, "no rings of surface distance around the tip (vertex " +
-                                       std::to_string(r.tip_vertex) +
-                                       "): the surface there is too small or not connected");
+    refuse(ErrorCategory::bad_input, "no rings of surface distance around the tip (vertex " +
+                                         std::to_string(r.tip_vertex) +
+                                         "): the surface there is too small or not connected");
   }
   const auto ring = [&](int i) -> const Ring& { return rings.rings[static_cast<std::size_t>(i)]; };
   int root_ring = rings.junction;
@@ -343,11 +347,13 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                             r.axis.tangents.back()));
     }
     if (far_end && !r.axis.points.empty()) {
+      const std::string tip_end = r.axis.end_reason;  // (the root side's is not the one asked)
       reverse_axis(r.axis);
       extend_axis(impl_->slicer, impl_->surface, r.axis,
                   cap_reach(mesh, d, ring(root_ring).distance, false, r.axis.points.back(),
                             r.axis.tangents.back()));
       reverse_axis(r.axis);
+      r.axis.end_reason = tip_end;
     } else {
       // Section 0 where the root (or, found, the root ring's centre) projects onto the axis,
       // which may lie a little before the first point kept.
@@ -358,8 +364,8 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     r.axis = axis_from_polyline(impl_->slicer, o.axis);
   }
   if (r.axis.points.size() < 2) {
-    fail(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
-                                       " has no length to fit (" + r.root_reason + ")");
+    refuse(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
+                                         " has no length to fit (" + r.root_reason + ")");
   }
   const std::vector<double> s = arc_lengths(r.axis.points);
   r.traced_length = s.back();
@@ -386,8 +392,8 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   if (std::none_of(cut.radii.begin(), cut.radii.end(), [](double x) { return x > 0; }))
     std::fill(cut.radii.begin(), cut.radii.end(), ring(0).radius);
   if (!(arc_lengths(cut.points).back() > 0)) {
-    fail(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
-                                       " is too short to cut two key sections");
+    refuse(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
+                                         " is too short to cut two key sections");
   }
 
   // 4. Sections (a fixed K, or the fewest that meet the tolerance), part, error.
@@ -461,7 +467,10 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                          " of the surface distance from the tip to the root (" +
                          format_number(r.surface_length) + ") and ends " +
                          format_number(r.tip_gap / r.mean_radius) +
-                         " mean radii from the tip: the trace stopped short of the tip");
+                         " mean radii from the tip: the trace stopped short of the tip (" +
+                         (r.axis.end_reason.empty() ? std::string("the axis given ends there")
+                                                    : r.axis.end_reason) +
+                         ")");
   }
   if (static_cast<double>(r.leaked_count) > o.max_leak_share * part_count) {
     r.problems.push_back(

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/rig.h"
 #include "core/topology.h"
 #include "fit/rings.h"
@@ -112,6 +113,12 @@ struct FitResult {
   double traced_length = 0;    // the axis from the root to the tip vertex, mesh units
   double surface_length = 0;   // surface distance from the tip vertex to the root ring
   double tip_gap = 0;          // from the axis' end to the tip vertex, mesh units
+  // How far the given tip and root lie from the mesh's surface (its triangles), mesh units: 0
+  // for a point on it (and for a tip given as a vertex, or no root); seeds farther than
+  // seed_limit (FitOptions::seed_distance of the bounding box diagonal) are refused.
+  double tip_off_surface = 0;
+  double root_off_surface = 0;
+  double seed_limit = 0;
   double mean_radius = 0;  // mean of the K·n radius samples, mesh units
   std::size_t leaked_count = 0;  // part vertices far past the root ring (see max_leak_share)
   FitError error;          // distances between the part's vertices and the fitted surface
@@ -142,9 +149,9 @@ class SweepFitter {
   SweepFitter& operator=(SweepFitter&&) = delete;
 
   // Throws Error(usage) naming the option's field for bad options (sections < 2, radial < 3,
-  // non-finite points) and Error(bad_input) for a request the mesh cannot meet (root or tip far
-  // from the mesh, no ring around the tip, empty part). A fit that breaks a limit is returned
-  // with `problems`.
+  // non-finite points) and FitFailure (an Error(bad_input), or usage for a tip_vertex out of
+  // range) for a request the mesh cannot meet (root or tip far from the mesh, no ring around the
+  // tip, empty part). A fit that breaks a limit is returned with `problems`.
   FitResult fit(const FitOptions& options) const;
 
   const MeshSlicer& slicer() const;
@@ -158,6 +165,21 @@ class SweepFitter {
 };
 
 FitResult fit_sweep(const Mesh& mesh, const FitOptions& options);
+
+// What SweepFitter::fit throws for a request the mesh cannot meet (a seed far from the mesh, a
+// tip not reachable, no rings, no length): an Error of its category with the message, and the
+// fit as far as it got (`partial`: name, seeds and their distances from the surface, tip vertex,
+// lengths, the axis when traced; no sections), so that a report can show the numbers.
+class FitFailure : public Error {
+ public:
+  FitFailure(ErrorCategory category, const std::string& message, FitResult partial)
+      : Error(category, message),
+        partial_(std::make_shared<const FitResult>(std::move(partial))) {}
+  const FitResult& partial() const { return *partial_; }
+
+ private:
+  std::shared_ptr<const FitResult> partial_;  // shared: an exception is copied as it is thrown
+};
 
 // The K-section, n-radius sweep along an axis (sections.cpp): sections evenly spaced in arc
 // length, frames rotation-minimizing from the axis start, radii by rays (sample_radii). A section

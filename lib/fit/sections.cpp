@@ -12,6 +12,8 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "core/text.h"
@@ -29,6 +31,12 @@ constexpr double kMaxSectionRadii = 1.5;
 constexpr int kMaxShiftEighths = 3;
 // An end section may move inwards by up to this share of the axis length, in quarter spacings.
 constexpr double kMaxEndShiftShare = 0.25;
+// A section plane that passes through vertices of the mesh (a ring of a generated tube, an end cap
+// lying in it) gets a degenerate slice from the slicer: polylines that double back on
+// themselves, or a flat cap's fan cut along its spokes, so rays cross the loop twice or miss it.
+// Such a section is cut again this share of its radius off its plane, along the axis (inwards
+// first), where the plane meets edges, not vertices: far below any change of the shape.
+constexpr double kSectionNudge = 1e-6;
 
 // Position, tangent and local radius on the axis polyline at arc length t.
 struct AxisSample {
@@ -70,19 +78,23 @@ std::vector<double> filled_radii(const std::vector<double>& radii, const std::ve
   return out;
 }
 
-// One candidate section: its frame, its loop and whether the plane cuts the part alone.
+// One candidate section: its frame, its loop, its radius samples and whether the plane cuts the
+// part alone.
 struct Cut {
   double t = 0;
   Frame frame;
   std::optional<Loop> loop;
+  RaySamples rays;
   double reach = 0;  // the local radius of the axis
   bool good = false;
+  bool star_shaped() const { return rays.multi_crossing_rays == 0 && rays.missed_rays == 0; }
 };
 
 class SectionCutter {
  public:
-  SectionCutter(const MeshSlicer& slicer, const AxisTrace& axis)
+  SectionCutter(const MeshSlicer& slicer, const AxisTrace& axis, int radial)
       : slicer_(slicer),
+        radial_(radial),
         axis_(axis),
         s_(arc_lengths(axis.points)),
         radii_(filled_radii(axis.radii, s_)),
@@ -101,8 +113,26 @@ class SectionCutter {
     c.frame = Frame{rotation_minimizing_frames({axis_.points[k], a.point},
                                                {axis_.tangents[k], a.tangent}, x_k)[1],
                     a.point};
-    c.reach = std::max(a.radius, 1e-9 * std::max(length(), 1.0));
-    c.loop = loop_around(slicer_.slice(a.point, a.tangent), a.point, a.tangent, c.reach);
+    c.reach = std::max(a.radius, 1e-9 * length());
+    const auto slice = [&](double offset) {
+      const Vec3 plane = a.point + offset * a.tangent;  // the rays still start at the centre
+      std::optional<Loop> loop = loop_around(slicer_.slice(plane, a.tangent), plane, a.tangent, c.reach);
+      RaySamples rays;
+      if (loop) rays = sample_radii(c.frame, loop->points, radial_);
+      return std::make_pair(std::move(loop), std::move(rays));
+    };
+    std::tie(c.loop, c.rays) = slice(0);
+    if (c.loop && !c.star_shaped()) {  // through vertices? (see kSectionNudge)
+      const double inwards = t < length() / 2 ? 1 : -1;
+      for (const double side : {inwards, -inwards}) {
+        auto [loop, rays] = slice(side * kSectionNudge * c.reach);
+        if (loop && rays.multi_crossing_rays == 0 && rays.missed_rays == 0) {
+          c.loop = std::move(loop);
+          c.rays = std::move(rays);
+          break;
+        }
+      }
+    }
     // Without a measured radius there is nothing to compare with: any loop around the axis does.
     c.good = c.loop && c.loop->around && (!(a.radius > 0) || c.loop->radius <= kMaxSectionRadii * a.radius);
     return c;
@@ -121,6 +151,7 @@ class SectionCutter {
 
  private:
   const MeshSlicer& slicer_;
+  int radial_;
   const AxisTrace& axis_;
   std::vector<double> s_;
   std::vector<double> radii_;
@@ -132,7 +163,7 @@ class SectionCutter {
 SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int sections, int radial,
                           std::vector<StarViolation>* violations,
                           std::vector<std::string>* warnings) {
-  const SectionCutter cutter(slicer, axis);
+  const SectionCutter cutter(slicer, axis, radial);
   const double length = cutter.length();
   const auto note = [&](const std::string& what) {
     if (warnings) warnings->push_back(what);
@@ -203,7 +234,7 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
     // interior one only a loop of the part alone.
     const bool end_section = i == 0 || i == sections - 1;
     if (!c.loop || !(c.good || end_section)) continue;
-    const RaySamples rays = sample_radii(c.frame, c.loop->points, radial);
+    const RaySamples& rays = c.rays;
     std::copy(rays.radii.begin(), rays.radii.end(), out);
     sampled[static_cast<std::size_t>(i)] = 1;
     if ((rays.multi_crossing_rays > 0 || rays.missed_rays > 0) && violations) {

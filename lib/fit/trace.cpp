@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/frame.h"
+#include "core/text.h"
 #include "fit/loop.h"
 
 namespace sweep::fit {
@@ -243,6 +244,7 @@ void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, Axis
   double radius = axis.radii.back();
   const double min_turn_cos = std::cos(kMaxCapTurnDegrees * std::numbers::pi / 180);
   Vec3 p = start, t = forward;
+  std::string why = "the slices reached the cap";
   for (int k = 0; k < kMaxStations; ++k) {
     const double left = length - (p - start).dot(forward);
     if (left <= spacing) break;
@@ -250,12 +252,32 @@ void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, Axis
     // Only while the slice is still a section of the tube (not much smaller than the last, not
     // pulled aside): a slice that also cuts the end face or a bulb is off centre.
     const std::optional<Loop> loop = loop_around(slicer.slice(ahead, t), ahead, t, reach);
-    if (!loop || !(loop->radius <= kMaxSliceRadii * reach) ||
-        (loop->centroid - ahead).norm() > reach || loop->radius < kMinCapSliceShare * radius) {
+    const std::string at = " at " + format_point(ahead, 4);
+    if (!loop) {
+      why = "no slice loop around the axis" + at;
+      break;
+    }
+    if (!(loop->radius <= kMaxSliceRadii * reach)) {
+      why = "the slice" + at + " is " + format_number(loop->radius / reach) +
+            " radii wide: it cuts more than the part";
+      break;
+    }
+    if ((loop->centroid - ahead).norm() > reach) {
+      why = "the slice" + at + " is pulled aside by " +
+            format_number((loop->centroid - ahead).norm() / reach) + " radii";
+      break;
+    }
+    if (loop->radius < kMinCapSliceShare * radius) {
+      why = "the slice" + at + " shrank to " + format_percent(loop->radius / radius) +
+            " of the last (the end's cap)";
       break;
     }
     const Vec3 chord = loop->centroid - p;
-    if (!(chord.norm() > 0) || chord.normalized().dot(t) < min_turn_cos) break;
+    if (!(chord.norm() > 0) || chord.normalized().dot(t) < min_turn_cos) {
+      why = "the axis" + at + " would turn by more than " + format_number(kMaxCapTurnDegrees) +
+            " degrees in a step";
+      break;
+    }
     t = chord.normalized();
     p = loop->centroid;
     radius = loop->radius;
@@ -265,12 +287,16 @@ void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, Axis
   }
   // Straight on to the cap's reach, but not out of the mesh.
   const double left = length - (p - start).dot(forward);
-  const double go = std::min(left / std::max(t.dot(forward), 0.5), surface.ray_distance(p, t));
+  const double to_surface = surface.ray_distance(p, t);
+  const double go = std::min(left / std::max(t.dot(forward), 0.5), to_surface);
   if (go > 0 && std::isfinite(go)) {
     axis.points.push_back(p + go * t);
     axis.tangents.push_back(t);
     axis.radii.push_back(0);
+    why += go == to_surface ? "; then straight on " + format_number(go) + " to the surface"
+                            : "; then straight on " + format_number(go) + " to the cap's reach";
   }
+  axis.end_reason = why;
 }
 
 void trim_axis_start(AxisTrace& axis, const Vec3& point, double max_extension) {

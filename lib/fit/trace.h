@@ -17,6 +17,10 @@ struct AxisTrace {
   std::vector<Vec3> points;    // axis points from root to tip end
   std::vector<Vec3> tangents;  // unit axis direction at each point
   std::vector<double> radii;   // equivalent radius √(area/π) of each point's slice, 0 where none
+  // Why the axis ends where it does at its tip end (extend_axis), for messages and the report:
+  // "the slices reached the cap's end", "the slice ahead shrank to ...", "... then straight on
+  // ... to the surface". Empty for an axis given as a polyline.
+  std::string end_reason;
 };
 
 // Smooths `points` (root first; `radii` the local radius at each, mesh units) over about half a
@@ -32,7 +36,7 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
 // tangent: first by slices as closely spaced as its own last points, centred in their loops,
 // while each loop keeps most of the last one's size and the axis turns gently; then straight on,
 // stopping short of the surface (`surface`) if the cap ends sooner. Each point carries its slice
-// loop's radius; the last point, the part's end, radius 0.
+// loop's radius; the last point, the part's end, radius 0. Sets axis.end_reason.
 void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis,
                  double length);
 

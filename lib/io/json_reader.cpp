@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text.h"
 
 namespace sweep::io {
 
@@ -118,11 +119,9 @@ double JsonReader::non_negative(const Json& value, const std::string& pointer) c
   return x;
 }
 
-// Shortest text of a bound, for messages: "1e+09", "0.001", "10000".
+// Text of a bound, for messages: "1e+09", "0.001", "10000".
 static std::string bound_text(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
+  return format_number(x, 6);
 }
 
 double JsonReader::bounded(const Json& value, const std::string& pointer, double lo, double hi) const {

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/limits.h"
+#include "core/text.h"
 #include "io/atomic_file.h"
 #include "io/json_reader.h"
 #include "io/read_file.h"
@@ -74,7 +75,7 @@ Quat read_rotation(const JsonReader& r, const Json& v, const std::string& ptr) {
   const Quat q(c[3], c[0], c[1], c[2]);
   const double norm = q.norm();
   if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) {
-    r.fail_at(ptr, "must be a unit quaternion, its length is " + std::to_string(norm));
+    r.fail_at(ptr, "must be a unit quaternion, its length is " + format_exact(norm));
   }
   return q;
 }
@@ -132,7 +133,7 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) 
     const double t = r.bounded(r.required(s, p, "t"), member(p, "t"), -limits::kMaxLength, limits::kMaxLength);
     if (i == 0 && t != 0.0) r.fail_at(member(p, "t"), "the first section's t must be 0, got " + describe(s["t"]));
     if (i > 0 && !(t > def.rest.t.back())) {
-      r.fail_at(member(p, "t"), "must be greater than the previous section's t (" + std::to_string(def.rest.t.back()) + ")");
+      r.fail_at(member(p, "t"), "must be greater than the previous section's t (" + format_exact(def.rest.t.back()) + ")");
     }
     const Vec3 c = r.bounded_vec3(r.required(s, p, "center"), member(p, "center"), limits::kMaxLength);
     const Quat q = read_rotation(r, r.required(s, p, "rotation"), member(p, "rotation"));

@@ -72,7 +72,7 @@ SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string&
   if (!(f.spec.vector.norm() <= limits::kMaxForce)) {
     r.fail_at(member(ptr, "vector"), "a force of at most " + format_number(limits::kMaxForce) +
                                          " N, got one of length " +
-                                         std::to_string(f.spec.vector.norm()));
+                                         format_number(f.spec.vector.norm()));
   }
   if (const Json* fr = r.optional(v, "frame")) {
     const std::string name = r.string(*fr, member(ptr, "frame"));
@@ -139,7 +139,7 @@ Quat read_rotation(const io::JsonReader& r, const Json& q, const std::string& pt
   for (int i = 0; i < 4; ++i) c[i] = r.number(q[i], element(ptr, i));
   Quat rotation(c[3], c[0], c[1], c[2]);
   if (std::abs(rotation.norm() - 1.0) > 1e-3)
-    r.fail_at(ptr, "must be a unit quaternion [x, y, z, w], its length is " + std::to_string(rotation.norm()));
+    r.fail_at(ptr, "must be a unit quaternion [x, y, z, w], its length is " + format_number(rotation.norm(), 6));
   return rotation.normalized();
 }
 

@@ -62,6 +62,24 @@ TEST(TubeFit, StraightCircularTubeFitsToFacetPrecision) {
   EXPECT_LT(fit_sweep(mesh, o).error.rms, 0.01 * tube.radius);
 }
 
+// A fit whose trace stops short says why the axis ends there (issue 18): the limits are set so
+// that this tube's axis counts as short; the message is what is tested.
+TEST(TubeFit, AStoppedShortProblemSaysWhyTheAxisEnds) {
+  test::Tube tube;
+  const Mesh mesh = tube.mesh();
+  FitOptions o;
+  o.root = tube.axis(0.1);
+  o.tip = tube.axis(tube.length);
+  o.min_length_ratio = 2;
+  o.max_tip_gap = -1;
+  const FitResult r = fit_sweep(mesh, o);
+  ASSERT_FALSE(r.axis.end_reason.empty());
+  ASSERT_EQ(r.problems.size(), 1u);
+  EXPECT_NE(r.problems[0].find("the trace stopped short of the tip (" + r.axis.end_reason + ")"),
+            std::string::npos)
+      << r.problems[0];
+}
+
 TEST(TubeFit, BentTubeAxisMatchesTheExactArc) {
   test::Tube tube;
   tube.length = 2;

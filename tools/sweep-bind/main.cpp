@@ -13,6 +13,7 @@
 
 #include "assets/mesh_io.h"
 #include "bind/bind.h"
+#include "core/text.h"
 #include "io/atomic_file.h"
 #include "io/binding_file.h"
 #include "io/interrupt.h"
@@ -40,9 +41,7 @@ double since(Clock::time_point start) {
 }
 
 std::string format_ms(double seconds) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f ms", seconds * 1e3);
-  return buf;
+  return sweep::format_number(seconds * 1e3, 3) + " ms";
 }
 
 std::string report_text(const Settings& s, const fs::path& mesh_path, const fs::path& output,
@@ -126,8 +125,9 @@ int run(const Settings& s) {
                   << " of its part went to a nearer sweep)";
       }
       if (st.blended_vertex_count > 0) std::cout << ", " << st.blended_vertex_count << " blended";
-      std::cout << ", rest error max " << st.rest_max_error << " ("
-                << (st.length > 0 ? st.rest_max_error / st.length : 0.0) << " of its length)\n";
+      std::cout << ", rest error max " << sweep::format_number(st.rest_max_error) << " ("
+                << sweep::format_number(st.length > 0 ? st.rest_max_error / st.length : 0.0)
+                << " of its length)\n";
       if (st.bound_vertex_count == 0) {
         sweep::tools::warn("sweep '" + st.name + "' binds no vertices");
       }

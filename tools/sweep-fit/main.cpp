@@ -6,6 +6,7 @@
 #include <charconv>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "common/tool_main.h"
 #include "core/error.h"
 #include "core/limits.h"
+#include "core/text.h"
 #include "fit/discover.h"
 #include "fit/fit.h"
 #include "io/atomic_file.h"
@@ -188,9 +190,11 @@ sweep::Mesh read_checked_mesh(const Settings& s) {
 // show what went wrong; with the rig when it is written, all in place together or none.
 void add_report_and_preview(sweep::io::Publication& outputs, const Settings& s,
                             const sweep::Mesh& mesh, const std::vector<sweep::fit::FitResult>& fits,
-                            bool rig_written, double seconds) {
+                            bool rig_written, double seconds,
+                            const sweep::Error* failure = nullptr) {
   if (!s.report.empty()) {
-    outputs.add(s.report, sweep::fit_tool::fit_report_text(s.mesh, s.rig, fits, rig_written, seconds));
+    outputs.add(s.report, sweep::fit_tool::fit_report_text(s.mesh, s.rig, fits, rig_written,
+                                                           seconds, failure));
   }
   if (!s.preview.empty()) {
     std::vector<sweep::preview::Overlay> parts;
@@ -222,6 +226,33 @@ void check_problems(const Settings& s, const sweep::Mesh& mesh,
   sweep::tools::warn("written anyway (--force):" + all);
 }
 
+// Runs `fit` (the work once the mesh is read and the outputs checked), which appends to `fits`. A
+// run that fails there still writes the report (and preview) with the error and what was fitted:
+// for a FitFailure, the fit as far as it got. Output errors are left as they are (the report
+// could not be written either).
+void fitting(const Settings& s, const sweep::Mesh& mesh, std::vector<sweep::fit::FitResult>& fits,
+             std::chrono::steady_clock::time_point start, const std::function<void()>& fit) {
+  try {
+    fit();
+  } catch (const sweep::Error& e) {
+    if (e.category() == ErrorCategory::output || (s.report.empty() && s.preview.empty())) throw;
+    std::vector<sweep::fit::FitResult> shown = fits;
+    if (const auto* failure = dynamic_cast<const sweep::fit::FitFailure*>(&e)) {
+      shown.push_back(failure->partial());
+      shown.back().problems.push_back(e.what());
+    }
+    try {
+      sweep::io::Publication outputs;
+      add_report_and_preview(outputs, s, mesh, shown, false, seconds_since(start), &e);
+      outputs.commit();
+    } catch (const sweep::Error& not_written) {
+      sweep::tools::warn(std::string("the report of the failure was not written: ") +
+                         not_written.what());
+    }
+    throw;
+  }
+}
+
 void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, bool updating,
                    const std::optional<sweep::Material>& material,
                    const std::vector<sweep::fit::FitResult>& fits, std::chrono::steady_clock::time_point start) {
@@ -235,7 +266,7 @@ void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, 
   for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
   std::cout << (replaced > 0 ? "replaced in " : updating ? "added to " : "wrote ") << s.rig.string()
             << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
-            << ") in " << seconds << " s\n";
+            << ") in " << sweep::format_number(seconds, 3) << " s\n";
 }
 
 // One part, named by its tip (and root, or an axis).
@@ -258,7 +289,8 @@ int run_one(const Settings& s) {
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
   sweep::io::declare_outputs({s.rig, s.report, s.preview});
-  const std::vector<sweep::fit::FitResult> fits{sweep::fit::fit_sweep(mesh, o)};
+  std::vector<sweep::fit::FitResult> fits;
+  fitting(s, mesh, fits, start, [&] { fits.push_back(sweep::fit::fit_sweep(mesh, o)); });
   check_problems(s, mesh, fits, seconds_since(start));
   write_outputs(s, mesh, rig, updating, material, fits, start);
   return 0;
@@ -278,21 +310,24 @@ int run_all(const Settings& s) {
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
   sweep::io::declare_outputs({s.rig, s.report, s.preview});
-  const sweep::fit::SweepFitter fitter(mesh);
-  const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh, fitter.topology());
-  if (parts.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no tubular parts found");
-  if (!names.empty() && names.size() != parts.size()) {
-    fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) + " names for the " +
-                                   std::to_string(parts.size()) + " parts found (see --list)");
-  }
   std::vector<sweep::fit::FitResult> fits;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    sweep::fit::FitOptions o = fit_options(s);
-    o.name = names.empty() ? parts[i].name : names[i];
-    o.tip_vertex = parts[i].tip_vertex;
-    if (s.verbose) std::cout << "fitting " << o.name << " (" << i + 1 << "/" << parts.size() << ")\n";
-    fits.push_back(fitter.fit(o));
-  }
+  fitting(s, mesh, fits, start, [&] {
+    const sweep::fit::SweepFitter fitter(mesh);
+    const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh, fitter.topology());
+    if (parts.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no tubular parts found");
+    if (!names.empty() && names.size() != parts.size()) {
+      fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) +
+                                     " names for the " + std::to_string(parts.size()) +
+                                     " parts found (see --list)");
+    }
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      sweep::fit::FitOptions o = fit_options(s);
+      o.name = names.empty() ? parts[i].name : names[i];
+      o.tip_vertex = parts[i].tip_vertex;
+      if (s.verbose) std::cout << "fitting " << o.name << " (" << i + 1 << "/" << parts.size() << ")\n";
+      fits.push_back(fitter.fit(o));
+    }
+  });
   check_problems(s, mesh, fits, seconds_since(start));
   write_outputs(s, mesh, rig, updating, material, fits, start);
   return 0;

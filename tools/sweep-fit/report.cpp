@@ -38,6 +38,10 @@ Json fit_entry(const fit::FitResult& r) {
   s["surface_length"] = r.surface_length;
   s["traced_over_surface"] = r.surface_length > 0 ? r.traced_length / r.surface_length : 0.0;
   s["tip_gap_relative"] = r.mean_radius > 0 ? r.tip_gap / r.mean_radius : 0.0;
+  s["trace_end_reason"] = r.axis.end_reason;
+  s["tip_off_surface"] = r.tip_off_surface;
+  s["root_off_surface"] = r.root_off_surface;
+  s["seed_limit"] = r.seed_limit;
   s["mean_radius"] = r.mean_radius;
   const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
   s["fit_rms"] = r.error.rms;
@@ -64,7 +68,7 @@ Json fit_entry(const fit::FitResult& r) {
 
 std::string fit_report_text(const std::filesystem::path& mesh, const std::filesystem::path& rig,
                             const std::vector<fit::FitResult>& fits, bool rig_written,
-                            double seconds) {
+                            double seconds, const Error* failure) {
   Json rep;
   rep["format"] = "sweep-fit-report";
   rep["version"] = 2;
@@ -73,6 +77,9 @@ std::string fit_report_text(const std::filesystem::path& mesh, const std::filesy
   rep["rig_written"] = rig_written;
   auto& sweeps = rep["sweeps"] = Json::array();
   for (const fit::FitResult& r : fits) sweeps.push_back(fit_entry(r));
+  if (failure) {
+    rep["error"] = {{"message", failure->what()}, {"exit_code", exit_code(failure->category())}};
+  }
   rep["seconds_total"] = seconds;
   return rep.dump(2) + "\n";
 }
@@ -103,21 +110,24 @@ void write_parts_report(const std::filesystem::path& report, const std::filesyst
 void print_fit(const fit::FitResult& r, bool verbose) {
   const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
   std::cout << r.sweep.name << ": " << r.sweep.rest.section_count() << " sections x "
-            << r.sweep.rest.radial_count << " radii, length " << r.length << ", mean radius "
-            << r.mean_radius << "\n"
-            << "  root " << r.root.x() << "," << r.root.y() << "," << r.root.z()
-            << (r.root_found ? " (found: " : " (") << r.root_reason << ")\n"
+            << r.sweep.rest.radial_count << " radii, length " << format_number(r.length)
+            << ", mean radius " << format_number(r.mean_radius) << "\n"
+            << "  root " << format_point(r.root) << (r.root_found ? " (found: " : " (")
+            << r.root_reason << ")\n"
             << "  part: " << r.part_vertices.size() << " vertices, "
-            << 100 * r.in_range_share() << "% between the end sections; axis "
-            << r.traced_length << " over a surface distance of " << r.surface_length << "\n"
-            << "  fit: rms " << 100 * r.error.rms / mr << "%, 90% within "
-            << 100 * r.error.p90 / mr << "%, max " << 100 * r.error.max / mr
-            << "% of the mean radius (part to surface); surface to part rms "
-            << 100 * r.error.surface_rms / mr << "%, max " << 100 * r.error.surface_max / mr
-            << "%\n";
+            << format_percent(r.in_range_share()) << " between the end sections; axis "
+            << format_number(r.traced_length) << " over a surface distance of "
+            << format_number(r.surface_length) << "\n"
+            << "  fit: rms " << format_percent(r.error.rms / mr) << ", 90% within "
+            << format_percent(r.error.p90 / mr) << ", max " << format_percent(r.error.max / mr)
+            << " of the mean radius (part to surface); surface to part rms "
+            << format_percent(r.error.surface_rms / mr) << ", max "
+            << format_percent(r.error.surface_max / mr) << "\n";
   if (verbose) {
-    std::cout << "  axis: " << r.axis.points.size() << " points, ending " << r.tip_gap / mr
-              << " mean radii from tip vertex " << r.tip_vertex << "; " << r.error.beyond_ends_count << " part vertices beyond the end sections\n";
+    std::cout << "  axis: " << r.axis.points.size() << " points, ending "
+              << format_number(r.tip_gap / mr) << " mean radii from tip vertex " << r.tip_vertex
+              << " (" << (r.axis.end_reason.empty() ? "the axis given" : r.axis.end_reason)
+              << "); " << r.error.beyond_ends_count << " part vertices beyond the end sections\n";
   }
 }
 

@@ -5,16 +5,19 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "fit/discover.h"
 #include "fit/fit.h"
 
 namespace sweep::fit_tool {
 
 // The report of one or more fits: written also when a fit fails (rig_written false), so that a
-// script sees the numbers. Format "sweep-fit-report", version 2 (README: sweep-fit's report).
+// script sees the numbers; `failure`, when given, is the error the run ends with ("error":
+// message and exit code), `fits` then holding what was fitted before it and, for a FitFailure,
+// the fit as far as it got. Format "sweep-fit-report", version 2 (README: sweep-fit's report).
 std::string fit_report_text(const std::filesystem::path& mesh, const std::filesystem::path& rig,
                             const std::vector<fit::FitResult>& fits, bool rig_written,
-                            double seconds);
+                            double seconds, const Error* failure = nullptr);
 
 // The parts found: format "sweep-fit-parts", version 1.
 void write_parts_report(const std::filesystem::path& report, const std::filesystem::path& mesh,

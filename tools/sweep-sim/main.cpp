@@ -6,7 +6,6 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -17,6 +16,7 @@
 #include "assets/bake_run.h"
 #include "assets/gltf_motion.h"
 #include "assets/mesh_io.h"
+#include "core/text.h"
 #include "io/atomic_file.h"
 #include "io/binding_file.h"
 #include "io/interrupt.h"
@@ -169,21 +169,37 @@ int run(const Settings& s) {
   publication.commit();
 
   if (!s.quiet) {
-    std::printf(
-        "baked %d frames (%.3g s at %.4g fps, step %.3g s) in %.2f s: simulate %.1f ms, deform "
-        "%.1f ms, write %.1f ms\n",
-        report.frames, (report.frames - 1) / report.fps, report.fps, report.step_seconds, total,
-        report.simulate_seconds * 1e3, report.deform_seconds * 1e3, report.write_seconds * 1e3);
+    using sweep::format_number;
+    std::cout << "baked " << report.frames << " frames ("
+              << format_number((report.frames - 1) / report.fps, 3) << " s at "
+              << format_number(report.fps) << " fps, step " << format_number(report.step_seconds, 3)
+              << " s) in " << format_number(total, 3) << " s: simulate "
+              << format_number(report.simulate_seconds * 1e3, 3) << " ms, deform "
+              << format_number(report.deform_seconds * 1e3, 3) << " ms, write "
+              << format_number(report.write_seconds * 1e3, 3) << " ms\n";
     for (const auto& st : report.sweeps) {
-      std::printf("  %-12s %s, %lld steps, deformed in %d frames, %zu vertices\n", st.name.c_str(),
-                  st.driven ? "driven" : "no force reaches it: skipped", st.steps,
-                  st.frames_deformed, st.bound_vertex_count);
+      std::cout << "  " << st.name << std::string(st.name.size() < 12 ? 12 - st.name.size() : 0, ' ')
+                << " " << (st.driven ? "driven" : "no force reaches it: skipped") << ", "
+                << st.steps << " steps, deformed in " << st.frames_deformed << " frames, "
+                << st.bound_vertex_count << " vertices\n";
     }
     for (const double t : report.teleport_times) {
-      std::printf("  the body jumped at t = %.4g s (a cut or respawn): the parts were put to rest there\n", t);
+      std::cout << "  the body jumped at t = " << format_number(t)
+                << " s (a cut or respawn): the parts were put to rest there\n";
     }
-    for (const auto& f : report.files) std::printf("wrote %s\n", f.string().c_str());
-    if (!s.report.empty()) std::printf("report %s\n", s.report.string().c_str());
+    // One line an output: an .obj sequence as its pattern and count, not a line a frame.
+    for (const fs::path& out : s.outputs) {
+      const std::vector<fs::path> files = sweep::io::bake_files(out, report.frames);
+      if (files.size() == 1) {
+        std::cout << "wrote " << files[0].string() << "\n";
+      } else {
+        std::cout << "wrote " << files.size() << " files " << files.front().string() << " ... "
+                  << files.back().filename().string() << " (" << out.stem().string() << "_"
+                  << std::string(files.front().stem().string().size() - out.stem().string().size() - 1, '#')
+                  << out.extension().string() << ", one a frame)\n";
+      }
+    }
+    if (!s.report.empty()) std::cout << "report " << s.report.string() << "\n";
   }
   return 0;
 }
