@@ -92,11 +92,13 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
     std::nth_element(distances.begin(), p90, distances.end());
     e.p90 = *p90;
   }
-  // The other way: the sweep's samples to the part's own faces.
+  // The other way: the sweep's samples to the part's faces, those with a vertex in the part (the
+  // faces across the root section are the part's surface there: without them a sample at the
+  // root of a coarse part is a whole ring of faces from the nearest one).
   std::vector<std::uint32_t> part_faces;
   const std::vector<std::uint32_t> all = mesh.triangles();
   for (std::size_t f = 0; f + 2 < all.size(); f += 3) {
-    if (in_part[all[f]] && in_part[all[f + 1]] && in_part[all[f + 2]]) {
+    if (in_part[all[f]] || in_part[all[f + 1]] || in_part[all[f + 2]]) {
       part_faces.insert(part_faces.end(), {all[f], all[f + 1], all[f + 2]});
     }
   }

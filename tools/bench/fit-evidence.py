@@ -42,10 +42,16 @@ PARTS = [
     ("camel", "tail", "lying against the body", "0.002,-0.0135,-0.4465", None),
     ("cow", "tail", "lying against the body (coarse mesh)", "-0.485,-0.145,0.005", None),
     ("bunny00", "ear", "flat, leaving the head", "-0.3,0.445,-0.36", None),
+    ("bull", "tail", "curled, a tuft at the end", "0.43,0.35,0.26", None),
+    ("bull", "horn", "curved, tapering to a point", "-0.23,0.28,0.4", None),
+    ("bull", "front leg", "leaving a broad body", "0.32,-0.32,0.14", None),
+    ("dino", "hind leg", "L-shaped (knee), claws at the end", "-0.9,0.4,-2", None),
+    ("elephant", "trunk", "S-curved, a tusk against it", "0.24,0.48,0.08", None),
 ]
 
 
-LISTED = ["camel", "cow", "triceratops", "armadillo", "bunny00", "bear", "refined_elephant"]
+LISTED = ["camel", "cow", "triceratops", "armadillo", "bunny00", "bear", "refined_elephant", "bull",
+          "dino", "elephant"]
 
 
 def slug(text):
@@ -88,16 +94,17 @@ def main():
                      run.stderr.strip().splitlines()[-1] if run.returncode and run.stderr.strip() else ""))
         print(f"{mesh} {part}: exit {run.returncode}", file=sys.stderr)
 
-    table = ["| mesh | part | shape | --tip | --root | exit | fit RMS | 90 % within | traced / surface | "
-             "axis end to tip | vertices |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    table = ["| mesh | part | shape | --tip | --root | exit | fit RMS | 90 % within | surface to part RMS | "
+             "traced / surface | axis end to tip | vertices |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for mesh, part, shape, tip, root_click, code, e, message in rows:
         if e is None:
             table.append(f"| {mesh} | {part} | {shape} | {tip} | {root_click or 'found'} | {code} | "
-                         f"— | — | — | — | {message} |")
+                         f"— | — | — | — | — | {message} |")
             continue
         table.append(f"| {mesh} | {part} | {shape} | {tip} | {root_click or 'found'} | {code} | "
                      f"{100 * e['fit_rms_relative']:.1f} % | {100 * e['fit_p90_relative']:.1f} % | "
+                     f"{100 * e['surface_rms_relative']:.1f} % | "
                      f"{e['traced_over_surface']:.2f} | {e['tip_gap_relative']:.2f} r | {e['part_vertex_count']} |")
 
     if previews:

@@ -325,8 +325,22 @@ int run_all(const Settings& s) {
       o.name = names.empty() ? parts[i].name : names[i];
       o.tip_vertex = parts[i].tip_vertex;
       if (s.verbose) std::cout << "fitting " << o.name << " (" << i + 1 << "/" << parts.size() << ")\n";
-      fits.push_back(fitter.fit(o));
+      // One part the fit cannot take (a tip behind its root, a part with no length) names the
+      // part; with --force the others are still fitted and written.
+      try {
+        fits.push_back(fitter.fit(o));
+      } catch (const sweep::Error& e) {
+        if (e.category() != ErrorCategory::bad_input) throw;
+        const std::string which = o.name + " (part " + std::to_string(i + 1) + " of " +
+                                  std::to_string(parts.size()) + "): ";
+        if (!s.force) {
+          fail(ErrorCategory::bad_input,
+               which + e.what() + "\n  (--force fits the other parts and leaves this one out)");
+        }
+        sweep::tools::warn(which + "left out (--force): " + e.what());
+      }
     }
+    if (fits.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no part could be fitted");
   });
   check_problems(s, mesh, fits, seconds_since(start));
   write_outputs(s, mesh, rig, updating, material, fits, start);
