@@ -47,11 +47,13 @@ PARTS = [
     ("bull", "front leg", "leaving a broad body", "0.32,-0.32,0.14", None),
     ("dino", "hind leg", "L-shaped (knee), claws at the end", "-0.9,0.4,-2", None),
     ("elephant", "trunk", "S-curved, a tusk against it", "0.24,0.48,0.08", None),
+    ("cactus", "arm (right)", "L-shaped (90° within 3 radii of the body)", "0.36,0.48,0.04", None),
+    ("cactus", "arm (left)", "L-shaped (out, then up)", "-0.32,0.48,0.04", None),
 ]
 
 
 LISTED = ["camel", "cow", "triceratops", "armadillo", "bunny00", "bear", "refined_elephant", "bull",
-          "dino", "elephant"]
+          "dino", "elephant", "cactus"]
 
 
 def slug(text):
