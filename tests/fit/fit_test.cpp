@@ -343,6 +343,30 @@ TEST(OtherMeshes, CamelTailHangsDown) {
   for (const std::uint32_t v : r.part_vertices) EXPECT_LT(mesh.positions[v].z(), -0.4);
 }
 
+// CGAL's cactus: each arm leaves the trunk sideways and turns up within three radii of it (the
+// L-shaped class). From a tip clicked near the arm's end, root found: the axis turns by about 90°,
+// the fit is within 2 % of the mean radius both ways, and the part is the arm alone.
+TEST(OtherMeshes, CactusArmsBentAtTheTrunkAreFollowed) {
+  if (!std::filesystem::exists(kCgal / "cactus.off")) GTEST_SKIP() << "run tools/setup-deps.sh";
+  for (const Vec3& tip : {Vec3(0.36, 0.48, 0.04), Vec3(-0.32, 0.48, 0.04)}) {
+    FitOptions o;
+    o.name = "arm";
+    o.tip = tip;
+    Mesh mesh;
+    const FitResult r = fit_cgal("cactus.off", o, &mesh);
+    expect_valid(r);
+    EXPECT_TRUE(r.problems.empty());
+    const Vec3 first = r.sweep.rest.frames.front().axis(), last = r.sweep.rest.frames.back().axis();
+    EXPECT_LT(std::abs(first.y()), 0.6) << "leaves the trunk sideways";
+    EXPECT_GT(last.y(), 0.9) << "ends pointing up";
+    EXPECT_LE(r.error.rms, 0.02 * r.mean_radius);
+    EXPECT_LE(r.error.surface_rms, 0.05 * r.mean_radius);
+    EXPECT_GE(r.traced_length, 0.95 * r.surface_length);
+    // The trunk is |x| < 0.1: no part vertex there.
+    for (const std::uint32_t v : r.part_vertices) EXPECT_GT(std::abs(mesh.positions[v].x()), 0.1);
+  }
+}
+
 TEST(OtherMeshes, TriceratopsTailTapers) {
   if (!std::filesystem::exists(kCgal / "triceratops.off"))
     GTEST_SKIP() << "run tools/setup-deps.sh";
