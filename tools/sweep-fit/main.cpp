@@ -269,6 +269,15 @@ void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, 
             << ") in " << sweep::format_number(seconds, 3) << " s\n";
 }
 
+// The rig, report and preview are checked before the fit, so none is written when another cannot
+// be, and named for an interrupt's message ("not written: ...").
+void check_outputs(const Settings& s) {
+  sweep::io::check_can_create(s.rig);
+  if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
+  sweep::io::declare_outputs({s.rig, s.report, s.preview});
+}
+
 // One part, named by its tip (and root, or an axis).
 int run_one(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
@@ -284,11 +293,7 @@ int run_one(const Settings& s) {
   bool updating = false;
   sweep::Rig rig = open_rig(s, updating);
   const sweep::Mesh mesh = read_checked_mesh(s);
-  // Outputs are checked before the fit, so neither is written when the other cannot be.
-  sweep::io::check_can_create(s.rig);
-  if (!s.report.empty()) sweep::io::check_can_create(s.report);
-  if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
-  sweep::io::declare_outputs({s.rig, s.report, s.preview});
+  check_outputs(s);
   std::vector<sweep::fit::FitResult> fits;
   fitting(s, mesh, fits, start, [&] { fits.push_back(sweep::fit::fit_sweep(mesh, o)); });
   check_problems(s, mesh, fits, seconds_since(start));
@@ -306,10 +311,7 @@ int run_all(const Settings& s) {
   bool updating = false;
   sweep::Rig rig = open_rig(s, updating);
   const sweep::Mesh mesh = read_checked_mesh(s);
-  sweep::io::check_can_create(s.rig);
-  if (!s.report.empty()) sweep::io::check_can_create(s.report);
-  if (!s.preview.empty()) sweep::io::check_can_create(s.preview);
-  sweep::io::declare_outputs({s.rig, s.report, s.preview});
+  check_outputs(s);
   std::vector<sweep::fit::FitResult> fits;
   fitting(s, mesh, fits, start, [&] {
     const sweep::fit::SweepFitter fitter(mesh);
