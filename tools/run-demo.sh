@@ -20,6 +20,14 @@ tail_tip=${TAIL_TIP:--0.5,-0.345,-0.012}
 neck_root=${NECK_ROOT:-0.26,0.08,0.062}
 neck_tip=${NECK_TIP:-0.36,0.45,0.11}
 
+# The previews shade the mesh's surfaces where sweep-preview.py can read its faces (.off, .obj);
+# PREVIEW=0 skips the pictures (about ten seconds each on the diplodocus).
+case "$mesh" in
+  *.off|*.OFF|*.obj|*.OBJ) shaded=(--mesh "$mesh") ;;
+  *) shaded=() ;;
+esac
+preview() { if [ "${PREVIEW:-1}" != 0 ]; then tools/sweep-preview.py "$@" "${shaded[@]}" --views xz,xy; fi; }
+
 cmake --preset release >/dev/null
 cmake --build --preset release -j "$(nproc)" --target sweep-fit sweep-bind sweep-sim
 bin=build/release/tools
@@ -33,7 +41,7 @@ rm -f "$out.rig.json"  # fit adds sweeps to an existing rig: start a fresh one
 "$bin/sweep-bind/sweep-bind" "$out.rig.json" --blend 0.02 --report "$out.bind.json"
 "$bin/sweep-sim/sweep-sim" "$out.rig.json" --scene "$scene" -o "$out.glb" -o "$out.pc2" \
   --report "$out.sim.json"
-tools/sweep-preview.py "$out.pc2" -o "$out.png" --report "$out.sim.json" --views xz,xy
+preview "$out.pc2" -o "$out.png" --report "$out.sim.json"
 
 # The second demo (the diplodocus only): the same parts in material mode — a 25 m animal of flesh
 # over a stiff spine (rigs/diplodocus-*.material.json) — drooping under gravity from an unloaded
@@ -49,13 +57,13 @@ if [ -z "${MESH:-}" ]; then
   "$bin/sweep-bind/sweep-bind" "$material_demo.rig.json" --blend 0.02 -q
   "$bin/sweep-sim/sweep-sim" "$material_demo.rig.json" --scene rigs/diplodocus-material.scene.json \
     -o "$material_demo.glb" -o "$material_demo.pc2" --report "$material_demo.sim.json"
-  tools/sweep-preview.py "$material_demo.pc2" -o "$material_demo.png" --report "$material_demo.sim.json" --views xz,xy
+  preview "$material_demo.pc2" -o "$material_demo.png" --report "$material_demo.sim.json"
   # The third: the same rig on a body that walks, turns and stops (rigs/diplodocus-walk.scene.json,
   # a keyframed root, with gravity and a breeze): tail and neck lag, swing and settle.
   walk_demo="$out-walk"
   "$bin/sweep-sim/sweep-sim" "$material_demo.rig.json" --scene rigs/diplodocus-walk.scene.json \
     -o "$walk_demo.glb" -o "$walk_demo.pc2" --report "$walk_demo.sim.json"
-  tools/sweep-preview.py "$walk_demo.pc2" -o "$walk_demo.png" --report "$walk_demo.sim.json" --views xz,xy
+  preview "$walk_demo.pc2" -o "$walk_demo.png" --report "$walk_demo.sim.json"
 fi
 
 cat <<MSG
@@ -63,7 +71,8 @@ cat <<MSG
 Done. The baked files:
   $out.glb       glTF 2.0: mesh + one morph target a frame + the animation (Blender, three.js, engines)
   $out.pc2       point cache in the mesh's vertex order (Blender's Mesh Cache modifier, Houdini, 3ds Max)
-  $out.png       preview: frames from the side and from above, and the displacement over time
+  $out.png       preview: shaded frames from above and from the side, the moving part coloured by
+                 its displacement, and the displacement over time
 Reports (JSON): $out.fit-tail.json $out.fit-neck.json $out.bind.json $out.sim.json
 The rig and its binding: $out.rig.json $out.rig.bind
 MSG

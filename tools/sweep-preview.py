@@ -1,11 +1,15 @@
 #!/usr/bin/python3
 """Preview a bake as a PNG contact sheet: a few frames of a .pc2 point cache, seen from the side and
-from above, each vertex coloured by how far it has moved from frame 0. With --report (sweep-sim's
-JSON report) a last panel plots the largest displacement over time; with --scene, the scene's
-colliders are drawn in grey where they are in the world (those carried by a moving body, at its rest
-place).
+from above, coloured by how far each point has moved from where the body's own rigid motion would
+have carried it from frame 0 (on a still body: from frame 0). With --mesh (the mesh the bake
+deforms, .off or .obj, its vertices in the cache's order) the frames are shaded surfaces: each
+triangle lit from the viewer and a key light, the still body grey, the moving part in the colour of
+its displacement, drawn back to front; without it, points. With --report (sweep-sim's JSON report)
+a last panel plots the largest displacement over time; with --scene, the scene's colliders are
+drawn in grey where they are in the world (those carried by a moving body, at its rest place).
 
-    tools/sweep-preview.py out/diplodocus.pc2 -o out/diplodocus.png --report out/report.json
+    tools/sweep-preview.py out/diplodocus.pc2 -o out/diplodocus.png --mesh diplodocus.off \
+        --report out/report.json
 
 Uses Debian's python3-matplotlib and python3-numpy (tools/setup-deps.sh installs them).
 Exit codes: 0 done, 2 bad input, 4 cannot write the picture.
@@ -36,6 +40,100 @@ def read_pc2(path):
     if points <= 0 or samples <= 0 or data.size != points * samples * 3:
         raise ValueError(f"truncated: header says {samples} samples of {points} points")
     return data.reshape(samples, points, 3)
+
+
+def read_faces(path):
+    """The triangles of an .off or .obj mesh (polygons fanned), as vertex index triples."""
+    ext = os.path.splitext(path)[1].lower()
+    faces = []
+    with open(path) as f:
+        if ext == ".off":
+            words = []
+            for line in f:
+                line = line.split("#")[0].split()
+                if line:
+                    words.append(line)
+            head = words[0]
+            counts = head[1:] if head[0].endswith("OFF") and len(head) > 1 else words[1]
+            first = 1 if len(head) > 1 else 2
+            nv, nf = int(counts[0]), int(counts[1])
+            for row in words[first + nv:first + nv + nf]:
+                k = int(row[0])
+                idx = [int(x) for x in row[1:1 + k]]
+                faces += [(idx[0], idx[i], idx[i + 1]) for i in range(1, k - 1)]
+        elif ext == ".obj":
+            for line in f:
+                if line.startswith("f "):
+                    idx = [int(w.split("/")[0]) - 1 for w in line.split()[1:]]
+                    faces += [(idx[0], idx[i], idx[i + 1]) for i in range(1, len(idx) - 1)]
+        else:
+            raise ValueError("--mesh reads .off and .obj (the mesh the bake deforms)")
+    if not faces:
+        raise ValueError("no faces")
+    return np.array(faces, dtype=np.int64)
+
+
+def draw_shaded(ax, points, faces, a, b, colours):
+    """Triangles projected on axes a, b, back to front (the viewer looks along the third axis from
+    its positive side), each coloured and lit by |n·view| and a key light from above."""
+    other = 3 - a - b
+    tri = points[faces]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    length = np.linalg.norm(normal, axis=1)
+    normal = normal / np.maximum(length, 1e-300)[:, None]
+    view = np.zeros(3)
+    view[other] = 1
+    key = np.array([0.3, 0.8, 0.5])
+    key /= np.linalg.norm(key)
+    light = 0.25 + 0.55 * np.abs(normal @ view) + 0.2 * np.abs(normal @ key)
+    order = np.argsort(tri[:, :, other].mean(axis=1))  # farthest first
+    shaded = np.clip(colours[order, :3] * light[order, None], 0, 1)
+    polys = tri[order][:, :, [a, b]]
+    from matplotlib.collections import PolyCollection
+    ax.add_collection(PolyCollection(polys, facecolors=shaded, edgecolors="none", antialiaseds=False))
+
+
+def rigid_fit(a, b):
+    """The rotation R and shift t that carry points a closest to points b (Kabsch)."""
+    ca, cb = a.mean(axis=0), b.mean(axis=0)
+    u, _, vt = np.linalg.svd((a - ca).T @ (b - cb))
+    d = np.sign(np.linalg.det(vt.T @ u.T))
+    r = vt.T @ np.diag([1, 1, d]) @ u.T
+    return r, cb - r @ ca
+
+
+def displacements(frames):
+    """Each point's distance, frame by frame, from where the body's rigid motion carries it from
+    frame 0: the body (most of the points) is fitted again and again to the half of the points
+    that fits it best, so a walking body is still and its swinging tail moves; a still body gives
+    plain distances from frame 0."""
+    rest = frames[0].astype(np.float64)
+    out = np.zeros(frames.shape[:2])
+    for k in range(1, len(frames)):
+        now = frames[k].astype(np.float64)
+        if not np.any(now != rest):
+            continue
+        # Trimmed refits from two starts, the body still and the fit to every point; the one whose
+        # better half fits closer wins.
+        fits = []
+        for r, t in ((np.eye(3), np.zeros(3)), rigid_fit(rest, now)):
+            for _ in range(12):  # the better half each time, until it settles
+                residual = np.linalg.norm(now - (rest @ r.T + t), axis=1)
+                best = residual <= np.median(residual)
+                r_new, t_new = rigid_fit(rest[best], now[best])
+                settled = np.allclose(r_new, r, atol=1e-12) and np.allclose(t_new, t, atol=1e-12)
+                r, t = r_new, t_new
+                if settled:
+                    break
+            residual = np.linalg.norm(now - (rest @ r.T + t), axis=1)
+            fits.append((np.sort(residual)[: len(residual) // 2].sum(), r, t))
+        _, r, t = min(fits, key=lambda f: f[0])
+        carried = rest @ r.T + t
+        out[k] = np.linalg.norm(now - carried, axis=1)
+        # A body that does not move at all: distances from frame 0 exactly (no fitting noise).
+        if np.allclose(r, np.eye(3), atol=1e-9) and np.allclose(t, 0, atol=1e-9 * np.abs(rest).max()):
+            out[k] = np.linalg.norm(now - rest, axis=1)
+    return out
 
 
 def collider_outlines(scene):
@@ -113,6 +211,7 @@ def main():
     ap.add_argument("--views", default="xy,xz", help="axis pairs to project on (default xy,xz)")
     ap.add_argument("--dpi", type=int, default=110, help="resolution of the picture (default 110)")
     ap.add_argument("--scene", help="scene (or rig with a scene) whose colliders to draw")
+    ap.add_argument("--mesh", help="the deformed mesh (.off, .obj): shaded surfaces, not points")
     args = ap.parse_args()
     try:
         frames = read_pc2(args.pc2)
@@ -125,24 +224,42 @@ def main():
     except (OSError, ValueError, AttributeError) as e:
         print(f"error: {args.scene}: {e}", file=sys.stderr)
         return 2
+    try:
+        faces = read_faces(args.mesh) if args.mesh else None
+        if faces is not None and (faces.min() < 0 or faces.max() >= frames.shape[1]):
+            raise ValueError(f"its faces name vertices up to {faces.max()}, the cache has "
+                             f"{frames.shape[1]} points: not the mesh of this bake")
+    except (OSError, ValueError, IndexError) as e:
+        print(f"error: {args.mesh}: {e}", file=sys.stderr)
+        return 2
     fps = args.fps or (report["fps"] if report else None)
     rest = frames[0]
-    moving = np.linalg.norm(frames - rest, axis=2).max(axis=0) > 0
+    moved = displacements(frames)
+    extent = max(float(np.ptp(frames.reshape(-1, 3), axis=0).max()), 1e-30)
+    moving = moved.max(axis=0) > 1e-5 * extent
     picks = np.unique(np.linspace(0, len(frames) - 1, max(1, args.frames)).round().astype(int))
     views = [("xyz".index(v[0]), "xyz".index(v[1])) for v in args.views.split(",")]
     rows = len(views) + (1 if report else 0)
     fig, axes = plt.subplots(rows, len(picks), figsize=(3.2 * len(picks), 3.0 * rows), squeeze=False)
-    vmax = max(np.linalg.norm(frames[:, moving] - rest[moving], axis=2).max(), 1e-12) if moving.any() else 1.0
+    vmax = max(moved[:, moving].max(), 1e-12) if moving.any() else 1.0
     lo, hi = frames.reshape(-1, 3).min(axis=0), frames.reshape(-1, 3).max(axis=0)
     if colliders:  # room for what the part runs into
         lo, hi = lo - 0.15 * (hi - lo).max(), hi + 0.15 * (hi - lo).max()
     for c, k in enumerate(picks):
-        d = np.linalg.norm(frames[k] - rest, axis=1)
+        d = moved[k]
         for r, (a, b) in enumerate(views):
             ax = axes[r][c]
-            ax.scatter(frames[k][~moving, a], frames[k][~moving, b], s=0.2, c="0.75", linewidths=0)
-            ax.scatter(frames[k][moving, a], frames[k][moving, b], s=0.4, c=d[moving], cmap="viridis",
-                       vmin=0, vmax=vmax, linewidths=0)
+            if faces is not None:
+                # A face moves with its vertices: the body's still faces grey, the part's by colour.
+                face_d = d[faces].mean(axis=1)
+                face_moving = moving[faces].any(axis=1)
+                colours = np.where(face_moving[:, None], plt.get_cmap("viridis")(face_d / vmax),
+                                   np.array([0.78, 0.78, 0.76, 1.0]))
+                draw_shaded(ax, frames[k], faces, a, b, colours)
+            else:
+                ax.scatter(frames[k][~moving, a], frames[k][~moving, b], s=0.2, c="0.75", linewidths=0)
+                ax.scatter(frames[k][moving, a], frames[k][moving, b], s=0.4, c=d[moving], cmap="viridis",
+                           vmin=0, vmax=vmax, linewidths=0)
             for col in colliders:
                 try:
                     draw_collider(ax, col, a, b, lo, hi)
@@ -168,7 +285,7 @@ def main():
         ax.set_ylabel("largest vertex displacement\n(mesh units)")
         ax.grid(alpha=0.3)
     fig.suptitle(f"{os.path.basename(args.pc2)}: {frames.shape[1]} vertices, {len(frames)} frames; "
-                 f"colour = displacement from frame 0 (max {vmax:.3g})", fontsize=10)
+                 f"colour = displacement from where the body carries frame 0 (max {vmax:.3g})", fontsize=10)
     fig.tight_layout()
     # Written beside the target and renamed into place: never a half-written picture.
     out_dir = os.path.dirname(os.path.abspath(args.output))
