@@ -79,7 +79,11 @@ int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32
   for (int q = 0; q < unknowns; ++q) prior[q] = shape.radii[static_cast<std::size_t>(q)];
   Eigen::VectorXd solution = prior;
   for (int pass = 0; pass < 2; ++pass) {
-    std::vector<Eigen::Triplet<double>> triplets;
+    // The normal matrix is banded: a sample couples with samples of at most 3 sections and 3
+    // angles either way (a row's 4 × 4, the second differences), so each column is reserved
+    // that many entries and summed in place (no list of a row's 16² products per vertex).
+    Eigen::SparseMatrix<double> normal(unknowns, unknowns);
+    normal.reserve(Eigen::VectorXi::Constant(unknowns, 7 * 7));
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(unknowns);
     std::vector<double> reach(static_cast<std::size_t>(unknowns), 0.0);
     for (std::size_t r = 0; r < rows.size(); ++r) {
@@ -87,7 +91,7 @@ int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32
       for (const auto& [a, wa] : row.weights) {
         rhs[a] += weight[r] * wa * row.rho;
         reach[static_cast<std::size_t>(a)] += weight[r] * wa * wa;
-        for (const auto& [b, wb] : row.weights) triplets.emplace_back(a, b, weight[r] * wa * wb);
+        for (const auto& [b, wb] : row.weights) normal.coeffRef(a, b) += weight[r] * wa * wb;
       }
     }
     double mean_reach = 0;
@@ -95,7 +99,7 @@ int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32
     mean_reach /= unknowns;
     const double pull = kPullShare * std::max(mean_reach, 1e-300);
     for (int q = 0; q < unknowns; ++q) {
-      triplets.emplace_back(q, q, pull);
+      normal.coeffRef(q, q) += pull;
       rhs[q] += pull * prior[q];
     }
     // Smoothness: second differences around each section (periodic) and along the sweep, so
@@ -105,7 +109,7 @@ int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32
       const int idx[3] = {a, b, c};
       const double coef[3] = {1, -2, 1};
       for (int x = 0; x < 3; ++x)
-        for (int y = 0; y < 3; ++y) triplets.emplace_back(idx[x], idx[y], bend * coef[x] * coef[y]);
+        for (int y = 0; y < 3; ++y) normal.coeffRef(idx[x], idx[y]) += bend * coef[x] * coef[y];
     };
     for (int i = 0; i < k; ++i) {
       for (int j = 0; j < n; ++j) {
@@ -113,8 +117,7 @@ int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32
         if (i > 0 && i + 1 < k) add_second_difference((i - 1) * n + j, i * n + j, (i + 1) * n + j);
       }
     }
-    Eigen::SparseMatrix<double> normal(unknowns, unknowns);
-    normal.setFromTriplets(triplets.begin(), triplets.end());
+    normal.makeCompressed();
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
     if (solver.info() != Eigen::Success) return 0;
     const Eigen::VectorXd x = solver.solve(rhs);
