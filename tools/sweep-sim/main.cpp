@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -223,8 +224,16 @@ int main(int argc, char** argv) {
         ->check(sweep::tools::kNonEmptyName);
     app.add_option("--max-output-size", s.max_output_bytes,
                    "Refuse, before simulating, a bake whose files would take more than this many "
-                   "bytes (suffixes K, M, G: powers of 1000)")
-        ->transform(CLI::AsSizeValue(/*kb_is_1024=*/false));
+                   "bytes (suffixes K, M, G: powers of 1000; KiB, MiB, GiB: of 1024)")
+        // CLI11 2.1's AsSizeValue reads K as 1024 whatever its flag: our own units, as documented.
+        ->transform(CLI::AsNumberWithUnit(
+            std::map<std::string, std::uint64_t>{{"k", 1000}, {"kb", 1000}, {"m", 1000000},
+                                                 {"mb", 1000000}, {"g", 1000000000},
+                                                 {"gb", 1000000000}, {"kib", 1024},
+                                                 {"mib", 1u << 20}, {"gib", 1u << 30}},
+            CLI::AsNumberWithUnit::Options(CLI::AsNumberWithUnit::CASE_INSENSITIVE |
+                                           CLI::AsNumberWithUnit::UNIT_OPTIONAL),
+            "SIZE"));
     app.add_option("--report", s.report,
                    "Write a JSON report: frames, per-frame displacement, timings")
         ->check(sweep::tools::kNonEmptyName);
