@@ -1,4 +1,6 @@
 // .glb: glTF 2.0 binary with one morph target per baked frame and a weights animation (bake.h).
+// Each target moves positions and normals (POSITION and NORMAL deltas), so that a bent part is lit
+// as bent: the frame's smooth normals, computed as the rest's are, minus the rest's.
 //
 // Streaming: the binary chunk is written as frames arrive into a nameless scratch file beside the
 // output. Its layout, every block 4-byte aligned (all elements are 4 bytes):
@@ -6,7 +8,9 @@
 //   [sparse target indices (uint32, ascending, shared by every target)] |
 //   animation times (F floats) | animation weights, one-hot F × F as a sparse accessor
 //   (F uint32 flat indices k·F + k, then F floats 1) |
-//   frame 0 deltas | frame 1 deltas | ...   (s × vec3 each: s = listed vertices, or n when dense) |
+//   [sparse normal indices (uint32): the listed vertices and every vertex on a face with one] |
+//   frame 0 deltas | frame 0 normal deltas | frame 1 deltas | ...   (s × vec3 and s' × vec3 each:
+//   s = listed vertices, s' = those and their face neighbours, or n when dense) |
 //   [a moving body: translations (F × vec3) | rotations (F × vec4), the node's animation]
 // finish() builds the JSON with tinygltf (its serializer sorts keys, so the bytes are stable),
 // then writes the GLB header, the JSON chunk and the scratch file's bytes as the BIN chunk into a
@@ -35,9 +39,32 @@ static_assert(std::endian::native == std::endian::little,
 static_assert(sizeof(Eigen::Vector3f) == 12, "Vector3f arrays are written as packed float triples");
 
 constexpr std::uint64_t kGlbMaxBytes = std::numeric_limits<std::uint32_t>::max();
-// Upper bound on the JSON a frame adds (accessor with min/max, buffer view, target, name, weight).
-constexpr std::uint64_t kJsonBytesPerFrame = 512;
+// Upper bound on the JSON a frame adds (two accessors, buffer views, target, name, weight).
+constexpr std::uint64_t kJsonBytesPerFrame = 1024;
 constexpr std::uint64_t kJsonBytesFixed = 8192;
+
+// Smooth normals: area-weighted face normals summed per vertex, in double. A vertex on no face (or
+// only on degenerate ones) gets +Y, so every normal is a unit vector. The rest's and every frame's
+// come from here, so a still vertex's normal delta is zero up to the positions' float rounding.
+template <typename Point>
+std::vector<Eigen::Vector3f> smooth_normals(const std::vector<Point>& positions,
+                                            const std::vector<std::uint32_t>& triangles) {
+  std::vector<Vec3> sum(positions.size(), Vec3::Zero());
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const Vec3 a = positions[triangles[t]].template cast<double>();
+    const Vec3 b = positions[triangles[t + 1]].template cast<double>();
+    const Vec3 c = positions[triangles[t + 2]].template cast<double>();
+    const Vec3 face = (b - a).cross(c - a);
+    for (int k = 0; k < 3; ++k) sum[triangles[t + k]] += face;
+  }
+  std::vector<Eigen::Vector3f> normals(positions.size());
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    const double length = sum[v].norm();
+    normals[v] = length > 0 && std::isfinite(length) ? Eigen::Vector3f((sum[v] / length).cast<float>())
+                                                     : Eigen::Vector3f::UnitY();
+  }
+  return normals;
+}
 
 class GltfWriter final : public detail::BakeWriterBase {
  public:
@@ -69,12 +96,17 @@ class GltfWriter final : public detail::BakeWriterBase {
   std::unique_ptr<TempFile> scratch_, final_;
   bool sparse_ = false;
   std::vector<std::uint32_t> targets_;  // the listed vertices when sparse
+  // ... and the vertices whose normal can change: those and every vertex on a face with one.
+  std::vector<std::uint32_t> normal_targets_;
+  std::vector<std::uint32_t> triangles_;
+  std::vector<Eigen::Vector3f> rest_normals_;
   std::size_t triangle_index_count_ = 0;
-  Block positions_, normals_, indices_, sparse_indices_, times_, weight_indices_, weights_;
+  Block positions_, normals_, indices_, sparse_indices_, sparse_normal_indices_, times_,
+      weight_indices_, weights_;
   Eigen::Vector3f rest_min_, rest_max_;
   float last_time_ = 0;
-  std::vector<Eigen::Vector3f> delta_;  // one frame's deltas, reused
-  std::vector<Block> frame_blocks_;
+  std::vector<Eigen::Vector3f> delta_, normal_delta_;  // one frame's deltas, reused
+  std::vector<Block> frame_blocks_, normal_blocks_;
   std::vector<Eigen::Vector3f> frame_min_, frame_max_;
   // A moving body: its pose per frame (translation xyz, rotation xyzw), animated on the node.
   std::vector<float> body_translations_, body_rotations_;
@@ -97,6 +129,21 @@ void GltfWriter::start(const Mesh& mesh) {
     targets_ = animated().empty() ? std::vector<std::uint32_t>{0} : animated();
   }
   const std::uint64_t s = sparse_ ? targets_.size() : n;
+  if (sparse_) {
+    std::vector<char> near(n, 0);
+    for (const std::uint32_t v : targets_) near[v] = 1;
+    std::vector<char> ring = near;
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+      if (near[triangles[t]] || near[triangles[t + 1]] || near[triangles[t + 2]]) {
+        for (int k = 0; k < 3; ++k) ring[triangles[t + static_cast<std::size_t>(k)]] = 1;
+      }
+    }
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (ring[v]) normal_targets_.push_back(v);
+    }
+  }
+  const std::uint64_t sn = sparse_ ? normal_targets_.size() : n;
+  triangles_ = triangles;
 
   // A .glb is at most 4 GiB: say so now, not after the whole simulation.
   // The weights are F × F values, one-hot: stored sparse (an index and a 1 per key), so their
@@ -108,7 +155,8 @@ void GltfWriter::start(const Mesh& mesh) {
              "bake to .pc2 or an .obj sequence");
   }
   const std::uint64_t bin = 24 * std::uint64_t{n} + 4 * std::uint64_t{triangles.size()} +
-                            (sparse_ ? 4 * s : 0) + 4 * frames + 8 * frames + 12 * s * frames +
+                            (sparse_ ? 4 * s + 4 * sn : 0) + 4 * frames + 8 * frames +
+                            12 * (s + sn) * frames +
                             (info().body_moves ? 28 * frames : 0);
   const std::uint64_t estimate = 28 + kJsonBytesFixed + kJsonBytesPerFrame * frames + bin;
   set_estimate(estimate);
@@ -128,30 +176,13 @@ void GltfWriter::start(const Mesh& mesh) {
   }
   positions_ = append_block(rest().data(), n * sizeof(Eigen::Vector3f));
 
-  // Smooth rest normals: area-weighted face normals summed per vertex, in double. A vertex on no
-  // face (or only on degenerate ones) gets +Y, so every normal is a unit vector.
-  {
-    std::vector<Vec3> sum(n, Vec3::Zero());
-    for (std::size_t t = 0; t < triangles.size(); t += 3) {
-      const Vec3& a = mesh.positions[triangles[t]];
-      const Vec3& b = mesh.positions[triangles[t + 1]];
-      const Vec3& c = mesh.positions[triangles[t + 2]];
-      const Vec3 face = (b - a).cross(c - a);
-      for (int k = 0; k < 3; ++k) sum[triangles[t + k]] += face;
-    }
-    std::vector<Eigen::Vector3f> normals(n);
-    for (std::size_t v = 0; v < n; ++v) {
-      const double length = sum[v].norm();
-      if (length > 0 && std::isfinite(length)) {
-        normals[v] = (sum[v] / length).cast<float>();
-      } else {
-        normals[v] = Eigen::Vector3f::UnitY();
-      }
-    }
-    normals_ = append_block(normals.data(), n * sizeof(Eigen::Vector3f));
-  }
+  rest_normals_ = smooth_normals(mesh.positions, triangles);
+  normals_ = append_block(rest_normals_.data(), n * sizeof(Eigen::Vector3f));
   indices_ = append_block(triangles.data(), triangles.size() * sizeof(std::uint32_t));
-  if (sparse_) sparse_indices_ = append_block(targets_.data(), targets_.size() * 4);
+  if (sparse_) {
+    sparse_indices_ = append_block(targets_.data(), targets_.size() * 4);
+    sparse_normal_indices_ = append_block(normal_targets_.data(), normal_targets_.size() * 4);
+  }
 
   // Key k at k / fps; rounded to float32 they must still increase.
   {
@@ -178,7 +209,9 @@ void GltfWriter::start(const Mesh& mesh) {
   }
 
   delta_.resize(s);
+  normal_delta_.resize(sn);
   frame_blocks_.reserve(frames);
+  normal_blocks_.reserve(frames);
   frame_min_.reserve(frames);
   frame_max_.reserve(frames);
 }
@@ -222,6 +255,17 @@ void GltfWriter::write_frame(int, std::span<const Eigen::Vector3f> positions) {
   frame_blocks_.push_back(append_block(delta_.data(), delta_.size() * sizeof(Eigen::Vector3f)));
   frame_min_.push_back(lo);
   frame_max_.push_back(hi);
+  // The frame's normals, as the rest's were made, less the rest's.
+  const std::vector<Eigen::Vector3f> normals =
+      smooth_normals(std::vector<Eigen::Vector3f>(positions.begin(), positions.end()), triangles_);
+  if (sparse_) {
+    for (std::size_t i = 0; i < normal_targets_.size(); ++i)
+      normal_delta_[i] = normals[normal_targets_[i]] - rest_normals_[normal_targets_[i]];
+  } else {
+    for (std::size_t v = 0; v < normals.size(); ++v) normal_delta_[v] = normals[v] - rest_normals_[v];
+  }
+  normal_blocks_.push_back(
+      append_block(normal_delta_.data(), normal_delta_.size() * sizeof(Eigen::Vector3f)));
 }
 
 std::vector<double> to_doubles(const Eigen::Vector3f& v) {
@@ -265,6 +309,7 @@ tinygltf::Model GltfWriter::build_model() const {
   const int indices = add_accessor(add_view(indices_, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER), kUint,
                                    TINYGLTF_TYPE_SCALAR, triangle_index_count_);
   const int sparse_view = sparse_ ? add_view(sparse_indices_, 0) : -1;
+  const int sparse_normal_view = sparse_ ? add_view(sparse_normal_indices_, 0) : -1;
   const int times = add_accessor(add_view(times_, 0), kFloat, TINYGLTF_TYPE_SCALAR,
                                  static_cast<std::size_t>(frames));
   model.accessors[times].minValues = {0.0};
@@ -307,7 +352,23 @@ tinygltf::Model GltfWriter::build_model() const {
     }
     model.accessors[accessor].minValues = to_doubles(frame_min_[static_cast<std::size_t>(k)]);
     model.accessors[accessor].maxValues = to_doubles(frame_max_[static_cast<std::size_t>(k)]);
-    primitive.targets.push_back({{"POSITION", accessor}});
+    const Block& normal_block = normal_blocks_[static_cast<std::size_t>(k)];
+    int normal_accessor = 0;
+    if (sparse_) {
+      normal_accessor = add_accessor(-1, kFloat, TINYGLTF_TYPE_VEC3, n);
+      auto& sparse = model.accessors[normal_accessor].sparse;
+      sparse.isSparse = true;
+      sparse.count = static_cast<int>(normal_targets_.size());
+      sparse.indices.bufferView = sparse_normal_view;
+      sparse.indices.byteOffset = 0;
+      sparse.indices.componentType = kUint;
+      sparse.values.bufferView = add_view(normal_block, 0);
+      sparse.values.byteOffset = 0;
+    } else {
+      normal_accessor = add_accessor(add_view(normal_block, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat,
+                                     TINYGLTF_TYPE_VEC3, n);
+    }
+    primitive.targets.push_back({{"POSITION", accessor}, {"NORMAL", normal_accessor}});
     std::string name = obj_sequence_path("frame", k, frames).stem().string();  // "frame_0000"
     names.emplace_back(std::move(name));
   }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -156,6 +157,30 @@ bool check_glb_matches(const fs::path& path, const TestBake& bake) {
       }
     }
     EXPECT_EQ(wrong, 0u) << "frame " << k;
+    // Lighting follows the bend: the rest normal plus the target's NORMAL delta is the frame's
+    // own smooth normal (area-weighted face normals of its positions, computed here), within
+    // float rounding (a hundredth of a degree).
+    const auto target = prim.targets[static_cast<std::size_t>(k)];
+    EXPECT_EQ(target.count("NORMAL"), 1u) << "frame " << k;
+    if (target.count("NORMAL") == 0) continue;
+    const std::vector<Eigen::Vector3f> normal_delta = read_vec3(m, target.at("NORMAL"));
+    EXPECT_EQ(normal_delta.size(), n);
+    if (normal_delta.size() != n) continue;
+    std::vector<Eigen::Vector3d> sum(n, Eigen::Vector3d::Zero());
+    const std::vector<std::uint32_t> tris = bake.mesh.triangles();
+    for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+      const Eigen::Vector3d a = given[tris[t]].cast<double>(), b = given[tris[t + 1]].cast<double>(),
+                            c = given[tris[t + 2]].cast<double>();
+      for (int j = 0; j < 3; ++j) sum[tris[t + static_cast<std::size_t>(j)]] += (b - a).cross(c - a);
+    }
+    double worst_degrees = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      if (!(sum[v].norm() > 0)) continue;
+      const Eigen::Vector3d lit = (normals[v] + normal_delta[v]).cast<double>();
+      const double cosine = std::clamp(lit.normalized().dot(sum[v].normalized()), -1.0, 1.0);
+      worst_degrees = std::max(worst_degrees, std::acos(cosine) * 180 / 3.14159265358979);
+    }
+    EXPECT_LT(worst_degrees, 0.01) << "frame " << k;
   }
 
   // The animation: keys at k / fps, weights one-hot, LINEAR, on the node's weights.

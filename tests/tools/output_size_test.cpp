@@ -99,8 +99,10 @@ long peak_kb(const std::vector<std::string>& arguments) {
   return usage.ru_maxrss;
 }
 
-// Memory does not grow with the bake's length: frames stream to the files (a .glb's JSON, one
-// accessor a morph target, is the one part that grows: a few kB a frame).
+// Memory does not grow with the bake's length: frames stream to the files (a .glb's JSON is the
+// one part that grows: two accessors a morph target, POSITION and NORMAL, about 4 kB each as
+// tinygltf objects: 8.2 kB a frame measured, where one accessor a frame stayed under the former
+// bar of 8).
 TEST(OutputSize, PeakMemoryIsFlatInTheBakesLength) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer keeps freed memory in quarantine: peaks say nothing there";
@@ -115,7 +117,7 @@ TEST(OutputSize, PeakMemoryIsFlatInTheBakesLength) {
   EXPECT_LT(pc2_long - pc2_short, 4 * 1024) << ".pc2: " << pc2_short << " kB for 100 frames, "
                                             << pc2_long << " kB for 4,000";
   const long glb_short = peak("short.json", "a.glb"), glb_long = peak("long.json", "b.glb");
-  EXPECT_LT(static_cast<double>(glb_long - glb_short) / 3900, 8.0)
+  EXPECT_LT(static_cast<double>(glb_long - glb_short) / 3900, 12.0)
       << ".glb: " << glb_short << " kB for 100 frames, " << glb_long << " kB for 4,000";
 }
 
