@@ -338,11 +338,13 @@ above): the tail fit 0.59 s against 0.53 s (1.11×), with the root found 0.63 ag
 ## .glb size and memory against frames
 
 \`tools/bench/glb-frames.sh\` (Release): the bent example tube (1,178 vertices, all moving) baked to
-\`.glb\` at 60 fps. One morph target a frame, and the weights animation stored as a sparse accessor
-(one index and one value a key over implied zeros): the file grows linearly, ~14 kB a frame here
-(before, the dense one-hot weights added F² floats: 102 MB at 3,600 frames against 50 MB now, and
-2.5 GB more at 25,000). Vertex data streams through a scratch file; the memory that grows (~5 kB a
-frame) is the JSON chunk, built whole by tinygltf, with an accessor and a view for each target.
+\`.glb\` at 60 fps. One morph target a frame, with POSITION and NORMAL deltas (the normals so that a
+bent part is lit as bent), and the weights animation stored as a sparse accessor (one index and one
+value a key over implied zeros): the file grows linearly, ~28 kB a frame here (14 kB before the
+normal deltas; before the sparse weights, the dense one-hot weights added F² floats: 102 MB at
+3,600 frames, and 2.5 GB more at 25,000). Vertex data streams through a scratch file; the memory
+that grows (~9 kB a frame) is the JSON chunk, built whole by tinygltf, with two accessors and
+views for each target.
 
 $(cat "$results/glb_frames.md")
 
