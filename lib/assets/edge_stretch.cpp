@@ -1,12 +1,15 @@
 #include "assets/edge_stretch.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace sweep::sim {
 namespace {
 
-double length(const Vec3f& p, const Vec3f& q) { return (p.cast<double>() - q.cast<double>()).norm(); }
+double squared_length(const Vec3f& p, const Vec3f& q) {
+  return (p.cast<double>() - q.cast<double>()).squaredNorm();
+}
 
 }  // namespace
 
@@ -30,21 +33,27 @@ EdgeStretchMeter::EdgeStretchMeter(const Mesh& mesh, std::span<const std::uint32
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   for (const auto& [a, b] : edges) {
-    const double l = length(rest[a], rest[b]);
-    if (!(l > 0)) continue;  // coincident ends (a seam split): no ratio to take
+    const double l2 = squared_length(rest[a], rest[b]);
+    if (!(l2 > 0)) continue;  // coincident ends (a seam split): no ratio to take
     a_.push_back(a);
     b_.push_back(b);
-    rest_length_.push_back(l);
+    rest_squared_.push_back(l2);
   }
 }
 
 EdgeStretch EdgeStretchMeter::measure(std::span<const Vec3f> positions) const {
-  EdgeStretch worst;
+  // Squared ratios (no square root an edge): the largest ratio is the root of the largest.
+  double worst = 1;
+  std::size_t at = a_.size();
   for (std::size_t e = 0; e < a_.size(); ++e) {
-    const double ratio = length(positions[a_[e]], positions[b_[e]]) / rest_length_[e];
-    if (ratio > worst.ratio) worst = {ratio, a_[e], b_[e], true};
+    const double ratio2 = squared_length(positions[a_[e]], positions[b_[e]]) / rest_squared_[e];
+    if (ratio2 > worst) {
+      worst = ratio2;
+      at = e;
+    }
   }
-  return worst;
+  if (at == a_.size()) return {};
+  return {std::sqrt(worst), a_[at], b_[at], true};
 }
 
 }  // namespace sweep::sim

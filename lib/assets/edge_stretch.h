@@ -36,7 +36,7 @@ class EdgeStretchMeter {
 
  private:
   std::vector<std::uint32_t> a_, b_;
-  std::vector<double> rest_length_;
+  std::vector<double> rest_squared_;  // rest length², mesh units²
 };
 
 }  // namespace sweep::sim
