@@ -177,6 +177,30 @@ TEST(TipCut, KnotStretchIsCutAtTheTipAndNothingBeyondMoves) {
   expect_cut_holds(s, b, 0.01);
 }
 
+TEST(TipCut, HoseStretchIsCutAtTheTipAndNothingBeyondMoves) {
+  // A hose (a tube open at both ends, 4 long, radius 0.1, bent by half a radian), the stretch
+  // from z = 1 to z = 2 given on its surface: the hose goes on 2 past the tip.
+  tube::TubeParams p;
+  p.length = 4;
+  p.radius = 0.1;
+  p.rings = 161;
+  p.segments = 16;
+  p.bend = 0.5;
+  p.caps = false;
+  const Stretch s = fit_and_bind(tube::make_tube(p), Vec3(0.1, 0, 1), Vec3(0.1, 0, 2), 0.2);
+  ASSERT_TRUE(s.fit.tip_cut) << s.fit.root_reason;
+  EXPECT_TRUE(s.fit.problems.empty());
+  const Baked b = bake_push(s, Vec3(0, 0.5, 0), "hose");
+  expect_cut_holds(s, b, 0.02);
+  // The same hose with the tip given near its open end: no tube goes on past it (the rings meet
+  // the end), so the tip climbs to the end and there is no cut.
+  fit::FitOptions o;
+  o.name = "end";
+  o.root = Vec3(0.1, 0, 1);
+  o.tip = s.mesh.positions.back();
+  EXPECT_FALSE(fit::fit_sweep(s.mesh, o).tip_cut);
+}
+
 TEST(TipCut, TubeWithACapGetsNoTipCut) {
   // The straight tube of tests/bind/support.h (caps at both ends), root near the base, tip at the
   // cap: rings from the tip run one way only.
