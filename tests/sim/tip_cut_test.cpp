@@ -180,14 +180,8 @@ TEST(TipCut, KnotStretchIsCutAtTheTipAndNothingBeyondMoves) {
 TEST(TipCut, HoseStretchIsCutAtTheTipAndNothingBeyondMoves) {
   // A hose (a tube open at both ends, 4 long, radius 0.1, bent by half a radian), the stretch
   // from z = 1 to z = 2 given on its surface: the hose goes on 2 past the tip.
-  tube::TubeParams p;
-  p.length = 4;
-  p.radius = 0.1;
-  p.rings = 161;
-  p.segments = 16;
-  p.bend = 0.5;
-  p.caps = false;
-  const Stretch s = fit_and_bind(tube::make_tube(p), Vec3(0.1, 0, 1), Vec3(0.1, 0, 2), 0.2);
+  const tube::TubeParams hose{.length = 4, .radius = 0.1, .bend = 0.5, .rings = 161, .segments = 16, .caps = false};
+  const Stretch s = fit_and_bind(tube::make_tube(hose), Vec3(0.1, 0, 1), Vec3(0.1, 0, 2), 0.2);
   ASSERT_TRUE(s.fit.tip_cut) << s.fit.root_reason;
   EXPECT_TRUE(s.fit.problems.empty());
   const Baked b = bake_push(s, Vec3(0, 0.5, 0), "hose");
