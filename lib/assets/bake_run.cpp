@@ -117,6 +117,11 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   }
   check_output_size(options, writers);
 
+  const Clock::time_point meter_start = Clock::now();
+  const EdgeStretchMeter stretch_meter(mesh, animated, rest);
+  report.stretch_edge_count = stretch_meter.edge_count();
+  report.stretch_seconds += seconds_since(meter_start);
+
   // The exact path rebuilds the whole mesh in double from the binding (the reference).
   std::vector<Vec3> exact_out(options.exact ? nv : 0);
   std::vector<const SweepShape*> shapes(sweeps);
@@ -127,6 +132,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   report.fps = scene.fps;
   report.step_seconds = scene.step_seconds();
   double max_displacement = 0;
+  double edge_stretch = 1;
   for (int k = 0; k < info.frame_count; ++k) {
     auto t0 = Clock::now();
     if (k > 0) sim.advance_frame();
@@ -154,8 +160,17 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       max_displacement = 0;
       for (std::uint32_t v : animated)
         max_displacement = std::max(max_displacement, double((positions[v] - rest[v]).norm()));
+      const Clock::time_point stretch_start = Clock::now();
+      const EdgeStretch now = stretch_meter.measure(positions);
+      report.stretch_seconds += seconds_since(stretch_start);
+      edge_stretch = now.ratio;
+      if (now.ratio > report.max_stretch.ratio) {
+        report.max_stretch = now;
+        report.max_stretch_frame = k;
+      }
     }
     stats.max_displacement = max_displacement;
+    stats.edge_stretch = edge_stretch;
     report.deform_seconds += seconds_since(t0);
 
     t0 = Clock::now();

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "assets/edge_stretch.h"
 #include "bind/bind.h"
 #include "core/mesh.h"
 #include "core/rig.h"
@@ -44,6 +45,7 @@ struct FrameStats {
   double time = 0;              // s
   double max_displacement = 0;  // largest distance of any vertex from its rest position, mesh units
   int awake_sweeps = 0;         // sweeps stepped during this frame
+  double edge_stretch = 1;      // largest edge length / rest length this frame (EdgeStretchMeter)
 };
 
 struct SweepBakeStats {
@@ -68,6 +70,12 @@ struct BakeReport {
   double write_seconds = 0;                  // wall time in the writers
   std::vector<std::filesystem::path> files;  // every file written
   std::vector<double> teleport_times;        // s: frames where the body jumped and the parts were put to rest
+  // The bake's quality figure: the largest edge stretch over all frames and edges, the edge, and
+  // the first frame where it was reached (0 when no edge stretched).
+  EdgeStretch max_stretch;
+  int max_stretch_frame = 0;
+  std::size_t stretch_edge_count = 0;  // edges measured (those with an animated end)
+  double stretch_seconds = 0;          // wall time measuring them (inside deform_seconds)
 };
 
 // Runs the bake. `binding` must match `mesh` and `rig` (bind::check_binding). Throws Error: bad

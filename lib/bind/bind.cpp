@@ -76,7 +76,7 @@ Candidates locate_part(const SweepDef& def, const Mesh& mesh, const Topology* to
   const Frame& root = rest.frames[0];
   Candidates c;
   if (def.part) {
-    c.vertices = select_part(mesh, *topology, root, root_disc_radius(rest), def.part->tip);
+    c.vertices = select_sweep_part(mesh, *topology, rest, *def.part);
   } else {
     const Vec3 normal = root.axis();
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -146,7 +146,7 @@ std::uint64_t hash_sweeps(const Rig& rig) {
       for (int a = 0; a < 3; ++a) h = fnv1a_double(h, f.center[a]);
       for (double r : rest.section_radii(i)) h = fnv1a_double(h, r);
     }
-    h = fnv1a_le(h, def.part ? 1 : 0, 1);
+    h = fnv1a_le(h, def.part ? (def.part->tip_cut ? 2 : 1) : 0, 1);
     if (def.part) {
       for (int a = 0; a < 3; ++a) h = fnv1a_double(h, def.part->root[a]);
       for (int a = 0; a < 3; ++a) h = fnv1a_double(h, def.part->tip[a]);
@@ -210,6 +210,10 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
     sb.name = def.name;
     const Frame& root = def.rest.frames[0];
     const Vec3 normal = root.axis();
+    // A part cut on the tip side blends out towards that cut as well (nothing beyond it moves).
+    const bool tip_cut = def.part && def.part->tip_cut;
+    const Frame& tip = def.rest.frames.back();
+    const Vec3 tip_normal = tip.axis();
     for (std::size_t k = 0; k < c.vertices.size(); ++k) {
       const std::uint32_t v = c.vertices[k];
       if (!c.keep[k] || owner[v] != static_cast<int>(i)) continue;
@@ -217,6 +221,7 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
       double w = 1;
       if (options.blend > 0) {
         w = smoothstep01((mesh.positions[v] - root.center).dot(normal) / options.blend);
+        if (tip_cut) w *= smoothstep01((tip.center - mesh.positions[v]).dot(tip_normal) / options.blend);
       }
       sb.vertices.push_back(v);
       sb.t.push_back(static_cast<float>(sc.t));

@@ -10,6 +10,8 @@
 //  - a sweep with part seeds (SweepDef::part, written by sweep-fit): the vertices of
 //    select_part (core/topology.h) from part->tip, bounded by section 0's disc
 //    (root_disc_radius), i.e. the surface reached from the tip without crossing the root section;
+//    with part->tip_cut, select_part_between: bounded by the last section's disc too
+//    (tip_disc_radius), so the tube beyond it stays unbound and never moves;
 //  - a sweep without seeds (a rig written by hand): every vertex on the tip side of section 0's
 //    plane whose located plane lies within the sweep (0 ≤ t ≤ L) and which lies inside the tube
 //    widened by `seedless_radius_factor` (s ≤ factor), plus cap vertices beyond the tip section no
@@ -20,7 +22,10 @@
 // from the surface, plus the axial distance beyond an end section); exact ties go to the sweep
 // that comes first in the rig. Vertices that no sweep binds stay unbound and never move.
 // Blend: with blend = D > 0, a vertex at distance g beyond its sweep's root plane has weight
-// w = smoothstep(g / D) = x²(3 − 2x) with x = clamp(g / D, 0, 1); w = 1 everywhere when D = 0.
+// w = smoothstep(g / D) = x²(3 − 2x) with x = clamp(g / D, 0, 1); w = 1 everywhere when D = 0. A
+// part with a tip cut is blended out towards that cut too: w is then the product of the root's
+// smoothstep and the same smoothstep of the distance g' before the last section's plane (with
+// D = 0 the cut is a seam that opens as the tip moves: bind such a part with a blend).
 // The result does not depend on the number of OpenMP threads (each vertex is independent).
 #include <cstdint>
 #include <string>
@@ -110,7 +115,8 @@ std::uint64_t hash_positions(const std::vector<Vec3>& positions);
 // any file's text: the bytes of kSweepHashTag, then u32 sweep count, then per sweep in rig order
 //   u32 name length, the name's UTF-8 bytes, u32 K, u32 n,
 //   per section i: f64 t_i, f64 quaternion w x y z, f64 centre x y z, f64 radii[i*n .. i*n+n-1],
-//   u8 1 and f64 part root x y z, tip x y z when the sweep has part seeds, else u8 0;
+//   u8 1 (u8 2 with a tip cut) and f64 part root x y z, tip x y z when the sweep has part seeds,
+//   else u8 0;
 // u32 and f64 little-endian (f64 as its IEEE-754 bits). Binding format 2 and later store it.
 inline constexpr std::string_view kSweepHashTag = "sweep-rig-hash-2";
 std::uint64_t hash_sweeps(const Rig& rig);

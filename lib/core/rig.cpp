@@ -28,10 +28,31 @@ SweepDef make_sweep(std::string name, SweepShape rest) {
   return def;
 }
 
-double root_disc_radius(const SweepShape& rest) {
+namespace {
+double disc_radius(const SweepShape& rest, int section) {
   double largest = 0;
-  for (const double r : rest.section_radii(0)) largest = std::max(largest, r);
+  for (const double r : rest.section_radii(section)) largest = std::max(largest, r);
   return kRootDiscRadii * largest;
+}
+}  // namespace
+
+double root_disc_radius(const SweepShape& rest) { return disc_radius(rest, 0); }
+double tip_disc_radius(const SweepShape& rest) { return disc_radius(rest, rest.section_count() - 1); }
+
+std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
+                                             const SweepShape& rest, const PartSeeds& seeds) {
+  if (seeds.tip_cut) {
+    return select_part_between(mesh, topology, rest.frames.front(), root_disc_radius(rest),
+                               rest.frames.back(), tip_disc_radius(rest));
+  }
+  return select_part(mesh, topology, rest.frames.front(), root_disc_radius(rest), seeds.tip);
+}
+
+int Rig::format_version() const {
+  for (const SweepDef& def : sweeps) {
+    if (def.part && def.part->tip_cut) return kTipCutFormatVersion;
+  }
+  return kFormatVersion;
 }
 
 }  // namespace sweep

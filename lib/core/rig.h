@@ -8,15 +8,19 @@
 #include "core/material.h"
 #include "core/springs.h"
 #include "core/sweep_shape.h"
+#include "core/topology.h"
 
 namespace sweep {
 
 // How the part a sweep drives was picked out of the mesh (sweep-fit writes it, sweep-bind uses it
 // to select the same vertices): the region on the tip side of section 0's plane that is reached
-// from the tip point without crossing that plane (DESIGN.md §2.4).
+// from the tip point without crossing that plane (DESIGN.md §2.4). A stretch of a tube that goes on
+// past the tip (a hose, a knot, a torus: tip_cut) is bounded on the tip side too, by the last key
+// section's plane and disc (tip_disc_radius); nothing beyond it is part of the part.
 struct PartSeeds {
   Vec3 root = Vec3::Zero();  // where the part leaves the body, near its axis
   Vec3 tip = Vec3::Zero();   // at or near the part's end
+  bool tip_cut = false;      // the surface goes on past the last key section: cut it there too
 };
 
 struct SweepDef {
@@ -41,7 +45,11 @@ struct SweepDef {
 };
 
 struct Rig {
+  // Version 1: every rig without a tip cut (written as version 1, byte for byte as before).
+  // Version 2 adds part.tip_cut; a rig is written as version 2 only when a sweep has one.
   static constexpr int kFormatVersion = 1;
+  static constexpr int kTipCutFormatVersion = 2;
+  int format_version() const;  // the version format_rig writes for this rig
   std::string mesh;              // mesh path as written in the file (relative to the rig file)
   std::vector<SweepDef> sweeps;
   // The file's "scene" member as compact JSON text ("" when it has none): not the rig's business,
@@ -60,5 +68,14 @@ SweepDef make_sweep(std::string name, SweepShape rest);
 // crossings lie within its largest ray; the margin takes edges that cross the plane just outside).
 inline constexpr double kRootDiscRadii = 1.5;
 double root_disc_radius(const SweepShape& rest);
+// The tip-side cut of a part with PartSeeds::tip_cut: the last key section's plane, and a disc of
+// kRootDiscRadii times that section's largest radius.
+double tip_disc_radius(const SweepShape& rest);
+
+// The part `seeds` pick out of the mesh for a sweep of shape `rest` (what sweep-fit and sweep-bind
+// both select): select_part from the tip bounded by the root disc, or with seeds.tip_cut
+// select_part_between the root and tip discs.
+std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
+                                             const SweepShape& rest, const PartSeeds& seeds);
 
 }  // namespace sweep

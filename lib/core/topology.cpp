@@ -4,7 +4,7 @@
 #include <cassert>
 #include <limits>
 #include <numeric>
-#include <sstream>
+#include <string>
 
 #include "core/error.h"
 
@@ -126,27 +126,32 @@ Topology build_topology(const Mesh& mesh) {
   return t;
 }
 
-std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
-                                       const Frame& root_plane, double root_radius,
-                                       const Vec3& tip) {
-  if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
-  const Vec3 normal = root_plane.axis();
-  const Vec3& c = root_plane.center;
-  const auto height = [&](std::uint32_t v) { return (mesh.positions[v] - c).dot(normal); };
-  const double r2 = root_radius * root_radius;
-  // Does the edge a → b pass through the root disc? Only edges with ends on both sides (or one
-  // end on the plane, behind counting as < 0) can; the crossing point is where the height is 0.
-  const auto crosses_disc = [&](std::uint32_t a, std::uint32_t b) {
+namespace {
+
+// A section a part may not be crossed through: a disc in a plane (normal = the frame's axis).
+struct Disc {
+  const Mesh& mesh;
+  const Frame& plane;
+  double radius;
+  double height(std::uint32_t v) const { return (mesh.positions[v] - plane.center).dot(plane.axis()); }
+  // Does the edge a → b pass through the disc? Only edges with ends on both sides (or one end on
+  // the plane, behind counting as < 0) can; the crossing point is where the height is 0.
+  bool crossed_by(std::uint32_t a, std::uint32_t b) const {
     const double ha = height(a), hb = height(b);
     if ((ha >= 0) == (hb >= 0)) return false;
     const double u = ha / (ha - hb);
     const Vec3 x = mesh.positions[a] + u * (mesh.positions[b] - mesh.positions[a]);
-    return (x - c).squaredNorm() <= r2;
-  };
-  const std::uint32_t start = topology.weld[nearest_vertex(mesh, tip)];
+    return (x - plane.center).squaredNorm() <= radius * radius;
+  }
+};
+
+// The flood over representatives from `stack`, never over an edge through the root disc nor
+// (when given) the tip disc; the sorted file vertices whose representative it reached.
+std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology, const Disc& root,
+                                      const Disc* tip, std::vector<std::uint32_t> stack,
+                                      const std::string& seed_label) {
   std::vector<char> seen(mesh.vertex_count(), 0);
-  std::vector<std::uint32_t> stack{start};
-  seen[start] = 1;
+  for (const std::uint32_t v : stack) seen[v] = 1;
   // Where the region is stopped by the disc, which side is it on? A part leaves the root section
   // forwards, so its region meets the disc from the front; a region that meets it only from
   // behind is the body (or a part on the wrong side): the tip was given behind the root. (A curled
@@ -157,26 +162,61 @@ std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topolog
     stack.pop_back();
     for (const std::uint32_t w : topology.adjacency.of(v)) {
       if (seen[w]) continue;
-      if (crosses_disc(v, w)) {
-        (height(v) >= 0 ? meets_disc_from_front : meets_disc_from_behind) = true;
+      if (root.crossed_by(v, w)) {
+        (root.height(v) >= 0 ? meets_disc_from_front : meets_disc_from_behind) = true;
         continue;
       }
+      if (tip && tip->crossed_by(v, w)) continue;
       seen[w] = 1;
       stack.push_back(w);
     }
   }
   if (meets_disc_from_behind && !meets_disc_from_front) {
-    std::ostringstream s;
-    s << "the tip's nearest vertex " << start
-      << " lies behind the root section (on the body's side): the surface reached from it meets "
-         "the root section from behind";
-    fail(ErrorCategory::bad_input, s.str());
+    fail(ErrorCategory::bad_input,
+         seed_label + " lies behind the root section (on the body's side): the surface reached from "
+                      "it meets the root section from behind");
   }
   std::vector<std::uint32_t> part;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     if (seen[topology.weld[v]]) part.push_back(static_cast<std::uint32_t>(v));
   }
   return part;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
+                                       const Frame& root_plane, double root_radius,
+                                       const Vec3& tip) {
+  if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
+  const std::uint32_t start = topology.weld[nearest_vertex(mesh, tip)];
+  return flood_part(mesh, topology, Disc{mesh, root_plane, root_radius}, nullptr, {start},
+                    "the tip's nearest vertex " + std::to_string(start));
+}
+
+std::vector<std::uint32_t> select_part_between(const Mesh& mesh, const Topology& topology,
+                                               const Frame& root_plane, double root_radius,
+                                               const Frame& tip_plane, double tip_radius) {
+  if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
+  const Disc root{mesh, root_plane, root_radius}, tip{mesh, tip_plane, tip_radius};
+  // Seeds: the root-side ends of the edges through the tip disc (the tip point itself may lie
+  // beyond it, on the surface that goes on).
+  std::vector<std::uint32_t> seeds;
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (topology.weld[v] != v || tip.height(v) >= 0) continue;
+    for (const std::uint32_t w : topology.adjacency.of(v)) {
+      if (tip.crossed_by(v, w) && !root.crossed_by(v, w)) {
+        seeds.push_back(v);
+        break;
+      }
+    }
+  }
+  if (seeds.empty()) {
+    fail(ErrorCategory::bad_input,
+         "no edge of the surface passes through the last key section (the tip-side cut): there is "
+         "no tube there to cut");
+  }
+  return flood_part(mesh, topology, root, &tip, std::move(seeds), "the tip-side cut");
 }
 
 }  // namespace sweep

@@ -14,6 +14,7 @@
 #include "core/locate.h"
 #include "core/text.h"
 #include "fit/loop.h"
+#include "fit/mid_tube.h"
 #include "fit/slicer.h"
 #include "fit/surface_distance.h"
 
@@ -31,6 +32,9 @@ constexpr double kCapRadii = 0.15;
 // Part vertices farther from the tip than the root ring by more than this many root radii have
 // leaked past the root section.
 constexpr double kLeakRadii = 2;
+// A tip is mid-tube when the level set of the distance from it this share of the way to the root
+// still runs both ways (rings_run_both_ways): short of the root, whose own ring may touch others.
+constexpr double kBothWaysLevel = 0.9;
 // The error's tessellation of the sweep surface: stations per span and angles per radius sample.
 constexpr int kErrorStationsPerSpan = 4;
 constexpr int kErrorAnglesPerSample = 2;
@@ -280,13 +284,29 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                                          ") is not reachable from the root: they lie on separate "
                                          "pieces of the mesh");
   }
-  r.tip_vertex = o.axis.empty() ? climb(topo, field, tip0) : tip0;
+  // A tip given mid-tube (the tube goes on past it: a hose, a knot) has no end to climb to: the
+  // part is the stretch from the root to the tip, cut at its last section too.
+  std::vector<double> from_tip0;
+  bool mid_tube = false;
+  if (root && o.axis.empty()) {
+    from_tip0 = surface_distances(mesh, topo, std::span(&tip0, 1));
+    mid_tube = rings_run_both_ways(mesh, topo, from_tip0, kBothWaysLevel * from_tip0[root_vertex]);
+  }
+  r.tip_vertex = o.axis.empty() && !mid_tube ? climb(topo, field, tip0) : tip0;
+  if (mid_tube) {
+    r.tip_cut = true;
+    r.tip_cut_reason = "the rings of surface distance from the tip run both ways along the tube (it "
+                       "goes on past the tip at least as far as the root lies before it): the part "
+                       "is cut at its last section too";
+  }
   // How far the part's end lies from the tip asked for: worth a warning past a radius (below).
   const double tip_moved =
       (mesh.positions[r.tip_vertex] - (o.tip_vertex >= 0 ? mesh.positions[tip0] : tip_point)).norm();
 
   // 2. Rings from the tip, and the root among them.
-  const std::vector<double> d = surface_distances(mesh, topo, std::span(&r.tip_vertex, 1));
+  const std::vector<double> d = r.tip_vertex == tip0 && !from_tip0.empty()
+                                    ? std::move(from_tip0)
+                                    : surface_distances(mesh, topo, std::span(&r.tip_vertex, 1));
   const RingTrace rings = trace_rings(mesh, topo, d, r.tip_vertex,
                                       std::numeric_limits<double>::infinity(), true, o.rings);
   if (rings.rings.size() < 2) {
@@ -325,9 +345,25 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     while (root_ring > 1 && ring(root_ring).growth < -o.rings.settled_growth) --root_ring;
   }
   r.surface_length = ring(root_ring).distance;
+  // Where the part leaks past its root (below): farther from the tip than the root's ring.
+  double root_distance = ring(root_ring).distance, root_radius = ring(root_ring).radius;
 
-  // 3. The axis: ring centroids from the root to the tip, refined by plane slices.
-  if (o.axis.empty()) {
+  // 3. The axis: ring centroids from the root to the tip, refined by plane slices; mid-tube,
+  //    slice centroids along the surface path from the root to the tip (the rings run both ways).
+  if (mid_tube) {
+    std::vector<Vec3> points;
+    std::vector<double> radii;
+    path_axis_points(mesh, topo, impl_->slicer, field, r.tip_vertex, points, radii);
+    if (points.size() >= 2) r.axis = refine_axis(impl_->slicer, points, radii);
+    if (!r.axis.points.empty()) {
+      trim_axis_start(r.axis, *root, 2 * radii.front());
+      r.axis.end_reason = "the tip was given mid-tube: the axis ends there";
+      root_radius = radii.front();
+    }
+    r.surface_length = root_distance = d[root_vertex];
+    r.root_reason = "section 0 is cut where the given root projects onto the axis (the tip was "
+                    "given mid-tube)";
+  } else if (o.axis.empty()) {
     std::vector<Vec3> points;
     std::vector<double> radii;
     const int first = root_ring;
@@ -407,8 +443,8 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     for (const double x : radii) r.mean_radius += x;
     r.mean_radius /= static_cast<double>(radii.size());
     r.length = r.sweep.rest.length();
-    r.part_vertices = select_part(mesh, topo, r.sweep.rest.frames[0],
-                                  root_disc_radius(r.sweep.rest), mesh.positions[r.tip_vertex]);
+    r.part_vertices = select_sweep_part(mesh, topo, r.sweep.rest,
+                                        PartSeeds{Vec3::Zero(), mesh.positions[r.tip_vertex], r.tip_cut});
     // The radii that best match the part's vertices (the slices run through facets' chords).
     fit_radii(r.sweep.rest, mesh, r.part_vertices);
     if (o.measure_error || o.tolerance > 0) {
@@ -441,7 +477,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   r.root = r.sweep.rest.frames[0].center;
   SweepShape shape = std::move(r.sweep.rest);
   r.sweep = make_sweep(o.name, std::move(shape));
-  r.sweep.part = PartSeeds{r.root, mesh.positions[r.tip_vertex]};
+  r.sweep.part = PartSeeds{r.root, mesh.positions[r.tip_vertex], r.tip_cut};
 
   // 5. What the user must know, and what makes the fit wrong.
   if (impl_->slicer.repaired_face_count() > 0) {
@@ -456,7 +492,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                          " sections are not star-shaped about their centre (" +
                          std::to_string(rays) + " rays; the outermost crossing was used)");
   }
-  const double leak_level = ring(root_ring).distance + kLeakRadii * ring(root_ring).radius;
+  const double leak_level = root_distance + kLeakRadii * root_radius;
   for (const std::uint32_t v : r.part_vertices) r.leaked_count += d[v] > leak_level;
   const double part_count = static_cast<double>(std::max<std::size_t>(r.part_vertices.size(), 1));
   // Short against the surface and far from the tip: stopped early. (A foot or a head at the end

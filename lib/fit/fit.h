@@ -109,6 +109,11 @@ struct FitResult {
   Vec3 root = Vec3::Zero();      // centre of section 0
   bool root_found = false;       // true: no root was given; found where the rings meet the body
   std::string root_reason;       // how the root was placed, for messages
+  // The tube goes on past the tip (a hose, a knot, a torus): the tip was given mid-tube, so the
+  // part is cut at the last key section too (PartSeeds::tip_cut) and the tip stays where it was
+  // given; tip_cut_reason says how that was seen ("" when there is no tip-side cut).
+  bool tip_cut = false;
+  std::string tip_cut_reason;
   double length = 0;       // arc length of the axis from section 0 to K-1, mesh units
   double traced_length = 0;    // the axis from the root to the tip vertex, mesh units
   double surface_length = 0;   // surface distance from the tip vertex to the root ring

@@ -80,7 +80,7 @@ Quat read_rotation(const JsonReader& r, const Json& v, const std::string& ptr) {
   return q;
 }
 
-SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) {
+SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr, long long version) {
   r.object(v, ptr, {"name", "radial_samples", "springs", "material", "force_scale", "part", "sections"});
   SweepDef def;
   def.name = r.string(r.required(v, ptr, "name"), member(ptr, "name"));
@@ -106,9 +106,17 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr) 
   }
   if (const Json* part = r.optional(v, "part")) {
     const std::string p = member(ptr, "part");
-    r.object(*part, p, {"root", "tip"});
+    r.object(*part, p, {"root", "tip", "tip_cut"});
     def.part = PartSeeds{r.bounded_vec3(r.required(*part, p, "root"), member(p, "root"), limits::kMaxLength),
                          r.bounded_vec3(r.required(*part, p, "tip"), member(p, "tip"), limits::kMaxLength)};
+    if (const Json* cut = r.optional(*part, "tip_cut")) {
+      const std::string cp = member(p, "tip_cut");
+      if (version < Rig::kTipCutFormatVersion) {
+        r.fail_at(cp, "needs rig format version " + std::to_string(Rig::kTipCutFormatVersion) +
+                          " (the file says version " + std::to_string(version) + ")");
+      }
+      def.part->tip_cut = r.boolean(*cut, cp);
+    }
   }
 
   const std::string sp = member(ptr, "sections");
@@ -213,7 +221,10 @@ OrderedJson sweep_json(const SweepDef& def) {
   j["springs"] = springs_json(def.default_springs, nullptr);
   if (def.material) j["material"] = material_json(*def.material, nullptr);
   j["force_scale"] = {{"rotational", def.rotational_scale}, {"radial", def.radial_scale}};
-  if (def.part) j["part"] = {{"root", vec_json(def.part->root)}, {"tip", vec_json(def.part->tip)}};
+  if (def.part) {
+    j["part"] = {{"root", vec_json(def.part->root)}, {"tip", vec_json(def.part->tip)}};
+    if (def.part->tip_cut) j["part"]["tip_cut"] = true;
+  }
   OrderedJson sections = OrderedJson::array();
   for (int i = 0; i < def.rest.section_count(); ++i) {
     OrderedJson s;
@@ -247,10 +258,11 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
   const std::string format = r.string(r.required(doc, "", "format"), "/format");
   if (format != kFormatName) r.fail_at("/format", std::string("must be \"") + kFormatName + "\", got " + describe(doc["format"]));
   const long long version = r.integer(r.required(doc, "", "version"), "/version", 1, 1 << 30);
-  if (version != Rig::kFormatVersion) {
+  if (version != Rig::kFormatVersion && version != Rig::kTipCutFormatVersion) {
     fail(ErrorCategory::unsupported, source + ": /version: rig format version " + std::to_string(version) +
-                                         " is not supported (this build reads version " +
-                                         std::to_string(Rig::kFormatVersion) + ")");
+                                         " is not supported (this build reads versions " +
+                                         std::to_string(Rig::kFormatVersion) + " and " +
+                                         std::to_string(Rig::kTipCutFormatVersion) + ")");
   }
   r.object(doc, "", {"format", "version", "mesh", "sweeps", "scene"});
   Rig rig;
@@ -260,7 +272,7 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
   r.array(sweeps, "/sweeps");
   std::set<std::string> names;
   for (std::size_t i = 0; i < sweeps.size(); ++i) {
-    SweepDef def = read_sweep(r, sweeps[i], element("/sweeps", i));
+    SweepDef def = read_sweep(r, sweeps[i], element("/sweeps", i), version);
     if (!names.insert(def.name).second) r.fail_at(element("/sweeps", i) + "/name", "duplicate sweep name \"" + def.name + "\"");
     // Whatever the reader let through must satisfy the evaluator's invariants.
     if (const std::string why = check_shape(def.rest); !why.empty()) r.fail_at(element("/sweeps", i), why);
@@ -289,7 +301,7 @@ Material read_material_file(const std::filesystem::path& path, const WarningSink
 std::string format_rig(const Rig& rig) {
   OrderedJson doc;
   doc["format"] = kFormatName;
-  doc["version"] = Rig::kFormatVersion;
+  doc["version"] = rig.format_version();
   if (!rig.mesh.empty()) doc["mesh"] = rig.mesh;
   OrderedJson sweeps = OrderedJson::array();
   for (const SweepDef& def : rig.sweeps) sweeps.push_back(sweep_json(def));

@@ -121,13 +121,17 @@ TEST(BindingFile, HashesFollowPositionsAndSweepGeometryButNotSpringsOrMeshPath) 
   Rig reseeded = rig;
   reseeded.sweeps[0].part->tip.z() = 0.9;
   EXPECT_NE(bind::hash_sweeps(rig), bind::hash_sweeps(reseeded));
+  Rig cut = rig;  // a tip-side cut selects other vertices: a binding made without it is stale
+  cut.sweeps[0].part->tip_cut = true;
+  EXPECT_NE(bind::hash_sweeps(rig), bind::hash_sweeps(cut));
 }
 
 // The rig hash is of the documented byte layout (bind.h), built here independently of bind.cpp:
 // the binding depends on the sweep's numbers, not on how any file prints them. A material, a
-// one-ulp change of a radius and a sweep without seeds are all covered.
+// one-ulp change of a radius, a sweep without seeds and one with a tip-side cut are all covered.
 TEST(BindingFile, RigHashIsFnvOfTheDocumentedByteLayout) {
-  Rig rig = rig_of({straight_sweep("tail"), straight_sweep("neck", false)}, "a.obj");
+  Rig rig = rig_of({straight_sweep("tail"), straight_sweep("neck", false), straight_sweep("hose")}, "a.obj");
+  rig.sweeps[2].part->tip_cut = true;
   rig.sweeps[0].rest.radii[3] = std::nextafter(rig.sweeps[0].rest.radii[3], 1.0);
   rig.sweeps[1].material = Material{};
   std::string bytes(bind::kSweepHashTag);
@@ -150,7 +154,7 @@ TEST(BindingFile, RigHashIsFnvOfTheDocumentedByteLayout) {
       for (int a = 0; a < 3; ++a) f64(f.center[a]);
       for (int j = 0; j < d.rest.radial_count; ++j) f64(d.rest.radius_sample(i, j));
     }
-    bytes += static_cast<char>(d.part ? 1 : 0);
+    bytes += static_cast<char>(d.part ? (d.part->tip_cut ? 2 : 1) : 0);
     if (d.part) {
       for (int a = 0; a < 3; ++a) f64(d.part->root[a]);
       for (int a = 0; a < 3; ++a) f64(d.part->tip[a]);

@@ -134,6 +134,34 @@ TEST(Part, FloodStopsAtTheRootPlaneAndLeavesLegsOut) {
   EXPECT_EQ(select_part(m, topology, root, 0.2, {4, 0.5, 0}).size(), 12u);
 }
 
+// A strip that goes on past the tip (the a/b strip above, longer: a_i = i, b_i = 10 + i, i = 0..9):
+// cut at the root plane x = 1.5 and the tip plane x = 6.5, the part is x = 2..6 whatever side the
+// tip point lies on; the one-sided flood takes the strip on to x = 9.
+TEST(Part, TipCutBoundsTheFloodOnTheTipSideToo) {
+  Mesh m;
+  for (int i = 0; i < 10; ++i) m.positions.emplace_back(i, 0, 0);
+  for (int i = 0; i < 10; ++i) m.positions.emplace_back(i, 1, 0);
+  for (std::uint32_t i = 0; i < 9; ++i) {
+    m.add_face({i, i + 1, 10 + i});
+    m.add_face({i + 1, 11 + i, 10 + i});
+  }
+  const Topology topology = build_topology(m);
+  Frame root, tip;
+  root.rotation = tip.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitX());
+  root.center = {1.5, 0.5, 0};
+  tip.center = {6.5, 0.5, 0};
+  EXPECT_EQ(select_part(m, topology, root, 1.0, {6, 0.5, 0}).size(), 16u);
+  const std::vector<std::uint32_t> part = select_part_between(m, topology, root, 1.0, tip, 1.0);
+  EXPECT_EQ(part, (std::vector<std::uint32_t>{2, 3, 4, 5, 6, 12, 13, 14, 15, 16}));
+  // A tip disc that meets no edge (off the strip) is a bad request, and so is one whose root side
+  // reaches the root section only from behind (cut at x = 1, facing the body).
+  tip.center = {6.5, 5, 0};
+  EXPECT_THROW(select_part_between(m, topology, root, 1.0, tip, 1.0), Error);
+  tip.center = {0.5, 0.5, 0};
+  tip.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), -Vec3::UnitX());
+  EXPECT_THROW(select_part_between(m, topology, root, 1.0, tip, 1.0), Error);
+}
+
 // A vertex split along a UV seam (same position, two indices) is one vertex to the flood: the
 // part goes on across the seam and takes both copies.
 TEST(Part, SeamSplitVerticesAreWeldedForTheWalk) {

@@ -197,3 +197,39 @@ TEST(RigJson, MeshPathIsRelativeToTheRigFile) {
 
 }  // namespace
 }  // namespace sweep::io
+
+namespace sweep::io {
+namespace {
+
+// Issue 18: a part cut on the tip side too is version 2's one addition; a rig without one is
+// written as version 1, byte for byte as before.
+TEST(RigJson, TipCutIsVersionTwoAndOnlyWrittenWhenSet) {
+  Rig rig = small_rig();
+  const std::string plain = format_rig(rig);
+  EXPECT_EQ(plain.find("tip_cut"), std::string::npos);
+  EXPECT_EQ(nlohmann::json::parse(plain)["version"], 1);
+  EXPECT_FALSE(parse_rig(plain, "rig.json").sweeps[0].part->tip_cut);
+
+  rig.sweeps[0].part->tip_cut = true;
+  const std::string cut = format_rig(rig);
+  const auto doc = nlohmann::json::parse(cut);
+  EXPECT_EQ(doc["version"], 2);
+  EXPECT_EQ(doc["sweeps"][0]["part"]["tip_cut"], true);
+  const Rig back = parse_rig(cut, "rig.json");
+  ASSERT_TRUE(back.sweeps[0].part.has_value());
+  EXPECT_TRUE(back.sweeps[0].part->tip_cut);
+  EXPECT_EQ(format_rig(back), cut);
+
+  // A version 1 file cannot carry it; a wrong type is named.
+  nlohmann::ordered_json old = nlohmann::ordered_json::parse(cut);
+  old["version"] = 1;
+  expect_bad(old.dump(), "rig.json: /sweeps/0/part/tip_cut: needs rig format version 2 (the file says version 1)");
+  nlohmann::ordered_json wrong = nlohmann::ordered_json::parse(cut);
+  wrong["sweeps"][0]["part"]["tip_cut"] = "yes";
+  expect_bad(wrong.dump(), "rig.json: /sweeps/0/part/tip_cut: must be");
+  expect_bad(with("/version", 3), "/version: rig format version 3 is not supported (this build reads versions 1 and 2)",
+             ErrorCategory::unsupported);
+}
+
+}  // namespace
+}  // namespace sweep::io

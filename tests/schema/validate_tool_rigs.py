@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Checks what the tools write against rigs/rig.schema.json, not only the hand-written examples:
 sweep-fit fits the committed bent tube (a sweep with part seeds, then a second one in material mode
-added to the same rig) and, where CGAL's meshes are installed, every part of the diplodocus
+added to the same rig), a stretch of a generated torus cut at its tip too (version 2) and, where CGAL's meshes are installed, every part of the diplodocus
 (--all); each written rig must validate against the schema (a sweep, its part, sections, springs
 and material allow no member the schema does not describe; the top level does) and hold the sweeps
 asked for. The tools' JSON reports have no schema.
@@ -66,6 +66,33 @@ if which in ("tube", "both"):
     fit(tube, "-o", rig, "--name", "tube-material", "--root", "0,0,0", "--tip-vertex", tip_vertex,
         "--material", rigs / "diplodocus-tail.material.json", "-k", 12, "-n", 16)
     check(rig, ["tube", "tube-material"], material_sweeps=["tube-material"])
+
+# A stretch of a torus, root and tip mid-tube: cut at the tip too, a version 2 rig (issue 18).
+if which in ("tube", "both"):
+    import math
+    torus = scratch / "torus.off"
+    rings, segments = 128, 16
+    lines = ["OFF", f"{rings * segments} {rings * segments} 0"]
+    for i in range(rings):
+        u = 2 * math.pi * i / rings
+        for j in range(segments):
+            v = 2 * math.pi * j / segments
+            rho = 1 + 0.15 * math.cos(v)
+            lines.append(f"{rho * math.cos(u):.17g} {rho * math.sin(u):.17g} {0.15 * math.sin(v):.17g}")
+    for i in range(rings):
+        for j in range(segments):
+            ids = [(i % rings) * segments + j, ((i + 1) % rings) * segments + j,
+                   ((i + 1) % rings) * segments + (j + 1) % segments, (i % rings) * segments + (j + 1) % segments]
+            lines.append("4 " + " ".join(map(str, ids)))
+    torus.write_text("\n".join(lines) + "\n")
+    rig = scratch / "torus.rig.json"
+    fit(torus, "-o", rig, "--name", "hose", "--root", "1.15,0,0", "--tip", "0,1.15,0")
+    check(rig, ["hose"])
+    doc = json.loads(rig.read_text())
+    if doc["version"] != 2 or doc["sweeps"][0]["part"].get("tip_cut") is not True:
+        print(f"{rig.name}: expected version 2 and part.tip_cut true, got version {doc['version']}, "
+              f"part {doc['sweeps'][0]['part']}")
+        failed += 1
 
 dino = source / "meshes" / "cgal" / "diplodocus.off"
 if which in ("diplodocus", "both") and dino.exists():

@@ -523,8 +523,12 @@ std::vector<Case> bind_cases() {
           "Bind_RigMissingVersion", [](json& j) { j.erase("version"); }, 2,
           "rig.json: (document): missing required member \"version\""),
       rig_case(
-          "Bind_RigNewerVersion", [](json& j) { j["version"] = 2; }, 3,
-          "rig.json: /version: rig format version 2 is not supported"),
+          "Bind_RigNewerVersion", [](json& j) { j["version"] = 3; }, 3,
+          "rig.json: /version: rig format version 3 is not supported (this build reads versions 1 and 2)"),
+      rig_case(
+          "Bind_TipCutInAVersion1Rig",
+          [](json& j) { j["sweeps"][0]["part"] = {{"root", {0, 0, 0}}, {"tip", {0, 0, 1}}, {"tip_cut", true}}; }, 2,
+          "rig.json: /sweeps/0/part/tip_cut: needs rig format version 2 (the file says version 1)"),
       rig_case(
           "Bind_RadialSamplesBelow3", [](json& j) { j["sweeps"][0]["radial_samples"] = 2; }, 2,
           "rig.json: /sweeps/0/radial_samples: must be between 3 and 4096, got 2"),

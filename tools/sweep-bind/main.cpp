@@ -132,6 +132,15 @@ int run(const Settings& s) {
         sweep::tools::warn("sweep '" + st.name + "' binds no vertices");
       }
     }
+    // A part cut at its tip too (the tube goes on past it) meets the unbound surface there: without
+    // a blend that cut is a seam that opens as soon as the tip moves.
+    for (const sweep::SweepDef& def : rig.sweeps) {
+      if (def.part && def.part->tip_cut && s.options.blend == 0) {
+        sweep::tools::warn("sweep '" + def.name + "' is cut at its tip too (the tube goes on past "
+                           "it): with no --blend the cut opens as the tip moves; bind with --blend "
+                           "of about a radius");
+      }
+    }
     std::cout << "  unbound: " << r.unbound_vertex_count << " vertices\n"
               << "wrote " << output.string() << " (bound in " << format_ms(r.seconds)
               << ", loaded in " << format_ms(load_seconds) << ")\n";
@@ -151,7 +160,7 @@ int main(int argc, char** argv) {
     auto* report = app.add_option("--report", s.report, "Write a JSON report (counts, rest error, timings)")
         ->check(sweep::tools::kNonEmptyName);
     app.add_option("--blend", s.options.blend,
-                   "Depth of the blend zone beyond each part's root plane (mesh units; 0 = none)")
+                   "Depth of the blend zone beyond each part's root plane, and before its tip-side cut if it has one (mesh units; 0 = none)")
         ->check(sweep::tools::kNonNegative)
         ->capture_default_str();
     app.add_option("--check", s.check,

@@ -27,6 +27,8 @@ Json fit_entry(const fit::FitResult& r) {
   s["root"] = point(r.root);
   s["root_found"] = r.root_found;
   s["root_reason"] = r.root_reason;
+  s["tip_cut"] = r.tip_cut;
+  if (r.tip_cut) s["tip_cut_reason"] = r.tip_cut_reason;
   s["part_vertex_count"] = r.part_vertices.size();
   s["measured_vertex_count"] = r.error.measured_count;
   s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
@@ -114,6 +116,7 @@ void print_fit(const fit::FitResult& r, bool verbose) {
             << ", mean radius " << format_number(r.mean_radius) << "\n"
             << "  root " << format_point(r.root) << (r.root_found ? " (found: " : " (")
             << r.root_reason << ")\n"
+            << (r.tip_cut ? "  tip-side cut at the last section (" + r.tip_cut_reason + ")\n" : "")
             << "  part: " << r.part_vertices.size() << " vertices, "
             << format_percent(r.in_range_share()) << " between the end sections; axis "
             << format_number(r.traced_length) << " over a surface distance of "

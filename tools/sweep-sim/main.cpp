@@ -81,9 +81,19 @@ std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, doub
   for (const auto& f : r.per_frame) {
     frames.push_back({{"time", f.time},
                       {"max_displacement", f.max_displacement},
-                      {"awake_sweeps", f.awake_sweeps}});
+                      {"awake_sweeps", f.awake_sweeps},
+                      {"edge_stretch", f.edge_stretch}});
   }
   doc["per_frame"] = std::move(frames);
+  // The bake's quality figure: the largest deformed / rest length of any edge in any frame.
+  const sweep::sim::EdgeStretch& worst = r.max_stretch;
+  doc["max_edge_stretch"] = {
+      {"ratio", worst.ratio},
+      {"edge", worst.found ? nlohmann::ordered_json::array({worst.a, worst.b}) : nlohmann::ordered_json()},
+      {"frame", r.max_stretch_frame},
+      {"time", r.max_stretch_frame / r.fps},
+      {"edges_measured", r.stretch_edge_count},
+      {"seconds", r.stretch_seconds}};
   // Times at which the body jumped (a cut, a respawn) and the parts were put to rest there.
   doc["teleports"] = r.teleport_times;
   doc["seconds"] = {{"load", load_seconds},
@@ -184,6 +194,14 @@ int run(const Settings& s) {
                 << st.steps << " steps, deformed in " << st.frames_deformed << " frames, "
                 << st.bound_vertex_count << " vertices\n";
     }
+    std::cout << "largest edge stretch " << format_number(report.max_stretch.ratio, 4) << "x";
+    if (report.max_stretch.found) {
+      std::cout << " (edge " << report.max_stretch.a << "-" << report.max_stretch.b << ", frame "
+                << report.max_stretch_frame << " at t = "
+                << format_number(report.max_stretch_frame / report.fps, 3) << " s)";
+    }
+    std::cout << " over " << report.stretch_edge_count << " edges, measured in "
+              << format_number(report.stretch_seconds * 1e3, 3) << " ms\n";
     for (const double t : report.teleport_times) {
       std::cout << "  the body jumped at t = " << format_number(t)
                 << " s (a cut or respawn): the parts were put to rest there\n";
