@@ -81,4 +81,23 @@ double TriangleDistance::ray_distance(const Vec3& origin, const Vec3& direction)
   return std::numeric_limits<double>::infinity();
 }
 
+bool TriangleDistance::inside(const Vec3& p) const {
+  if (empty()) return false;
+  const QuietFpEnvironment quiet;
+  const Point o(p.x(), p.y(), p.z());
+  // Directions of no symmetry a mesh is likely to share (axis-aligned rays run along grid-built
+  // faces and through their edges).
+  static constexpr double kDirections[3][3] = {
+      {0.5773, 0.6011, 0.5525}, {-0.7071, 0.3124, 0.6346}, {0.2113, -0.8452, 0.4907}};
+  int odd = 0;
+  for (const auto& d : kDirections) {
+    try {
+      const Ray ray(o, Kernel::Vector_3(d[0], d[1], d[2]));
+      odd += static_cast<int>(impl_->tree.number_of_intersected_primitives(ray) % 2);
+    } catch (const CGAL::Failure_exception&) {  // as in ray_distance: no answer from this ray
+    }
+  }
+  return odd >= 2;
+}
+
 }  // namespace sweep::fit

@@ -23,6 +23,10 @@ class TriangleDistance {
   // Distance from `origin` along the unit `direction` to the first triangle the ray meets
   // (infinity when it meets none). Thread-safe.
   double ray_distance(const Vec3& origin, const Vec3& direction) const;
+  // Whether p lies inside a closed surface: the parity of the triangles a ray from p crosses, the
+  // majority over three rays in unrelated directions (one ray through an edge counts it twice;
+  // three rarely all do). Meaningless for an open surface. Thread-safe.
+  bool inside(const Vec3& p) const;
 
  private:
   struct Impl;

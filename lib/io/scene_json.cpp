@@ -188,6 +188,12 @@ BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& pt
   return BodyPath(std::move(out), interpolation);
 }
 
+// A collider's "margin" (clearance the part keeps, mesh units) and "friction" (Coulomb), when given.
+void read_surface(const io::JsonReader& r, const Json& v, const std::string& ptr, double& margin, double& friction) {
+  if (const Json* m = r.optional(v, "margin")) margin = r.bounded(*m, member(ptr, "margin"), 0, limits::kMaxLength);
+  if (const Json* f = r.optional(v, "friction")) friction = r.bounded(*f, member(ptr, "friction"), 0, 100);
+}
+
 // One collider: {"shape": "sphere" | "capsule" | "box" | "plane", its sizes, "attached":
 // "world" | "body", "margin", "friction", "name"}.
 Collider read_collider(const io::JsonReader& r, const Json& v, const std::string& ptr, std::size_t index) {
@@ -242,9 +248,21 @@ Collider read_collider(const io::JsonReader& r, const Json& v, const std::string
       r.fail_at(member(ptr, "attached"), "must be \"world\" (stays put) or \"body\" (moves with it), got " + io::describe(*a));
     c.carried = where == "body";
   }
-  if (const Json* m = r.optional(v, "margin")) c.margin = r.bounded(*m, member(ptr, "margin"), 0, limits::kMaxLength);
-  if (const Json* f = r.optional(v, "friction")) c.friction = r.bounded(*f, member(ptr, "friction"), 0, 100);
+  read_surface(r, v, ptr, c.margin, c.friction);
   return c;
+}
+
+// The body as a collider: {"spheres", "resolution", "margin", "friction"} (Scene::BodyCollider).
+Scene::BodyCollider read_body_collider(const io::JsonReader& r, const Json& v, const std::string& ptr) {
+  r.object(v, ptr, {"spheres", "resolution", "margin", "friction"});
+  Scene::BodyCollider b;
+  // More spheres than this cost every frame more than they add: the body is coarse beside its parts.
+  b.spheres = static_cast<int>(r.integer(r.required(v, ptr, "spheres"), member(ptr, "spheres"), 1, 256));
+  // The fit samples resolution³ points at most: 200 is already 8 million, seconds of load.
+  if (const Json* x = r.optional(v, "resolution"))
+    b.resolution = static_cast<int>(r.integer(*x, member(ptr, "resolution"), 8, 200));
+  read_surface(r, v, ptr, b.margin, b.friction);
+  return b;
 }
 
 }  // namespace
@@ -253,7 +271,7 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
                   const Rig& rig) {
   r.object(json, pointer,
            {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces",
-            "body", "teleport", "wind", "colliders", "contact_stations"});
+            "body", "teleport", "wind", "colliders", "body_collider", "contact_stations"});
   Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
@@ -351,6 +369,8 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
     r.array(*cs, cp);
     for (std::size_t i = 0; i < cs->size(); ++i) scene.colliders.push_back(read_collider(r, (*cs)[i], element(cp, i), i));
   }
+  if (const Json* b = r.optional(json, "body_collider"))
+    scene.body_collider = read_body_collider(r, *b, member(pointer, "body_collider"));
   if (const Json* st = r.optional(json, "contact_stations")) {
     scene.contact_stations = static_cast<int>(r.integer(*st, member(pointer, "contact_stations"), 1, 64));
   }

@@ -131,6 +131,17 @@ std::vector<std::string> rest_pose_overlaps(const Rig& rig, const std::vector<Co
   return out;
 }
 
+double rest_room(const Rig& rig, const Vec3& point, double margin, int stations_per_span) {
+  // A sphere's clearance is its centre's less its radius wherever the nearest station is, so a
+  // unit sphere's clearance + 1 is the centre's own.
+  Collider probe = Collider::sphere(point, 1.0);
+  probe.margin = margin;
+  const PlacedCollider placed{&probe, probe.pose};
+  double room = std::numeric_limits<double>::infinity();
+  for (const SweepDef& def : rig.sweeps) room = std::min(room, 1.0 + clearance(def.rest, placed, stations_per_span).gap);
+  return room;
+}
+
 ContactSolver::ContactSolver(const SweepShape& rest, int stations_per_span)
     : per_span_(stations_per_span), stations_(station_parameters(rest, stations_per_span)), start_shape_(rest) {
   start_.resize(stations_.size());

@@ -63,6 +63,12 @@ Clearance clearance(const SweepShape& shape, const PlacedCollider& placed, int s
 std::vector<std::string> rest_pose_overlaps(const Rig& rig, const std::vector<Collider>& colliders,
                                             const Frame& body_at_start, int stations_per_span);
 
+// How far a point (mesh coordinates) lies outside every part's rest surface, less `margin`
+// (negative inside one; infinity for a rig of no part): the largest sphere about it that the rest
+// pose leaves clear, by the same measure as rest_pose_overlaps (the body proxy fills the body with
+// such spheres, tools/common/body_proxy.h).
+double rest_room(const Rig& rig, const Vec3& point, double margin, int stations_per_span);
+
 class ContactSolver {
  public:
   static constexpr int kDefaultStationsPerSpan = 2;  // = Scene::contact_stations by default

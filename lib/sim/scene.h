@@ -60,6 +60,16 @@ struct Scene {
   // Colliders the parts may not enter (sim/collider.h, sim/contact.h); none by default. A world
   // collider stays put while the body moves; a carried one moves with it.
   std::vector<Collider> colliders;
+  // The body itself as a collider (scene "body_collider"): `spheres` spheres filling the mesh
+  // outside the parts, carried by the body. The tools fit them at load, as they read the mesh
+  // (tools/common/body_proxy.h), and add them to `colliders`: this library sees only spheres.
+  struct BodyCollider {
+    int spheres = 0;      // at most this many; 0 = no body collider
+    int resolution = 40;  // grid cells along the mesh's longest side the fit samples the body on
+    double margin = 0;    // as a collider's
+    double friction = 0.5;
+  };
+  BodyCollider body_collider;
   // Chords per span between key sections that meet the colliders (sim/contact.h).
   int contact_stations = 2;
 

@@ -10,26 +10,14 @@
 #include "core/sample_sweeps.h"
 #include "sim/contact.h"
 #include "sim/simulator.h"
+#include "sim/surface_probes.h"
 
 namespace sweep::sim {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-// The deepest any point of the surface lies inside the collider (0 if none does), over a grid
-// far finer than the solver's stations: 400 rings along the part, 48 points round each.
-double penetration(const SweepShape& shape, const Collider& c) {
-  double deepest = 0;
-  Vec3 out;
-  for (int a = 0; a <= 400; ++a) {
-    const double t = shape.length() * a / 400;
-    for (int b = 0; b < 48; ++b) {
-      const Vec3 p = surface_point(shape, 2 * kPi * b / 48, t);
-      deepest = std::max(deepest, -c.local_distance(c.pose.to_local(p), &out));
-    }
-  }
-  return deepest;
-}
+using test_probes::penetration;
+using test_probes::tip_impulse;
 
 // The largest local coordinate `axis` of the surface in a box's frame, over the points within
 // the box's span in its other two axes (which side of a plate the part is on where the plate is).
@@ -44,18 +32,6 @@ double farthest(const SweepShape& shape, const Collider& c, int axis) {
     }
   }
   return far;
-}
-
-SceneForce tip_impulse(const SweepDef& def, const Vec3& impulse) {
-  SceneForce f;
-  f.sweep = def.name;
-  f.sweep_index = 0;
-  f.spec.t = def.rest.length();
-  f.spec.vector = impulse;
-  f.spec.target = RotationTarget::chain;
-  if (def.material) f.spec.moment = MomentModel::physical;
-  f.start = f.end = 0;  // an impulse at t = 0
-  return f;
 }
 
 Rig rubber_tube(double damping_ratio) {

@@ -89,5 +89,31 @@ TEST(Scene, BadCollidersAreRefusedWithWhereAndWhy) {
   EXPECT_EQ(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1}])"), "");
 }
 
+// The message a scene with this "body_collider" is refused with ("" if it is read).
+std::string body_refusal(const std::string& body) {
+  return refusal(R"([], "body_collider": )" + body);
+}
+
+TEST(Scene, TheBodyColliderIsReadAndBadOnesAreRefusedWithWhereAndWhy) {
+  Rig rig;
+  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
+  rig.sweeps.back().name = "tube";
+  const io::Json json = io::Json::parse(R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30,
+    "forces": [], "body_collider": {"spheres": 12, "resolution": 32, "margin": 0.01, "friction": 0.25}})");
+  const Scene scene = parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+  EXPECT_EQ(scene.body_collider.spheres, 12);
+  EXPECT_EQ(scene.body_collider.resolution, 32);
+  EXPECT_EQ(scene.body_collider.margin, 0.01);
+  EXPECT_EQ(scene.body_collider.friction, 0.25);
+  EXPECT_TRUE(scene.colliders.empty());  // the tools fit the spheres, as they read the mesh
+  EXPECT_EQ(body_refusal(R"({"spheres": 8})"), "");
+  EXPECT_NE(body_refusal(R"({"resolution": 8})").find("/body_collider: missing required member \"spheres\""), std::string::npos);
+  EXPECT_NE(body_refusal(R"({"spheres": 1000})").find("/body_collider/spheres: must be between 1 and 256"), std::string::npos);
+  EXPECT_NE(body_refusal(R"({"spheres": 8, "resolution": 2})").find("/body_collider/resolution: must be between 8 and 200"), std::string::npos);
+  EXPECT_NE(body_refusal(R"({"spheres": 8, "margin": -1})").find("/body_collider/margin: must be between 0 and"), std::string::npos);
+  EXPECT_NE(body_refusal(R"({"spheres": 8, "friction": 101})").find("/body_collider/friction: must be between 0 and 100"), std::string::npos);
+  EXPECT_NE(body_refusal("true").find("/body_collider: "), std::string::npos);
+}
+
 }  // namespace
 }  // namespace sweep::sim

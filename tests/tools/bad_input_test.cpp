@@ -771,6 +771,9 @@ std::vector<Case> sim_cases() {
           [](json& j) { j["colliders"] = json::parse(R"([{"shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}])"); }, 2,
           "scene.json: /colliders/0/normal: must not be zero: it points out of the solid side"),
       scene_case(
+          "Sim_BodyColliderOfNoSpheres", [](json& j) { j["body_collider"] = json::parse(R"({"spheres": 0})"); }, 2,
+          "scene.json: /body_collider/spheres: must be between 1 and 256, got 0"),
+      scene_case(
           "Sim_ForceBeyondTheTip", [](json& j) { j["forces"][0]["t"] = 1.5; }, 2,
           "scene.json: /forces/0/t: must be between 0 (root) and 1 (tip), got 1.5"),
       scene_case(

@@ -26,6 +26,7 @@
 #include "io/scene_json.h"
 #include "sim/contact.h"
 #include "sim/scene.h"
+#include "tools/common/body_proxy.h"
 #include "tools/common/cli_checks.h"
 #include "tools/common/tool_main.h"
 #include "tools/sweep-sim/progress.h"
@@ -120,6 +121,18 @@ int run(const Settings& s) {
       sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
   if (!scene.body_node.empty()) {
     scene.body = sweep::io::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
+  }
+  if (scene.body_collider.spheres > 0) {
+    const sweep::tools::BodyProxy proxy =
+        sweep::tools::body_proxy(mesh, rig, binding, scene.body_collider, scene.contact_stations);
+    if (proxy.colliders.empty())
+      sweep::tools::warn("body_collider: no sphere fits in the body (is the mesh closed, and not all "
+                         "parts?): none is used");
+    scene.colliders.insert(scene.colliders.end(), proxy.colliders.begin(), proxy.colliders.end());
+    if (!proxy.colliders.empty())
+      sweep::io::note("body collider: " + std::to_string(proxy.colliders.size()) + " spheres, covering " +
+                      sweep::format_percent(static_cast<double>(proxy.fit.covered) / proxy.fit.points) +
+                      " of the body's grid points (spacing " + sweep::format_number(proxy.fit.spacing, 3) + ")");
   }
   {
     const sweep::sim::BodyState b = scene.body.at(0);

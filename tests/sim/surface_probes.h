@@ -1,0 +1,41 @@
+#pragma once
+// Measures of a part's true surface against colliders, shared by the contact tests, and the kick
+// they give a part.
+#include <algorithm>
+#include <numbers>
+
+#include "core/sweep_shape.h"
+#include "sim/collider.h"
+#include "sim/scene.h"
+
+namespace sweep::sim::test_probes {
+
+// The deepest any point of the surface lies inside the collider (0 if none does), over a grid
+// far finer than the solver's stations: 400 rings along the part, 48 points round each.
+inline double penetration(const SweepShape& shape, const Collider& c) {
+  double deepest = 0;
+  Vec3 out;
+  for (int a = 0; a <= 400; ++a) {
+    const double t = shape.length() * a / 400;
+    for (int b = 0; b < 48; ++b) {
+      const Vec3 p = surface_point(shape, 2 * std::numbers::pi * b / 48, t);
+      deepest = std::max(deepest, -c.local_distance(c.pose.to_local(p), &out));
+    }
+  }
+  return deepest;
+}
+
+// An impulse at the tip at t = 0, turning the chain (the physical moment for a material part).
+inline SceneForce tip_impulse(const SweepDef& def, const Vec3& impulse) {
+  SceneForce f;
+  f.sweep = def.name;
+  f.sweep_index = 0;
+  f.spec.t = def.rest.length();
+  f.spec.vector = impulse;
+  f.spec.target = RotationTarget::chain;
+  if (def.material) f.spec.moment = MomentModel::physical;
+  f.start = f.end = 0;  // an impulse at t = 0
+  return f;
+}
+
+}  // namespace sweep::sim::test_probes
