@@ -39,6 +39,14 @@ constexpr double kBothWaysLevel = 0.9;
 constexpr int kErrorStationsPerSpan = 4;
 constexpr int kErrorAnglesPerSample = 2;
 
+// The value a tenth of the distances exceed (nth_element: linear, reorders the copy it is given).
+double percentile_90(std::vector<double> distances) {
+  if (distances.empty()) return 0;
+  const auto p90 = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() * 9 / 10);
+  std::nth_element(distances.begin(), p90, distances.end());
+  return *p90;
+}
+
 }  // namespace
 
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
@@ -92,9 +100,7 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
   if (e.measured_count > 0) {
     e.rms = std::sqrt(sum2 / static_cast<double>(e.measured_count));
     e.radial_rms = std::sqrt(radial2 / static_cast<double>(e.measured_count));
-    const auto p90 = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() * 9 / 10);
-    std::nth_element(distances.begin(), p90, distances.end());
-    e.p90 = *p90;
+    e.p90 = percentile_90(distances);
   }
   // The other way: the sweep's samples to the part's faces, those with a vertex in the part (the
   // faces across the root section are the part's surface there: without them a sample at the
@@ -109,13 +115,17 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
   const TriangleDistance to_part(mesh.positions, part_faces);
   if (!to_part.empty()) {
     double s2 = 0;
+    std::vector<double> surface_distances;
+    surface_distances.reserve(points.size());
     for (const Vec3& p : points) {
       const double d = to_part.distance(p);
       s2 += d * d;
       e.surface_max = std::max(e.surface_max, d);
+      surface_distances.push_back(d);
     }
     e.surface_samples = points.size();
     e.surface_rms = std::sqrt(s2 / static_cast<double>(points.size()));
+    e.surface_p90 = percentile_90(surface_distances);
   }
   return e;
 }
@@ -534,6 +544,16 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                            format_percent(o.max_error) +
                            ": the part is not a tube where it is cut, or the axis strayed; try "
                            "--root nearer the tip, or more sections");
+    }
+    if (r.error.surface_samples > 0 &&
+        r.error.surface_p90 > o.max_surface_error * r.mean_radius) {
+      r.problems.push_back("a tenth of the fitted surface is farther than " +
+                           format_percent(r.error.surface_p90 / r.mean_radius) +
+                           " of the mean radius from the part's faces, above the limit of " +
+                           format_percent(o.max_surface_error) +
+                           ": the sweep leaves the mesh between the part's vertices (the part "
+                           "is not one tube, or the axis strayed); try --tip and --root on the "
+                           "part, or more sections");
     }
   }
   if (tip_moved > r.mean_radius) {

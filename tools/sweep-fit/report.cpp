@@ -53,6 +53,7 @@ Json fit_entry(const fit::FitResult& r) {
   s["fit_max_relative"] = r.error.max / mr;
   s["surface_rms_relative"] = r.error.surface_rms / mr;
   s["surface_max_relative"] = r.error.surface_max / mr;
+  s["surface_p90_relative"] = r.error.surface_p90 / mr;
   s["radial_rms_relative"] = r.error.radial_rms / mr;
   s["axis_points"] = r.axis.points.size();
   auto& v = s["star_violations"] = Json::array();
@@ -124,7 +125,8 @@ void print_fit(const fit::FitResult& r, bool verbose) {
             << "  fit: rms " << format_percent(r.error.rms / mr) << ", 90% within "
             << format_percent(r.error.p90 / mr) << ", max " << format_percent(r.error.max / mr)
             << " of the mean radius (part to surface); surface to part rms "
-            << format_percent(r.error.surface_rms / mr) << ", max "
+            << format_percent(r.error.surface_rms / mr) << ", 90% within "
+            << format_percent(r.error.surface_p90 / mr) << ", max "
             << format_percent(r.error.surface_max / mr) << "\n";
   if (verbose) {
     std::cout << "  axis: " << r.axis.points.size() << " points, ending "
