@@ -15,8 +15,9 @@
 //            A delta is the float32 difference, correctly rounded, so rest + delta (what a viewer
 //            computes at weight 1) is the baked float exactly whenever the delta is no larger than
 //            the baked coordinate (a float delta can do no better: otherwise the error is within
-//            half a unit in the last place of the delta). Normals are not morphed: viewers light
-//            the deformed mesh with the rest normals. The weights animation stores frames² floats
+//            half a unit in the last place of the delta). Each target also holds NORMAL deltas
+//            (the frame's smooth normals, made as the rest's are, minus the rest's; sparse over
+//            the moving vertices and their face neighbours), so a bent part is lit as bent. The weights animation stores frames² floats
 //            (600 frames: 1.4 MB); glTF binary files are limited to 4 GiB, checked in begin().
 //  - `.pc2`  point cache (Blender's Mesh Cache modifier, 3ds Max, Houdini): "POINTCACHE2\0",
 //            int32 version 1, int32 points, float32 start frame 0, float32 sample rate 1, int32

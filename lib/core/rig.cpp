@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/locate.h"
+
 namespace sweep {
 
 int SweepDef::section_index(const std::string& section_name) const {
@@ -41,11 +43,22 @@ double tip_disc_radius(const SweepShape& rest) { return disc_radius(rest, rest.s
 
 std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
                                              const SweepShape& rest, const PartSeeds& seeds) {
+  const SweepLocator locator(rest);
+  const PartBound near_sweep = [&](const Vec3& p) {
+    const SweepCoords c = locator.locate(p);
+    if (c.z > 0) return true;  // past the tip section
+    return c.s <= kPartReachRadii && -c.z <= kPartReachRadii * radius_at(rest, c.theta, c.t);
+  };
   if (seeds.tip_cut) {
     return select_part_between(mesh, topology, rest.frames.front(), root_disc_radius(rest),
-                               rest.frames.back(), tip_disc_radius(rest));
+                               rest.frames.back(), tip_disc_radius(rest), near_sweep);
   }
-  return select_part(mesh, topology, rest.frames.front(), root_disc_radius(rest), seeds.tip);
+  // A tip before the root section (no section's plane passes by it) is refused by the walk
+  // itself, which must then reach the root disc from behind: not bounded near the sweep.
+  const bool tip_before_root =
+      mesh.vertex_count() > 0 && locator.locate(mesh.positions[nearest_vertex(mesh, seeds.tip)]).z < 0;
+  return select_part(mesh, topology, rest.frames.front(), root_disc_radius(rest), seeds.tip,
+                     tip_before_root ? PartBound{} : near_sweep);
 }
 
 int Rig::format_version() const {

@@ -74,7 +74,12 @@ double tip_disc_radius(const SweepShape& rest);
 
 // The part `seeds` pick out of the mesh for a sweep of shape `rest` (what sweep-fit and sweep-bind
 // both select): select_part from the tip bounded by the root disc, or with seeds.tip_cut
-// select_part_between the root and tip discs.
+// select_part_between the root and tip discs; either way only through vertices near the sweep:
+// between its end sections, at most kPartReachRadii local radii from the axis (before the root
+// section, as far behind it too; past the tip section, anything: a foot, a head, a tuft). The
+// surface of a part that touches another mid-length (a trunk against a tusk) then stops a few
+// radii into the other instead of flooding through it into the body.
+inline constexpr double kPartReachRadii = 1.5;
 std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
                                              const SweepShape& rest, const PartSeeds& seeds);
 

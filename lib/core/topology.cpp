@@ -145,13 +145,53 @@ struct Disc {
   }
 };
 
+// Where `within` stopped the flood, what lies beyond is either a bridge to the body (a trunk
+// against a tusk that leads into the head) or the part's own protrusion (a spike, a fin, a toe):
+// each region beyond, walked without the bound (never through a disc), is a bridge when it
+// reaches behind the root plane, grows larger than a quarter of the part (a root plane tilted
+// across the body leaves some of it in front) or meets a bridge found before; otherwise it joins
+// the part, carried along as the feet past the tip section are.
+void keep_protrusions(const Topology& topology, const Disc& root, const Disc* tip,
+                      const PartBound& within, const std::vector<std::uint32_t>& bounded,
+                      std::vector<char>& seen) {
+  constexpr char kPart = 1, kBridge = 2, kRegion = 3;
+  const auto part_size = static_cast<std::size_t>(std::count(seen.begin(), seen.end(), kPart));
+  std::vector<std::uint32_t> region, stack;
+  for (const std::uint32_t v : bounded) {
+    for (const std::uint32_t start : topology.adjacency.of(v)) {
+      if (seen[start] || root.crossed_by(v, start) || (tip && tip->crossed_by(v, start))) continue;
+      if (within(root.mesh.positions[start])) continue;  // (reached some other way since)
+      region.assign(1, start);
+      stack.assign(1, start);
+      seen[start] = kRegion;
+      bool bridge = root.height(start) < 0;
+      while (!stack.empty() && !bridge) {
+        const std::uint32_t a = stack.back();
+        stack.pop_back();
+        for (const std::uint32_t b : topology.adjacency.of(a)) {
+          if (seen[b] == kBridge) bridge = true;  // joins a bridge found from another start
+          if (seen[b] || root.crossed_by(a, b) || (tip && tip->crossed_by(a, b))) continue;
+          seen[b] = kRegion;
+          region.push_back(b);
+          stack.push_back(b);
+          if (root.height(b) < 0 || 4 * region.size() > part_size) bridge = true;
+        }
+      }
+      for (const std::uint32_t r : region) seen[r] = bridge ? kBridge : kPart;
+    }
+  }
+  for (char& x : seen) x = x == kPart ? 1 : 0;
+}
+
 // The flood over representatives from `stack`, never over an edge through the root disc nor
 // (when given) the tip disc; the sorted file vertices whose representative it reached.
 std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology, const Disc& root,
-                                      const Disc* tip, std::vector<std::uint32_t> stack,
+                                      const Disc* tip, const PartBound& within,
+                                      std::vector<std::uint32_t> stack,
                                       const std::string& seed_label) {
   std::vector<char> seen(mesh.vertex_count(), 0);
   for (const std::uint32_t v : stack) seen[v] = 1;
+  std::vector<std::uint32_t> bounded;  // part vertices with a neighbour `within` rejected
   // Where the region is stopped by the disc, which side is it on? A part leaves the root section
   // forwards, so its region meets the disc from the front; a region that meets it only from
   // behind is the body (or a part on the wrong side): the tip was given behind the root. (A curled
@@ -167,10 +207,15 @@ std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology
         continue;
       }
       if (tip && tip->crossed_by(v, w)) continue;
+      if (within && !within(mesh.positions[w])) {
+        bounded.push_back(v);
+        continue;
+      }
       seen[w] = 1;
       stack.push_back(w);
     }
   }
+  if (!bounded.empty()) keep_protrusions(topology, root, tip, within, bounded, seen);
   if (meets_disc_from_behind && !meets_disc_from_front) {
     fail(ErrorCategory::bad_input,
          seed_label + " lies behind the root section (on the body's side): the surface reached from "
@@ -187,16 +232,17 @@ std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology
 
 std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
                                        const Frame& root_plane, double root_radius,
-                                       const Vec3& tip) {
+                                       const Vec3& tip, const PartBound& within) {
   if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
   const std::uint32_t start = topology.weld[nearest_vertex(mesh, tip)];
-  return flood_part(mesh, topology, Disc{mesh, root_plane, root_radius}, nullptr, {start},
+  return flood_part(mesh, topology, Disc{mesh, root_plane, root_radius}, nullptr, within, {start},
                     "the tip's nearest vertex " + std::to_string(start));
 }
 
 std::vector<std::uint32_t> select_part_between(const Mesh& mesh, const Topology& topology,
                                                const Frame& root_plane, double root_radius,
-                                               const Frame& tip_plane, double tip_radius) {
+                                               const Frame& tip_plane, double tip_radius,
+                                               const PartBound& within) {
   if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
   const Disc root{mesh, root_plane, root_radius}, tip{mesh, tip_plane, tip_radius};
   // Seeds: the root-side ends of the edges through the tip disc (the tip point itself may lie
@@ -216,7 +262,7 @@ std::vector<std::uint32_t> select_part_between(const Mesh& mesh, const Topology&
          "no edge of the surface passes through the last key section (the tip-side cut): there is "
          "no tube there to cut");
   }
-  return flood_part(mesh, topology, root, &tip, std::move(seeds), "the tip-side cut");
+  return flood_part(mesh, topology, root, &tip, within, std::move(seeds), "the tip-side cut");
 }
 
 }  // namespace sweep

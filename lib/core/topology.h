@@ -4,6 +4,7 @@
 // split vertices along UV and normal seams; the file's vertices stay as they are (their order and
 // count are what a point cache and a binding index), but the walk must not see a seam as a hole.
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -49,9 +50,13 @@ VertexAdjacency vertex_adjacency(const Mesh& mesh);
 // so a part that curls back behind its root plane stays whole while the body, reached from the
 // part only through the root section, stays out. Throws Error(bad_input) when the tip's nearest
 // vertex lies behind the plane inside the disc.
+// `within`, when given, bounds the walk geometrically too: a vertex whose position it rejects is
+// neither part nor walked through (select_sweep_part: near the sweep; a part that touches another
+// surface mid-length, a trunk against a tusk, must not flood through the contact into the head).
+using PartBound = std::function<bool(const Vec3&)>;
 std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
                                        const Frame& root_plane, double root_radius,
-                                       const Vec3& tip);
+                                       const Vec3& tip, const PartBound& within = {});
 
 // The part of a stretch of a tube that goes on past its last key section (PartSeeds::tip_cut),
 // sorted: the vertices reached from the tip-side cut — the disc of radius `tip_radius` in
@@ -61,6 +66,7 @@ std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topolog
 // region meets the root disc only from behind.
 std::vector<std::uint32_t> select_part_between(const Mesh& mesh, const Topology& topology,
                                                const Frame& root_plane, double root_radius,
-                                               const Frame& tip_plane, double tip_radius);
+                                               const Frame& tip_plane, double tip_radius,
+                                               const PartBound& within = {});
 
 }  // namespace sweep

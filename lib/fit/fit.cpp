@@ -89,6 +89,10 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
       e.beyond_root_count += c.z < 0;  // before section 0 (its axis points to the tip)
       continue;
     }
+    if (c.s > kPartReachRadii) {
+      ++e.protrusion_count;
+      continue;
+    }
     const double radial = std::abs(c.s - 1) * radius_at(shape, c.theta, c.t);
     const double d = std::min(radial, to_sweep.distance(mesh.positions[v]));
     sum2 += d * d;
@@ -453,10 +457,12 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     for (const double x : radii) r.mean_radius += x;
     r.mean_radius /= static_cast<double>(radii.size());
     r.length = r.sweep.rest.length();
-    r.part_vertices = select_sweep_part(mesh, topo, r.sweep.rest,
-                                        PartSeeds{Vec3::Zero(), mesh.positions[r.tip_vertex], r.tip_cut});
+    const PartSeeds seeds{Vec3::Zero(), mesh.positions[r.tip_vertex], r.tip_cut};
+    r.part_vertices = select_sweep_part(mesh, topo, r.sweep.rest, seeds);
     // The radii that best match the part's vertices (the slices run through facets' chords).
     fit_radii(r.sweep.rest, mesh, r.part_vertices);
+    // The part again, as sweep-bind will select it: its bound near the sweep reads the radii.
+    r.part_vertices = select_sweep_part(mesh, topo, r.sweep.rest, seeds);
     if (o.measure_error || o.tolerance > 0) {
       r.error = measure_fit_error(r.sweep.rest, mesh, r.part_vertices);
     }

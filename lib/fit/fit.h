@@ -107,6 +107,9 @@ struct FitError {
   std::size_t measured_count = 0;     // part vertices whose section plane lies in [0, L]
   std::size_t beyond_ends_count = 0;  // part vertices past the end sections (caps), not measured
   std::size_t beyond_root_count = 0;  // ... of them, before section 0
+  // Part vertices between the end sections but more than kPartReachRadii radii from the axis: a
+  // protrusion the part carries along (a claw, a spike), not measured, as the caps are not.
+  std::size_t protrusion_count = 0;
   std::size_t surface_samples = 0;
 };
 

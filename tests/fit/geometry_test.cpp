@@ -134,6 +134,42 @@ TEST(Part, FloodStopsAtTheRootPlaneAndLeavesLegsOut) {
   EXPECT_EQ(select_part(m, topology, root, 0.2, {4, 0.5, 0}).size(), 12u);
 }
 
+// A bound on the walk (select_sweep_part's: near the sweep) stops it where the part touches
+// another surface, and what lies beyond the bound is judged: a bridge that leads behind the root
+// (a tusk into the head) stays out, a protrusion that leads nowhere (a spike) stays in.
+TEST(Part, ABoundStopsTheFloodAtABridgeButKeepsAProtrusion) {
+  Mesh m;
+  for (int i = 0; i < 10; ++i) m.positions.emplace_back(i, 0, 0);  // a_i = i
+  for (int i = 0; i < 10; ++i) m.positions.emplace_back(i, 1, 0);  // b_i = 10 + i
+  const std::uint32_t c0 = 20, c1 = 21, c2 = 22, c3 = 23;  // the bridge, from a_5 round to x = 0
+  m.positions.insert(m.positions.end(), {{5, -1, 0}, {5, -2, 0}, {5, -3, 0}, {0, -3, 0}});
+  const std::uint32_t d0 = 24, d1 = 25, d2 = 26;  // the spike, out from a_7
+  m.positions.insert(m.positions.end(), {{7, -1, 0}, {7, -2, 0}, {7, -3, 0}});
+  for (std::uint32_t i = 0; i < 9; ++i) {
+    m.add_face({i, i + 1, 10 + i});
+    m.add_face({i + 1, 11 + i, 10 + i});
+  }
+  m.add_face({5, c0, 6});
+  m.add_face({c0, c1, 6});
+  m.add_face({c1, c2, c0});
+  m.add_face({c2, c3, c1});
+  m.add_face({7, d0, 8});
+  m.add_face({d0, d1, 8});
+  m.add_face({d1, d2, d0});
+  const Topology topology = build_topology(m);
+  Frame root;
+  root.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitX());
+  root.center = {1.5, 0.5, 0};
+  const PartBound near_strip = [](const Vec3& p) { return p.y() >= -1.5; };
+  std::vector<std::uint32_t> expected;
+  for (std::uint32_t i = 2; i < 10; ++i) expected.insert(expected.end(), {i, 10 + i});
+  expected.insert(expected.end(), {c0, d0, d1, d2});
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}, near_strip), expected);
+  // Unbounded, the walk takes the bridge as well, to the vertex behind the root.
+  EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}).size(), expected.size() + 3);
+}
+
 // A strip that goes on past the tip (the a/b strip above, longer: a_i = i, b_i = 10 + i, i = 0..9):
 // cut at the root plane x = 1.5 and the tip plane x = 6.5, the part is x = 2..6 whatever side the
 // tip point lies on; the one-sided flood takes the strip on to x = 9.

@@ -145,12 +145,13 @@ TEST(TipCut, TorusStretchIsCutAtTheTipAndNothingBeyondMoves) {
   const Baked b = bake_push(s, Vec3(0, 0, 0.5), "torus");
   expect_cut_holds(s, b, 0.03);
 
-  // The test can fail: the same rig without the cut binds the whole torus, and what lies beyond
-  // the tip plane moves (and stretches more).
+  // The test can fail: the same rig without the cut binds far more of the torus (bounded only by
+  // the part's reach from its axis, kPartReachRadii), and what lies beyond the tip plane moves
+  // (and stretches more).
   Stretch uncut = s;
   uncut.rig.sweeps[0].part->tip_cut = false;
   uncut.binding = bind::bind_rig(uncut.rig, uncut.mesh, {.blend = 0.3});
-  EXPECT_EQ(uncut.binding.sweeps[0].size(), s.mesh.vertex_count());
+  EXPECT_GT(uncut.binding.sweeps[0].size(), 2 * s.fit.part_vertices.size());
   const Baked torn = bake_push(uncut, Vec3(0, 0, 0.5), "uncut");
   const Frame& tip = rest.frames.back();
   bool moved_beyond = false;

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "core/rig.h"
 #include "core/text.h"
 #include "io/atomic_file.h"
 
@@ -32,6 +33,7 @@ Json fit_entry(const fit::FitResult& r) {
   s["part_vertex_count"] = r.part_vertices.size();
   s["measured_vertex_count"] = r.error.measured_count;
   s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
+  s["protrusion_vertex_count"] = r.error.protrusion_count;
   s["beyond_root_vertex_count"] = r.error.beyond_root_count;
   s["in_range_share"] = r.in_range_share();
   s["leaked_vertex_count"] = r.leaked_count;
@@ -132,7 +134,9 @@ void print_fit(const fit::FitResult& r, bool verbose) {
     std::cout << "  axis: " << r.axis.points.size() << " points, ending "
               << format_number(r.tip_gap / mr) << " mean radii from tip vertex " << r.tip_vertex
               << " (" << (r.axis.end_reason.empty() ? "the axis given" : r.axis.end_reason)
-              << "); " << r.error.beyond_ends_count << " part vertices beyond the end sections\n";
+              << "); " << r.error.beyond_ends_count << " part vertices beyond the end sections, "
+              << r.error.protrusion_count << " in protrusions carried along (more than "
+              << format_number(kPartReachRadii) << " radii from the axis)\n";
   }
 }
 
