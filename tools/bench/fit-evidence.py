@@ -97,16 +97,16 @@ def main():
         print(f"{mesh} {part}: exit {run.returncode}", file=sys.stderr)
 
     table = ["| mesh | part | shape | --tip | --root | exit | fit RMS | 90 % within | surface to part RMS | "
-             "traced / surface | axis end to tip | vertices |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "surface 90 % within | traced / surface | axis end to tip | vertices |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for mesh, part, shape, tip, root_click, code, e, message in rows:
         if e is None:
             table.append(f"| {mesh} | {part} | {shape} | {tip} | {root_click or 'found'} | {code} | "
-                         f"— | — | — | — | — | {message} |")
+                         f"— | — | — | — | — | — | {message} |")
             continue
         table.append(f"| {mesh} | {part} | {shape} | {tip} | {root_click or 'found'} | {code} | "
                      f"{100 * e['fit_rms_relative']:.1f} % | {100 * e['fit_p90_relative']:.1f} % | "
-                     f"{100 * e['surface_rms_relative']:.1f} % | "
+                     f"{100 * e['surface_rms_relative']:.1f} % | {100 * e['surface_p90_relative']:.1f} % | "
                      f"{e['traced_over_surface']:.2f} | {e['tip_gap_relative']:.2f} r | {e['part_vertex_count']} |")
 
     if previews:
