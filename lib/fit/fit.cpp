@@ -306,7 +306,10 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     from_tip0 = surface_distances(mesh, topo, std::span(&tip0, 1));
     mid_tube = rings_run_both_ways(mesh, topo, from_tip0, kBothWaysLevel * from_tip0[root_vertex]);
   }
-  r.tip_vertex = o.axis.empty() && !mid_tube ? climb(topo, field, tip0) : tip0;
+  // A tip given as a vertex is the end itself (what --list and --all name: the extremity whose
+  // rings found the part); climbing from it may reach another end (the camel's muzzle climbed
+  // to an ear and fitted a stub 0.009 long).
+  r.tip_vertex = o.axis.empty() && !mid_tube && o.tip_vertex < 0 ? climb(topo, field, tip0) : tip0;
   if (mid_tube) {
     r.tip_cut = true;
     r.tip_cut_reason = "the rings of surface distance from the tip run both ways along the tube (it "

@@ -38,7 +38,7 @@ struct FitOptions {
   // junction (mesh units). Absent: found where the ring size jumps (fit/rings.h).
   std::optional<Vec3> root;
   Vec3 tip = Vec3::Zero();          // at or near the part's end, a few radii off is fine
-  std::int64_t tip_vertex = -1;     // >= 0: the tip as a vertex index instead of `tip`
+  std::int64_t tip_vertex = -1;     // >= 0: the part's end as a vertex index (no climb), not `tip`
   // An explicit axis polyline from root to tip (mesh units). When given it replaces the rings;
   // its first and last points are the root and the tip.
   std::vector<Vec3> axis;
