@@ -69,17 +69,51 @@ Eigen::Matrix4d key_matrix(const JointKey& k) {
   return m;
 }
 
-// The station frame of `shape` at t and its mean radius over the sample angles (no floor).
+// The station frame of `shape` at t and its radii at the sample angles (no floor).
 struct Station {
   Frame frame;
-  double mean_radius = 0;
+  std::vector<double> radii;
 };
-Station station(const SweepShape& shape, double t, std::vector<double>& scratch) {
-  scratch.resize(static_cast<std::size_t>(shape.radial_count));
-  radii_at_samples(shape, t, scratch);
-  double sum = 0;
-  for (const double r : scratch) sum += r;
-  return {frame_at(shape, t), sum / static_cast<double>(scratch.size())};
+Station station(const SweepShape& shape, double t) {
+  Station st{frame_at(shape, t), std::vector<double>(static_cast<std::size_t>(shape.radial_count))};
+  radii_at_samples(shape, t, st.radii);
+  return st;
+}
+
+// The cross-section's change at a station as one joint carries it: in the station's plane, a scale
+// along each of its axes and a shift, x' = a·x + c_x and y' = b·y + c_y, fitted by least squares to
+// the sample points (r_j cos θ_j, r_j sin θ_j) → (r'_j cos θ_j, r'_j sin θ_j). A section that
+// swells evenly gives a = b (its mean radius ratio) and no shift; one squeezed from a side, a
+// smaller scale across the squeeze and a shift away from it.
+struct InPlane {
+  double a = 1, b = 1, cx = 0, cy = 0;
+};
+InPlane fit_in_plane(const SweepShape& shape, std::span<const double> rest, std::span<const double> now) {
+  InPlane f;
+  const std::size_t n = rest.size();
+  for (int axis = 0; axis < 2; ++axis) {
+    double mx = 0, my = 0;
+    std::vector<double> x(n), y(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      const double angle = shape.sample_angle(static_cast<int>(j));
+      const double c = axis == 0 ? std::cos(angle) : std::sin(angle);
+      x[j] = rest[j] * c;
+      y[j] = now[j] * c;
+      mx += x[j];
+      my += y[j];
+    }
+    mx /= static_cast<double>(n);
+    my /= static_cast<double>(n);
+    double sxx = 0, sxy = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      sxx += (x[j] - mx) * (x[j] - mx);
+      sxy += (x[j] - mx) * (y[j] - my);
+    }
+    const double scale = sxx > 0 && std::isfinite(sxy / sxx) ? sxy / sxx : 1.0;
+    (axis == 0 ? f.a : f.b) = scale;
+    (axis == 0 ? f.cx : f.cy) = my - scale * mx;
+  }
+  return f;
 }
 
 class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
@@ -101,13 +135,13 @@ class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
   }
 
  private:
-  JointKey key_of(const Frame& f, double scale) const;
+  JointKey key_of(const Frame& f, const InPlane& in_plane) const;
   tinygltf::Model build_model(std::vector<unsigned char>& bin) const;
 
   std::vector<SkinSweep> sweeps_;
   int per_sweep_ = 0;
   std::vector<double> station_t_;        // per sweep, per_sweep_ parameters
-  std::vector<double> rest_mean_radius_;  // per sweep joint
+  std::vector<std::vector<double>> rest_radii_;  // per sweep joint: the rest radii at its station
   std::vector<JointKey> rest_keys_;       // per sweep joint: the rest pose (node defaults)
   std::vector<Eigen::Matrix4f> inverse_bind_;  // per skin joint (0: the body)
   std::vector<std::vector<JointKey>> keys_;  // per sweep joint, per frame
@@ -122,22 +156,23 @@ class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
   std::vector<double> bound_length_;
   std::vector<const SweepShape*> shapes_;
   bool posed_ = false;
-  std::vector<double> radii_scratch_;
   std::vector<float> body_translations_, body_rotations_;
   SkinError error_;
   double sum_squares_ = 0;
   std::unique_ptr<TempFile> final_;
 };
 
-JointKey SkinWriter::key_of(const Frame& f, double scale) const {
+JointKey SkinWriter::key_of(const Frame& f, const InPlane& in_plane) const {
   JointKey k{};
-  for (int c = 0; c < 3; ++c) k.t[c] = static_cast<float>(f.center[c]);
+  const Vec3 t = f.center + f.rotation * Vec3(in_plane.cx, in_plane.cy, 0);
+  for (int c = 0; c < 3; ++c) k.t[c] = static_cast<float>(t[c]);
   const Quat q = f.rotation.normalized();
   k.r[0] = static_cast<float>(q.x());
   k.r[1] = static_cast<float>(q.y());
   k.r[2] = static_cast<float>(q.z());
   k.r[3] = static_cast<float>(q.w());
-  k.s[0] = k.s[1] = static_cast<float>(scale);
+  k.s[0] = static_cast<float>(in_plane.a);
+  k.s[1] = static_cast<float>(in_plane.b);
   k.s[2] = 1.0f;
   return k;
 }
@@ -168,9 +203,9 @@ void SkinWriter::start(const Mesh& mesh) {
     for (int j = 0; j < per_sweep_; ++j) {
       const double t = j == per_sweep_ - 1 ? length : length * j / (per_sweep_ - 1);
       station_t_.push_back(t);
-      const Station st = station(*sw.rest, t, radii_scratch_);
-      rest_mean_radius_.push_back(st.mean_radius);
-      const JointKey key = key_of(st.frame, 1.0);
+      Station st = station(*sw.rest, t);
+      const JointKey key = key_of(st.frame, InPlane{});
+      rest_radii_.push_back(std::move(st.radii));
       rest_keys_.push_back(key);
       inverse_bind_.push_back(key_matrix(key).inverse().cast<float>());
     }
@@ -272,9 +307,8 @@ void SkinWriter::write_frame(int index, std::span<const Eigen::Vector3f> positio
   std::size_t joint = 0;
   for (std::size_t s = 0; s < sweeps_.size(); ++s) {
     for (int j = 0; j < per_sweep_; ++j, ++joint) {
-      const Station st = station(*shapes_[s], station_t_[joint], radii_scratch_);
-      const double ratio = rest_mean_radius_[joint] > 0 ? st.mean_radius / rest_mean_radius_[joint] : 1.0;
-      JointKey key = key_of(st.frame, std::isfinite(ratio) ? ratio : 1.0);
+      const Station st = station(*shapes_[s], station_t_[joint]);
+      JointKey key = key_of(st.frame, fit_in_plane(*shapes_[s], rest_radii_[joint], st.radii));
       std::vector<JointKey>& track = keys_[joint];
       const JointKey& before = track.empty() ? rest_keys_[joint] : track.back();
       const float dot = key.r[0] * before.r[0] + key.r[1] * before.r[1] + key.r[2] * before.r[2] +

@@ -10,10 +10,13 @@
 //  - per sweep, N joints "<sweep>.00" … at N evenly spaced stations t_j = L·j/(N−1) along the sweep,
 //    root (j = 0) to tip (j = N−1), children of the body joint. Joint j's transform, in the body's
 //    frame, is the deformed sweep's frame at t_j: translation C'(t_j), rotation R'(t_j) (the frame
-//    whose z is the sweep's axis), scale (σ, σ, 1) with σ the ratio of the mean radius at t_j to
-//    the rest's (the cross-section's change as well as one joint can carry it: uniform in its
-//    plane). The joints are siblings rather than parent and child because glTF composes a child
-//    with its parent's scale, and a non-uniform scale followed by a rotation is a shear no TRS
+//    whose z is the sweep's axis), and the cross-section's change as well as one joint can carry
+//    it: in the station's plane a scale along each axis and a shift, (a, b, 1) and R'·(c_x, c_y, 0)
+//    added to the translation, fitted by least squares to the section's radii at t_j against the
+//    rest's (an even swell: a = b, the mean radius ratio, no shift; a squeeze from one side: less
+//    scale across it and a shift away from it). The joints are siblings rather than parent and
+//    child because glTF composes a child with its parent's scale, and a non-uniform scale followed
+//    by a rotation is a shear no TRS
 //    node can express; the chain is their order and names. Inverse bind matrices: the rest frames'.
 //  - the mesh: rest POSITION, smooth rest NORMAL, triangles, JOINTS_0 (unsigned byte when the skin
 //    has at most 256 joints, else unsigned short), WEIGHTS_0 (float). A vertex bound at parameter t
