@@ -18,6 +18,8 @@
 //            half a unit in the last place of the delta). Normals are not morphed: viewers light
 //            the deformed mesh with the rest normals. The weights animation stores frames² floats
 //            (600 frames: 1.4 MB); glTF binary files are limited to 4 GiB, checked in begin().
+//            A skinned .glb (joints following the sweeps, no morph targets) is another writer:
+//            assets/bake_skin.h (sweep-sim --joints N).
 //  - `.pc2`  point cache (Blender's Mesh Cache modifier, 3ds Max, Houdini): "POINTCACHE2\0",
 //            int32 version 1, int32 points, float32 start frame 0, float32 sample rate 1, int32
 //            samples, then float32 x y z per point per sample, little-endian, in the mesh's
