@@ -66,5 +66,22 @@ TEST(Joints, BadJointCountsExitOneAndWriteNothing) {
   EXPECT_EQ(ok.code, 0) << ok.err;
 }
 
+TEST(Joints, TheSkinnedFileIsTheSameBytesWhateverTheThreadCount) {
+  const Workspace ws("joints-determinism");
+  const std::string base = quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") + " -q --joints 12";
+  ToolRun r = run_tool(SWEEP_SIM_EXE, base + " -o " + quoted(ws / "a.glb") + " --threads 1", ws.io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_tool(SWEEP_SIM_EXE, base + " -o " + quoted(ws / "b.glb") + " --threads 2", ws.io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_tool(SWEEP_SIM_EXE, base + " -o " + quoted(ws / "c.glb") + " --threads 2", ws.io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string a = slurp(ws / "a.glb");
+  EXPECT_GT(a.size(), 1000u);
+  EXPECT_EQ(a, slurp(ws / "b.glb"));
+  EXPECT_EQ(a, slurp(ws / "c.glb"));
+  // No temporaries left beside them.
+  for (const auto& name : listing(ws.work)) EXPECT_EQ(name.find(".tmp-"), std::string::npos) << name;
+}
+
 }  // namespace
 }  // namespace sweep::test
