@@ -366,18 +366,26 @@ errors and sizes are exact and repeatable.
 $(cat "$results/skin_joints.md")
 
 **Reading it.** The RMS error falls with N as hat-function skinning should (0.53 % at 4 joints,
-0.12 % at 8, 0.06 % from 16) and the file grows by ~24 kB a joint (40 bytes a joint a
-frame). The largest error does not: from N = 6 on it is 2.0 % of the neck's length, always at
-vertex 622 in frame 57, by the head beyond the neck's last section. There the neck's tip is pushed
-with a radial component, its last section's radii change unevenly, and the head's vertices (far
-outside the section, s ≫ 1) multiply that change; a joint's in-plane scale and shift (fitted by
-least squares to the section's radii) cannot follow an uneven change, however many joints the
-chain has. **The target (max ≤ 1 % at the default N) is not met on this scene;** the recommended
-N = 8 gives 1/40 of the morph file (≤ 1/20: met), RMS 0.12 %, max 2.0 %. Removing the scene's two
-radial-only pushes leaves the same 2.0 % (the neck-tip push still has its radial component), so
-the limit is the tip, not those pushes. What would lift it: more than one joint per station
-around the ring (radial joints as children of each station joint, scale-only channels), or
-weighting vertices beyond an end section by their own fitted joint.
+0.12 % at 8, 0.06 % from 16) and the file grows by ~24 kB a joint (40 bytes a joint a frame). The
+largest error does not: from N = 6 on it stays at 2.0 % of the neck's length (vertex 622, by the
+head, frame 57). The scene's radial pushes (the tail's and the neck's radial-only pushes, and the
+radial part of the push on the neck's tip) dent sections unevenly, over a few of their 24 radial
+handles; a joint carries a section's change only as an in-plane scale per axis and a shift (fitted
+by least squares to its radii), which cannot follow a dent, however many joints the chain has.
+The same bake with every radial component taken out of the scene (bending and twisting only):
+
+| N | 4 | 6 | 8 | 12 | 16 | 32 |
+|---|---|---|---|---|---|---|
+| max error, % of length | 3.52 | 1.36 | 0.68 | 0.27 | 0.19 | 0.086 |
+| RMS error, % of length | 0.53 | 0.20 | 0.10 | 0.040 | 0.023 | 0.0072 |
+
+So for bending the 1 % target is met from N = 8, which is the recommended N; **on the Fig. 4 scene
+itself, with its dents, the target (max ≤ 1 %) is not met at any N**, while the size target is:
+N = 8 is 1/40 of the morph file (RMS 0.12 %, max 2.0 %). (Scene variant: the Fig. 4 scene at 150
+fps with each force's \`components\` less \`radial\`, those left empty dropped; same rig, \`--exact\`.)
+What would lift the dent limit: more than one joint per station around the ring (ring joints as
+children of each station joint, scale-only channels, hat weights in θ as well as in t), at the
+price of more joints and, for blend-zone vertices, a fifth influence.
 
 ## Stress
 
