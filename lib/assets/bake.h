@@ -19,6 +19,8 @@
 //            (the frame's smooth normals, made as the rest's are, minus the rest's; sparse over
 //            the moving vertices and their face neighbours), so a bent part is lit as bent. The weights animation stores frames² floats
 //            (600 frames: 1.4 MB); glTF binary files are limited to 4 GiB, checked in begin().
+//            A skinned .glb (joints following the sweeps, no morph targets) is another writer:
+//            assets/bake_skin.h (sweep-sim --joints N).
 //  - `.pc2`  point cache (Blender's Mesh Cache modifier, 3ds Max, Houdini): "POINTCACHE2\0",
 //            int32 version 1, int32 points, float32 start frame 0, float32 sample rate 1, int32
 //            samples, then float32 x y z per point per sample, little-endian, in the mesh's

@@ -72,6 +72,15 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   if (options.outputs.empty()) fail(ErrorCategory::usage, "no output file given");
   if (options.stations_per_span < 1)
     fail(ErrorCategory::usage, "stations per span must be at least 1");
+  if (options.joints != 0) {
+    bool glb = false;
+    for (const auto& out : options.outputs) glb = glb || lower_extension(out) == "glb";
+    if (!glb) fail(ErrorCategory::usage, "--joints: skins a .glb output, and none is given");
+  }
+  std::vector<io::SkinSweep> skin_sweeps;
+  for (std::size_t i = 0; options.joints != 0 && i < rig.sweeps.size(); ++i)
+    skin_sweeps.push_back({rig.sweeps[i].name, &rig.sweeps[i].rest, &binding.sweeps[i]});
+  if (options.joints != 0) io::check_skin_joints(options.joints, skin_sweeps, options.stations_per_span);
   const std::size_t nv = mesh.vertex_count();
   const int sweeps = static_cast<int>(rig.sweeps.size());
 
@@ -111,8 +120,15 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   info.fps = scene.fps;
   info.animated_vertices = animated;
   info.body_moves = scene.body.moves();
+  std::vector<io::SkinPoser*> skins;  // the skinned writers among them
   for (const auto& out : options.outputs) {
-    writers.push_back(io::make_bake_writer(out));
+    if (options.joints != 0 && lower_extension(out) == "glb") {
+      io::SkinBakeWriter skin = io::make_skin_bake_writer(out, skin_sweeps, options.joints);
+      writers.push_back(std::move(skin.writer));
+      skins.push_back(skin.poser);
+    } else {
+      writers.push_back(io::make_bake_writer(out));
+    }
     writers.back()->begin(mesh, info);
   }
   check_output_size(options, writers);
@@ -180,6 +196,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       pose.rotation = body.rotation;
       pose.translation = body.translation;
     }
+    for (io::SkinPoser* skin : skins) skin->pose(shapes);
     for (auto& w : writers) w->frame(k, positions, pose);
     report.write_seconds += seconds_since(t0);
     report.per_frame.push_back(stats);
@@ -196,6 +213,10 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   }
   report.write_seconds += seconds_since(t0);
   for (int i = 0; i < sweeps; ++i) report.sweeps[i].steps = sim.steps_taken(i);
+  if (!skins.empty()) {
+    report.skin_joints = skins.front()->joint_count();
+    report.skin_error = skins.front()->skin_error();
+  }
   for (const int frame : sim.teleports()) report.teleport_times.push_back(frame / scene.fps);
   return report;
 }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "assets/bake_skin.h"
 #include "assets/edge_stretch.h"
 #include "bind/bind.h"
 #include "core/mesh.h"
@@ -37,6 +38,10 @@ struct BakeOptions {
   // Refuse (Error(output)) before simulating when the files would take more bytes than this
   // (estimated by the writers); 0: no limit.
   std::uint64_t max_output_bytes = 0;
+  // > 0: every .glb output is a skinned glTF with this many joints a sweep (bake_skin.h) instead
+  // of morph targets; the other outputs are as ever. kMinSkinJoints … kMaxSkinJoints, and at most
+  // a sweep's station count (io::check_skin_joints), else Error(usage) before anything is written.
+  int joints = 0;
   // Told what a person should know before a long bake (a .glb too large for engines to load).
   std::function<void(const std::string&)> warn;
 };
@@ -76,6 +81,10 @@ struct BakeReport {
   int max_stretch_frame = 0;
   std::size_t stretch_edge_count = 0;  // edges measured (those with an animated end)
   double stretch_seconds = 0;          // wall time measuring them (inside deform_seconds)
+  // With joints: the skin's joints (the body joint included) and the skinned result's error
+  // against the bake's positions (the first skinned .glb's; all are the same).
+  int skin_joints = 0;
+  io::SkinError skin_error;
 };
 
 // Runs the bake. `binding` must match `mesh` and `rig` (bind::check_binding). Throws Error: bad

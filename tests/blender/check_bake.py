@@ -2,8 +2,12 @@
 
 Run by Blender (Debian's `blender` package, 3.4), not by Python:
     blender -b --factory-startup --python-exit-code 1 --python check_bake.py -- MESH BAKE.glb BAKE.pc2 [FPS]
+        [--skinned TOLERANCE]
 MESH is the baked mesh as .obj or .off (the .pc2 check puts the cache on it); FPS the bake's frame
-rate (default 24).
+rate (default 24). With --skinned, BAKE.glb is a skinned bake (sweep-sim --joints): Blender plays it
+through the armature its importer builds, and each sampled frame must match the .pc2 within
+TOLERANCE (mesh units: the error sweep-sim reported, skin_error_max_relative times the part's
+length) instead of exactly.
 
 The .pc2 is the reference: sweep-sim's own tests prove it equals the simulator's frames bit for bit.
   1. The .glb, imported with Blender's glTF importer: at time k / FPS (Blender frame 24·k / FPS, the
@@ -24,6 +28,11 @@ numpy.bool = bool  # Debian's Blender 3.4 glTF importer still uses numpy.bool (r
 import bpy  # noqa: E402  (after the NumPy fix, which the importer needs when it loads)
 
 args = sys.argv[sys.argv.index("--") + 1:]
+skinned_tolerance = None
+if "--skinned" in args:
+    at = args.index("--skinned")
+    skinned_tolerance = float(args[at + 1])
+    del args[at:at + 2]
 mesh_path, glb_path, pc2_path = args[:3]
 fps = float(args[3]) if len(args) > 3 else 24.0
 
@@ -77,8 +86,15 @@ def only_mesh_object():
     return meshes[0]
 
 
-def check(name, obj, reference, to_reference_axes, frames, blender_frame, size):
-    """Largest distance between Blender at blender_frame(k) and reference frame k, over `frames`."""
+def check(name, obj, reference, to_reference_axes, frames, blender_frame, size, tolerance=None):
+    """Largest distance between Blender at blender_frame(k) and reference frame k, over `frames`.
+
+    Exact files (tolerance None) must match to float precision, and be farther than that from
+    frame k + 1. A skinned file matches only within `tolerance` (mesh units), which may exceed the
+    motion of one frame: its time base is checked instead by RMS distance, Blender's frame k being
+    nearer to reference frame k than to frame k + 3."""
+    skinned = tolerance is not None
+    step = 3 if skinned else 1
     worst, nearest_other = 0.0, float("inf")
     for k in frames:
         got = to_reference_axes(evaluated_positions(obj, blender_frame(k)))
@@ -86,8 +102,22 @@ def check(name, obj, reference, to_reference_axes, frames, blender_frame, size):
             print(f"FAIL {name}: frame {k}: {got.shape[0]} vertices, the bake has {reference[k].shape[0]}")
             return False
         worst = max(worst, numpy.abs(got - reference[k]).max())
-        if k + 1 < len(reference) and numpy.abs(reference[k + 1] - reference[k]).max() > 0:
+        if skinned:
+            if k + step < len(reference) and numpy.abs(reference[k + step] - reference[k]).max() > 0:
+                here = numpy.sqrt(((got - reference[k]) ** 2).sum(axis=1).mean())
+                there = numpy.sqrt(((got - reference[k + step]) ** 2).sum(axis=1).mean())
+                nearest_other = min(nearest_other, there / max(here, 1e-30))
+        elif k + 1 < len(reference) and numpy.abs(reference[k + 1] - reference[k]).max() > 0:
             nearest_other = min(nearest_other, numpy.abs(got - reference[k + 1]).max())
+    if skinned:
+        limit = tolerance + 1e-6 * size
+        # nearest_other: over the sampled moving frames, the least ratio of the RMS distance to
+        # frame k + 3 over the RMS distance to frame k; above 1 when the time base is right.
+        ok = worst <= limit and 1.0 < nearest_other < float("inf")
+        print(f"{'ok  ' if ok else 'FAIL'} {name}: {len(frames)} frames, largest difference {worst:.3g} "
+              f"(tolerance {limit:.3g}: the error sweep-sim reported); frame k + 3 is at least "
+              f"{nearest_other:.3g}x farther in RMS than frame k")
+        return ok
     tolerance = 1e-6 * size
     # nearest_other stays infinite when no sampled frame differs from the next: then the check
     # could not tell a wrong time base from a right one, and fails.
@@ -108,9 +138,18 @@ bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.import_scene.gltf(filepath=glb_path)
 glb_object = only_mesh_object()
 bpy.context.scene.frame_start, bpy.context.scene.frame_end = 0, samples - 1
-passed &= check("glb via the glTF importer", glb_object, reference,
+if skinned_tolerance is not None:
+    armatures = [m for m in glb_object.modifiers if m.type == "ARMATURE"]
+    if not armatures or glb_object.data.shape_keys is not None:
+        print(f"FAIL skinned glb: expected an armature and no shape keys, got modifiers "
+              f"{[m.type for m in glb_object.modifiers]}, shape keys {glb_object.data.shape_keys}")
+        passed = False
+    else:
+        print(f"ok   skinned glb: armature with {len(armatures[0].object.data.bones)} bones, no shape keys")
+passed &= check("glb via the glTF importer" + (" (skinned)" if skinned_tolerance is not None else ""),
+                glb_object, reference,
                 lambda p: numpy.stack([p[:, 0], p[:, 2], -p[:, 1]], axis=1), frames,
-                lambda k: 24.0 * k / fps, size)
+                lambda k: 24.0 * k / fps, size, skinned_tolerance)
 
 # 2. The .pc2 on the input mesh through the Mesh Cache modifier (axes as in the file).
 bpy.ops.wm.read_factory_settings(use_empty=True)

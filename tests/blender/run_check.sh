@@ -41,4 +41,23 @@ for run in 24 30 moving; do
     status=1
   fi
 done
+# The skinned bake (--joints): Blender's importer builds an armature, and its evaluated mesh must
+# match the .pc2 within the error sweep-sim reported (skin_error_max_relative × the part's length).
+for joints in 4 12; do
+  "$sim" -q "$rig" -b "$work/tube.bind" --scene "$work/scene-moving.json" --joints $joints \
+    -o "$work/tube-skin-$joints.glb" -o "$work/tube-skin-$joints.pc2" --report "$work/tube-skin-$joints.json"
+  tolerance=$(python3 -c 'import json, sys
+r = json.load(open(sys.argv[1])); rig = json.load(open(sys.argv[2]))
+length = max(s["sections"][-1]["t"] for s in rig["sweeps"])
+print(r["skin_error_max_relative"] * length * 1.0001)' "$work/tube-skin-$joints.json" "$rig")
+  echo "== skinned, $joints joints (30 fps, moving body; tolerance $tolerance)"
+  if blender -b --factory-startup --python-exit-code 1 --python "$src/tests/blender/check_bake.py" -- \
+    "$src/meshes/tube_bent.obj" "$work/tube-skin-$joints.glb" "$work/tube-skin-$joints.pc2" 30 \
+    --skinned "$tolerance" >"$work/blender-skin-$joints.log" 2>&1; then
+    grep -E '^(ok|FAIL|blender check)' "$work/blender-skin-$joints.log" || cat "$work/blender-skin-$joints.log"
+  else
+    cat "$work/blender-skin-$joints.log"
+    status=1
+  fi
+done
 exit $status

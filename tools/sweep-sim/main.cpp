@@ -51,6 +51,8 @@ struct Settings {
   bool sleep = true;
   bool quiet = false;
   std::uint64_t max_output_bytes = 0;  // --max-output-size: refuse a bake that would write more
+  int joints = 0;                      // --joints: skinned .glb with this many joints a sweep; 0 = morph targets
+  bool joints_given = false;
 };
 
 double since(Clock::time_point start) {
@@ -105,12 +107,22 @@ std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, doub
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   for (const auto& f : r.files) files.push_back(f.string());
   doc["files"] = std::move(files);
+  if (r.skin_joints > 0) {
+    // The skinned .glb against the bake's positions, as fractions of the part's length.
+    doc["joints_per_sweep"] = s.joints;
+    doc["skin_joints"] = r.skin_joints;
+    doc["skin_error_max_relative"] = r.skin_error.max_relative;
+    doc["skin_error_rms_relative"] = r.skin_error.rms_relative;
+    doc["skin_error_max_frame"] = r.skin_error.max_frame;
+    doc["skin_error_max_vertex"] = r.skin_error.max_vertex;
+  }
   return doc.dump(2) + "\n";
 }
 
 int run(const Settings& s) {
   const Clock::time_point start = Clock::now();
   if (s.threads > 0) omp_set_num_threads(s.threads);
+  if (s.joints_given) sweep::io::check_skin_joints(s.joints, {}, 1);  // the range, before any work
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
   const sweep::Mesh mesh = sweep::io::read_mesh(mesh_path);
@@ -178,6 +190,7 @@ int run(const Settings& s) {
   options.outputs = s.outputs;
   options.exact = s.exact;
   options.stations_per_span = s.stations;
+  options.joints = s.joints_given ? s.joints : 0;
   options.sleep.enabled = s.sleep;
   sweep::tools::ProgressBar bar("baking");
   if (!s.quiet) options.progress = [&](int done, int total) { bar.update(done, total); };
@@ -215,6 +228,13 @@ int run(const Settings& s) {
     }
     std::cout << " over " << report.stretch_edge_count << " edges, measured in "
               << format_number(report.stretch_seconds * 1e3, 3) << " ms\n";
+    if (report.skin_joints > 0) {
+      std::cout << "skinned .glb: " << report.skin_joints << " joints (" << s.joints
+                << " a sweep and the body); against the bake: max "
+                << format_number(report.skin_error.max_relative * 100, 3) << " % of the part's length (frame "
+                << report.skin_error.max_frame << ", vertex " << report.skin_error.max_vertex << "), RMS "
+                << format_number(report.skin_error.rms_relative * 100, 3) << " %\n";
+    }
     for (const double t : report.teleport_times) {
       std::cout << "  the body jumped at t = " << format_number(t)
                 << " s (a cut or respawn): the parts were put to rest there\n";
@@ -280,6 +300,10 @@ int main(int argc, char** argv) {
     app.add_option("--stations", s.stations,
                    "Fast path: stations per span (error falls as its square)")
         ->check(CLI::Range(1, 1024));
+    auto* joints = app.add_option(
+        "--joints", s.joints,
+        "Write each .glb as a skinned mesh with N joints a sweep (2 to 255, at most the sweep's "
+        "stations) instead of morph targets; the summary and report give its error against the bake");
     app.add_flag("--exact", s.exact,
                  "Deform with the exact per-vertex path (the reference; slower)");
     app.add_flag(
@@ -288,6 +312,7 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", s.quiet, "No summary and no progress bar");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);
+    s.joints_given = joints->count() > 0;
     return run(s);
   });
 }

@@ -1,0 +1,393 @@
+// The skinned .glb (issue 14 part 2, --joints): read back with tinygltf and skinned here, by hand,
+// from the file's joints, weights, inverse bind matrices and animation, at sampled frames, against
+// the .pc2 of the same bake (the exact positions the simulator baked); the weights' invariants; a
+// tube at rest moves no joint; and the Khronos validator.
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <tuple>
+
+#include "assets/bake_run.h"
+#include "bind/bind.h"
+#include "bind/support.h"
+
+namespace sweep::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using Frames = std::vector<std::vector<Vec3f>>;
+
+struct Tube {
+  Mesh mesh = tube::make_tube(test::straight_tube_params());
+  Rig rig = test::rig_of({test::straight_sweep()});
+  bind::Binding binding = bind::bind_rig(rig, mesh);
+};
+
+Frames read_pc2(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[12];
+  std::int32_t version = 0, points = 0, samples = 0;
+  float start = 0, rate = 0;
+  in.read(magic, 12);
+  in.read(reinterpret_cast<char*>(&version), 4);
+  in.read(reinterpret_cast<char*>(&points), 4);
+  in.read(reinterpret_cast<char*>(&start), 4);
+  in.read(reinterpret_cast<char*>(&rate), 4);
+  in.read(reinterpret_cast<char*>(&samples), 4);
+  Frames f(samples, std::vector<Vec3f>(points));
+  for (auto& frame : f)
+    in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
+  EXPECT_TRUE(in.good());
+  return f;
+}
+
+Scene scene_with(std::vector<SceneForce> forces, double duration) {
+  Scene s;
+  s.duration = duration;
+  s.fps = 30;
+  s.substeps = 4;
+  s.forces = std::move(forces);
+  for (SceneForce& f : s.forces) f.sweep_index = 0;
+  return s;
+}
+
+// A push on the tip, about y, that bends the whole tube (chain) and squeezes it.
+SceneForce tip_push() {
+  SceneForce f;
+  f.sweep = "tube";
+  f.spec.t = 1.0;
+  f.spec.theta = 0.0;
+  f.spec.vector = Vec3(0.5, 2, 0);
+  f.spec.components = kRotational | kRadial;
+  f.spec.target = RotationTarget::chain;
+  f.start = 0;
+  f.end = 0.5;
+  return f;
+}
+
+// Every element of a dense accessor as doubles (float, unsigned byte or unsigned short).
+std::vector<double> read_numbers(const tinygltf::Model& m, int index) {
+  const tinygltf::Accessor& a = m.accessors.at(static_cast<std::size_t>(index));
+  EXPECT_FALSE(a.sparse.isSparse);
+  const tinygltf::BufferView& view = m.bufferViews.at(static_cast<std::size_t>(a.bufferView));
+  EXPECT_EQ(view.byteStride, 0u);
+  const int components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type));
+  const std::size_t count = a.count * static_cast<std::size_t>(components);
+  const unsigned char* base = m.buffers[0].data.data() + view.byteOffset + a.byteOffset;
+  std::vector<double> out(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    switch (a.componentType) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, base + 4 * i, 4);
+        out[i] = f;
+        break;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out[i] = base[i]; break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t s;
+        std::memcpy(&s, base + 2 * i, 2);
+        out[i] = s;
+        break;
+      }
+      default: ADD_FAILURE() << "unexpected component type " << a.componentType;
+    }
+  }
+  return out;
+}
+
+// A skinned glTF read back: per frame key, the world matrix of every skin joint, and per vertex
+// its joints and weights; skinned(k) does linear blend skinning as an engine does.
+struct SkinFile {
+  tinygltf::Model model;
+  std::vector<Eigen::Vector3d> rest;
+  std::vector<std::array<int, 4>> joints;
+  std::vector<std::array<double, 4>> weights;
+  std::vector<Eigen::Matrix4d> inverse_bind;
+  std::vector<int> skin_joints;  // node indices
+  std::vector<double> times;
+  // node → path → flat keys
+  std::map<int, std::map<std::string, std::vector<double>>> tracks;
+  int channels = 0;
+
+  explicit SkinFile(const fs::path& path) {
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    EXPECT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, path.string())) << err;
+    EXPECT_EQ(model.meshes.size(), 1u);
+    EXPECT_EQ(model.skins.size(), 1u);
+    const tinygltf::Primitive& p = model.meshes[0].primitives[0];
+    EXPECT_TRUE(p.targets.empty()) << "a skinned bake has no morph targets";
+    const std::vector<double> pos = read_numbers(model, p.attributes.at("POSITION"));
+    for (std::size_t v = 0; v < pos.size() / 3; ++v) rest.emplace_back(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]);
+    const std::vector<double> j = read_numbers(model, p.attributes.at("JOINTS_0"));
+    const std::vector<double> w = read_numbers(model, p.attributes.at("WEIGHTS_0"));
+    EXPECT_EQ(model.accessors[static_cast<std::size_t>(p.attributes.at("WEIGHTS_0"))].componentType,
+              TINYGLTF_COMPONENT_TYPE_FLOAT);
+    for (std::size_t v = 0; v < rest.size(); ++v) {
+      joints.push_back({int(j[4 * v]), int(j[4 * v + 1]), int(j[4 * v + 2]), int(j[4 * v + 3])});
+      weights.push_back({w[4 * v], w[4 * v + 1], w[4 * v + 2], w[4 * v + 3]});
+    }
+    const tinygltf::Skin& skin = model.skins[0];
+    skin_joints = skin.joints;
+    const std::vector<double> ibm = read_numbers(model, skin.inverseBindMatrices);
+    for (std::size_t k = 0; k < skin_joints.size(); ++k) {
+      Eigen::Matrix4d mat;
+      for (int c = 0; c < 16; ++c) mat(c % 4, c / 4) = ibm[16 * k + static_cast<std::size_t>(c)];
+      inverse_bind.push_back(mat);
+    }
+    EXPECT_EQ(model.animations.size(), 1u);
+    for (const auto& ch : model.animations[0].channels) {
+      const auto& sampler = model.animations[0].samplers[static_cast<std::size_t>(ch.sampler)];
+      EXPECT_EQ(sampler.interpolation, "LINEAR");
+      times = read_numbers(model, sampler.input);
+      tracks[ch.target_node][ch.target_path] = read_numbers(model, sampler.output);
+      ++channels;
+    }
+  }
+
+  // Node `node`'s local matrix at key k (its channels, else its own TRS).
+  Eigen::Matrix4d local(int node, std::size_t k) const {
+    const tinygltf::Node& n = model.nodes[static_cast<std::size_t>(node)];
+    Eigen::Vector3d t = Eigen::Vector3d::Zero(), s = Eigen::Vector3d::Ones();
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    if (n.translation.size() == 3) t = {n.translation[0], n.translation[1], n.translation[2]};
+    if (n.rotation.size() == 4) q = Eigen::Quaterniond(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
+    if (n.scale.size() == 3) s = {n.scale[0], n.scale[1], n.scale[2]};
+    if (const auto it = tracks.find(node); it != tracks.end()) {
+      for (const auto& [path, v] : it->second) {
+        if (path == "translation") t = {v[3 * k], v[3 * k + 1], v[3 * k + 2]};
+        if (path == "rotation") q = Eigen::Quaterniond(v[4 * k + 3], v[4 * k], v[4 * k + 1], v[4 * k + 2]);
+        if (path == "scale") s = {v[3 * k], v[3 * k + 1], v[3 * k + 2]};
+      }
+    }
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.topLeftCorner<3, 3>() = q.normalized().toRotationMatrix() * s.asDiagonal();
+    m.topRightCorner<3, 1>() = t;
+    return m;
+  }
+  Eigen::Matrix4d global(int node, std::size_t k) const {
+    for (std::size_t parent = 0; parent < model.nodes.size(); ++parent) {
+      const auto& c = model.nodes[parent].children;
+      if (std::find(c.begin(), c.end(), node) != c.end()) return global(static_cast<int>(parent), k) * local(node, k);
+    }
+    return local(node, k);
+  }
+  std::vector<Eigen::Vector3d> skinned(std::size_t k) const {
+    std::vector<Eigen::Matrix4d> m;
+    for (std::size_t j = 0; j < skin_joints.size(); ++j) m.push_back(global(skin_joints[j], k) * inverse_bind[j]);
+    std::vector<Eigen::Vector3d> out;
+    for (std::size_t v = 0; v < rest.size(); ++v) {
+      Eigen::Vector4d p = Eigen::Vector4d::Zero();
+      for (int c = 0; c < 4; ++c)
+        p += weights[v][static_cast<std::size_t>(c)] *
+             (m[static_cast<std::size_t>(joints[v][static_cast<std::size_t>(c)])] * rest[v].homogeneous());
+      out.push_back(p.head<3>());
+    }
+    return out;
+  }
+};
+
+struct SkinBake {
+  BakeReport report;
+  Frames pc2;
+  fs::path glb;
+};
+
+SkinBake bake_skinned(const Tube& tube, const Scene& scene, int joints, const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("sweep_skin_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  BakeOptions o;
+  o.outputs = {dir / (name + ".glb"), dir / (name + ".pc2")};
+  o.joints = joints;
+  SkinBake b;
+  b.report = run_bake(tube.mesh, tube.rig, tube.binding, scene, o);
+  b.pc2 = read_pc2(dir / (name + ".pc2"));
+  b.glb = dir / (name + ".glb");
+  return b;
+}
+
+// The Khronos validator's report on `glb` (tests/gltf-validator/validate.js) and its exit code.
+std::pair<int, std::string> validate(const fs::path& glb) {
+  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/validate.js";
+  const std::string command = "node '" + script.string() + "' '" + glb.string() + "' 2>&1";
+  std::string report;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return {-1, ""};
+  char buf[4096];
+  std::size_t got;
+  while ((got = std::fread(buf, 1, sizeof buf, pipe)) > 0) report.append(buf, got);
+  const int status = ::pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, report};
+}
+
+// Largest distance between the file skinned at key k and pc2 frame k, over the tube's length (1).
+double file_error(const SkinFile& file, const Frames& pc2, std::size_t k) {
+  const std::vector<Eigen::Vector3d> got = file.skinned(k);
+  double worst = 0;
+  for (std::size_t v = 0; v < got.size(); ++v)
+    worst = std::max(worst, (got[v] - pc2[k][v].cast<double>()).norm());
+  return worst;
+}
+
+TEST(BakeSkin, SkinnedByHandFromTheFileItMatchesTheBakeWithinTheReportedError) {
+  const Tube tube;
+  for (const int joints : {4, 8}) {
+    const SkinBake b = bake_skinned(tube, scene_with({tip_push()}, 2.0), joints, "push" + std::to_string(joints));
+    const SkinFile file(b.glb);
+    ASSERT_EQ(file.skin_joints.size(), 1u + static_cast<std::size_t>(joints));
+    EXPECT_EQ(b.report.skin_joints, 1 + joints);
+    ASSERT_EQ(file.times.size(), b.pc2.size());
+    const double reported = b.report.skin_error.max_relative;  // the tube is 1 long
+    EXPECT_GT(reported, 1e-4) << "the tube bent and squeezed: 2-joint spans cannot be exact";
+    EXPECT_LT(reported, 0.05);
+    EXPECT_LE(b.report.skin_error.rms_relative, reported);
+    EXPECT_GT(b.report.skin_error.rms_relative, 0);
+    double seen = 0;
+    for (std::size_t k = 0; k < b.pc2.size(); k += 3) {
+      const double e = file_error(file, b.pc2, k);
+      EXPECT_LE(e, reported * (1 + 1e-5) + 1e-7) << "frame " << k;
+      seen = std::max(seen, e);
+    }
+    // The worst frame the writer reported, skinned here, shows that error.
+    const double at_worst = file_error(file, b.pc2, static_cast<std::size_t>(b.report.skin_error.max_frame));
+    EXPECT_NEAR(at_worst, reported, 1e-5 * reported + 1e-7);
+    EXPECT_GT(seen, 0.3 * reported);
+  }
+  // A bend alone (no radial push, whose uneven squeeze no joint's in-plane scale can carry): more
+  // joints, less error.
+  SceneForce bend = tip_push();
+  bend.spec.components = kRotational;
+  const Tube t2;
+  const double e4 = bake_skinned(t2, scene_with({bend}, 2.0), 4, "e4").report.skin_error.max_relative;
+  const double e16 = bake_skinned(t2, scene_with({bend}, 2.0), 16, "e16").report.skin_error.max_relative;
+  EXPECT_GT(e4, 1e-4);
+  EXPECT_LT(e16, 0.5 * e4) << e4;
+}
+
+TEST(BakeSkin, WeightsAreAtMostFourNonNegativeSumToOneAndFollowT) {
+  const Tube tube;
+  const int joints = 6;
+  const SkinBake b = bake_skinned(tube, scene_with({tip_push()}, 0.5), joints, "weights");
+  const SkinFile file(b.glb);
+  const bind::SweepBinding& bound = tube.binding.sweeps[0];
+  std::vector<int> index(tube.mesh.vertex_count(), -1);
+  for (std::size_t i = 0; i < bound.size(); ++i) index[bound.vertices[i]] = static_cast<int>(i);
+  const double h = 1.0 / (joints - 1);
+  for (std::size_t v = 0; v < file.rest.size(); ++v) {
+    double sum = 0;
+    int used = 0;
+    for (int c = 0; c < 4; ++c) {
+      const double w = file.weights[v][static_cast<std::size_t>(c)];
+      EXPECT_GE(w, 0) << v;
+      sum += w;
+      used += w > 0;
+    }
+    EXPECT_NEAR(sum, 1.0, 2e-7) << v;
+    EXPECT_LE(used, 4);
+    if (index[v] < 0) {  // unbound: the body joint alone
+      EXPECT_EQ(file.joints[v][0], 0) << v;
+      EXPECT_EQ(file.weights[v][0], 1.0) << v;
+      continue;
+    }
+    // Bound: the weighted mean of the joints' stations is the vertex's t (hat functions), and
+    // only the two stations around it carry weight.
+    const double t = bound.t[static_cast<std::size_t>(index[v])];
+    double mean = 0, mass = 0;
+    for (int c = 0; c < 4; ++c) {
+      const int j = file.joints[v][static_cast<std::size_t>(c)];
+      const double w = file.weights[v][static_cast<std::size_t>(c)];
+      if (w == 0 || j == 0) continue;
+      EXPECT_LE(std::abs((j - 1) * h - t), h * (1 + 1e-6)) << v;
+      mean += w * (j - 1) * h;
+      mass += w;
+    }
+    ASSERT_GT(mass, 0) << v;
+    EXPECT_NEAR(mean / mass, std::clamp(t, 0.0, 1.0), 1e-5) << v;
+  }
+}
+
+TEST(BakeSkin, AStraightTubeAtRestHasIdentityJointMotionAndNoError) {
+  const Tube tube;
+  const SkinBake b = bake_skinned(tube, scene_with({}, 1.0), 5, "rest");
+  EXPECT_LE(b.report.skin_error.max_relative, 1e-6);
+  const SkinFile file(b.glb);
+  ASSERT_EQ(file.times.size(), 31u);
+  EXPECT_GT(file.channels, 0);
+  for (std::size_t k = 0; k < file.times.size(); ++k) {
+    for (std::size_t j = 0; j < file.skin_joints.size(); ++j) {
+      const Eigen::Matrix4d m = file.global(file.skin_joints[j], k) * file.inverse_bind[j];
+      EXPECT_LE((m - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff(), 1e-6) << "joint " << j << " key " << k;
+    }
+  }
+  const std::vector<Eigen::Vector3d> last = file.skinned(file.times.size() - 1);
+  for (std::size_t v = 0; v < last.size(); ++v)
+    EXPECT_LE((last[v] - tube.mesh.positions[v]).norm(), 1e-6) << v;
+}
+
+TEST(BakeSkin, AMovingBodyAnimatesTheRootJointAndTheWorldPositionsFollow) {
+  const Tube tube;
+  Scene scene = scene_with({tip_push()}, 1.0);
+  scene.body = BodyPath({{0.0, Vec3::Zero(), Quat::Identity()},
+                         {1.0, Vec3(0.3, 0.1, 0), Quat(Eigen::AngleAxisd(0.4, Vec3::UnitY()))}},
+                        BodyInterpolation::cubic);
+  const SkinBake b = bake_skinned(tube, scene, 8, "body");
+  const SkinFile file(b.glb);
+  ASSERT_TRUE(file.tracks.count(0)) << "the body joint is animated";
+  const double reported = b.report.skin_error.max_relative;
+  for (std::size_t k = 0; k < b.pc2.size(); k += 5)  // .pc2 holds world positions
+    EXPECT_LE(file_error(file, b.pc2, k), reported * (1 + 1e-5) + 1e-6) << "frame " << k;
+  EXPECT_GT((b.pc2.back()[0] - b.pc2.front()[0]).norm(), 0.2f) << "the body moved the mesh";
+}
+
+TEST(BakeSkin, TheValidatorFindsNoErrorsOrWarnings) {
+  const fs::path package = fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/node_modules/gltf-validator";
+  ASSERT_TRUE(fs::exists(package / "package.json")) << "run tools/setup-deps.sh";
+  const Tube tube;
+  Scene moving = scene_with({tip_push()}, 0.5);
+  moving.body = BodyPath({{0.0, Vec3::Zero(), Quat::Identity()}, {0.5, Vec3(0.3, 0.1, 0), Quat::Identity()}},
+                         BodyInterpolation::linear);
+  for (const auto& [name, scene, joints] :
+       {std::tuple{"v-push", scene_with({tip_push()}, 0.5), 8}, std::tuple{"v-rest", scene_with({}, 0.2), 2},
+        std::tuple{"v-body", moving, 41}}) {
+    const SkinBake b = bake_skinned(tube, scene, joints, name);
+    const auto [code, report] = validate(b.glb);
+    EXPECT_EQ(code, 0) << name << ": " << report;
+    EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+    EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+  }
+}
+
+TEST(BakeSkin, BadJointCountsAreRefusedBeforeAnythingIsWritten) {
+  const Tube tube;
+  const fs::path dir = fs::temp_directory_path() / ("sweep_skin_bad_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // The tube has K = 6 sections: 41 stations at 8 a span.
+  for (const int joints : {-1, 1, 42, 256}) {
+    BakeOptions o;
+    o.outputs = {dir / "bad.glb", dir / "bad.pc2"};
+    o.joints = joints;
+    try {
+      run_bake(tube.mesh, tube.rig, tube.binding, scene_with({tip_push()}, 0.2), o);
+      ADD_FAILURE() << joints << " joints accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.category(), ErrorCategory::usage) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--joints"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(fs::is_empty(dir)) << joints;
+  }
+  BakeOptions o;
+  o.outputs = {dir / "only.pc2"};
+  o.joints = 8;
+  EXPECT_THROW(run_bake(tube.mesh, tube.rig, tube.binding, scene_with({}, 0.2), o), Error);
+  EXPECT_TRUE(fs::is_empty(dir));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sweep::sim
