@@ -35,6 +35,9 @@ constexpr double kLeakRadii = 2;
 // A tip is mid-tube when the level set of the distance from it this share of the way to the root
 // still runs both ways (rings_run_both_ways): short of the root, whose own ring may touch others.
 constexpr double kBothWaysLevel = 0.9;
+// A fitted part shorter than this many mean radii is warned about (a stub: the root found next to
+// the tip, as on a muzzle before the head widens).
+constexpr double kStubRadii = 1;
 // The error's tessellation of the sweep surface: stations per span and angles per radius sample.
 constexpr int kErrorStationsPerSpan = 4;
 constexpr int kErrorAnglesPerSample = 2;
@@ -564,6 +567,11 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
                            "is not one tube, or the axis strayed); try --tip and --root on the "
                            "part, or more sections");
     }
+  }
+  if (r.length < kStubRadii * r.mean_radius) {
+    r.warnings.push_back("the part is only " + format_number(r.length / r.mean_radius) +
+                         " mean radii long: a stub more than a tube (" + r.root_reason +
+                         "); give --root farther from the tip if the part goes on");
   }
   if (tip_moved > r.mean_radius) {
     r.warnings.push_back("tip moved to the part's end, vertex " + std::to_string(r.tip_vertex) +

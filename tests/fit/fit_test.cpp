@@ -431,6 +431,25 @@ TEST(OtherMeshes, ATipVertexIsTheEndAsListedNotClimbedToAnother) {
   EXPECT_LT(r.root.y(), 0.25);
 }
 
+// A part whose fit is shorter than its mean radius is a stub, and says so (CGAL's elephant: the
+// part --all calls tail2, vertex 1534, 0.86 mean radii long); a real tube of the same mesh does not.
+TEST(OtherMeshes, AStubShorterThanItsRadiusIsWarnedAbout) {
+  if (!std::filesystem::exists(kCgal / "elephant.off")) GTEST_SKIP() << "run tools/setup-deps.sh";
+  const auto stub_warnings = [](const FitResult& r) {
+    return std::count_if(r.warnings.begin(), r.warnings.end(),
+                         [](const std::string& w) { return w.find("a stub more than a tube") != std::string::npos; });
+  };
+  FitOptions o;
+  o.tip_vertex = 1534;
+  const FitResult stub = fit_cgal("elephant.off", o);
+  EXPECT_LT(stub.length, stub.mean_radius);
+  EXPECT_EQ(stub_warnings(stub), 1);
+  o.tip_vertex = 2170;  // arm1, 3.5 mean radii long
+  const FitResult arm = fit_cgal("elephant.off", o);
+  EXPECT_GT(arm.length, 3 * arm.mean_radius);
+  EXPECT_EQ(stub_warnings(arm), 0);
+}
+
 TEST(OtherMeshes, TriceratopsTailTapers) {
   if (!std::filesystem::exists(kCgal / "triceratops.off"))
     GTEST_SKIP() << "run tools/setup-deps.sh";
