@@ -11,6 +11,7 @@
 #include <string>
 
 #include "assets/mesh_io.h"
+#include "core/text.h"
 #include "io/rig_json.h"
 #include "tubes.h"
 
@@ -86,6 +87,34 @@ TEST_F(Tool, FitsATubeAndWritesRigAndReport) {
     EXPECT_TRUE(s.contains(key)) << key;
   }
   EXPECT_LT(s.at("fit_rms").get<double>(), 0.001);
+}
+
+// Issue 18: the mesh's size, bounding box and the space the points are read in are said (-v)
+// and reported, equal to the mesh's own.
+TEST_F(Tool, SaysTheMeshsBoundingBoxAndTheSpaceOfItsPoints) {
+  const std::string report = path("report.json");
+  const ToolRun r = run_tool(tube_ + " -o " + path("rig.json") + " --tip 0,0,1 -v --report " + report);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const Mesh mesh = io::read_mesh(tube_);
+  Vec3 lo = mesh.positions[0], hi = mesh.positions[0];
+  for (const Vec3& p : mesh.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  EXPECT_NE(r.output.find(std::to_string(mesh.vertex_count()) + " vertices, " +
+                          std::to_string(mesh.face_count()) + " faces, bounding box " +
+                          format_point(lo) + " to " + format_point(hi)),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("are in the file's coordinates as stored (the format states no unit)"),
+            std::string::npos)
+      << r.output;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(report)).at("mesh_summary");
+  EXPECT_EQ(j.at("vertices").get<std::size_t>(), mesh.vertex_count());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(j.at("bounding_box").at("min").at(k).get<double>(), lo[k]);
+    EXPECT_EQ(j.at("bounding_box").at("max").at(k).get<double>(), hi[k]);
+  }
 }
 
 TEST_F(Tool, BadRequestsExitNonZeroAndWriteNoRig) {

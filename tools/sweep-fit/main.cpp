@@ -183,6 +183,7 @@ sweep::fit::FitOptions fit_options(const Settings& s) {
 sweep::Mesh read_checked_mesh(const Settings& s) {
   sweep::Mesh mesh = sweep::io::read_mesh(s.mesh);
   sweep::io::validate_mesh(mesh, s.mesh.string());
+  if (s.verbose) sweep::fit_tool::print_mesh_summary(s.mesh, sweep::fit_tool::summarize_mesh(s.mesh, mesh));
   return mesh;
 }
 
@@ -193,8 +194,9 @@ void add_report_and_preview(sweep::io::Publication& outputs, const Settings& s,
                             bool rig_written, double seconds,
                             const sweep::Error* failure = nullptr) {
   if (!s.report.empty()) {
-    outputs.add(s.report, sweep::fit_tool::fit_report_text(s.mesh, s.rig, fits, rig_written,
-                                                           seconds, failure));
+    outputs.add(s.report, sweep::fit_tool::fit_report_text(
+                              s.mesh, sweep::fit_tool::summarize_mesh(s.mesh, mesh), s.rig, fits,
+                              rig_written, seconds, failure));
   }
   if (!s.preview.empty()) {
     std::vector<sweep::preview::Overlay> parts;

@@ -71,13 +71,47 @@ Json fit_entry(const fit::FitResult& r) {
 
 }  // namespace
 
-std::string fit_report_text(const std::filesystem::path& mesh, const std::filesystem::path& rig,
+MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh) {
+  MeshSummary m;
+  m.vertices = mesh.vertex_count();
+  m.faces = mesh.face_count();
+  if (!mesh.positions.empty()) m.min = m.max = mesh.positions.front();
+  for (const Vec3& p : mesh.positions) {
+    m.min = m.min.cwiseMin(p);
+    m.max = m.max.cwiseMax(p);
+  }
+  const std::string ext = lower_extension(path);
+  if (ext == "gltf" || ext == "glb") {
+    m.space = "the scene's world space: each mesh placed by its node's transforms (glTF units are "
+              "metres)";
+  } else if (ext == "off" || ext == "obj" || ext == "ply" || ext == "stl") {
+    m.space = "the file's coordinates as stored (the format states no unit)";
+  } else {
+    m.space = "the scene's world space as assimp reads it: node transforms applied, which for FBX "
+              "carry the file's unit scale and axis conversion";
+  }
+  return m;
+}
+
+void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m) {
+  std::cout << "mesh " << path.string() << ": " << m.vertices << " vertices, " << m.faces
+            << " faces, bounding box " << format_point(m.min) << " to " << format_point(m.max)
+            << " (size " << format_point(m.max - m.min) << ")\n"
+            << "  points (and --tip, --root, --axis) are in " << m.space << "\n";
+}
+
+std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary& summary,
+                            const std::filesystem::path& rig,
                             const std::vector<fit::FitResult>& fits, bool rig_written,
                             double seconds, const Error* failure) {
   Json rep;
   rep["format"] = "sweep-fit-report";
   rep["version"] = 2;
   rep["mesh"] = mesh.generic_string();
+  rep["mesh_summary"] = {{"vertices", summary.vertices},
+                         {"faces", summary.faces},
+                         {"bounding_box", {{"min", point(summary.min)}, {"max", point(summary.max)}}},
+                         {"space", summary.space}};
   rep["rig"] = rig.generic_string();
   rep["rig_written"] = rig_written;
   auto& sweeps = rep["sweeps"] = Json::array();

@@ -11,11 +11,25 @@
 
 namespace sweep::fit_tool {
 
+// What the mesh's numbers are, for a person (-v) and the report ("mesh_summary"): its size, its
+// bounding box and the space --tip, --root and --axis are read in (issue 18: a glTF read after its
+// node transforms, an FBX after its unit scale, said out loud).
+struct MeshSummary {
+  std::size_t vertices = 0;
+  std::size_t faces = 0;
+  Vec3 min = Vec3::Zero();
+  Vec3 max = Vec3::Zero();
+  std::string space;  // how the file's coordinates became the mesh's
+};
+MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh);
+void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m);
+
 // The report of one or more fits: written also when a fit fails (rig_written false), so that a
 // script sees the numbers; `failure`, when given, is the error the run ends with ("error":
 // message and exit code), `fits` then holding what was fitted before it and, for a FitFailure,
 // the fit as far as it got. Format "sweep-fit-report", version 2 (README: sweep-fit's report).
-std::string fit_report_text(const std::filesystem::path& mesh, const std::filesystem::path& rig,
+std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary& summary,
+                            const std::filesystem::path& rig,
                             const std::vector<fit::FitResult>& fits, bool rig_written,
                             double seconds, const Error* failure = nullptr);
 
