@@ -15,8 +15,10 @@
 //            A delta is the float32 difference, correctly rounded, so rest + delta (what a viewer
 //            computes at weight 1) is the baked float exactly whenever the delta is no larger than
 //            the baked coordinate (a float delta can do no better: otherwise the error is within
-//            half a unit in the last place of the delta). Normals are not morphed: viewers light
-//            the deformed mesh with the rest normals. The weights animation stores frames² floats
+//            half a unit in the last place of the delta). Targets also carry NORMAL deltas (the
+//            frame's smooth normals less the rest's), so a bent part is lit as bent.
+//            A glTF/GLB source (BakeInfo::source) is written instead as that document whole plus
+//            the targets and a new animation (assets/gltf_passthrough.h). The weights animation stores frames² floats
 //            (600 frames: 1.4 MB); glTF binary files are limited to 4 GiB, checked in begin().
 //  - `.pc2`  point cache (Blender's Mesh Cache modifier, 3ds Max, Houdini): "POINTCACHE2\0",
 //            int32 version 1, int32 points, float32 start frame 0, float32 sample rate 1, int32
@@ -71,6 +73,10 @@ struct BakeInfo {
   // the body's frame (morph targets) and animates its node's translation and rotation (LINEAR:
   // slerp), so engines play both. Without it every pose must be the identity.
   bool body_moves = false;
+  // The mesh file the bake deforms, as read by read_mesh (empty: unknown). A .gltf or .glb makes
+  // the .glb writer write that document whole plus the bake (assets/gltf_passthrough.h); any
+  // other source gets the .glb described above.
+  std::filesystem::path source;
 };
 
 // The body's pose for one frame: world = rotation · position + translation.

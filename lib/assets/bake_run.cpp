@@ -111,6 +111,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   info.fps = scene.fps;
   info.animated_vertices = animated;
   info.body_moves = scene.body.moves();
+  info.source = options.source_mesh;
   for (const auto& out : options.outputs) {
     writers.push_back(io::make_bake_writer(out));
     writers.back()->begin(mesh, info);

@@ -176,6 +176,7 @@ int run(const Settings& s) {
 
   sweep::sim::BakeOptions options;
   options.outputs = s.outputs;
+  options.source_mesh = mesh_path;
   options.exact = s.exact;
   options.stations_per_span = s.stations;
   options.sleep.enabled = s.sleep;
