@@ -21,7 +21,10 @@
 //    body moves, that node's translation and rotation: its parent-relative transform
 //    L(t) = P⁻¹ · B(t) · P · L (P the parent's world transform, L the node's own), so its world
 //    transform is B(t) times the rest one, as the bake's positions are. A node given by "matrix"
-//    then gets the same transform as translation, rotation and scale.
+//    then gets the same transform as translation, rotation and scale. Other nodes do not follow
+//    the body (the .pc2 moves every vertex; here only the deformed meshes' nodes are animated).
+//  When no mesh moves (no force reaches a part), the document is written as it was, with no
+//  animation added.
 // Refused, before anything is simulated (Error(unsupported), exit 3, naming the file and what):
 // compressed geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression), a deformed
 // primitive that already has morph targets or whose POSITION, NORMAL or TANGENT is not a plain

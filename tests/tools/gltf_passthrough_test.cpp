@@ -329,6 +329,19 @@ TEST(GltfPassthrough, WhatTheGlbCannotCarryIsRefused) {
         d["scenes"][0]["nodes"].push_back(4);
       },
       "node 1 ('Tail') and node 4 ('Tail2') show it with different transforms");
+  expect_refused(
+      "sparse",
+      [](Json& d) {
+        // The side's POSITION with a sparse override of vertex 0 by its own value (index 0 is the
+        // side's first index; the value the view's first): the same positions, sparse storage.
+        Json& side = d["meshes"][0]["primitives"][0];
+        Json& position = d["accessors"][side["attributes"]["POSITION"].get<std::size_t>()];
+        position["sparse"] = {{"count", 1},
+                              {"indices", {{"bufferView", d["accessors"][side["indices"].get<std::size_t>()]["bufferView"]},
+                                           {"componentType", 5125}}},
+                              {"values", {{"bufferView", position["bufferView"]}}}};
+      },
+      "mesh 0 ('Tail') primitive 0: its POSITION is not a plain float accessor");
   // A .pc2 alone is still baked: the refusal is the .glb's.
   const TexturedWorkspace ws("gltf-passthrough-pc2-only");
   Json doc = Json::parse(slurp(ws / "creature.gltf"));
@@ -386,6 +399,56 @@ TEST(GltfPassthrough, AMovingBodyMovesTheTailNodeComposedWithItsOwnTransform) {
   std::cout << "moving body: largest distance from the .pc2 " << worst << " (the tail travels " << travelled << ")\n";
   EXPECT_GT(travelled, 0.2);
   EXPECT_LT(worst, 2e-6);
+  int code = -1;
+  const std::string report = validate(ws / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+}
+
+// A .glb input (its buffer the BIN chunk, its image a data URI) comes back the same way: the image's
+// bytes embedded unchanged, the Ground's bytes as they were, the validator clean.
+TEST(GltfPassthrough, AGlbInputWithADataUriImageComesBackWhole) {
+  const TexturedWorkspace ws("gltf-passthrough-glb");
+  Json doc = Json::parse(slurp(ws / "creature.gltf"));
+  const std::string bin = slurp(ws / "creature.bin");
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string b64;
+  const std::string png = tiny_png();
+  for (std::size_t i = 0; i < png.size(); i += 3) {
+    std::uint32_t v = 0;
+    for (std::size_t j = 0; j < 3; ++j) v = v << 8 | (i + j < png.size() ? static_cast<unsigned char>(png[i + j]) : 0u);
+    for (std::size_t j = 0; j < 4; ++j) b64 += i + j <= png.size() ? k[(v >> (18 - 6 * j)) & 63] : '=';
+  }
+  doc["images"][0] = {{"name", "skin"}, {"uri", "data:image/png;base64," + b64}};
+  doc["buffers"][0].erase("uri");
+  std::string text = doc.dump();
+  text.append((4 - text.size() % 4) % 4, ' ');
+  std::string padded = bin;
+  padded.append((4 - padded.size() % 4) % 4, '\0');
+  std::string glb = "glTF";
+  auto u32 = [&](std::uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2);
+  u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + padded.size()));
+  u32(static_cast<std::uint32_t>(text.size()));
+  glb += "JSON" + text;
+  u32(static_cast<std::uint32_t>(padded.size()));
+  glb += std::string("BIN\0", 4) + padded;
+  spit(ws / "creature.glb", glb);
+  Json rig = Json::parse(slurp(ws / "rig.json"));
+  rig["mesh"] = "creature.glb";  // the same positions: the binding still holds
+  spit(ws / "rig.json", rig.dump());
+  fs::remove(ws / "creature.gltf");
+  fs::remove(ws / "creature.bin");
+  fs::remove(ws / "skin.png");
+  const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Glb out = read_glb(ws / "out.glb");
+  EXPECT_EQ(out.json["nodes"], doc["nodes"]);
+  EXPECT_EQ(out.json["materials"], doc["materials"]);
+  EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][0]["bufferView"]), png);
+  const std::size_t ground = doc["meshes"][1]["primitives"][0]["attributes"]["TEXCOORD_0"];
+  EXPECT_EQ(floats(out.json, out.bin, ground, 2), floats(doc, bin, ground, 2));
+  EXPECT_EQ(out.json["meshes"][0]["primitives"][0]["targets"].size(), 6u);
   int code = -1;
   const std::string report = validate(ws / "out.glb", &code);
   EXPECT_EQ(code, 0) << report;
