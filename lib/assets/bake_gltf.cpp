@@ -94,7 +94,7 @@ class GltfWriter final : public detail::BakeWriterBase {
   }
   tinygltf::Model build_model() const;
   void start_passthrough(const Mesh& mesh);
-  void write_glb(Publication& outputs, const nlohmann::json& document);
+  void write_glb(Publication& outputs, nlohmann::json json);
 
   std::unique_ptr<TempFile> scratch_, final_;
   // A glTF source: the input document whole plus the bake (gltf_passthrough.h).
@@ -122,7 +122,7 @@ class GltfWriter final : public detail::BakeWriterBase {
   Block body_translation_block_, body_rotation_block_;
 };
 
-void GltfWriter::start_passthrough(const Mesh& mesh) {
+void GltfWriter::start_passthrough(const Mesh&) {
   const std::uint64_t frames = static_cast<std::uint64_t>(info().frame_count);
   if (frames * frames > std::uint64_t{UINT32_MAX}) {
     fail(ErrorCategory::unsupported,
@@ -130,7 +130,6 @@ void GltfWriter::start_passthrough(const Mesh& mesh) {
              " frames are more morph targets than a .glb's weights can index (at most 65,535); "
              "bake to .pc2 or an .obj sequence");
   }
-  passthrough_ = std::make_unique<detail::GltfPassthrough>(info().source, out(), mesh, animated(), info());
   const std::uint64_t estimate = 28 + kJsonBytesFixed + std::filesystem::file_size(info().source) +
                                  passthrough_->fixed_bytes() + 8 * frames +
                                  (kJsonBytesPerFrame * passthrough_->deformed_primitives() +
@@ -146,9 +145,12 @@ void GltfWriter::start_passthrough(const Mesh& mesh) {
 }
 
 void GltfWriter::start(const Mesh& mesh) {
-  if (detail::is_gltf_source(info().source)) {
-    start_passthrough(mesh);
-    return;
+  if (detail::is_passthrough_source(info().source)) {
+    passthrough_ = detail::GltfPassthrough::open(info().source, out(), mesh, animated(), info());
+    if (passthrough_) {
+      start_passthrough(mesh);
+      return;
+    }
   }
   const std::size_t n = rest().size();
   const std::uint64_t frames = static_cast<std::uint64_t>(info().frame_count);
@@ -491,8 +493,7 @@ void GltfWriter::complete(Publication& outputs) {
 }
 
 // The GLB: header, the JSON chunk (with "buffers": the one BIN buffer) and the scratch file's bytes.
-void GltfWriter::write_glb(Publication& outputs, const nlohmann::json& document) {
-  nlohmann::json json = document;
+void GltfWriter::write_glb(Publication& outputs, nlohmann::json json) {
   const std::uint64_t bin_length = scratch_->size();  // a multiple of 4: every element is 4 bytes
   json["buffers"] = nlohmann::json::array({{{"byteLength", bin_length}}});
   std::string text = json.dump();

@@ -10,9 +10,11 @@
 #include <cstring>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "assets/gltf_document.h"
+#include "assets/obj_gltf.h"
 #include "core/error.h"
 #include "core/text.h"
 #include "io/read_file.h"
@@ -156,9 +158,9 @@ Json vec3_json(const Eigen::Vector3f& v) {
 
 }  // namespace
 
-bool is_gltf_source(const fs::path& source) {
+bool is_passthrough_source(const fs::path& source) {
   const std::string ext = lower_extension(source);
-  return ext == "gltf" || ext == "glb";
+  return ext == "gltf" || ext == "glb" || ext == "obj";
 }
 
 struct GltfPassthrough::State {
@@ -172,7 +174,8 @@ struct GltfPassthrough::State {
   // One primitive of the input, in the importer's vertex order.
   struct Primitive {
     std::size_t mesh = 0, index = 0;
-    std::uint32_t base = 0, count = 0;
+    std::uint32_t count = 0;
+    std::vector<std::uint32_t> source;  // each vertex's vertex in the mesh as read
     bool deformed = false;
     std::vector<float> normals, tangents;  // the input's (3 and 4 a vertex), when present
     Mat3 to_local = Mat3::Identity(), normal_to_world = Mat3::Identity(), to_world = Mat3::Identity();
@@ -182,6 +185,8 @@ struct GltfPassthrough::State {
     std::vector<Eigen::Vector3f> lo, hi;
   };
   std::vector<Primitive> primitives;
+  // A document made from another format (an OBJ's): each primitive's vertices' sources.
+  std::vector<std::vector<std::uint32_t>> given_sources;
   std::vector<std::size_t> deformed_meshes;
 
   // A node showing a deformed mesh: its weights are animated, and with a moving body its transform.
@@ -341,13 +346,18 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       const Json* position = prims[p].contains("attributes") && prims[p]["attributes"].contains("POSITION")
                                  ? gltf_element(json, "accessors", prims[p]["attributes"]["POSITION"]) : nullptr;
       const std::uint64_t count = position ? gltf_unsigned(*position, "count", 0) : 0;
-      prim.base = static_cast<std::uint32_t>(base);
       prim.count = static_cast<std::uint32_t>(count);
+      const std::size_t k = s.primitives.size();
+      if (k < s.given_sources.size()) {
+        prim.source = s.given_sources[k];
+      } else {
+        for (std::uint64_t i = 0; i < count; ++i) prim.source.push_back(static_cast<std::uint32_t>(base + i));
+      }
       base += count;
       s.primitives.push_back(std::move(prim));
     }
   }
-  if (base != rest.vertex_count()) {
+  if (s.given_sources.empty() && base != rest.vertex_count()) {
     s.refuse("its primitives hold " + std::to_string(base) + " vertices but the mesh was read with " +
              std::to_string(rest.vertex_count()) + "; the .glb bake cannot tell which primitive a vertex "
              "belongs to (bake to .pc2)");
@@ -355,7 +365,7 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
   std::vector<char> moving(rest.vertex_count(), 0);
   for (const std::uint32_t v : animated) moving[v] = 1;
   for (State::Primitive& prim : s.primitives) {
-    for (std::uint32_t i = 0; i < prim.count && !prim.deformed; ++i) prim.deformed = moving[prim.base + i] != 0;
+    for (std::uint32_t i = 0; i < prim.count && !prim.deformed; ++i) prim.deformed = moving[prim.source[i]] != 0;
   }
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     bool deformed = false;
@@ -427,11 +437,11 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       for (std::uint32_t i = 0; i < prim.count; ++i) {
         const Vec3 local((*positions)[3 * i], (*positions)[3 * i + 1], (*positions)[3 * i + 2]);
         const Vec3 expected = world * local;
-        const Vec3& got = rest.positions[prim.base + i];
+        const Vec3& got = rest.positions[prim.source[i]];
         if ((expected - got).norm() > 1e-5 * (1 + expected.norm() + got.norm())) {
           s.refuse(where + " vertex " + std::to_string(i) + " is at (" + format_number(expected.x()) + ", " +
                    format_number(expected.y()) + ", " + format_number(expected.z()) + ") in world space, "
-                   "but the mesh as read has vertex " + std::to_string(prim.base + i) + " elsewhere; the "
+                   "but the mesh as read has vertex " + std::to_string(prim.source[i]) + " elsewhere; the "
                    ".glb bake cannot map its targets (bake to .pc2)");
         }
       }
@@ -481,7 +491,14 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.frames = info.frame_count;
   s.fps = info.fps;
   s.body_moves = info.body_moves;
-  s.doc = read_gltf_document(source);
+  if (lower_extension(source) == "obj") {
+    std::optional<ObjAsGltf> converted = obj_as_gltf(source, rest);
+    if (!converted) fail(ErrorCategory::internal, s.where + "no surface to carry");
+    s.doc = std::move(converted->doc);
+    s.given_sources = std::move(converted->sources);
+  } else {
+    s.doc = read_gltf_document(source);
+  }
   if (!s.doc.json.is_object()) s.bad("not a glTF document (its JSON is not an object)");
   check_compression(s);
   read_bytes(s);
@@ -508,7 +525,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
       if (prim.mesh != m) continue;
       prim.deformed = true;
       for (std::uint32_t i = 0; i < prim.count; ++i) {
-        const std::uint32_t v = prim.base + i;
+        const std::uint32_t v = prim.source[i];
         if (s.animated[v] || near[s.rep[v]]) prim.listed.push_back(i);
       }
     }
@@ -516,6 +533,23 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
 }
 
 GltfPassthrough::~GltfPassthrough() = default;
+
+std::unique_ptr<GltfPassthrough> GltfPassthrough::open(const fs::path& source, const fs::path& out, const Mesh& rest,
+                                                       const std::vector<std::uint32_t>& animated,
+                                                       const BakeInfo& info) {
+  if (!is_passthrough_source(source)) return nullptr;
+  if (lower_extension(source) == "obj") {
+    // Only an OBJ with something to carry: a plain one keeps the plain .glb (vertex order as read).
+    const std::string text = read_file(source);
+    bool surface = false;
+    std::istringstream in(text);
+    for (std::string line; !surface && std::getline(in, line);) {
+      surface = line.rfind("vt ", 0) == 0 || line.rfind("vn ", 0) == 0 || line.rfind("usemtl ", 0) == 0;
+    }
+    if (!surface) return nullptr;
+  }
+  return std::make_unique<GltfPassthrough>(source, out, rest, animated, info);
+}
 
 std::size_t GltfPassthrough::deformed_primitives() const {
   return static_cast<std::size_t>(std::count_if(s_->primitives.begin(), s_->primitives.end(),
@@ -577,7 +611,7 @@ void GltfPassthrough::frame(std::span<const Eigen::Vector3f> positions, const Bo
     t.assign(p.tangents.empty() ? 0 : p.listed.size(), Eigen::Vector3f::Zero());
     Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();  // unlisted: zeros
     for (std::size_t k = 0; k < p.listed.size(); ++k) {
-      const std::uint32_t i = p.listed[k], v = p.base + i;
+      const std::uint32_t i = p.listed[k], v = p.source[i];
       if (s.animated[v] && positions[v] != s.rest_f[v]) {
         d[k] = (p.to_local * (positions[v].cast<double>() - s.rest_world[v])).cast<float>();
         lo = lo.cwiseMin(d[k]);

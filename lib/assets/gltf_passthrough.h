@@ -45,8 +45,9 @@
 
 namespace sweep::io::detail {
 
-// Whether a bake of a mesh read from `source` writes the passthrough .glb (a .gltf or .glb).
-bool is_gltf_source(const std::filesystem::path& source);
+// Whether a bake of a mesh read from `source` may write the passthrough .glb (a .gltf, .glb or
+// .obj: an OBJ's UVs, normals, colours and materials become a glTF document first, obj_gltf.h).
+bool is_passthrough_source(const std::filesystem::path& source);
 
 struct BinBlock {
   std::uint64_t offset = 0, length = 0;
@@ -60,6 +61,11 @@ class GltfPassthrough {
   // `animated` (ascending vertices that may move). `out` names the output in messages.
   GltfPassthrough(const std::filesystem::path& source, const std::filesystem::path& out, const Mesh& rest,
                   const std::vector<std::uint32_t>& animated, const BakeInfo& info);
+  // The passthrough for `source`, or nullptr when it is an OBJ with no UVs, normals, colours or
+  // materials (the plain .glb then).
+  static std::unique_ptr<GltfPassthrough> open(const std::filesystem::path& source, const std::filesystem::path& out,
+                                               const Mesh& rest, const std::vector<std::uint32_t>& animated,
+                                               const BakeInfo& info);
   ~GltfPassthrough();
   GltfPassthrough(const GltfPassthrough&) = delete;
   GltfPassthrough& operator=(const GltfPassthrough&) = delete;

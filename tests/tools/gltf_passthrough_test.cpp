@@ -20,6 +20,7 @@
 #include <sstream>
 #include <nlohmann/json.hpp>
 
+#include "assets/mesh_io.h"
 #include "pipeline.h"
 #include "textured_asset.h"
 
@@ -451,6 +452,116 @@ TEST(GltfPassthrough, AGlbInputWithADataUriImageComesBackWhole) {
   EXPECT_EQ(out.json["meshes"][0]["primitives"][0]["targets"].size(), 6u);
   int code = -1;
   const std::string report = validate(ws / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+}
+
+// Part b: a textured OBJ (+ .mtl + .png) baked to .glb carries its UVs (split at the seam, as glTF
+// needs), normals, vertex colours (`v x y z r g b`) and materials with the image embedded, and the
+// targets follow the .pc2.
+TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
+  constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
+  const fs::path top = scratch_dir("obj-passthrough"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  std::string obj = "mtllib creature.mtl\n";
+  auto num = [](double x) { return std::to_string(x); };
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j < S; ++j) {
+      const double th = 2 * std::numbers::pi * j / S;
+      obj += "v " + num(0.1 * std::cos(th)) + " " + num(0.1 * std::sin(th)) + " " + num(double(i) / (R - 1)) + " " +
+             num(double(i) / (R - 1)) + " " + num(double(j) / S) + " 0.5\n";  // and a vertex colour
+    }
+  obj += "v 0 0 0 0.5 0.5 0.5\nv 0 0 1 0.5 0.5 0.5\n";
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j <= S; ++j) obj += "vt " + num(double(j) / S) + " " + num(double(i) / (R - 1)) + "\n";
+  obj += "vt 0.5 0.5\n";
+  for (int j = 0; j < S; ++j) {
+    const double th = 2 * std::numbers::pi * j / S;
+    obj += "vn " + num(std::cos(th)) + " " + num(std::sin(th)) + " 0\n";
+  }
+  obj += "vn 0 0 -1\nvn 0 0 1\nusemtl Skin\n";
+  auto corner = [&](int i, int j, int jt) {
+    return " " + std::to_string(i * S + j % S + 1) + "/" + std::to_string(i * (S + 1) + jt + 1) + "/" + std::to_string(j % S + 1);
+  };
+  for (int i = 0; i + 1 < R; ++i)
+    for (int j = 0; j < S; ++j) obj += "f" + corner(i, j, j) + corner(i, j + 1, j + 1) + corner(i + 1, j + 1, j + 1) + corner(i + 1, j, j) + "\n";
+  obj += "usemtl Bone\n";
+  const int centre_vt = R * (S + 1) + 1;
+  for (int j = 0; j < S; ++j) {
+    auto c = [&](int i, int jj, int n) {
+      return " " + std::to_string(i * S + jj % S + 1) + "/" + std::to_string(centre_vt) + "/" + std::to_string(n);
+    };
+    obj += "f " + std::to_string(R * S + 1) + "/" + std::to_string(centre_vt) + "/" + std::to_string(S + 1) + c(0, j + 1, S + 1) + c(0, j, S + 1) + "\n";
+    obj += "f " + std::to_string(R * S + 2) + "/" + std::to_string(centre_vt) + "/" + std::to_string(S + 2) + c(R - 1, j, S + 2) + c(R - 1, j + 1, S + 2) + "\n";
+  }
+  spit(dir / "creature.obj", obj);
+  spit(dir / "creature.mtl", "newmtl Skin\nKd 0.8 0.8 0.8\nmap_Kd skin.png\nnewmtl Bone\nKd 0.9 0.9 0.85\n");
+  spit(dir / "skin.png", tiny_png());
+  fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Glb out = read_glb(dir / "out.glb");
+  ASSERT_EQ(out.json["meshes"].size(), 1u);
+  ASSERT_EQ(out.json["materials"].size(), 2u);
+  EXPECT_EQ(out.json["materials"][0]["name"], "Skin");
+  EXPECT_EQ(out.json["materials"][1]["name"], "Bone");
+  EXPECT_EQ(out.json["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"], (Json{0.9, 0.9, 0.85, 1.0}));
+  const std::size_t texture = out.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"];
+  const std::size_t image = out.json["textures"][texture]["source"];
+  EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][image]["bufferView"]), tiny_png());
+  const Json& side = out.json["meshes"][0]["primitives"][0];
+  EXPECT_EQ(side["material"], 0);
+  const std::vector<float> rest = floats(out.json, out.bin, side["attributes"]["POSITION"], 3);
+  const std::vector<float> uv = floats(out.json, out.bin, side["attributes"]["TEXCOORD_0"], 2);
+  const std::vector<float> normals = floats(out.json, out.bin, side["attributes"]["NORMAL"], 3);
+  const std::vector<float> colours = floats(out.json, out.bin, side["attributes"]["COLOR_0"], 3);
+  ASSERT_EQ(rest.size() / 3, static_cast<std::size_t>(R * (S + 1))) << "one vertex a (v, vt, vn) corner: the seam split";
+  // Each vertex's UV is its corner's (u, 1 - v), its normal the radial vn, its source the v at its place.
+  const Mesh mesh = io::read_mesh(dir / "creature.obj");
+  std::map<std::array<float, 3>, std::uint32_t> by_position;
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+    const Eigen::Vector3f p = mesh.positions[v].cast<float>();
+    by_position[{p.x(), p.y(), p.z()}] = v;
+  }
+  std::set<std::pair<int, int>> seen;
+  double worst_uv = 0;
+  std::vector<std::uint32_t> source(rest.size() / 3);
+  for (std::size_t v = 0; v < source.size(); ++v) {
+    const auto it = by_position.find({rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]});
+    ASSERT_NE(it, by_position.end()) << v;
+    source[v] = it->second;
+    const int i = static_cast<int>(it->second) / S, j = static_cast<int>(it->second) % S;
+    const int jt = j == 0 && uv[2 * v] > 0.5f ? S : j;  // the seam's second copy
+    seen.insert({i, jt});
+    worst_uv = std::max({worst_uv, std::abs(uv[2 * v] - double(jt) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
+    const double th = 2 * std::numbers::pi * j / S;
+    EXPECT_NEAR(normals[3 * v], std::cos(th), 1e-5);
+    EXPECT_NEAR(colours[3 * v], double(i) / (R - 1), 1e-6);
+    EXPECT_NEAR(colours[3 * v + 1], double(j) / S, 1e-6);
+  }
+  EXPECT_EQ(seen.size(), source.size());
+  EXPECT_LT(worst_uv, 1e-6);
+  // The targets: rest + delta at weight 1 is the .pc2's frame at the vertex's source.
+  const std::string pc2 = slurp(dir / "out.pc2");
+  double worst = 0, moved = 0;
+  for (int k = 0; k < 6; ++k) {
+    const std::vector<float> d = floats(out.json, out.bin, side["targets"][k]["POSITION"], 3);
+    int points = 0;
+    const std::vector<float> world = pc2_frame(pc2, k, &points);
+    for (std::size_t v = 0; v < source.size(); ++v)
+      for (int c = 0; c < 3; ++c) {
+        worst = std::max(worst, double(std::abs(rest[3 * v + c] + d[3 * v + c] - world[3 * source[v] + c])));
+        moved = std::max(moved, double(std::abs(d[3 * v + c])));
+      }
+  }
+  std::cout << "obj passthrough: largest move " << moved << ", rest + delta against the .pc2 " << worst << "\n";
+  EXPECT_GT(moved, 0.02);
+  EXPECT_LT(worst, 1e-6);
+  int code = -1;
+  const std::string report = validate(dir / "out.glb", &code);
   EXPECT_EQ(code, 0) << report;
   EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
 }

@@ -1,0 +1,247 @@
+// An OBJ's surface as a glTF document (obj_gltf.h).
+#include "assets/obj_gltf.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <string>
+#include <tuple>
+
+#include "core/error.h"
+#include "core/text.h"
+#include "io/read_file.h"
+
+namespace sweep::io::detail {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+std::vector<std::string> tokens(const std::string& line) {
+  std::vector<std::string> out;
+  std::istringstream in(line.substr(0, line.find('#')));
+  for (std::string t; in >> t;) out.push_back(t);
+  return out;
+}
+
+double number(const std::string& t) {
+  return std::strtod(t.c_str(), nullptr);
+}
+
+struct Material {
+  std::string name;
+  std::array<double, 4> colour{1, 1, 1, 1};
+  std::string texture;  // the file, relative to the .mtl
+  fs::path dir;
+};
+
+std::map<std::string, Material> read_mtl(const fs::path& mtl) {
+  std::map<std::string, Material> out;
+  std::string text;
+  try {
+    text = read_file(mtl);
+  } catch (const Error&) {
+    fail(ErrorCategory::bad_input, mtl.string() + ": cannot read this material library, which the "
+                                                  "OBJ names and the .glb bake carries");
+  }
+  std::istringstream in(text);
+  Material* m = nullptr;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::vector<std::string> t = tokens(line);
+    if (t.empty()) continue;
+    if (t[0] == "newmtl" && t.size() > 1) {
+      m = &out[t[1]];
+      m->name = t[1];
+      m->dir = mtl.parent_path();
+    } else if (m && t[0] == "Kd" && t.size() >= 4) {
+      for (int c = 0; c < 3; ++c) m->colour[c] = std::clamp(number(t[c + 1]), 0.0, 1.0);
+    } else if (m && t[0] == "d" && t.size() >= 2) {
+      m->colour[3] = std::clamp(number(t[1]), 0.0, 1.0);
+    } else if (m && t[0] == "map_Kd" && t.size() >= 2) {
+      m->texture = t.back();  // options (-s, -o, ...) come before the file name
+    }
+  }
+  return out;
+}
+
+std::string media_type(const std::string& bytes) {
+  if (bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0) return "image/png";
+  if (bytes.compare(0, 3, "\xFF\xD8\xFF") == 0) return "image/jpeg";
+  return "";
+}
+
+// A corner: the v, vt and vn it names (0-based; -1 when absent).
+struct Corner {
+  long long v = -1, vt = -1, vn = -1;
+  bool operator<(const Corner& o) const { return std::tie(v, vt, vn) < std::tie(o.v, o.vt, o.vn); }
+};
+
+long long index_of(const std::string& t, std::size_t count) {
+  if (t.empty()) return -1;
+  const long long i = std::strtoll(t.c_str(), nullptr, 10);
+  return i > 0 ? i - 1 : static_cast<long long>(count) + i;
+}
+
+}  // namespace
+
+std::optional<ObjAsGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
+  const std::string text = read_file(obj);
+  std::vector<std::array<float, 2>> uvs;
+  std::vector<std::array<float, 3>> normals, colours;
+  std::map<std::string, Material> library;
+  std::vector<std::string> material_order;             // in first use
+  std::map<std::string, std::vector<std::vector<Corner>>> faces;  // per material
+  std::size_t positions = 0;
+  std::string current;
+  bool any_surface = false;
+  std::istringstream in(text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? text.substr(3) : text);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::vector<std::string> t = tokens(line);
+    if (t.empty()) continue;
+    if (t[0] == "v") {
+      ++positions;
+      if (t.size() >= 7) {
+        colours.push_back({static_cast<float>(number(t[4])), static_cast<float>(number(t[5])), static_cast<float>(number(t[6]))});
+        any_surface = true;
+      }
+    } else if (t[0] == "vt" && t.size() >= 3) {
+      uvs.push_back({static_cast<float>(number(t[1])), static_cast<float>(1 - number(t[2]))});
+      any_surface = true;
+    } else if (t[0] == "vn" && t.size() >= 4) {
+      Eigen::Vector3d n(number(t[1]), number(t[2]), number(t[3]));
+      if (n.norm() > 0) n.normalize();
+      normals.push_back({static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())});
+      any_surface = true;
+    } else if (t[0] == "usemtl" && t.size() > 1) {
+      current = t[1];
+      any_surface = true;
+    } else if (t[0] == "mtllib" && t.size() > 1) {
+      for (std::size_t k = 1; k < t.size(); ++k) library.merge(read_mtl(obj.parent_path() / t[k]));
+    } else if (t[0] == "f" && t.size() >= 4) {
+      std::vector<Corner> face;
+      for (std::size_t k = 1; k < t.size(); ++k) {
+        std::string parts[3];
+        std::size_t at = 0;
+        for (int p = 0; p < 3 && at != std::string::npos; ++p) {
+          const std::size_t slash = t[k].find('/', at);
+          parts[p] = t[k].substr(at, slash == std::string::npos ? std::string::npos : slash - at);
+          at = slash == std::string::npos ? slash : slash + 1;
+        }
+        face.push_back({index_of(parts[0], positions), index_of(parts[1], uvs.size()), index_of(parts[2], normals.size())});
+      }
+      if (!faces.count(current)) material_order.push_back(current);
+      faces[current].push_back(std::move(face));
+    }
+  }
+  if (!any_surface) return std::nullopt;
+  if (colours.size() != positions) colours.clear();  // only when every vertex has one
+
+  ObjAsGltf out;
+  std::string bin;
+  Json views = Json::array(), accessors = Json::array();
+  auto add = [&](const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
+    bin.append((4 - bin.size() % 4) % 4, '\0');
+    Json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+    if (target) view["target"] = target;
+    bin.append(static_cast<const char*>(data), bytes);
+    views.push_back(view);
+    if (!type) return views.size() - 1;
+    accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
+    return accessors.size() - 1;
+  };
+  Json primitives = Json::array(), materials = Json::array(), textures = Json::array(), images = Json::array();
+  for (const std::string& name : material_order) {
+    std::map<Corner, std::uint32_t> vertex;
+    std::vector<Corner> corners;
+    std::vector<std::uint32_t> triangles;
+    bool has_uv = true, has_normal = true;
+    for (const std::vector<Corner>& face : faces[name]) {
+      std::vector<std::uint32_t> ids;
+      for (const Corner& c : face) {
+        if (c.v < 0 || c.v >= static_cast<long long>(rest.vertex_count())) continue;  // parse_obj refused these
+        has_uv = has_uv && c.vt >= 0 && c.vt < static_cast<long long>(uvs.size());
+        has_normal = has_normal && c.vn >= 0 && c.vn < static_cast<long long>(normals.size());
+        const auto [it, inserted] = vertex.try_emplace(c, static_cast<std::uint32_t>(corners.size()));
+        if (inserted) corners.push_back(c);
+        ids.push_back(it->second);
+      }
+      for (std::size_t k = 1; k + 1 < ids.size(); ++k) triangles.insert(triangles.end(), {ids[0], ids[k], ids[k + 1]});
+    }
+    if (corners.empty()) continue;
+    std::vector<float> pos, uv, nrm, col;
+    std::vector<std::uint32_t> sources;
+    Eigen::Vector3f lo = rest.positions[corners[0].v].cast<float>(), hi = lo;
+    for (const Corner& c : corners) {
+      const Eigen::Vector3f p = rest.positions[c.v].cast<float>();
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+      pos.insert(pos.end(), {p.x(), p.y(), p.z()});
+      sources.push_back(static_cast<std::uint32_t>(c.v));
+      if (has_uv) uv.insert(uv.end(), uvs[c.vt].begin(), uvs[c.vt].end());
+      if (has_normal) nrm.insert(nrm.end(), normals[c.vn].begin(), normals[c.vn].end());
+      if (!colours.empty()) col.insert(col.end(), colours[c.v].begin(), colours[c.v].end());
+    }
+    const std::size_t n = corners.size();
+    Json attributes = {{"POSITION", add(pos.data(), 4 * pos.size(), 5126, "VEC3", n, 34962)}};
+    accessors[attributes["POSITION"].get<std::size_t>()]["min"] = {lo.x(), lo.y(), lo.z()};
+    accessors[attributes["POSITION"].get<std::size_t>()]["max"] = {hi.x(), hi.y(), hi.z()};
+    if (has_normal) attributes["NORMAL"] = add(nrm.data(), 4 * nrm.size(), 5126, "VEC3", n, 34962);
+    if (has_uv) attributes["TEXCOORD_0"] = add(uv.data(), 4 * uv.size(), 5126, "VEC2", n, 34962);
+    if (!col.empty()) attributes["COLOR_0"] = add(col.data(), 4 * col.size(), 5126, "VEC3", n, 34962);
+    Json primitive = {{"attributes", attributes},
+                      {"indices", add(triangles.data(), 4 * triangles.size(), 5125, "SCALAR", triangles.size(), 34963)}};
+    if (!name.empty()) {
+      const auto found = library.find(name);
+      const Material m = found != library.end() ? found->second : Material{name, {1, 1, 1, 1}, "", {}};
+      Json pbr = {{"baseColorFactor", m.colour}, {"metallicFactor", 0.0}};
+      if (!m.texture.empty()) {
+        std::string bytes;
+        try {
+          bytes = read_file(m.dir / m.texture);
+        } catch (const Error&) {
+          fail(ErrorCategory::bad_input, (m.dir / m.texture).string() + ": cannot read material '" + name +
+                                             "''s texture (map_Kd), which the .glb bake embeds");
+        }
+        const std::string type = media_type(bytes);
+        if (type.empty()) {
+          fail(ErrorCategory::unsupported, (m.dir / m.texture).string() + ": material '" + name +
+                                               "''s texture is not PNG or JPEG, so a .glb cannot hold it");
+        }
+        images.push_back({{"name", fs::path(m.texture).stem().string()}, {"mimeType", type},
+                          {"bufferView", add(bytes.data(), bytes.size(), 0, nullptr, 0, 0)}});
+        textures.push_back({{"source", images.size() - 1}});
+        pbr["baseColorTexture"] = {{"index", textures.size() - 1}};
+        pbr["baseColorFactor"] = {1.0, 1.0, 1.0, m.colour[3]};
+      }
+      materials.push_back({{"name", name}, {"pbrMetallicRoughness", pbr}});
+      primitive["material"] = materials.size() - 1;
+    }
+    primitives.push_back(std::move(primitive));
+    out.sources.push_back(std::move(sources));
+  }
+  bin.append((4 - bin.size() % 4) % 4, '\0');
+  const std::string stem = obj.stem().string();
+  Json& doc = out.doc.json;
+  doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep bake (from " + obj.filename().string() + ")"}}},
+         {"scene", 0},
+         {"scenes", Json::array({{{"nodes", Json::array({0})}}})},
+         {"nodes", Json::array({{{"name", stem}, {"mesh", 0}}})},
+         {"meshes", Json::array({{{"name", stem}, {"primitives", primitives}}})},
+         {"accessors", accessors},
+         {"bufferViews", views},
+         {"buffers", Json::array({{{"byteLength", bin.size()}}})}};
+  if (!materials.empty()) doc["materials"] = materials;
+  if (!textures.empty()) doc["textures"] = textures;
+  if (!images.empty()) doc["images"] = images;
+  doc = Json::parse(doc.dump());  // numbers as a reader sees them (unsigned where not negative)
+  out.doc.buffers.push_back(std::move(bin));
+  return out;
+}
+
+}  // namespace sweep::io::detail
