@@ -296,15 +296,17 @@ TEST(GltfPassthrough, TheBakedGlbIsTheInputPlusTheBake) {
 }
 
 // What the .glb cannot carry: exit 3, one line naming the file and what is wrong, nothing written.
-void expect_refused(const std::string& name, const std::function<void(Json&)>& change, const std::string& expect) {
+void expect_refused(const std::string& name, const std::function<void(Json&)>& change, const std::string& expect,
+                    int exit_code = 3, const char* remove = nullptr) {
   SCOPED_TRACE(name);
   const TexturedWorkspace ws("gltf-passthrough-" + name);
   Json doc = Json::parse(slurp(ws / "creature.gltf"));
   change(doc);
   spit(ws / "creature.gltf", doc.dump(1));
+  if (remove) fs::remove(ws / remove);
   const std::set<std::string> before = listing(ws.work);
   const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
-  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_EQ(r.code, exit_code) << r.err;
   const auto lines = r.err_lines();
   ASSERT_EQ(lines.size(), 1u) << r.err;
   EXPECT_EQ(lines[0].rfind("error: ", 0), 0u) << lines[0];
@@ -343,6 +345,8 @@ TEST(GltfPassthrough, WhatTheGlbCannotCarryIsRefused) {
                               {"values", {{"bufferView", position["bufferView"]}}}};
       },
       "mesh 0 ('Tail') primitive 0: its POSITION is not a plain float accessor");
+  // An image the .glb must embed but cannot read: bad input, exit 2.
+  expect_refused("missing-image", [](Json&) {}, "image 0 ('skin.png'): cannot read it", 2, "skin.png");
   // A .pc2 alone is still baked: the refusal is the .glb's.
   const TexturedWorkspace ws("gltf-passthrough-pc2-only");
   Json doc = Json::parse(slurp(ws / "creature.gltf"));
@@ -456,14 +460,10 @@ TEST(GltfPassthrough, AGlbInputWithADataUriImageComesBackWhole) {
   EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
 }
 
-// Part b: a textured OBJ (+ .mtl + .png) baked to .glb carries its UVs (split at the seam, as glTF
-// needs), normals, vertex colours (`v x y z r g b`) and materials with the image embedded, and the
-// targets follow the .pc2.
-TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
+// A textured OBJ tube: `v` with colours, `vt` split at the seam, radial `vn` on the side and flat
+// ones on the caps (a hard edge), material Skin (map_Kd skin.png) on the side, Bone on the caps.
+void write_textured_obj(const fs::path& dir) {
   constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
-  const fs::path top = scratch_dir("obj-passthrough"), dir = top / "work", io = top / "io";
-  fs::create_directories(dir);
-  fs::create_directories(io);
   std::string obj = "mtllib creature.mtl\n";
   auto num = [](double x) { return std::to_string(x); };
   for (int i = 0; i < R; ++i)
@@ -498,6 +498,17 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   spit(dir / "creature.obj", obj);
   spit(dir / "creature.mtl", "newmtl Skin\nKd 0.8 0.8 0.8\nmap_Kd skin.png\nnewmtl Bone\nKd 0.9 0.9 0.85\n");
   spit(dir / "skin.png", tiny_png());
+}
+
+// Part b: a textured OBJ (+ .mtl + .png) baked to .glb carries its UVs (split at the seam, as glTF
+// needs), normals, vertex colours (`v x y z r g b`) and materials with the image embedded, and the
+// targets follow the .pc2.
+TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
+  constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
+  const fs::path top = scratch_dir("obj-passthrough"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  write_textured_obj(dir);
   fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
   const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
@@ -564,6 +575,34 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   const std::string report = validate(dir / "out.glb", &code);
   EXPECT_EQ(code, 0) << report;
   EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+}
+
+// Blender imports the OBJ and its .glb alike: the same (position, UV) corners, the same materials
+// and image, and the .glb plays the .pc2. Skipped without Blender.
+TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
+  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed";
+  const fs::path top = scratch_dir("obj-passthrough-blender"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  write_textured_obj(dir);
+  fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/check_passthrough.py";
+  const ToolRun b = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
+                                            quoted(dir / "creature.obj") + " " + quoted(dir / "out.glb") + " " +
+                                            quoted(dir / "out.pc2") + " 10 creature",
+                             io);
+  std::string lines;
+  std::istringstream in(b.out);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("ok", 0) == 0 || line.rfind("FAIL", 0) == 0 || line.rfind("blender check", 0) == 0) lines += line + "\n";
+  }
+  std::cout << lines;
+  EXPECT_EQ(b.code, 0) << b.out << b.err;
+  EXPECT_NE(lines.find("blender check: passed"), std::string::npos) << b.out << b.err;
 }
 
 // Blender's glTF importer (tests/blender/check_passthrough.py): the bake keeps the Tail's UVs,
