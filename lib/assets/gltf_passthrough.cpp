@@ -160,7 +160,7 @@ Json vec3_json(const Eigen::Vector3f& v) {
 
 bool is_passthrough_source(const fs::path& source) {
   const std::string ext = lower_extension(source);
-  return ext == "gltf" || ext == "glb" || ext == "obj";
+  return ext == "gltf" || ext == "glb" || ext == "obj" || ext == "fbx";
 }
 
 struct GltfPassthrough::State {
@@ -491,8 +491,9 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.frames = info.frame_count;
   s.fps = info.fps;
   s.body_moves = info.body_moves;
-  if (lower_extension(source) == "obj") {
-    std::optional<ObjAsGltf> converted = obj_as_gltf(source, rest);
+  if (const std::string ext = lower_extension(source); ext == "obj" || ext == "fbx") {
+    std::optional<SurfaceGltf> converted =
+        ext == "obj" ? obj_as_gltf(source, rest) : surface_as_gltf(read_welded_surface(source), rest, source);
     if (!converted) fail(ErrorCategory::internal, s.where + "no surface to carry");
     s.doc = std::move(converted->doc);
     s.given_sources = std::move(converted->sources);

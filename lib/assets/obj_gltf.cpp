@@ -89,7 +89,7 @@ long long index_of(const std::string& t, std::size_t count) {
 
 }  // namespace
 
-std::optional<ObjAsGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
+std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
   const std::string text = read_file(obj);
   std::vector<std::array<float, 2>> uvs;
   std::vector<std::array<float, 3>> normals, colours;
@@ -142,7 +142,55 @@ std::optional<ObjAsGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
   if (!any_surface) return std::nullopt;
   if (colours.size() != positions) colours.clear();  // only when every vertex has one
 
-  ObjAsGltf out;
+  MeshSurface surface;
+  std::map<std::string, int> material_slot;
+  for (const std::string& name : material_order) {
+    std::map<Corner, std::uint32_t> vertex;
+    std::vector<Corner> corners;
+    SurfacePrimitive prim;
+    bool has_uv = true, has_normal = true;
+    for (const std::vector<Corner>& face : faces[name]) {
+      std::vector<std::uint32_t> ids;
+      for (const Corner& c : face) {
+        if (c.v < 0 || c.v >= static_cast<long long>(rest.vertex_count())) continue;  // parse_obj refused these
+        has_uv = has_uv && c.vt >= 0 && c.vt < static_cast<long long>(uvs.size());
+        has_normal = has_normal && c.vn >= 0 && c.vn < static_cast<long long>(normals.size());
+        const auto [it, inserted] = vertex.try_emplace(c, static_cast<std::uint32_t>(corners.size()));
+        if (inserted) corners.push_back(c);
+        ids.push_back(it->second);
+      }
+      for (std::size_t k = 1; k + 1 < ids.size(); ++k) prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
+    }
+    if (corners.empty()) continue;
+    for (const Corner& c : corners) {
+      prim.source.push_back(static_cast<std::uint32_t>(c.v));
+      if (has_uv) prim.uv.insert(prim.uv.end(), uvs[c.vt].begin(), uvs[c.vt].end());
+      if (has_normal) prim.normal.insert(prim.normal.end(), normals[c.vn].begin(), normals[c.vn].end());
+      if (!colours.empty()) prim.colour.insert(prim.colour.end(), {colours[c.v][0], colours[c.v][1], colours[c.v][2], 1.0f});
+    }
+    if (!name.empty()) {
+      const auto found = library.find(name);
+      const Material m = found != library.end() ? found->second : Material{name, {1, 1, 1, 1}, "", {}};
+      SurfaceMaterial sm{name, m.colour, "", ""};
+      if (!m.texture.empty()) {
+        sm.texture_name = (m.dir / m.texture).string();
+        try {
+          sm.texture = read_file(m.dir / m.texture);
+        } catch (const Error&) {
+          fail(ErrorCategory::bad_input, sm.texture_name + ": cannot read material '" + name +
+                                             "''s texture (map_Kd), which the .glb bake embeds");
+        }
+      }
+      prim.material = static_cast<int>(surface.materials.size());
+      surface.materials.push_back(std::move(sm));
+    }
+    surface.primitives.push_back(std::move(prim));
+  }
+  return surface_as_gltf(surface, rest, obj);
+}
+
+SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const fs::path& file) {
+  SurfaceGltf out;
   std::string bin;
   Json views = Json::array(), accessors = Json::array();
   auto add = [&](const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
@@ -156,79 +204,48 @@ std::optional<ObjAsGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
     return accessors.size() - 1;
   };
   Json primitives = Json::array(), materials = Json::array(), textures = Json::array(), images = Json::array();
-  for (const std::string& name : material_order) {
-    std::map<Corner, std::uint32_t> vertex;
-    std::vector<Corner> corners;
-    std::vector<std::uint32_t> triangles;
-    bool has_uv = true, has_normal = true;
-    for (const std::vector<Corner>& face : faces[name]) {
-      std::vector<std::uint32_t> ids;
-      for (const Corner& c : face) {
-        if (c.v < 0 || c.v >= static_cast<long long>(rest.vertex_count())) continue;  // parse_obj refused these
-        has_uv = has_uv && c.vt >= 0 && c.vt < static_cast<long long>(uvs.size());
-        has_normal = has_normal && c.vn >= 0 && c.vn < static_cast<long long>(normals.size());
-        const auto [it, inserted] = vertex.try_emplace(c, static_cast<std::uint32_t>(corners.size()));
-        if (inserted) corners.push_back(c);
-        ids.push_back(it->second);
+  for (const SurfaceMaterial& m : surface.materials) {
+    Json pbr = {{"baseColorFactor", m.colour}, {"metallicFactor", 0.0}};
+    if (!m.texture.empty()) {
+      const std::string type = media_type(m.texture);
+      if (type.empty()) {
+        fail(ErrorCategory::unsupported, m.texture_name + ": material '" + m.name +
+                                             "''s texture is not PNG or JPEG, so a .glb cannot hold it");
       }
-      for (std::size_t k = 1; k + 1 < ids.size(); ++k) triangles.insert(triangles.end(), {ids[0], ids[k], ids[k + 1]});
+      images.push_back({{"name", fs::path(m.texture_name).stem().string()}, {"mimeType", type},
+                        {"bufferView", add(m.texture.data(), m.texture.size(), 0, nullptr, 0, 0)}});
+      textures.push_back({{"source", images.size() - 1}});
+      pbr["baseColorTexture"] = {{"index", textures.size() - 1}};
+      pbr["baseColorFactor"] = {1.0, 1.0, 1.0, m.colour[3]};  // the image is the colour, as OBJ and FBX viewers show it
     }
-    if (corners.empty()) continue;
-    std::vector<float> pos, uv, nrm, col;
-    std::vector<std::uint32_t> sources;
-    Eigen::Vector3f lo = rest.positions[corners[0].v].cast<float>(), hi = lo;
-    for (const Corner& c : corners) {
-      const Eigen::Vector3f p = rest.positions[c.v].cast<float>();
+    materials.push_back({{"name", m.name}, {"pbrMetallicRoughness", pbr}});
+  }
+  for (const SurfacePrimitive& prim : surface.primitives) {
+    const std::size_t n = prim.source.size();
+    std::vector<float> pos;
+    Eigen::Vector3f lo = rest.positions[prim.source[0]].cast<float>(), hi = lo;
+    for (const std::uint32_t v : prim.source) {
+      const Eigen::Vector3f p = rest.positions[v].cast<float>();
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
       pos.insert(pos.end(), {p.x(), p.y(), p.z()});
-      sources.push_back(static_cast<std::uint32_t>(c.v));
-      if (has_uv) uv.insert(uv.end(), uvs[c.vt].begin(), uvs[c.vt].end());
-      if (has_normal) nrm.insert(nrm.end(), normals[c.vn].begin(), normals[c.vn].end());
-      if (!colours.empty()) col.insert(col.end(), colours[c.v].begin(), colours[c.v].end());
     }
-    const std::size_t n = corners.size();
     Json attributes = {{"POSITION", add(pos.data(), 4 * pos.size(), 5126, "VEC3", n, 34962)}};
     accessors[attributes["POSITION"].get<std::size_t>()]["min"] = {lo.x(), lo.y(), lo.z()};
     accessors[attributes["POSITION"].get<std::size_t>()]["max"] = {hi.x(), hi.y(), hi.z()};
-    if (has_normal) attributes["NORMAL"] = add(nrm.data(), 4 * nrm.size(), 5126, "VEC3", n, 34962);
-    if (has_uv) attributes["TEXCOORD_0"] = add(uv.data(), 4 * uv.size(), 5126, "VEC2", n, 34962);
-    if (!col.empty()) attributes["COLOR_0"] = add(col.data(), 4 * col.size(), 5126, "VEC3", n, 34962);
+    if (!prim.normal.empty()) attributes["NORMAL"] = add(prim.normal.data(), 4 * prim.normal.size(), 5126, "VEC3", n, 34962);
+    if (!prim.uv.empty()) attributes["TEXCOORD_0"] = add(prim.uv.data(), 4 * prim.uv.size(), 5126, "VEC2", n, 34962);
+    if (!prim.colour.empty()) attributes["COLOR_0"] = add(prim.colour.data(), 4 * prim.colour.size(), 5126, "VEC4", n, 34962);
     Json primitive = {{"attributes", attributes},
-                      {"indices", add(triangles.data(), 4 * triangles.size(), 5125, "SCALAR", triangles.size(), 34963)}};
-    if (!name.empty()) {
-      const auto found = library.find(name);
-      const Material m = found != library.end() ? found->second : Material{name, {1, 1, 1, 1}, "", {}};
-      Json pbr = {{"baseColorFactor", m.colour}, {"metallicFactor", 0.0}};
-      if (!m.texture.empty()) {
-        std::string bytes;
-        try {
-          bytes = read_file(m.dir / m.texture);
-        } catch (const Error&) {
-          fail(ErrorCategory::bad_input, (m.dir / m.texture).string() + ": cannot read material '" + name +
-                                             "''s texture (map_Kd), which the .glb bake embeds");
-        }
-        const std::string type = media_type(bytes);
-        if (type.empty()) {
-          fail(ErrorCategory::unsupported, (m.dir / m.texture).string() + ": material '" + name +
-                                               "''s texture is not PNG or JPEG, so a .glb cannot hold it");
-        }
-        images.push_back({{"name", fs::path(m.texture).stem().string()}, {"mimeType", type},
-                          {"bufferView", add(bytes.data(), bytes.size(), 0, nullptr, 0, 0)}});
-        textures.push_back({{"source", images.size() - 1}});
-        pbr["baseColorTexture"] = {{"index", textures.size() - 1}};
-        pbr["baseColorFactor"] = {1.0, 1.0, 1.0, m.colour[3]};
-      }
-      materials.push_back({{"name", name}, {"pbrMetallicRoughness", pbr}});
-      primitive["material"] = materials.size() - 1;
-    }
+                      {"indices", add(prim.triangles.data(), 4 * prim.triangles.size(), 5125, "SCALAR", prim.triangles.size(), 34963)}};
+    if (prim.material >= 0) primitive["material"] = prim.material;
     primitives.push_back(std::move(primitive));
-    out.sources.push_back(std::move(sources));
+    out.sources.push_back(prim.source);
   }
   bin.append((4 - bin.size() % 4) % 4, '\0');
-  const std::string stem = obj.stem().string();
+  const std::string stem = file.stem().string();
   Json& doc = out.doc.json;
-  doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep bake (from " + obj.filename().string() + ")"}}},
+  doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep bake (from " + file.filename().string() + ")"}}},
          {"scene", 0},
          {"scenes", Json::array({{{"nodes", Json::array({0})}}})},
          {"nodes", Json::array({{{"name", stem}, {"mesh", 0}}})},

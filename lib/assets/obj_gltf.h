@@ -1,5 +1,6 @@
 #pragma once
-// Private to the .glb bake (gltf_passthrough.cpp): an OBJ's surface — its UVs (`vt`), normals
+// Private to the .glb bake (gltf_passthrough.cpp): a file's surface (mesh_surface.h; an FBX's from
+// mesh_import.cpp) as a glTF document, and an OBJ's surface — its UVs (`vt`), normals
 // (`vn`), vertex colours (`v x y z r g b`) and materials (`usemtl`, `mtllib`: Kd, d, map_Kd) — as a
 // glTF document, so that the passthrough .glb carries them (issue 14 part 1 b). One node and one
 // mesh named after the file; one primitive per material, in order of first use, its faces fanned
@@ -14,17 +15,22 @@
 #include <vector>
 
 #include "assets/gltf_document.h"
+#include "assets/mesh_surface.h"
 #include "core/mesh.h"
 
 namespace sweep::io::detail {
 
-struct ObjAsGltf {
+struct SurfaceGltf {
   GltfDocument doc;                                  // buffers[0]: the bytes, in memory
   std::vector<std::vector<std::uint32_t>> sources;  // per primitive, per vertex: the mesh vertex
 };
 
 // nullopt when the OBJ has none of vt, vn, vertex colours or usemtl (the plain .glb then serves).
 // A texture or material library that cannot be read: Error(bad_input) naming it.
-std::optional<ObjAsGltf> obj_as_gltf(const std::filesystem::path& obj, const Mesh& rest);
+std::optional<SurfaceGltf> obj_as_gltf(const std::filesystem::path& obj, const Mesh& rest);
+
+// Any file's surface (mesh_surface.h) as such a document, named after `file`: one primitive a
+// surface primitive, its positions the mesh's (float32) at each vertex's source.
+SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const std::filesystem::path& file);
 
 }  // namespace sweep::io::detail

@@ -528,7 +528,7 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   const std::vector<float> rest = floats(out.json, out.bin, side["attributes"]["POSITION"], 3);
   const std::vector<float> uv = floats(out.json, out.bin, side["attributes"]["TEXCOORD_0"], 2);
   const std::vector<float> normals = floats(out.json, out.bin, side["attributes"]["NORMAL"], 3);
-  const std::vector<float> colours = floats(out.json, out.bin, side["attributes"]["COLOR_0"], 3);
+  const std::vector<float> colours = floats(out.json, out.bin, side["attributes"]["COLOR_0"], 4);
   ASSERT_EQ(rest.size() / 3, static_cast<std::size_t>(R * (S + 1))) << "one vertex a (v, vt, vn) corner: the seam split";
   // Each vertex's UV is its corner's (u, 1 - v), its normal the radial vn, its source the v at its place.
   const Mesh mesh = io::read_mesh(dir / "creature.obj");
@@ -550,8 +550,8 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
     worst_uv = std::max({worst_uv, std::abs(uv[2 * v] - double(jt) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
     const double th = 2 * std::numbers::pi * j / S;
     EXPECT_NEAR(normals[3 * v], std::cos(th), 1e-5);
-    EXPECT_NEAR(colours[3 * v], double(i) / (R - 1), 1e-6);
-    EXPECT_NEAR(colours[3 * v + 1], double(j) / S, 1e-6);
+    EXPECT_NEAR(colours[4 * v], double(i) / (R - 1), 1e-6);
+    EXPECT_NEAR(colours[4 * v + 1], double(j) / S, 1e-6);
   }
   EXPECT_EQ(seen.size(), source.size());
   EXPECT_LT(worst_uv, 1e-6);
@@ -603,6 +603,82 @@ TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
   std::cout << lines;
   EXPECT_EQ(b.code, 0) << b.out << b.err;
   EXPECT_NE(lines.find("blender check: passed"), std::string::npos) << b.out << b.err;
+}
+
+// FBX (read by assimp, welded by position): the same tube written as FBX by Blender (texture
+// embedded) carries its UVs, normals and materials with the image, and the targets follow the .pc2.
+// Skipped without Blender (which writes the FBX).
+TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
+  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
+  constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
+  const fs::path top = scratch_dir("fbx-passthrough"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  write_textured_obj(dir / "..");
+  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/obj_to_fbx.py";
+  const ToolRun x = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
+                                            quoted(top / "creature.obj") + " " + quoted(dir / "creature.fbx"), io);
+  ASSERT_EQ(x.code, 0) << x.out << x.err;
+  fit_and_bind(dir, io, "creature.fbx", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Glb out = read_glb(dir / "out.glb");
+  ASSERT_TRUE(out.json.contains("materials"));
+  std::size_t skin = 0;
+  for (std::size_t m = 0; m < out.json["materials"].size(); ++m) skin = out.json["materials"][m]["name"] == "Skin" ? m : skin;
+  ASSERT_EQ(out.json["materials"][skin]["name"], "Skin");
+  const std::size_t texture = out.json["materials"][skin]["pbrMetallicRoughness"]["baseColorTexture"]["index"];
+  EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][out.json["textures"][texture]["source"].get<std::size_t>()]["bufferView"]), tiny_png());
+  const Mesh mesh = io::read_mesh(dir / "creature.fbx");
+  std::map<std::array<float, 3>, std::uint32_t> by_position;
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+    const Eigen::Vector3f p = mesh.positions[v].cast<float>();
+    by_position[{p.x(), p.y(), p.z()}] = v;
+  }
+  const std::string pc2 = slurp(dir / "out.pc2");
+  double worst_uv = 0, worst = 0, moved = 0;
+  std::size_t side_vertices = 0;
+  for (const Json& prim : out.json["meshes"][0]["primitives"]) {
+    const std::vector<float> rest = floats(out.json, out.bin, prim["attributes"]["POSITION"], 3);
+    std::vector<std::uint32_t> source;
+    for (std::size_t v = 0; v < rest.size() / 3; ++v) {
+      const auto it = by_position.find({rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]});
+      ASSERT_NE(it, by_position.end());
+      source.push_back(it->second);
+    }
+    for (int k = 0; k < 6; ++k) {
+      const std::vector<float> d = floats(out.json, out.bin, prim["targets"][k]["POSITION"], 3);
+      int points = 0;
+      const std::vector<float> world = pc2_frame(pc2, k, &points);
+      for (std::size_t v = 0; v < source.size(); ++v)
+        for (int c = 0; c < 3; ++c) {
+          worst = std::max(worst, double(std::abs(rest[3 * v + c] + d[3 * v + c] - world[3 * source[v] + c])));
+          moved = std::max(moved, double(std::abs(d[3 * v + c])));
+        }
+    }
+    if (prim["material"] != skin) continue;
+    const std::vector<float> uv = floats(out.json, out.bin, prim["attributes"]["TEXCOORD_0"], 2);
+    side_vertices = source.size();
+    for (std::size_t v = 0; v < source.size(); ++v) {
+      const double z = rest[3 * v + 2], th = std::atan2(rest[3 * v + 1], rest[3 * v]);
+      const int i = static_cast<int>(std::lround(z * (R - 1)));
+      int j = static_cast<int>(std::lround(th / (2 * std::numbers::pi) * S + S)) % S;
+      if (j == 0 && uv[2 * v] > 0.5f) j = S;  // the seam's second copy
+      worst_uv = std::max({worst_uv, std::abs(uv[2 * v] - double(j) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
+    }
+  }
+  std::cout << "fbx passthrough: " << side_vertices << " side vertices, UV error " << worst_uv << ", largest move "
+            << moved << ", rest + delta against the .pc2 " << worst << "\n";
+  EXPECT_EQ(side_vertices, static_cast<std::size_t>(R * (S + 1)));
+  EXPECT_LT(worst_uv, 1e-5);
+  EXPECT_GT(moved, 0.02);
+  EXPECT_LT(worst, 1e-6);
+  int code = -1;
+  const std::string report = validate(dir / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
 }
 
 // Blender's glTF importer (tests/blender/check_passthrough.py): the bake keeps the Tail's UVs,
