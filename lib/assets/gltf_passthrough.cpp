@@ -176,6 +176,9 @@ struct GltfPassthrough::State {
     std::size_t mesh = 0, index = 0;
     std::uint32_t count = 0;
     std::vector<std::uint32_t> source;  // each vertex's vertex in the mesh as read
+    // An earlier primitive with the same POSITION accessor (and so the same vertices): its targets
+    // serve this one too.
+    int same_as = -1;
     bool deformed = false;
     std::vector<float> normals, tangents;  // the input's (3 and 4 a vertex), when present
     Mat3 to_local = Mat3::Identity(), normal_to_world = Mat3::Identity(), to_world = Mat3::Identity();
@@ -348,6 +351,15 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       const std::uint64_t count = position ? gltf_unsigned(*position, "count", 0) : 0;
       prim.count = static_cast<std::uint32_t>(count);
       const std::size_t k = s.primitives.size();
+      for (std::size_t e = 0; e < k && position; ++e) {
+        const State::Primitive& earlier = s.primitives[e];
+        if (earlier.mesh != m || prim.same_as >= 0) continue;
+        const Json& a = prims[earlier.index].value("attributes", Json::object());
+        const Json& b = prims[p].value("attributes", Json::object());
+        bool same = a.is_object() && b.is_object();
+        for (const char* key : {"POSITION", "NORMAL", "TANGENT"}) same = same && a.value(key, Json()) == b.value(key, Json());
+        if (same) prim.same_as = static_cast<int>(e);
+      }
       if (k < s.given_sources.size()) {
         prim.source = s.given_sources[k];
       } else {
@@ -554,7 +566,7 @@ std::unique_ptr<GltfPassthrough> GltfPassthrough::open(const fs::path& source, c
 
 std::size_t GltfPassthrough::deformed_primitives() const {
   return static_cast<std::size_t>(std::count_if(s_->primitives.begin(), s_->primitives.end(),
-                                                [](const State::Primitive& p) { return p.deformed; }));
+                                                [](const State::Primitive& p) { return p.deformed && p.same_as < 0; }));
 }
 
 std::uint64_t GltfPassthrough::fixed_bytes() const {
@@ -569,7 +581,7 @@ std::uint64_t GltfPassthrough::fixed_bytes() const {
 std::uint64_t GltfPassthrough::bytes_per_frame() const {
   std::uint64_t bytes = 0;
   for (const State::Primitive& p : s_->primitives) {
-    if (!p.deformed) continue;
+    if (!p.deformed || p.same_as >= 0) continue;
     bytes += 12 * p.listed.size() * (1 + !p.normals.empty() + !p.tangents.empty());
   }
   return bytes;
@@ -597,7 +609,7 @@ void GltfPassthrough::start(const AppendBin& append) {
   const std::vector<float> ones(frames, 1.0f);
   s.weight_values = s.put(append, ones.data(), frames * 4);
   for (State::Primitive& p : s.primitives) {
-    if (p.deformed && !p.listed.empty()) p.listed_block = s.put(append, p.listed.data(), 4 * p.listed.size());
+    if (p.deformed && p.same_as < 0 && !p.listed.empty()) p.listed_block = s.put(append, p.listed.data(), 4 * p.listed.size());
   }
 }
 
@@ -606,7 +618,7 @@ void GltfPassthrough::frame(std::span<const Eigen::Vector3f> positions, const Bo
   smooth_normals(s, positions, s.frame_normals);
   std::vector<Eigen::Vector3f> d, n, t;
   for (State::Primitive& p : s.primitives) {
-    if (!p.deformed) continue;
+    if (!p.deformed || p.same_as >= 0) continue;
     d.assign(p.listed.size(), Eigen::Vector3f::Zero());
     n.assign(p.normals.empty() ? 0 : p.listed.size(), Eigen::Vector3f::Zero());
     t.assign(p.tangents.empty() ? 0 : p.listed.size(), Eigen::Vector3f::Zero());
@@ -709,6 +721,11 @@ Json GltfPassthrough::finish(const AppendBin& append) {
   for (std::size_t k = 0; k < frames; ++k) names.push_back(obj_sequence_path("frame", static_cast<int>(k), s.frames).stem().string());
   for (State::Primitive& p : s.primitives) {
     if (!p.deformed) continue;
+    if (p.same_as >= 0) {
+      const State::Primitive& e = s.primitives[static_cast<std::size_t>(p.same_as)];
+      json["meshes"][p.mesh]["primitives"][p.index]["targets"] = json["meshes"][e.mesh]["primitives"][e.index]["targets"];
+      continue;
+    }
     const std::size_t listed_view = p.listed.empty() ? 0 : add_view(p.listed_block);
     auto target = [&](const std::vector<BinBlock>& blocks, std::size_t k) {
       Json a = {{"componentType", kFloat}, {"count", p.count}, {"type", "VEC3"}};

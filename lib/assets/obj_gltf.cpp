@@ -220,27 +220,78 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
     }
     materials.push_back({{"name", m.name}, {"pbrMetallicRoughness", pbr}});
   }
+  // One vertex array shared by every primitive: the mesh's vertices first, in its order (each with
+  // its first corner's attributes; (0, 1, 0) normals on a vertex no face uses), then the corners
+  // that differ (a seam, a hard edge), each naming its source.
+  bool any_uv = false, any_normal = false, any_colour = false;
   for (const SurfacePrimitive& prim : surface.primitives) {
-    const std::size_t n = prim.source.size();
-    std::vector<float> pos;
-    Eigen::Vector3f lo = rest.positions[prim.source[0]].cast<float>(), hi = lo;
-    for (const std::uint32_t v : prim.source) {
-      const Eigen::Vector3f p = rest.positions[v].cast<float>();
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-      pos.insert(pos.end(), {p.x(), p.y(), p.z()});
+    any_uv = any_uv || !prim.uv.empty();
+    any_normal = any_normal || !prim.normal.empty();
+    any_colour = any_colour || !prim.colour.empty();
+  }
+  using Attributes = std::array<float, 9>;  // u, v, nx, ny, nz, r, g, b, a
+  const std::size_t n = rest.vertex_count();
+  std::vector<Attributes> attributes(n, Attributes{0, 0, 0, 1, 0, 1, 1, 1, 1});
+  std::vector<std::uint32_t> source(n);
+  for (std::uint32_t v = 0; v < n; ++v) source[v] = v;
+  std::vector<char> assigned(n, 0);
+  std::map<std::uint32_t, std::vector<std::uint32_t>> extra;
+  std::vector<std::vector<std::uint32_t>> indices;
+  for (const SurfacePrimitive& prim : surface.primitives) {
+    std::vector<std::uint32_t> id(prim.source.size());
+    for (std::size_t i = 0; i < prim.source.size(); ++i) {
+      Attributes a{0, 0, 0, 1, 0, 1, 1, 1, 1};
+      if (!prim.uv.empty()) std::copy_n(&prim.uv[2 * i], 2, a.begin());
+      if (!prim.normal.empty()) std::copy_n(&prim.normal[3 * i], 3, a.begin() + 2);
+      if (!prim.colour.empty()) std::copy_n(&prim.colour[4 * i], 4, a.begin() + 5);
+      const std::uint32_t v = prim.source[i];
+      if (!assigned[v]) {
+        assigned[v] = 1;
+        attributes[v] = a;
+        id[i] = v;
+        continue;
+      }
+      id[i] = UINT32_MAX;
+      if (attributes[v] == a) id[i] = v;
+      for (const std::uint32_t o : extra[v]) {
+        if (id[i] == UINT32_MAX && attributes[o] == a) id[i] = o;
+      }
+      if (id[i] == UINT32_MAX) {
+        id[i] = static_cast<std::uint32_t>(attributes.size());
+        attributes.push_back(a);
+        source.push_back(v);
+        extra[v].push_back(id[i]);
+      }
     }
-    Json attributes = {{"POSITION", add(pos.data(), 4 * pos.size(), 5126, "VEC3", n, 34962)}};
-    accessors[attributes["POSITION"].get<std::size_t>()]["min"] = {lo.x(), lo.y(), lo.z()};
-    accessors[attributes["POSITION"].get<std::size_t>()]["max"] = {hi.x(), hi.y(), hi.z()};
-    if (!prim.normal.empty()) attributes["NORMAL"] = add(prim.normal.data(), 4 * prim.normal.size(), 5126, "VEC3", n, 34962);
-    if (!prim.uv.empty()) attributes["TEXCOORD_0"] = add(prim.uv.data(), 4 * prim.uv.size(), 5126, "VEC2", n, 34962);
-    if (!prim.colour.empty()) attributes["COLOR_0"] = add(prim.colour.data(), 4 * prim.colour.size(), 5126, "VEC4", n, 34962);
-    Json primitive = {{"attributes", attributes},
-                      {"indices", add(prim.triangles.data(), 4 * prim.triangles.size(), 5125, "SCALAR", prim.triangles.size(), 34963)}};
-    if (prim.material >= 0) primitive["material"] = prim.material;
+    std::vector<std::uint32_t> t = prim.triangles;
+    for (std::uint32_t& k : t) k = id[k];
+    indices.push_back(std::move(t));
+  }
+  const std::size_t count = attributes.size();
+  std::vector<float> pos, uv, nrm, col;
+  Eigen::Vector3f lo = rest.positions[0].cast<float>(), hi = lo;
+  for (std::size_t v = 0; v < count; ++v) {
+    const Eigen::Vector3f p = rest.positions[source[v]].cast<float>();
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+    pos.insert(pos.end(), {p.x(), p.y(), p.z()});
+    const Attributes& a = attributes[v];
+    uv.insert(uv.end(), a.begin(), a.begin() + 2);
+    nrm.insert(nrm.end(), a.begin() + 2, a.begin() + 5);
+    col.insert(col.end(), a.begin() + 5, a.end());
+  }
+  Json shared = {{"POSITION", add(pos.data(), 4 * pos.size(), 5126, "VEC3", count, 34962)}};
+  accessors[shared["POSITION"].get<std::size_t>()]["min"] = {lo.x(), lo.y(), lo.z()};
+  accessors[shared["POSITION"].get<std::size_t>()]["max"] = {hi.x(), hi.y(), hi.z()};
+  if (any_normal) shared["NORMAL"] = add(nrm.data(), 4 * nrm.size(), 5126, "VEC3", count, 34962);
+  if (any_uv) shared["TEXCOORD_0"] = add(uv.data(), 4 * uv.size(), 5126, "VEC2", count, 34962);
+  if (any_colour) shared["COLOR_0"] = add(col.data(), 4 * col.size(), 5126, "VEC4", count, 34962);
+  for (std::size_t k = 0; k < surface.primitives.size(); ++k) {
+    Json primitive = {{"attributes", shared},
+                      {"indices", add(indices[k].data(), 4 * indices[k].size(), 5125, "SCALAR", indices[k].size(), 34963)}};
+    if (surface.primitives[k].material >= 0) primitive["material"] = surface.primitives[k].material;
     primitives.push_back(std::move(primitive));
-    out.sources.push_back(prim.source);
+    out.sources.push_back(source);
   }
   bin.append((4 - bin.size() % 4) % 4, '\0');
   const std::string stem = file.stem().string();

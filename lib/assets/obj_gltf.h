@@ -5,9 +5,9 @@
 // glTF document, so that the passthrough .glb carries them (issue 14 part 1 b). One node and one
 // mesh named after the file; one primitive per material, in order of first use, its faces fanned
 // into triangles as Mesh::triangles() does. glTF gives a vertex one UV and one normal, so a vertex
-// is split where its corners differ (a UV seam, a hard edge): each primitive's vertices are the
-// (v, vt, vn) corners in first-use order, and `sources` says which mesh vertex (the `v`, 0-based)
-// each one is. Positions are the mesh's as float32; UVs become (u, 1 - v) (glTF's origin is the
+// is split where its corners differ (a UV seam, a hard edge): the primitives share one vertex
+// array, the mesh's vertices first in its order (each with its first corner's attributes), then a
+// copy for each differing corner; `sources` says which mesh vertex (the `v`, 0-based) each is. Positions are the mesh's as float32; UVs become (u, 1 - v) (glTF's origin is the
 // top left); normals are normalized; a texture is embedded (PNG or JPEG, by its bytes). An
 // attribute is written on a primitive only when all its corners have it.
 #include <filesystem>

@@ -529,9 +529,17 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   const std::vector<float> uv = floats(out.json, out.bin, side["attributes"]["TEXCOORD_0"], 2);
   const std::vector<float> normals = floats(out.json, out.bin, side["attributes"]["NORMAL"], 3);
   const std::vector<float> colours = floats(out.json, out.bin, side["attributes"]["COLOR_0"], 4);
-  ASSERT_EQ(rest.size() / 3, static_cast<std::size_t>(R * (S + 1))) << "one vertex a (v, vt, vn) corner: the seam split";
-  // Each vertex's UV is its corner's (u, 1 - v), its normal the radial vn, its source the v at its place.
+  // One vertex array for both primitives: the mesh's vertices in its order, then the corners that
+  // differ (the seam's second copy of each ring's first vertex, the caps' rims with their flat vn).
   const Mesh mesh = io::read_mesh(dir / "creature.obj");
+  EXPECT_EQ(out.json["meshes"][0]["primitives"][1]["attributes"], side["attributes"]);
+  ASSERT_EQ(rest.size() / 3, mesh.vertex_count() + R + 2 * S);
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(rest[3 * v + c], static_cast<float>(mesh.positions[v][c])) << "vertex order: " << v;
+  const std::vector<std::uint32_t> side_triangles = uints(out.json, out.bin, side["indices"]);
+  const std::set<std::uint32_t> used(side_triangles.begin(), side_triangles.end());
+  EXPECT_EQ(used.size(), static_cast<std::size_t>(R * (S + 1))) << "one vertex a (v, vt, vn) corner: the seam split";
+  // Each side vertex's UV is its corner's (u, 1 - v), its normal the radial vn, its source the v at its place.
   std::map<std::array<float, 3>, std::uint32_t> by_position;
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
     const Eigen::Vector3f p = mesh.positions[v].cast<float>();
@@ -544,6 +552,7 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
     const auto it = by_position.find({rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]});
     ASSERT_NE(it, by_position.end()) << v;
     source[v] = it->second;
+    if (!used.count(static_cast<std::uint32_t>(v))) continue;
     const int i = static_cast<int>(it->second) / S, j = static_cast<int>(it->second) % S;
     const int jt = j == 0 && uv[2 * v] > 0.5f ? S : j;  // the seam's second copy
     seen.insert({i, jt});
@@ -553,7 +562,7 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
     EXPECT_NEAR(colours[4 * v], double(i) / (R - 1), 1e-6);
     EXPECT_NEAR(colours[4 * v + 1], double(j) / S, 1e-6);
   }
-  EXPECT_EQ(seen.size(), source.size());
+  EXPECT_EQ(seen.size(), used.size());
   EXPECT_LT(worst_uv, 1e-6);
   // The targets: rest + delta at weight 1 is the .pc2's frame at the vertex's source.
   const std::string pc2 = slurp(dir / "out.pc2");
@@ -660,8 +669,10 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
     }
     if (prim["material"] != skin) continue;
     const std::vector<float> uv = floats(out.json, out.bin, prim["attributes"]["TEXCOORD_0"], 2);
-    side_vertices = source.size();
-    for (std::size_t v = 0; v < source.size(); ++v) {
+    const std::vector<std::uint32_t> triangles = uints(out.json, out.bin, prim["indices"]);
+    const std::set<std::uint32_t> used(triangles.begin(), triangles.end());
+    side_vertices = used.size();
+    for (const std::uint32_t v : used) {
       const double z = rest[3 * v + 2], th = std::atan2(rest[3 * v + 1], rest[3 * v]);
       const int i = static_cast<int>(std::lround(z * (R - 1)));
       int j = static_cast<int>(std::lround(th / (2 * std::numbers::pi) * S + S)) % S;
