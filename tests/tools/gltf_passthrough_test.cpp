@@ -692,6 +692,37 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
 }
 
+// The passthrough .glb is the same bytes on every run and thread count, from a glTF and from an OBJ;
+// an OBJ whose texture is missing is refused (exit 2, naming it) and nothing is written.
+TEST(GltfPassthrough, SameBytesEveryRunAndAnObjsMissingTextureIsRefused) {
+  const TexturedWorkspace ws("gltf-passthrough-determinism");
+  const std::string args = " --scene " + quoted(ws / "scene.json") + " -q ";
+  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, quoted(ws / "rig.json") + args + "-o " + quoted(ws / "a.glb"), ws.io, "OMP_NUM_THREADS=1").code, 0);
+  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, quoted(ws / "rig.json") + args + "-o " + quoted(ws / "b.glb"), ws.io, "OMP_NUM_THREADS=2").code, 0);
+  EXPECT_EQ(slurp(ws / "a.glb"), slurp(ws / "b.glb"));
+  EXPECT_GT(slurp(ws / "a.glb").size(), 10000u);
+
+  const fs::path top = scratch_dir("obj-passthrough-determinism"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  write_textured_obj(dir);
+  fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const std::string obj_args = quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o ";
+  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, obj_args + quoted(dir / "a.glb"), io, "OMP_NUM_THREADS=1").code, 0);
+  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, obj_args + quoted(dir / "b.glb"), io, "OMP_NUM_THREADS=2").code, 0);
+  EXPECT_EQ(slurp(dir / "a.glb"), slurp(dir / "b.glb"));
+  fs::remove(dir / "a.glb");
+  fs::remove(dir / "b.glb");
+  fs::remove(dir / "skin.png");
+  const std::set<std::string> before = listing(dir);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, obj_args + quoted(dir / "c.glb") + " -o " + quoted(dir / "c.pc2"), io);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("skin.png: cannot read material 'Skin''s texture (map_Kd)"), std::string::npos) << r.err;
+  EXPECT_EQ(listing(dir), before);
+}
+
 // Blender's glTF importer (tests/blender/check_passthrough.py): the bake keeps the Tail's UVs,
 // colours, materials and image, and its animation plays the .pc2's frames. Skipped without Blender.
 TEST(GltfPassthrough, BlenderShowsTheAssetAndPlaysTheBake) {
