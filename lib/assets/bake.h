@@ -17,7 +17,9 @@
 //            the baked coordinate (a float delta can do no better: otherwise the error is within
 //            half a unit in the last place of the delta). Each target also holds NORMAL deltas
 //            (the frame's smooth normals, made as the rest's are, minus the rest's; sparse over
-//            the moving vertices and their face neighbours), so a bent part is lit as bent. The weights animation stores frames² floats
+//            the moving vertices and their face neighbours), so a bent part is lit as bent.
+//            A glTF/GLB source (BakeInfo::source) is written instead as that document whole plus
+//            the targets and a new animation (assets/gltf_passthrough.h). The weights animation stores frames² floats
 //            (600 frames: 1.4 MB); glTF binary files are limited to 4 GiB, checked in begin().
 //            A skinned .glb (joints following the sweeps, no morph targets) is another writer:
 //            assets/bake_skin.h (sweep-sim --joints N).
@@ -74,6 +76,10 @@ struct BakeInfo {
   // the body's frame (morph targets) and animates its node's translation and rotation (LINEAR:
   // slerp), so engines play both. Without it every pose must be the identity.
   bool body_moves = false;
+  // The mesh file the bake deforms, as read by read_mesh (empty: unknown). A .gltf or .glb makes
+  // the .glb writer write that document whole plus the bake (assets/gltf_passthrough.h); any
+  // other source gets the .glb described above.
+  std::filesystem::path source;
 };
 
 // The body's pose for one frame: world = rotation · position + translation.

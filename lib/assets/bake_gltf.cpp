@@ -29,6 +29,7 @@
 
 #include "assets/bake.h"
 #include "assets/bake_detail.h"
+#include "assets/gltf_passthrough.h"
 #include "core/error.h"
 
 namespace sweep::io {
@@ -92,8 +93,16 @@ class GltfWriter final : public detail::BakeWriterBase {
     return b;
   }
   tinygltf::Model build_model() const;
+  void start_passthrough(const Mesh& mesh);
+  void write_glb(Publication& outputs, nlohmann::json json);
 
   std::unique_ptr<TempFile> scratch_, final_;
+  // A glTF source: the input document whole plus the bake (gltf_passthrough.h).
+  std::unique_ptr<detail::GltfPassthrough> passthrough_;
+  detail::AppendBin append_bin_ = [this](const void* data, std::size_t bytes) {
+    const Block b = append_block(data, bytes);
+    return detail::BinBlock{b.offset, b.length};
+  };
   bool sparse_ = false;
   std::vector<std::uint32_t> targets_;  // the listed vertices when sparse
   // ... and the vertices whose normal can change: those and every vertex on a face with one.
@@ -113,7 +122,36 @@ class GltfWriter final : public detail::BakeWriterBase {
   Block body_translation_block_, body_rotation_block_;
 };
 
+void GltfWriter::start_passthrough(const Mesh&) {
+  const std::uint64_t frames = static_cast<std::uint64_t>(info().frame_count);
+  if (frames * frames > std::uint64_t{UINT32_MAX}) {
+    fail(ErrorCategory::unsupported,
+         out().string() + ": " + std::to_string(frames) +
+             " frames are more morph targets than a .glb's weights can index (at most 65,535); "
+             "bake to .pc2 or an .obj sequence");
+  }
+  const std::uint64_t estimate = 28 + kJsonBytesFixed + std::filesystem::file_size(info().source) +
+                                 passthrough_->fixed_bytes() + 8 * frames +
+                                 (kJsonBytesPerFrame * passthrough_->deformed_primitives() +
+                                  passthrough_->bytes_per_frame()) * frames;
+  set_estimate(estimate);
+  if (estimate > kGlbMaxBytes) {
+    fail(ErrorCategory::unsupported, out().string() + ": " + std::to_string(frames) + " frames need about " +
+                                         std::to_string(estimate >> 20) +
+                                         " MiB, over the 4 GiB a .glb can hold; bake fewer frames or to .pc2");
+  }
+  scratch_ = std::make_unique<TempFile>(out(), /*scratch=*/true);
+  passthrough_->start(append_bin_);
+}
+
 void GltfWriter::start(const Mesh& mesh) {
+  if (detail::is_passthrough_source(info().source)) {
+    passthrough_ = detail::GltfPassthrough::open(info().source, out(), mesh, animated(), info());
+    if (passthrough_) {
+      start_passthrough(mesh);
+      return;
+    }
+  }
   const std::size_t n = rest().size();
   const std::uint64_t frames = static_cast<std::uint64_t>(info().frame_count);
   const std::vector<std::uint32_t> triangles = mesh.triangles();
@@ -217,6 +255,10 @@ void GltfWriter::start(const Mesh& mesh) {
 }
 
 void GltfWriter::write_frame(int, std::span<const Eigen::Vector3f> positions) {
+  if (passthrough_) {
+    passthrough_->frame(positions, body_pose(), append_bin_);
+    return;
+  }
   if (info().body_moves) {
     const BodyPose& b = body_pose();
     Eigen::Quaterniond q = b.rotation.normalized();
@@ -431,6 +473,10 @@ tinygltf::Model GltfWriter::build_model() const {
 }
 
 void GltfWriter::complete(Publication& outputs) {
+  if (passthrough_) {
+    write_glb(outputs, passthrough_->finish(append_bin_));
+    return;
+  }
   // tinygltf serializes everything but the buffer (it would want the bytes in memory); the one
   // buffer, the GLB's BIN chunk, is added here with its length.
   if (info().body_moves) {
@@ -443,7 +489,11 @@ void GltfWriter::complete(Publication& outputs) {
   if (!gltf.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/false)) {
     fail(ErrorCategory::internal, out().string() + ": tinygltf could not serialize the model");
   }
-  nlohmann::json json = nlohmann::json::parse(stream.str());
+  write_glb(outputs, nlohmann::json::parse(stream.str()));
+}
+
+// The GLB: header, the JSON chunk (with "buffers": the one BIN buffer) and the scratch file's bytes.
+void GltfWriter::write_glb(Publication& outputs, nlohmann::json json) {
   const std::uint64_t bin_length = scratch_->size();  // a multiple of 4: every element is 4 bytes
   json["buffers"] = nlohmann::json::array({{{"byteLength", bin_length}}});
   std::string text = json.dump();

@@ -27,6 +27,8 @@ namespace sweep::sim {
 
 struct BakeOptions {
   std::vector<std::filesystem::path> outputs;  // chosen by extension: .glb, .pc2, .obj
+  // The mesh file (io::BakeInfo::source): a glTF source's .glb bake is that document plus the bake.
+  std::filesystem::path source_mesh;
   bool exact = false;         // the per-vertex reference path instead of the fast station path
   int stations_per_span = 8;  // fast path: stations per span (error falls as its square)
   SleepSettings sleep;

@@ -3,13 +3,16 @@
 // format has no shared vertex list. The only file that sees assimp.
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <array>
 #include <assimp/Importer.hpp>
 #include <bit>
 #include <cerrno>
 #include <cstdint>
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -19,6 +22,7 @@
 #include "assets/mesh_checks.h"
 #include "assets/mesh_io.h"
 #include "assets/mesh_io_detail.h"
+#include "assets/mesh_surface.h"
 #include "core/error.h"
 #include "core/fp_environment.h"
 #include "core/hash.h"
@@ -172,6 +176,112 @@ Mesh read_with_assimp(const std::string& source, bool weld, std::string_view byt
 }
 
 }  // namespace
+
+MeshSurface read_welded_surface(const fs::path& path) {
+  const std::string source = path.string();
+  Assimp::Importer importer;
+  const aiScene* scene = nullptr;
+  {
+    const QuietFpEnvironment quiet;
+    scene = importer.ReadFile(source, 0);
+  }
+  if (scene == nullptr || scene->mMeshes == nullptr) bad(source, "cannot parse: " + one_line(importer.GetErrorString()));
+  std::vector<Transform> transforms(scene->mNumMeshes, Transform::Identity());
+  std::vector<bool> seen(scene->mNumMeshes, false);
+  if (scene->mRootNode != nullptr) collect_transforms(scene->mRootNode, Transform::Identity(), transforms, seen);
+
+  MeshSurface out;
+  std::vector<int> slot(scene->mNumMaterials, -1);
+  auto material = [&](unsigned index) {
+    if (index >= scene->mNumMaterials) return -1;
+    if (slot[index] >= 0) return slot[index];
+    const aiMaterial* m = scene->mMaterials[index];
+    SurfaceMaterial sm;
+    aiString name;
+    if (m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) sm.name = name.C_Str();
+    aiColor4D c(1, 1, 1, 1);
+    if (m->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) sm.colour = {c.r, c.g, c.b, 1};
+    float opacity = 1;
+    if (m->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) sm.colour[3] = opacity;
+    aiString texture;
+    if (m->GetTexture(aiTextureType_DIFFUSE, 0, &texture) == AI_SUCCESS && texture.length > 0) {
+      std::string file = texture.C_Str();
+      std::replace(file.begin(), file.end(), '\\', '/');
+      sm.texture_name = file;
+      if (const aiTexture* embedded = scene->GetEmbeddedTexture(texture.C_Str()); embedded != nullptr) {
+        if (embedded->mHeight == 0) sm.texture.assign(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth);
+      } else {
+        for (const fs::path& p : {path.parent_path() / file, path.parent_path() / fs::path(file).filename()}) {
+          std::error_code ec;
+          if (sm.texture.empty() && fs::is_regular_file(p, ec)) {
+            sm.texture = read_file(p);
+            sm.texture_name = p.string();
+          }
+        }
+        if (sm.texture.empty()) {
+          bad(source, "material '" + sm.name + "' names the texture '" + file +
+                          "', which is neither in the file nor beside it; the .glb bake embeds it");
+        }
+      }
+    }
+    slot[index] = static_cast<int>(out.materials.size());
+    out.materials.push_back(std::move(sm));
+    return slot[index];
+  };
+  std::uint32_t next = 0;  // welded vertices so far: read_with_assimp's numbering
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* am = scene->mMeshes[m];
+    const Transform& t = transforms[m];
+    const Eigen::Matrix3d normal_matrix = t.block<3, 3>(0, 0).inverse().transpose();
+    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> welded;
+    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> corners;  // welded vertex → its glTF vertices
+    std::vector<std::array<float, 6>> corner_attributes;
+    std::vector<Vec3> corner_normals;
+    SurfacePrimitive prim;
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& af = am->mFaces[f];
+      if (af.mNumIndices < 3) continue;
+      std::vector<std::uint32_t> ids;
+      for (unsigned k = 0; k < af.mNumIndices; ++k) {
+        const unsigned v = af.mIndices[k];
+        if (v >= am->mNumVertices) bad(source, "a face uses a vertex out of range");
+        const auto [it, inserted] = welded.try_emplace(key_of(apply(t, am->mVertices[v])), next);
+        if (inserted) ++next;
+        // One glTF vertex a distinct (vertex, UV, colour, normal); normals within 0.01° are one
+        // (exporters write a normal per corner, rounded apart).
+        std::array<float, 6> attributes{};  // u, v, r, g, b, a
+        if (am->mTextureCoords[0]) attributes[0] = am->mTextureCoords[0][v].x, attributes[1] = 1 - am->mTextureCoords[0][v].y;
+        if (am->mColors[0]) {
+          const aiColor4D& col = am->mColors[0][v];
+          attributes[2] = col.r, attributes[3] = col.g, attributes[4] = col.b, attributes[5] = col.a;
+        }
+        Vec3 n = Vec3::UnitZ();
+        if (am->mNormals) n = (normal_matrix * Vec3(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z)).normalized();
+        std::vector<std::uint32_t>& same = corners[it->second];
+        std::uint32_t found = UINT32_MAX;
+        for (const std::uint32_t o : same) {
+          if (corner_attributes[o] == attributes && corner_normals[o].dot(n) > std::cos(1e-2 * 3.14159265358979 / 180)) found = o;
+        }
+        if (found == UINT32_MAX) {
+          found = static_cast<std::uint32_t>(prim.source.size());
+          same.push_back(found);
+          corner_attributes.push_back(attributes);
+          corner_normals.push_back(n);
+          prim.source.push_back(it->second);
+          if (am->mTextureCoords[0]) prim.uv.insert(prim.uv.end(), {attributes[0], attributes[1]});
+          if (am->mColors[0]) prim.colour.insert(prim.colour.end(), attributes.begin() + 2, attributes.end());
+          if (am->mNormals) prim.normal.insert(prim.normal.end(), {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())});
+        }
+        ids.push_back(found);
+      }
+      for (std::size_t k = 1; k + 1 < ids.size(); ++k) prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
+    }
+    if (prim.source.empty()) continue;
+    prim.material = material(am->mMaterialIndex);
+    out.primitives.push_back(std::move(prim));
+  }
+  return out;
+}
 
 Mesh parse_ply(std::string_view bytes, const std::string& source) {
   bytes = detail::skip_bom(bytes);

@@ -188,6 +188,7 @@ int run(const Settings& s) {
 
   sweep::sim::BakeOptions options;
   options.outputs = s.outputs;
+  options.source_mesh = mesh_path;
   options.exact = s.exact;
   options.stations_per_span = s.stations;
   options.joints = s.joints_given ? s.joints : 0;

@@ -1,0 +1,96 @@
+#pragma once
+// Private to the .glb bake writer (bake_gltf.cpp): a bake of a glTF/GLB mesh written as the INPUT
+// document plus the bake (issue 14 part 1). Everything in the input is kept as it was — nodes,
+// names, transforms, meshes, materials, textures, images, samplers, every attribute, extensions and
+// animations — and its bytes are copied unchanged into the one BIN chunk: each input buffer at a
+// 16-byte aligned base (its bufferViews re-pointed), then each image that was a file or a data URI
+// (now a bufferView with its mimeType). What is added:
+//  - on every primitive of each deformed mesh (a glTF mesh with a vertex the bake moves), one morph
+//    target per frame: POSITION deltas, NORMAL deltas where the primitive has NORMAL and TANGENT
+//    deltas where it has TANGENT, in the primitive's own (mesh-local) space. The importer reads
+//    positions in world space (mesh_import.cpp: glTF meshes in order, their primitives in order,
+//    each placed by the world transform of the first node showing it, depth first in the default
+//    scene); a world delta is mapped back by the inverse of that node's linear transform. The
+//    input's own normals and tangents are turned by the rotation that takes each vertex's smooth
+//    rest normal (area-weighted, over the mesh welded by position, so UV seams do not show) to the
+//    frame's; a vertex that does not move keeps a zero delta exactly. Targets are sparse: each
+//    primitive lists the vertices whose position or normal can change (none: zero accessors).
+//  - the mesh's "weights" (zeros) and extras.targetNames ("frame_0000", ...);
+//  - one new animation (named "sweep bake", or "sweep bake 2", ... when taken) with a weights
+//    channel on every node showing a deformed mesh (one-hot keys at k / fps, LINEAR) and, when the
+//    body moves, that node's translation and rotation: its parent-relative transform
+//    L(t) = P⁻¹ · B(t) · P · L (P the parent's world transform, L the node's own), so its world
+//    transform is B(t) times the rest one, as the bake's positions are. A node given by "matrix"
+//    then gets the same transform as translation, rotation and scale. Other nodes do not follow
+//    the body (the .pc2 moves every vertex; here only the deformed meshes' nodes are animated).
+//  When no mesh moves (no force reaches a part), the document is written as it was, with no
+//  animation added.
+// Refused, before anything is simulated (Error(unsupported), exit 3, naming the file and what):
+// compressed geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression), a deformed
+// primitive that already has morph targets or whose POSITION, NORMAL or TANGENT is not a plain
+// float accessor (sparse, quantized), a deformed mesh shown by several nodes with different world
+// transforms, or by a skinned node, and a moving body under a parent that is not a similarity
+// (rotation, uniform scale, translation). A buffer or image that cannot be read is Error(bad_input).
+// An OBJ source with UVs, normals, colours or materials is first made a glTF document (obj_gltf.h);
+// its vertices are split per corner, so each primitive vertex names its source vertex in the mesh
+// as read, and the targets follow that vertex.
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <span>
+#include <vector>
+
+#include "assets/bake.h"
+#include "core/mesh.h"
+
+namespace sweep::io::detail {
+
+// Whether a bake of a mesh read from `source` may write the passthrough .glb (a .gltf, .glb or
+// .obj: an OBJ's UVs, normals, colours and materials become a glTF document first, obj_gltf.h).
+bool is_passthrough_source(const std::filesystem::path& source);
+
+struct BinBlock {
+  std::uint64_t offset = 0, length = 0;
+};
+// Appends bytes to the BIN chunk being built and says where they went.
+using AppendBin = std::function<BinBlock(const void*, std::size_t)>;
+
+class GltfPassthrough {
+ public:
+  // Reads and checks `source` against `rest` (the mesh the bake deforms, as read_mesh read it) and
+  // `animated` (ascending vertices that may move). `out` names the output in messages.
+  GltfPassthrough(const std::filesystem::path& source, const std::filesystem::path& out, const Mesh& rest,
+                  const std::vector<std::uint32_t>& animated, const BakeInfo& info);
+  // The passthrough for `source`, or nullptr when it is an OBJ with no UVs, normals, colours or
+  // materials (the plain .glb then).
+  static std::unique_ptr<GltfPassthrough> open(const std::filesystem::path& source, const std::filesystem::path& out,
+                                               const Mesh& rest, const std::vector<std::uint32_t>& animated,
+                                               const BakeInfo& info);
+  ~GltfPassthrough();
+  GltfPassthrough(const GltfPassthrough&) = delete;
+  GltfPassthrough& operator=(const GltfPassthrough&) = delete;
+
+  // The BIN chunk's size before the frames and what each frame adds (for the size estimate).
+  std::uint64_t fixed_bytes() const;
+  std::uint64_t bytes_per_frame() const;
+  // Deformed primitives (JSON added per frame: three accessors and views each).
+  std::size_t deformed_primitives() const;
+  // Writes the input's bytes, the key times and weights and the targets' index lists: must be the
+  // first thing in the BIN chunk (offset 0).
+  void start(const AppendBin& append);
+  // One frame: positions in the body's frame (world at rest), the body's pose.
+  void frame(std::span<const Eigen::Vector3f> positions, const BodyPose& body, const AppendBin& append);
+  // The document: the input's JSON with the additions, all but "buffers" (the caller's: the one
+  // BIN buffer). Call once, after every frame (appends the body's keys).
+  nlohmann::json finish(const AppendBin& append);
+
+  struct State;  // gltf_passthrough.cpp's
+
+ private:
+  std::unique_ptr<State> s_;
+};
+
+}  // namespace sweep::io::detail

@@ -1,0 +1,315 @@
+// An OBJ's surface as a glTF document (obj_gltf.h).
+#include "assets/obj_gltf.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <string>
+#include <tuple>
+
+#include "core/error.h"
+#include "core/text.h"
+#include "io/read_file.h"
+
+namespace sweep::io::detail {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+std::vector<std::string> tokens(const std::string& line) {
+  std::vector<std::string> out;
+  std::istringstream in(line.substr(0, line.find('#')));
+  for (std::string t; in >> t;) out.push_back(t);
+  return out;
+}
+
+double number(const std::string& t) {
+  return std::strtod(t.c_str(), nullptr);
+}
+
+struct Material {
+  std::string name;
+  std::array<double, 4> colour{1, 1, 1, 1};
+  std::string texture;  // the file, relative to the .mtl
+  fs::path dir;
+};
+
+std::map<std::string, Material> read_mtl(const fs::path& mtl) {
+  std::map<std::string, Material> out;
+  std::string text;
+  try {
+    text = read_file(mtl);
+  } catch (const Error&) {
+    fail(ErrorCategory::bad_input, mtl.string() + ": cannot read this material library, which the "
+                                                  "OBJ names and the .glb bake carries");
+  }
+  std::istringstream in(text);
+  Material* m = nullptr;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::vector<std::string> t = tokens(line);
+    if (t.empty()) continue;
+    if (t[0] == "newmtl" && t.size() > 1) {
+      m = &out[t[1]];
+      m->name = t[1];
+      m->dir = mtl.parent_path();
+    } else if (m && t[0] == "Kd" && t.size() >= 4) {
+      for (int c = 0; c < 3; ++c) m->colour[c] = std::clamp(number(t[c + 1]), 0.0, 1.0);
+    } else if (m && t[0] == "d" && t.size() >= 2) {
+      m->colour[3] = std::clamp(number(t[1]), 0.0, 1.0);
+    } else if (m && t[0] == "map_Kd" && t.size() >= 2) {
+      m->texture = t.back();  // options (-s, -o, ...) come before the file name
+    }
+  }
+  return out;
+}
+
+std::string media_type(const std::string& bytes) {
+  if (bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0) return "image/png";
+  if (bytes.compare(0, 3, "\xFF\xD8\xFF") == 0) return "image/jpeg";
+  return "";
+}
+
+// A corner: the v, vt and vn it names (0-based; -1 when absent).
+struct Corner {
+  long long v = -1, vt = -1, vn = -1;
+  bool operator<(const Corner& o) const { return std::tie(v, vt, vn) < std::tie(o.v, o.vt, o.vn); }
+};
+
+long long index_of(const std::string& t, std::size_t count) {
+  if (t.empty()) return -1;
+  const long long i = std::strtoll(t.c_str(), nullptr, 10);
+  return i > 0 ? i - 1 : static_cast<long long>(count) + i;
+}
+
+}  // namespace
+
+std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
+  const std::string text = read_file(obj);
+  std::vector<std::array<float, 2>> uvs;
+  std::vector<std::array<float, 3>> normals, colours;
+  std::map<std::string, Material> library;
+  std::vector<std::string> material_order;             // in first use
+  std::map<std::string, std::vector<std::vector<Corner>>> faces;  // per material
+  std::size_t positions = 0;
+  std::string current;
+  bool any_surface = false;
+  std::istringstream in(text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? text.substr(3) : text);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::vector<std::string> t = tokens(line);
+    if (t.empty()) continue;
+    if (t[0] == "v") {
+      ++positions;
+      if (t.size() >= 7) {
+        colours.push_back({static_cast<float>(number(t[4])), static_cast<float>(number(t[5])), static_cast<float>(number(t[6]))});
+        any_surface = true;
+      }
+    } else if (t[0] == "vt" && t.size() >= 3) {
+      uvs.push_back({static_cast<float>(number(t[1])), static_cast<float>(1 - number(t[2]))});
+      any_surface = true;
+    } else if (t[0] == "vn" && t.size() >= 4) {
+      Eigen::Vector3d n(number(t[1]), number(t[2]), number(t[3]));
+      if (n.norm() > 0) n.normalize();
+      normals.push_back({static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())});
+      any_surface = true;
+    } else if (t[0] == "usemtl" && t.size() > 1) {
+      current = t[1];
+      any_surface = true;
+    } else if (t[0] == "mtllib" && t.size() > 1) {
+      for (std::size_t k = 1; k < t.size(); ++k) library.merge(read_mtl(obj.parent_path() / t[k]));
+    } else if (t[0] == "f" && t.size() >= 4) {
+      std::vector<Corner> face;
+      for (std::size_t k = 1; k < t.size(); ++k) {
+        std::string parts[3];
+        std::size_t at = 0;
+        for (int p = 0; p < 3 && at != std::string::npos; ++p) {
+          const std::size_t slash = t[k].find('/', at);
+          parts[p] = t[k].substr(at, slash == std::string::npos ? std::string::npos : slash - at);
+          at = slash == std::string::npos ? slash : slash + 1;
+        }
+        face.push_back({index_of(parts[0], positions), index_of(parts[1], uvs.size()), index_of(parts[2], normals.size())});
+      }
+      if (!faces.count(current)) material_order.push_back(current);
+      faces[current].push_back(std::move(face));
+    }
+  }
+  if (!any_surface) return std::nullopt;
+  if (colours.size() != positions) colours.clear();  // only when every vertex has one
+
+  MeshSurface surface;
+  std::map<std::string, int> material_slot;
+  for (const std::string& name : material_order) {
+    std::map<Corner, std::uint32_t> vertex;
+    std::vector<Corner> corners;
+    SurfacePrimitive prim;
+    bool has_uv = true, has_normal = true;
+    for (const std::vector<Corner>& face : faces[name]) {
+      std::vector<std::uint32_t> ids;
+      for (const Corner& c : face) {
+        if (c.v < 0 || c.v >= static_cast<long long>(rest.vertex_count())) continue;  // parse_obj refused these
+        has_uv = has_uv && c.vt >= 0 && c.vt < static_cast<long long>(uvs.size());
+        has_normal = has_normal && c.vn >= 0 && c.vn < static_cast<long long>(normals.size());
+        const auto [it, inserted] = vertex.try_emplace(c, static_cast<std::uint32_t>(corners.size()));
+        if (inserted) corners.push_back(c);
+        ids.push_back(it->second);
+      }
+      for (std::size_t k = 1; k + 1 < ids.size(); ++k) prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
+    }
+    if (corners.empty()) continue;
+    for (const Corner& c : corners) {
+      prim.source.push_back(static_cast<std::uint32_t>(c.v));
+      if (has_uv) prim.uv.insert(prim.uv.end(), uvs[c.vt].begin(), uvs[c.vt].end());
+      if (has_normal) prim.normal.insert(prim.normal.end(), normals[c.vn].begin(), normals[c.vn].end());
+      if (!colours.empty()) prim.colour.insert(prim.colour.end(), {colours[c.v][0], colours[c.v][1], colours[c.v][2], 1.0f});
+    }
+    if (!name.empty()) {
+      const auto found = library.find(name);
+      const Material m = found != library.end() ? found->second : Material{name, {1, 1, 1, 1}, "", {}};
+      SurfaceMaterial sm{name, m.colour, "", ""};
+      if (!m.texture.empty()) {
+        sm.texture_name = (m.dir / m.texture).string();
+        try {
+          sm.texture = read_file(m.dir / m.texture);
+        } catch (const Error&) {
+          fail(ErrorCategory::bad_input, sm.texture_name + ": cannot read material '" + name +
+                                             "''s texture (map_Kd), which the .glb bake embeds");
+        }
+      }
+      prim.material = static_cast<int>(surface.materials.size());
+      surface.materials.push_back(std::move(sm));
+    }
+    surface.primitives.push_back(std::move(prim));
+  }
+  return surface_as_gltf(surface, rest, obj);
+}
+
+SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const fs::path& file) {
+  SurfaceGltf out;
+  std::string bin;
+  Json views = Json::array(), accessors = Json::array();
+  auto add = [&](const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
+    bin.append((4 - bin.size() % 4) % 4, '\0');
+    Json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+    if (target) view["target"] = target;
+    bin.append(static_cast<const char*>(data), bytes);
+    views.push_back(view);
+    if (!type) return views.size() - 1;
+    accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
+    return accessors.size() - 1;
+  };
+  Json primitives = Json::array(), materials = Json::array(), textures = Json::array(), images = Json::array();
+  for (const SurfaceMaterial& m : surface.materials) {
+    Json pbr = {{"baseColorFactor", m.colour}, {"metallicFactor", 0.0}};
+    if (!m.texture.empty()) {
+      const std::string type = media_type(m.texture);
+      if (type.empty()) {
+        fail(ErrorCategory::unsupported, m.texture_name + ": material '" + m.name +
+                                             "''s texture is not PNG or JPEG, so a .glb cannot hold it");
+      }
+      images.push_back({{"name", fs::path(m.texture_name).stem().string()}, {"mimeType", type},
+                        {"bufferView", add(m.texture.data(), m.texture.size(), 0, nullptr, 0, 0)}});
+      textures.push_back({{"source", images.size() - 1}});
+      pbr["baseColorTexture"] = {{"index", textures.size() - 1}};
+      pbr["baseColorFactor"] = {1.0, 1.0, 1.0, m.colour[3]};  // the image is the colour, as OBJ and FBX viewers show it
+    }
+    materials.push_back({{"name", m.name}, {"pbrMetallicRoughness", pbr}});
+  }
+  // One vertex array shared by every primitive: the mesh's vertices first, in its order (each with
+  // its first corner's attributes; (0, 1, 0) normals on a vertex no face uses), then the corners
+  // that differ (a seam, a hard edge), each naming its source.
+  bool any_uv = false, any_normal = false, any_colour = false;
+  for (const SurfacePrimitive& prim : surface.primitives) {
+    any_uv = any_uv || !prim.uv.empty();
+    any_normal = any_normal || !prim.normal.empty();
+    any_colour = any_colour || !prim.colour.empty();
+  }
+  using Attributes = std::array<float, 9>;  // u, v, nx, ny, nz, r, g, b, a
+  const std::size_t n = rest.vertex_count();
+  std::vector<Attributes> attributes(n, Attributes{0, 0, 0, 1, 0, 1, 1, 1, 1});
+  std::vector<std::uint32_t> source(n);
+  for (std::uint32_t v = 0; v < n; ++v) source[v] = v;
+  std::vector<char> assigned(n, 0);
+  std::map<std::uint32_t, std::vector<std::uint32_t>> extra;
+  std::vector<std::vector<std::uint32_t>> indices;
+  for (const SurfacePrimitive& prim : surface.primitives) {
+    std::vector<std::uint32_t> id(prim.source.size());
+    for (std::size_t i = 0; i < prim.source.size(); ++i) {
+      Attributes a{0, 0, 0, 1, 0, 1, 1, 1, 1};
+      if (!prim.uv.empty()) std::copy_n(&prim.uv[2 * i], 2, a.begin());
+      if (!prim.normal.empty()) std::copy_n(&prim.normal[3 * i], 3, a.begin() + 2);
+      if (!prim.colour.empty()) std::copy_n(&prim.colour[4 * i], 4, a.begin() + 5);
+      const std::uint32_t v = prim.source[i];
+      if (!assigned[v]) {
+        assigned[v] = 1;
+        attributes[v] = a;
+        id[i] = v;
+        continue;
+      }
+      id[i] = UINT32_MAX;
+      if (attributes[v] == a) id[i] = v;
+      for (const std::uint32_t o : extra[v]) {
+        if (id[i] == UINT32_MAX && attributes[o] == a) id[i] = o;
+      }
+      if (id[i] == UINT32_MAX) {
+        id[i] = static_cast<std::uint32_t>(attributes.size());
+        attributes.push_back(a);
+        source.push_back(v);
+        extra[v].push_back(id[i]);
+      }
+    }
+    std::vector<std::uint32_t> t = prim.triangles;
+    for (std::uint32_t& k : t) k = id[k];
+    indices.push_back(std::move(t));
+  }
+  const std::size_t count = attributes.size();
+  std::vector<float> pos, uv, nrm, col;
+  Eigen::Vector3f lo = rest.positions[0].cast<float>(), hi = lo;
+  for (std::size_t v = 0; v < count; ++v) {
+    const Eigen::Vector3f p = rest.positions[source[v]].cast<float>();
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+    pos.insert(pos.end(), {p.x(), p.y(), p.z()});
+    const Attributes& a = attributes[v];
+    uv.insert(uv.end(), a.begin(), a.begin() + 2);
+    nrm.insert(nrm.end(), a.begin() + 2, a.begin() + 5);
+    col.insert(col.end(), a.begin() + 5, a.end());
+  }
+  Json shared = {{"POSITION", add(pos.data(), 4 * pos.size(), 5126, "VEC3", count, 34962)}};
+  accessors[shared["POSITION"].get<std::size_t>()]["min"] = {lo.x(), lo.y(), lo.z()};
+  accessors[shared["POSITION"].get<std::size_t>()]["max"] = {hi.x(), hi.y(), hi.z()};
+  if (any_normal) shared["NORMAL"] = add(nrm.data(), 4 * nrm.size(), 5126, "VEC3", count, 34962);
+  if (any_uv) shared["TEXCOORD_0"] = add(uv.data(), 4 * uv.size(), 5126, "VEC2", count, 34962);
+  if (any_colour) shared["COLOR_0"] = add(col.data(), 4 * col.size(), 5126, "VEC4", count, 34962);
+  for (std::size_t k = 0; k < surface.primitives.size(); ++k) {
+    Json primitive = {{"attributes", shared},
+                      {"indices", add(indices[k].data(), 4 * indices[k].size(), 5125, "SCALAR", indices[k].size(), 34963)}};
+    if (surface.primitives[k].material >= 0) primitive["material"] = surface.primitives[k].material;
+    primitives.push_back(std::move(primitive));
+    out.sources.push_back(source);
+  }
+  bin.append((4 - bin.size() % 4) % 4, '\0');
+  const std::string stem = file.stem().string();
+  Json& doc = out.doc.json;
+  doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep bake (from " + file.filename().string() + ")"}}},
+         {"scene", 0},
+         {"scenes", Json::array({{{"nodes", Json::array({0})}}})},
+         {"nodes", Json::array({{{"name", stem}, {"mesh", 0}}})},
+         {"meshes", Json::array({{{"name", stem}, {"primitives", primitives}}})},
+         {"accessors", accessors},
+         {"bufferViews", views},
+         {"buffers", Json::array({{{"byteLength", bin.size()}}})}};
+  if (!materials.empty()) doc["materials"] = materials;
+  if (!textures.empty()) doc["textures"] = textures;
+  if (!images.empty()) doc["images"] = images;
+  doc = Json::parse(doc.dump());  // numbers as a reader sees them (unsigned where not negative)
+  out.doc.buffers.push_back(std::move(bin));
+  return out;
+}
+
+}  // namespace sweep::io::detail

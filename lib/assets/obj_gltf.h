@@ -1,0 +1,36 @@
+#pragma once
+// Private to the .glb bake (gltf_passthrough.cpp): a file's surface (mesh_surface.h; an FBX's from
+// mesh_import.cpp) as a glTF document, and an OBJ's surface — its UVs (`vt`), normals
+// (`vn`), vertex colours (`v x y z r g b`) and materials (`usemtl`, `mtllib`: Kd, d, map_Kd) — as a
+// glTF document, so that the passthrough .glb carries them (issue 14 part 1 b). One node and one
+// mesh named after the file; one primitive per material, in order of first use, its faces fanned
+// into triangles as Mesh::triangles() does. glTF gives a vertex one UV and one normal, so a vertex
+// is split where its corners differ (a UV seam, a hard edge): the primitives share one vertex
+// array, the mesh's vertices first in its order (each with its first corner's attributes), then a
+// copy for each differing corner; `sources` says which mesh vertex (the `v`, 0-based) each is. Positions are the mesh's as float32; UVs become (u, 1 - v) (glTF's origin is the
+// top left); normals are normalized; a texture is embedded (PNG or JPEG, by its bytes). An
+// attribute is written on a primitive only when all its corners have it.
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "assets/gltf_document.h"
+#include "assets/mesh_surface.h"
+#include "core/mesh.h"
+
+namespace sweep::io::detail {
+
+struct SurfaceGltf {
+  GltfDocument doc;                                  // buffers[0]: the bytes, in memory
+  std::vector<std::vector<std::uint32_t>> sources;  // per primitive, per vertex: the mesh vertex
+};
+
+// nullopt when the OBJ has none of vt, vn, vertex colours or usemtl (the plain .glb then serves).
+// A texture or material library that cannot be read: Error(bad_input) naming it.
+std::optional<SurfaceGltf> obj_as_gltf(const std::filesystem::path& obj, const Mesh& rest);
+
+// Any file's surface (mesh_surface.h) as such a document, named after `file`: one primitive a
+// surface primitive, its positions the mesh's (float32) at each vertex's source.
+SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const std::filesystem::path& file);
+
+}  // namespace sweep::io::detail

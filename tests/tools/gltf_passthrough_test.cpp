@@ -1,0 +1,749 @@
+// Issue 14 part 1: a glTF asset baked to .glb comes back whole — the input document plus the bake.
+// The textured creature of textured_asset.h is fitted, bound and baked by the tools; the .glb must
+// hold the input's nodes, materials, textures, samplers, images (bytes), UVs and colours unchanged,
+// targets only on the Tail mesh, whose rest + delta at weight 1 is the .pc2's frame mapped into the
+// mesh's own space, whose morph normals match normals recomputed from those positions, and the
+// Khronos validator must pass it. Then the refusals: what the .glb cannot carry is named, exit 3,
+// and nothing is written.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <nlohmann/json.hpp>
+
+#include "assets/mesh_io.h"
+#include "pipeline.h"
+#include "textured_asset.h"
+
+namespace sweep::test {
+namespace {
+
+using Json = nlohmann::json;
+using Vec3 = Eigen::Vector3d;
+
+struct Glb {
+  Json json;
+  std::string bin;
+};
+
+Glb read_glb(const fs::path& p) {
+  const std::string b = slurp(p);
+  Glb g;
+  if (b.size() < 20 || b.compare(0, 4, "glTF") != 0) return g;
+  std::uint32_t json_length = 0, bin_length = 0;
+  std::memcpy(&json_length, b.data() + 12, 4);
+  g.json = Json::parse(b.substr(20, json_length));
+  const std::size_t at = 20 + json_length;
+  if (at + 8 <= b.size()) {
+    std::memcpy(&bin_length, b.data() + at, 4);
+    g.bin = b.substr(at + 8, bin_length);
+  }
+  return g;
+}
+
+// A float accessor's values (dense or sparse, uint32 sparse indices), `width` a element.
+std::vector<float> floats(const Json& doc, const std::string& bin, std::size_t index, int width) {
+  const Json& a = doc["accessors"][index];
+  EXPECT_EQ(a["componentType"], 5126);
+  const std::size_t count = a["count"];
+  std::vector<float> out(count * width, 0.0f);
+  auto view_at = [&](std::size_t view) {
+    const Json& v = doc["bufferViews"][view];
+    return static_cast<std::size_t>(v.value("byteOffset", 0));
+  };
+  if (a.contains("bufferView")) {
+    const Json& v = doc["bufferViews"][a["bufferView"].get<std::size_t>()];
+    const std::size_t stride = v.value("byteStride", 4 * width);
+    const std::size_t begin = view_at(a["bufferView"]) + a.value("byteOffset", 0);
+    for (std::size_t i = 0; i < count; ++i) std::memcpy(&out[i * width], bin.data() + begin + i * stride, 4 * width);
+  }
+  if (a.contains("sparse")) {
+    const Json& s = a["sparse"];
+    EXPECT_EQ(s["indices"]["componentType"], 5125);
+    const std::size_t n = s["count"];
+    const std::size_t ib = view_at(s["indices"]["bufferView"]) + s["indices"].value("byteOffset", 0);
+    const std::size_t vb = view_at(s["values"]["bufferView"]) + s["values"].value("byteOffset", 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      std::uint32_t i = 0;
+      std::memcpy(&i, bin.data() + ib + 4 * k, 4);
+      std::memcpy(&out[i * width], bin.data() + vb + 4 * width * k, 4 * width);
+    }
+  }
+  return out;
+}
+
+std::string view_bytes(const Json& doc, const std::string& bin, std::size_t view) {
+  const Json& v = doc["bufferViews"][view];
+  return bin.substr(v.value("byteOffset", 0), v["byteLength"].get<std::size_t>());
+}
+
+std::string validate(const fs::path& glb, int* code) {
+  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/validate.js";
+  const std::string cmd = "node '" + script.string() + "' '" + glb.string() + "' 2>&1";
+  std::string report;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return report;
+  char buf[4096];
+  for (std::size_t got; (got = std::fread(buf, 1, sizeof buf, pipe)) > 0;) report.append(buf, got);
+  const int status = ::pclose(pipe);
+  *code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return report;
+}
+
+// A push across the tail near its tip, strong enough to bend it well (normals turn by tens of degrees).
+const char* const kTexturedScene =
+    R"({"format": "sweep-scene", "version": 1, "duration": 0.5, "fps": 10,
+  "forces": [{"sweep": "tube", "t": 1, "theta": 0, "vector": [0, 40, 0], "start": 0, "end": 0.2}]}
+)";
+
+// The asset fitted and bound once per build of the tools: creature.gltf (+ .bin, .png), rig.json,
+// rig.bind, scene.json.
+fs::path textured_pipeline() {
+  return cached_dir("textured-gltf", [](const fs::path& dir, const fs::path& io) {
+    write_textured_asset(dir);
+    const Eigen::Affine3d w = TexturedAsset::tail_world();
+    const Vec3 root = w * Vec3(0, 0, 0.02), tip = w * Vec3(0, 0, 1);
+    auto csv = [](const Vec3& p) {
+      return std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
+    };
+    const ToolRun fit = run_tool(SWEEP_FIT_EXE, quoted(dir / "creature.gltf") + " -o " + quoted(dir / "rig.json") +
+                                                    " --name tube --root " + csv(root) + " --tip " + csv(tip) +
+                                                    " -k 6 -n 8",
+                                 io);
+    ASSERT_EQ(fit.code, 0) << fit.err;
+    const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(dir / "rig.json") + " -q", io);
+    ASSERT_EQ(bind.code, 0) << bind.err;
+    spit(dir / "scene.json", kScene);
+  });
+}
+
+struct TexturedWorkspace {
+  fs::path work, io;
+  explicit TexturedWorkspace(const std::string& name) {
+    const fs::path top = scratch_dir(name);
+    work = top / "work";
+    io = top / "io";
+    fs::create_directories(io);
+    fs::copy(textured_pipeline(), work, fs::copy_options::recursive);
+    spit(work / "scene.json", kTexturedScene);
+  }
+  fs::path operator/(const std::string& name) const { return work / name; }
+  ToolRun bake(const std::string& outputs) const {
+    return run_tool(SWEEP_SIM_EXE, quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q " + outputs, io);
+  }
+};
+
+std::vector<float> pc2_frame(const std::string& pc2, int frame, int* points) {
+  std::int32_t n = 0;
+  std::memcpy(&n, pc2.data() + 16, 4);
+  *points = n;
+  std::vector<float> out(3 * static_cast<std::size_t>(n));
+  std::memcpy(out.data(), pc2.data() + 32 + 12 * static_cast<std::size_t>(frame) * n, out.size() * 4);
+  return out;
+}
+
+// Area-weighted normals of `positions` (3 a vertex) over `triangles`, welded by position.
+std::vector<Vec3> welded_normals(const std::vector<float>& positions, const std::vector<std::uint32_t>& triangles,
+                                 const std::vector<float>& rest) {
+  std::map<std::array<float, 3>, std::uint32_t> first;
+  std::vector<std::uint32_t> rep(positions.size() / 3);
+  for (std::uint32_t v = 0; v < rep.size(); ++v) rep[v] = first.try_emplace({rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]}, v).first->second;
+  std::vector<Vec3> sum(rep.size(), Vec3::Zero());
+  auto p = [&](std::uint32_t v) { return Vec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]); };
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const std::uint32_t a = rep[triangles[t]], b = rep[triangles[t + 1]], c = rep[triangles[t + 2]];
+    const Vec3 f = (p(b) - p(a)).cross(p(c) - p(a));
+    sum[a] += f;
+    sum[b] += f;
+    sum[c] += f;
+  }
+  std::vector<Vec3> out(rep.size());
+  for (std::size_t v = 0; v < rep.size(); ++v) out[v] = sum[rep[v]].normalized();
+  return out;
+}
+
+std::vector<std::uint32_t> uints(const Json& doc, const std::string& bin, std::size_t index) {
+  const Json& a = doc["accessors"][index];
+  std::vector<std::uint32_t> out(a["count"].get<std::size_t>());
+  const Json& v = doc["bufferViews"][a["bufferView"].get<std::size_t>()];
+  std::memcpy(out.data(), bin.data() + v.value("byteOffset", 0) + a.value("byteOffset", 0), 4 * out.size());
+  return out;
+}
+
+TEST(GltfPassthrough, TheBakedGlbIsTheInputPlusTheBake) {
+  const TexturedWorkspace ws("gltf-passthrough");
+  const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json in = Json::parse(slurp(ws / "creature.gltf"));
+  const std::string in_bin = slurp(ws / "creature.bin");
+  const Glb out = read_glb(ws / "out.glb");
+  ASSERT_TRUE(out.json.is_object());
+
+  // Kept as they were.
+  for (const char* key : {"nodes", "scenes", "scene", "materials", "textures", "samplers", "asset"}) {
+    EXPECT_EQ(out.json[key], in[key]) << key;
+  }
+  ASSERT_EQ(out.json["images"].size(), 1u);
+  EXPECT_EQ(out.json["images"][0]["name"], "skin");
+  EXPECT_EQ(out.json["images"][0]["mimeType"], "image/png");
+  EXPECT_FALSE(out.json["images"][0].contains("uri"));
+  EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][0]["bufferView"]), tiny_png());
+  ASSERT_EQ(out.json["buffers"].size(), 1u);
+  EXPECT_FALSE(out.json["buffers"][0].contains("uri"));
+  EXPECT_EQ(out.json["meshes"][1], in["meshes"][1]) << "Ground gained something";
+  ASSERT_EQ(out.json["animations"].size(), 2u);
+  EXPECT_EQ(out.json["animations"][0], in["animations"][0]);
+  // Every attribute of every primitive reads back the same, byte for byte.
+  for (std::size_t m = 0; m < 2; ++m) {
+    for (std::size_t p = 0; p < in["meshes"][m]["primitives"].size(); ++p) {
+      const Json& pi = in["meshes"][m]["primitives"][p];
+      const Json& po = out.json["meshes"][m]["primitives"][p];
+      EXPECT_EQ(po["attributes"], pi["attributes"]);
+      EXPECT_EQ(po["material"], pi["material"]);
+      for (const auto& [name, accessor] : pi["attributes"].items()) {
+        const int width = in["accessors"][accessor.get<std::size_t>()]["type"] == "VEC2" ? 2
+                          : in["accessors"][accessor.get<std::size_t>()]["type"] == "VEC3" ? 3 : 4;
+        EXPECT_EQ(floats(out.json, out.bin, accessor, width), floats(in, in_bin, accessor, width)) << m << " " << p << " " << name;
+      }
+      EXPECT_EQ(uints(out.json, out.bin, po["indices"]), uints(in, in_bin, pi["indices"]));
+    }
+  }
+
+  // The bake: targets on the Tail mesh's two primitives only, and a new animation on node Tail.
+  const std::string pc2 = slurp(ws / "out.pc2");
+  std::int32_t frames = 0;
+  std::memcpy(&frames, pc2.data() + 28, 4);
+  ASSERT_EQ(frames, 6);
+  const Json& tail = out.json["meshes"][0];
+  ASSERT_EQ(tail["weights"].size(), 6u);
+  EXPECT_FALSE(out.json["meshes"][1]["primitives"][0].contains("targets"));
+  const Json& bake = out.json["animations"][1];
+  EXPECT_EQ(bake["name"], "sweep bake");
+  ASSERT_EQ(bake["channels"].size(), 1u);
+  EXPECT_EQ(bake["channels"][0]["target"], (Json{{"node", 1}, {"path", "weights"}}));
+
+  const Eigen::Affine3d w = TexturedAsset::tail_world();
+  const Eigen::Matrix3d to_local = w.linear().inverse();
+  double worst_position = 0, worst_normal = 0, turned = 0, worst_tangent = 0, moved = 0, scale = 0;
+  std::uint32_t base = 0;
+  for (std::size_t p = 0; p < 2; ++p) {
+    const Json& prim = tail["primitives"][p];
+    ASSERT_EQ(prim["targets"].size(), 6u);
+    const std::vector<float> rest = floats(out.json, out.bin, prim["attributes"]["POSITION"], 3);
+    const std::vector<float> normals = floats(out.json, out.bin, prim["attributes"]["NORMAL"], 3);
+    const std::vector<std::uint32_t> triangles = uints(out.json, out.bin, prim["indices"]);
+    for (int k = 0; k < frames; ++k) {
+      const Json& target = prim["targets"][k];
+      const std::vector<float> d = floats(out.json, out.bin, target["POSITION"], 3);
+      const std::vector<float> dn = floats(out.json, out.bin, target["NORMAL"], 3);
+      int points = 0;
+      const std::vector<float> world = pc2_frame(pc2, k, &points);
+      std::vector<float> deformed(rest.size());
+      for (std::size_t v = 0; v < rest.size() / 3; ++v) {
+        const Vec3 wp(world[3 * (base + v)], world[3 * (base + v) + 1], world[3 * (base + v) + 2]);
+        const Vec3 want = to_local * (wp - w.translation());
+        const Vec3 got(rest[3 * v] + d[3 * v], rest[3 * v + 1] + d[3 * v + 1], rest[3 * v + 2] + d[3 * v + 2]);
+        worst_position = std::max(worst_position, (got - want).norm());
+        moved = std::max(moved, Vec3(d[3 * v], d[3 * v + 1], d[3 * v + 2]).norm());
+        scale = std::max(scale, want.norm());
+        for (int c = 0; c < 3; ++c) deformed[3 * v + c] = static_cast<float>(got[c]);
+      }
+      if (p != 0) continue;  // normals on the side: the smooth part (the caps meet it at an edge)
+      const std::vector<Vec3> recomputed = welded_normals(deformed, triangles, rest);
+      const std::vector<float> dt = floats(out.json, out.bin, target["TANGENT"], 3);
+      const std::vector<float> tangents = floats(out.json, out.bin, prim["attributes"]["TANGENT"], 4);
+      for (std::size_t v = 0; v < rest.size() / 3; ++v) {
+        const int ring = static_cast<int>(v) / (TexturedAsset::kSegments + 1);
+        if (ring == 0 || ring == TexturedAsset::kRings - 1) continue;  // next to the caps' edge
+        const Vec3 n0(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+        const Vec3 n = n0 + Vec3(dn[3 * v], dn[3 * v + 1], dn[3 * v + 2]);
+        const double angle = std::acos(std::clamp(n.normalized().dot(recomputed[v]), -1.0, 1.0)) * 180 / std::numbers::pi;
+        worst_normal = std::max(worst_normal, angle);
+        turned = std::max(turned, std::acos(std::clamp(n.normalized().dot(n0.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi);
+        const Vec3 t = Vec3(tangents[4 * v], tangents[4 * v + 1], tangents[4 * v + 2]) + Vec3(dt[3 * v], dt[3 * v + 1], dt[3 * v + 2]);
+        // Tangents live in the mesh's space as positions do: perpendicular to the normal there
+        // only up to the node's non-uniform scale, so compare in world space.
+        const Vec3 tw = (w.linear() * t).normalized(), nw = (to_local.transpose() * n).normalized();
+        worst_tangent = std::max(worst_tangent, std::abs(90 - std::acos(std::clamp(tw.dot(nw), -1.0, 1.0)) * 180 / std::numbers::pi));
+      }
+    }
+    base += static_cast<std::uint32_t>(rest.size() / 3);
+  }
+  EXPECT_EQ(base, static_cast<std::uint32_t>(TexturedAsset::side_vertices() + TexturedAsset::cap_vertices()));
+  std::cout << "passthrough: largest move " << moved << ", position error " << worst_position
+            << ", morph normal vs recomputed " << worst_normal << " deg (normals turned up to " << turned
+            << " deg), tangent off the normal's plane " << worst_tangent << " deg\n";
+  EXPECT_GT(moved, 0.02) << "the bake hardly moved: the checks below could not fail";
+  EXPECT_LT(worst_position, 4e-7 * scale);
+  EXPECT_GT(turned, 5.0);
+  EXPECT_LT(worst_normal, 2.0);
+  EXPECT_LT(worst_tangent, 2.0);
+
+  int code = -1;
+  const std::string report = validate(ws / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+  EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+}
+
+// What the .glb cannot carry: exit 3, one line naming the file and what is wrong, nothing written.
+void expect_refused(const std::string& name, const std::function<void(Json&)>& change, const std::string& expect,
+                    int exit_code = 3, const char* remove = nullptr) {
+  SCOPED_TRACE(name);
+  const TexturedWorkspace ws("gltf-passthrough-" + name);
+  Json doc = Json::parse(slurp(ws / "creature.gltf"));
+  change(doc);
+  spit(ws / "creature.gltf", doc.dump(1));
+  if (remove) fs::remove(ws / remove);
+  const std::set<std::string> before = listing(ws.work);
+  const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
+  EXPECT_EQ(r.code, exit_code) << r.err;
+  const auto lines = r.err_lines();
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_EQ(lines[0].rfind("error: ", 0), 0u) << lines[0];
+  EXPECT_NE(lines[0].find("creature.gltf: "), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find(expect), std::string::npos) << lines[0];
+  EXPECT_EQ(listing(ws.work), before);
+}
+
+TEST(GltfPassthrough, WhatTheGlbCannotCarryIsRefused) {
+  expect_refused(
+      "targets",
+      [](Json& d) {
+        d["meshes"][0]["primitives"][1]["targets"] = Json::array({{{"POSITION", d["meshes"][0]["primitives"][1]["attributes"]["NORMAL"]}}});
+      },
+      "mesh 0 ('Tail') primitive 1 already has morph targets");
+  expect_refused(
+      "draco", [](Json& d) { d["extensionsUsed"] = {"KHR_draco_mesh_compression"}; },
+      "uses KHR_draco_mesh_compression");
+  expect_refused(
+      "instances",
+      [](Json& d) {
+        d["nodes"].push_back({{"name", "Tail2"}, {"mesh", 0}, {"translation", {1, 0, 0}}});
+        d["scenes"][0]["nodes"].push_back(4);
+      },
+      "node 1 ('Tail') and node 4 ('Tail2') show it with different transforms");
+  expect_refused(
+      "sparse",
+      [](Json& d) {
+        // The side's POSITION with a sparse override of vertex 0 by its own value (index 0 is the
+        // side's first index; the value the view's first): the same positions, sparse storage.
+        Json& side = d["meshes"][0]["primitives"][0];
+        Json& position = d["accessors"][side["attributes"]["POSITION"].get<std::size_t>()];
+        position["sparse"] = {{"count", 1},
+                              {"indices", {{"bufferView", d["accessors"][side["indices"].get<std::size_t>()]["bufferView"]},
+                                           {"componentType", 5125}}},
+                              {"values", {{"bufferView", position["bufferView"]}}}};
+      },
+      "mesh 0 ('Tail') primitive 0: its POSITION is not a plain float accessor");
+  // An image the .glb must embed but cannot read: bad input, exit 2.
+  expect_refused("missing-image", [](Json&) {}, "image 0 ('skin.png'): cannot read it", 2, "skin.png");
+  // A .pc2 alone is still baked: the refusal is the .glb's.
+  const TexturedWorkspace ws("gltf-passthrough-pc2-only");
+  Json doc = Json::parse(slurp(ws / "creature.gltf"));
+  doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  spit(ws / "creature.gltf", doc.dump(1));
+  EXPECT_EQ(ws.bake("-o " + quoted(ws / "out.pc2")).code, 0);
+}
+
+
+// A moving body: the new animation moves node Tail (translation and rotation; its own scale kept)
+// so that Creature · Tail(t) · (rest + delta) is the .pc2's world position in every frame.
+TEST(GltfPassthrough, AMovingBodyMovesTheTailNodeComposedWithItsOwnTransform) {
+  const TexturedWorkspace ws("gltf-passthrough-body");
+  Json scene = Json::parse(kTexturedScene);
+  scene["body"] = {{"interpolation", "linear"},
+                   {"keys", {{{"time", 0}, {"translation", {0, 0, 0}}},
+                             {{"time", 0.5}, {"translation", {0.3, 0.1, -0.2}}, {"turn_degrees", 40}}}}};
+  spit(ws / "scene.json", scene.dump());
+  const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Glb out = read_glb(ws / "out.glb");
+  const Json in = Json::parse(slurp(ws / "creature.gltf"));
+  EXPECT_EQ(out.json["nodes"], in["nodes"]) << "the rest transforms must stay as they were";
+  const Json& bake = out.json["animations"][1];
+  std::map<std::string, std::vector<float>> keys;
+  for (const Json& c : bake["channels"]) {
+    ASSERT_EQ(c["target"]["node"], 1);
+    const std::string path = c["target"]["path"];
+    if (path == "weights") continue;
+    keys[path] = floats(out.json, out.bin, bake["samplers"][c["sampler"].get<std::size_t>()]["output"], path == "rotation" ? 4 : 3);
+  }
+  ASSERT_EQ(keys.size(), 2u);
+  const std::string pc2 = slurp(ws / "out.pc2");
+  const Json& prim = out.json["meshes"][0]["primitives"][0];
+  const std::vector<float> rest = floats(out.json, out.bin, prim["attributes"]["POSITION"], 3);
+  double worst = 0, travelled = 0;
+  for (int k = 0; k < 6; ++k) {
+    const std::vector<float> d = floats(out.json, out.bin, prim["targets"][k]["POSITION"], 3);
+    int points = 0;
+    const std::vector<float> world = pc2_frame(pc2, k, &points);
+    const float* t = &keys["translation"][3 * k];
+    const float* q = &keys["rotation"][4 * k];
+    Eigen::Affine3d local = Eigen::Affine3d::Identity();
+    local.translate(Vec3(t[0], t[1], t[2]));
+    local.rotate(Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized());
+    local.scale(Vec3(1.2, 1.2, 1.5));
+    const Eigen::Affine3d placed = TexturedAsset::creature() * local;
+    for (std::size_t v = 0; v < rest.size() / 3; ++v) {
+      const Vec3 got = placed * Vec3(rest[3 * v] + d[3 * v], rest[3 * v + 1] + d[3 * v + 1], rest[3 * v + 2] + d[3 * v + 2]);
+      const Vec3 want(world[3 * v], world[3 * v + 1], world[3 * v + 2]);
+      worst = std::max(worst, (got - want).norm());
+      travelled = std::max(travelled, (want - TexturedAsset::tail_world() * Vec3(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2])).norm());
+    }
+  }
+  std::cout << "moving body: largest distance from the .pc2 " << worst << " (the tail travels " << travelled << ")\n";
+  EXPECT_GT(travelled, 0.2);
+  EXPECT_LT(worst, 2e-6);
+  int code = -1;
+  const std::string report = validate(ws / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+}
+
+// A .glb input (its buffer the BIN chunk, its image a data URI) comes back the same way: the image's
+// bytes embedded unchanged, the Ground's bytes as they were, the validator clean.
+TEST(GltfPassthrough, AGlbInputWithADataUriImageComesBackWhole) {
+  const TexturedWorkspace ws("gltf-passthrough-glb");
+  Json doc = Json::parse(slurp(ws / "creature.gltf"));
+  const std::string bin = slurp(ws / "creature.bin");
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string b64;
+  const std::string png = tiny_png();
+  for (std::size_t i = 0; i < png.size(); i += 3) {
+    std::uint32_t v = 0;
+    for (std::size_t j = 0; j < 3; ++j) v = v << 8 | (i + j < png.size() ? static_cast<unsigned char>(png[i + j]) : 0u);
+    for (std::size_t j = 0; j < 4; ++j) b64 += i + j <= png.size() ? k[(v >> (18 - 6 * j)) & 63] : '=';
+  }
+  doc["images"][0] = {{"name", "skin"}, {"uri", "data:image/png;base64," + b64}};
+  doc["buffers"][0].erase("uri");
+  std::string text = doc.dump();
+  text.append((4 - text.size() % 4) % 4, ' ');
+  std::string padded = bin;
+  padded.append((4 - padded.size() % 4) % 4, '\0');
+  std::string glb = "glTF";
+  auto u32 = [&](std::uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2);
+  u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + padded.size()));
+  u32(static_cast<std::uint32_t>(text.size()));
+  glb += "JSON" + text;
+  u32(static_cast<std::uint32_t>(padded.size()));
+  glb += std::string("BIN\0", 4) + padded;
+  spit(ws / "creature.glb", glb);
+  Json rig = Json::parse(slurp(ws / "rig.json"));
+  rig["mesh"] = "creature.glb";  // the same positions: the binding still holds
+  spit(ws / "rig.json", rig.dump());
+  fs::remove(ws / "creature.gltf");
+  fs::remove(ws / "creature.bin");
+  fs::remove(ws / "skin.png");
+  const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Glb out = read_glb(ws / "out.glb");
+  EXPECT_EQ(out.json["nodes"], doc["nodes"]);
+  EXPECT_EQ(out.json["materials"], doc["materials"]);
+  EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][0]["bufferView"]), png);
+  const std::size_t ground = doc["meshes"][1]["primitives"][0]["attributes"]["TEXCOORD_0"];
+  EXPECT_EQ(floats(out.json, out.bin, ground, 2), floats(doc, bin, ground, 2));
+  EXPECT_EQ(out.json["meshes"][0]["primitives"][0]["targets"].size(), 6u);
+  int code = -1;
+  const std::string report = validate(ws / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+}
+
+// A textured OBJ tube: `v` with colours, `vt` split at the seam, radial `vn` on the side and flat
+// ones on the caps (a hard edge), material Skin (map_Kd skin.png) on the side, Bone on the caps.
+void write_textured_obj(const fs::path& dir) {
+  constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
+  std::string obj = "mtllib creature.mtl\n";
+  auto num = [](double x) { return std::to_string(x); };
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j < S; ++j) {
+      const double th = 2 * std::numbers::pi * j / S;
+      obj += "v " + num(0.1 * std::cos(th)) + " " + num(0.1 * std::sin(th)) + " " + num(double(i) / (R - 1)) + " " +
+             num(double(i) / (R - 1)) + " " + num(double(j) / S) + " 0.5\n";  // and a vertex colour
+    }
+  obj += "v 0 0 0 0.5 0.5 0.5\nv 0 0 1 0.5 0.5 0.5\n";
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j <= S; ++j) obj += "vt " + num(double(j) / S) + " " + num(double(i) / (R - 1)) + "\n";
+  obj += "vt 0.5 0.5\n";
+  for (int j = 0; j < S; ++j) {
+    const double th = 2 * std::numbers::pi * j / S;
+    obj += "vn " + num(std::cos(th)) + " " + num(std::sin(th)) + " 0\n";
+  }
+  obj += "vn 0 0 -1\nvn 0 0 1\nusemtl Skin\n";
+  auto corner = [&](int i, int j, int jt) {
+    return " " + std::to_string(i * S + j % S + 1) + "/" + std::to_string(i * (S + 1) + jt + 1) + "/" + std::to_string(j % S + 1);
+  };
+  for (int i = 0; i + 1 < R; ++i)
+    for (int j = 0; j < S; ++j) obj += "f" + corner(i, j, j) + corner(i, j + 1, j + 1) + corner(i + 1, j + 1, j + 1) + corner(i + 1, j, j) + "\n";
+  obj += "usemtl Bone\n";
+  const int centre_vt = R * (S + 1) + 1;
+  for (int j = 0; j < S; ++j) {
+    auto c = [&](int i, int jj, int n) {
+      return " " + std::to_string(i * S + jj % S + 1) + "/" + std::to_string(centre_vt) + "/" + std::to_string(n);
+    };
+    obj += "f " + std::to_string(R * S + 1) + "/" + std::to_string(centre_vt) + "/" + std::to_string(S + 1) + c(0, j + 1, S + 1) + c(0, j, S + 1) + "\n";
+    obj += "f " + std::to_string(R * S + 2) + "/" + std::to_string(centre_vt) + "/" + std::to_string(S + 2) + c(R - 1, j, S + 2) + c(R - 1, j + 1, S + 2) + "\n";
+  }
+  spit(dir / "creature.obj", obj);
+  spit(dir / "creature.mtl", "newmtl Skin\nKd 0.8 0.8 0.8\nmap_Kd skin.png\nnewmtl Bone\nKd 0.9 0.9 0.85\n");
+  spit(dir / "skin.png", tiny_png());
+}
+
+// Part b: a textured OBJ (+ .mtl + .png) baked to .glb carries its UVs (split at the seam, as glTF
+// needs), normals, vertex colours (`v x y z r g b`) and materials with the image embedded, and the
+// targets follow the .pc2.
+TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
+  constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
+  const fs::path top = scratch_dir("obj-passthrough"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  write_textured_obj(dir);
+  fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Glb out = read_glb(dir / "out.glb");
+  ASSERT_EQ(out.json["meshes"].size(), 1u);
+  ASSERT_EQ(out.json["materials"].size(), 2u);
+  EXPECT_EQ(out.json["materials"][0]["name"], "Skin");
+  EXPECT_EQ(out.json["materials"][1]["name"], "Bone");
+  EXPECT_EQ(out.json["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"], (Json{0.9, 0.9, 0.85, 1.0}));
+  const std::size_t texture = out.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"];
+  const std::size_t image = out.json["textures"][texture]["source"];
+  EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][image]["bufferView"]), tiny_png());
+  const Json& side = out.json["meshes"][0]["primitives"][0];
+  EXPECT_EQ(side["material"], 0);
+  const std::vector<float> rest = floats(out.json, out.bin, side["attributes"]["POSITION"], 3);
+  const std::vector<float> uv = floats(out.json, out.bin, side["attributes"]["TEXCOORD_0"], 2);
+  const std::vector<float> normals = floats(out.json, out.bin, side["attributes"]["NORMAL"], 3);
+  const std::vector<float> colours = floats(out.json, out.bin, side["attributes"]["COLOR_0"], 4);
+  // One vertex array for both primitives: the mesh's vertices in its order, then the corners that
+  // differ (the seam's second copy of each ring's first vertex, the caps' rims with their flat vn).
+  const Mesh mesh = io::read_mesh(dir / "creature.obj");
+  EXPECT_EQ(out.json["meshes"][0]["primitives"][1]["attributes"], side["attributes"]);
+  ASSERT_EQ(rest.size() / 3, mesh.vertex_count() + R + 2 * S);
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(rest[3 * v + c], static_cast<float>(mesh.positions[v][c])) << "vertex order: " << v;
+  const std::vector<std::uint32_t> side_triangles = uints(out.json, out.bin, side["indices"]);
+  const std::set<std::uint32_t> used(side_triangles.begin(), side_triangles.end());
+  EXPECT_EQ(used.size(), static_cast<std::size_t>(R * (S + 1))) << "one vertex a (v, vt, vn) corner: the seam split";
+  // Each side vertex's UV is its corner's (u, 1 - v), its normal the radial vn, its source the v at its place.
+  std::map<std::array<float, 3>, std::uint32_t> by_position;
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+    const Eigen::Vector3f p = mesh.positions[v].cast<float>();
+    by_position[{p.x(), p.y(), p.z()}] = v;
+  }
+  std::set<std::pair<int, int>> seen;
+  double worst_uv = 0;
+  std::vector<std::uint32_t> source(rest.size() / 3);
+  for (std::size_t v = 0; v < source.size(); ++v) {
+    const auto it = by_position.find({rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]});
+    ASSERT_NE(it, by_position.end()) << v;
+    source[v] = it->second;
+    if (!used.count(static_cast<std::uint32_t>(v))) continue;
+    const int i = static_cast<int>(it->second) / S, j = static_cast<int>(it->second) % S;
+    const int jt = j == 0 && uv[2 * v] > 0.5f ? S : j;  // the seam's second copy
+    seen.insert({i, jt});
+    worst_uv = std::max({worst_uv, std::abs(uv[2 * v] - double(jt) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
+    const double th = 2 * std::numbers::pi * j / S;
+    EXPECT_NEAR(normals[3 * v], std::cos(th), 1e-5);
+    EXPECT_NEAR(colours[4 * v], double(i) / (R - 1), 1e-6);
+    EXPECT_NEAR(colours[4 * v + 1], double(j) / S, 1e-6);
+  }
+  EXPECT_EQ(seen.size(), used.size());
+  EXPECT_LT(worst_uv, 1e-6);
+  // The targets: rest + delta at weight 1 is the .pc2's frame at the vertex's source.
+  const std::string pc2 = slurp(dir / "out.pc2");
+  double worst = 0, moved = 0;
+  for (int k = 0; k < 6; ++k) {
+    const std::vector<float> d = floats(out.json, out.bin, side["targets"][k]["POSITION"], 3);
+    int points = 0;
+    const std::vector<float> world = pc2_frame(pc2, k, &points);
+    for (std::size_t v = 0; v < source.size(); ++v)
+      for (int c = 0; c < 3; ++c) {
+        worst = std::max(worst, double(std::abs(rest[3 * v + c] + d[3 * v + c] - world[3 * source[v] + c])));
+        moved = std::max(moved, double(std::abs(d[3 * v + c])));
+      }
+  }
+  std::cout << "obj passthrough: largest move " << moved << ", rest + delta against the .pc2 " << worst << "\n";
+  EXPECT_GT(moved, 0.02);
+  EXPECT_LT(worst, 1e-6);
+  int code = -1;
+  const std::string report = validate(dir / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+}
+
+// Blender imports the OBJ and its .glb alike: the same (position, UV) corners, the same materials
+// and image, and the .glb plays the .pc2. Skipped without Blender.
+TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
+  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed";
+  const fs::path top = scratch_dir("obj-passthrough-blender"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  write_textured_obj(dir);
+  fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/check_passthrough.py";
+  const ToolRun b = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
+                                            quoted(dir / "creature.obj") + " " + quoted(dir / "out.glb") + " " +
+                                            quoted(dir / "out.pc2") + " 10 creature",
+                             io);
+  std::string lines;
+  std::istringstream in(b.out);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("ok", 0) == 0 || line.rfind("FAIL", 0) == 0 || line.rfind("blender check", 0) == 0) lines += line + "\n";
+  }
+  std::cout << lines;
+  EXPECT_EQ(b.code, 0) << b.out << b.err;
+  EXPECT_NE(lines.find("blender check: passed"), std::string::npos) << b.out << b.err;
+}
+
+// FBX (read by assimp, welded by position): the same tube written as FBX by Blender (texture
+// embedded) carries its UVs, normals and materials with the image, and the targets follow the .pc2.
+// Skipped without Blender (which writes the FBX).
+TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
+  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
+  constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
+  const fs::path top = scratch_dir("fbx-passthrough"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  write_textured_obj(dir / "..");
+  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/obj_to_fbx.py";
+  const ToolRun x = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
+                                            quoted(top / "creature.obj") + " " + quoted(dir / "creature.fbx"), io);
+  ASSERT_EQ(x.code, 0) << x.out << x.err;
+  fit_and_bind(dir, io, "creature.fbx", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Glb out = read_glb(dir / "out.glb");
+  ASSERT_TRUE(out.json.contains("materials"));
+  std::size_t skin = 0;
+  for (std::size_t m = 0; m < out.json["materials"].size(); ++m) skin = out.json["materials"][m]["name"] == "Skin" ? m : skin;
+  ASSERT_EQ(out.json["materials"][skin]["name"], "Skin");
+  const std::size_t texture = out.json["materials"][skin]["pbrMetallicRoughness"]["baseColorTexture"]["index"];
+  EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][out.json["textures"][texture]["source"].get<std::size_t>()]["bufferView"]), tiny_png());
+  const Mesh mesh = io::read_mesh(dir / "creature.fbx");
+  std::map<std::array<float, 3>, std::uint32_t> by_position;
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+    const Eigen::Vector3f p = mesh.positions[v].cast<float>();
+    by_position[{p.x(), p.y(), p.z()}] = v;
+  }
+  const std::string pc2 = slurp(dir / "out.pc2");
+  double worst_uv = 0, worst = 0, moved = 0;
+  std::size_t side_vertices = 0;
+  for (const Json& prim : out.json["meshes"][0]["primitives"]) {
+    const std::vector<float> rest = floats(out.json, out.bin, prim["attributes"]["POSITION"], 3);
+    std::vector<std::uint32_t> source;
+    for (std::size_t v = 0; v < rest.size() / 3; ++v) {
+      const auto it = by_position.find({rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]});
+      ASSERT_NE(it, by_position.end());
+      source.push_back(it->second);
+    }
+    for (int k = 0; k < 6; ++k) {
+      const std::vector<float> d = floats(out.json, out.bin, prim["targets"][k]["POSITION"], 3);
+      int points = 0;
+      const std::vector<float> world = pc2_frame(pc2, k, &points);
+      for (std::size_t v = 0; v < source.size(); ++v)
+        for (int c = 0; c < 3; ++c) {
+          worst = std::max(worst, double(std::abs(rest[3 * v + c] + d[3 * v + c] - world[3 * source[v] + c])));
+          moved = std::max(moved, double(std::abs(d[3 * v + c])));
+        }
+    }
+    if (prim["material"] != skin) continue;
+    const std::vector<float> uv = floats(out.json, out.bin, prim["attributes"]["TEXCOORD_0"], 2);
+    const std::vector<std::uint32_t> triangles = uints(out.json, out.bin, prim["indices"]);
+    const std::set<std::uint32_t> used(triangles.begin(), triangles.end());
+    side_vertices = used.size();
+    for (const std::uint32_t v : used) {
+      const double z = rest[3 * v + 2], th = std::atan2(rest[3 * v + 1], rest[3 * v]);
+      const int i = static_cast<int>(std::lround(z * (R - 1)));
+      int j = static_cast<int>(std::lround(th / (2 * std::numbers::pi) * S + S)) % S;
+      if (j == 0 && uv[2 * v] > 0.5f) j = S;  // the seam's second copy
+      worst_uv = std::max({worst_uv, std::abs(uv[2 * v] - double(j) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
+    }
+  }
+  std::cout << "fbx passthrough: " << side_vertices << " side vertices, UV error " << worst_uv << ", largest move "
+            << moved << ", rest + delta against the .pc2 " << worst << "\n";
+  EXPECT_EQ(side_vertices, static_cast<std::size_t>(R * (S + 1)));
+  EXPECT_LT(worst_uv, 1e-5);
+  EXPECT_GT(moved, 0.02);
+  EXPECT_LT(worst, 1e-6);
+  int code = -1;
+  const std::string report = validate(dir / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
+}
+
+// The passthrough .glb is the same bytes on every run and thread count, from a glTF and from an OBJ;
+// an OBJ whose texture is missing is refused (exit 2, naming it) and nothing is written.
+TEST(GltfPassthrough, SameBytesEveryRunAndAnObjsMissingTextureIsRefused) {
+  const TexturedWorkspace ws("gltf-passthrough-determinism");
+  const std::string args = " --scene " + quoted(ws / "scene.json") + " -q ";
+  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, quoted(ws / "rig.json") + args + "-o " + quoted(ws / "a.glb"), ws.io, "OMP_NUM_THREADS=1").code, 0);
+  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, quoted(ws / "rig.json") + args + "-o " + quoted(ws / "b.glb"), ws.io, "OMP_NUM_THREADS=2").code, 0);
+  EXPECT_EQ(slurp(ws / "a.glb"), slurp(ws / "b.glb"));
+  EXPECT_GT(slurp(ws / "a.glb").size(), 10000u);
+
+  const fs::path top = scratch_dir("obj-passthrough-determinism"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  write_textured_obj(dir);
+  fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const std::string obj_args = quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o ";
+  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, obj_args + quoted(dir / "a.glb"), io, "OMP_NUM_THREADS=1").code, 0);
+  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, obj_args + quoted(dir / "b.glb"), io, "OMP_NUM_THREADS=2").code, 0);
+  EXPECT_EQ(slurp(dir / "a.glb"), slurp(dir / "b.glb"));
+  fs::remove(dir / "a.glb");
+  fs::remove(dir / "b.glb");
+  fs::remove(dir / "skin.png");
+  const std::set<std::string> before = listing(dir);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, obj_args + quoted(dir / "c.glb") + " -o " + quoted(dir / "c.pc2"), io);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("skin.png: cannot read material 'Skin''s texture (map_Kd)"), std::string::npos) << r.err;
+  EXPECT_EQ(listing(dir), before);
+}
+
+// Blender's glTF importer (tests/blender/check_passthrough.py): the bake keeps the Tail's UVs,
+// colours, materials and image, and its animation plays the .pc2's frames. Skipped without Blender.
+TEST(GltfPassthrough, BlenderShowsTheAssetAndPlaysTheBake) {
+  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed";
+  const TexturedWorkspace ws("gltf-passthrough-blender");
+  const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/check_passthrough.py";
+  const ToolRun b = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
+                                            quoted(ws / "creature.gltf") + " " + quoted(ws / "out.glb") + " " +
+                                            quoted(ws / "out.pc2") + " 10 Tail",
+                             ws.io);
+  std::string lines;
+  std::istringstream in(b.out);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("ok", 0) == 0 || line.rfind("FAIL", 0) == 0 || line.rfind("blender check", 0) == 0) lines += line + "\n";
+  }
+  std::cout << lines;
+  EXPECT_EQ(b.code, 0) << b.out << b.err;
+  EXPECT_NE(lines.find("blender check: passed"), std::string::npos) << b.out << b.err;
+}
+
+}  // namespace
+}  // namespace sweep::test
