@@ -245,5 +245,17 @@ void BakeWriterBase::finish_into(Publication& outputs) {
   });
 }
 
+void BodyKeys::add(const BodyPose& pose) {
+  Eigen::Quaterniond q = pose.rotation.normalized();
+  if (!rotations.empty()) {
+    const std::size_t at = rotations.size() - 4;
+    const double dot = q.x() * rotations[at] + q.y() * rotations[at + 1] + q.z() * rotations[at + 2] +
+                       q.w() * rotations[at + 3];
+    if (dot < 0) q.coeffs() *= -1;
+  }
+  for (int c = 0; c < 3; ++c) translations.push_back(static_cast<float>(pose.translation[c]));
+  for (const double c : {q.x(), q.y(), q.z(), q.w()}) rotations.push_back(static_cast<float>(c));
+}
+
 }  // namespace detail
 }  // namespace sweep::io

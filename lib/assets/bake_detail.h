@@ -19,6 +19,14 @@ namespace sweep::io::detail {
 // overflow; a simulated vertex this far out has run away, so frame() reports it as diverged.
 constexpr float kMaxBakeCoordinate = 1e30f;
 
+// The body's pose each frame as glTF animation keys: translations (x y z) and rotations (x y z w),
+// each rotation kept on the side of the one before, so that LINEAR (slerp) between two keys takes
+// the short way.
+struct BodyKeys {
+  std::vector<float> translations, rotations;
+  void add(const BodyPose& pose);
+};
+
 // What begin() establishes and frame() checks, the same for every format: the protocol (frames in
 // order, all of them), positions finite and in range, static vertices at rest. A writer derives
 // from it and implements the start/write/complete/abandon hooks; the base closes the writer and

@@ -118,7 +118,7 @@ class GltfWriter final : public detail::BakeWriterBase {
   std::vector<Block> frame_blocks_, normal_blocks_;
   std::vector<Eigen::Vector3f> frame_min_, frame_max_;
   // A moving body: its pose per frame (translation xyz, rotation xyzw), animated on the node.
-  std::vector<float> body_translations_, body_rotations_;
+  detail::BodyKeys body_keys_;  // with a moving body
   Block body_translation_block_, body_rotation_block_;
 };
 
@@ -260,18 +260,7 @@ void GltfWriter::write_frame(int, std::span<const Eigen::Vector3f> positions) {
     return;
   }
   if (info().body_moves) {
-    const BodyPose& b = body_pose();
-    Eigen::Quaterniond q = b.rotation.normalized();
-    // Keep the quaternion on one side from frame to frame, so that LINEAR (slerp) between two
-    // keys takes the short way.
-    if (!body_rotations_.empty()) {
-      const std::size_t at = body_rotations_.size() - 4;
-      const double dot = q.x() * body_rotations_[at] + q.y() * body_rotations_[at + 1] +
-                         q.z() * body_rotations_[at + 2] + q.w() * body_rotations_[at + 3];
-      if (dot < 0) q.coeffs() *= -1;
-    }
-    for (int c = 0; c < 3; ++c) body_translations_.push_back(static_cast<float>(b.translation[c]));
-    for (const double c : {q.x(), q.y(), q.z(), q.w()}) body_rotations_.push_back(static_cast<float>(c));
+    body_keys_.add(body_pose());
   }
   const std::vector<Eigen::Vector3f>& r = rest();
   Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();
@@ -428,8 +417,8 @@ tinygltf::Model GltfWriter::build_model() const {
   node.name = info().name;
   node.mesh = 0;
   if (info().body_moves) {  // frame 0's pose, for a viewer that does not play the animation
-    node.translation = {body_translations_[0], body_translations_[1], body_translations_[2]};
-    node.rotation = {body_rotations_[0], body_rotations_[1], body_rotations_[2], body_rotations_[3]};
+    node.translation = {body_keys_.translations[0], body_keys_.translations[1], body_keys_.translations[2]};
+    node.rotation = {body_keys_.rotations[0], body_keys_.rotations[1], body_keys_.rotations[2], body_keys_.rotations[3]};
   }
   model.nodes.push_back(std::move(node));
   tinygltf::Scene scene;
@@ -480,8 +469,8 @@ void GltfWriter::complete(Publication& outputs) {
   // tinygltf serializes everything but the buffer (it would want the bytes in memory); the one
   // buffer, the GLB's BIN chunk, is added here with its length.
   if (info().body_moves) {
-    body_translation_block_ = append_block(body_translations_.data(), body_translations_.size() * sizeof(float));
-    body_rotation_block_ = append_block(body_rotations_.data(), body_rotations_.size() * sizeof(float));
+    body_translation_block_ = append_block(body_keys_.translations.data(), body_keys_.translations.size() * sizeof(float));
+    body_rotation_block_ = append_block(body_keys_.rotations.data(), body_keys_.rotations.size() * sizeof(float));
   }
   const tinygltf::Model model = build_model();
   std::ostringstream stream;

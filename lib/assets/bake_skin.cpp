@@ -156,7 +156,7 @@ class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
   std::vector<double> bound_length_;
   std::vector<const SweepShape*> shapes_;
   bool posed_ = false;
-  std::vector<float> body_translations_, body_rotations_;
+  detail::BodyKeys body_keys_;  // with a moving body
   SkinError error_;
   double sum_squares_ = 0;
   std::unique_ptr<TempFile> final_;
@@ -291,16 +291,7 @@ void SkinWriter::write_frame(int index, std::span<const Eigen::Vector3f> positio
   }
   posed_ = false;
   if (info().body_moves) {
-    const BodyPose& b = body_pose();
-    Eigen::Quaterniond q = b.rotation.normalized();
-    if (!body_rotations_.empty()) {
-      const std::size_t at = body_rotations_.size() - 4;
-      const double dot = q.x() * body_rotations_[at] + q.y() * body_rotations_[at + 1] +
-                         q.z() * body_rotations_[at + 2] + q.w() * body_rotations_[at + 3];
-      if (dot < 0) q.coeffs() *= -1;
-    }
-    for (int c = 0; c < 3; ++c) body_translations_.push_back(static_cast<float>(b.translation[c]));
-    for (const double c : {q.x(), q.y(), q.z(), q.w()}) body_rotations_.push_back(static_cast<float>(c));
+    body_keys_.add(body_pose());
   }
   // The joints' keys of this frame, and the skinning matrices they give (joint · inverse bind).
   std::vector<Eigen::Matrix4d> skinning(1 + rest_keys_.size(), Eigen::Matrix4d::Identity());
@@ -421,8 +412,8 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
   tinygltf::Node root;
   root.name = info().name + "_root";
   if (info().body_moves) {  // frame 0's pose, for a viewer that does not play the animation
-    root.translation = {body_translations_[0], body_translations_[1], body_translations_[2]};
-    root.rotation = {body_rotations_[0], body_rotations_[1], body_rotations_[2], body_rotations_[3]};
+    root.translation = {body_keys_.translations[0], body_keys_.translations[1], body_keys_.translations[2]};
+    root.rotation = {body_keys_.rotations[0], body_keys_.rotations[1], body_keys_.rotations[2], body_keys_.rotations[3]};
   }
   model.nodes.push_back(root);
   std::size_t joint = 0;
@@ -509,8 +500,8 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
   }
   if (info().body_moves) {
     channel(0, "translation",
-            add_data(body_translations_.data(), frames, 3, kFloat, TINYGLTF_TYPE_VEC3, 0));
-    channel(0, "rotation", add_data(body_rotations_.data(), frames, 4, kFloat, TINYGLTF_TYPE_VEC4, 0));
+            add_data(body_keys_.translations.data(), frames, 3, kFloat, TINYGLTF_TYPE_VEC3, 0));
+    channel(0, "rotation", add_data(body_keys_.rotations.data(), frames, 4, kFloat, TINYGLTF_TYPE_VEC4, 0));
   }
   model.animations.push_back(std::move(animation));
   return model;

@@ -18,8 +18,31 @@ std::uint32_t u32_at(const Bytes& b, std::size_t at) {
   return v;
 }
 
-std::optional<Bytes> base64(std::string_view text) {
-  Bytes out;
+
+// A buffer's bytes: the .glb's binary chunk, a base64 data URI, or a file beside the glTF.
+std::optional<Bytes> buffer_bytes(const Json& buffer, const Bytes& bin,
+                                  const std::filesystem::path& dir) {
+  if (!buffer.is_object()) return std::nullopt;
+  const auto uri = buffer.find("uri");
+  if (uri == buffer.end()) return bin;
+  if (!uri->is_string()) return std::nullopt;
+  const std::string u = uri->get<std::string>();
+  if (u.rfind("data:", 0) == 0) {
+    const std::size_t comma = u.find(";base64,");
+    if (comma == std::string::npos) return std::nullopt;
+    return decode_base64(std::string_view(u).substr(comma + 8));
+  }
+  try {
+    return read_file(dir / u);
+  } catch (const Error&) {
+    return std::nullopt;  // assimp reports a missing buffer itself
+  }
+}
+
+}  // namespace
+
+std::optional<std::string> decode_base64(std::string_view text) {
+  std::string out;
   std::uint32_t acc = 0;
   int bits = 0;
   for (char c : text) {
@@ -40,28 +63,6 @@ std::optional<Bytes> base64(std::string_view text) {
   }
   return out;
 }
-
-// A buffer's bytes: the .glb's binary chunk, a base64 data URI, or a file beside the glTF.
-std::optional<Bytes> buffer_bytes(const Json& buffer, const Bytes& bin,
-                                  const std::filesystem::path& dir) {
-  if (!buffer.is_object()) return std::nullopt;
-  const auto uri = buffer.find("uri");
-  if (uri == buffer.end()) return bin;
-  if (!uri->is_string()) return std::nullopt;
-  const std::string u = uri->get<std::string>();
-  if (u.rfind("data:", 0) == 0) {
-    const std::size_t comma = u.find(";base64,");
-    if (comma == std::string::npos) return std::nullopt;
-    return base64(std::string_view(u).substr(comma + 8));
-  }
-  try {
-    return read_file(dir / u);
-  } catch (const Error&) {
-    return std::nullopt;  // assimp reports a missing buffer itself
-  }
-}
-
-}  // namespace
 
 std::uint64_t gltf_unsigned(const Json& obj, const char* key, std::uint64_t fallback) {
   const auto it = obj.find(key);

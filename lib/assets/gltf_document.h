@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace sweep::io::detail {
@@ -23,6 +24,10 @@ struct GltfDocument {
 // assimp then finds no reader and says nothing useful); anything else malformed is left to the
 // caller (a document that is not an object, accessors that do not fit).
 GltfDocument read_gltf_document(const std::filesystem::path& path);
+
+// The bytes a base64 text stands for (a data URI's payload), or nullopt at a character outside the
+// alphabet; decoding stops at the first '='.
+std::optional<std::string> decode_base64(std::string_view text);
 
 // The element `index` of the top-level array `array` ("accessors", "nodes", ...), or nullptr.
 const nlohmann::json* gltf_element(const nlohmann::json& doc, const char* array, const nlohmann::json& index);

@@ -96,29 +96,6 @@ std::string percent_decoded(const std::string& uri) {
   return out;
 }
 
-std::optional<std::string> base64_bytes(std::string_view text) {
-  std::string out;
-  std::uint32_t acc = 0;
-  int bits = 0;
-  for (char c : text) {
-    int v = -1;
-    if (c >= 'A' && c <= 'Z') v = c - 'A';
-    else if (c >= 'a' && c <= 'z') v = c - 'a' + 26;
-    else if (c >= '0' && c <= '9') v = c - '0' + 52;
-    else if (c == '+') v = 62;
-    else if (c == '/') v = 63;
-    else if (c == '=') break;
-    else return std::nullopt;
-    acc = (acc << 6) | static_cast<std::uint32_t>(v);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back(static_cast<char>((acc >> bits) & 0xffu));
-    }
-  }
-  return out;
-}
-
 // The bytes behind a URI: a base64 data URI (and its media type) or a file beside the glTF.
 struct UriBytes {
   std::optional<std::string> bytes;
@@ -130,7 +107,7 @@ UriBytes uri_bytes(const std::string& uri, const fs::path& dir) {
     const std::size_t comma = uri.find(";base64,");
     if (comma == std::string::npos) return out;
     out.media_type = uri.substr(5, comma - 5);
-    out.bytes = base64_bytes(std::string_view(uri).substr(comma + 8));
+    out.bytes = decode_base64(std::string_view(uri).substr(comma + 8));
     return out;
   }
   try {
