@@ -29,6 +29,7 @@
 
 #include "assets/bake.h"
 #include "assets/bake_detail.h"
+#include "assets/smooth_normals.h"
 #include "assets/gltf_passthrough.h"
 #include "core/error.h"
 
@@ -43,29 +44,6 @@ constexpr std::uint64_t kGlbMaxBytes = std::numeric_limits<std::uint32_t>::max()
 // Upper bound on the JSON a frame adds (two accessors, buffer views, target, name, weight).
 constexpr std::uint64_t kJsonBytesPerFrame = 1024;
 constexpr std::uint64_t kJsonBytesFixed = 8192;
-
-// Smooth normals: area-weighted face normals summed per vertex, in double. A vertex on no face (or
-// only on degenerate ones) gets +Y, so every normal is a unit vector. The rest's and every frame's
-// come from here, so a still vertex's normal delta is zero up to the positions' float rounding.
-template <typename Point>
-std::vector<Eigen::Vector3f> smooth_normals(const std::vector<Point>& positions,
-                                            const std::vector<std::uint32_t>& triangles) {
-  std::vector<Vec3> sum(positions.size(), Vec3::Zero());
-  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-    const Vec3 a = positions[triangles[t]].template cast<double>();
-    const Vec3 b = positions[triangles[t + 1]].template cast<double>();
-    const Vec3 c = positions[triangles[t + 2]].template cast<double>();
-    const Vec3 face = (b - a).cross(c - a);
-    for (int k = 0; k < 3; ++k) sum[triangles[t + k]] += face;
-  }
-  std::vector<Eigen::Vector3f> normals(positions.size());
-  for (std::size_t v = 0; v < positions.size(); ++v) {
-    const double length = sum[v].norm();
-    normals[v] = length > 0 && std::isfinite(length) ? Eigen::Vector3f((sum[v] / length).cast<float>())
-                                                     : Eigen::Vector3f::UnitY();
-  }
-  return normals;
-}
 
 class GltfWriter final : public detail::BakeWriterBase {
  public:
@@ -130,7 +108,9 @@ void GltfWriter::start_passthrough(const Mesh&) {
              " frames are more morph targets than a .glb's weights can index (at most 65,535); "
              "bake to .pc2 or an .obj sequence");
   }
-  const std::uint64_t estimate = 28 + kJsonBytesFixed + std::filesystem::file_size(info().source) +
+  // The input's JSON and its buffers and images (fixed_bytes; a .glb's file size would count them
+  // twice), then the bake's additions.
+  const std::uint64_t estimate = 28 + kJsonBytesFixed + passthrough_->json_bytes() +
                                  passthrough_->fixed_bytes() + 8 * frames +
                                  (kJsonBytesPerFrame * passthrough_->deformed_primitives() +
                                   passthrough_->bytes_per_frame()) * frames;
@@ -214,7 +194,7 @@ void GltfWriter::start(const Mesh& mesh) {
   }
   positions_ = append_block(rest().data(), n * sizeof(Eigen::Vector3f));
 
-  rest_normals_ = smooth_normals(mesh.positions, triangles);
+  rest_normals_ = detail::smooth_normals(mesh.positions, triangles);
   normals_ = append_block(rest_normals_.data(), n * sizeof(Eigen::Vector3f));
   indices_ = append_block(triangles.data(), triangles.size() * sizeof(std::uint32_t));
   if (sparse_) {
@@ -288,7 +268,7 @@ void GltfWriter::write_frame(int, std::span<const Eigen::Vector3f> positions) {
   frame_max_.push_back(hi);
   // The frame's normals, as the rest's were made, less the rest's.
   const std::vector<Eigen::Vector3f> normals =
-      smooth_normals(std::vector<Eigen::Vector3f>(positions.begin(), positions.end()), triangles_);
+      detail::smooth_normals(positions, triangles_);
   if (sparse_) {
     for (std::size_t i = 0; i < normal_targets_.size(); ++i)
       normal_delta_[i] = normals[normal_targets_[i]] - rest_normals_[normal_targets_[i]];

@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "assets/bake_detail.h"
+#include "assets/smooth_normals.h"
 #include "core/error.h"
 
 namespace sweep::io {
@@ -29,23 +30,6 @@ static_assert(std::endian::native == std::endian::little,
               "the .glb writer stores host floats as glTF's little-endian data");
 
 constexpr std::uint64_t kGlbMaxBytes = std::numeric_limits<std::uint32_t>::max();
-
-std::vector<Eigen::Vector3f> smooth_normals(const std::vector<Vec3>& positions,
-                                            const std::vector<std::uint32_t>& triangles) {
-  std::vector<Vec3> sum(positions.size(), Vec3::Zero());
-  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-    const Vec3& a = positions[triangles[t]];
-    const Vec3 face = (positions[triangles[t + 1]] - a).cross(positions[triangles[t + 2]] - a);
-    for (int k = 0; k < 3; ++k) sum[triangles[t + static_cast<std::size_t>(k)]] += face;
-  }
-  std::vector<Eigen::Vector3f> normals(positions.size());
-  for (std::size_t v = 0; v < positions.size(); ++v) {
-    const double length = sum[v].norm();
-    normals[v] = length > 0 && std::isfinite(length) ? Eigen::Vector3f((sum[v] / length).cast<float>())
-                                                     : Eigen::Vector3f::UnitY();
-  }
-  return normals;
-}
 
 // One joint's pose as written: translation, rotation (x, y, z, w), scale.
 struct JointKey {
@@ -189,7 +173,7 @@ void SkinWriter::start(const Mesh& mesh) {
     fail(ErrorCategory::unsupported, out().string() + ": " + std::to_string(m) +
                                          " joints are more than a skin's 16-bit joint indices reach");
   }
-  normals_ = smooth_normals(mesh.positions, triangles_);
+  normals_ = detail::smooth_normals(mesh.positions, triangles_);
   rest_min_ = rest_max_ = rest().front();
   for (const Eigen::Vector3f& p : rest()) {
     rest_min_ = rest_min_.cwiseMin(p);

@@ -8,12 +8,14 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
 #include <string>
 
 #include "assets/gltf_document.h"
+#include "assets/smooth_normals.h"
 #include "assets/obj_gltf.h"
 #include "core/error.h"
 #include "core/text.h"
@@ -174,6 +176,10 @@ struct GltfPassthrough::State {
     std::size_t node = 0;
     Affine parent = Affine::Identity();
     Trs local;
+    std::vector<std::size_t> ancestors;
+    // Below another node that shows a deformed mesh: it follows that node's body motion and gets
+    // no keys of its own (else the body would move it twice).
+    bool follows_parent = false;
     std::vector<float> translations, rotations;
     BinBlock translation_block, rotation_block;
   };
@@ -240,14 +246,18 @@ const Json& array_of(const Json& doc, const char* key) {
 struct Visit {
   std::size_t node;
   Affine parent, world;
+  std::vector<std::size_t> ancestors;  // root first
 };
-void visit(const Json& nodes, std::size_t n, const Affine& parent, std::vector<Visit>& out, int depth) {
-  if (n >= nodes.size() || !nodes[n].is_object() || depth > 1000) return;
+void visit(const Json& nodes, std::size_t n, const Affine& parent, std::vector<Visit>& out,
+           std::vector<std::size_t>& ancestors) {
+  if (n >= nodes.size() || !nodes[n].is_object() || ancestors.size() > 1000) return;
   const Affine world = parent * node_trs(nodes[n]).affine();
-  out.push_back({n, parent, world});
+  out.push_back({n, parent, world, ancestors});
+  ancestors.push_back(n);
   for (const Json& c : array_of(nodes[n], "children")) {
-    if (c.is_number_unsigned()) visit(nodes, c.get<std::size_t>(), world, out, depth + 1);
+    if (c.is_number_unsigned()) visit(nodes, c.get<std::size_t>(), world, out, ancestors);
   }
+  ancestors.pop_back();
 }
 
 void check_compression(const State& s) {
@@ -308,7 +318,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
   const std::size_t scene = gltf_unsigned(json, "scene", 0);
   if (scene < scenes.size()) {
     for (const Json& n : array_of(scenes[scene], "nodes")) {
-      if (n.is_number_unsigned()) visit(nodes, n.get<std::size_t>(), Affine::Identity(), visits, 0);
+      std::vector<std::size_t> ancestors;
+      if (n.is_number_unsigned()) visit(nodes, n.get<std::size_t>(), Affine::Identity(), visits, ancestors);
     }
   }
   std::vector<std::vector<const Visit*>> showing(meshes.size());
@@ -371,6 +382,13 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
                  " show it with different transforms; morph targets would move both copies alike. "
                  "Give each node its own mesh");
       }
+      if (const Json& node = nodes[v->node];
+          node.contains("extensions") && node["extensions"].is_object() &&
+          node["extensions"].contains("EXT_mesh_gpu_instancing")) {
+        s.refuse(what + " moves and " + s.node_name(v->node) +
+                 " draws it many times (EXT_mesh_gpu_instancing); morph targets would move every "
+                 "copy alike (bake to .pc2)");
+      }
       if (nodes[v->node].contains("skin")) {
         s.refuse(what + " moves and is skinned by " + s.node_name(v->node) +
                  "; the .glb bake does not combine its morph targets with a skin (bake to .pc2)");
@@ -379,6 +397,12 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       shown.node = v->node;
       shown.parent = v->parent;
       shown.local = node_trs(nodes[v->node]);
+      shown.ancestors = v->ancestors;
+      if (!shown.local.exact) {
+        s.refuse(what + " moves, and " + s.node_name(v->node) + " shows it by a matrix that is not a "
+                 "translation, rotation and scale; glTF animates (even the morph weights of) a node "
+                 "only by those; bake to .pc2");
+      }
       if (s.body_moves) {
         const Mat3 pl = v->parent.linear();
         const Mat3 gram = pl.transpose() * pl;
@@ -436,26 +460,15 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       }
     }
   }
+  for (State::Shown& shown : s.shown) {
+    for (const State::Shown& other : s.shown) {
+      shown.follows_parent = shown.follows_parent ||
+                             std::find(shown.ancestors.begin(), shown.ancestors.end(), other.node) != shown.ancestors.end();
+    }
+  }
 }
 
 // Smooth normals over the welded triangles, for the welded representatives.
-void smooth_normals(const State& s, std::span<const Eigen::Vector3f> positions, std::vector<Eigen::Vector3f>& out) {
-  std::vector<Vec3> sum(positions.size(), Vec3::Zero());
-  const auto& t = s.welded_triangles;
-  for (std::size_t k = 0; k + 2 < t.size(); k += 3) {
-    const Vec3 a = positions[t[k]].cast<double>(), b = positions[t[k + 1]].cast<double>(),
-               c = positions[t[k + 2]].cast<double>();
-    const Vec3 face = (b - a).cross(c - a);
-    for (int j = 0; j < 3; ++j) sum[t[k + j]] += face;
-  }
-  out.resize(positions.size());
-  for (std::size_t v = 0; v < positions.size(); ++v) {
-    const double length = sum[v].norm();
-    out[v] = length > 0 && std::isfinite(length) ? Eigen::Vector3f((sum[v] / length).cast<float>())
-                                                  : Eigen::Vector3f::UnitY();
-  }
-}
-
 void weld(State& s, const Mesh& rest) {
   std::map<std::array<double, 3>, std::uint32_t> first;
   s.rep.resize(rest.vertex_count());
@@ -500,7 +513,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.animated.assign(rest.vertex_count(), 0);
   for (const std::uint32_t v : animated) s.animated[v] = 1;
   weld(s, rest);
-  smooth_normals(s, s.rest_f, s.rest_normals);
+  s.rest_normals = smooth_normals(s.rest_f, s.welded_triangles);
   // The vertices whose normal can change: on a welded face with a moving vertex.
   std::vector<char> moving_rep(rest.vertex_count(), 0), near(rest.vertex_count(), 0);
   for (const std::uint32_t v : animated) moving_rep[s.rep[v]] = 1;
@@ -534,7 +547,13 @@ std::unique_ptr<GltfPassthrough> GltfPassthrough::open(const fs::path& source, c
     bool surface = false;
     std::istringstream in(text);
     for (std::string line; !surface && std::getline(in, line);) {
-      surface = line.rfind("vt ", 0) == 0 || line.rfind("vn ", 0) == 0 || line.rfind("usemtl ", 0) == 0;
+      std::istringstream words(line);
+      std::string first, word;
+      words >> first;
+      int count = 1;
+      while (count < 7 && words >> word) ++count;
+      // UVs, normals, materials, or a vertex colour (`v x y z r g b`): what obj_as_gltf carries.
+      surface = first == "vt" || first == "vn" || first == "usemtl" || (first == "v" && count >= 7);
     }
     if (!surface) return nullptr;
   }
@@ -554,6 +573,8 @@ std::uint64_t GltfPassthrough::fixed_bytes() const {
   const std::uint64_t f = static_cast<std::uint64_t>(s_->frames);
   return bytes + 12 * f + 28 * f * s_->shown.size();
 }
+
+std::uint64_t GltfPassthrough::json_bytes() const { return s_->doc.json.dump().size(); }
 
 std::uint64_t GltfPassthrough::bytes_per_frame() const {
   std::uint64_t bytes = 0;
@@ -592,21 +613,25 @@ void GltfPassthrough::start(const AppendBin& append) {
 
 void GltfPassthrough::frame(std::span<const Eigen::Vector3f> positions, const BodyPose& body, const AppendBin& append) {
   State& s = *s_;
-  smooth_normals(s, positions, s.frame_normals);
+  s.frame_normals = smooth_normals(positions, s.welded_triangles);
   std::vector<Eigen::Vector3f> d, n, t;
   for (State::Primitive& p : s.primitives) {
     if (!p.deformed || p.same_as >= 0) continue;
     d.assign(p.listed.size(), Eigen::Vector3f::Zero());
     n.assign(p.normals.empty() ? 0 : p.listed.size(), Eigen::Vector3f::Zero());
     t.assign(p.tangents.empty() ? 0 : p.listed.size(), Eigen::Vector3f::Zero());
-    Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();  // unlisted: zeros
+    // The bounds of the deltas the accessor holds: the listed ones, and zero for the vertices the
+    // sparse accessor leaves out (none when every vertex is listed: then zero is no bound).
+    const float inf = std::numeric_limits<float>::infinity();
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(inf), hi = Eigen::Vector3f::Constant(-inf);
+    if (p.listed.size() < p.count) lo = hi = Eigen::Vector3f::Zero();
     for (std::size_t k = 0; k < p.listed.size(); ++k) {
       const std::uint32_t i = p.listed[k], v = p.source[i];
       if (s.animated[v] && positions[v] != s.rest_f[v]) {
         d[k] = (p.to_local * (positions[v].cast<double>() - s.rest_world[v])).cast<float>();
-        lo = lo.cwiseMin(d[k]);
-        hi = hi.cwiseMax(d[k]);
       }
+      lo = lo.cwiseMin(d[k]);
+      hi = hi.cwiseMax(d[k]);
       const Eigen::Vector3f& n0 = s.rest_normals[s.rep[v]];
       const Eigen::Vector3f& n1 = s.frame_normals[s.rep[v]];
       if (n0 == n1) continue;
@@ -635,6 +660,7 @@ void GltfPassthrough::frame(std::span<const Eigen::Vector3f> positions, const Bo
   b.translate(body.translation);
   b.rotate(body.rotation.normalized());
   for (State::Shown& shown : s.shown) {
+    if (shown.follows_parent) continue;
     // L(t) = P⁻¹ · B · P · L: P⁻¹ B P is rigid (P a similarity), so L(t) keeps L's scale.
     const Affine m = shown.parent.inverse() * b * shown.parent;
     Eigen::JacobiSVD<Mat3> svd(m.linear(), Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -656,6 +682,7 @@ Json GltfPassthrough::finish(const AppendBin& append) {
   State& s = *s_;
   for (State::Shown& shown : s.shown) {
     if (!s.body_moves) break;
+    if (shown.follows_parent) continue;
     shown.translation_block = s.put(append, shown.translations.data(), shown.translations.size() * 4);
     shown.rotation_block = s.put(append, shown.rotations.data(), shown.rotations.size() * 4);
   }
@@ -736,14 +763,16 @@ Json GltfPassthrough::finish(const AppendBin& append) {
                     {"channels", Json::array()}};
   for (const State::Shown& shown : s.shown) {
     animation["channels"].push_back({{"sampler", 0}, {"target", {{"node", shown.node}, {"path", "weights"}}}});
-    if (!s.body_moves) continue;
+    // An animated node (its weights too) may not have a matrix: given as translation, rotation
+    // and scale (exact, or refused in map_primitives).
     Json& node = json["nodes"][shown.node];
-    if (shown.local.from_matrix) {  // an animated node is given by translation, rotation and scale
+    if (shown.local.from_matrix) {
       node.erase("matrix");
       node["translation"] = {shown.local.t.x(), shown.local.t.y(), shown.local.t.z()};
       node["rotation"] = {shown.local.r.x(), shown.local.r.y(), shown.local.r.z(), shown.local.r.w()};
       node["scale"] = {shown.local.s.x(), shown.local.s.y(), shown.local.s.z()};
     }
+    if (!s.body_moves || shown.follows_parent) continue;
     const std::size_t tr = add_accessor({{"bufferView", add_view(shown.translation_block)}, {"componentType", kFloat},
                                          {"count", frames}, {"type", "VEC3"}});
     const std::size_t rot = add_accessor({{"bufferView", add_view(shown.rotation_block)}, {"componentType", kFloat},

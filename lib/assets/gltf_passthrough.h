@@ -75,6 +75,8 @@ class GltfPassthrough {
 
   // The BIN chunk's size before the frames and what each frame adds (for the size estimate).
   std::uint64_t fixed_bytes() const;
+  // The input document's JSON text, as it will be written before the bake's additions.
+  std::uint64_t json_bytes() const;
   std::uint64_t bytes_per_frame() const;
   // Deformed primitives (JSON added per frame: three accessors and views each).
   std::size_t deformed_primitives() const;

@@ -11,6 +11,7 @@
 #include <string>
 #include <tuple>
 
+#include "assets/smooth_normals.h"
 #include "core/error.h"
 #include "core/text.h"
 #include "io/read_file.h"
@@ -229,6 +230,10 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
     any_normal = any_normal || !prim.normal.empty();
     any_colour = any_colour || !prim.colour.empty();
   }
+  // A primitive without normals beside one with them shares its NORMAL accessor: its corners take
+  // the mesh's smooth normal (what a viewer would light it by without one), not a constant.
+  std::vector<Eigen::Vector3f> smooth;
+  if (any_normal) smooth = smooth_normals(rest.positions, rest.triangles());
   using Attributes = std::array<float, 9>;  // u, v, nx, ny, nz, r, g, b, a
   const std::size_t n = rest.vertex_count();
   std::vector<Attributes> attributes(n, Attributes{0, 0, 0, 1, 0, 1, 1, 1, 1});
@@ -242,9 +247,13 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
     for (std::size_t i = 0; i < prim.source.size(); ++i) {
       Attributes a{0, 0, 0, 1, 0, 1, 1, 1, 1};
       if (!prim.uv.empty()) std::copy_n(&prim.uv[2 * i], 2, a.begin());
-      if (!prim.normal.empty()) std::copy_n(&prim.normal[3 * i], 3, a.begin() + 2);
-      if (!prim.colour.empty()) std::copy_n(&prim.colour[4 * i], 4, a.begin() + 5);
       const std::uint32_t v = prim.source[i];
+      if (!prim.normal.empty()) {
+        std::copy_n(&prim.normal[3 * i], 3, a.begin() + 2);
+      } else if (any_normal) {
+        std::copy_n(smooth[v].data(), 3, a.begin() + 2);
+      }
+      if (!prim.colour.empty()) std::copy_n(&prim.colour[4 * i], 4, a.begin() + 5);
       if (!assigned[v]) {
         assigned[v] = 1;
         attributes[v] = a;

@@ -588,6 +588,66 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
 
 // Blender imports the OBJ and its .glb alike: the same (position, UV) corners, the same materials
 // and image, and the .glb plays the .pc2. Skipped without Blender.
+// An OBJ whose only extra is a vertex colour (`v x y z r g b`, plain `f` lines) is carried too
+// (the passthrough used to look only for vt, vn and usemtl, and dropped the colours); and every
+// POSITION target declares the bounds of its own values, the unlisted vertices' zeros included.
+TEST(ObjPassthrough, VertexColoursAloneAreCarriedAndEveryTargetDeclaresItsBounds) {
+  constexpr int R = 17, S = 12;
+  const fs::path top = scratch_dir("obj-colours"), dir = top / "work", io = top / "io";
+  fs::create_directories(dir);
+  fs::create_directories(io);
+  std::string obj;
+  auto num = [](double x) { return std::to_string(x); };
+  std::vector<std::array<double, 3>> colours;
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j < S; ++j) {
+      const double th = 2 * std::numbers::pi * j / S;
+      colours.push_back({double(i) / (R - 1), double(j) / S, 0.25});
+      obj += "v " + num(0.1 * std::cos(th)) + " " + num(0.1 * std::sin(th)) + " " + num(double(i) / (R - 1)) + " " +
+             num(colours.back()[0]) + " " + num(colours.back()[1]) + " " + num(colours.back()[2]) + "\n";
+    }
+  obj += "v 0 0 0 0 0 0\nv 0 0 1 1 1 1\n";
+  colours.push_back({0, 0, 0});
+  colours.push_back({1, 1, 1});
+  auto id = [&](int i, int j) { return std::to_string(i * S + j % S + 1); };
+  for (int i = 0; i + 1 < R; ++i)
+    for (int j = 0; j < S; ++j) obj += "f " + id(i, j) + " " + id(i, j + 1) + " " + id(i + 1, j + 1) + " " + id(i + 1, j) + "\n";
+  for (int j = 0; j < S; ++j) {
+    obj += "f " + std::to_string(R * S + 1) + " " + id(0, j + 1) + " " + id(0, j) + "\n";
+    obj += "f " + std::to_string(R * S + 2) + " " + id(R - 1, j) + " " + id(R - 1, j + 1) + "\n";
+  }
+  spit(dir / "colours.obj", obj);
+  fit_and_bind(dir, io, "colours.obj", " -k 6 -n 8");
+  spit(dir / "scene.json", kTexturedScene);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") +
+                                                " -q -o " + quoted(dir / "out.glb"), io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Glb out = read_glb(dir / "out.glb");
+  const Json& primitive = out.json["meshes"][0]["primitives"][0];
+  ASSERT_TRUE(primitive["attributes"].contains("COLOR_0")) << primitive.dump();
+  const std::vector<float> colour = floats(out.json, out.bin, primitive["attributes"]["COLOR_0"], 4);
+  ASSERT_EQ(colour.size(), 4 * colours.size());  // no seams: one glTF vertex an OBJ vertex
+  for (std::size_t v = 0; v < colours.size(); ++v)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(colour[4 * v + c], colours[v][c], 1e-6) << v;
+  ASSERT_TRUE(primitive.contains("targets"));
+  for (const Json& target : primitive["targets"]) {
+    const std::size_t accessor = target["POSITION"];
+    const std::vector<float> d = floats(out.json, out.bin, accessor, 3);
+    for (int c = 0; c < 3; ++c) {
+      float lo = d[c], hi = d[c];
+      for (std::size_t v = 0; v < d.size() / 3; ++v) {
+        lo = std::min(lo, d[3 * v + c]);
+        hi = std::max(hi, d[3 * v + c]);
+      }
+      EXPECT_EQ(out.json["accessors"][accessor]["min"][c].get<float>(), lo) << accessor;
+      EXPECT_EQ(out.json["accessors"][accessor]["max"][c].get<float>(), hi) << accessor;
+    }
+  }
+  int code = 0;
+  const std::string report = validate(dir / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+}
+
 TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
   if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed";
   const fs::path top = scratch_dir("obj-passthrough-blender"), dir = top / "work", io = top / "io";
