@@ -13,7 +13,10 @@ jobs=${SWEEP_JOBS:-$(nproc)}
 # Leak checking stays on (the default on Linux); halt at the first UBSan report with a stack.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
-exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric'
+# (BodyProxy.ATailKicked… simulates the diplodocus's tail at 24 and 144 fps against the body's
+# spheres: 8 s optimised, over 15 minutes unoptimised under ASan; the contact and sphere code it
+# runs is sanitized by the Contact.* and the other BodyProxy.* tests.)
+exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody'
 filter=(-E "$exclude")
 if [ "${1:-}" = "--all" ]; then
   filter=()
