@@ -50,9 +50,11 @@ VertexAdjacency vertex_adjacency(const Mesh& mesh);
 // so a part that curls back behind its root plane stays whole while the body, reached from the
 // part only through the root section, stays out. Throws Error(bad_input) when the tip's nearest
 // vertex lies behind the plane inside the disc.
-// `within`, when given, bounds the walk geometrically too: a vertex whose position it rejects is
-// neither part nor walked through (select_sweep_part: near the sweep; a part that touches another
-// surface mid-length, a trunk against a tusk, must not flood through the contact into the head).
+// `within`, when given, bounds the walk geometrically too (select_sweep_part: near the sweep; a
+// part that touches another surface mid-length, a trunk against a tusk, must not flood through the
+// contact into the head). Each region beyond the bound is then judged: a bridge (it reaches behind
+// the root plane, or grows past a quarter of the part) stays out; a protrusion (a claw, a spike)
+// joins the part.
 using PartBound = std::function<bool(const Vec3&)>;
 std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
                                        const Frame& root_plane, double root_radius,
