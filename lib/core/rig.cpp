@@ -44,10 +44,15 @@ double tip_disc_radius(const SweepShape& rest) { return disc_radius(rest, rest.s
 std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
                                              const SweepShape& rest, const PartSeeds& seeds) {
   const SweepLocator locator(rest);
-  const PartBound near_sweep = [&](const Vec3& p) {
+  PartBound near_sweep;
+  near_sweep.within = [&](const Vec3& p) {
     const SweepCoords c = locator.locate(p);
     if (c.z > 0) return true;  // past the tip section
     return c.s <= kPartReachRadii && -c.z <= kPartReachRadii * radius_at(rest, c.theta, c.t);
+  };
+  near_sweep.protrusion_reach = [&](const Vec3& p) {
+    const SweepCoords c = locator.locate(p);
+    return kProtrusionReachRadii * radius_at(rest, c.theta, c.t);
   };
   if (seeds.tip_cut) {
     return select_part_between(mesh, topology, rest.frames.front(), root_disc_radius(rest),

@@ -80,6 +80,11 @@ double tip_disc_radius(const SweepShape& rest);
 // surface of a part that touches another mid-length (a trunk against a tusk) then stops a few
 // radii into the other instead of flooding through it into the body.
 inline constexpr double kPartReachRadii = 1.5;
+// What lies beyond that bound is the part's own protrusion (a claw, a spike, a fin: carried along,
+// not measured) when it stays within kProtrusionReachRadii local radii of where it leaves the
+// bound; a region that reaches farther (a tusk into the head, a hand the arm lies against, a
+// shoulder) is something else the part touches, and stays out.
+inline constexpr double kProtrusionReachRadii = 3;
 std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
                                              const SweepShape& rest, const PartSeeds& seeds);
 

@@ -148,23 +148,26 @@ struct Disc {
 // Where `within` stopped the flood, what lies beyond is either a bridge to the body (a trunk
 // against a tusk that leads into the head) or the part's own protrusion (a spike, a fin, a toe):
 // each region beyond, walked without the bound (never through a disc), is a bridge when it
-// reaches behind the root plane, grows larger than a quarter of the part (a root plane tilted
-// across the body leaves some of it in front) or meets a bridge found before; otherwise it joins
-// the part, carried along as the feet past the tip section are.
+// reaches behind the root plane, reaches farther from where it left the bound than the bound's
+// protrusion_reach there (a root plane tilted across the body leaves some of it in front: the body
+// is far bigger than any protrusion) or meets a bridge found before; otherwise it joins the part,
+// carried along as the feet past the tip section are.
 void keep_protrusions(const Topology& topology, const Disc& root, const Disc* tip,
                       const PartBound& within, const std::vector<std::uint32_t>& bounded,
                       std::vector<char>& seen) {
   constexpr char kPart = 1, kBridge = 2, kRegion = 3;
-  const auto part_size = static_cast<std::size_t>(std::count(seen.begin(), seen.end(), kPart));
+  const std::vector<Vec3>& positions = root.mesh.positions;
   std::vector<std::uint32_t> region, stack;
   for (const std::uint32_t v : bounded) {
     for (const std::uint32_t start : topology.adjacency.of(v)) {
       if (seen[start] || root.crossed_by(v, start) || (tip && tip->crossed_by(v, start))) continue;
-      if (within(root.mesh.positions[start])) continue;  // (reached some other way since)
+      if (within.within(positions[start])) continue;  // (reached some other way since)
+      const double reach = within.protrusion_reach(positions[v]);
+      const Vec3 left_at = positions[v];
       region.assign(1, start);
       stack.assign(1, start);
       seen[start] = kRegion;
-      bool bridge = root.height(start) < 0;
+      bool bridge = root.height(start) < 0 || (positions[start] - left_at).norm() > reach;
       while (!stack.empty() && !bridge) {
         const std::uint32_t a = stack.back();
         stack.pop_back();
@@ -174,7 +177,7 @@ void keep_protrusions(const Topology& topology, const Disc& root, const Disc* ti
           seen[b] = kRegion;
           region.push_back(b);
           stack.push_back(b);
-          if (root.height(b) < 0 || 4 * region.size() > part_size) bridge = true;
+          if (root.height(b) < 0 || (positions[b] - left_at).norm() > reach) bridge = true;
         }
       }
       for (const std::uint32_t r : region) seen[r] = bridge ? kBridge : kPart;
@@ -207,7 +210,7 @@ std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology
         continue;
       }
       if (tip && tip->crossed_by(v, w)) continue;
-      if (within && !within(mesh.positions[w])) {
+      if (within && !within.within(mesh.positions[w])) {
         bounded.push_back(v);
         continue;
       }

@@ -53,9 +53,16 @@ VertexAdjacency vertex_adjacency(const Mesh& mesh);
 // `within`, when given, bounds the walk geometrically too (select_sweep_part: near the sweep; a
 // part that touches another surface mid-length, a trunk against a tusk, must not flood through the
 // contact into the head). Each region beyond the bound is then judged: a bridge (it reaches behind
-// the root plane, or grows past a quarter of the part) stays out; a protrusion (a claw, a spike)
-// joins the part.
-using PartBound = std::function<bool(const Vec3&)>;
+// the root plane, or farther than `protrusion_reach` from where it leaves the bound) stays out; a
+// protrusion (a claw, a spike, a fin) joins the part.
+struct PartBound {
+  std::function<bool(const Vec3&)> within;
+  // How far (mesh units) a region that leaves the bound at a point may reach from there and still
+  // be the part's own protrusion. A length, not a share of the part's vertices: a quarter of a
+  // big part is a limb, and a count depends on how finely the mesh is cut.
+  std::function<double(const Vec3&)> protrusion_reach;
+  explicit operator bool() const { return static_cast<bool>(within); }
+};
 std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
                                        const Frame& root_plane, double root_radius,
                                        const Vec3& tip, const PartBound& within = {});

@@ -458,15 +458,16 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   auto build = [&](int k) {
     r.star_violations.clear();
     r.sweep.rest = sections_along(impl_->slicer, cut, k, o.radial, &r.star_violations, &r.warnings);
-    const std::vector<double>& radii = r.sweep.rest.radii;
-    r.mean_radius = 0;
-    for (const double x : radii) r.mean_radius += x;
-    r.mean_radius /= static_cast<double>(radii.size());
     r.length = r.sweep.rest.length();
     const PartSeeds seeds{Vec3::Zero(), mesh.positions[r.tip_vertex], r.tip_cut};
     r.part_vertices = select_sweep_part(mesh, topo, r.sweep.rest, seeds);
     // The radii that best match the part's vertices (the slices run through facets' chords).
     fit_radii(r.sweep.rest, mesh, r.part_vertices);
+    // The limits below are relative to the radii the rig keeps, not to the slices'.
+    const std::vector<double>& radii = r.sweep.rest.radii;
+    r.mean_radius = 0;
+    for (const double x : radii) r.mean_radius += x;
+    r.mean_radius /= static_cast<double>(radii.size());
     // The part again, as sweep-bind will select it: its bound near the sweep reads the radii.
     r.part_vertices = select_sweep_part(mesh, topo, r.sweep.rest, seeds);
     if (o.measure_error || o.tolerance > 0) {

@@ -136,7 +136,9 @@ TEST(Part, FloodStopsAtTheRootPlaneAndLeavesLegsOut) {
 
 // A bound on the walk (select_sweep_part's: near the sweep) stops it where the part touches
 // another surface, and what lies beyond the bound is judged: a bridge that leads behind the root
-// (a tusk into the head) stays out, a protrusion that leads nowhere (a spike) stays in.
+// (a tusk into the head) stays out, and so does a limb that reaches farther than the protrusion
+// reach (however few its vertices: the rule is a length, not a count); a protrusion that leads
+// nowhere near (a spike) stays in.
 TEST(Part, ABoundStopsTheFloodAtABridgeButKeepsAProtrusion) {
   Mesh m;
   for (int i = 0; i < 10; ++i) m.positions.emplace_back(i, 0, 0);  // a_i = i
@@ -145,6 +147,8 @@ TEST(Part, ABoundStopsTheFloodAtABridgeButKeepsAProtrusion) {
   m.positions.insert(m.positions.end(), {{5, -1, 0}, {5, -2, 0}, {5, -3, 0}, {0, -3, 0}});
   const std::uint32_t d0 = 24, d1 = 25, d2 = 26;  // the spike, out from a_7
   m.positions.insert(m.positions.end(), {{7, -1, 0}, {7, -2, 0}, {7, -3, 0}});
+  const std::uint32_t e0 = 27, e1 = 28, e2 = 29;  // the limb, out from a_9: two long triangles
+  m.positions.insert(m.positions.end(), {{9, -1, 0}, {9, -2, 0}, {9, -6, 0}});
   for (std::uint32_t i = 0; i < 9; ++i) {
     m.add_face({i, i + 1, 10 + i});
     m.add_face({i + 1, 11 + i, 10 + i});
@@ -156,18 +160,26 @@ TEST(Part, ABoundStopsTheFloodAtABridgeButKeepsAProtrusion) {
   m.add_face({7, d0, 8});
   m.add_face({d0, d1, 8});
   m.add_face({d1, d2, d0});
+  m.add_face({8, e0, 9});
+  m.add_face({e0, e1, 8});
+  m.add_face({e1, e2, e0});
   const Topology topology = build_topology(m);
   Frame root;
   root.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitX());
   root.center = {1.5, 0.5, 0};
-  const PartBound near_strip = [](const Vec3& p) { return p.y() >= -1.5; };
+  PartBound near_strip;
+  near_strip.within = [](const Vec3& p) { return p.y() >= -1.5; };
+  near_strip.protrusion_reach = [](const Vec3&) { return 3.5; };
   std::vector<std::uint32_t> expected;
   for (std::uint32_t i = 2; i < 10; ++i) expected.insert(expected.end(), {i, 10 + i});
-  expected.insert(expected.end(), {c0, d0, d1, d2});
+  expected.insert(expected.end(), {c0, d0, d1, d2, e0});
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}, near_strip), expected);
   // Unbounded, the walk takes the bridge as well, to the vertex behind the root.
-  EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}).size(), expected.size() + 3);
+  EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}).size(), expected.size() + 5);
+  // A reach past the limb's end keeps the limb as well.
+  near_strip.protrusion_reach = [](const Vec3&) { return 7.0; };
+  EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}, near_strip).size(), expected.size() + 2);
 }
 
 // A strip that goes on past the tip (the a/b strip above, longer: a_i = i, b_i = 10 + i, i = 0..9):
