@@ -1,6 +1,7 @@
 #include "core/rig.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/locate.h"
 
@@ -53,6 +54,10 @@ std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& t
   near_sweep.protrusion_reach = [&](const Vec3& p) {
     const SweepCoords c = locator.locate(p);
     return kProtrusionReachRadii * radius_at(rest, c.theta, c.t);
+  };
+  near_sweep.on_surface = [&](const Vec3& p) {
+    const SweepCoords c = locator.locate(p);
+    return c.z != 0 || std::abs(c.s - 1) <= kBridgeFootRadii;
   };
   if (seeds.tip_cut) {
     return select_part_between(mesh, topology, rest.frames.front(), root_disc_radius(rest),

@@ -85,6 +85,11 @@ inline constexpr double kPartReachRadii = 1.5;
 // bound; a region that reaches farther (a tusk into the head, a hand the arm lies against, a
 // shoulder) is something else the part touches, and stays out.
 inline constexpr double kProtrusionReachRadii = 3;
+// Where such a bridge is fused to the part (a tusk against the trunk, along a seam), its foot
+// lies inside the bound: part vertices farther than kBridgeFootRadii local radii off the sweep's
+// surface, reached from a bridge through such vertices, go with the bridge. (Only from a bridge:
+// a part the sweep misses elsewhere must still show in the fit error, not be cut away.)
+inline constexpr double kBridgeFootRadii = 0.25;
 std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
                                              const SweepShape& rest, const PartSeeds& seeds);
 

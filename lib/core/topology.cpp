@@ -183,6 +183,24 @@ void keep_protrusions(const Topology& topology, const Disc& root, const Disc* ti
       for (const std::uint32_t r : region) seen[r] = bridge ? kBridge : kPart;
     }
   }
+  // A bridge's foot inside the bound (where a tusk is fused to the trunk it lies against) is not
+  // the part's surface either: from each bridge, part vertices off the sweep's surface, reached
+  // through such vertices, go with it.
+  if (within.on_surface) {
+    stack.clear();
+    for (std::uint32_t v = 0; v < seen.size(); ++v) {
+      if (seen[v] == kBridge) stack.push_back(v);
+    }
+    while (!stack.empty()) {
+      const std::uint32_t a = stack.back();
+      stack.pop_back();
+      for (const std::uint32_t b : topology.adjacency.of(a)) {
+        if (seen[b] != kPart || within.on_surface(positions[b])) continue;
+        seen[b] = kBridge;
+        stack.push_back(b);
+      }
+    }
+  }
   for (char& x : seen) x = x == kPart ? 1 : 0;
 }
 

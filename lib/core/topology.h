@@ -53,14 +53,20 @@ VertexAdjacency vertex_adjacency(const Mesh& mesh);
 // `within`, when given, bounds the walk geometrically too (select_sweep_part: near the sweep; a
 // part that touches another surface mid-length, a trunk against a tusk, must not flood through the
 // contact into the head). Each region beyond the bound is then judged: a bridge (it reaches behind
-// the root plane, or farther than `protrusion_reach` from where it leaves the bound) stays out; a
-// protrusion (a claw, a spike, a fin) joins the part.
+// the root plane, or farther than `protrusion_reach` from where it leaves the bound) stays out,
+// with its foot inside the bound where `on_surface` is given; a protrusion (a claw, a spike, a
+// fin) joins the part.
 struct PartBound {
   std::function<bool(const Vec3&)> within;
   // How far (mesh units) a region that leaves the bound at a point may reach from there and still
   // be the part's own protrusion. A length, not a share of the part's vertices: a quarter of a
   // big part is a limb, and a count depends on how finely the mesh is cut.
   std::function<double(const Vec3&)> protrusion_reach;
+  // Optional: whether a point inside the bound lies on the part's own surface. A bridge's foot —
+  // part vertices off that surface reached from a bridge through such vertices — goes with the
+  // bridge (a tusk fused to the trunk along a seam: without this its stretch inside the bound
+  // stays in the part, and no sweep of the trunk fits it).
+  std::function<bool(const Vec3&)> on_surface;
   explicit operator bool() const { return static_cast<bool>(within); }
 };
 std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
