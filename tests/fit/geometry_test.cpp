@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 
 #include "core/error.h"
@@ -137,8 +138,9 @@ TEST(Part, FloodStopsAtTheRootPlaneAndLeavesLegsOut) {
 // A bound on the walk (select_sweep_part's: near the sweep) stops it where the part touches
 // another surface, and what lies beyond the bound is judged: a bridge that leads behind the root
 // (a tusk into the head) stays out, and so does a limb that reaches farther than the protrusion
-// reach (however few its vertices: the rule is a length, not a count); a protrusion that leads
-// nowhere near (a spike) stays in.
+// reach (however few its vertices: the rule is a length, not a count), each with its foot inside
+// the bound where that is off the part's surface; a protrusion that leads nowhere near (a spike)
+// stays in.
 TEST(Part, ABoundStopsTheFloodAtABridgeButKeepsAProtrusion) {
   Mesh m;
   for (int i = 0; i < 10; ++i) m.positions.emplace_back(i, 0, 0);  // a_i = i
@@ -177,6 +179,14 @@ TEST(Part, ABoundStopsTheFloodAtABridgeButKeepsAProtrusion) {
   EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}, near_strip), expected);
   // Unbounded, the walk takes the bridge as well, to the vertex behind the root.
   EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}).size(), expected.size() + 5);
+  // A bridge's foot inside the bound, off the part's surface (the strip, y in [0, 1]), goes with
+  // it: c0 under the bridge and e0 under the limb; d0 under the spike stays, a protrusion's.
+  near_strip.on_surface = [](const Vec3& p) { return p.y() >= -0.5; };
+  std::vector<std::uint32_t> without_feet;
+  std::copy_if(expected.begin(), expected.end(), std::back_inserter(without_feet),
+               [&](std::uint32_t v) { return v != c0 && v != e0; });
+  EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}, near_strip), without_feet);
+  near_strip.on_surface = nullptr;
   // A reach past the limb's end keeps the limb as well.
   near_strip.protrusion_reach = [](const Vec3&) { return 7.0; };
   EXPECT_EQ(select_part(m, topology, root, 1.0, {9, 0.5, 0}, near_strip).size(), expected.size() + 2);
