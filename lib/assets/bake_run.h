@@ -47,7 +47,7 @@ struct BakeOptions {
   // With joints: the ring joints at each station (1: none) and how they are keyed (skin_fit.h).
   int ring_joints = 1;
   io::RingMotion ring_motion = io::RingMotion::scale;
-  bool ring_fit = true;
+  bool ring_fit = false;
   // Told what a person should know before a long bake (a .glb too large for engines to load).
   std::function<void(const std::string&)> warn;
 };

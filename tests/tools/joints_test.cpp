@@ -73,13 +73,14 @@ TEST(Joints, BadJointCountsExitOneAndWriteNothing) {
 }
 
 // --joints alone: the default stations and ring (bake_skin.h: kDefaultSkinJoints, kDefaultRingJoints),
-// wherever it stands among the arguments; the ring's joints carry the tube's squeeze better than
+// last or before another option (followed by the rig, it would take the rig's path for its number);
+// the ring's joints carry the tube's squeeze better than
 // one joint a station does.
 TEST(Joints, JointsAloneTakesTheDefaultsWhichBeatSectionJoints) {
   const Workspace ws("joints-default");
   const std::string scene = " -s " + quoted(ws / "scene.json");
   for (const std::string& order : {quoted(ws / "rig.json") + scene + " --joints -o " + quoted(ws / "d.glb"),
-                                   std::string("--joints ") + quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb"),
+                                   std::string("--joints -q ") + quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb"),
                                    quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb") + " --joints"}) {
     const ToolRun r = run_tool(SWEEP_SIM_EXE, order + " -q --report " + quoted(ws / "d.json"), ws.io);
     ASSERT_EQ(r.code, 0) << order << ": " << r.err;

@@ -54,6 +54,7 @@ struct Settings {
   int joints = 0;                      // --joints: skinned .glb with this many joints a sweep; 0 = morph targets
   bool joints_given = false;
   int ring_joints = sweep::io::kDefaultRingJoints;  // --ring-joints: ring joints a station (1: none)
+  bool ring_fit = false;                            // --ring-fit: least-squares ring keys
 };
 
 double since(Clock::time_point start) {
@@ -112,6 +113,7 @@ std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, doub
     // The skinned .glb against the bake's positions, as fractions of the part's length.
     doc["joints_per_sweep"] = s.joints;
     doc["ring_joints"] = s.ring_joints;
+    doc["ring_fit"] = s.ring_fit;
     doc["skin_joints"] = r.skin_joints;
     doc["skin_error_max_relative"] = r.skin_error.max_relative;
     doc["skin_error_rms_relative"] = r.skin_error.rms_relative;
@@ -197,6 +199,7 @@ int run(const Settings& s) {
   options.stations_per_span = s.stations;
   options.joints = s.joints_given ? s.joints : 0;
   options.ring_joints = s.ring_joints;
+  options.ring_fit = s.ring_fit;
   options.sleep.enabled = s.sleep;
   sweep::tools::ProgressBar bar("baking");
   if (!s.quiet) options.progress = [&](int done, int total) { bar.update(done, total); };
@@ -311,16 +314,19 @@ int main(int argc, char** argv) {
                            "--joints", s.joints,
                            "Write each .glb as a skinned mesh instead of morph targets: N joints along "
                            "each sweep (2 to 255, at most the sweep's stations; alone: " +
-                               std::to_string(sweep::io::kDefaultSkinJoints) + ", with --ring-joints " +
+                               std::to_string(sweep::io::kDefaultSkinJoints) + " and --ring-joints " +
                                std::to_string(sweep::io::kDefaultRingJoints) +
-                               ", within 1 % of the length on the demo scene); the summary and report "
-                               "give its error against the bake")
+                               "); the summary and report give its error against the bake")
                        ->expected(0, 1)
                        ->default_str(std::to_string(sweep::io::kDefaultSkinJoints));
     app.add_option("--ring-joints", s.ring_joints,
                    "With --joints: M joints around each station but the root, carrying the radial "
                    "change at their angles (1 to 64; 1: none, each station joint scales its whole "
                    "section; default " + std::to_string(sweep::io::kDefaultRingJoints) + ")")
+        ->needs(joints);
+    app.add_flag("--ring-fit", s.ring_fit,
+                 "With --joints: fit the ring joints' keys by least squares over the vertices they "
+                 "weigh (less error; every ring joint is keyed, a larger file)")
         ->needs(joints);
     app.add_flag("--exact", s.exact,
                  "Deform with the exact per-vertex path (the reference; slower)");
