@@ -5,12 +5,13 @@
 # For each N×M (N joints along a sweep, M around each station but the root; M = 1: none): the skin's largest and RMS error over every bound vertex of every frame (% of the
 # part's length, from sweep-sim's report), the file's size and the bake's write time (median of 3
 # runs, from the report's seconds.write), beside the morph-target bake's size and write time.
-# Writes tools/bench/results/skin_joints.md.   tools/bench/skin-joints.sh [build/release/tools] [NxM ...]
+# A layout NxMfit adds --ring-fit (the ring joints' keys by least squares).
+# Writes tools/bench/results/skin_joints.md.   tools/bench/skin-joints.sh [build/release/tools] [NxM[fit] ...]
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 bin=${1:-$here/build/release/tools}
 shift || true
-layouts=${*:-4x1 8x1 16x1 4x4 8x4 16x4 4x8 8x8 16x8 4x12 8x12 16x12}
+layouts=${*:-4x1 8x1 16x1 24x1 4x4 8x4 16x4 4x8 8x8 16x8 24x8 8x12 16x12 24x12 8x24 16x24 24x24 8x8fit 24x24fit}
 mesh=$here/meshes/cgal/diplodocus.off
 [ -f "$mesh" ] || { echo "error: $mesh is missing (tools/setup-deps.sh)"; exit 2; }
 work=$(mktemp -d)
@@ -44,9 +45,11 @@ read -r morph_bytes morph_ms _ _ frames < <(bake morph.glb)
   for layout in $layouts; do
     n=${layout%x*}
     m=${layout#*x}
-    read -r bytes ms max rms _ < <(bake "skin$layout.glb" --joints "$n" --ring-joints "$m")
+    fit=()
+    if [ "${m%fit}" != "$m" ]; then m=${m%fit}; fit=(--ring-fit); fi
+    read -r bytes ms max rms _ < <(bake "skin$layout.glb" --joints "$n" --ring-joints "$m" "${fit[@]}")
     joints=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["skin_joints"])' "$work/r.json")
-    echo "| $n × $m | $joints | $max | $rms | $bytes | 1/$(awk "BEGIN { printf \"%.1f\", $morph_bytes / $bytes }") | $(printf '%.1f' "$ms") ms |"
+    echo "| $n × $m${fit:+ (--ring-fit)} | $joints | $max | $rms | $bytes | 1/$(awk "BEGIN { printf \"%.1f\", $morph_bytes / $bytes }") | $(printf '%.1f' "$ms") ms |"
   done
   echo "| morph targets (no --joints) | | 0 | 0 | $morph_bytes | 1 | $(printf '%.1f' "$morph_ms") ms |"
   echo
