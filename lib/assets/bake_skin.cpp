@@ -97,9 +97,14 @@ void SkinWriter::start(const Mesh& mesh) {
 
   const std::uint64_t frames = static_cast<std::uint64_t>(info().frame_count);
   const std::uint64_t joint_bytes = m <= 256 ? 4 : 8;
+  // Keys: a station joint's 40 bytes a frame (28 with a ring), a ring joint's 12 (at most: a ring
+  // joint that never moves is not keyed).
+  std::uint64_t key_bytes = 0;
+  for (const SkinJoint& j : fit_->joints())
+    if (j.sweep >= 0) key_bytes += j.ring >= 0 ? 12 : (layout_.ring > 1 ? 28 : 40);
   const std::uint64_t estimate = 28 + 8192 + 600 * std::uint64_t(m) + 24 * std::uint64_t{n} +
                                  4 * triangles_.size() + (joint_bytes + 16) * n + 64 * std::uint64_t(m) +
-                                 4 * frames + 40 * frames * keys_.size() +
+                                 4 * frames + key_bytes * frames +
                                  (info().body_moves ? 28 * frames : 0);
   set_estimate(estimate);
   if (estimate > kGlbMaxBytes) {
