@@ -361,6 +361,39 @@ TEST(BakeSkin, WeightsAreAtMostFourNonNegativeSumToOneAndBilinearInTAndTheta) {
   }
 }
 
+// A blend zone deeper than a span (0.3 of the tube, spans of 0.2): a blended vertex beyond the
+// first span would weigh two stations' ring joints and the body, 5 joints; it keeps the ring split
+// at its nearer station and that station joint takes the other's share. Still at most 4, ≥ 0,
+// summing to 1, and the file skinned by hand shows the error the writer reported.
+TEST(BakeSkin, ADeepBlendZoneKeepsFourInfluences) {
+  Tube tube;
+  tube.binding = bind::bind_rig(tube.rig, tube.mesh, {.blend = 0.3});
+  const SkinBake b = bake_skinned(tube, scene_with({tip_push()}, 1.0), 6, "blend", 8);
+  const SkinFile file(b.glb);
+  int five = 0;  // vertices that took the fallback: a station joint beside ring joints and the body
+  for (std::size_t v = 0; v < file.rest.size(); ++v) {
+    double sum = 0;
+    bool body = false, station = false, ring = false;
+    for (int c = 0; c < 4; ++c) {
+      const double w = file.weights[v][static_cast<std::size_t>(c)];
+      EXPECT_GE(w, 0) << v;
+      sum += w;
+      if (w == 0) continue;
+      const JointPlace p = place_of(file, file.joints[v][static_cast<std::size_t>(c)]);
+      body = body || p.station < 0;
+      station = station || (p.station > 0 && p.ring < 0);
+      ring = ring || p.ring >= 0;
+    }
+    EXPECT_NEAR(sum, 1.0, 2e-7) << v;
+    five += body && station && ring;
+  }
+  EXPECT_GT(five, 24) << "a ring of blended vertices in the second span";
+  const double reported = b.report.skin_error.max_relative;
+  EXPECT_LT(reported, 0.05);
+  for (std::size_t k = 0; k < b.pc2.size(); k += 4)
+    EXPECT_LE(file_error(file, b.pc2, k), reported * (1 + 1e-5) + 1e-7) << "frame " << k;
+}
+
 // A radial push on one handle of one section dents the tube there: the section's other handles
 // stay. One joint a station scales or shifts the whole section and cannot follow; ring joints
 // around it carry the dent at their angles, and the file, skinned by hand through its joint tree,
