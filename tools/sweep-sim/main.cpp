@@ -313,10 +313,12 @@ int main(int argc, char** argv) {
     auto* joints = app.add_option(
                            "--joints", s.joints,
                            "Write each .glb as a skinned mesh instead of morph targets: N joints along "
-                           "each sweep (2 to 255, at most the sweep's stations; alone: " +
-                               std::to_string(sweep::io::kDefaultSkinJoints) + " and --ring-joints " +
+                           "each sweep (2 to 255, at most the sweep's stations; --joints alone, last or "
+                           "before another option: " +
+                               std::to_string(sweep::io::kDefaultSkinJoints) + ", with --ring-joints " +
                                std::to_string(sweep::io::kDefaultRingJoints) +
-                               "); the summary and report give its error against the bake")
+                               " by default, within 1 % of the length on the demo's scene); the summary "
+                               "and report give its error against the bake")
                        ->expected(0, 1)
                        ->default_str(std::to_string(sweep::io::kDefaultSkinJoints));
     app.add_option("--ring-joints", s.ring_joints,
