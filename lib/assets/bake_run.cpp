@@ -80,7 +80,8 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   std::vector<io::SkinSweep> skin_sweeps;
   for (std::size_t i = 0; options.joints != 0 && i < rig.sweeps.size(); ++i)
     skin_sweeps.push_back({rig.sweeps[i].name, &rig.sweeps[i].rest, &binding.sweeps[i]});
-  if (options.joints != 0) io::check_skin_joints(options.joints, skin_sweeps, options.stations_per_span);
+  const io::SkinLayout skin_layout{options.joints, options.ring_joints, options.ring_motion, options.ring_fit};
+  if (options.joints != 0) io::check_skin_joints(skin_layout, skin_sweeps, options.stations_per_span);
   const std::size_t nv = mesh.vertex_count();
   const int sweeps = static_cast<int>(rig.sweeps.size());
 
@@ -124,7 +125,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   std::vector<io::SkinPoser*> skins;  // the skinned writers among them
   for (const auto& out : options.outputs) {
     if (options.joints != 0 && lower_extension(out) == "glb") {
-      io::SkinBakeWriter skin = io::make_skin_bake_writer(out, skin_sweeps, options.joints);
+      io::SkinBakeWriter skin = io::make_skin_bake_writer(out, skin_sweeps, skin_layout);
       writers.push_back(std::move(skin.writer));
       skins.push_back(skin.poser);
     } else {

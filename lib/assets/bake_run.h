@@ -44,6 +44,10 @@ struct BakeOptions {
   // of morph targets; the other outputs are as ever. kMinSkinJoints … kMaxSkinJoints, and at most
   // a sweep's station count (io::check_skin_joints), else Error(usage) before anything is written.
   int joints = 0;
+  // With joints: the ring joints at each station (1: none) and how they are keyed (skin_fit.h).
+  int ring_joints = 1;
+  io::RingMotion ring_motion = io::RingMotion::scale;
+  bool ring_fit = false;
   // Told what a person should know before a long bake (a .glb too large for engines to load).
   std::function<void(const std::string&)> warn;
 };

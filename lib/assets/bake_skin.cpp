@@ -4,7 +4,8 @@
 // that is renamed onto the output. Layout, every block 4-byte aligned:
 //   rest POSITION | rest NORMAL | triangle indices (uint32) | JOINTS_0 (u8 or u16 × 4) |
 //   WEIGHTS_0 (float × 4) | inverse bind matrices (mat4) | key times (F floats) |
-//   per animated joint: translations (F × vec3) | rotations (F × vec4) | scales (F × vec3) |
+//   per animated joint, its channels: [translations (F × vec3)] | [rotations (F × vec4)] |
+//   [scales (F × vec3)] |
 //   [a moving body: its translations | rotations]
 #include "assets/bake_skin.h"
 
@@ -31,84 +32,18 @@ static_assert(std::endian::native == std::endian::little,
 
 constexpr std::uint64_t kGlbMaxBytes = std::numeric_limits<std::uint32_t>::max();
 
-// One joint's pose as written: translation, rotation (x, y, z, w), scale.
-struct JointKey {
-  float t[3];
-  float r[4];
-  float s[3];
-  bool operator==(const JointKey& o) const {
-    return std::memcmp(this, &o, sizeof(JointKey)) == 0;
-  }
-};
-static_assert(sizeof(JointKey) == 40);
-
-// The matrix a joint key stands for, T·R·S, in double from the floats (the rotation normalized, as
-// engines do).
-Eigen::Matrix4d key_matrix(const JointKey& k) {
-  Eigen::Quaterniond q(k.r[3], k.r[0], k.r[1], k.r[2]);
-  q.normalize();
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.topLeftCorner<3, 3>() = q.toRotationMatrix() * Eigen::Vector3d(k.s[0], k.s[1], k.s[2]).asDiagonal();
-  m.topRightCorner<3, 1>() = Eigen::Vector3d(k.t[0], k.t[1], k.t[2]);
-  return m;
-}
-
-// The station frame of `shape` at t and its radii at the sample angles (no floor).
-struct Station {
-  Frame frame;
-  std::vector<double> radii;
-};
-Station station(const SweepShape& shape, double t) {
-  Station st{frame_at(shape, t), std::vector<double>(static_cast<std::size_t>(shape.radial_count))};
-  radii_at_samples(shape, t, st.radii);
-  return st;
-}
-
-// The cross-section's change at a station as one joint carries it: in the station's plane, a scale
-// along each of its axes and a shift, x' = a·x + c_x and y' = b·y + c_y, fitted by least squares to
-// the sample points (r_j cos θ_j, r_j sin θ_j) → (r'_j cos θ_j, r'_j sin θ_j). A section that
-// swells evenly gives a = b (its mean radius ratio) and no shift; one squeezed from a side, a
-// smaller scale across the squeeze and a shift away from it.
-struct InPlane {
-  double a = 1, b = 1, cx = 0, cy = 0;
-};
-InPlane fit_in_plane(const SweepShape& shape, std::span<const double> rest, std::span<const double> now) {
-  InPlane f;
-  const std::size_t n = rest.size();
-  for (int axis = 0; axis < 2; ++axis) {
-    double mx = 0, my = 0;
-    std::vector<double> x(n), y(n);
-    for (std::size_t j = 0; j < n; ++j) {
-      const double angle = shape.sample_angle(static_cast<int>(j));
-      const double c = axis == 0 ? std::cos(angle) : std::sin(angle);
-      x[j] = rest[j] * c;
-      y[j] = now[j] * c;
-      mx += x[j];
-      my += y[j];
-    }
-    mx /= static_cast<double>(n);
-    my /= static_cast<double>(n);
-    double sxx = 0, sxy = 0;
-    for (std::size_t j = 0; j < n; ++j) {
-      sxx += (x[j] - mx) * (x[j] - mx);
-      sxy += (x[j] - mx) * (y[j] - my);
-    }
-    const double scale = sxx > 0 && std::isfinite(sxy / sxx) ? sxy / sxx : 1.0;
-    (axis == 0 ? f.a : f.b) = scale;
-    (axis == 0 ? f.cx : f.cy) = my - scale * mx;
-  }
-  return f;
-}
-
 class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
  public:
-  SkinWriter(std::filesystem::path out, std::vector<SkinSweep> sweeps, int joints)
-      : BakeWriterBase(std::move(out)), sweeps_(std::move(sweeps)), per_sweep_(joints) {}
+  SkinWriter(std::filesystem::path out, std::vector<SkinSweep> sweeps, const SkinLayout& layout)
+      : BakeWriterBase(std::move(out)), sweeps_(std::move(sweeps)), layout_(layout) {}
 
   std::vector<std::filesystem::path> files() const override { return {out()}; }
   void pose(std::span<const SweepShape* const> shapes) override;
-  const SkinError& skin_error() const override { return error_; }
-  int joint_count() const override { return 1 + static_cast<int>(sweeps_.size()) * per_sweep_; }
+  const SkinError& skin_error() const override { return fit_ ? fit_->error() : no_error_; }
+  int joint_count() const override {
+    const int ring = layout_.ring > 1 ? (layout_.stations - 1) * layout_.ring : 0;
+    return 1 + static_cast<int>(sweeps_.size()) * (layout_.stations + ring);
+  }
 
  protected:
   void start(const Mesh& mesh) override;
@@ -119,47 +54,22 @@ class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
   }
 
  private:
-  JointKey key_of(const Frame& f, const InPlane& in_plane) const;
   tinygltf::Model build_model(std::vector<unsigned char>& bin) const;
 
   std::vector<SkinSweep> sweeps_;
-  int per_sweep_ = 0;
-  std::vector<double> station_t_;        // per sweep, per_sweep_ parameters
-  std::vector<std::vector<double>> rest_radii_;  // per sweep joint: the rest radii at its station
-  std::vector<JointKey> rest_keys_;       // per sweep joint: the rest pose (node defaults)
-  std::vector<Eigen::Matrix4f> inverse_bind_;  // per skin joint (0: the body)
-  std::vector<std::vector<JointKey>> keys_;  // per sweep joint, per frame
+  SkinLayout layout_;
+  std::unique_ptr<SkinFit> fit_;  // made in start(), with the rest mesh
+  std::vector<JointKey> frame_keys_;         // per joint, this frame (scratch)
+  std::vector<std::vector<JointKey>> keys_;  // per joint but the body, per frame
   std::vector<std::uint32_t> triangles_;
   std::vector<Eigen::Vector3f> normals_;
   Eigen::Vector3f rest_min_, rest_max_;
-  // Per vertex: 4 joints and weights (skin joint indices).
-  std::vector<std::array<std::uint16_t, 4>> joints_;
-  std::vector<std::array<float, 4>> weights_;
-  // The bound vertices, with their sweep (for the error's length).
-  std::vector<std::uint32_t> bound_;
-  std::vector<double> bound_length_;
   std::vector<const SweepShape*> shapes_;
   bool posed_ = false;
   detail::BodyKeys body_keys_;  // with a moving body
-  SkinError error_;
-  double sum_squares_ = 0;
+  SkinError no_error_;
   std::unique_ptr<TempFile> final_;
 };
-
-JointKey SkinWriter::key_of(const Frame& f, const InPlane& in_plane) const {
-  JointKey k{};
-  const Vec3 t = f.center + f.rotation * Vec3(in_plane.cx, in_plane.cy, 0);
-  for (int c = 0; c < 3; ++c) k.t[c] = static_cast<float>(t[c]);
-  const Quat q = f.rotation.normalized();
-  k.r[0] = static_cast<float>(q.x());
-  k.r[1] = static_cast<float>(q.y());
-  k.r[2] = static_cast<float>(q.z());
-  k.r[3] = static_cast<float>(q.w());
-  k.s[0] = static_cast<float>(in_plane.a);
-  k.s[1] = static_cast<float>(in_plane.b);
-  k.s[2] = 1.0f;
-  return k;
-}
 
 void SkinWriter::start(const Mesh& mesh) {
   const std::size_t n = rest().size();
@@ -180,76 +90,21 @@ void SkinWriter::start(const Mesh& mesh) {
     rest_max_ = rest_max_.cwiseMax(p);
   }
 
-  // Stations, rest keys and inverse bind matrices (from the rest keys as written).
-  inverse_bind_.assign(1, Eigen::Matrix4f::Identity());
-  for (const SkinSweep& sw : sweeps_) {
-    const double length = sw.rest->length();
-    for (int j = 0; j < per_sweep_; ++j) {
-      const double t = j == per_sweep_ - 1 ? length : length * j / (per_sweep_ - 1);
-      station_t_.push_back(t);
-      Station st = station(*sw.rest, t);
-      const JointKey key = key_of(st.frame, InPlane{});
-      rest_radii_.push_back(std::move(st.radii));
-      rest_keys_.push_back(key);
-      inverse_bind_.push_back(key_matrix(key).inverse().cast<float>());
-    }
-  }
-  keys_.assign(rest_keys_.size(), {});
+  fit_ = std::make_unique<SkinFit>(sweeps_, layout_, rest(), info().name);
+  frame_keys_.assign(static_cast<std::size_t>(m), kIdentityKey);
+  keys_.assign(static_cast<std::size_t>(m - 1), {});
   for (auto& k : keys_) k.reserve(static_cast<std::size_t>(info().frame_count));
-
-  // Weights: the body joint for everything unbound; hat functions of t for bound vertices.
-  joints_.assign(n, {0, 0, 0, 0});
-  weights_.assign(n, {1.0f, 0.0f, 0.0f, 0.0f});
-  std::vector<char> seen(n, 0);
-  for (std::size_t s = 0; s < sweeps_.size(); ++s) {
-    const bind::SweepBinding& b = *sweeps_[s].binding;
-    const double length = sweeps_[s].rest->length();
-    const double h = length / (per_sweep_ - 1);
-    const int first = 1 + static_cast<int>(s) * per_sweep_;
-    for (std::size_t i = 0; i < b.size(); ++i) {
-      const std::uint32_t v = b.vertices[i];
-      if (v >= n || seen[v]) {
-        fail(ErrorCategory::internal, out().string() + ": vertex " + std::to_string(v) +
-                                          " bound twice or not in the mesh");
-      }
-      seen[v] = 1;
-      const double x = std::clamp(static_cast<double>(b.t[i]) / h, 0.0, double(per_sweep_ - 1));
-      const int j = std::min(static_cast<int>(std::floor(x)), per_sweep_ - 2);
-      const double u = x - j;
-      const double blend = std::clamp(static_cast<double>(b.weight[i]), 0.0, 1.0);
-      float wa = static_cast<float>((1 - u) * blend), wb = static_cast<float>(u * blend);
-      float wr = 1.0f - wa - wb;
-      if (wr < 0) wr = 0;
-      // Slots: the two stations, then the body; a zero weight keeps joint 0 (the body).
-      std::array<std::uint16_t, 4> js{0, 0, 0, 0};
-      std::array<float, 4> ws{0, 0, 0, 0};
-      int slot = 0;
-      auto put = [&](int joint, float w) {
-        if (w > 0) {
-          js[static_cast<std::size_t>(slot)] = static_cast<std::uint16_t>(joint);
-          ws[static_cast<std::size_t>(slot)] = w;
-          ++slot;
-        }
-      };
-      put(first + j, wa);
-      put(first + j + 1, wb);
-      put(0, wr);
-      // Exactly 1 in float: the largest weight takes what rounding left over.
-      float sum = 0;
-      for (int k = 1; k < 4; ++k) sum += ws[static_cast<std::size_t>(k)];
-      ws[0] = std::max(0.0f, 1.0f - sum);
-      joints_[v] = js;
-      weights_[v] = ws;
-      bound_.push_back(v);
-      bound_length_.push_back(length);
-    }
-  }
 
   const std::uint64_t frames = static_cast<std::uint64_t>(info().frame_count);
   const std::uint64_t joint_bytes = m <= 256 ? 4 : 8;
+  // Keys: a station joint's 40 bytes a frame (28 with a ring), a ring joint's 12 (at most: a ring
+  // joint that never moves is not keyed).
+  std::uint64_t key_bytes = 0;
+  for (const SkinJoint& j : fit_->joints())
+    if (j.sweep >= 0) key_bytes += j.ring >= 0 ? 12 : (layout_.ring > 1 ? 28 : 40);
   const std::uint64_t estimate = 28 + 8192 + 600 * std::uint64_t(m) + 24 * std::uint64_t{n} +
                                  4 * triangles_.size() + (joint_bytes + 16) * n + 64 * std::uint64_t(m) +
-                                 4 * frames + 40 * frames * rest_keys_.size() +
+                                 4 * frames + key_bytes * frames +
                                  (info().body_moves ? 28 * frames : 0);
   set_estimate(estimate);
   if (estimate > kGlbMaxBytes) {
@@ -277,44 +132,18 @@ void SkinWriter::write_frame(int index, std::span<const Eigen::Vector3f> positio
   if (info().body_moves) {
     body_keys_.add(body_pose());
   }
-  // The joints' keys of this frame, and the skinning matrices they give (joint · inverse bind).
-  std::vector<Eigen::Matrix4d> skinning(1 + rest_keys_.size(), Eigen::Matrix4d::Identity());
-  std::size_t joint = 0;
-  for (std::size_t s = 0; s < sweeps_.size(); ++s) {
-    for (int j = 0; j < per_sweep_; ++j, ++joint) {
-      const Station st = station(*shapes_[s], station_t_[joint]);
-      JointKey key = key_of(st.frame, fit_in_plane(*shapes_[s], rest_radii_[joint], st.radii));
-      std::vector<JointKey>& track = keys_[joint];
-      const JointKey& before = track.empty() ? rest_keys_[joint] : track.back();
-      const float dot = key.r[0] * before.r[0] + key.r[1] * before.r[1] + key.r[2] * before.r[2] +
-                        key.r[3] * before.r[3];
-      if (dot < 0) {
-        for (float& c : key.r) c = -c;
-      }
-      track.push_back(key);
-      skinning[joint + 1] = key_matrix(key) * inverse_bind_[joint + 1].cast<double>();
+  fit_->pose(shapes_, positions, index, frame_keys_);
+  for (std::size_t j = 0; j < keys_.size(); ++j) {
+    JointKey key = frame_keys_[j + 1];
+    std::vector<JointKey>& track = keys_[j];
+    const JointKey& before = track.empty() ? fit_->rest_keys()[j + 1] : track.back();
+    const float dot = key.r[0] * before.r[0] + key.r[1] * before.r[1] + key.r[2] * before.r[2] +
+                      key.r[3] * before.r[3];
+    if (dot < 0) {
+      for (float& c : key.r) c = -c;
     }
+    track.push_back(key);
   }
-  // The skinned bound vertices against the bake.
-  for (std::size_t i = 0; i < bound_.size(); ++i) {
-    const std::uint32_t v = bound_[i];
-    const Eigen::Vector4d p(rest()[v].x(), rest()[v].y(), rest()[v].z(), 1.0);
-    Eigen::Vector4d q = Eigen::Vector4d::Zero();
-    for (int k = 0; k < 4; ++k) {
-      const float w = weights_[v][static_cast<std::size_t>(k)];
-      if (w != 0) q += static_cast<double>(w) * (skinning[joints_[v][static_cast<std::size_t>(k)]] * p);
-    }
-    const double e = (q.head<3>() - positions[v].cast<double>()).norm() / bound_length_[i];
-    sum_squares_ += e * e;
-    if (e > error_.max_relative) {
-      error_.max_relative = e;
-      error_.max_frame = index;
-      error_.max_vertex = v;
-    }
-  }
-  error_.samples += bound_.size();
-  error_.rms_relative =
-      error_.samples ? std::sqrt(sum_squares_ / static_cast<double>(error_.samples)) : 0.0;
 }
 
 template <typename T>
@@ -365,6 +194,10 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
   const int indices = add_data(triangles_.data(), triangles_.size(), 1,
                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
                                TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  const auto& joints_ = fit_->vertex_joints();
+  const auto& weights_ = fit_->vertex_weights();
+  const auto& inverse_bind_ = fit_->inverse_bind();
+  const auto& rest_keys_ = fit_->rest_keys();
   int joints = 0;
   if (m <= 256) {
     std::vector<std::uint8_t> small(4 * n);
@@ -400,20 +233,18 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
     root.rotation = {body_keys_.rotations[0], body_keys_.rotations[1], body_keys_.rotations[2], body_keys_.rotations[3]};
   }
   model.nodes.push_back(root);
-  std::size_t joint = 0;
-  for (const SkinSweep& sw : sweeps_) {
-    for (int j = 0; j < per_sweep_; ++j, ++joint) {
-      tinygltf::Node node;
-      std::string digits = std::to_string(j);
-      const std::size_t width = std::to_string(per_sweep_ - 1).size() < 2 ? 2 : std::to_string(per_sweep_ - 1).size();
-      if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
-      node.name = sw.name + "." + digits;
-      const JointKey& k = rest_keys_[joint];
-      node.translation = {k.t[0], k.t[1], k.t[2]};
-      node.rotation = {k.r[0], k.r[1], k.r[2], k.r[3]};
-      model.nodes.push_back(node);
-      model.nodes[0].children.push_back(static_cast<int>(model.nodes.size() - 1));
+  for (std::size_t k = 1; k < fit_->joints().size(); ++k) {
+    const SkinJoint& sj = fit_->joints()[k];
+    tinygltf::Node node;
+    node.name = sj.name;
+    const JointKey& key = rest_keys_[k];
+    if (!(key == kIdentityKey)) {
+      node.translation = {key.t[0], key.t[1], key.t[2]};
+      node.rotation = {key.r[0], key.r[1], key.r[2], key.r[3]};
+      if (key.s[0] != 1 || key.s[1] != 1 || key.s[2] != 1) node.scale = {key.s[0], key.s[1], key.s[2]};
     }
+    model.nodes.push_back(node);
+    model.nodes[static_cast<std::size_t>(sj.parent)].children.push_back(static_cast<int>(k));
   }
   tinygltf::Skin skin;
   skin.name = info().name + "_skin";
@@ -464,23 +295,35 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
   bool any = info().body_moves;
   for (std::size_t j = 0; j < keys_.size(); ++j) {
     for (const JointKey& k : keys_[j]) {
-      if (!(k == rest_keys_[j])) {
+      if (!(k == rest_keys_[j + 1])) {
         moves[j] = 1;
         any = true;
         break;
       }
     }
   }
+  // The channels a joint has: a station joint its translation and rotation (and its scale without
+  // a ring), a ring joint its scale (RingMotion::shift: its translation).
   std::vector<float> track(frames * 4);
   for (std::size_t j = 0; j < keys_.size(); ++j) {
     if (any && !moves[j]) continue;
     const int node = static_cast<int>(j + 1);
-    for (std::size_t k = 0; k < frames; ++k) std::memcpy(&track[3 * k], keys_[j][k].t, 12);
-    channel(node, "translation", add_data(track.data(), frames, 3, kFloat, TINYGLTF_TYPE_VEC3, 0));
-    for (std::size_t k = 0; k < frames; ++k) std::memcpy(&track[4 * k], keys_[j][k].r, 16);
-    channel(node, "rotation", add_data(track.data(), frames, 4, kFloat, TINYGLTF_TYPE_VEC4, 0));
-    for (std::size_t k = 0; k < frames; ++k) std::memcpy(&track[3 * k], keys_[j][k].s, 12);
-    channel(node, "scale", add_data(track.data(), frames, 3, kFloat, TINYGLTF_TYPE_VEC3, 0));
+    const bool ring_joint = fit_->joints()[j + 1].ring >= 0;
+    const bool translation = !ring_joint || layout_.motion == RingMotion::shift;
+    const bool rotation = !ring_joint;
+    const bool scale = layout_.ring <= 1 || (ring_joint && layout_.motion == RingMotion::scale);
+    if (translation) {
+      for (std::size_t k = 0; k < frames; ++k) std::memcpy(&track[3 * k], keys_[j][k].t, 12);
+      channel(node, "translation", add_data(track.data(), frames, 3, kFloat, TINYGLTF_TYPE_VEC3, 0));
+    }
+    if (rotation) {
+      for (std::size_t k = 0; k < frames; ++k) std::memcpy(&track[4 * k], keys_[j][k].r, 16);
+      channel(node, "rotation", add_data(track.data(), frames, 4, kFloat, TINYGLTF_TYPE_VEC4, 0));
+    }
+    if (scale) {
+      for (std::size_t k = 0; k < frames; ++k) std::memcpy(&track[3 * k], keys_[j][k].s, 12);
+      channel(node, "scale", add_data(track.data(), frames, 3, kFloat, TINYGLTF_TYPE_VEC3, 0));
+    }
   }
   if (info().body_moves) {
     channel(0, "translation",
@@ -523,11 +366,16 @@ void SkinWriter::complete(Publication& outputs) {
 
 }  // namespace
 
-void check_skin_joints(int joints, std::span<const SkinSweep> sweeps, int stations_per_span) {
+void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> sweeps, int stations_per_span) {
+  const int joints = layout.stations;
   if (joints < kMinSkinJoints || joints > kMaxSkinJoints) {
     fail(ErrorCategory::usage, "--joints: expected " + std::to_string(kMinSkinJoints) + " to " +
                                    std::to_string(kMaxSkinJoints) + " joints a sweep, got " +
                                    std::to_string(joints));
+  }
+  if (layout.ring < 1 || layout.ring > kMaxRingJoints) {
+    fail(ErrorCategory::usage, "--ring-joints: expected 1 to " + std::to_string(kMaxRingJoints) +
+                                   " joints a station, got " + std::to_string(layout.ring));
   }
   for (const SkinSweep& sw : sweeps) {
     const int stations = (sw.rest->section_count() - 1) * stations_per_span + 1;
@@ -542,12 +390,9 @@ void check_skin_joints(int joints, std::span<const SkinSweep> sweeps, int statio
 }
 
 SkinBakeWriter make_skin_bake_writer(const std::filesystem::path& out, std::vector<SkinSweep> sweeps,
-                                     int joints) {
-  if (joints < kMinSkinJoints || joints > kMaxSkinJoints) {
-    fail(ErrorCategory::usage, "--joints: expected " + std::to_string(kMinSkinJoints) + " to " +
-                                   std::to_string(kMaxSkinJoints) + ", got " + std::to_string(joints));
-  }
-  auto writer = std::make_unique<SkinWriter>(out, std::move(sweeps), joints);
+                                     const SkinLayout& layout) {
+  check_skin_joints(layout, {}, 1);
+  auto writer = std::make_unique<SkinWriter>(out, std::move(sweeps), layout);
   SkinPoser* poser = writer.get();
   return {std::move(writer), poser};
 }

@@ -7,28 +7,20 @@
 //  - node 0, "<name>_root": the body joint. Every vertex no sweep binds is weighted to it alone.
 //    When the body moves (BakeInfo::body_moves) its translation and rotation are the body's pose,
 //    animated as the morph writer animates its node; otherwise it stays at the identity.
-//  - per sweep, N joints "<sweep>.00" … at N evenly spaced stations t_j = L·j/(N−1) along the sweep,
-//    root (j = 0) to tip (j = N−1), children of the body joint. Joint j's transform, in the body's
-//    frame, is the deformed sweep's frame at t_j: translation C'(t_j), rotation R'(t_j) (the frame
-//    whose z is the sweep's axis), and the cross-section's change as well as one joint can carry
-//    it: in the station's plane a scale along each axis and a shift, (a, b, 1) and R'·(c_x, c_y, 0)
-//    added to the translation, fitted by least squares to the section's radii at t_j against the
-//    rest's (an even swell: a = b, the mean radius ratio, no shift; a squeeze from one side: less
-//    scale across it and a shift away from it). The joints are siblings rather than parent and
-//    child because glTF composes a child with its parent's scale, and a non-uniform scale followed
-//    by a rotation is a shear no TRS
-//    node can express; the chain is their order and names. Inverse bind matrices: the rest frames'.
+//  - the skeleton of skin_fit.h, in its joint order (skin joint k is node k): per sweep N station
+//    joints "<sweep>.00" … (children of the body joint) and, with a ring of M ≥ 2, M ring joints
+//    "<sweep>.03.r05" … at every station but the root (children of their station joint, keyed by
+//    scale alone). Inverse bind matrices: the rest poses'.
 //  - the mesh: rest POSITION, smooth rest NORMAL, triangles, JOINTS_0 (unsigned byte when the skin
-//    has at most 256 joints, else unsigned short), WEIGHTS_0 (float). A vertex bound at parameter t
-//    (in span j of the stations, u = t/h − j) gets joints j and j+1 with weights (1 − u)·b and u·b,
-//    and the body joint 1 − b, b its blend weight (bind.h): a hat function of t, smooth across
-//    stations, the weights non-negative and summing to 1 (the last one as 1 minus the others).
-//  - one animation "bake": per joint that moves, translation, rotation and scale channels keyed at
-//    k / fps, LINEAR (rotations kept on one hemisphere, so slerp takes the short way).
+//    has at most 256 joints, else unsigned short), WEIGHTS_0 (float): skin_fit.h's weights, at most
+//    4 a vertex, non-negative, summing to 1.
+//  - one animation "bake": per joint that moves, its channels keyed at k / fps, LINEAR (rotations
+//    kept on one hemisphere, so slerp takes the short way): a station joint's translation and
+//    rotation (and scale without a ring), a ring joint's scale (or translation, RingMotion::shift).
 //
-// Its error against the bake it is given: each frame the writer skins the bound vertices itself,
-// from the very float values it writes (joint TRS, inverse bind matrices, weights), and measures
-// the distance to the positions frame() received (the exact or fast bake, in the body's frame),
+// Its error against the bake it is given: each frame the skin is posed (SkinFit::pose) and the
+// bound vertices skinned from the very float values it writes (joint TRS, inverse bind matrices,
+// weights), against the positions frame() received (the exact or fast bake, in the body's frame),
 // over the length of the vertex's sweep: the largest and the root mean square over every bound
 // vertex of every frame (skin_error()).
 //
@@ -42,31 +34,25 @@
 #include <vector>
 
 #include "assets/bake.h"
+#include "assets/skin_fit.h"
 #include "bind/bind.h"
 #include "core/sweep_shape.h"
 
 namespace sweep::io {
 
-// Joints a sweep may have: at least its two ends; at most 255 (the byte-sized joint index of a
-// skin of one sweep plus the body joint).
+// Station joints a sweep may have (--joints): at least its two ends; at most 255.
 inline constexpr int kMinSkinJoints = 2;
 inline constexpr int kMaxSkinJoints = 255;
-
-// One sweep of the skin: its rest shape and its binding (both must outlive the writer).
-struct SkinSweep {
-  std::string name;
-  const SweepShape* rest = nullptr;
-  const bind::SweepBinding* binding = nullptr;
-};
-
-// The skinned result against the bake (fractions of the sweep's length; 0.01 is 1 %).
-struct SkinError {
-  double max_relative = 0;  // largest distance / L over every bound vertex of every frame
-  double rms_relative = 0;  // root mean square of the same
-  int max_frame = 0;        // where the largest was first reached
-  std::uint32_t max_vertex = 0;
-  std::uint64_t samples = 0;  // vertex-frames measured
-};
+// Ring joints a station may have (--ring-joints): 1 (none: the station joint carries the section's
+// change) to 64.
+inline constexpr int kMaxRingJoints = 64;
+// The defaults (--joints without a number): a joint a key section and a ring joint a radial handle
+// of sweep-fit's default K = n = 24 (a one-handle dent then lies on a ring joint). On the
+// diplodocus Fig. 4 scene, 601 frames, they keep the skinned result within 0.48 % of each part's
+// length at 1/29 of the morph-target bake's size: only the ring joints whose handles move are
+// keyed (BENCHMARKS.md, "Skinned .glb").
+inline constexpr int kDefaultSkinJoints = 24;
+inline constexpr int kDefaultRingJoints = 24;
 
 // What the bake driver gives the skin writer beside the positions: before each frame(), the
 // deformed shape of every sweep (one per SkinSweep, same order) in the body's frame.
@@ -83,13 +69,14 @@ struct SkinBakeWriter {
   SkinPoser* poser = nullptr;  // the same object, seen as a SkinPoser
 };
 
-// Checks a joint count per sweep against kMinSkinJoints … kMaxSkinJoints and each sweep's station
-// count (a joint per station at most: (K − 1)·stations_per_span + 1); throws Error(usage) with a
-// message naming --joints otherwise.
-void check_skin_joints(int joints, std::span<const SkinSweep> sweeps, int stations_per_span);
+// Checks the layout's station joints against kMinSkinJoints … kMaxSkinJoints and each sweep's
+// station count (a joint per station at most: (K − 1)·stations_per_span + 1), and its ring joints
+// against 1 … kMaxRingJoints; throws Error(usage) with a message naming --joints or --ring-joints
+// otherwise.
+void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> sweeps, int stations_per_span);
 
-// A skinned .glb writer for `out` (extension not checked) with `joints` joints per sweep.
+// A skinned .glb writer for `out` (extension not checked).
 SkinBakeWriter make_skin_bake_writer(const std::filesystem::path& out, std::vector<SkinSweep> sweeps,
-                                     int joints);
+                                     const SkinLayout& layout);
 
 }  // namespace sweep::io

@@ -43,20 +43,28 @@ for run in 24 30 moving; do
 done
 # The skinned bake (--joints): Blender's importer builds an armature, and its evaluated mesh must
 # match the .pc2 within the error sweep-sim reported (skin_error_max_relative × the part's length).
-for joints in 4 12; do
-  "$sim" -q "$rig" -b "$work/tube.bind" --scene "$work/scene-moving.json" --joints $joints \
-    -o "$work/tube-skin-$joints.glb" -o "$work/tube-skin-$joints.pc2" --report "$work/tube-skin-$joints.json"
+# Layouts: N×1 (station joints alone, scaled in-plane), N×M with ring joints (children of their
+# station joint, keyed by scale; "fit": --ring-fit, every ring joint keyed) and --joints alone (the
+# defaults).
+for layout in 4x1 12x1 6x8fit default; do
+  case $layout in
+    default) args=(--joints) ;;
+    *fit) m=${layout#*x}; args=(--joints "${layout%x*}" --ring-joints "${m%fit}" --ring-fit) ;;
+    *) args=(--joints "${layout%x*}" --ring-joints "${layout#*x}") ;;
+  esac
+  "$sim" -q "$rig" -b "$work/tube.bind" --scene "$work/scene-moving.json" "${args[@]}" \
+    -o "$work/tube-skin-$layout.glb" -o "$work/tube-skin-$layout.pc2" --report "$work/tube-skin-$layout.json"
   tolerance=$(python3 -c 'import json, sys
 r = json.load(open(sys.argv[1])); rig = json.load(open(sys.argv[2]))
 length = max(s["sections"][-1]["t"] for s in rig["sweeps"])
-print(r["skin_error_max_relative"] * length * 1.0001)' "$work/tube-skin-$joints.json" "$rig")
-  echo "== skinned, $joints joints (30 fps, moving body; tolerance $tolerance)"
+print(r["skin_error_max_relative"] * length * 1.0001)' "$work/tube-skin-$layout.json" "$rig")
+  echo "== skinned, joints $layout (30 fps, moving body; tolerance $tolerance)"
   if blender -b --factory-startup --python-exit-code 1 --python "$src/tests/blender/check_bake.py" -- \
-    "$src/meshes/tube_bent.obj" "$work/tube-skin-$joints.glb" "$work/tube-skin-$joints.pc2" 30 \
-    --skinned "$tolerance" >"$work/blender-skin-$joints.log" 2>&1; then
-    grep -E '^(ok|FAIL|blender check)' "$work/blender-skin-$joints.log" || cat "$work/blender-skin-$joints.log"
+    "$src/meshes/tube_bent.obj" "$work/tube-skin-$layout.glb" "$work/tube-skin-$layout.pc2" 30 \
+    --skinned "$tolerance" >"$work/blender-skin-$layout.log" 2>&1; then
+    grep -E '^(ok|FAIL|blender check)' "$work/blender-skin-$layout.log" || cat "$work/blender-skin-$layout.log"
   else
-    cat "$work/blender-skin-$joints.log"
+    cat "$work/blender-skin-$layout.log"
     status=1
   fi
 done

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "assets/bake_skin.h"
 #include "pipeline.h"
 
 namespace sweep::test {
@@ -14,10 +15,10 @@ TEST(Joints, ASkinnedBakeReportsItsErrorAndIsFarSmallerThanTheMorphBake) {
   const std::string base = quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json");
   ToolRun r = run_tool(SWEEP_SIM_EXE,
                        base + " -o " + quoted(ws / "skin.glb") + " -o " + quoted(ws / "skin.pc2") +
-                           " --joints 8 --report " + quoted(ws / "r.json"),
+                           " --joints 8 --ring-joints 1 --report " + quoted(ws / "r.json"),
                        ws.io);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("skinned .glb: 9 joints (8 a sweep and the body); against the bake: max "),
+  EXPECT_NE(r.out.find("skinned .glb: 9 joints (8 a sweep, and the body); against the bake: max "),
             std::string::npos)
       << r.out;
   const nlohmann::json report = nlohmann::json::parse(slurp(ws / "r.json"));
@@ -29,6 +30,7 @@ TEST(Joints, ASkinnedBakeReportsItsErrorAndIsFarSmallerThanTheMorphBake) {
   EXPECT_LE(rms, max);
   EXPECT_EQ(report["skin_joints"], 9);
   EXPECT_EQ(report["joints_per_sweep"], 8);
+  EXPECT_EQ(report["ring_joints"], 1);
   r = run_tool(SWEEP_SIM_EXE, base + " -q -o " + quoted(ws / "morph.glb"), ws.io);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_LT(fs::file_size(ws / "skin.glb"), fs::file_size(ws / "morph.glb"));
@@ -47,10 +49,14 @@ TEST(Joints, BadJointCountsExitOneAndWriteNothing) {
   for (const std::string& bad :
        {std::string("--joints 1"), std::string("--joints 0"), std::string("--joints -4"),
         std::string("--joints 256"), std::string("--joints 1000"), std::string("--joints 42"),
-        std::string("--joints 7 --stations 1"), std::string("--joints abc"), std::string("--joints")}) {
+        std::string("--joints 7 --stations 1"), std::string("--joints abc"),
+        std::string("--joints 4 --ring-joints 0"), std::string("--joints --ring-joints 65"),
+        std::string("--ring-joints 4"), std::string("--joints 4 --ring-joints")}) {
     const ToolRun r = run_tool(SWEEP_SIM_EXE, base + " " + bad, ws.io);
     EXPECT_EQ(r.code, 1) << bad << ": " << r.err;
-    EXPECT_NE(r.err.find("--joints"), std::string::npos) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find(bad.find("--ring-joints") == std::string::npos ? "--joints" : "--ring-joints"),
+              std::string::npos)
+        << bad << ": " << r.err;
     EXPECT_EQ(r.out, "") << bad;
     EXPECT_EQ(listing(ws.work), before) << bad;
   }
@@ -64,6 +70,36 @@ TEST(Joints, BadJointCountsExitOneAndWriteNothing) {
   // The largest the tube allows is taken.
   const ToolRun ok = run_tool(SWEEP_SIM_EXE, base + " -q --joints 41", ws.io);
   EXPECT_EQ(ok.code, 0) << ok.err;
+}
+
+// --joints alone: the default stations and ring (bake_skin.h: kDefaultSkinJoints, kDefaultRingJoints),
+// last or before another option (followed by the rig, it would take the rig's path for its number);
+// the ring's joints carry the tube's squeeze better than
+// one joint a station does.
+TEST(Joints, JointsAloneTakesTheDefaultsWhichBeatSectionJoints) {
+  const Workspace ws("joints-default");
+  const std::string scene = " -s " + quoted(ws / "scene.json");
+  for (const std::string& order : {quoted(ws / "rig.json") + scene + " --joints -o " + quoted(ws / "d.glb"),
+                                   std::string("--joints -q ") + quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb"),
+                                   quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb") + " --joints"}) {
+    const ToolRun r = run_tool(SWEEP_SIM_EXE, order + " -q --report " + quoted(ws / "d.json"), ws.io);
+    ASSERT_EQ(r.code, 0) << order << ": " << r.err;
+    const nlohmann::json report = nlohmann::json::parse(slurp(ws / "d.json"));
+    EXPECT_EQ(report["joints_per_sweep"], io::kDefaultSkinJoints) << order;
+    EXPECT_EQ(report["ring_joints"], io::kDefaultRingJoints) << order;
+    EXPECT_EQ(report["skin_joints"], 1 + io::kDefaultSkinJoints + (io::kDefaultSkinJoints - 1) * io::kDefaultRingJoints);
+  }
+  const ToolRun r = run_tool(SWEEP_SIM_EXE,
+                             quoted(ws / "rig.json") + scene + " -q -o " + quoted(ws / "s.glb") + " --joints " +
+                                 std::to_string(io::kDefaultSkinJoints) + " --ring-joints 1 --report " +
+                                 quoted(ws / "s.json"),
+                             ws.io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const double ring = nlohmann::json::parse(slurp(ws / "d.json"))["skin_error_max_relative"].get<double>();
+  const double section = nlohmann::json::parse(slurp(ws / "s.json"))["skin_error_max_relative"].get<double>();
+  EXPECT_LT(ring, section);
+  const ToolRun help = run_tool(SWEEP_SIM_EXE, "--help", ws.io);
+  EXPECT_NE(help.out.find("--ring-joints"), std::string::npos) << help.out;
 }
 
 TEST(Joints, TheSkinnedFileIsTheSameBytesWhateverTheThreadCount) {

@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
-# Skinned .glb (sweep-sim --joints N) against the morph-target .glb: CGAL's diplodocus, tail and neck
+# Skinned .glb (sweep-sim --joints N --ring-joints M) against the morph-target .glb: CGAL's diplodocus, tail and neck
 # fitted and bound as tools/run-demo.sh does, the Fig. 4 scene at 150 fps (its 4 s in 601 frames,
 # 600 intervals), baked with the exact deformation (--exact) so the error is the skin's alone.
-# For each N: the skin's largest and RMS error over every bound vertex of every frame (% of the
+# For each N×M (N joints along a sweep, M around each station but the root; M = 1: none): the skin's largest and RMS error over every bound vertex of every frame (% of the
 # part's length, from sweep-sim's report), the file's size and the bake's write time (median of 3
 # runs, from the report's seconds.write), beside the morph-target bake's size and write time.
-# Writes tools/bench/results/skin_joints.md.   tools/bench/skin-joints.sh [build/release/tools] [N ...]
+# A layout NxMfit adds --ring-fit (the ring joints' keys by least squares).
+# Writes tools/bench/results/skin_joints.md.   tools/bench/skin-joints.sh [build/release/tools] [NxM[fit] ...]
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 bin=${1:-$here/build/release/tools}
 shift || true
-counts=${*:-2 3 4 6 8 12 16 24 32 64}
+layouts=${*:-4x1 8x1 16x1 24x1 4x4 8x4 16x4 4x8 8x8 16x8 24x8 8x12 16x12 24x12 8x24 16x24 24x24 8x8fit 24x24fit}
 mesh=$here/meshes/cgal/diplodocus.off
 [ -f "$mesh" ] || { echo "error: $mesh is missing (tools/setup-deps.sh)"; exit 2; }
 work=$(mktemp -d)
@@ -39,13 +40,18 @@ print(os.path.getsize(sys.argv[2]), open(sys.argv[3]).read().strip(),
 }
 read -r morph_bytes morph_ms _ _ frames < <(bake morph.glb)
 {
-  echo "| joints a sweep (N) | max error, % of length | RMS error, % of length | .glb bytes | size / morph | write time |"
-  echo "|---|---|---|---|---|---|"
-  for n in $counts; do
-    read -r bytes ms max rms _ < <(bake "skin$n.glb" --joints "$n")
-    echo "| $n | $max | $rms | $bytes | 1/$(awk "BEGIN { printf \"%.0f\", $morph_bytes / $bytes }") | $(printf '%.1f' "$ms") ms |"
+  echo "| N × M | joints | max error, % of length | RMS error, % of length | .glb bytes | size / morph | write time |"
+  echo "|---|---|---|---|---|---|---|"
+  for layout in $layouts; do
+    n=${layout%x*}
+    m=${layout#*x}
+    fit=()
+    if [ "${m%fit}" != "$m" ]; then m=${m%fit}; fit=(--ring-fit); fi
+    read -r bytes ms max rms _ < <(bake "skin$layout.glb" --joints "$n" --ring-joints "$m" "${fit[@]}")
+    joints=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["skin_joints"])' "$work/r.json")
+    echo "| $n × $m${fit:+ (--ring-fit)} | $joints | $max | $rms | $bytes | 1/$(awk "BEGIN { printf \"%.1f\", $morph_bytes / $bytes }") | $(printf '%.1f' "$ms") ms |"
   done
-  echo "| morph targets (no --joints) | 0 | 0 | $morph_bytes | 1 | $(printf '%.1f' "$morph_ms") ms |"
+  echo "| morph targets (no --joints) | | 0 | 0 | $morph_bytes | 1 | $(printf '%.1f' "$morph_ms") ms |"
   echo
   echo "$frames frames; $(uname -srm); $(date -u +%Y-%m-%d)"
 } >"$here/tools/bench/results/skin_joints.md"

@@ -53,6 +53,8 @@ struct Settings {
   std::uint64_t max_output_bytes = 0;  // --max-output-size: refuse a bake that would write more
   int joints = 0;                      // --joints: skinned .glb with this many joints a sweep; 0 = morph targets
   bool joints_given = false;
+  int ring_joints = sweep::io::kDefaultRingJoints;  // --ring-joints: ring joints a station (1: none)
+  bool ring_fit = false;                            // --ring-fit: least-squares ring keys
 };
 
 double since(Clock::time_point start) {
@@ -110,6 +112,8 @@ std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, doub
   if (r.skin_joints > 0) {
     // The skinned .glb against the bake's positions, as fractions of the part's length.
     doc["joints_per_sweep"] = s.joints;
+    doc["ring_joints"] = s.ring_joints;
+    doc["ring_fit"] = s.ring_fit;
     doc["skin_joints"] = r.skin_joints;
     doc["skin_error_max_relative"] = r.skin_error.max_relative;
     doc["skin_error_rms_relative"] = r.skin_error.rms_relative;
@@ -122,7 +126,9 @@ std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, doub
 int run(const Settings& s) {
   const Clock::time_point start = Clock::now();
   if (s.threads > 0) omp_set_num_threads(s.threads);
-  if (s.joints_given) sweep::io::check_skin_joints(s.joints, {}, 1);  // the range, before any work
+  if (s.joints_given) {  // the ranges, before any work
+    sweep::io::check_skin_joints({.stations = s.joints, .ring = s.ring_joints}, {}, 1);
+  }
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
   const sweep::Mesh mesh = sweep::io::read_mesh(mesh_path);
@@ -192,6 +198,8 @@ int run(const Settings& s) {
   options.exact = s.exact;
   options.stations_per_span = s.stations;
   options.joints = s.joints_given ? s.joints : 0;
+  options.ring_joints = s.ring_joints;
+  options.ring_fit = s.ring_fit;
   options.sleep.enabled = s.sleep;
   sweep::tools::ProgressBar bar("baking");
   if (!s.quiet) options.progress = [&](int done, int total) { bar.update(done, total); };
@@ -230,8 +238,9 @@ int run(const Settings& s) {
     std::cout << " over " << report.stretch_edge_count << " edges, measured in "
               << format_number(report.stretch_seconds * 1e3, 3) << " ms\n";
     if (report.skin_joints > 0) {
-      std::cout << "skinned .glb: " << report.skin_joints << " joints (" << s.joints
-                << " a sweep and the body); against the bake: max "
+      std::cout << "skinned .glb: " << report.skin_joints << " joints (" << s.joints << " a sweep";
+      if (s.ring_joints > 1) std::cout << ", " << s.ring_joints << " around each but the root";
+      std::cout << ", and the body); against the bake: max "
                 << format_number(report.skin_error.max_relative * 100, 3) << " % of the part's length (frame "
                 << report.skin_error.max_frame << ", vertex " << report.skin_error.max_vertex << "), RMS "
                 << format_number(report.skin_error.rms_relative * 100, 3) << " %\n";
@@ -302,9 +311,25 @@ int main(int argc, char** argv) {
                    "Fast path: stations per span (error falls as its square)")
         ->check(CLI::Range(1, 1024));
     auto* joints = app.add_option(
-        "--joints", s.joints,
-        "Write each .glb as a skinned mesh with N joints a sweep (2 to 255, at most the sweep's "
-        "stations) instead of morph targets; the summary and report give its error against the bake");
+                           "--joints", s.joints,
+                           "Write each .glb as a skinned mesh instead of morph targets: N joints along "
+                           "each sweep (2 to 255, at most the sweep's stations; --joints alone, last or "
+                           "before another option: " +
+                               std::to_string(sweep::io::kDefaultSkinJoints) + ", with --ring-joints " +
+                               std::to_string(sweep::io::kDefaultRingJoints) +
+                               " by default, within 1 % of the length on the demo's scene); the summary "
+                               "and report give its error against the bake")
+                       ->expected(0, 1)
+                       ->default_str(std::to_string(sweep::io::kDefaultSkinJoints));
+    app.add_option("--ring-joints", s.ring_joints,
+                   "With --joints: M joints around each station but the root, carrying the radial "
+                   "change at their angles (1 to 64; 1: none, each station joint scales its whole "
+                   "section; default " + std::to_string(sweep::io::kDefaultRingJoints) + ")")
+        ->needs(joints);
+    app.add_flag("--ring-fit", s.ring_fit,
+                 "With --joints: fit the ring joints' keys by least squares over the vertices they "
+                 "weigh (less error; every ring joint is keyed, a larger file)")
+        ->needs(joints);
     app.add_flag("--exact", s.exact,
                  "Deform with the exact per-vertex path (the reference; slower)");
     app.add_flag(
