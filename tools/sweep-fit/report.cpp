@@ -71,7 +71,8 @@ Json fit_entry(const fit::FitResult& r) {
 
 }  // namespace
 
-MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh) {
+MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMesh& read, const std::string& taken) {
+  const Mesh& mesh = read.mesh;
   MeshSummary m;
   m.vertices = mesh.vertex_count();
   m.faces = mesh.face_count();
@@ -80,6 +81,9 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh) 
     m.min = m.min.cwiseMin(p);
     m.max = m.max.cwiseMax(p);
   }
+  m.name = read.name;
+  m.taken = taken;
+  m.meshes = read.meshes;
   const std::string ext = lower_extension(path);
   if (ext == "gltf" || ext == "glb") {
     m.space = "the scene's world space: each mesh placed by its node's transforms (glTF units are "
@@ -94,10 +98,28 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh) 
 }
 
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m) {
-  std::cout << "mesh " << path.string() << ": " << m.vertices << " vertices, " << m.faces
+  std::cout << "mesh " << path.string();
+  if (!m.name.empty()) std::cout << " '" << m.name << "' (" << m.taken << ")";
+  std::cout << ": " << m.vertices << " vertices, " << m.faces
             << " faces, bounding box " << format_point(m.min) << " to " << format_point(m.max)
             << " (size " << format_point(m.max - m.min) << ")\n"
             << "  points (and --tip, --root, --axis) are in " << m.space << "\n";
+  if (m.meshes.size() > 1) {
+    std::cout << "  the file's meshes (--mesh NAME takes one): " << io::list_scene_meshes(m.meshes) << "\n";
+  } else if (m.name.empty() && !m.taken.empty()) {
+    std::cout << "  " << m.taken << "\n";
+  }
+}
+
+std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummary& m) {
+  if (m.meshes.size() < 2 || m.taken != "the largest") return "";
+  std::vector<io::SceneMeshEntry> others;
+  for (const io::SceneMeshEntry& e : m.meshes) {
+    if (e.name != m.name) others.push_back(e);
+  }
+  return path.string() + " holds " + std::to_string(m.meshes.size()) + " meshes; took '" + m.name + "' (" +
+         std::to_string(m.vertices) + " vertices, the largest; --mesh NAME takes another); the others: " +
+         io::list_scene_meshes(others);
 }
 
 std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary& summary,
@@ -111,7 +133,14 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
   rep["mesh_summary"] = {{"vertices", summary.vertices},
                          {"faces", summary.faces},
                          {"bounding_box", {{"min", point(summary.min)}, {"max", point(summary.max)}}},
-                         {"space", summary.space}};
+                         {"space", summary.space},
+                         {"mesh_name", summary.name},
+                         {"taken", summary.taken}};
+  Json meshes = Json::array();
+  for (const io::SceneMeshEntry& e : summary.meshes) {
+    meshes.push_back({{"name", e.name}, {"mesh_name", e.mesh_name}, {"vertices", e.vertex_count}});
+  }
+  rep["mesh_summary"]["meshes"] = std::move(meshes);
   rep["rig"] = rig.generic_string();
   rep["rig_written"] = rig_written;
   auto& sweeps = rep["sweeps"] = Json::array();
