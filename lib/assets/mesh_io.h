@@ -18,8 +18,9 @@
 //    in file order, corners in face order; -0 and +0 are one position; vertices no face uses are
 //    dropped). These formats have no shared vertex list, so that order is the only one there is.
 // For every assimp format: point and line primitives are dropped, and each mesh is placed in world
-// space by its node's world transform (FBX stores local positions under unit-scale and axis
-// nodes); an identity transform is applied without arithmetic.
+// space by its node's world transform (FBX stores local positions under axis nodes); an identity
+// transform is applied without arithmetic. No unit scale is applied: an FBX's coordinates stay in
+// its unit, which SceneMesh::unit reports (its UnitScaleFactor, centimetres a unit).
 // Several meshes in one file (issue 18): a scene file (glTF, FBX and the other assimp formats but
 // PLY and STL) holds meshes by name. One mesh of it is a node that shows one (Blender's object):
 // all that node's importer meshes (a glTF mesh's primitives, an FBX model's parts by material),

@@ -69,6 +69,26 @@ Json fit_entry(const fit::FitResult& r) {
   return s;
 }
 
+// A length of `cm` centimetres as a person says it: "1 cm", "100 cm = 1 m", "2.54 cm (an inch)".
+std::string unit_words(double cm) {
+  if (cm == 100) return "100 cm = 1 m";
+  if (cm == 0.1) return "0.1 cm = 1 mm";
+  if (cm == 2.54) return "2.54 cm, an inch";
+  if (cm == 30.48) return "30.48 cm, a foot";
+  if (cm == 100000) return "100000 cm = 1 km";
+  return format_number(cm) + " cm";
+}
+
+// The coordinates' unit in the plural: "centimetres", "units of 5 cm".
+std::string unit_plural(double cm) {
+  if (cm == 1) return "centimetres";
+  if (cm == 0.1) return "millimetres";
+  if (cm == 2.54) return "inches";
+  if (cm == 30.48) return "feet";
+  if (cm == 100000) return "kilometres";
+  return "units of " + format_number(cm) + " cm";
+}
+
 }  // namespace
 
 MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMesh& read, const std::string& taken) {
@@ -84,6 +104,7 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMes
   m.name = read.name;
   m.taken = taken;
   m.meshes = read.meshes;
+  m.unit = read.unit;
   const std::string ext = lower_extension(path);
   if (ext == "gltf" || ext == "glb") {
     m.space = "the scene's world space: each mesh placed by its node's transforms (glTF units are "
@@ -91,8 +112,20 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMes
   } else if (ext == "off" || ext == "obj" || ext == "ply" || ext == "stl") {
     m.space = "the file's coordinates as stored (the format states no unit)";
   } else {
-    m.space = "the scene's world space as assimp reads it: node transforms applied, which for FBX "
-              "carry the file's unit scale and axis conversion";
+    // assimp reads with no post-processing, so no unit scale is applied (measured on FBX files
+    // Blender writes: UnitScaleFactor 1 with the coordinates × 100, and 100 with them as they are).
+    m.space = "the scene's world space as assimp reads it: node transforms applied (axis conversion "
+              "included), no unit scale; ";
+    const double cm = read.unit.unit_scale_factor;
+    if (cm > 0) {
+      m.metres_per_unit = cm / 100;
+      m.space += "FBX UnitScaleFactor " + format_number(cm) + " (the file's unit is " + unit_words(cm) +
+                 "): points are in " + (cm == 100 ? std::string("metres") : unit_plural(cm) + " (× " +
+                 format_number(m.metres_per_unit) + " → metres; a material's metres_per_unit " +
+                 format_number(m.metres_per_unit) + ")");
+    } else {
+      m.space += "the file states no unit (no UnitScaleFactor)";
+    }
   }
   return m;
 }
@@ -141,6 +174,13 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
     meshes.push_back({{"name", e.name}, {"mesh_name", e.mesh_name}, {"vertices", e.vertex_count}});
   }
   rep["mesh_summary"]["meshes"] = std::move(meshes);
+  // The file's stated unit (FBX), which nothing applies: what a point of the mesh is in metres.
+  rep["mesh_summary"]["unit"] =
+      summary.unit.unit_scale_factor > 0
+          ? Json{{"unit_scale_factor", summary.unit.unit_scale_factor},
+                 {"original_unit_scale_factor", summary.unit.original_unit_scale_factor},
+                 {"metres_per_unit", summary.metres_per_unit}}
+          : Json();
   rep["rig"] = rig.generic_string();
   rep["rig_written"] = rig_written;
   auto& sweeps = rep["sweeps"] = Json::array();

@@ -25,6 +25,8 @@ struct MeshSummary {
   std::string name;   // the mesh taken ("" = the whole file, or a format of one nameless mesh)
   std::string taken;  // why: "named by --mesh", "the rig's", "the only one", "the largest", "the whole file"
   std::vector<io::SceneMeshEntry> meshes;  // all the file's meshes (empty: a format without names)
+  io::MeshUnit unit;        // the unit the file states (FBX UnitScaleFactor), applied by nothing
+  double metres_per_unit = 0;  // what that unit is in metres (0: the file states none)
 };
 MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMesh& read, const std::string& taken);
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m);
