@@ -474,6 +474,35 @@ TEST(SceneMeshes, TheLargestIsTakenByDefaultAndSaidSo) {
   EXPECT_EQ(Json::parse(slurp(d / "rig.json"))["mesh_name"], "TailNode");
 }
 
+// --space local: --root, --tip and --axis in the Tail's own space (as stored in the file) are taken to
+// world by its node's transform: the rig is the one world seeds give (world space, as always).
+TEST(SceneMeshes, LocalSeedsAreTakenToWorldByTheNodesTransform) {
+  const SceneMeshesDir d("scene-meshes-local-seeds");
+  const Eigen::Affine3d w = TexturedAsset::tail_world();
+  ToolRun r = d.fit(" --mesh Tail --space local --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8 -v --report " + quoted(d / "fit.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("--tip, --root and --axis are in the mesh's own space (--space local)"), std::string::npos) << r.out;
+  EXPECT_EQ(Json::parse(slurp(d / "fit.json"))["mesh_summary"]["seeds_space"], "local");
+  const Json local = Json::parse(slurp(d / "rig.json"));
+  const Json& part = local["sweeps"][0]["part"];
+  const Vec3 tip(part["tip"][0], part["tip"][1], part["tip"][2]);
+  EXPECT_LT((tip - w * Vec3(0, 0, 1)).norm(), 1e-6) << part;  // assimp keeps node transforms in float
+  fs::remove(d / "rig.json");
+  ASSERT_EQ((r = d.fit(" --mesh Tail" + tail_seeds())).code, 0) << r.err;
+  const Json world = Json::parse(slurp(d / "rig.json"));
+  double worst = 0;
+  const Json& a = local["sweeps"][0]["sections"];
+  const Json& b = world["sweeps"][0]["sections"];
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(a[k]["center"][c].get<double>() - b[k]["center"][c].get<double>()));
+  }
+  EXPECT_LT(worst, 1e-5) << "the seeds given in world space are rounded to 6 decimals";
+  r = run_tool(SWEEP_FIT_EXE, quoted(d / "creature.gltf") + " --list --space local", d.io);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("--space says what --root, --tip and --axis are in: it does not go with --list"), std::string::npos) << r.err;
+}
+
 // A rig from before mesh names (version 1, no mesh_name) reads the whole file as it always did: the
 // Tail and the Ground, in world space, in the .pc2.
 TEST(SceneMeshes, ARigWithoutAMeshNameReadsTheWholeFileAsBefore) {

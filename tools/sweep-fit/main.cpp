@@ -39,6 +39,7 @@ namespace {
 struct Settings {
   fs::path mesh;              // input mesh (any format io::read_mesh reads)
   std::string mesh_name;      // --mesh: which mesh of the file ("" = the rig's, or the only or largest)
+  std::string space = "world";  // --space: what --root, --tip and --axis are in (world, local)
   fs::path rig;               // rig file to create or update
   std::string name = "part";  // the sweep's name in the rig
   std::string root, tip;  // X,Y,Z in mesh units (root optional: found where the part meets the body)
@@ -209,6 +210,7 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
   else if (!m.read.name.empty()) taken = "the only one";
   else if (m.read.meshes.size() > 1) taken = "the whole file: the rig being updated names no mesh";
   m.summary = sweep::fit_tool::summarize_mesh(s.mesh, m.read, taken);
+  m.summary.seeds_local = s.space == "local";
   if (s.verbose) sweep::fit_tool::print_mesh_summary(s.mesh, m.summary);
   if (const std::string note = sweep::fit_tool::mesh_choice_note(s.mesh, m.summary); !note.empty()) {
     sweep::io::note(note);
@@ -325,6 +327,14 @@ int run_one(const Settings& s) {
   bool updating = false;
   sweep::Rig rig = open_rig(s, updating);
   const ReadMesh mesh = read_checked_mesh(s, &rig, updating);
+  if (s.space == "local") {
+    // The points are in the mesh's own space: its node's world transform takes them to the world
+    // space the mesh (and the rig) are in.
+    const Eigen::Affine3d& to_world = mesh.read.to_world;
+    if (o.root) o.root = to_world * *o.root;
+    if (!s.tip.empty()) o.tip = to_world * o.tip;
+    for (Vec3& p : o.axis) p = to_world * p;
+  }
   check_outputs(s);
   std::vector<sweep::fit::FitResult> fits;
   fitting(s, mesh, fits, start, [&] { fits.push_back(sweep::fit::fit_sweep(mesh.mesh(), o)); });
@@ -455,6 +465,11 @@ int main(int argc, char** argv) {
                                     "JSON file of a material (youngs_modulus_pa, density_kg_m3, "
                                     "metres_per_unit, ...): the fitted sweeps move in material mode")
                          ->check(sweep::tools::kNonEmptyName);
+    auto* space = app.add_option("--space", s.space,
+                                 "What --root, --tip and --axis are in: world (the mesh's points after "
+                                 "its node transforms) or local (the mesh's own, as stored)")
+                      ->check(CLI::IsMember({"world", "local"}))
+                      ->capture_default_str();
     app.add_flag("-v,--verbose", s.verbose, "Say more");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     // The modes: one part (named by --tip, --tip-vertex or --axis), --all, --list.
@@ -466,6 +481,10 @@ int main(int argc, char** argv) {
       }
     }
     if (names->count() > 0 && !s.all) fail(ErrorCategory::usage, "--names goes with --all");
+    if (space->count() > 0 && finding) {
+      fail(ErrorCategory::usage, std::string("--space says what --root, --tip and --axis are in: it does not go with ") +
+                                     (s.list ? "--list" : "--all"));
+    }
     if (material->count() > 0 && s.list) fail(ErrorCategory::usage, "--material goes with a fit or --all, not --list");
     if (preview->count() > 0 && s.list) {
       fail(ErrorCategory::usage, "--preview draws fitted parts: use it with a fit or --all, not --list");

@@ -136,7 +136,12 @@ void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m)
   std::cout << ": " << m.vertices << " vertices, " << m.faces
             << " faces, bounding box " << format_point(m.min) << " to " << format_point(m.max)
             << " (size " << format_point(m.max - m.min) << ")\n"
-            << "  points (and --tip, --root, --axis) are in " << m.space << "\n";
+            << "  points" << (m.seeds_local ? "" : " (and --tip, --root, --axis)") << " are in " << m.space << "\n";
+  if (m.seeds_local) {
+    std::cout << "  --tip, --root and --axis are in the mesh's own space (--space local): its node's world "
+                 "transform takes them there"
+              << (m.name.empty() ? " (none here: the file's coordinates are the mesh's own)" : "") << "\n";
+  }
   if (m.meshes.size() > 1) {
     std::cout << "  the file's meshes (--mesh NAME takes one): " << io::list_scene_meshes(m.meshes) << "\n";
   } else if (m.name.empty() && !m.taken.empty()) {
@@ -168,7 +173,8 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
                          {"bounding_box", {{"min", point(summary.min)}, {"max", point(summary.max)}}},
                          {"space", summary.space},
                          {"mesh_name", summary.name},
-                         {"taken", summary.taken}};
+                         {"taken", summary.taken},
+                         {"seeds_space", summary.seeds_local ? "local" : "world"}};
   Json meshes = Json::array();
   for (const io::SceneMeshEntry& e : summary.meshes) {
     meshes.push_back({{"name", e.name}, {"mesh_name", e.mesh_name}, {"vertices", e.vertex_count}});

@@ -27,6 +27,7 @@ struct MeshSummary {
   std::vector<io::SceneMeshEntry> meshes;  // all the file's meshes (empty: a format without names)
   io::MeshUnit unit;        // the unit the file states (FBX UnitScaleFactor), applied by nothing
   double metres_per_unit = 0;  // what that unit is in metres (0: the file states none)
+  bool seeds_local = false;    // --space local: --root, --tip and --axis in the mesh's own space
 };
 MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMesh& read, const std::string& taken);
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m);
