@@ -1,6 +1,7 @@
-// The import of mesh_io.h: read_mesh (checks the file, then chooses the reader by extension),
-// and assimp for PLY, glTF/glb and every other format it reads, welded by exact position where the
-// format has no shared vertex list. The only file that sees assimp.
+// The import of mesh_io.h: read_scene_mesh and read_mesh (check the file, then choose the reader by
+// extension), and assimp for PLY, glTF/glb and every other format it reads, welded by exact
+// position where the format has no shared vertex list; one mesh of a scene of several taken by its
+// node (NodeMeshes), the same way for read_welded_surface. The only file that sees assimp.
 #include <assimp/scene.h>
 
 #include <algorithm>
