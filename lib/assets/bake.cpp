@@ -129,6 +129,17 @@ void BakeWriterBase::begin(const Mesh& rest, const BakeInfo& info) {
       for (std::size_t v = 0; v < n; ++v) animated_[v] = static_cast<std::uint32_t>(v);
     }
     info_.animated_vertices.reset();  // animated_ is the one copy
+    const Eigen::Affine3d& to_world = info.source.to_world;
+    local_ = !to_world.matrix().isIdentity(0.0);
+    if (local_) {
+      if (!(std::abs(to_world.linear().determinant()) > 0) || !is_finite(to_world.matrix())) {
+        fail(ErrorCategory::bad_input, where + "the mesh's node transform is singular or not finite, so its "
+                                               "local space cannot be had");
+      }
+      to_local_ = to_world.inverse();
+      stored_rest_.resize(n);
+      for (std::size_t v = 0; v < n; ++v) stored_rest_[v] = stored(to_local_ * rest.positions[v], v);
+    }
     state_ = State::begun;
     start(rest);
   });
@@ -210,15 +221,26 @@ void BakeWriterBase::frame(int index, std::span<const Eigen::Vector3f> positions
   });
 }
 
-std::span<const Eigen::Vector3f> BakeWriterBase::world_positions(std::span<const Eigen::Vector3f> positions) {
+Eigen::Vector3f BakeWriterBase::stored(const Eigen::Vector3d& p, std::size_t v) const {
+  if (!(p.cwiseAbs().maxCoeff() <= kMaxBakeCoordinate)) {
+    fail(ErrorCategory::diverged, out_.string() + ": vertex " + std::to_string(v) +
+                                      " moved by the body or into the mesh's local space leaves the float range");
+  }
+  return p.cast<float>();
+}
+
+std::span<const Eigen::Vector3f> BakeWriterBase::stored_positions(std::span<const Eigen::Vector3f> positions) {
+  if (!info_.body_moves && !local_) return positions;
   world_.resize(positions.size());
   const Eigen::Matrix3d r = body_.rotation.normalized().toRotationMatrix();
   for (std::size_t v = 0; v < positions.size(); ++v) {
-    const Eigen::Vector3d w = r * positions[v].cast<double>() + body_.translation;
-    if (!(w.cwiseAbs().maxCoeff() <= kMaxBakeCoordinate)) {
-      fail(ErrorCategory::diverged, out_.string() + ": vertex " + std::to_string(v) + " moved by the body leaves the float range");
+    if (!info_.body_moves && positions[v] == rest_[v]) {
+      world_[v] = stored_rest_[v];  // at rest: the same local numbers every frame
+      continue;
     }
-    world_[v] = w.cast<float>();
+    Eigen::Vector3d w = positions[v].cast<double>();
+    if (info_.body_moves) w = r * w + body_.translation;
+    world_[v] = stored(local_ ? Eigen::Vector3d(to_local_ * w) : w, v);
   }
   return world_;
 }

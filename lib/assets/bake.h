@@ -26,7 +26,7 @@
 //  - `.pc2`  point cache (Blender's Mesh Cache modifier, 3ds Max, Houdini): "POINTCACHE2\0",
 //            int32 version 1, int32 points, float32 start frame 0, float32 sample rate 1, int32
 //            samples, then float32 x y z per point per sample, little-endian, in the mesh's
-//            vertex order.
+//            vertex order and its local space (BakeSource::to_world).
 //  - `.obj`  a numbered sequence, one file a frame: `out.obj` → `out_0000.obj`, `out_0001.obj`,
 //            ... (4 digits, more when the frame count needs them; every file of a sequence has
 //            the same width). Each holds `v` lines in vertex order (shortest round-trippable
@@ -59,6 +59,22 @@
 
 namespace sweep::io {
 
+// The mesh a bake deforms, as read from its file (assets/mesh_io.h: read_scene_mesh).
+struct BakeSource {
+  // The file (empty: unknown). A .gltf or .glb makes the .glb writer write that document whole
+  // plus the bake (assets/gltf_passthrough.h), as does an .obj or .fbx with a surface to carry;
+  // any other source gets the .glb described above.
+  std::filesystem::path path;
+  std::string mesh_name;  // the mesh of the file ("" = the whole file: every mesh in it)
+  // The importer meshes it is made of, in order (for a glTF, its primitives counted over the
+  // file's meshes in order: which primitives the passthrough deforms); empty = all of them.
+  std::vector<unsigned> parts;
+  // Its local space → world. The bake runs in world space; .pc2 and .obj frames are written in
+  // local space (this transform's inverse applied), so that they fit the object as Blender
+  // imports it. Identity (the whole file, a format without nodes): written as they are.
+  Eigen::Affine3d to_world = Eigen::Affine3d::Identity();
+};
+
 struct BakeInfo {
   // Frames that frame() will receive, numbered 0 .. frame_count-1; at least 1.
   int frame_count = 0;
@@ -72,14 +88,12 @@ struct BakeInfo {
   // Name of the glTF node and mesh (Blender's object name). Not used by the other formats.
   std::string name = "sweep_bake";
   // Whether the body moves (issue 13): each frame then comes with the body's pose. The .pc2 and
-  // .obj writers write world positions (pose applied); the .glb writer keeps the deformation in
+  // .obj writers write world positions (pose applied; then in the mesh's local space); the .glb writer keeps the deformation in
   // the body's frame (morph targets) and animates its node's translation and rotation (LINEAR:
   // slerp), so engines play both. Without it every pose must be the identity.
   bool body_moves = false;
-  // The mesh file the bake deforms, as read by read_mesh (empty: unknown). A .gltf or .glb makes
-  // the .glb writer write that document whole plus the bake (assets/gltf_passthrough.h); any
-  // other source gets the .glb described above.
-  std::filesystem::path source;
+  // The mesh file the bake deforms and which mesh of it (BakeSource).
+  BakeSource source;
 };
 
 // The body's pose for one frame: world = rotation · position + translation.

@@ -3,6 +3,7 @@
 // The files themselves are each writer's: io::TempFile temporaries (io/atomic_file.h), sealed and
 // handed to an io::Publication in complete(), discarded in abandon().
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -48,9 +49,13 @@ class BakeWriterBase : public BakeWriter {
   virtual void write_frame(int index, std::span<const Eigen::Vector3f> positions) = 0;
   // The body's pose of the frame being written (identity unless info().body_moves).
   const BodyPose& body_pose() const { return body_; }
-  // `positions` moved by the body's pose into world space (a scratch buffer, valid until the next
-  // call), for the writers that store world positions.
-  std::span<const Eigen::Vector3f> world_positions(std::span<const Eigen::Vector3f> positions);
+  // `positions` as the .pc2 and .obj writers store them: moved by the body's pose into world
+  // space, then into the mesh's local space (BakeSource::to_world's inverse). `positions` itself
+  // when neither applies; else a scratch buffer, valid until the next call. A vertex at rest in a
+  // frame with no body motion is its local rest position (stored_rest()), the same every frame.
+  std::span<const Eigen::Vector3f> stored_positions(std::span<const Eigen::Vector3f> positions);
+  // The rest positions as stored_positions stores them (rest() when there is no local space).
+  const std::vector<Eigen::Vector3f>& stored_rest() const { return local_ ? stored_rest_ : rest_; }
   // Seals what is left and hands every temporary to `outputs`.
   virtual void complete(Publication& outputs) = 0;
   virtual void abandon() noexcept = 0;
@@ -68,6 +73,8 @@ class BakeWriterBase : public BakeWriter {
  private:
   enum class State { created, begun, finished, closed };
   void check_frame(int index, std::span<const Eigen::Vector3f> positions) const;
+  // `p` as float32, or Error(diverged) naming vertex `v` when it leaves the bake's range.
+  Eigen::Vector3f stored(const Eigen::Vector3d& p, std::size_t v) const;
   template <typename F>
   void guarded(F&& body);
 
@@ -80,6 +87,9 @@ class BakeWriterBase : public BakeWriter {
   std::uint64_t estimate_ = 0;
   BodyPose body_;
   std::vector<Eigen::Vector3f> world_;
+  bool local_ = false;                   // the mesh has a local space other than world
+  Eigen::Affine3d to_local_ = Eigen::Affine3d::Identity();
+  std::vector<Eigen::Vector3f> stored_rest_;  // rest in local space, from the double positions
 };
 
 }  // namespace sweep::io::detail

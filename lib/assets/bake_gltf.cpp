@@ -125,8 +125,8 @@ void GltfWriter::start_passthrough(const Mesh&) {
 }
 
 void GltfWriter::start(const Mesh& mesh) {
-  if (detail::is_passthrough_source(info().source)) {
-    passthrough_ = detail::GltfPassthrough::open(info().source, out(), mesh, animated(), info());
+  if (detail::is_passthrough_source(info().source.path)) {
+    passthrough_ = detail::GltfPassthrough::open(info().source.path, out(), mesh, animated(), info());
     if (passthrough_) {
       start_passthrough(mesh);
       return;

@@ -41,7 +41,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
       rest_line_start_.resize(n + 1);
       for (std::size_t v = 0; v < n; ++v) {
         rest_line_start_[v] = rest_lines_.size();
-        detail::append_vertex_line(rest_lines_, "v ", rest()[v]);
+        detail::append_vertex_line(rest_lines_, "v ", stored_rest()[v]);
       }
       rest_line_start_[n] = rest_lines_.size();
     }
@@ -55,9 +55,8 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
   }
 
   void write_frame(int index, std::span<const Eigen::Vector3f> body_positions) override {
-    // World positions: with a moving body every vertex moves.
-    const std::span<const Eigen::Vector3f> positions =
-        info().body_moves ? world_positions(body_positions) : body_positions;
+    // World positions in the mesh's local space: with a moving body every vertex moves.
+    const std::span<const Eigen::Vector3f> positions = stored_positions(body_positions);
     std::string& text = text_;
     text.clear();
     text += "# sweep bake 1: frame ";

@@ -42,8 +42,7 @@ class Pc2Writer final : public detail::BakeWriterBase {
   }
 
   void write_frame(int, std::span<const Eigen::Vector3f> body_positions) override {
-    const std::span<const Eigen::Vector3f> positions =
-        info().body_moves ? world_positions(body_positions) : body_positions;
+    const std::span<const Eigen::Vector3f> positions = stored_positions(body_positions);
     if constexpr (std::endian::native == std::endian::little) {
       file_->write(positions.data(), positions.size_bytes());
     } else {

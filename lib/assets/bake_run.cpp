@@ -121,7 +121,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   info.fps = scene.fps;
   info.animated_vertices = animated;
   info.body_moves = scene.body.moves();
-  info.source = options.source_mesh;
+  info.source = options.source;
   std::vector<io::SkinPoser*> skins;  // the skinned writers among them
   for (const auto& out : options.outputs) {
     if (options.joints != 0 && lower_extension(out) == "glb") {

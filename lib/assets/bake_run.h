@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "assets/bake.h"
 #include "assets/bake_skin.h"
 #include "assets/edge_stretch.h"
 #include "bind/bind.h"
@@ -27,8 +28,9 @@ namespace sweep::sim {
 
 struct BakeOptions {
   std::vector<std::filesystem::path> outputs;  // chosen by extension: .glb, .pc2, .obj
-  // The mesh file (io::BakeInfo::source): a glTF source's .glb bake is that document plus the bake.
-  std::filesystem::path source_mesh;
+  // The mesh file and which mesh of it (io::BakeInfo::source): a glTF source's .glb bake is that
+  // document plus the bake; .pc2 and .obj frames are in the mesh's local space.
+  io::BakeSource source;
   bool exact = false;         // the per-vertex reference path instead of the fast station path
   int stations_per_span = 8;  // fast path: stations per span (error falls as its square)
   SleepSettings sleep;

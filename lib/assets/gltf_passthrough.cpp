@@ -169,6 +169,9 @@ struct GltfPassthrough::State {
   std::vector<Primitive> primitives;
   // A document made from another format (an OBJ's): each primitive's vertices' sources.
   std::vector<std::vector<std::uint32_t>> given_sources;
+  // The primitives the mesh as read is made of (BakeSource::parts), counted over the meshes in
+  // order; empty = all of them.
+  std::vector<unsigned> parts;
   std::vector<std::size_t> deformed_meshes;
 
   // A node showing a deformed mesh: its weights are animated, and with a moving body its transform.
@@ -348,24 +351,36 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
         for (const char* key : {"POSITION", "NORMAL", "TANGENT"}) same = same && a.value(key, Json()) == b.value(key, Json());
         if (same) prim.same_as = static_cast<int>(e);
       }
-      if (k < s.given_sources.size()) {
-        prim.source = s.given_sources[k];
-      } else {
-        for (std::uint64_t i = 0; i < count; ++i) prim.source.push_back(static_cast<std::uint32_t>(base + i));
-      }
-      base += count;
+      if (k < s.given_sources.size()) prim.source = s.given_sources[k];
       s.primitives.push_back(std::move(prim));
     }
   }
-  if (s.given_sources.empty() && base != rest.vertex_count()) {
-    s.refuse("its primitives hold " + std::to_string(base) + " vertices but the mesh was read with " +
-             std::to_string(rest.vertex_count()) + "; the .glb bake cannot tell which primitive a vertex "
-             "belongs to (bake to .pc2)");
+  // The mesh as read is the primitives `parts` names, in that order (all of them, in order, for
+  // the whole file): their vertices one after another. The others are not the bake's.
+  if (s.given_sources.empty()) {
+    std::vector<std::size_t> taken;
+    for (std::size_t k = 0; k < s.primitives.size(); ++k) taken.push_back(k);
+    if (!s.parts.empty()) taken.assign(s.parts.begin(), s.parts.end());
+    for (const std::size_t k : taken) {
+      if (k >= s.primitives.size() || !s.primitives[k].source.empty()) {
+        s.refuse("the mesh was read from primitive " + std::to_string(k) + " (counted over its meshes), which "
+                 "the file does not have once; the .glb bake cannot tell which primitive a vertex belongs to "
+                 "(bake to .pc2)");
+      }
+      State::Primitive& prim = s.primitives[k];
+      for (std::uint64_t i = 0; i < prim.count; ++i) prim.source.push_back(static_cast<std::uint32_t>(base + i));
+      base += prim.count;
+    }
+    if (base != rest.vertex_count()) {
+      s.refuse("its primitives hold " + std::to_string(base) + " vertices but the mesh was read with " +
+               std::to_string(rest.vertex_count()) + "; the .glb bake cannot tell which primitive a vertex "
+               "belongs to (bake to .pc2)");
+    }
   }
   std::vector<char> moving(rest.vertex_count(), 0);
   for (const std::uint32_t v : animated) moving[v] = 1;
   for (State::Primitive& prim : s.primitives) {
-    for (std::uint32_t i = 0; i < prim.count && !prim.deformed; ++i) prim.deformed = moving[prim.source[i]] != 0;
+    for (std::size_t i = 0; i < prim.source.size() && !prim.deformed; ++i) prim.deformed = moving[prim.source[i]] != 0;
   }
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     bool deformed = false;
@@ -495,12 +510,14 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.body_moves = info.body_moves;
   if (const std::string ext = lower_extension(source); ext == "obj" || ext == "fbx") {
     std::optional<SurfaceGltf> converted =
-        ext == "obj" ? obj_as_gltf(source, rest) : surface_as_gltf(read_welded_surface(source), rest, source);
+        ext == "obj" ? obj_as_gltf(source, rest)
+                     : surface_as_gltf(read_welded_surface(source, info.source.mesh_name), rest, source);
     if (!converted) fail(ErrorCategory::internal, s.where + "no surface to carry");
     s.doc = std::move(converted->doc);
     s.given_sources = std::move(converted->sources);
   } else {
     s.doc = read_gltf_document(source);
+    s.parts = info.source.parts;
   }
   if (!s.doc.json.is_object()) s.bad("not a glTF document (its JSON is not an object)");
   check_compression(s);

@@ -10,7 +10,9 @@
 //    deltas where it has TANGENT, in the primitive's own (mesh-local) space. The importer reads
 //    positions in world space (mesh_import.cpp: glTF meshes in order, their primitives in order,
 //    each placed by the world transform of the first node showing it, depth first in the default
-//    scene); a world delta is mapped back by the inverse of that node's linear transform. The
+//    scene; of a file of several meshes, only the primitives BakeSource::parts names, the rig's
+//    mesh: the others are never deformed); a world delta is mapped back by the inverse of that
+//    node's linear transform. The
 //    input's own normals and tangents are turned by the rotation that takes each vertex's smooth
 //    rest normal (area-weighted, over the mesh welded by position, so UV seams do not show) to the
 //    frame's; a vertex that does not move keeps a zero delta exactly. Targets are sparse: each

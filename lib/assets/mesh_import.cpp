@@ -1,6 +1,7 @@
-// The import of mesh_io.h: read_mesh (checks the file, then chooses the reader by extension),
-// and assimp for PLY, glTF/glb and every other format it reads, welded by exact position where the
-// format has no shared vertex list. The only file that sees assimp.
+// The import of mesh_io.h: read_scene_mesh and read_mesh (check the file, then choose the reader by
+// extension), and assimp for PLY, glTF/glb and every other format it reads, welded by exact
+// position where the format has no shared vertex list; one mesh of a scene of several taken by its
+// node (NodeMeshes), the same way for read_welded_surface. The only file that sees assimp.
 #include <assimp/scene.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <string>
 #include <string_view>
@@ -91,6 +93,72 @@ void collect_transforms(const aiNode* node, const Transform& parent,
   }
 }
 
+// One mesh of the scene as the tools name it: a node showing importer meshes.
+struct NodeMeshes {
+  std::string name, mesh_name;
+  Transform world;
+  std::vector<unsigned> parts;
+};
+
+// The name of a node's mesh: its parts' common name, or the glTF mesh's name behind its
+// primitives' ("Tail-0", "Tail-1" → "Tail"); "" when they differ.
+std::string common_mesh_name(const aiScene* scene, const std::vector<unsigned>& parts) {
+  auto name_of = [&](unsigned m, bool strip) {
+    std::string n = scene->mMeshes[m]->mName.C_Str();
+    const std::size_t dash = n.rfind('-');
+    if (strip && dash != std::string::npos && dash + 1 < n.size() &&
+        n.find_first_not_of("0123456789", dash + 1) == std::string::npos) {
+      n.resize(dash);
+    }
+    return n;
+  };
+  for (const bool strip : {false, true}) {
+    const std::string first = name_of(parts.front(), strip);
+    bool same = true;
+    for (const unsigned m : parts) same = same && name_of(m, strip) == first;
+    if (same && (!strip || parts.size() > 1)) return first;
+  }
+  return "";
+}
+
+void collect_nodes(const aiScene* scene, const aiNode* node, const Transform& parent,
+                   std::vector<NodeMeshes>& out) {
+  const Transform world = parent * to_transform(node->mTransformation);
+  NodeMeshes here{node->mName.C_Str(), "", world, {}};
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+    if (node->mMeshes[i] < scene->mNumMeshes) here.parts.push_back(node->mMeshes[i]);
+  }
+  if (!here.parts.empty()) {
+    here.mesh_name = common_mesh_name(scene, here.parts);
+    out.push_back(std::move(here));
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) collect_nodes(scene, node->mChildren[c], world, out);
+}
+
+// An importer mesh and where it goes.
+struct Placed {
+  unsigned mesh;
+  Transform transform;
+};
+
+// The whole file: every importer mesh in order, placed by the first node showing it.
+std::vector<Placed> whole_file(const aiScene* scene) {
+  std::vector<Transform> transforms(scene->mNumMeshes, Transform::Identity());
+  std::vector<bool> seen(scene->mNumMeshes, false);
+  if (scene->mRootNode != nullptr) {
+    collect_transforms(scene->mRootNode, Transform::Identity(), transforms, seen);
+  }
+  std::vector<Placed> placed;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) placed.push_back({m, transforms[m]});
+  return placed;
+}
+
+std::vector<Placed> placed_of(const NodeMeshes& node) {
+  std::vector<Placed> placed;
+  for (const unsigned m : node.parts) placed.push_back({m, node.world});
+  return placed;
+}
+
 Vec3 apply(const Transform& t, const aiVector3D& v) {
   if (t.isIdentity(0.0)) return Vec3(v.x, v.y, v.z);  // exact: no arithmetic at all
   const Eigen::Vector4d h = t * Eigen::Vector4d(v.x, v.y, v.z, 1.0);
@@ -118,9 +186,8 @@ PositionKey key_of(const Vec3& p) {
 // `bytes` given: the file's content already in memory (PLY, read from there so that a byte order
 // mark can be skipped and the body checked first), with `hint` its extension; else the file
 // `source` is read by assimp itself (glTF may refer to other files beside it).
-Mesh read_with_assimp(const std::string& source, bool weld, std::string_view bytes = {},
-                      const char* hint = "") {
-  Assimp::Importer importer;
+const aiScene* import_scene(Assimp::Importer& importer, const std::string& source,
+                            std::string_view bytes = {}, const char* hint = "") {
   // No post-processing: it keeps the stored vertices, their order and count, and the polygons.
   const aiScene* scene = nullptr;
   {
@@ -130,18 +197,16 @@ Mesh read_with_assimp(const std::string& source, bool weld, std::string_view byt
   }
   if (scene == nullptr) bad(source, "cannot parse: " + one_line(importer.GetErrorString()));
   if (scene->mNumMeshes == 0 || scene->mMeshes == nullptr) bad(source, "no vertices");
+  return scene;
+}
 
-  std::vector<Transform> transforms(scene->mNumMeshes, Transform::Identity());
-  std::vector<bool> seen(scene->mNumMeshes, false);
-  if (scene->mRootNode != nullptr) {
-    collect_transforms(scene->mRootNode, Transform::Identity(), transforms, seen);
-  }
-
+// The importer meshes `placed`, concatenated: their vertices as stored (`weld` false) or welded by
+// exact position per importer mesh.
+Mesh assemble(const aiScene* scene, const std::vector<Placed>& placed, bool weld, const std::string& source) {
   Mesh mesh;
   std::size_t face = 0;
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+  for (const auto& [m, t] : placed) {
     const aiMesh* am = scene->mMeshes[m];
-    const Transform& t = transforms[m];
     const std::size_t base = mesh.positions.size();
     if (!weld) {
       for (unsigned i = 0; i < am->mNumVertices; ++i)
@@ -175,21 +240,102 @@ Mesh read_with_assimp(const std::string& source, bool weld, std::string_view byt
   return mesh;
 }
 
+// The node `name` names (its own name first, else its mesh's), or -1; Error(bad_input) when it
+// names several. `list` says the file's meshes for the message.
+int find_named(const std::vector<NodeMeshes>& nodes, const std::string& name, const std::string& source,
+               const std::function<std::string()>& list) {
+  for (const bool by_node : {true, false}) {
+    std::vector<int> hits;
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      if ((by_node ? nodes[k].name : nodes[k].mesh_name) == name) hits.push_back(static_cast<int>(k));
+    }
+    if (hits.size() > 1) {
+      bad(source, std::to_string(hits.size()) + (by_node ? " nodes are named '" : " nodes show the mesh '") + name +
+                      "', so it does not say which mesh to take (rename one); its meshes: " + list());
+    }
+    if (!hits.empty()) return hits.front();
+  }
+  return -1;
+}
+
+MeshUnit unit_of(const aiScene* scene) {
+  MeshUnit unit;
+  const aiMetadata* meta = scene->mMetaData;
+  for (unsigned k = 0; meta != nullptr && k < meta->mNumProperties; ++k) {
+    const std::string key = meta->mKeys[k].C_Str();
+    const aiMetadataEntry& e = meta->mValues[k];
+    double value = 0;
+    if (e.mType == AI_DOUBLE) value = *static_cast<const double*>(e.mData);
+    else if (e.mType == AI_FLOAT) value = *static_cast<const float*>(e.mData);
+    else continue;
+    if (key == "UnitScaleFactor") unit.unit_scale_factor = value;
+    if (key == "OriginalUnitScaleFactor") unit.original_unit_scale_factor = value;
+  }
+  return unit;
+}
+
+// The formats read through assimp whose meshes have no names of their own: one mesh.
+bool names_meshes(const std::string& ext) { return ext != "ply" && ext != "stl"; }
+
+SceneMesh read_with_assimp(const std::string& source, bool weld, const std::string& name, MeshPick pick,
+                           bool named_format, std::string_view bytes = {}, const char* hint = "") {
+  Assimp::Importer importer;
+  const aiScene* scene = import_scene(importer, source, bytes, hint);
+  SceneMesh out;
+  out.unit = unit_of(scene);
+  std::vector<NodeMeshes> nodes;
+  if (named_format && scene->mRootNode != nullptr) collect_nodes(scene, scene->mRootNode, Transform::Identity(), nodes);
+  if (!named_format && !name.empty()) {
+    bad(source, "holds one mesh with no name (the format has none), so there is no mesh '" + name + "' to take");
+  }
+  if (nodes.empty() || (name.empty() && pick == MeshPick::whole_file)) {
+    if (!name.empty()) bad(source, "no node shows a mesh, so there is no mesh '" + name + "' to take");
+    out.mesh = assemble(scene, whole_file(scene), weld, source);
+    return out;
+  }
+  std::vector<Mesh> meshes;  // each node's, for its vertex count and the pick
+  for (const NodeMeshes& n : nodes) {
+    meshes.push_back(assemble(scene, placed_of(n), weld, source));
+    out.meshes.push_back({n.name, n.mesh_name, meshes.back().vertex_count()});
+  }
+  const auto list = [&] { return list_scene_meshes(out.meshes); };
+  int chosen = 0;
+  if (!name.empty()) {
+    chosen = find_named(nodes, name, source, list);
+    if (chosen < 0) bad(source, "no mesh is named '" + name + "'; its meshes: " + list());
+  } else {
+    for (std::size_t k = 1; k < meshes.size(); ++k) {
+      if (meshes[k].vertex_count() > meshes[static_cast<std::size_t>(chosen)].vertex_count()) chosen = static_cast<int>(k);
+    }
+    out.largest = meshes.size() > 1;
+    // The name must find this mesh again (a rig records it).
+    if (find_named(nodes, nodes[static_cast<std::size_t>(chosen)].name, source, list) != chosen) {
+      bad(source, "the mesh taken, '" + nodes[static_cast<std::size_t>(chosen)].name +
+                      "', has a name that another mesh's node or mesh has; rename one");
+    }
+  }
+  const NodeMeshes& n = nodes[static_cast<std::size_t>(chosen)];
+  out.mesh = std::move(meshes[static_cast<std::size_t>(chosen)]);
+  out.name = n.name;
+  out.to_world.matrix() = n.world;
+  out.parts = n.parts;
+  return out;
+}
+
 }  // namespace
 
-MeshSurface read_welded_surface(const fs::path& path) {
+MeshSurface read_welded_surface(const fs::path& path, const std::string& mesh_name) {
   const std::string source = path.string();
   Assimp::Importer importer;
-  const aiScene* scene = nullptr;
-  {
-    const QuietFpEnvironment quiet;
-    scene = importer.ReadFile(source, 0);
+  const aiScene* scene = import_scene(importer, source);
+  std::vector<Placed> placed = whole_file(scene);
+  if (!mesh_name.empty()) {
+    std::vector<NodeMeshes> nodes;
+    if (scene->mRootNode != nullptr) collect_nodes(scene, scene->mRootNode, Transform::Identity(), nodes);
+    const int k = find_named(nodes, mesh_name, source, [] { return std::string("(see sweep-fit -v)"); });
+    if (k < 0) bad(source, "no mesh is named '" + mesh_name + "' (the rig's mesh_name)");
+    placed = placed_of(nodes[static_cast<std::size_t>(k)]);
   }
-  if (scene == nullptr || scene->mMeshes == nullptr) bad(source, "cannot parse: " + one_line(importer.GetErrorString()));
-  std::vector<Transform> transforms(scene->mNumMeshes, Transform::Identity());
-  std::vector<bool> seen(scene->mNumMeshes, false);
-  if (scene->mRootNode != nullptr) collect_transforms(scene->mRootNode, Transform::Identity(), transforms, seen);
-
   MeshSurface out;
   std::vector<int> slot(scene->mNumMaterials, -1);
   auto material = [&](unsigned index) {
@@ -229,9 +375,8 @@ MeshSurface read_welded_surface(const fs::path& path) {
     return slot[index];
   };
   std::uint32_t next = 0;  // welded vertices so far: read_with_assimp's numbering
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+  for (const auto& [m, t] : placed) {
     const aiMesh* am = scene->mMeshes[m];
-    const Transform& t = transforms[m];
     const Eigen::Matrix3d normal_matrix = t.block<3, 3>(0, 0).inverse().transpose();
     std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> welded;
     std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> corners;  // welded vertex → its glTF vertices
@@ -287,23 +432,24 @@ Mesh parse_ply(std::string_view bytes, const std::string& source) {
   bytes = detail::skip_bom(bytes);
   if (bytes.empty()) bad(source, "empty file");
   detail::check_ascii_ply(bytes, source);
-  return read_with_assimp(source, /*weld=*/false, bytes, "ply");
+  return read_with_assimp(source, /*weld=*/false, "", MeshPick::whole_file, /*named_format=*/false, bytes, "ply").mesh;
 }
 
-Mesh read_mesh(const fs::path& path) {
+SceneMesh read_scene_mesh(const fs::path& path, const std::string& name, MeshPick pick) {
   const std::string source = path.string();
   check_input_file(path);
   const std::string ext = lower_extension(path);
-  Mesh mesh;
-  if (ext == "off") {
-    mesh = parse_off(read_file(path), source);
-  } else if (ext == "obj") {
-    mesh = parse_obj(read_file(path), source);
-  } else if (ext == "ply") {
-    mesh = parse_ply(read_file(path), source);
+  SceneMesh out;
+  if (ext == "off" || ext == "obj" || ext == "ply") {
+    if (!name.empty()) {
+      bad(source, "holds one mesh with no name (" + std::string(ext == "obj" ? "an OBJ's o and g groups share one vertex list" : "the format has none") +
+                      "), so there is no mesh '" + name + "' to take");
+    }
+    const std::string bytes = read_file(path);
+    out.mesh = ext == "off" ? parse_off(bytes, source) : ext == "obj" ? parse_obj(bytes, source) : parse_ply(bytes, source);
   } else if (ext == "gltf" || ext == "glb") {
     detail::check_gltf_indices(path);
-    mesh = read_with_assimp(source, /*weld=*/false);
+    out = read_with_assimp(source, /*weld=*/false, name, pick, /*named_format=*/true);
   } else {
     if (ext.empty()) {
       fail(ErrorCategory::unsupported, source + ": no file extension, so the format is unknown");
@@ -312,10 +458,22 @@ Mesh read_mesh(const fs::path& path) {
     if (!probe.IsExtensionSupported("." + ext)) {
       fail(ErrorCategory::unsupported, source + ": unsupported mesh format '." + ext + "'");
     }
-    mesh = read_with_assimp(source, /*weld=*/true);
+    out = read_with_assimp(source, /*weld=*/true, name, pick, names_meshes(ext));
   }
-  validate_mesh(mesh, source);
-  return mesh;
+  validate_mesh(out.mesh, source);
+  return out;
+}
+
+Mesh read_mesh(const fs::path& path) { return read_scene_mesh(path, "", MeshPick::whole_file).mesh; }
+
+std::string list_scene_meshes(const std::vector<SceneMeshEntry>& meshes) {
+  std::string out;
+  for (const SceneMeshEntry& m : meshes) {
+    out += (out.empty() ? "" : ", ") + std::string("'") + m.name + "'";
+    if (!m.mesh_name.empty() && m.mesh_name != m.name) out += " (mesh '" + m.mesh_name + "')";
+    out += " " + std::to_string(m.vertex_count) + " vertices";
+  }
+  return out;
 }
 
 void validate_mesh(const Mesh& mesh, const std::string& source) {

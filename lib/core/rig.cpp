@@ -72,6 +72,7 @@ std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& t
 }
 
 int Rig::format_version() const {
+  if (!mesh_name.empty()) return kMeshNameFormatVersion;
   for (const SweepDef& def : sweeps) {
     if (def.part && def.part->tip_cut) return kTipCutFormatVersion;
   }

@@ -45,12 +45,17 @@ struct SweepDef {
 };
 
 struct Rig {
-  // Version 1: every rig without a tip cut (written as version 1, byte for byte as before).
-  // Version 2 adds part.tip_cut; a rig is written as version 2 only when a sweep has one.
+  // Version 1: every rig without a tip cut or a mesh name (written as version 1, byte for byte as
+  // before). Version 2 adds part.tip_cut; version 3 mesh_name. A rig is written with the lowest
+  // version that holds what it has.
   static constexpr int kFormatVersion = 1;
   static constexpr int kTipCutFormatVersion = 2;
+  static constexpr int kMeshNameFormatVersion = 3;
   int format_version() const;  // the version format_rig writes for this rig
   std::string mesh;              // mesh path as written in the file (relative to the rig file)
+  // The mesh of that file the rig belongs to: its node's name (assets/mesh_io.h, read_scene_mesh);
+  // "" = the whole file, every mesh in it (rigs before version 3, and files of one nameless mesh).
+  std::string mesh_name;
   std::vector<SweepDef> sweeps;
   // The file's "scene" member as compact JSON text ("" when it has none): not the rig's business,
   // but kept so that rewriting the rig (sweep-fit adding a sweep) does not drop it.

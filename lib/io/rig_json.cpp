@@ -258,15 +258,23 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
   const std::string format = r.string(r.required(doc, "", "format"), "/format");
   if (format != kFormatName) r.fail_at("/format", std::string("must be \"") + kFormatName + "\", got " + describe(doc["format"]));
   const long long version = r.integer(r.required(doc, "", "version"), "/version", 1, 1 << 30);
-  if (version != Rig::kFormatVersion && version != Rig::kTipCutFormatVersion) {
+  if (version < Rig::kFormatVersion || version > Rig::kMeshNameFormatVersion) {
     fail(ErrorCategory::unsupported, source + ": /version: rig format version " + std::to_string(version) +
                                          " is not supported (this build reads versions " +
-                                         std::to_string(Rig::kFormatVersion) + " and " +
-                                         std::to_string(Rig::kTipCutFormatVersion) + ")");
+                                         std::to_string(Rig::kFormatVersion) + " to " +
+                                         std::to_string(Rig::kMeshNameFormatVersion) + ")");
   }
-  r.object(doc, "", {"format", "version", "mesh", "sweeps", "scene"});
+  r.object(doc, "", {"format", "version", "mesh", "mesh_name", "sweeps", "scene"});
   Rig rig;
   if (const Json* m = r.optional(doc, "mesh")) rig.mesh = r.string(*m, "/mesh");
+  if (const Json* m = r.optional(doc, "mesh_name")) {
+    if (version < Rig::kMeshNameFormatVersion) {
+      r.fail_at("/mesh_name", "needs rig format version " + std::to_string(Rig::kMeshNameFormatVersion) +
+                                  " (the file says version " + std::to_string(version) + ")");
+    }
+    rig.mesh_name = r.string(*m, "/mesh_name");
+    if (rig.mesh_name.empty()) r.fail_at("/mesh_name", "must not be empty (leave it out for the whole file)");
+  }
   if (const Json* s = r.optional(doc, "scene")) rig.scene_json = s->dump();
   const Json& sweeps = r.required(doc, "", "sweeps");
   r.array(sweeps, "/sweeps");
@@ -303,6 +311,7 @@ std::string format_rig(const Rig& rig) {
   doc["format"] = kFormatName;
   doc["version"] = rig.format_version();
   if (!rig.mesh.empty()) doc["mesh"] = rig.mesh;
+  if (!rig.mesh_name.empty()) doc["mesh_name"] = rig.mesh_name;
   OrderedJson sweeps = OrderedJson::array();
   for (const SweepDef& def : rig.sweeps) sweeps.push_back(sweep_json(def));
   doc["sweeps"] = std::move(sweeps);

@@ -4,15 +4,21 @@ and plays what sweep-sim baked (issue 14).
 Run by Blender (Debian's `blender` package, 3.4), not by Python:
     blender -b --factory-startup --python-exit-code 1 --python check_passthrough.py -- \
         INPUT.gltf BAKE.glb BAKE.pc2 FPS OBJECT
-OBJECT is the name of the node whose mesh the bake deforms (its mesh comes first in the file, so
-its vertices are the .pc2's first ones). INPUT may be an .obj (+ .mtl): its UVs are then compared
-as the set of (position, UV) corners, and each .glb vertex is found in the .pc2 by its rest position.
+OBJECT is the name of the node whose mesh the bake deforms: the rig's mesh (its vertices are the
+.pc2's, in its own space: issue 18). INPUT may be an .obj (+ .mtl): its UVs are then compared as the
+set of (position, UV) corners, and each .glb vertex is found in the .pc2 by its rest position.
   1. Both files through Blender's glTF importer: the same objects; the deformed object's UV layers
      (every loop's UV), vertex colours and materials equal the input's, and each material's image
      has the input's size and pixels.
-  2. The bake plays: at time k / FPS (Blender frame 24·k / FPS) the evaluated object, in world space,
-     equals pc2 frame k (world positions, glTF axes: Blender (x, y, z) = glTF (x, -z, y)), and is
-     told apart from frame k + 1.
+  2. The bake plays: at time k / FPS (Blender frame 24·k / FPS) the evaluated object, in its own
+     space, equals pc2 frame k (glTF axes: Blender (x, y, z) = glTF (x, -z, y)), and is told apart
+     from frame k + 1.
+  3. (a glTF INPUT) The .pc2 on the input's object as Blender imports it, through a Mesh Cache
+     modifier with forward axis +Z and up axis -Y (the importer turns glTF's Y-up data to Blender's
+     Z-up, (x, y, z) -> (x, -z, y); of the modifier's 24 axis settings only this one gives that, as
+     measured in Blender 3.4): at Blender frame k the evaluated object, in world space, equals the
+     .glb's at time k / FPS (step 2), within 1e-5 of the object's size, and is told apart from frame
+     k + 1; every other object of the .glb (the Ground) is where the input has it at that time.
 Prints one line per check; exits 1 on any failure.
 """
 import struct
@@ -65,7 +71,8 @@ def describe(obj):
     return out
 
 
-def evaluated_positions(obj, frame):
+def evaluated_positions(obj, frame, world=True):
+    """The evaluated mesh at `frame`, in world space or (world False) the object's own."""
     whole = int(frame)
     bpy.context.scene.frame_set(whole, subframe=frame - whole)
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
@@ -74,6 +81,8 @@ def evaluated_positions(obj, frame):
     mesh.vertices.foreach_get("co", co)
     evaluated.to_mesh_clear()
     co = co.reshape(-1, 3).astype(numpy.float64)
+    if not world:
+        return co
     m = numpy.array(evaluated.matrix_world)
     return co @ m[:3, :3].T + m[:3, 3]
 
@@ -143,9 +152,9 @@ if keys is not None and (keys.animation_data is None or keys.animation_data.acti
 reference = read_pc2(pc2_path)
 count = len(obj.data.vertices)
 samples = len(reference)
-# Which .pc2 vertex each Blender vertex is: the first ones in order, or (an OBJ, split at seams)
-# the one at its rest position.
-rest = numpy.stack([v.co[:] for v in obj.data.vertices]) @ numpy.array(obj.matrix_world)[:3, :3].T + numpy.array(obj.matrix_world)[:3, 3]
+# Which .pc2 vertex each Blender vertex is: the same one, or (an OBJ, split at seams) the one at its
+# rest position. Both in the object's own space.
+rest = numpy.stack([v.co[:] for v in obj.data.vertices])
 rest = numpy.stack([rest[:, 0], rest[:, 2], -rest[:, 1]], axis=1)
 if from_obj:
     at = {tuple(numpy.round(p, 5)): i for i, p in enumerate(reference[0])}
@@ -154,8 +163,13 @@ else:
     index = numpy.arange(count)
 size = float(numpy.linalg.norm(reference[0][index].max(axis=0) - reference[0][index].min(axis=0)))
 worst, nearest_other = 0.0, float("inf")
+glb_world = []  # the .glb's object in world space, Blender axes, at each frame: step 3's reference
+glb_others = []  # the .glb's other mesh objects, likewise
 for k in range(samples):
-    p = evaluated_positions(obj, 24.0 * k / fps)
+    glb_world.append(evaluated_positions(obj, 24.0 * k / fps))
+    glb_others.append({o.name: evaluated_positions(o, 24.0 * k / fps)
+                       for o in bpy.context.scene.objects if o.type == "MESH" and o.name != name})
+    p = evaluated_positions(obj, 24.0 * k / fps, world=False)
     p = numpy.stack([p[:, 0], p[:, 2], -p[:, 1]], axis=1)  # Blender → glTF axes
     worst = max(worst, numpy.abs(p - reference[k][index]).max())
     if k + 1 < samples and numpy.abs(reference[k + 1][index] - reference[k][index]).max() > 0:
@@ -164,5 +178,38 @@ tolerance = 1e-5 * size
 report(worst <= tolerance < nearest_other < float("inf"),
        f"{name}: {samples} frames play the bake, largest difference {worst:.3g} (tolerance {tolerance:.3g}; "
        f"the next frame is {nearest_other:.3g} away)")
+
+# 3. The .pc2 on the object Blender imports from the input (a glTF: it is in the object's own space,
+# glTF axes), through the Mesh Cache modifier; the other objects untouched.
+if not from_obj:
+    load(input_path)
+    target = bpy.context.scene.objects[name]
+    others = [o for o in bpy.context.scene.objects if o.type == "MESH" and o.name != name]
+    cache = target.modifiers.new("bake", "MESH_CACHE")
+    cache.cache_format = "PC2"
+    cache.filepath = pc2_path
+    cache.frame_start = 0
+    cache.frame_scale = 1
+    cache.forward_axis = "POS_Z"
+    cache.up_axis = "NEG_Y"
+    worst, nearest_other, others_moved = 0.0, float("inf"), 0.0
+    for k in range(samples):
+        p = evaluated_positions(target, k)
+        if p.shape != glb_world[k].shape:
+            report(False, f"{name}: frame {k}: {p.shape[0]} vertices with the Mesh Cache, the .glb's object has {glb_world[k].shape[0]}")
+            break
+        worst = max(worst, numpy.abs(p - glb_world[k]).max())
+        if k + 1 < samples and numpy.abs(glb_world[k + 1] - glb_world[k]).max() > 0:
+            nearest_other = min(nearest_other, numpy.abs(p - glb_world[k + 1]).max())
+        for other in others:
+            input_other = evaluated_positions(other, 24.0 * k / fps)
+            others_moved = max(others_moved, numpy.abs(input_other - glb_others[k][other.name]).max())
+    report(worst <= tolerance < nearest_other < float("inf"),
+           f"{name}: the .pc2 through a Mesh Cache modifier on the input's object, {samples} frames, equals the "
+           f".glb in world space: largest difference {worst:.3g} (tolerance {tolerance:.3g}; the next frame is "
+           f"{nearest_other:.3g} away)")
+    report(others_moved == 0.0 and len(others) > 0,
+           f"the .glb's other objects {sorted(o.name for o in others)} are where the input has them, every "
+           f"frame (largest difference {others_moved:.3g})")
 print("blender check: " + ("passed" if passed else "FAILED"))
 sys.exit(0 if passed else 1)

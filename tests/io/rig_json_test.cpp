@@ -227,8 +227,33 @@ TEST(RigJson, TipCutIsVersionTwoAndOnlyWrittenWhenSet) {
   nlohmann::ordered_json wrong = nlohmann::ordered_json::parse(cut);
   wrong["sweeps"][0]["part"]["tip_cut"] = "yes";
   expect_bad(wrong.dump(), "rig.json: /sweeps/0/part/tip_cut: must be");
-  expect_bad(with("/version", 3), "/version: rig format version 3 is not supported (this build reads versions 1 and 2)",
+  expect_bad(with("/version", 4), "/version: rig format version 4 is not supported (this build reads versions 1 to 3)",
              ErrorCategory::unsupported);
+}
+
+// Issue 18 (several meshes in one file): the mesh of the file a rig belongs to is version 3's
+// addition, written only when the rig names one; a rig without it reads the whole file.
+TEST(RigJson, MeshNameIsVersionThreeAndOnlyWrittenWhenSet) {
+  Rig rig = small_rig();
+  EXPECT_EQ(format_rig(rig).find("mesh_name"), std::string::npos);
+  EXPECT_EQ(parse_rig(format_rig(rig), "rig.json").mesh_name, "");
+  rig.mesh_name = "Tail";
+  rig.sweeps[0].part->tip_cut = true;  // version 2's member, carried by version 3
+  const std::string named = format_rig(rig);
+  const auto doc = nlohmann::ordered_json::parse(named);
+  EXPECT_EQ(doc["version"], 3);
+  EXPECT_EQ(doc["mesh_name"], "Tail");
+  const Rig back = parse_rig(named, "rig.json");
+  EXPECT_EQ(back.mesh_name, "Tail");
+  EXPECT_TRUE(back.sweeps[0].part->tip_cut);
+  EXPECT_EQ(format_rig(back), named);
+
+  nlohmann::ordered_json old = doc;
+  old["version"] = 2;
+  expect_bad(old.dump(), "rig.json: /mesh_name: needs rig format version 3 (the file says version 2)");
+  nlohmann::ordered_json empty = doc;
+  empty["mesh_name"] = "";
+  expect_bad(empty.dump(), "rig.json: /mesh_name: must not be empty");
 }
 
 }  // namespace

@@ -44,13 +44,15 @@ std::string format_ms(double seconds) {
   return sweep::format_number(seconds * 1e3, 3) + " ms";
 }
 
-std::string report_text(const Settings& s, const fs::path& mesh_path, const fs::path& output,
-                        const sweep::bind::BindResult& r, double load_seconds, double write_seconds) {
+std::string report_text(const Settings& s, const fs::path& mesh_path, const std::string& mesh_name,
+                        const fs::path& output, const sweep::bind::BindResult& r, double load_seconds,
+                        double write_seconds) {
   nlohmann::ordered_json doc;
   doc["format"] = "sweep-bind-report";
   doc["version"] = 1;
   doc["rig"] = s.rig.string();
   doc["mesh"] = mesh_path.string();
+  if (!mesh_name.empty()) doc["mesh_name"] = mesh_name;
   doc["binding"] = output.string();
   doc["binding_format_version"] = sweep::bind::kBindingFormatVersion;
   doc["vertex_count"] = r.binding.vertex_count;
@@ -78,7 +80,9 @@ int run(const Settings& s) {
   const Clock::time_point load_start = Clock::now();
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
-  const sweep::Mesh mesh = sweep::io::read_mesh(mesh_path);
+  // The rig's mesh of that file (the whole file for a rig that names none).
+  const sweep::Mesh mesh =
+      sweep::io::read_scene_mesh(mesh_path, rig.mesh_name, sweep::io::MeshPick::whole_file).mesh;
   const double load_seconds = since(load_start);
 
   if (!s.check.empty()) {
@@ -111,12 +115,13 @@ int run(const Settings& s) {
   outputs.add(output, sweep::bind::binding_bytes(r.binding));
   const double write_seconds = since(write_start);
   if (!s.report.empty()) {
-    outputs.add(s.report, report_text(s, mesh_path, output, r, load_seconds, write_seconds));
+    outputs.add(s.report, report_text(s, mesh_path, rig.mesh_name, output, r, load_seconds, write_seconds));
   }
   outputs.commit();
 
   if (!s.quiet) {
-    std::cout << s.rig.string() << ": " << mesh_path.string() << ", " << mesh.vertex_count()
+    std::cout << s.rig.string() << ": " << mesh_path.string()
+              << (rig.mesh_name.empty() ? "" : " mesh '" + rig.mesh_name + "'") << ", " << mesh.vertex_count()
               << " vertices\n";
     for (const sweep::bind::SweepBindStats& st : r.sweeps) {
       std::cout << "  " << st.name << ": " << st.bound_vertex_count << " vertices bound";

@@ -38,6 +38,8 @@ namespace {
 
 struct Settings {
   fs::path mesh;              // input mesh (any format io::read_mesh reads)
+  std::string mesh_name;      // --mesh: which mesh of the file ("" = the rig's, or the only or largest)
+  std::string space = "world";  // --space: what --root, --tip and --axis are in (world, local)
   fs::path rig;               // rig file to create or update
   std::string name = "part";  // the sweep's name in the rig
   std::string root, tip;  // X,Y,Z in mesh units (root optional: found where the part meets the body)
@@ -121,16 +123,21 @@ std::string mesh_path_for(const fs::path& rig, const fs::path& mesh) {
 }
 
 // Reads the rig to update (when -o exists), so that a bad rig fails before any work; checks that
-// it is a rig of this mesh.
+// it is a rig of this mesh (file, and the mesh of it --mesh names).
 sweep::Rig open_rig(const Settings& s, bool& updating) {
   sweep::Rig rig;
-  updating = fs::exists(s.rig);
+  updating = !s.rig.empty() && fs::exists(s.rig);
   if (updating) {
     rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
     const fs::path rig_dir = fs::absolute(s.rig).parent_path();
     if (fs::weakly_canonical(rig_dir / rig.mesh) != fs::weakly_canonical(fs::absolute(s.mesh))) {
       fail(ErrorCategory::usage, s.rig.string() + " is a rig of mesh '" + rig.mesh + "', not of " +
                                      s.mesh.string() + "; write to another --rig file");
+    }
+    if (!s.mesh_name.empty() && s.mesh_name != rig.mesh_name) {
+      fail(ErrorCategory::usage, "--mesh " + s.mesh_name + ": " + s.rig.string() + " is a rig of " +
+                                     (rig.mesh_name.empty() ? "the whole file" : "its mesh '" + rig.mesh_name + "'") +
+                                     "; write to another --rig file");
     }
   }
   rig.mesh = mesh_path_for(s.rig, s.mesh);
@@ -180,23 +187,48 @@ sweep::fit::FitOptions fit_options(const Settings& s) {
   return o;
 }
 
-sweep::Mesh read_checked_mesh(const Settings& s) {
-  sweep::Mesh mesh = sweep::io::read_mesh(s.mesh);
-  sweep::io::validate_mesh(mesh, s.mesh.string());
-  if (s.verbose) sweep::fit_tool::print_mesh_summary(s.mesh, sweep::fit_tool::summarize_mesh(s.mesh, mesh));
-  return mesh;
+// The mesh read, and what the report and -v say about it.
+struct ReadMesh {
+  sweep::io::SceneMesh read;
+  sweep::fit_tool::MeshSummary summary;
+  const sweep::Mesh& mesh() const { return read.mesh; }
+};
+
+// The mesh of the file to fit: --mesh, else the rig's being updated (the whole file for a rig
+// that names none), else the only or the largest one (said in a note). Records it in `rig`.
+ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool updating = false) {
+  const bool rigs = updating && rig != nullptr;
+  const std::string name = !s.mesh_name.empty() ? s.mesh_name : rigs ? rig->mesh_name : "";
+  ReadMesh m;
+  m.read = sweep::io::read_scene_mesh(s.mesh, name,
+                                      rigs ? sweep::io::MeshPick::whole_file : sweep::io::MeshPick::only_or_largest);
+  sweep::io::validate_mesh(m.read.mesh, s.mesh.string());
+  std::string taken;
+  if (!s.mesh_name.empty()) taken = "named by --mesh";
+  else if (rigs && !name.empty()) taken = "the rig's mesh";
+  else if (m.read.largest) taken = "the largest";
+  else if (!m.read.name.empty()) taken = "the only one";
+  else if (m.read.meshes.size() > 1) taken = "the whole file: the rig being updated names no mesh";
+  m.summary = sweep::fit_tool::summarize_mesh(s.mesh, m.read, taken);
+  m.summary.seeds_local = s.space == "local";
+  if (s.verbose) sweep::fit_tool::print_mesh_summary(s.mesh, m.summary);
+  if (const std::string note = sweep::fit_tool::mesh_choice_note(s.mesh, m.summary); !note.empty()) {
+    sweep::io::note(note);
+  }
+  if (rig != nullptr) rig->mesh_name = m.read.name;
+  return m;
 }
 
 // The report and the preview (--report, --preview), which are written also when a fit fails, to
 // show what went wrong; with the rig when it is written, all in place together or none.
 void add_report_and_preview(sweep::io::Publication& outputs, const Settings& s,
-                            const sweep::Mesh& mesh, const std::vector<sweep::fit::FitResult>& fits,
+                            const ReadMesh& read, const std::vector<sweep::fit::FitResult>& fits,
                             bool rig_written, double seconds,
                             const sweep::Error* failure = nullptr) {
+  const sweep::Mesh& mesh = read.mesh();
   if (!s.report.empty()) {
-    outputs.add(s.report, sweep::fit_tool::fit_report_text(
-                              s.mesh, sweep::fit_tool::summarize_mesh(s.mesh, mesh), s.rig, fits,
-                              rig_written, seconds, failure));
+    outputs.add(s.report, sweep::fit_tool::fit_report_text(s.mesh, read.summary, s.rig, fits,
+                                                           rig_written, seconds, failure));
   }
   if (!s.preview.empty()) {
     std::vector<sweep::preview::Overlay> parts;
@@ -209,7 +241,7 @@ void add_report_and_preview(sweep::io::Publication& outputs, const Settings& s,
 
 // Warnings, then the problems: a fit that breaks a limit fails (exit 2) with the numbers and
 // what to try, after writing the report, unless --force.
-void check_problems(const Settings& s, const sweep::Mesh& mesh,
+void check_problems(const Settings& s, const ReadMesh& mesh,
                     const std::vector<sweep::fit::FitResult>& fits, double seconds) {
   std::string all;
   for (const sweep::fit::FitResult& r : fits) {
@@ -232,7 +264,7 @@ void check_problems(const Settings& s, const sweep::Mesh& mesh,
 // run that fails there still writes the report (and preview) with the error and what was fitted:
 // for a FitFailure, the fit as far as it got. Output errors are left as they are (the report
 // could not be written either).
-void fitting(const Settings& s, const sweep::Mesh& mesh, std::vector<sweep::fit::FitResult>& fits,
+void fitting(const Settings& s, const ReadMesh& mesh, std::vector<sweep::fit::FitResult>& fits,
              std::chrono::steady_clock::time_point start, const std::function<void()>& fit) {
   try {
     fit();
@@ -255,7 +287,7 @@ void fitting(const Settings& s, const sweep::Mesh& mesh, std::vector<sweep::fit:
   }
 }
 
-void write_outputs(const Settings& s, const sweep::Mesh& mesh, sweep::Rig& rig, bool updating,
+void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, bool updating,
                    const std::optional<sweep::Material>& material,
                    const std::vector<sweep::fit::FitResult>& fits, std::chrono::steady_clock::time_point start) {
   int replaced = 0;
@@ -294,10 +326,18 @@ int run_one(const Settings& s) {
   o.tip_vertex = s.tip_vertex;
   bool updating = false;
   sweep::Rig rig = open_rig(s, updating);
-  const sweep::Mesh mesh = read_checked_mesh(s);
+  const ReadMesh mesh = read_checked_mesh(s, &rig, updating);
+  if (s.space == "local") {
+    // The points are in the mesh's own space: its node's world transform takes them to the world
+    // space the mesh (and the rig) are in.
+    const Eigen::Affine3d& to_world = mesh.read.to_world;
+    if (o.root) o.root = to_world * *o.root;
+    if (!s.tip.empty()) o.tip = to_world * o.tip;
+    for (Vec3& p : o.axis) p = to_world * p;
+  }
   check_outputs(s);
   std::vector<sweep::fit::FitResult> fits;
-  fitting(s, mesh, fits, start, [&] { fits.push_back(sweep::fit::fit_sweep(mesh, o)); });
+  fitting(s, mesh, fits, start, [&] { fits.push_back(sweep::fit::fit_sweep(mesh.mesh(), o)); });
   check_problems(s, mesh, fits, seconds_since(start));
   write_outputs(s, mesh, rig, updating, material, fits, start);
   return 0;
@@ -312,12 +352,12 @@ int run_all(const Settings& s) {
   const std::vector<std::string> names = split_names(s.names);
   bool updating = false;
   sweep::Rig rig = open_rig(s, updating);
-  const sweep::Mesh mesh = read_checked_mesh(s);
+  const ReadMesh mesh = read_checked_mesh(s, &rig, updating);
   check_outputs(s);
   std::vector<sweep::fit::FitResult> fits;
   fitting(s, mesh, fits, start, [&] {
-    const sweep::fit::SweepFitter fitter(mesh);
-    const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh, fitter.topology());
+    const sweep::fit::SweepFitter fitter(mesh.mesh());
+    const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh.mesh(), fitter.topology());
     if (parts.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no tubular parts found");
     if (!names.empty() && names.size() != parts.size()) {
       fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) +
@@ -355,7 +395,7 @@ int run_all(const Settings& s) {
 int run_list(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
   sweep::io::check_paths({{"the mesh", s.mesh}}, {{"--report", s.report}});
-  const sweep::Mesh mesh = read_checked_mesh(s);
+  const sweep::Mesh mesh = read_checked_mesh(s).read.mesh;
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   const sweep::Topology topology = sweep::build_topology(mesh);
   std::vector<std::string> passed_over;
@@ -376,6 +416,10 @@ int main(int argc, char** argv) {
     CLI::App app{"Fit a sweep (key sections and radius samples) to a tubular part of a mesh"};
     app.set_version_flag("--version", std::string("sweep-fit ") + SWEEP_VERSION);
     app.add_option("mesh", s.mesh, "Input mesh (OFF, PLY, OBJ, STL, glTF/glb, FBX)")->required();
+    app.add_option("--mesh", s.mesh_name,
+                   "Which mesh of a file of several (glTF, FBX, ...): a node's or a mesh's name "
+                   "(default: a rig being updated keeps its own, else the only or the largest one)")
+        ->check(sweep::tools::kNonEmptyName);
     auto* rig = app.add_option("-o,--rig", s.rig,
                                "Rig file to create, or to add/replace the sweep(s) in");
     auto* list = app.add_flag("--list", s.list,
@@ -421,6 +465,11 @@ int main(int argc, char** argv) {
                                     "JSON file of a material (youngs_modulus_pa, density_kg_m3, "
                                     "metres_per_unit, ...): the fitted sweeps move in material mode")
                          ->check(sweep::tools::kNonEmptyName);
+    auto* space = app.add_option("--space", s.space,
+                                 "What --root, --tip and --axis are in: world (the mesh's points after "
+                                 "its node transforms) or local (the mesh's own, as stored)")
+                      ->check(CLI::IsMember({"world", "local"}))
+                      ->capture_default_str();
     app.add_flag("-v,--verbose", s.verbose, "Say more");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     // The modes: one part (named by --tip, --tip-vertex or --axis), --all, --list.
@@ -432,6 +481,10 @@ int main(int argc, char** argv) {
       }
     }
     if (names->count() > 0 && !s.all) fail(ErrorCategory::usage, "--names goes with --all");
+    if (space->count() > 0 && finding) {
+      fail(ErrorCategory::usage, std::string("--space says what --root, --tip and --axis are in: it does not go with ") +
+                                     (s.list ? "--list" : "--all"));
+    }
     if (material->count() > 0 && s.list) fail(ErrorCategory::usage, "--material goes with a fit or --all, not --list");
     if (preview->count() > 0 && s.list) {
       fail(ErrorCategory::usage, "--preview draws fitted parts: use it with a fit or --all, not --list");

@@ -69,9 +69,30 @@ Json fit_entry(const fit::FitResult& r) {
   return s;
 }
 
+// A length of `cm` centimetres as a person says it: "1 cm", "100 cm = 1 m", "2.54 cm (an inch)".
+std::string unit_words(double cm) {
+  if (cm == 100) return "100 cm = 1 m";
+  if (cm == 0.1) return "0.1 cm = 1 mm";
+  if (cm == 2.54) return "2.54 cm, an inch";
+  if (cm == 30.48) return "30.48 cm, a foot";
+  if (cm == 100000) return "100000 cm = 1 km";
+  return format_number(cm) + " cm";
+}
+
+// The coordinates' unit in the plural: "centimetres", "units of 5 cm".
+std::string unit_plural(double cm) {
+  if (cm == 1) return "centimetres";
+  if (cm == 0.1) return "millimetres";
+  if (cm == 2.54) return "inches";
+  if (cm == 30.48) return "feet";
+  if (cm == 100000) return "kilometres";
+  return "units of " + format_number(cm) + " cm";
+}
+
 }  // namespace
 
-MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh) {
+MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMesh& read, const std::string& taken) {
+  const Mesh& mesh = read.mesh;
   MeshSummary m;
   m.vertices = mesh.vertex_count();
   m.faces = mesh.face_count();
@@ -80,6 +101,10 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh) 
     m.min = m.min.cwiseMin(p);
     m.max = m.max.cwiseMax(p);
   }
+  m.name = read.name;
+  m.taken = taken;
+  m.meshes = read.meshes;
+  m.unit = read.unit;
   const std::string ext = lower_extension(path);
   if (ext == "gltf" || ext == "glb") {
     m.space = "the scene's world space: each mesh placed by its node's transforms (glTF units are "
@@ -87,17 +112,52 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh) 
   } else if (ext == "off" || ext == "obj" || ext == "ply" || ext == "stl") {
     m.space = "the file's coordinates as stored (the format states no unit)";
   } else {
-    m.space = "the scene's world space as assimp reads it: node transforms applied, which for FBX "
-              "carry the file's unit scale and axis conversion";
+    // assimp reads with no post-processing, so no unit scale is applied (measured on FBX files
+    // Blender writes: UnitScaleFactor 1 with the coordinates × 100, and 100 with them as they are).
+    m.space = "the scene's world space as assimp reads it: node transforms applied (axis conversion "
+              "included), no unit scale; ";
+    const double cm = read.unit.unit_scale_factor;
+    if (cm > 0) {
+      m.metres_per_unit = cm / 100;
+      m.space += "FBX UnitScaleFactor " + format_number(cm) + " (the file's unit is " + unit_words(cm) +
+                 "): points are in " + (cm == 100 ? std::string("metres") : unit_plural(cm) + " (× " +
+                 format_number(m.metres_per_unit) + " → metres; a material's metres_per_unit " +
+                 format_number(m.metres_per_unit) + ")");
+    } else {
+      m.space += "the file states no unit (no UnitScaleFactor)";
+    }
   }
   return m;
 }
 
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m) {
-  std::cout << "mesh " << path.string() << ": " << m.vertices << " vertices, " << m.faces
+  std::cout << "mesh " << path.string();
+  if (!m.name.empty()) std::cout << " '" << m.name << "' (" << m.taken << ")";
+  std::cout << ": " << m.vertices << " vertices, " << m.faces
             << " faces, bounding box " << format_point(m.min) << " to " << format_point(m.max)
             << " (size " << format_point(m.max - m.min) << ")\n"
-            << "  points (and --tip, --root, --axis) are in " << m.space << "\n";
+            << "  points" << (m.seeds_local ? "" : " (and --tip, --root, --axis)") << " are in " << m.space << "\n";
+  if (m.seeds_local) {
+    std::cout << "  --tip, --root and --axis are in the mesh's own space (--space local): its node's world "
+                 "transform takes them there"
+              << (m.name.empty() ? " (none here: the file's coordinates are the mesh's own)" : "") << "\n";
+  }
+  if (m.meshes.size() > 1) {
+    std::cout << "  the file's meshes (--mesh NAME takes one): " << io::list_scene_meshes(m.meshes) << "\n";
+  } else if (m.name.empty() && !m.taken.empty()) {
+    std::cout << "  " << m.taken << "\n";
+  }
+}
+
+std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummary& m) {
+  if (m.meshes.size() < 2 || m.taken != "the largest") return "";
+  std::vector<io::SceneMeshEntry> others;
+  for (const io::SceneMeshEntry& e : m.meshes) {
+    if (e.name != m.name) others.push_back(e);
+  }
+  return path.string() + " holds " + std::to_string(m.meshes.size()) + " meshes; took '" + m.name + "' (" +
+         std::to_string(m.vertices) + " vertices, the largest; --mesh NAME takes another); the others: " +
+         io::list_scene_meshes(others);
 }
 
 std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary& summary,
@@ -111,7 +171,22 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
   rep["mesh_summary"] = {{"vertices", summary.vertices},
                          {"faces", summary.faces},
                          {"bounding_box", {{"min", point(summary.min)}, {"max", point(summary.max)}}},
-                         {"space", summary.space}};
+                         {"space", summary.space},
+                         {"mesh_name", summary.name},
+                         {"taken", summary.taken},
+                         {"seeds_space", summary.seeds_local ? "local" : "world"}};
+  Json meshes = Json::array();
+  for (const io::SceneMeshEntry& e : summary.meshes) {
+    meshes.push_back({{"name", e.name}, {"mesh_name", e.mesh_name}, {"vertices", e.vertex_count}});
+  }
+  rep["mesh_summary"]["meshes"] = std::move(meshes);
+  // The file's stated unit (FBX), which nothing applies: what a point of the mesh is in metres.
+  rep["mesh_summary"]["unit"] =
+      summary.unit.unit_scale_factor > 0
+          ? Json{{"unit_scale_factor", summary.unit.unit_scale_factor},
+                 {"original_unit_scale_factor", summary.unit.original_unit_scale_factor},
+                 {"metres_per_unit", summary.metres_per_unit}}
+          : Json();
   rep["rig"] = rig.generic_string();
   rep["rig_written"] = rig_written;
   auto& sweeps = rep["sweeps"] = Json::array();

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "assets/mesh_io.h"
 #include "core/error.h"
 #include "fit/discover.h"
 #include "fit/fit.h"
@@ -14,15 +15,25 @@ namespace sweep::fit_tool {
 // What the mesh's numbers are, for a person (-v) and the report ("mesh_summary"): its size, its
 // bounding box and the space --tip, --root and --axis are read in (issue 18: a glTF read after its
 // node transforms, an FBX after its unit scale, said out loud).
+// Which mesh of the file was taken (issue 18: several meshes in one file) and why.
 struct MeshSummary {
   std::size_t vertices = 0;
   std::size_t faces = 0;
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Zero();
   std::string space;  // how the file's coordinates became the mesh's
+  std::string name;   // the mesh taken ("" = the whole file, or a format of one nameless mesh)
+  std::string taken;  // why: "named by --mesh", "the rig's", "the only one", "the largest", "the whole file"
+  std::vector<io::SceneMeshEntry> meshes;  // all the file's meshes (empty: a format without names)
+  io::MeshUnit unit;        // the unit the file states (FBX UnitScaleFactor), applied by nothing
+  double metres_per_unit = 0;  // what that unit is in metres (0: the file states none)
+  bool seeds_local = false;    // --space local: --root, --tip and --axis in the mesh's own space
 };
-MeshSummary summarize_mesh(const std::filesystem::path& path, const Mesh& mesh);
+MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMesh& read, const std::string& taken);
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m);
+// "FILE holds N meshes; took 'X' (V vertices, the largest) ..." for a note on stderr, or "" when
+// the file holds one mesh or the mesh was named.
+std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummary& m);
 
 // The report of one or more fits: written also when a fit fails (rig_written false), so that a
 // script sees the numbers; `failure`, when given, is the error the run ends with ("error":

@@ -131,7 +131,9 @@ int run(const Settings& s) {
   }
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
-  const sweep::Mesh mesh = sweep::io::read_mesh(mesh_path);
+  // The rig's mesh of that file (the whole file for a rig that names none).
+  const sweep::io::SceneMesh read = sweep::io::read_scene_mesh(mesh_path, rig.mesh_name, sweep::io::MeshPick::whole_file);
+  const sweep::Mesh& mesh = read.mesh;
   const fs::path binding_path =
       s.binding.empty() ? sweep::bind::default_binding_path(s.rig) : s.binding;
   const sweep::bind::Binding binding = sweep::bind::load_binding(binding_path, mesh, rig);
@@ -194,7 +196,7 @@ int run(const Settings& s) {
 
   sweep::sim::BakeOptions options;
   options.outputs = s.outputs;
-  options.source_mesh = mesh_path;
+  options.source = {mesh_path, read.name, read.parts, read.to_world};
   options.exact = s.exact;
   options.stations_per_span = s.stations;
   options.joints = s.joints_given ? s.joints : 0;
