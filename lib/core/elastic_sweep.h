@@ -126,6 +126,10 @@ class ElasticSweep {
                      Eigen::MatrixXd& by_mass, Eigen::MatrixXd& by_compliance) const;
   // J q̇: the point's speed along the row's direction, relative to the body.
   double row_speed(const ContactRow& row) const;
+  // J (q − C f): how far the springs hold the point along the row from where the last step's loads
+  // alone would hold it (mesh units), by the same compliance as row_coupling(…, false): a collider
+  // holding the point there presses it with the force N of J C Jᵀ N = that (a quasi-static read).
+  double row_strain(const ContactRow& row) const;
   // Kicks (amounts in N·s: q̇ += M⁻¹ Σ Jᵀ amount) or moves (amounts in N: q += C Σ Jᵀ amount, and
   // the shape is rebuilt).
   // With speeds_too, a move also adds itself over `dt` to the speeds (q̇ += Δq / dt): the step's

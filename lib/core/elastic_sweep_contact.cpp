@@ -119,6 +119,16 @@ double ElasticSweep::row_speed(const ContactRow& row) const {
   return v;
 }
 
+double ElasticSweep::row_strain(const ContactRow& row) const {
+  double d = 0;
+  for (std::size_t q = 0; q < row.positional.size(); ++q) {
+    const double cp = positional_share(3 + q, false), cr = rotational_share(3 + q, false);
+    if (cp > 0) d += row.positional[q] * (positional_.x[3 + q] - cp * positional_.f[3 + q]);
+    if (cr > 0) d += row.rotational[q] * (rotational_.x[3 + q] - cr * rotational_.f[3 + q]);
+  }
+  return d;
+}
+
 void ElasticSweep::apply_rows(std::span<const ContactRow> rows, std::span<const double> amounts, bool as_impulses,
                               double speeds_dt) {
   assert(rows.size() == amounts.size());

@@ -21,6 +21,9 @@ constexpr double kGapTolerance = 1e-7;
 // A contact whose gap is within this (× the length) after the pushes is touching: its approach
 // speed is taken out even if this step's motion did not push it.
 constexpr double kTouchSlack = 1e-7;
+// A friction block (a contact's two rows across its normal) is solved as a 2 × 2 system when its
+// determinant is above this share of its trace²; else row by row (a point one row cannot move).
+constexpr double kBlockConditioning = 1e-12;
 // Pieces of a step shorter than this (s) move nothing worth a speed: no collider speed, no friction.
 constexpr double kShortestPiece = 1e-9;
 
@@ -240,6 +243,55 @@ void ContactSolver::solve(const Eigen::MatrixXd& w, const std::vector<double>& r
   }
 }
 
+void ContactSolver::solve_friction(const ElasticSweep& sweep, std::size_t contacts) {
+  // Projected Gauss–Seidel over the contacts, one 2 × 2 block each: the impulse that stops the
+  // block's slip given the others' (W_bb⁻¹ of it), projected onto the cone, then taken only as far
+  // along the way as lowers f(λ) = ½ λᵀWλ + λᵀu (the change of the kinetic energy relative to the
+  // colliders): each update lowers f from f(0) = 0, so friction never adds energy in the colliders'
+  // frames, and where the cone does not bind the block ends stopped (stick).
+  const std::size_t m = 2 * contacts;
+  sweep.row_couplings({slide_rows_.data(), m}, jp_, jr_, modal_, slide_by_mass_, slide_by_compliance_);
+  const Eigen::MatrixXd& w = slide_by_mass_;
+  friction_.assign(m, 0.0);
+  friction_w_.assign(m, 0.0);  // W λ, kept up to date
+  double scale = 0;
+  for (std::size_t r = 0; r < m; ++r) scale = std::max(scale, std::abs(slip_[r]));
+  if (!(scale > 0)) return;
+  const auto at = [&](std::size_t a, std::size_t b) {
+    return w(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+  };
+  for (int pass = 0; pass < kPasses; ++pass) {
+    double change = 0;
+    for (std::size_t c = 0; c < contacts; ++c) {
+      const std::size_t a = 2 * c, b = a + 1;
+      const Eigen::Vector2d u(slip_[a] + friction_w_[a], slip_[b] + friction_w_[b]);
+      Eigen::Matrix2d block;
+      block << at(a, a), at(a, b), at(b, a), at(b, b);
+      const double det = block.determinant();
+      Eigen::Vector2d step;
+      if (det > kBlockConditioning * block.trace() * block.trace()) {
+        step = -block.inverse() * u;
+      } else {  // one row (or none) moves the point: each by its own mobility
+        step.x() = block(0, 0) > 0 ? -u.x() / block(0, 0) : 0.0;
+        step.y() = block(1, 1) > 0 ? -u.y() / block(1, 1) : 0.0;
+      }
+      Eigen::Vector2d next = Eigen::Vector2d(friction_[a], friction_[b]) + step;
+      if (next.norm() > cone_[c]) next *= cone_[c] / next.norm();
+      Eigen::Vector2d delta = next - Eigen::Vector2d(friction_[a], friction_[b]);
+      // f along the segment to `next` (inside the cone, convex): its least point in [0, 1].
+      const double curve = delta.dot(block * delta);
+      if (!(curve > 0)) continue;
+      delta *= std::clamp(-delta.dot(u) / curve, 0.0, 1.0);
+      if (delta.x() == 0 && delta.y() == 0) continue;
+      friction_[a] += delta.x();
+      friction_[b] += delta.y();
+      for (std::size_t q = 0; q < m; ++q) friction_w_[q] += at(q, a) * delta.x() + at(q, b) * delta.y();
+      change = std::max(change, (block * delta).norm());  // the block's own change of speed
+    }
+    if (change <= kSolveTolerance * scale) break;
+  }
+}
+
 bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
   const SweepShape& shape = sweep.deformed();
   const double length = shape.length();
@@ -382,45 +434,75 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   // made zero, a pull allowed): the push already took it out, and letting the velocity solve
   // leave it a speed off the plane sets a resting part jittering. One only resting there is
   // free to leave.
-  // The normal impulse each contact's move gave it (its point's speed change Δq/dt along the
-  // normal over its mobility): most of what holds a resting part up, and what its friction may use.
-  moved_.assign(n, 0.0);
-  if (dt >= kShortestPiece) {
-    for (std::size_t p = 0; p < n; ++p) {
-      const Eigen::Index i = static_cast<Eigen::Index>(p);
-      double shift = 0;  // the point's move along its normal, J C Jᵀ total
-      for (std::size_t q = 0; q < n; ++q) shift += by_compliance_(i, static_cast<Eigen::Index>(q)) * total_[q];
-      if (by_mass_(i, i) > 0) moved_[p] = std::max(shift / dt / by_mass_(i, i), 0.0);
-    }
-  }
+  moved_.assign(total_.begin(), total_.end());  // the move's forces, for N below
   for (std::size_t p = 0; p < n; ++p) total_[p] = total_[p] > 0 ? std::numeric_limits<double>::infinity() : 0.0;
   solve(by_mass_, residual_, total_, amount_);
   sweep.apply_rows(rows_, amount_, true);
+  if (dt < kShortestPiece) return true;
+  // The normal impulse N·dt each touching contact took over the step, which its friction is
+  // bounded by: the move's change of the points' speeds along their normals (Δq/dt: J C Jᵀ total
+  // / dt, the step's fall it took back) and the kicks' (J M⁻¹ Jᵀ amount), read back as the
+  // impulses ≥ 0 that would make that change together (one solve over the contacts: two rows at
+  // one point, or neighbours on one chain, share it rather than each counting it whole). A part
+  // resting on the ground gets its weight times dt, however long the step.
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!std::isfinite(residual_[p]) || !(by_mass_(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p)) > 0)) {
+      residual_[p] = std::numeric_limits<double>::infinity();  // not touching, or held by the root
+      continue;
+    }
+    const Eigen::Index i = static_cast<Eigen::Index>(p);
+    double change = 0;
+    for (std::size_t q = 0; q < n; ++q) {
+      const Eigen::Index j = static_cast<Eigen::Index>(q);
+      change += by_mass_(i, j) * amount_[q];
+      change += by_compliance_(i, j) * moved_[q] / dt;
+    }
+    residual_[p] = -change;
+  }
+  none_.assign(n, 0.0);
+  solve(by_mass_, residual_, none_, pressed_);
+  // The same force read quasi-statically: what holds the springs off where the step's loads alone
+  // would hold them (J C Jᵀ N = J (q − C f), N ≥ 0, over the touching contacts). A stiff part resting
+  // on the ground is held by its springs' strain, its steps' falls and kicks next to nothing; a hit
+  // is all kicks. Each contact takes the larger reading, N·dt.
+  for (std::size_t p = 0; p < n; ++p) {
+    if (std::isfinite(residual_[p])) residual_[p] = -sweep.row_strain(rows_[p]);
+  }
+  solve(by_compliance_, residual_, none_, held_);
+  for (std::size_t p = 0; p < n; ++p) pressed_[p] = std::max(pressed_[p], held_[p] * dt);
 
-  // Sliding speeds, each contact on its own, up to μ times its normal impulse (the move's and the
-  // approach's): each kick only slows its own point, so it can only take energy out.
+  // Sliding speeds, all contacts together: each contact's friction impulse lies in its cone
+  // (|λ| ≤ μN), stops its slip if that is enough (stick) and is μN against the slip if not
+  // (kinetic). Two rows per contact, across its normal at its section's centre (no roll).
+  std::size_t k = 0;
   for (std::size_t p = 0; p < n; ++p) {
     const PlacedCollider& placed = colliders[planes_[p].collider];
     const double mu = placed.collider->friction;
-    const double pressed = amount_[p] + moved_[p];
-    if (!(pressed > 0) || !(mu > 0) || dt < kShortestPiece) continue;
+    if (!(pressed_[p] > 0) || !(mu > 0)) continue;
     const double t = stations_[planes_[p].station];
     const Vec3 normal = placed.to_mesh.rotation * planes_[p].normal;
     const Vec3 here = center_at(sweep.deformed(), t);
     Vec3 v = -collider_velocity(planes_[p].collider, placed, here, dt);
     for (int c = 0; c < 3; ++c) {
-      sweep.contact_row(t, Vec3::Unit(c), slide_row_, false);
-      v[c] += sweep.row_speed(slide_row_);
+      sweep.contact_row(t, Vec3::Unit(c), probe_row_, false);
+      v[c] += sweep.row_speed(probe_row_);
     }
     const Vec3 slide = v - normal.dot(v) * normal;
     const double speed = slide.norm();
-    if (!(speed > 0)) continue;
-    sweep.contact_row(t, -slide / speed, slide_row_);
-    const double mobility = sweep.row_coupling(slide_row_, slide_row_, true);
-    if (!(mobility > 0)) continue;
-    const double impulse = std::min(speed / mobility, mu * pressed);
-    sweep.apply_rows({&slide_row_, 1}, {&impulse, 1}, true);
+    // The first row along the slip (any direction across the normal when there is none).
+    const Vec3 first = speed > 0 ? Vec3(slide / speed) : normal.unitOrthogonal();
+    if (slide_rows_.size() < 2 * (k + 1)) slide_rows_.resize(2 * (k + 1));
+    if (slip_.size() < 2 * (k + 1)) slip_.resize(2 * (k + 1)), cone_.resize(k + 1);
+    sweep.contact_row(t, first, slide_rows_[2 * k]);
+    sweep.contact_row(t, normal.cross(first), slide_rows_[2 * k + 1]);
+    slip_[2 * k] = speed;
+    slip_[2 * k + 1] = 0;
+    cone_[k] = mu * pressed_[p];
+    ++k;
   }
+  if (k == 0) return true;
+  solve_friction(sweep, k);
+  sweep.apply_rows({slide_rows_.data(), 2 * k}, {friction_.data(), 2 * k}, true);
   return true;
 }
 

@@ -18,8 +18,15 @@
 // first the ends are moved back onto their planes through the springs (each spring by its
 // compliance — 1/k, the diagonal of a material joint's block —, the true curve re-measured and the
 // solve repeated, up to 16 times), then the approach speeds are taken out by impulses (by the
-// masses: inelastic), then the sliding speeds by friction up to μ times each contact's normal
-// impulse (Coulomb). Where nothing touches, nothing is done: the springs keep their exact
+// masses: inelastic), then the sliding speeds by friction (Coulomb, all contacts together:
+// projected Gauss–Seidel over two rows across each normal, each contact's impulse held in its cone
+// |λ| ≤ μ N·dt, each update lowering the kinetic energy relative to the colliders, so friction never
+// adds any). N·dt is read two ways, each contact taking the larger: the impulses that would change
+// the points' normal speeds as the move and the kicks did (a hit, a soft part falling each step),
+// and the force that holds the springs off where the loads alone would hold them (a stiff part
+// resting), times dt. The friction acts at the section's centre (no roll), at the speed level: a
+// stiff part's tip is held only for the step it is kicked (tests/sim/friction_test.cpp, disabled,
+// says by how much). Where nothing touches, nothing is done: the springs keep their exact
 // integration.
 //
 // What it costs: a sweep far from every collider (its bounding spheres at the step's two ends
@@ -116,12 +123,19 @@ class ContactSolver {
   std::vector<Plane> planes_;
   std::vector<ElasticSweep::ContactRow> rows_;  // one per plane, along its normal
   Eigen::MatrixXd by_mass_, by_compliance_;     // J M⁻¹ Jᵀ and J C Jᵀ over the rows
-  std::vector<double> residual_, amount_, total_, coupled_, moved_;
+  std::vector<double> residual_, amount_, total_, coupled_;
+  std::vector<double> moved_, pressed_, held_, none_;  // the move's forces; normal impulses; forces; zeros
   SupportScratch support_;
   Eigen::MatrixXd jp_, jr_, modal_;  // the rows' J (positional, rotational) and Φᵀ Jᵀ, one column each
   std::vector<char> evaluated_;       // whether start_/end_ hold station s this step
   std::vector<double> span_reach_;    // each span's largest radius over the step
-  ElasticSweep::ContactRow slide_row_;
+  // Friction: two rows across each pressed contact's normal (the first along its slip), their
+  // slip speeds, each contact's cone radius μN, the impulses, and J M⁻¹ Jᵀ over the rows.
+  ElasticSweep::ContactRow probe_row_;
+  std::vector<ElasticSweep::ContactRow> slide_rows_;
+  std::vector<double> slip_, cone_, friction_, friction_w_;
+  Eigen::MatrixXd slide_by_mass_, slide_by_compliance_;
+  void solve_friction(const ElasticSweep& sweep, std::size_t contacts);
 };
 
 }  // namespace sweep::sim
