@@ -387,6 +387,18 @@ void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> swee
                " stations a span): at most one joint a station");
     }
   }
+  // JOINTS_0 is unsigned short: a skeleton of more joints would wrap its indices.
+  if (!sweeps.empty()) {
+    const std::uint64_t per_sweep = static_cast<std::uint64_t>(joints) +
+                                    static_cast<std::uint64_t>(joints - 1) * static_cast<std::uint64_t>(layout.ring > 1 ? layout.ring : 0);
+    const std::uint64_t total = 1 + per_sweep * sweeps.size();
+    if (total > 65535) {
+      fail(ErrorCategory::usage, "--joints " + std::to_string(joints) + " --ring-joints " +
+                                     std::to_string(layout.ring) + " on " + std::to_string(sweeps.size()) +
+                                     " sweeps: " + std::to_string(total) +
+                                     " joints, more than a glTF skin's 65535 joint indices hold");
+    }
+  }
 }
 
 SkinBakeWriter make_skin_bake_writer(const std::filesystem::path& out, std::vector<SkinSweep> sweeps,

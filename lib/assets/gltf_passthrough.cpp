@@ -461,6 +461,13 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       prim.to_world = lin;
       prim.to_local = lin.inverse();
       prim.normal_to_world = prim.to_local.transpose();
+      // A primitive of a deformed mesh that the mesh as read does not hold (assimp numbers a glTF's
+      // meshes in the order its scene reaches them, not the file's): refused, never indexed.
+      if (prim.source.size() != prim.count) {
+        s.refuse(where + ": the mesh was read without this primitive's vertices (assimp's mesh order "
+                 "differs from the file's); the .glb bake cannot tell which primitive a vertex belongs "
+                 "to (bake to .pc2)");
+      }
       // The importer's world positions must be these, placed by this node: else the order differs.
       for (std::uint32_t i = 0; i < prim.count; ++i) {
         const Vec3 local((*positions)[3 * i], (*positions)[3 * i + 1], (*positions)[3 * i + 2]);

@@ -48,11 +48,13 @@ done
 # defaults).
 for layout in 4x1 12x1 6x8fit default; do
   case $layout in
-    default) args=(--joints) ;;
-    *fit) m=${layout#*x}; args=(--joints "${layout%x*}" --ring-joints "${m%fit}" --ring-fit) ;;
-    *) args=(--joints "${layout%x*}" --ring-joints "${layout#*x}") ;;
+    default) args="--joints" ;;
+    *fit) m=${layout#*x}; args="--joints ${layout%x*} --ring-joints ${m%fit} --ring-fit" ;;
+    *) args="--joints ${layout%x*} --ring-joints ${layout#*x}" ;;
   esac
-  "$sim" -q "$rig" -b "$work/tube.bind" --scene "$work/scene-moving.json" "${args[@]}" \
+  # (sh, not bash: the options as one word list, split on purpose)
+  # shellcheck disable=SC2086
+  "$sim" -q "$rig" -b "$work/tube.bind" --scene "$work/scene-moving.json" $args \
     -o "$work/tube-skin-$layout.glb" -o "$work/tube-skin-$layout.pc2" --report "$work/tube-skin-$layout.json"
   tolerance=$(python3 -c 'import json, sys
 r = json.load(open(sys.argv[1])); rig = json.load(open(sys.argv[2]))
