@@ -69,24 +69,32 @@ Json fit_entry(const fit::FitResult& r) {
   return s;
 }
 
-// A length of `cm` centimetres as a person says it: "1 cm", "100 cm = 1 m", "2.54 cm (an inch)".
+// The FBX units people use, in centimetres, as a person says one and names them.
+struct NamedUnit {
+  double cm;
+  const char* words;   // "100 cm = 1 m"
+  const char* plural;  // "metres"
+};
+constexpr NamedUnit kNamedUnits[] = {{1, "1 cm", "centimetres"},         {100, "100 cm = 1 m", "metres"},
+                                     {0.1, "0.1 cm = 1 mm", "millimetres"}, {2.54, "2.54 cm, an inch", "inches"},
+                                     {30.48, "30.48 cm, a foot", "feet"},  {100000, "100000 cm = 1 km", "kilometres"}};
+const NamedUnit* named_unit(double cm) {
+  for (const NamedUnit& u : kNamedUnits) {
+    if (u.cm == cm) return &u;
+  }
+  return nullptr;
+}
+
+// A length of `cm` centimetres as a person says it: "1 cm", "100 cm = 1 m", "2.54 cm, an inch".
 std::string unit_words(double cm) {
-  if (cm == 100) return "100 cm = 1 m";
-  if (cm == 0.1) return "0.1 cm = 1 mm";
-  if (cm == 2.54) return "2.54 cm, an inch";
-  if (cm == 30.48) return "30.48 cm, a foot";
-  if (cm == 100000) return "100000 cm = 1 km";
-  return format_number(cm) + " cm";
+  const NamedUnit* u = named_unit(cm);
+  return u ? u->words : format_number(cm) + " cm";
 }
 
 // The coordinates' unit in the plural: "centimetres", "units of 5 cm".
 std::string unit_plural(double cm) {
-  if (cm == 1) return "centimetres";
-  if (cm == 0.1) return "millimetres";
-  if (cm == 2.54) return "inches";
-  if (cm == 30.48) return "feet";
-  if (cm == 100000) return "kilometres";
-  return "units of " + format_number(cm) + " cm";
+  const NamedUnit* u = named_unit(cm);
+  return u ? u->plural : "units of " + format_number(cm) + " cm";
 }
 
 }  // namespace
