@@ -126,6 +126,27 @@ Topology build_topology(const Mesh& mesh) {
   return t;
 }
 
+std::size_t hole_edge_count(const Topology& topology) {
+  std::vector<std::uint64_t> edges;
+  edges.reserve(topology.triangles.size());
+  for (std::size_t t = 0; t + 2 < topology.triangles.size(); t += 3) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = topology.triangles[t + static_cast<std::size_t>(k)];
+      const std::uint64_t b = topology.triangles[t + static_cast<std::size_t>((k + 1) % 3)];
+      edges.push_back(std::min(a, b) << 32 | std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::size_t once = 0;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    once += j - i == 1;
+    i = j;
+  }
+  return once;
+}
+
 namespace {
 
 // A section a part may not be crossed through: a disc in a plane (normal = the frame's axis).

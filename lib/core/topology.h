@@ -40,6 +40,10 @@ struct Topology {
 };
 Topology build_topology(const Mesh& mesh);
 
+// Edges (over representatives) that only one triangle uses: the rims of the mesh's holes. A mesh
+// with holes is an open surface to the walks over it (rings of surface distance run into them).
+std::size_t hole_edge_count(const Topology& topology);
+
 // Neighbours over the mesh's own polygon edges, no welding (what the tests compare against).
 VertexAdjacency vertex_adjacency(const Mesh& mesh);
 

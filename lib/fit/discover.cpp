@@ -36,6 +36,11 @@ constexpr double kHangingCos = 0.3;
 constexpr double kWholeTubeWidening = 2;
 // ... and that are this many median radii long: a thick blob (a fist, a pebble) is not a tube.
 constexpr double kLoneTubeAspect = 8;
+// A tube is traced over at least this many closed rings between its tip's cap and the junction.
+// An open ring runs into a hole of the mesh: its area, hence its radius, measures nothing, and
+// one or two rings past the tip of a flat face or a hole's rim are no tube (mech-holes-shark's
+// "parts" of 2 vertices, 0.002 wide, before this).
+constexpr int kMinTubeRings = 3;
 
 // The average surface distance from `samples` sources spread by farthest-point sampling; NaN
 // where no source reaches.
@@ -210,8 +215,23 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
       ++cap;
     }
     std::vector<double> radii;
-    for (int i = cap; i <= rings.junction; ++i)
-      radii.push_back(rings.rings[static_cast<std::size_t>(i)].radius);
+    for (int i = cap; i <= rings.junction; ++i) {
+      const Ring& ring = rings.rings[static_cast<std::size_t>(i)];
+      if (ring.closed) radii.push_back(ring.radius);
+    }
+    if (static_cast<int>(radii.size()) < kMinTubeRings) {
+      if (passed_over) {
+        passed_over->push_back("vertex " + std::to_string(tip) + " at " +
+                               format_point(mesh.positions[tip]) + ": " +
+                               std::to_string(radii.size()) + " closed ring" +
+                               (radii.size() == 1 ? "" : "s") + " before " +
+                               rings.junction_reason + "; a tube has at least " +
+                               std::to_string(kMinTubeRings) +
+                               " (an open ring runs into a hole of the mesh)");
+      }
+      cover(junction.distance);
+      continue;
+    }
     std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2),
                      radii.end());
     const double radius = radii[radii.size() / 2];

@@ -274,6 +274,25 @@ TEST_F(Tool, AllNamesAPartItCannotFitAndForceLeavesItOut) {
   EXPECT_EQ(io::read_rig(rig).sweeps.size(), 8u - left_out);
 }
 
+// An open mesh whose rings of surface distance all run into holes (CGAL's mech-holes-shark, a
+// machined block with open faces: --list once offered three "parts" of 2 vertices each) has no
+// parts, and says why: --list exits 0 with no table; --all exits 2 and writes no rig.
+TEST_F(Tool, AnOpenMeshWithoutTubesSaysItIsOpen) {
+  const fs::path shark = diplodocus().parent_path() / "mech-holes-shark.off";
+  if (!fs::exists(shark)) GTEST_SKIP() << "run tools/setup-deps.sh";
+  ToolRun r = run_tool(shark.string() + " --list");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("no tubular parts found (the mesh is open: 304 edges rim its holes"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("vertices\n"), std::string::npos) << "no table: " << r.output;
+  const std::string rig = path("shark.rig.json");
+  r = run_tool(shark.string() + " --all -o " + rig);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("the mesh is open"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(rig));
+}
+
 // --all fits every part into one rig under the names given, in the order --list shows them, each
 // trusted (no --force).
 TEST_F(Tool, AllFitsEveryPartIntoOneRigUnderTheNamesGiven) {

@@ -358,7 +358,11 @@ int run_all(const Settings& s) {
   fitting(s, mesh, fits, start, [&] {
     const sweep::fit::SweepFitter fitter(mesh.mesh());
     const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh.mesh(), fitter.topology());
-    if (parts.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no tubular parts found");
+    if (parts.empty()) {
+      fail(ErrorCategory::bad_input,
+           s.mesh.string() + ": " +
+               sweep::fit_tool::no_parts_found(sweep::hole_edge_count(fitter.topology())));
+    }
     if (!names.empty() && names.size() != parts.size()) {
       fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) +
                                      " names for the " + std::to_string(parts.size()) +
@@ -401,7 +405,7 @@ int run_list(const Settings& s) {
   std::vector<std::string> passed_over;
   const std::vector<sweep::fit::FoundPart> parts =
       sweep::fit::find_parts(mesh, topology, {}, s.verbose ? &passed_over : nullptr);
-  sweep::fit_tool::print_parts(parts);
+  sweep::fit_tool::print_parts(parts, sweep::hole_edge_count(topology));
   for (const std::string& x : passed_over) std::cout << "  passed over " << x << "\n";
   if (!s.report.empty())
     sweep::fit_tool::write_parts_report(s.report, s.mesh, parts, seconds_since(start));

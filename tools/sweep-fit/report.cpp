@@ -257,9 +257,19 @@ void print_fit(const fit::FitResult& r, bool verbose) {
   }
 }
 
-void print_parts(const std::vector<fit::FoundPart>& parts) {
+std::string no_parts_found(std::size_t hole_edges) {
+  std::string m = "no tubular parts found";
+  if (hole_edges > 0) {
+    m += " (the mesh is open: " + std::to_string(hole_edges) +
+         " edges rim its holes, and a ring of surface distance that runs into a hole measures no "
+         "tube; fill the holes first)";
+  }
+  return m;
+}
+
+void print_parts(const std::vector<fit::FoundPart>& parts, std::size_t hole_edges) {
   if (parts.empty()) {
-    std::cout << "no tubular parts found\n";
+    std::cout << no_parts_found(hole_edges) << "\n";
     return;
   }
   std::printf("%-8s %8s  %-28s %-28s %10s %10s %8s\n", "name", "tip", "tip at", "root at",

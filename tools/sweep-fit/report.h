@@ -51,7 +51,10 @@ void write_parts_report(const std::filesystem::path& report, const std::filesyst
 // A fit's summary for a person: sections, root, part, error (and the axis with `verbose`).
 void print_fit(const fit::FitResult& r, bool verbose);
 
-// The parts found, as a table.
-void print_parts(const std::vector<fit::FoundPart>& parts);
+// "no tubular parts found", with why when the mesh is open (`hole_edges`: hole_edge_count).
+std::string no_parts_found(std::size_t hole_edges);
+
+// The parts found, as a table (or no_parts_found).
+void print_parts(const std::vector<fit::FoundPart>& parts, std::size_t hole_edges);
 
 }  // namespace sweep::fit_tool
