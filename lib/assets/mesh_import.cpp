@@ -288,16 +288,23 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
   if (!named_format && !name.empty()) {
     bad(source, "holds one mesh with no name (the format has none), so there is no mesh '" + name + "' to take");
   }
+  std::vector<Mesh> meshes;  // each node's, for its vertex count and the pick
+  const auto list_nodes = [&] {
+    for (const NodeMeshes& n : nodes) {
+      meshes.push_back(assemble(scene, placed_of(n), weld, source));
+      out.meshes.push_back({n.name, n.mesh_name, meshes.back().vertex_count()});
+    }
+  };
   if (nodes.empty() || (name.empty() && pick == MeshPick::whole_file)) {
     if (!name.empty()) bad(source, "no node shows a mesh, so there is no mesh '" + name + "' to take");
+    // The meshes are listed all the same: a tool says the whole file was read, of which meshes
+    // (and refuses points in "the" mesh's own space: the whole file has none).
+    list_nodes();
+    meshes.clear();
     out.mesh = assemble(scene, whole_file(scene), weld, source);
     return out;
   }
-  std::vector<Mesh> meshes;  // each node's, for its vertex count and the pick
-  for (const NodeMeshes& n : nodes) {
-    meshes.push_back(assemble(scene, placed_of(n), weld, source));
-    out.meshes.push_back({n.name, n.mesh_name, meshes.back().vertex_count()});
-  }
+  list_nodes();
   const auto list = [&] { return list_scene_meshes(out.meshes); };
   int chosen = 0;
   if (!name.empty()) {

@@ -533,6 +533,27 @@ TEST(SceneMeshes, ARigWithoutAMeshNameReadsTheWholeFileAsBefore) {
   EXPECT_LT(worst, 1e-6);
 }
 
+// Such a rig reads the whole file, which has no one local space: adding a part to it with --space
+// local is refused (exit 1, the rig as it was), not read as world points.
+TEST(SceneMeshes, LocalSeedsIntoARigThatReadsTheWholeFileAreRefused) {
+  const SceneMeshesDir d("scene-meshes-old-rig-local");
+  ToolRun r = d.fit(tail_seeds());
+  ASSERT_EQ(r.code, 0) << r.err;
+  Json rig = Json::parse(slurp(d / "rig.json"));
+  rig.erase("mesh_name");
+  rig["version"] = 1;
+  spit(d / "rig.json", rig.dump(2));
+  const std::string before = slurp(d / "rig.json");
+  r = run_tool(SWEEP_FIT_EXE, quoted(d / "creature.gltf") + " -o " + quoted(d / "rig.json") +
+                                  " --name other --space local --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8",
+               d.io);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("--space local: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("names no mesh, so it reads the whole of"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'Tail' 875 vertices, 'Ground' 4 vertices"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(d / "rig.json"), before);
+}
+
 // What the .glb cannot carry: exit 3, one line naming the file and what is wrong, nothing written.
 void expect_refused(const std::string& name, const std::function<void(Json&)>& change, const std::string& expect,
                     int exit_code = 3, const char* remove = nullptr) {

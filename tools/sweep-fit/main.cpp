@@ -328,6 +328,14 @@ int run_one(const Settings& s) {
   sweep::Rig rig = open_rig(s, updating);
   const ReadMesh mesh = read_checked_mesh(s, &rig, updating);
   if (s.space == "local") {
+    // A rig that names no mesh reads the whole of a scene file: many nodes, no one local space.
+    if (mesh.read.name.empty() && !mesh.read.meshes.empty()) {
+      fail(ErrorCategory::usage,
+           "--space local: " + s.rig.string() + " names no mesh, so it reads the whole of " +
+               s.mesh.string() + " (" + sweep::io::list_scene_meshes(mesh.read.meshes) +
+               "), which has no one local space; give the points in world space, or fit into a "
+               "new rig with --mesh NAME");
+    }
     // The points are in the mesh's own space: its node's world transform takes them to the world
     // space the mesh (and the rig) are in.
     const Eigen::Affine3d& to_world = mesh.read.to_world;
