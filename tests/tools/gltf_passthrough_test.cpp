@@ -472,6 +472,14 @@ TEST(SceneMeshes, TheLargestIsTakenByDefaultAndSaidSo) {
   fs::remove(d / "rig.json");
   ASSERT_EQ((r = d.fit(" --mesh Tail" + tail_seeds())).code, 0) << r.err;
   EXPECT_EQ(Json::parse(slurp(d / "rig.json"))["mesh_name"], "TailNode");
+  // Updating that rig, the mesh's name finds its node as well as the node's name does.
+  r = run_tool(SWEEP_FIT_EXE, quoted(d / "creature.gltf") + " -o " + quoted(d / "rig.json") +
+                                  " --mesh Tail --name second" + tail_seeds(),
+               d.io);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json updated = Json::parse(slurp(d / "rig.json"));
+  EXPECT_EQ(updated["mesh_name"], "TailNode");
+  EXPECT_EQ(updated["sweeps"].size(), 2u);
 }
 
 // --space local: --root, --tip and --axis in the Tail's own space (as stored in the file) are taken to

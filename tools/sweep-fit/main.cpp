@@ -134,11 +134,7 @@ sweep::Rig open_rig(const Settings& s, bool& updating) {
       fail(ErrorCategory::usage, s.rig.string() + " is a rig of mesh '" + rig.mesh + "', not of " +
                                      s.mesh.string() + "; write to another --rig file");
     }
-    if (!s.mesh_name.empty() && s.mesh_name != rig.mesh_name) {
-      fail(ErrorCategory::usage, "--mesh " + s.mesh_name + ": " + s.rig.string() + " is a rig of " +
-                                     (rig.mesh_name.empty() ? "the whole file" : "its mesh '" + rig.mesh_name + "'") +
-                                     "; write to another --rig file");
-    }
+    // (--mesh against the rig's mesh: read_checked_mesh, once the name is resolved to a node.)
   }
   rig.mesh = mesh_path_for(s.rig, s.mesh);
   return rig;
@@ -214,6 +210,12 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
   if (s.verbose) sweep::fit_tool::print_mesh_summary(s.mesh, m.summary);
   if (const std::string note = sweep::fit_tool::mesh_choice_note(s.mesh, m.summary); !note.empty()) {
     sweep::io::note(note);
+  }
+  // --mesh may name the rig's mesh by its node's name (what the rig records) or by its mesh's.
+  if (rigs && !s.mesh_name.empty() && m.read.name != rig->mesh_name) {
+    fail(ErrorCategory::usage, "--mesh " + s.mesh_name + ": " + s.rig.string() + " is a rig of " +
+                                   (rig->mesh_name.empty() ? "the whole file" : "its mesh '" + rig->mesh_name + "'") +
+                                   "; write to another --rig file");
   }
   if (rig != nullptr) rig->mesh_name = m.read.name;
   return m;
