@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -53,9 +54,22 @@ struct Settings {
   std::uint64_t max_output_bytes = 0;  // --max-output-size: refuse a bake that would write more
   int joints = 0;                      // --joints: skinned .glb with this many joints a sweep; 0 = morph targets
   bool joints_given = false;
+  std::string joints_text;             // --joints as given: "" alone (the default, see run)
   int ring_joints = sweep::io::kDefaultRingJoints;  // --ring-joints: ring joints a station (1: none)
   bool ring_fit = false;                            // --ring-fit: least-squares ring keys
 };
+
+// `text` as a whole number (an option's value CLI11 was given as text), or a usage error naming
+// `option`.
+int whole_number(const std::string& text, const std::string& option) {
+  int value = 0;
+  const char* end = text.data() + text.size();
+  const auto [at, error] = std::from_chars(text.data(), end, value);
+  if (error != std::errc{} || at != end) {
+    sweep::fail(sweep::ErrorCategory::usage, option + ": expected a whole number, got '" + text + "'");
+  }
+  return value;
+}
 
 double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -123,13 +137,21 @@ std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, doub
   return doc.dump(2) + "\n";
 }
 
-int run(const Settings& s) {
+int run(Settings s) {
   const Clock::time_point start = Clock::now();
   if (s.threads > 0) omp_set_num_threads(s.threads);
   if (s.joints_given) {  // the ranges, before any work
     sweep::io::check_skin_joints({.stations = s.joints, .ring = s.ring_joints}, {}, 1);
   }
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
+  if (s.joints_given && s.joints_text.empty()) {
+    // --joints alone: the default, or a joint a station on a sweep of fewer stations (a number
+    // given is taken as asked, and refused past a sweep's stations).
+    for (const sweep::SweepDef& def : rig.sweeps) {
+      const int stations = (def.rest.section_count() - 1) * s.stations + 1;
+      s.joints = std::max(sweep::io::kMinSkinJoints, std::min(s.joints, stations));
+    }
+  }
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
   // The rig's mesh of that file (the whole file for a rig that names none).
   const sweep::io::SceneMesh read = sweep::io::read_scene_mesh(mesh_path, rig.mesh_name, sweep::io::MeshPick::whole_file);
@@ -313,16 +335,16 @@ int main(int argc, char** argv) {
                    "Fast path: stations per span (error falls as its square)")
         ->check(CLI::Range(1, 1024));
     auto* joints = app.add_option(
-                           "--joints", s.joints,
+                           "--joints", s.joints_text,
                            "Write each .glb as a skinned mesh instead of morph targets: N joints along "
                            "each sweep (2 to 255, at most the sweep's stations; --joints alone, last or "
                            "before another option: " +
-                               std::to_string(sweep::io::kDefaultSkinJoints) + ", with --ring-joints " +
+                               std::to_string(sweep::io::kDefaultSkinJoints) +
+                               " or a joint a station where a sweep has fewer, with --ring-joints " +
                                std::to_string(sweep::io::kDefaultRingJoints) +
                                " by default, within 1 % of the length on the demo's scene); the summary "
                                "and report give its error against the bake")
-                       ->expected(0, 1)
-                       ->default_str(std::to_string(sweep::io::kDefaultSkinJoints));
+                       ->expected(0, 1);
     app.add_option("--ring-joints", s.ring_joints,
                    "With --joints: M joints around each station but the root, carrying the radial "
                    "change at their angles (1 to 64; 1: none, each station joint scales its whole "
@@ -341,6 +363,8 @@ int main(int argc, char** argv) {
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);
     s.joints_given = joints->count() > 0;
+    s.joints = sweep::io::kDefaultSkinJoints;
+    if (s.joints_given && !s.joints_text.empty()) s.joints = whole_number(s.joints_text, "--joints");
     return run(s);
   });
 }
