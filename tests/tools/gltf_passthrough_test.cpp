@@ -666,19 +666,7 @@ TEST(GltfPassthrough, AGlbInputWithADataUriImageComesBackWhole) {
   }
   doc["images"][0] = {{"name", "skin"}, {"uri", "data:image/png;base64," + b64}};
   doc["buffers"][0].erase("uri");
-  std::string text = doc.dump();
-  text.append((4 - text.size() % 4) % 4, ' ');
-  std::string padded = bin;
-  padded.append((4 - padded.size() % 4) % 4, '\0');
-  std::string glb = "glTF";
-  auto u32 = [&](std::uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
-  u32(2);
-  u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + padded.size()));
-  u32(static_cast<std::uint32_t>(text.size()));
-  glb += "JSON" + text;
-  u32(static_cast<std::uint32_t>(padded.size()));
-  glb += std::string("BIN\0", 4) + padded;
-  spit(ws / "creature.glb", glb);
+  spit(ws / "creature.glb", glb_bytes(doc, bin));
   Json rig = Json::parse(slurp(ws / "rig.json"));
   rig["mesh"] = "creature.glb";  // the same positions: the binding still holds
   spit(ws / "rig.json", rig.dump());
@@ -889,7 +877,7 @@ TEST(ObjPassthrough, VertexColoursAloneAreCarriedAndEveryTargetDeclaresItsBounds
 }
 
 TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
-  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed";
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed";
   const fs::path top = scratch_dir("obj-passthrough-blender"), dir = top / "work", io = top / "io";
   fs::create_directories(dir);
   fs::create_directories(io);
@@ -918,15 +906,13 @@ TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
 // embedded) carries its UVs, normals and materials with the image, and the targets follow the .pc2.
 // Skipped without Blender (which writes the FBX).
 TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
-  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
   constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
   const fs::path top = scratch_dir("fbx-passthrough"), dir = top / "work", io = top / "io";
   fs::create_directories(dir);
   fs::create_directories(io);
   write_textured_obj(dir / "..");
-  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/obj_to_fbx.py";
-  const ToolRun x = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
-                                            quoted(top / "creature.obj") + " " + quoted(dir / "creature.fbx"), io);
+  const ToolRun x = obj_to_fbx(top / "creature.obj", dir / "creature.fbx", io);
   ASSERT_EQ(x.code, 0) << x.out << x.err;
   fit_and_bind(dir, io, "creature.fbx", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
@@ -1003,12 +989,11 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
 // (UnitScaleFactor 1, coordinates × 100); each fits with seeds in its own unit. Skipped without
 // Blender (which writes the FBX).
 TEST(SceneMeshes, AnFbxsUnitIsSaidAndNotApplied) {
-  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
   const fs::path top = scratch_dir("scene-meshes-fbx-unit"), dir = top / "work", io = top / "io";
   fs::create_directories(dir);
   fs::create_directories(io);
   write_textured_obj(top);
-  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/obj_to_fbx.py";
   struct Case {
     const char* file;
     const char* blender_args;
@@ -1025,9 +1010,7 @@ TEST(SceneMeshes, AnFbxsUnitIsSaidAndNotApplied) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
-    const ToolRun x = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
-                                              quoted(top / "creature.obj") + " " + quoted(dir / c.file) + c.blender_args,
-                               io);
+    const ToolRun x = obj_to_fbx(top / "creature.obj", dir / c.file, io, c.blender_args);
     ASSERT_EQ(x.code, 0) << x.out << x.err;
     const std::string seeds = " --root 0,0," + std::to_string(0.02 * c.scale) + " --tip 0,0," + std::to_string(c.scale);
     const ToolRun r = run_tool(SWEEP_FIT_EXE, quoted(dir / c.file) + " -o " + quoted(dir / (std::string(c.file) + ".rig.json")) +
@@ -1078,7 +1061,7 @@ TEST(GltfPassthrough, SameBytesEveryRunAndAnObjsMissingTextureIsRefused) {
 // Blender's glTF importer (tests/blender/check_passthrough.py): the bake keeps the Tail's UVs,
 // colours, materials and image, and its animation plays the .pc2's frames. Skipped without Blender.
 TEST(GltfPassthrough, BlenderShowsTheAssetAndPlaysTheBake) {
-  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed";
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed";
   const TexturedWorkspace ws("gltf-passthrough-blender");
   const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
   ASSERT_EQ(r.code, 0) << r.err;
