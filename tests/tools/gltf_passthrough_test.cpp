@@ -533,6 +533,51 @@ TEST(SceneMeshes, ARigWithoutAMeshNameReadsTheWholeFileAsBefore) {
   EXPECT_LT(worst, 1e-6);
 }
 
+// A file that lists its meshes in another order than its scene reaches them: the Tail is mesh 1 and
+// the Ground mesh 0, but the scene shows the Tail first, and assimp numbers meshes in the order the
+// scene reaches them (its mesh 0 is the Tail's first primitive). `--mesh Tail` takes the Tail by the
+// file's numbering: the fit is the Tail's, the .pc2 holds the Tail's stored positions at frame 0,
+// and the .glb's targets go on mesh 1 alone.
+TEST(SceneMeshes, TheNamedMeshIsTakenByTheFilesNumberingNotTheImporters) {
+  const SceneMeshesDir d("scene-meshes-order");
+  Json doc = d.in;
+  std::swap(doc["meshes"][0], doc["meshes"][1]);
+  doc["nodes"][1]["mesh"] = 1;  // Tail
+  doc["nodes"][3]["mesh"] = 0;  // Ground
+  spit(d / "creature.gltf", doc.dump(1));
+  ToolRun r = d.fit(" --mesh Tail --report " + quoted(d / "fit.json") + tail_seeds());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(Json::parse(slurp(d / "fit.json"))["mesh_summary"]["vertices"], 875);
+  ASSERT_EQ((r = d.bind()).code, 0) << r.err;
+  ASSERT_EQ((r = d.bake("-o " + quoted(d / "out.glb") + " -o " + quoted(d / "out.pc2"))).code, 0) << r.err;
+  std::vector<float> local;
+  for (const Json& prim : doc["meshes"][1]["primitives"]) {
+    const std::vector<float> p = floats(doc, d.in_bin, prim["attributes"]["POSITION"], 3);
+    local.insert(local.end(), p.begin(), p.end());
+  }
+  int points = 0;
+  const std::vector<float> frame0 = pc2_frame(slurp(d / "out.pc2"), 0, &points);
+  ASSERT_EQ(frame0.size(), local.size()) << "the .pc2 must hold the Tail's vertices only";
+  double worst = 0;  // the Tail's world positions taken back to its space: float rounding, as above
+  for (std::size_t k = 0; k < local.size(); ++k) worst = std::max(worst, double(std::abs(frame0[k] - local[k])));
+  EXPECT_LE(worst, 2 * std::numeric_limits<float>::epsilon());  // coordinates up to 1
+  const Glb out = read_glb(d / "out.glb");
+  EXPECT_FALSE(out.json["meshes"][0]["primitives"][0].contains("targets")) << "the Ground gained targets";
+  for (const Json& prim : out.json["meshes"][1]["primitives"]) EXPECT_EQ(prim.value("targets", Json::array()).size(), 6u);
+
+  // A rig of the whole file (no mesh name) reads the meshes in assimp's order, the Tail first: the
+  // .glb still deforms the Tail's primitives alone.
+  Json rig = Json::parse(slurp(d / "rig.json"));
+  rig.erase("mesh_name");
+  rig["version"] = 1;
+  spit(d / "rig.json", rig.dump(2));
+  ASSERT_EQ((r = d.bind()).code, 0) << r.err;
+  ASSERT_EQ((r = d.bake("-o " + quoted(d / "whole.glb"))).code, 0) << r.err;
+  const Glb whole = read_glb(d / "whole.glb");
+  EXPECT_FALSE(whole.json["meshes"][0]["primitives"][0].contains("targets")) << "the Ground gained targets";
+  for (const Json& prim : whole.json["meshes"][1]["primitives"]) EXPECT_EQ(prim.value("targets", Json::array()).size(), 6u);
+}
+
 // What the .glb cannot carry: exit 3, one line naming the file and what is wrong, nothing written.
 void expect_refused(const std::string& name, const std::function<void(Json&)>& change, const std::string& expect,
                     int exit_code = 3, const char* remove = nullptr) {
