@@ -30,18 +30,18 @@ using Json = nlohmann::json;
 // Tolerances. Every format carries the tail's world positions to float precision, but not the same
 // floats: the glTF keeps the local floats and its node's matrix (applied in double on reading),
 // assimp's exporter writes the product rounded to float. So a vertex differs across formats by a
-// few units in the last place of float: kPositionTolerance (8 ulps at the asset's extent, under 2)
-// bounds that, a hundred-thousandth of the tube's radius, far below its vertices' spacing (> 0.01),
-// so matching by position cannot pair the wrong vertices.
+// few units in the last place of float: kPositionTolerance (8 ulps at the asset's extent, under 2;
+// 2e-6, or 2e-5 of the tube's radius) bounds that, far below its vertices' spacing (> 0.03), so
+// matching by position cannot pair the wrong vertices.
 constexpr double kExtent = 2;
 constexpr double kPositionTolerance = 8 * FLT_EPSILON * kExtent;
 // The fit is a smooth function of the positions (slices, least squares): a perturbation of
-// kPositionTolerance moves its numbers by about as much (measured: centres and radii 0.3 times it,
-// frames 0.15 times it over the radius). A hundred times that (2e-4 of the radius on lengths,
-// 2e-4 radians on frames) allows for a worse-conditioned step and still tells a different fit (a
-// section placed elsewhere, a frame turned about the axis, a slice closed over a gap) from rounding.
-constexpr double kFitLengthTolerance = 100 * kPositionTolerance;
-constexpr double kFitAngleTolerance = 100 * kPositionTolerance / TexturedAsset::kRadius;
+// kPositionTolerance moves its numbers by less (measured: centres and radii 0.35 times it, frames
+// 0.15 times it over the radius). Ten times that (2e-4 of the radius on lengths, 2e-4 radians on
+// frames) leaves room for a worse-conditioned step and still tells a different fit (a section
+// placed elsewhere, a frame turned about the axis) from rounding.
+constexpr double kFitLengthTolerance = 10 * kPositionTolerance;
+constexpr double kFitAngleTolerance = 10 * kPositionTolerance / TexturedAsset::kRadius;
 
 // The seeds of the other tail tests, in world space.
 std::string seeds() {
@@ -67,8 +67,8 @@ fs::path formats_dir() {
     glb["buffers"][0].erase("uri");
     spit(dir / "creature.glb", glb_bytes(glb, slurp(dir / "creature.bin")));
     // OBJ and STL by assimp's exporter from the glTF as assimp reads it, the node's transform
-    // applied to the vertices (OBJ and STL have no nodes). Its OBJ shares a `v` a position and
-    // splits `vt` at the seam, as a DCC tool's does.
+    // applied to the vertices (OBJ and STL have no nodes). Its OBJ keeps the seam split: a `v` for
+    // each glTF vertex (a seam's copies differ in colour); the STL reader welds by position.
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFile((dir / "creature.gltf").string(), 0);
     ASSERT_NE(scene, nullptr) << importer.GetErrorString();

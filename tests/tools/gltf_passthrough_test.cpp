@@ -328,6 +328,13 @@ struct SceneMeshesDir {
                                        " --name tube" + args, io);
   }
   ToolRun bind() const { return run_tool(SWEEP_BIND_EXE, quoted(work / "rig.json") + " -q", io); }
+  // rig.json as a rig from before mesh names (version 1, no mesh_name): of the whole file.
+  void make_rig_of_the_whole_file() const {
+    Json rig = Json::parse(slurp(work / "rig.json"));
+    rig.erase("mesh_name");
+    rig["version"] = 1;
+    spit(work / "rig.json", rig.dump(2));
+  }
   ToolRun bake(const std::string& outputs) const {
     return run_tool(SWEEP_SIM_EXE, quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q " + outputs, io);
   }
@@ -509,10 +516,7 @@ TEST(SceneMeshes, ARigWithoutAMeshNameReadsTheWholeFileAsBefore) {
   const SceneMeshesDir d("scene-meshes-old-rig");
   ToolRun r = d.fit(tail_seeds());
   ASSERT_EQ(r.code, 0) << r.err;
-  Json rig = Json::parse(slurp(d / "rig.json"));
-  rig.erase("mesh_name");
-  rig["version"] = 1;
-  spit(d / "rig.json", rig.dump(2));
+  d.make_rig_of_the_whole_file();
   ASSERT_EQ((r = d.bind()).code, 0) << r.err;
   ASSERT_EQ((r = d.bake("-o " + quoted(d / "out.pc2"))).code, 0) << r.err;
   int points = 0;
@@ -561,21 +565,19 @@ TEST(SceneMeshes, TheNamedMeshIsTakenByTheFilesNumberingNotTheImporters) {
   double worst = 0;  // the Tail's world positions taken back to its space: float rounding, as above
   for (std::size_t k = 0; k < local.size(); ++k) worst = std::max(worst, double(std::abs(frame0[k] - local[k])));
   EXPECT_LE(worst, 2 * std::numeric_limits<float>::epsilon());  // coordinates up to 1
-  const Glb out = read_glb(d / "out.glb");
-  EXPECT_FALSE(out.json["meshes"][0]["primitives"][0].contains("targets")) << "the Ground gained targets";
-  for (const Json& prim : out.json["meshes"][1]["primitives"]) EXPECT_EQ(prim.value("targets", Json::array()).size(), 6u);
+  const auto expect_the_tail_deformed_alone = [](const fs::path& glb) {
+    const Glb out = read_glb(glb);
+    EXPECT_FALSE(out.json["meshes"][0]["primitives"][0].contains("targets")) << "the Ground gained targets";
+    for (const Json& prim : out.json["meshes"][1]["primitives"]) EXPECT_EQ(prim.value("targets", Json::array()).size(), 6u);
+  };
+  expect_the_tail_deformed_alone(d / "out.glb");
 
   // A rig of the whole file (no mesh name) reads the meshes in assimp's order, the Tail first: the
   // .glb still deforms the Tail's primitives alone.
-  Json rig = Json::parse(slurp(d / "rig.json"));
-  rig.erase("mesh_name");
-  rig["version"] = 1;
-  spit(d / "rig.json", rig.dump(2));
+  d.make_rig_of_the_whole_file();
   ASSERT_EQ((r = d.bind()).code, 0) << r.err;
   ASSERT_EQ((r = d.bake("-o " + quoted(d / "whole.glb"))).code, 0) << r.err;
-  const Glb whole = read_glb(d / "whole.glb");
-  EXPECT_FALSE(whole.json["meshes"][0]["primitives"][0].contains("targets")) << "the Ground gained targets";
-  for (const Json& prim : whole.json["meshes"][1]["primitives"]) EXPECT_EQ(prim.value("targets", Json::array()).size(), 6u);
+  expect_the_tail_deformed_alone(d / "whole.glb");
 }
 
 // What the .glb cannot carry: exit 3, one line naming the file and what is wrong, nothing written.
