@@ -12,10 +12,10 @@ namespace sweep::io::detail {
 using Json = nlohmann::json;
 using Bytes = std::string;
 
-void check_gltf_indices(const std::filesystem::path& path) {
-  const GltfDocument file = read_gltf_document(path);
+Json check_gltf_indices(const std::filesystem::path& path) {
+  GltfDocument file = read_gltf_document(path);
   const Json& doc = file.json;
-  if (!doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return;
+  if (!doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return std::move(file.json);
   const std::vector<std::optional<Bytes>>& buffers = file.buffers;
   for (std::size_t mi = 0; mi < doc["meshes"].size(); ++mi) {
     const Json& mesh = doc["meshes"][mi];
@@ -61,6 +61,7 @@ void check_gltf_indices(const std::filesystem::path& path) {
       }
     }
   }
+  return std::move(file.json);
 }
 
 }  // namespace sweep::io::detail

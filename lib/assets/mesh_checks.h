@@ -3,6 +3,7 @@
 // (assimp) would otherwise drop or shift without a word. Each throws Error(bad_input) naming
 // `source` and the place (line, mesh/primitive, index).
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 
@@ -17,7 +18,8 @@ void check_ascii_ply(std::string_view text, const std::string& source);
 
 // Every index of every indexed primitive of a glTF/glb must be below its POSITION count: assimp
 // 5.2 drops a triangle with an index past the end silently. What this check cannot read (malformed
-// JSON, a missing buffer) is left to assimp to report.
-void check_gltf_indices(const std::filesystem::path& path);
+// JSON, a missing buffer) is left to assimp to report. Returns the document's JSON (discarded, not
+// an object, when the text is not JSON) for the reader's further use.
+nlohmann::json check_gltf_indices(const std::filesystem::path& path);
 
 }  // namespace sweep::io::detail

@@ -9,6 +9,7 @@
 #include <assimp/Importer.hpp>
 #include <bit>
 #include <cerrno>
+#include <climits>
 #include <cstdint>
 #include <cmath>
 #include <cstring>
@@ -21,6 +22,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "assets/gltf_document.h"
 #include "assets/mesh_checks.h"
 #include "assets/mesh_io.h"
 #include "assets/mesh_io_detail.h"
@@ -274,13 +276,80 @@ MeshUnit unit_of(const aiScene* scene) {
   return unit;
 }
 
+// assimp numbers a glTF's importer meshes (one a primitive) in the order its scene reaches the
+// meshes, not the file's: a mesh listed second but shown first is its mesh 0. This gives each
+// importer mesh the file's number, its primitive counted over the file's meshes in order (what the
+// .glb passthrough indexes), by walking the file's scene and assimp's node tree side by side:
+// assimp keeps the scene's nodes and their children in the file's order, and gives a node its
+// mesh's primitives in order. Empty when the two do not line up (the passthrough's own position
+// check then refuses what it cannot map).
+constexpr unsigned kUnnumbered = UINT_MAX;
+std::vector<unsigned> gltf_primitive_numbers(const aiScene* scene, const nlohmann::json& doc) {
+  using Json = nlohmann::json;
+  const auto array = [](const Json& obj, const char* key) -> const Json* {
+    const auto it = obj.is_object() ? obj.find(key) : obj.end();
+    return obj.is_object() && it != obj.end() && it->is_array() ? &*it : nullptr;
+  };
+  const Json* meshes = array(doc, "meshes");
+  const Json* scenes = array(doc, "scenes");
+  if (meshes == nullptr || scenes == nullptr || scene->mRootNode == nullptr) return {};
+  std::vector<unsigned> first;  // each file mesh's first primitive's number
+  unsigned count = 0;
+  for (const Json& m : *meshes) {
+    first.push_back(count);
+    const Json* primitives = array(m, "primitives");
+    count += primitives != nullptr ? static_cast<unsigned>(primitives->size()) : 0;
+  }
+  const std::uint64_t which = detail::gltf_unsigned(doc, "scene", 0);
+  const Json* roots = which < scenes->size() ? array((*scenes)[which], "nodes") : nullptr;
+  if (roots == nullptr) return {};
+  std::vector<unsigned> number(scene->mNumMeshes, kUnnumbered);
+  bool lined_up = true;
+  std::function<void(const Json&, const aiNode*)> pair = [&](const Json& index, const aiNode* ai) {
+    const Json* node = detail::gltf_element(doc, "nodes", index);
+    const Json* mesh = node != nullptr && node->contains("mesh") ? detail::gltf_element(doc, "meshes", (*node)["mesh"]) : nullptr;
+    const Json* primitives = mesh != nullptr ? array(*mesh, "primitives") : nullptr;
+    const Json* children = node != nullptr ? array(*node, "children") : nullptr;
+    lined_up = lined_up && node != nullptr && ai->mNumMeshes == (primitives != nullptr ? primitives->size() : 0) &&
+               ai->mNumChildren == (children != nullptr ? children->size() : 0);
+    if (!lined_up) return;
+    for (unsigned k = 0; k < ai->mNumMeshes; ++k) {
+      const unsigned n = first[(*node)["mesh"].get<std::size_t>()] + k;
+      lined_up = lined_up && ai->mMeshes[k] < number.size() &&
+                 (number[ai->mMeshes[k]] == kUnnumbered || number[ai->mMeshes[k]] == n);
+      if (lined_up) number[ai->mMeshes[k]] = n;
+    }
+    for (unsigned c = 0; c < ai->mNumChildren && lined_up; ++c) pair((*children)[c], ai->mChildren[c]);
+  };
+  // One root node is assimp's root; several hang under a root of its own.
+  if (roots->size() == 1) {
+    pair((*roots)[0], scene->mRootNode);
+  } else if (roots->size() == scene->mRootNode->mNumChildren && scene->mRootNode->mNumMeshes == 0) {
+    for (unsigned c = 0; c < scene->mRootNode->mNumChildren; ++c) pair((*roots)[c], scene->mRootNode->mChildren[c]);
+  } else {
+    lined_up = false;
+  }
+  if (!lined_up || std::find(number.begin(), number.end(), kUnnumbered) != number.end()) return {};
+  return number;
+}
+
+// `parts` (importer meshes) by the file's numbers, or as they are when there are none.
+std::vector<unsigned> renumbered(std::vector<unsigned> parts, const std::vector<unsigned>& numbers) {
+  if (!numbers.empty())
+    for (unsigned& p : parts) p = numbers[p];
+  return parts;
+}
+
 // The formats read through assimp whose meshes have no names of their own: one mesh.
 bool names_meshes(const std::string& ext) { return ext != "ply" && ext != "stl"; }
 
+// `gltf`: a glTF's JSON, whose numbering SceneMesh::parts then follows (else assimp's).
 SceneMesh read_with_assimp(const std::string& source, bool weld, const std::string& name, MeshPick pick,
-                           bool named_format, std::string_view bytes = {}, const char* hint = "") {
+                           bool named_format, std::string_view bytes = {}, const char* hint = "",
+                           const nlohmann::json* gltf = nullptr) {
   Assimp::Importer importer;
   const aiScene* scene = import_scene(importer, source, bytes, hint);
+  const std::vector<unsigned> numbers = gltf != nullptr ? gltf_primitive_numbers(scene, *gltf) : std::vector<unsigned>{};
   SceneMesh out;
   out.unit = unit_of(scene);
   std::vector<NodeMeshes> nodes;
@@ -301,7 +370,11 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
     // (and refuses points in "the" mesh's own space: the whole file has none).
     list_nodes();
     meshes.clear();
-    out.mesh = assemble(scene, whole_file(scene), weld, source);
+    const std::vector<Placed> placed = whole_file(scene);
+    out.mesh = assemble(scene, placed, weld, source);
+    if (!numbers.empty()) {  // assimp's order, by the file's numbers
+      for (const Placed& p : placed) out.parts.push_back(numbers[p.mesh]);
+    }
     return out;
   }
   list_nodes();
@@ -325,7 +398,7 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
   out.mesh = std::move(meshes[static_cast<std::size_t>(chosen)]);
   out.name = n.name;
   out.to_world.matrix() = n.world;
-  out.parts = n.parts;
+  out.parts = renumbered(n.parts, numbers);
   return out;
 }
 
@@ -455,8 +528,8 @@ SceneMesh read_scene_mesh(const fs::path& path, const std::string& name, MeshPic
     const std::string bytes = read_file(path);
     out.mesh = ext == "off" ? parse_off(bytes, source) : ext == "obj" ? parse_obj(bytes, source) : parse_ply(bytes, source);
   } else if (ext == "gltf" || ext == "glb") {
-    detail::check_gltf_indices(path);
-    out = read_with_assimp(source, /*weld=*/false, name, pick, /*named_format=*/true);
+    const nlohmann::json doc = detail::check_gltf_indices(path);
+    out = read_with_assimp(source, /*weld=*/false, name, pick, /*named_format=*/true, {}, "", &doc);
   } else {
     if (ext.empty()) {
       fail(ErrorCategory::unsupported, source + ": no file extension, so the format is unknown");

@@ -76,8 +76,9 @@ struct SceneMesh {
   Eigen::Affine3d to_world = Eigen::Affine3d::Identity();
   std::vector<SceneMeshEntry> meshes;  // the file's meshes, depth first; empty: no names
   bool largest = false;      // taken as the largest of several (no name given)
-  // The importer meshes it is made of, in order (a glTF's primitives counted over its meshes in
-  // order: the .glb passthrough's key to which primitives it deforms); empty = all of them.
+  // The importer meshes it is made of, in order; for a glTF, by the file's numbers (its primitives
+  // counted over its meshes in the file's order, whatever order assimp reads them in: the .glb
+  // passthrough's key to which primitives it deforms); empty = all of them, in order.
   std::vector<unsigned> parts;
   MeshUnit unit;
 };

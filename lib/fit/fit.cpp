@@ -175,9 +175,9 @@ void reverse_axis(AxisTrace& axis) {
 
 struct SweepFitter::Impl {
   explicit Impl(const Mesh& mesh)
-      : slicer(mesh), topology(build_topology(mesh)), surface(mesh.positions, topology.triangles) {}
+      : topology(build_topology(mesh)), slicer(mesh.positions, topology.triangles), surface(mesh.positions, topology.triangles) {}
+  Topology topology;  // first: the slicer and the surface are over its welded triangles
   MeshSlicer slicer;
-  Topology topology;
   TriangleDistance surface;  // the whole mesh: seeds off the surface, the axis' end inside it
   double diagonal = 0;
 };

@@ -2,6 +2,7 @@
 #include "fit/slicer.h"
 
 #include "core/fp_environment.h"
+#include "core/topology.h"
 
 #include <CGAL/AABB_halfedge_graph_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -37,14 +38,18 @@ struct MeshSlicer::Impl {
   std::size_t repaired = 0;
 };
 
-MeshSlicer::MeshSlicer(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+MeshSlicer::MeshSlicer(const Mesh& mesh) : MeshSlicer(mesh.positions, build_topology(mesh).triangles) {}
+
+MeshSlicer::MeshSlicer(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& tris)
+    : impl_(std::make_unique<Impl>()) {
   QuietFpEnvironment quiet;
-  const std::vector<std::uint32_t> tris = mesh.triangles();
   SurfaceMesh& sm = impl_->mesh;
-  sm.reserve(static_cast<SurfaceMesh::size_type>(mesh.vertex_count()),
+  sm.reserve(static_cast<SurfaceMesh::size_type>(positions.size()),
              static_cast<SurfaceMesh::size_type>(tris.size() / 2 * 3),
              static_cast<SurfaceMesh::size_type>(tris.size() / 3));
-  for (const Vec3& p : mesh.positions) sm.add_vertex(to_point(p));
+  // Every vertex, so that indices stay the caller's: a welded-away copy is an isolated vertex,
+  // which no edge and so no slice touches.
+  for (const Vec3& p : positions) sm.add_vertex(to_point(p));
   std::vector<std::array<std::size_t, 3>> rejected;
   for (std::size_t f = 0; f + 2 < tris.size(); f += 3) {
     const std::array<std::uint32_t, 3> v{tris[f], tris[f + 1], tris[f + 2]};
@@ -57,8 +62,8 @@ MeshSlicer::MeshSlicer(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
     // Rebuild from the whole soup: orienting it duplicates vertices at non-manifold places.
     impl_->repaired = rejected.size();
     std::vector<Point> points;
-    points.reserve(mesh.vertex_count());
-    for (const Vec3& p : mesh.positions) points.push_back(to_point(p));
+    points.reserve(positions.size());
+    for (const Vec3& p : positions) points.push_back(to_point(p));
     std::vector<std::array<std::size_t, 3>> polygons;
     polygons.reserve(tris.size() / 3);
     for (std::size_t f = 0; f + 2 < tris.size(); f += 3) {

@@ -6,6 +6,7 @@
 // Floating-point environment: CGAL's interval arithmetic raises overflow and invalid flags by
 // design. The constructor and slice() save the caller's environment, run with every exception
 // masked, and restore it afterwards, so they are safe under callers that trap FP exceptions.
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -21,9 +22,16 @@ struct SlicePolyline {
 
 class MeshSlicer {
  public:
-  // Polygons are fanned into triangles. Faces the halfedge structure cannot take as they are
-  // (non-manifold vertices or edges, inconsistent orientation) are repaired by duplicating
-  // vertices; that changes nothing for slicing, which only returns positions.
+  // Slices the surface of `triangles` over `points` (indices into it, three a triangle). Vertices
+  // a seam splits (the same position twice, as exporters write UV and normal seams) must come
+  // welded, as Topology::triangles has them: a slice does not pass from one copy to the other, so
+  // across an unwelded seam it comes out as an open polyline, a hole that is not in the surface.
+  // Faces the halfedge structure cannot take as they are (non-manifold vertices or edges,
+  // inconsistent orientation) are repaired by duplicating vertices; that changes nothing for
+  // slicing, which only returns positions.
+  MeshSlicer(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& triangles);
+  // The mesh's polygons fanned into triangles over its vertices welded by position
+  // (build_topology).
   explicit MeshSlicer(const Mesh& mesh);
   ~MeshSlicer();
   MeshSlicer(MeshSlicer&&) noexcept;

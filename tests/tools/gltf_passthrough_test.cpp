@@ -328,6 +328,13 @@ struct SceneMeshesDir {
                                        " --name tube" + args, io);
   }
   ToolRun bind() const { return run_tool(SWEEP_BIND_EXE, quoted(work / "rig.json") + " -q", io); }
+  // rig.json as a rig from before mesh names (version 1, no mesh_name): of the whole file.
+  void make_rig_of_the_whole_file() const {
+    Json rig = Json::parse(slurp(work / "rig.json"));
+    rig.erase("mesh_name");
+    rig["version"] = 1;
+    spit(work / "rig.json", rig.dump(2));
+  }
   ToolRun bake(const std::string& outputs) const {
     return run_tool(SWEEP_SIM_EXE, quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q " + outputs, io);
   }
@@ -517,10 +524,7 @@ TEST(SceneMeshes, ARigWithoutAMeshNameReadsTheWholeFileAsBefore) {
   const SceneMeshesDir d("scene-meshes-old-rig");
   ToolRun r = d.fit(tail_seeds());
   ASSERT_EQ(r.code, 0) << r.err;
-  Json rig = Json::parse(slurp(d / "rig.json"));
-  rig.erase("mesh_name");
-  rig["version"] = 1;
-  spit(d / "rig.json", rig.dump(2));
+  d.make_rig_of_the_whole_file();
   ASSERT_EQ((r = d.bind()).code, 0) << r.err;
   ASSERT_EQ((r = d.bake("-o " + quoted(d / "out.pc2"))).code, 0) << r.err;
   int points = 0;
@@ -547,10 +551,7 @@ TEST(SceneMeshes, LocalSeedsIntoARigThatReadsTheWholeFileAreRefused) {
   const SceneMeshesDir d("scene-meshes-old-rig-local");
   ToolRun r = d.fit(tail_seeds());
   ASSERT_EQ(r.code, 0) << r.err;
-  Json rig = Json::parse(slurp(d / "rig.json"));
-  rig.erase("mesh_name");
-  rig["version"] = 1;
-  spit(d / "rig.json", rig.dump(2));
+  d.make_rig_of_the_whole_file();
   const std::string before = slurp(d / "rig.json");
   r = run_tool(SWEEP_FIT_EXE, quoted(d / "creature.gltf") + " -o " + quoted(d / "rig.json") +
                                   " --name other --space local --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8",
@@ -560,6 +561,49 @@ TEST(SceneMeshes, LocalSeedsIntoARigThatReadsTheWholeFileAreRefused) {
   EXPECT_NE(r.err.find("names no mesh, so it reads the whole of"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("'Tail' 875 vertices, 'Ground' 4 vertices"), std::string::npos) << r.err;
   EXPECT_EQ(slurp(d / "rig.json"), before);
+}
+
+// A file that lists its meshes in another order than its scene reaches them: the Tail is mesh 1 and
+// the Ground mesh 0, but the scene shows the Tail first, and assimp numbers meshes in the order the
+// scene reaches them (its mesh 0 is the Tail's first primitive). `--mesh Tail` takes the Tail by the
+// file's numbering: the fit is the Tail's, the .pc2 holds the Tail's stored positions at frame 0,
+// and the .glb's targets go on mesh 1 alone.
+TEST(SceneMeshes, TheNamedMeshIsTakenByTheFilesNumberingNotTheImporters) {
+  const SceneMeshesDir d("scene-meshes-order");
+  Json doc = d.in;
+  std::swap(doc["meshes"][0], doc["meshes"][1]);
+  doc["nodes"][1]["mesh"] = 1;  // Tail
+  doc["nodes"][3]["mesh"] = 0;  // Ground
+  spit(d / "creature.gltf", doc.dump(1));
+  ToolRun r = d.fit(" --mesh Tail --report " + quoted(d / "fit.json") + tail_seeds());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(Json::parse(slurp(d / "fit.json"))["mesh_summary"]["vertices"], 875);
+  ASSERT_EQ((r = d.bind()).code, 0) << r.err;
+  ASSERT_EQ((r = d.bake("-o " + quoted(d / "out.glb") + " -o " + quoted(d / "out.pc2"))).code, 0) << r.err;
+  std::vector<float> local;
+  for (const Json& prim : doc["meshes"][1]["primitives"]) {
+    const std::vector<float> p = floats(doc, d.in_bin, prim["attributes"]["POSITION"], 3);
+    local.insert(local.end(), p.begin(), p.end());
+  }
+  int points = 0;
+  const std::vector<float> frame0 = pc2_frame(slurp(d / "out.pc2"), 0, &points);
+  ASSERT_EQ(frame0.size(), local.size()) << "the .pc2 must hold the Tail's vertices only";
+  double worst = 0;  // the Tail's world positions taken back to its space: float rounding, as above
+  for (std::size_t k = 0; k < local.size(); ++k) worst = std::max(worst, double(std::abs(frame0[k] - local[k])));
+  EXPECT_LE(worst, 2 * std::numeric_limits<float>::epsilon());  // coordinates up to 1
+  const auto expect_the_tail_deformed_alone = [](const fs::path& glb) {
+    const Glb out = read_glb(glb);
+    EXPECT_FALSE(out.json["meshes"][0]["primitives"][0].contains("targets")) << "the Ground gained targets";
+    for (const Json& prim : out.json["meshes"][1]["primitives"]) EXPECT_EQ(prim.value("targets", Json::array()).size(), 6u);
+  };
+  expect_the_tail_deformed_alone(d / "out.glb");
+
+  // A rig of the whole file (no mesh name) reads the meshes in assimp's order, the Tail first: the
+  // .glb still deforms the Tail's primitives alone.
+  d.make_rig_of_the_whole_file();
+  ASSERT_EQ((r = d.bind()).code, 0) << r.err;
+  ASSERT_EQ((r = d.bake("-o " + quoted(d / "whole.glb"))).code, 0) << r.err;
+  expect_the_tail_deformed_alone(d / "whole.glb");
 }
 
 // What the .glb cannot carry: exit 3, one line naming the file and what is wrong, nothing written.
@@ -695,19 +739,7 @@ TEST(GltfPassthrough, AGlbInputWithADataUriImageComesBackWhole) {
   }
   doc["images"][0] = {{"name", "skin"}, {"uri", "data:image/png;base64," + b64}};
   doc["buffers"][0].erase("uri");
-  std::string text = doc.dump();
-  text.append((4 - text.size() % 4) % 4, ' ');
-  std::string padded = bin;
-  padded.append((4 - padded.size() % 4) % 4, '\0');
-  std::string glb = "glTF";
-  auto u32 = [&](std::uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
-  u32(2);
-  u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + padded.size()));
-  u32(static_cast<std::uint32_t>(text.size()));
-  glb += "JSON" + text;
-  u32(static_cast<std::uint32_t>(padded.size()));
-  glb += std::string("BIN\0", 4) + padded;
-  spit(ws / "creature.glb", glb);
+  spit(ws / "creature.glb", glb_bytes(doc, bin));
   Json rig = Json::parse(slurp(ws / "rig.json"));
   rig["mesh"] = "creature.glb";  // the same positions: the binding still holds
   spit(ws / "rig.json", rig.dump());
@@ -918,7 +950,7 @@ TEST(ObjPassthrough, VertexColoursAloneAreCarriedAndEveryTargetDeclaresItsBounds
 }
 
 TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
-  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed";
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed";
   const fs::path top = scratch_dir("obj-passthrough-blender"), dir = top / "work", io = top / "io";
   fs::create_directories(dir);
   fs::create_directories(io);
@@ -947,15 +979,13 @@ TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
 // embedded) carries its UVs, normals and materials with the image, and the targets follow the .pc2.
 // Skipped without Blender (which writes the FBX).
 TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
-  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
   constexpr int R = TexturedAsset::kRings, S = TexturedAsset::kSegments;
   const fs::path top = scratch_dir("fbx-passthrough"), dir = top / "work", io = top / "io";
   fs::create_directories(dir);
   fs::create_directories(io);
   write_textured_obj(dir / "..");
-  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/obj_to_fbx.py";
-  const ToolRun x = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
-                                            quoted(top / "creature.obj") + " " + quoted(dir / "creature.fbx"), io);
+  const ToolRun x = obj_to_fbx(top / "creature.obj", dir / "creature.fbx", io);
   ASSERT_EQ(x.code, 0) << x.out << x.err;
   fit_and_bind(dir, io, "creature.fbx", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
@@ -1032,12 +1062,11 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
 // (UnitScaleFactor 1, coordinates × 100); each fits with seeds in its own unit. Skipped without
 // Blender (which writes the FBX).
 TEST(SceneMeshes, AnFbxsUnitIsSaidAndNotApplied) {
-  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed (it writes the FBX)";
   const fs::path top = scratch_dir("scene-meshes-fbx-unit"), dir = top / "work", io = top / "io";
   fs::create_directories(dir);
   fs::create_directories(io);
   write_textured_obj(top);
-  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/obj_to_fbx.py";
   struct Case {
     const char* file;
     const char* blender_args;
@@ -1054,9 +1083,7 @@ TEST(SceneMeshes, AnFbxsUnitIsSaidAndNotApplied) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
-    const ToolRun x = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
-                                              quoted(top / "creature.obj") + " " + quoted(dir / c.file) + c.blender_args,
-                               io);
+    const ToolRun x = obj_to_fbx(top / "creature.obj", dir / c.file, io, c.blender_args);
     ASSERT_EQ(x.code, 0) << x.out << x.err;
     const std::string seeds = " --root 0,0," + std::to_string(0.02 * c.scale) + " --tip 0,0," + std::to_string(c.scale);
     const ToolRun r = run_tool(SWEEP_FIT_EXE, quoted(dir / c.file) + " -o " + quoted(dir / (std::string(c.file) + ".rig.json")) +
@@ -1107,7 +1134,7 @@ TEST(GltfPassthrough, SameBytesEveryRunAndAnObjsMissingTextureIsRefused) {
 // Blender's glTF importer (tests/blender/check_passthrough.py): the bake keeps the Tail's UVs,
 // colours, materials and image, and its animation plays the .pc2's frames. Skipped without Blender.
 TEST(GltfPassthrough, BlenderShowsTheAssetAndPlaysTheBake) {
-  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed";
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed";
   const TexturedWorkspace ws("gltf-passthrough-blender");
   const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
   ASSERT_EQ(r.code, 0) << r.err;

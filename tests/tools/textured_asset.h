@@ -7,6 +7,7 @@
 // texture are files beside it (`creature.bin`, `skin.png`), so a bake must embed them.
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -25,6 +26,36 @@ inline std::string tiny_png() {
       "\x00\xc2\x0c\xff\xff\xff\x67\x00\x00\x1e\xef\x04\xfc\xa3\xc8\xb4\xf7\x00\x00\x00\x00\x49\x45\x4e"
       "\x44\xae\x42\x60\x82";
   return std::string(bytes, sizeof bytes - 1);
+}
+
+// A .glb of a glTF document whose one buffer is `bin` (the document's buffers[0] without a uri): the
+// JSON chunk padded with spaces, the BIN chunk with zeros, as the container asks.
+inline std::string glb_bytes(const nlohmann::json& doc, const std::string& bin) {
+  std::string text = doc.dump();
+  text.append((4 - text.size() % 4) % 4, ' ');
+  std::string padded = bin;
+  padded.append((4 - padded.size() % 4) % 4, '\0');
+  std::string glb = "glTF";
+  auto u32 = [&](std::uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2);
+  u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + padded.size()));
+  u32(static_cast<std::uint32_t>(text.size()));
+  glb += "JSON" + text;
+  u32(static_cast<std::uint32_t>(padded.size()));
+  glb += std::string("BIN\0", 4) + padded;
+  return glb;
+}
+
+// Whether Blender is installed (it writes the FBX files; tests that need it skip without).
+inline bool have_blender() { return std::system("command -v blender > /dev/null 2>&1") == 0; }
+
+// Blender converts `obj` (+ its .mtl and textures) to `fbx` with tests/blender/obj_to_fbx.py: the
+// OBJ's coordinates, the texture embedded; `unit_args` as that script takes them ("" = metres).
+inline ToolRun obj_to_fbx(const fs::path& obj, const fs::path& fbx, const fs::path& io, const std::string& unit_args = "") {
+  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/obj_to_fbx.py";
+  return run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " + quoted(obj) +
+                                 " " + quoted(fbx) + unit_args,
+                  io);
 }
 
 struct TexturedAsset {
