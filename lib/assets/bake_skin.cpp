@@ -366,6 +366,10 @@ void SkinWriter::complete(Publication& outputs) {
 
 }  // namespace
 
+int skin_stations(const SweepShape& rest, int stations_per_span) {
+  return (rest.section_count() - 1) * stations_per_span + 1;
+}
+
 void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> sweeps, int stations_per_span) {
   const int joints = layout.stations;
   if (joints < kMinSkinJoints || joints > kMaxSkinJoints) {
@@ -378,7 +382,7 @@ void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> swee
                                    " joints a station, got " + std::to_string(layout.ring));
   }
   for (const SkinSweep& sw : sweeps) {
-    const int stations = (sw.rest->section_count() - 1) * stations_per_span + 1;
+    const int stations = skin_stations(*sw.rest, stations_per_span);
     if (joints > stations) {
       fail(ErrorCategory::usage,
            "--joints: " + std::to_string(joints) + " joints on sweep \"" + sw.name + "\", which has " +

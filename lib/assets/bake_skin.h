@@ -69,6 +69,9 @@ struct SkinBakeWriter {
   SkinPoser* poser = nullptr;  // the same object, seen as a SkinPoser
 };
 
+// The stations a sweep of `rest` is sampled at: (K − 1)·stations_per_span + 1, at most a joint each.
+int skin_stations(const SweepShape& rest, int stations_per_span);
+
 // Checks the layout's station joints against kMinSkinJoints … kMaxSkinJoints and each sweep's
 // station count (a joint per station at most: (K − 1)·stations_per_span + 1), and its ring joints
 // against 1 … kMaxRingJoints; throws Error(usage) with a message naming --joints or --ring-joints

@@ -20,6 +20,7 @@
 #include <string_view>
 #include <system_error>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "assets/gltf_document.h"
@@ -242,6 +243,29 @@ Mesh assemble(const aiScene* scene, const std::vector<Placed>& placed, bool weld
   return mesh;
 }
 
+// The vertex count assemble gives, without building the mesh: listing a file's meshes (and picking
+// the largest) must not hold a copy of every one.
+std::size_t assembled_vertex_count(const aiScene* scene, const std::vector<Placed>& placed, bool weld) {
+  std::size_t count = 0;
+  for (const auto& [m, t] : placed) {
+    const aiMesh* am = scene->mMeshes[m];
+    if (!weld) {
+      count += am->mNumVertices;
+      continue;
+    }
+    std::unordered_set<PositionKey, PositionKeyHash> welded;
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& af = am->mFaces[f];
+      if (af.mNumIndices < 3) continue;
+      for (unsigned k = 0; k < af.mNumIndices; ++k) {
+        if (af.mIndices[k] < am->mNumVertices) welded.insert(key_of(apply(t, am->mVertices[af.mIndices[k]])));
+      }
+    }
+    count += welded.size();
+  }
+  return count;
+}
+
 // The node `name` names (its own name first, else its mesh's), or -1; Error(bad_input) when it
 // names several. `list` says the file's meshes for the message.
 int find_named(const std::vector<NodeMeshes>& nodes, const std::string& name, const std::string& source,
@@ -357,19 +381,13 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
   if (!named_format && !name.empty()) {
     bad(source, "holds one mesh with no name (the format has none), so there is no mesh '" + name + "' to take");
   }
-  std::vector<Mesh> meshes;  // each node's, for its vertex count and the pick
-  const auto list_nodes = [&] {
-    for (const NodeMeshes& n : nodes) {
-      meshes.push_back(assemble(scene, placed_of(n), weld, source));
-      out.meshes.push_back({n.name, n.mesh_name, meshes.back().vertex_count()});
-    }
-  };
+  for (const NodeMeshes& n : nodes) {
+    out.meshes.push_back({n.name, n.mesh_name, assembled_vertex_count(scene, placed_of(n), weld)});
+  }
   if (nodes.empty() || (name.empty() && pick == MeshPick::whole_file)) {
     if (!name.empty()) bad(source, "no node shows a mesh, so there is no mesh '" + name + "' to take");
-    // The meshes are listed all the same: a tool says the whole file was read, of which meshes
-    // (and refuses points in "the" mesh's own space: the whole file has none).
-    list_nodes();
-    meshes.clear();
+    // (The meshes are listed all the same: a tool says the whole file was read, of which meshes,
+    // and refuses points in "the" mesh's own space.)
     const std::vector<Placed> placed = whole_file(scene);
     out.mesh = assemble(scene, placed, weld, source);
     if (!numbers.empty()) {  // assimp's order, by the file's numbers
@@ -377,17 +395,16 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
     }
     return out;
   }
-  list_nodes();
   const auto list = [&] { return list_scene_meshes(out.meshes); };
   int chosen = 0;
   if (!name.empty()) {
     chosen = find_named(nodes, name, source, list);
     if (chosen < 0) bad(source, "no mesh is named '" + name + "'; its meshes: " + list());
   } else {
-    for (std::size_t k = 1; k < meshes.size(); ++k) {
-      if (meshes[k].vertex_count() > meshes[static_cast<std::size_t>(chosen)].vertex_count()) chosen = static_cast<int>(k);
+    for (std::size_t k = 1; k < out.meshes.size(); ++k) {
+      if (out.meshes[k].vertex_count > out.meshes[static_cast<std::size_t>(chosen)].vertex_count) chosen = static_cast<int>(k);
     }
-    out.largest = meshes.size() > 1;
+    out.largest = out.meshes.size() > 1;
     // The name must find this mesh again (a rig records it).
     if (find_named(nodes, nodes[static_cast<std::size_t>(chosen)].name, source, list) != chosen) {
       bad(source, "the mesh taken, '" + nodes[static_cast<std::size_t>(chosen)].name +
@@ -395,7 +412,7 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
     }
   }
   const NodeMeshes& n = nodes[static_cast<std::size_t>(chosen)];
-  out.mesh = std::move(meshes[static_cast<std::size_t>(chosen)]);
+  out.mesh = assemble(scene, placed_of(n), weld, source);
   out.name = n.name;
   out.to_world.matrix() = n.world;
   out.parts = renumbered(n.parts, numbers);

@@ -215,9 +215,11 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
       ++cap;
     }
     std::vector<double> radii;
+    bool open_ring = false;
     for (int i = cap; i <= rings.junction; ++i) {
       const Ring& ring = rings.rings[static_cast<std::size_t>(i)];
       if (ring.closed) radii.push_back(ring.radius);
+      open_ring |= !ring.closed;
     }
     if (static_cast<int>(radii.size()) < kMinTubeRings) {
       if (passed_over) {
@@ -227,7 +229,7 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
                                (radii.size() == 1 ? "" : "s") + " before " +
                                rings.junction_reason + "; a tube has at least " +
                                std::to_string(kMinTubeRings) +
-                               " (an open ring runs into a hole of the mesh)");
+                               (open_ring ? " (an open ring runs into a hole of the mesh)" : ""));
       }
       cover(junction.distance);
       continue;
@@ -245,8 +247,10 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
     // No junction and no ring much wider than the tube: the whole mesh is one tube (a part
     // without a body). Rings that reach the far end after widening crossed the body instead.
     double widest = 0;
-    for (int i = cap; i <= rings.junction; ++i)
-      widest = std::max(widest, rings.rings[static_cast<std::size_t>(i)].radius);
+    for (int i = cap; i <= rings.junction; ++i) {
+      const Ring& ring = rings.rings[static_cast<std::size_t>(i)];
+      if (ring.closed) widest = std::max(widest, ring.radius);
+    }
     const bool whole_mesh = rings.junction + 1 == static_cast<int>(rings.rings.size()) &&
                             widest <= kWholeTubeWidening * radius;
     // (A flat piece, a lone triangle or an open sheet, has rings that enclose nothing: no tube.)

@@ -103,15 +103,19 @@ TEST(Joints, JointsAloneTakesTheDefaultsWhichBeatSectionJoints) {
 }
 
 // --joints alone on a sweep of fewer stations than the default (the tube's K = 6 at one station a
-// span: 6) takes a joint a station, where the same number given is refused (BadJointCounts).
+// span: 6) takes a joint a station, said in a note, where the same number given is refused
+// (BadJointCounts).
 TEST(Joints, JointsAloneOnAShortSweepTakesAJointAStation) {
   const Workspace ws("joints-short");
   const ToolRun r = run_tool(SWEEP_SIM_EXE,
                              quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") +
-                                 " -q --stations 1 --joints -o " + quoted(ws / "d.glb") + " --report " +
+                                 " --stations 1 --joints -o " + quoted(ws / "d.glb") + " --report " +
                                  quoted(ws / "d.json"),
                              ws.io);
   ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: --joints: 6 joints a sweep, not 24: sweep \"tube\" has 6 stations"),
+            std::string::npos)
+      << r.err;
   const nlohmann::json report = nlohmann::json::parse(slurp(ws / "d.json"));
   EXPECT_EQ(report["joints_per_sweep"], 6);
   EXPECT_EQ(report["skin_joints"], 1 + 6 + 5 * io::kDefaultRingJoints);

@@ -212,7 +212,7 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
     sweep::io::note(note);
   }
   // --mesh may name the rig's mesh by its node's name (what the rig records) or by its mesh's.
-  if (rigs && !s.mesh_name.empty() && m.read.name != rig->mesh_name) {
+  if (rigs && !s.mesh_name.empty() && m.read.name != rig->mesh_name && s.mesh_name != rig->mesh_name) {
     fail(ErrorCategory::usage, "--mesh " + s.mesh_name + ": " + s.rig.string() + " is a rig of " +
                                    (rig->mesh_name.empty() ? "the whole file" : "its mesh '" + rig->mesh_name + "'") +
                                    "; write to another --rig file");
@@ -334,9 +334,9 @@ int run_one(const Settings& s) {
     if (mesh.read.name.empty() && !mesh.read.meshes.empty()) {
       fail(ErrorCategory::usage,
            "--space local: " + s.rig.string() + " names no mesh, so it reads the whole of " +
-               s.mesh.string() + " (" + sweep::io::list_scene_meshes(mesh.read.meshes) +
-               "), which has no one local space; give the points in world space, or fit into a "
-               "new rig with --mesh NAME");
+               s.mesh.string() + " in world space (" +
+               sweep::io::list_scene_meshes(mesh.read.meshes) +
+               "); give the points in world space, or fit into a new rig with --mesh NAME");
     }
     // The points are in the mesh's own space: its node's world transform takes them to the world
     // space the mesh (and the rig) are in.

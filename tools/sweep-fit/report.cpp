@@ -262,7 +262,7 @@ std::string no_parts_found(std::size_t hole_edges) {
   if (hole_edges > 0) {
     m += " (the mesh is open: " + std::to_string(hole_edges) +
          " edges rim its holes, and a ring of surface distance that runs into a hole measures no "
-         "tube; fill the holes first)";
+         "tube, so holes can hide a part; fill them first)";
   }
   return m;
 }

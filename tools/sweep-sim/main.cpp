@@ -145,11 +145,21 @@ int run(Settings s) {
   }
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   if (s.joints_given && s.joints_text.empty()) {
-    // --joints alone: the default, or a joint a station on a sweep of fewer stations (a number
-    // given is taken as asked, and refused past a sweep's stations).
+    // --joints alone: the default, or, where a sweep has fewer stations, as many as the fewest any
+    // sweep has (one N serves every sweep), said in a note. A number given is taken as asked, and
+    // refused past a sweep's stations.
+    const sweep::SweepDef* fewest = nullptr;
     for (const sweep::SweepDef& def : rig.sweeps) {
-      const int stations = (def.rest.section_count() - 1) * s.stations + 1;
-      s.joints = std::max(sweep::io::kMinSkinJoints, std::min(s.joints, stations));
+      const int stations = sweep::io::skin_stations(def.rest, s.stations);
+      if (stations < s.joints) {
+        s.joints = std::max(sweep::io::kMinSkinJoints, stations);
+        fewest = &def;
+      }
+    }
+    if (fewest != nullptr) {
+      sweep::io::note("--joints: " + std::to_string(s.joints) + " joints a sweep, not " +
+                      std::to_string(sweep::io::kDefaultSkinJoints) + ": sweep \"" + fewest->name +
+                      "\" has " + std::to_string(s.joints) + " stations");
     }
   }
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
@@ -340,7 +350,7 @@ int main(int argc, char** argv) {
                            "each sweep (2 to 255, at most the sweep's stations; --joints alone, last or "
                            "before another option: " +
                                std::to_string(sweep::io::kDefaultSkinJoints) +
-                               " or a joint a station where a sweep has fewer, with --ring-joints " +
+                               " or the fewest stations of any sweep where that is fewer, with --ring-joints " +
                                std::to_string(sweep::io::kDefaultRingJoints) +
                                " by default, within 1 % of the length on the demo's scene); the summary "
                                "and report give its error against the bake")
