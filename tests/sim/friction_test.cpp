@@ -4,14 +4,10 @@
 // lags by μN L³/3EI (closed forms below; tests/core/beam_test.cpp checks the chain against
 // FL³/3EI and wL⁴/8EI within 1% at K = 32).
 //
-// DISABLED (red, issue 16 still open): the velocity-level friction holds a stiff part only for
-// the step it kicks it. Measured (this file, default step 1/480 s): μ = 0.05 lags 2.484 mm against
-// the closed form's 2.507 mm (−0.9%), but every μ ≥ 0.1 lags 3.050 mm: the impulse that stops the
-// tip's slip (its slip speed × its effective mass, J M⁻¹ Jᵀ) is within the cone, so the solve
-// "sticks" it each step, and the stiff springs hand the slip back within the next step. The drag
-// is then m_eff·v/dt, not μN: it depends on the step (μ = 0.2: 0.73 mm at 1/120 s, 6.67 mm at 1/960 s). The fix
-// it needs is a position-level stick (hold the slip displacement through the compliance while the
-// springs' tangential strain force stays within μN), as the normal contact already moves.
+// Red before the position-level stick (contact_stick.cpp): the velocity-level friction held a
+// stiff part only for the step it kicked it. Measured then (default step 1/480 s): μ = 0.05 lagged
+// 2.484 mm against the closed form's 2.507 mm (−0.9%), but every μ ≥ 0.1 lagged 3.050 mm, the drag
+// m_eff·v/dt rather than μN, and step-dependent (μ = 0.2: 0.73 mm at 1/120 s, 6.67 mm at 1/960 s).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -92,7 +88,7 @@ double drop_m(const SweepDef& def) { return 0.5 * free_sag(def); }
 // the tip is dragged back by μN, and a tip load F moves the tip by FL³/3EI: it lags μ (sag − drop).
 double coulomb_lag(const SweepDef& def, double mu) { return mu * (free_sag(def) - drop_m(def)); }
 
-TEST(ContactFriction, DISABLED_ASlidingPartLagsByItsKineticDragMuTimesItsWeight) {
+TEST(ContactFriction, ASlidingPartLagsByItsKineticDragMuTimesItsWeight) {
   Rig rig;
   rig.sweeps.push_back(stiff_tube());
   const SweepDef& def = rig.sweeps[0];
@@ -118,7 +114,7 @@ TEST(ContactFriction, DISABLED_ASlidingPartLagsByItsKineticDragMuTimesItsWeight)
   }
 }
 
-TEST(ContactFriction, DISABLED_TheDragIsTheSameAtEveryFrameRateAndStep) {
+TEST(ContactFriction, TheDragIsTheSameAtEveryFrameRateAndStep) {
   Rig rig;
   rig.sweeps.push_back(stiff_tube());
   const double mu = 0.2;
