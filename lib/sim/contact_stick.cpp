@@ -71,7 +71,7 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
   if (m == 0) return;
 
   // Two rows across each held pair's normal (fixed in the collider: the same at every step), then
-  // the normal rows, for W_tn.
+  // the normal rows, for W_tn. Only moved by, never kicked: no modal part.
   stick_rows_.resize(2 * m + n);
   Eigen::VectorXd offset(2 * m);  // how far each held station is off its anchor along its rows
   for (std::size_t k = 0; k < m; ++k) {
@@ -81,12 +81,12 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     const Vec3 across[2] = {pl.normal.unitOrthogonal(), pl.normal.cross(pl.normal.unitOrthogonal())};
     const Vec3 off = here_local(h) - anchors_[h.anchor].local;
     for (int r = 0; r < 2; ++r) {
-      sweep.contact_row(stations_[pl.station], placed.to_mesh.rotation * across[r], stick_rows_[2 * k + r]);
+      sweep.contact_row(stations_[pl.station], placed.to_mesh.rotation * across[r], stick_rows_[2 * k + r], false);
       offset[static_cast<Eigen::Index>(2 * k + r)] = across[r].dot(off);
     }
   }
   std::copy(rows_.begin(), rows_.end(), stick_rows_.begin() + static_cast<std::ptrdiff_t>(2 * m));
-  sweep.row_couplings(stick_rows_, jp_, jr_, modal_, stick_by_mass_, stick_by_compliance_);
+  sweep.row_compliances(stick_rows_, jp_, jr_, stick_by_compliance_);  // moves only: no masses
   const Eigen::Index t = static_cast<Eigen::Index>(2 * m);
   const Eigen::MatrixXd& w = stick_by_compliance_;
 
