@@ -34,6 +34,8 @@
 // What it costs: a sweep far from every collider (its bounding spheres at the step's two ends
 // clear of the collider) costs one distance per collider; then each span, then each chord near a
 // collider one more; contacts are solved only when a chord end comes within its reach of a plane.
+// Friction held on positions adds, for the pairs held, J C Jᵀ over their rows and the normal ones
+// and an eigensolve of its 2m × 2m tangential block (~1.1× the frame of a tail lying on a floor).
 #include <span>
 #include <string>
 #include <vector>
