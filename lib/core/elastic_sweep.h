@@ -124,6 +124,9 @@ class ElasticSweep {
   // (the other three matrices are scratch).
   void row_couplings(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr, Eigen::MatrixXd& modal,
                      Eigen::MatrixXd& by_mass, Eigen::MatrixXd& by_compliance) const;
+  // J C Jᵀ alone (the moves' couplings: rows without their modal part will do).
+  void row_compliances(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr,
+                       Eigen::MatrixXd& by_compliance) const;
   // J q̇: the point's speed along the row's direction, relative to the body.
   double row_speed(const ContactRow& row) const;
   // J (q − C f): how far the springs hold the point along the row from where the last step's loads

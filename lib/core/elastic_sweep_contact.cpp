@@ -77,10 +77,7 @@ void ElasticSweep::row_couplings(std::span<const ContactRow> rows, Eigen::Matrix
       }
     }
   };
-  fill(jp, true, false);
-  fill(jr, false, false);
-  by_compliance.noalias() = jp.transpose() * jp;
-  by_compliance.noalias() += jr.transpose() * jr;
+  row_compliances(rows, jp, jr, by_compliance);
   fill(jp, true, true);
   by_mass.noalias() = jp.transpose() * jp;
   if (!chain_) {
@@ -93,6 +90,27 @@ void ElasticSweep::row_couplings(std::span<const ContactRow> rows, Eigen::Matrix
   modal.resize(dim, n);
   for (Eigen::Index k = 0; k < n; ++k) modal.col(k) = Eigen::Map<const Eigen::VectorXd>(rows[k].modal.data(), dim);
   by_mass.noalias() += chain_->metres_per_unit * (modal.transpose() * modal);
+}
+
+void ElasticSweep::row_compliances(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr,
+                                   Eigen::MatrixXd& by_compliance) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index coords = static_cast<Eigen::Index>(positional_.x.size()) - 3;  // sections 1..K−1
+  // Each row's J as a column, zero past its point; scaled by √(1/k) so that JᵀJ is J C Jᵀ.
+  const auto fill = [&](Eigen::MatrixXd& m, bool positional) {
+    m.setZero(coords, n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const std::vector<double>& j = positional ? rows[k].positional : rows[k].rotational;
+      for (std::size_t q = 0; q < j.size(); ++q) {
+        const double share = positional ? positional_share(3 + q, false) : rotational_share(3 + q, false);
+        m(static_cast<Eigen::Index>(q), k) = j[q] * std::sqrt(share);
+      }
+    }
+  };
+  fill(jp, true);
+  fill(jr, false);
+  by_compliance.noalias() = jp.transpose() * jp;
+  by_compliance.noalias() += jr.transpose() * jr;
 }
 
 // Per coordinate: 1/mass (a kick) or 1/stiffness (a move). A material joint's stiffness is the

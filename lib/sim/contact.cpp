@@ -292,7 +292,31 @@ void ContactSolver::solve_friction(const ElasticSweep& sweep, std::size_t contac
   }
 }
 
+void ContactSolver::move_out(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt,
+                             std::vector<double>& total, bool measured) {
+  const double length = sweep.deformed().length();
+  const std::size_t n = planes_.size();
+  for (int round = 0; round < kRounds; ++round) {
+    double worst = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+      if (round > 0 || !measured) residual_[p] = gap(sweep, planes_[p], colliders[planes_[p].collider]);
+      // A point no spring can move (the root, and in material mode the first span, which only the
+      // stiff stretch and shear springs carry) cannot be pushed: it is not waited for.
+      const Eigen::Index i = static_cast<Eigen::Index>(p);
+      if (by_compliance_(i, i) > 0) worst = std::min(worst, residual_[p]);
+    }
+    if (worst >= -kGapTolerance * length) break;
+    solve(by_compliance_, residual_, total, amount_);
+    // The step's motion the move took back leaves the speeds too (q̇ += Δq / dt, as in
+    // position-based dynamics): else a part lying on the ground keeps its fall in its speeds,
+    // falls through each step, is pushed back, and never comes to rest.
+    sweep.apply_rows(rows_, amount_, false, dt);
+    for (std::size_t p = 0; p < n; ++p) total[p] += amount_[p];
+  }
+}
+
 bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
+  ++step_;  // a stick anchor lasts while its contact touches at every step (contact_stick.cpp)
   const SweepShape& shape = sweep.deformed();
   const double length = shape.length();
   // Broad phase: a collider clear of the part's bounding sphere at both ends of the step (in its
@@ -398,23 +422,7 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
 
   // Move the ends back onto their planes; the true curve is re-measured after each solve.
   total_.assign(n, 0.0);
-  for (int round = 0; round < kRounds; ++round) {
-    double worst = 0;
-    for (std::size_t p = 0; p < n; ++p) {
-      if (round > 0) residual_[p] = gap(sweep, planes_[p], colliders[planes_[p].collider]);
-      // A point no spring can move (the root, and in material mode the first span, which only the
-      // stiff stretch and shear springs carry) cannot be pushed: it is not waited for.
-      const Eigen::Index i = static_cast<Eigen::Index>(p);
-      if (by_compliance_(i, i) > 0) worst = std::min(worst, residual_[p]);
-    }
-    if (worst >= -kGapTolerance * length) break;
-    solve(by_compliance_, residual_, total_, amount_);
-    // The step's motion the move took back leaves the speeds too (q̇ += Δq / dt, as in
-    // position-based dynamics): else a part lying on the ground keeps its fall in its speeds,
-    // falls through each step, is pushed back, and never comes to rest.
-    sweep.apply_rows(rows_, amount_, false, dt);
-    for (std::size_t p = 0; p < n; ++p) total_[p] += amount_[p];
-  }
+  move_out(sweep, colliders, dt, total_, true);
 
   // Touching: pushed, or resting on the plane. Their approach speeds out, all together.
   bool touching = false;
@@ -470,6 +478,9 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   }
   solve(by_compliance_, residual_, none_, held_);
   for (std::size_t p = 0; p < n; ++p) pressed_[p] = std::max(pressed_[p], held_[p] * dt);
+  // Static friction on positions first (contact_stick.cpp): what of each cone it spends, the
+  // speeds below may not.
+  hold(sweep, colliders, dt);
 
   // Sliding speeds, all contacts together: each contact's friction impulse lies in its cone
   // (|λ| ≤ μN), stops its slip if that is enough (stick) and is μN against the slip if not
@@ -478,7 +489,7 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   for (std::size_t p = 0; p < n; ++p) {
     const PlacedCollider& placed = colliders[planes_[p].collider];
     const double mu = placed.collider->friction;
-    if (!(pressed_[p] > 0) || !(mu > 0)) continue;
+    if (!(pressed_[p] > 0) || !(mu > 0) || !(mu * pressed_[p] > spent_[p])) continue;
     const double t = stations_[planes_[p].station];
     const Vec3 normal = placed.to_mesh.rotation * planes_[p].normal;
     const Vec3 here = center_at(sweep.deformed(), t);
@@ -497,7 +508,7 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     sweep.contact_row(t, normal.cross(first), slide_rows_[2 * k + 1]);
     slip_[2 * k] = speed;
     slip_[2 * k + 1] = 0;
-    cone_[k] = mu * pressed_[p];
+    cone_[k] = mu * pressed_[p] - spent_[p];
     ++k;
   }
   if (k == 0) return true;

@@ -24,14 +24,18 @@
 // adds any). N·dt is read two ways, each contact taking the larger: the impulses that would change
 // the points' normal speeds as the move and the kicks did (a hit, a soft part falling each step),
 // and the force that holds the springs off where the loads alone would hold them (a stiff part
-// resting), times dt. The friction acts at the section's centre (no roll), at the speed level: a
-// stiff part's tip is held only for the step it is kicked (tests/sim/friction_test.cpp, disabled,
-// says by how much). Where nothing touches, nothing is done: the springs keep their exact
-// integration.
+// resting), times dt. The friction acts at the section's centre (no roll), on positions first
+// (contact_stick.cpp: a station held at an anchor on its collider while the springs' force across
+// the normal stays within μN, slid to where it is μN if not — a steady slide drags by μN at any step,
+// tests/sim/friction_test.cpp), then on the speeds with what is left of each cone (the first step
+// of a contact, and the directions the springs barely move). Where nothing touches, nothing is
+// done: the springs keep their exact integration.
 //
 // What it costs: a sweep far from every collider (its bounding spheres at the step's two ends
 // clear of the collider) costs one distance per collider; then each span, then each chord near a
 // collider one more; contacts are solved only when a chord end comes within its reach of a plane.
+// Friction held on positions adds, for the pairs held, J C Jᵀ over their rows and the normal ones
+// and an eigensolve of its 2m × 2m tangential block (~1.1× the frame of a tail lying on a floor).
 #include <span>
 #include <string>
 #include <vector>
@@ -136,6 +140,31 @@ class ContactSolver {
   std::vector<double> slip_, cone_, friction_, friction_w_;
   Eigen::MatrixXd slide_by_mass_, slide_by_compliance_;
   void solve_friction(const ElasticSweep& sweep, std::size_t contacts);
+  // The move's rounds: the ends back onto their planes through the springs, `total` the forces so
+  // far (residual_ already holding the gaps when `measured`).
+  void move_out(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt, std::vector<double>& total,
+                bool measured);
+
+  // Static friction on positions (contact_stick.cpp): each pressed contact's station is held at
+  // its anchor — where it last started touching or last slid to, in its collider's coordinates —
+  // while the springs' force across the normal stays within μN, slid to where it is μN if not.
+  void hold(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt);
+  struct Anchor {
+    Vec3 local = Vec3::Zero();  // the station's centre, collider coordinates
+    long step = -2;             // the last step (step_) the contact touched
+  };
+  struct Held {
+    std::size_t plane = 0;  // the first pressed plane of the station and collider
+    std::size_t anchor = 0;
+    double cone = 0;        // μN, N summed over the pair's pressed planes, N
+  };
+  long step_ = 0;
+  std::vector<Anchor> anchors_;  // collider · stations + station
+  std::vector<Held> held_pairs_;
+  std::vector<ElasticSweep::ContactRow> stick_rows_;  // two across each held pair's normal, then rows_
+  std::vector<double> spent_;  // per plane: the friction impulse (N·s) the hold took of its cone
+  std::vector<double> stick_amount_, repush_;
+  Eigen::MatrixXd stick_by_compliance_;
 };
 
 }  // namespace sweep::sim

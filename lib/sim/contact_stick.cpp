@@ -1,0 +1,161 @@
+// Static friction on positions (issue 16): ContactSolver::hold, called by resolve() once the ends
+// are out of the colliders and N is read, before the speeds' friction.
+//
+// Why positions: friction on the speeds alone holds a stiff part only for the step it kicks it —
+// its springs hand the slip back within the next step, and the drag becomes m_eff·v/dt, not μN
+// (tests/sim/friction_test.cpp). Here, as in position-based dynamics' friction (Macklin et al.,
+// "Unified particle physics", 2014), each touching station has an anchor on its collider — where
+// its contact started or where it last slid to — and at the end of every step it is moved back
+// there across the normal, through the springs' compliance as the normal move is, when the force
+// that takes stays in the cone |F| ≤ μN (stick); else it is moved only as far as leaves the springs
+// pressing it with μN against its slip, and the anchor follows it (slide). The force is the
+// quasi-static one, as N's own reading (ElasticSweep::row_strain): F = W⁺ J (q − C f), W = J C Jᵀ
+// over all the held rows together (W⁺ over the modes the springs bend: see below), less what the
+// normal forces do across (W_tn N). It depends on
+// where the springs are, not on the step: the drag of a steady slide is μN at any step and frame
+// rate. What of the cone the hold spends (|F|·dt), the speeds' friction may not.
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "core/sweep_shape.h"
+#include "sim/contact.h"
+
+namespace sweep::sim {
+namespace {
+
+// A held row whose compliance is below this share of the largest is one no spring moves (the
+// root; the first span in material mode): it is not held on positions, its speeds' friction is.
+constexpr double kMovable = 1e-12;
+// A mode of the held rows' compliance W is held on positions when its compliance is at least this
+// share of the largest (see below).
+constexpr double kBends = 1e-2;
+// After the hold, a gap below this (× the length) sends the part back through the normal move.
+constexpr double kGapSlack = 1e-7;
+
+}  // namespace
+
+void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
+  const std::size_t n = planes_.size();
+  spent_.assign(n, 0.0);
+  const std::size_t stations = stations_.size();
+  if (anchors_.size() != colliders.size() * stations) anchors_.assign(colliders.size() * stations, Anchor{});
+
+  // One pair per station and collider pressed with friction (its planes are adjacent in planes_:
+  // two chords' ends meeting there). The pair's cone is its planes' together; the first plane's
+  // speeds take what the hold leaves of it, the others' none (spent_ below).
+  held_pairs_.clear();
+  for (std::size_t p = 0; p < n; ++p) {
+    const double mu = colliders[planes_[p].collider].collider->friction;
+    if (!(pressed_[p] > 0) || !(mu > 0)) continue;
+    const std::size_t key = planes_[p].collider * stations + static_cast<std::size_t>(planes_[p].station);
+    if (!held_pairs_.empty() && held_pairs_.back().anchor == key) {
+      held_pairs_.back().cone += mu * pressed_[p] / dt;
+      spent_[p] = mu * pressed_[p];
+      spent_[held_pairs_.back().plane] -= mu * pressed_[p];
+      continue;
+    }
+    held_pairs_.push_back({p, key, mu * pressed_[p] / dt});
+  }
+  const auto here_local = [&](const Held& h) {
+    const Plane& pl = planes_[h.plane];
+    return colliders[pl.collider].to_mesh.to_local(center_at(sweep.deformed(), stations_[pl.station]));
+  };
+  // A pair that touched at the last step too is held; a new one is anchored where it is now (its
+  // first step's slip is the speeds' friction's).
+  const auto held_before = [&](const Held& h) { return anchors_[h.anchor].step == step_ - 1; };
+  const auto fresh = std::stable_partition(held_pairs_.begin(), held_pairs_.end(), held_before);
+  for (auto h = fresh; h != held_pairs_.end(); ++h) anchors_[h->anchor] = {here_local(*h), step_};
+  const std::size_t m = static_cast<std::size_t>(fresh - held_pairs_.begin());
+  if (m == 0) return;
+
+  // Two rows across each held pair's normal (fixed in the collider: the same at every step), then
+  // the normal rows, for W_tn. Only moved by, never kicked: no modal part.
+  stick_rows_.resize(2 * m + n);
+  Eigen::VectorXd offset(2 * m);  // how far each held station is off its anchor along its rows
+  for (std::size_t k = 0; k < m; ++k) {
+    const Held& h = held_pairs_[k];
+    const Plane& pl = planes_[h.plane];
+    const PlacedCollider& placed = colliders[pl.collider];
+    const Vec3 across[2] = {pl.normal.unitOrthogonal(), pl.normal.cross(pl.normal.unitOrthogonal())};
+    const Vec3 off = here_local(h) - anchors_[h.anchor].local;
+    for (int r = 0; r < 2; ++r) {
+      sweep.contact_row(stations_[pl.station], placed.to_mesh.rotation * across[r], stick_rows_[2 * k + r], false);
+      offset[static_cast<Eigen::Index>(2 * k + r)] = across[r].dot(off);
+    }
+  }
+  std::copy(rows_.begin(), rows_.end(), stick_rows_.begin() + static_cast<std::ptrdiff_t>(2 * m));
+  sweep.row_compliances(stick_rows_, jp_, jr_, stick_by_compliance_);  // moves only: no masses
+  const Eigen::Index t = static_cast<Eigen::Index>(2 * m);
+  const Eigen::MatrixXd& w = stick_by_compliance_;
+
+  // The rows held: both of each pair where some spring moves its station.
+  double largest = 0;
+  for (Eigen::Index r = 0; r < t; ++r) largest = std::max(largest, w(r, r));
+  std::vector<Eigen::Index> kept;
+  for (std::size_t k = 0; k < m; ++k) {
+    const Eigen::Index a = static_cast<Eigen::Index>(2 * k);
+    if (w(a, a) + w(a + 1, a + 1) > kMovable * largest) kept.insert(kept.end(), {a, a + 1});
+  }
+  if (kept.empty()) return;
+  const Eigen::Index h = static_cast<Eigen::Index>(kept.size());
+  Eigen::MatrixXd wtt(h, h);
+  Eigen::VectorXd strain(h), off(h);
+  const Eigen::Map<const Eigen::VectorXd> normal_force(held_.data(), static_cast<Eigen::Index>(n));
+  for (Eigen::Index i = 0; i < h; ++i) {
+    for (Eigen::Index j = 0; j < h; ++j) wtt(i, j) = w(kept[i], kept[j]);
+    strain[i] = sweep.row_strain(stick_rows_[static_cast<std::size_t>(kept[i])]) -
+                w.row(kept[i]).segment(t, static_cast<Eigen::Index>(n)).dot(normal_force);
+    off[i] = offset[kept[i]];
+  }
+  // F = W⁺ s over W's modes the springs move by bending, the others left to the speeds' friction.
+  // Two reasons for modes they barely move: across a part lying along the floor, its own axis
+  // (moved only through the sag's lever: ~(sag/L)² of the bend's compliance), where J (q − C f)
+  // reads the curve's second-order shortening, not a force — over that compliance, tens of μN;
+  // and two stations close on a stiff chain pushed apart (nearly the same rows), where W⁻¹ reads
+  // two huge opposite forces out of rounding.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> modes(wtt);
+  const Eigen::VectorXd& lambda = modes.eigenvalues();  // ascending
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(h);
+  for (Eigen::Index i = 0; i < h; ++i) {
+    if (lambda[i] > kBends * lambda[h - 1]) inverse[i] = 1 / lambda[i];
+  }
+  const Eigen::MatrixXd& v = modes.eigenvectors();
+  const auto pinv = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+    return v * inverse.cwiseProduct(v.transpose() * x);
+  };
+  // The force across the normal the springs press each station with now, and once moved back
+  // onto its anchor (a move of amount a changes J q by W a, so the force by a).
+  const Eigen::VectorXd now = pinv(strain);
+  const Eigen::VectorXd back = pinv(strain - off);
+  stick_amount_.assign(2 * m, 0.0);
+  std::vector<char> slid(m, 0);
+  for (Eigen::Index i = 0; i < h; i += 2) {
+    const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
+    const Eigen::Vector2d force = back.segment<2>(i);
+    // Stick while the cone holds the force; else slide, pressed by μN along the same line.
+    const double cone = held_pairs_[k].cone;
+    const double scale = force.norm() > cone ? cone / force.norm() : 1.0;
+    slid[k] = scale < 1;
+    stick_amount_[2 * k] = scale * force.x() - now[i];
+    stick_amount_[2 * k + 1] = scale * force.y() - now[i + 1];
+    spent_[held_pairs_[k].plane] += scale * force.norm() * dt;
+  }
+  sweep.apply_rows({stick_rows_.data(), 2 * m}, stick_amount_, false, dt);
+  for (std::size_t k = 0; k < m; ++k) {
+    anchors_[held_pairs_[k].anchor].step = step_;
+    if (slid[k]) anchors_[held_pairs_[k].anchor].local = here_local(held_pairs_[k]);
+  }
+  // Moving across the normal turns the chain: a station may have sunk into a collider. Back out.
+  const double length = sweep.deformed().length();
+  bool inside = false;
+  for (std::size_t p = 0; p < n && !inside; ++p) {
+    inside = gap(sweep, planes_[p], colliders[planes_[p].collider]) < -kGapSlack * length;
+  }
+  if (!inside) return;
+  repush_.assign(n, 0.0);
+  move_out(sweep, colliders, dt, repush_, false);
+}
+
+}  // namespace sweep::sim
