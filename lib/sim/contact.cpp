@@ -446,7 +446,12 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   for (std::size_t p = 0; p < n; ++p) total_[p] = total_[p] > 0 ? std::numeric_limits<double>::infinity() : 0.0;
   solve(by_mass_, residual_, total_, amount_);
   sweep.apply_rows(rows_, amount_, true);
-  if (dt < kShortestPiece) return true;
+  if (dt < kShortestPiece) {
+    // A sliver of a step (a force or a path corner just off the step grid) holds nothing, but the
+    // contacts that touched the step before still do: their anchors carry on.
+    for (Anchor& a : anchors_) a.step += a.step == step_ - 1;
+    return true;
+  }
   // The normal impulse N·dt each touching contact took over the step, which its friction is
   // bounded by: the move's change of the points' speeds along their normals (Δq/dt: J C Jᵀ total
   // / dt, the step's fall it took back) and the kicks' (J M⁻¹ Jᵀ amount), read back as the

@@ -82,6 +82,27 @@ double rest_room(const Rig& rig, const Vec3& point, double margin, int stations_
 
 class ContactSolver {
  public:
+  // The stick anchors (contact_stick.cpp) are state carried from step to step. A throwaway step —
+  // the frame view's partial step, from the body's state — runs between save_anchors and
+  // restore_anchors, so that the output frame rate does not move them; a teleport forgets them
+  // (the part is put to rest in the new place, not dragged back towards its old contacts).
+  struct Anchor {
+    Vec3 local = Vec3::Zero();  // the station's centre, collider coordinates
+    long step = -2;             // the last step (step_) the contact touched
+  };
+  struct AnchorMemo {
+    long step = 0;
+    std::vector<Anchor> anchors;
+  };
+  void save_anchors(AnchorMemo& memo) const {
+    memo.step = step_;
+    memo.anchors.assign(anchors_.begin(), anchors_.end());  // no allocation once sized
+  }
+  void restore_anchors(const AnchorMemo& memo) {
+    step_ = memo.step;
+    anchors_.assign(memo.anchors.begin(), memo.anchors.end());
+  }
+  void forget_anchors() { anchors_.clear(); }
   static constexpr int kDefaultStationsPerSpan = 2;  // = Scene::contact_stations by default
   ContactSolver(const SweepShape& rest, int stations_per_span = kDefaultStationsPerSpan);
 
@@ -149,10 +170,6 @@ class ContactSolver {
   // its anchor — where it last started touching or last slid to, in its collider's coordinates —
   // while the springs' force across the normal stays within μN, slid to where it is μN if not.
   void hold(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt);
-  struct Anchor {
-    Vec3 local = Vec3::Zero();  // the station's centre, collider coordinates
-    long step = -2;             // the last step (step_) the contact touched
-  };
   struct Held {
     std::size_t plane = 0;  // the first pressed plane of the station and collider
     std::size_t anchor = 0;

@@ -29,7 +29,8 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
     sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def),
-                                 .contact = ContactSolver(def.rest, scene.contact_stations)});
+                                 .contact = ContactSolver(def.rest, scene.contact_stations),
+                                 .anchors = {}});
     sweeps_.back().body.set_integrator(scene.integrator);
     sweeps_.back().view.set_integrator(scene.integrator);
     if (def.material && scene.gravity != Vec3::Zero()) {
@@ -119,6 +120,7 @@ void Simulator::advance_frame() {
     for (SweepState& st : sweeps_) {
       st.body.reset();
       st.view.reset();
+      st.contact.forget_anchors();
       st.moved = true;
     }
   }
@@ -144,7 +146,9 @@ void Simulator::advance_frame() {
       if (partial > 0 && has_work(i, grid_time, target)) {
         st.view.copy_state_from(st.body);
         st.view_ids = st.ids;  // same size: no allocation
+        st.contact.save_anchors(st.anchors);
         advance_span(i, true, grid_time, target, false);
+        st.contact.restore_anchors(st.anchors);
         st.show_view = true;
         st.moved = true;
       }

@@ -81,6 +81,7 @@ class Simulator {
     std::exception_ptr failure{};       // divergence during the current frame, at failure_step
     long long failure_step = 0;
     ContactSolver contact;              // its contacts with the scene's colliders
+    ContactSolver::AnchorMemo anchors;  // contact's stick anchors across the view's partial step
     std::vector<PlacedCollider> placed{};  // scratch: the colliders in mesh coordinates at one time
     bool touched = false;               // touched a collider during the current internal step
     std::vector<Vec3> held_at{};        // its section centres when it last moved, while it touches
