@@ -18,10 +18,11 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 # runs is sanitized by the Contact.* and the other BodyProxy.* tests, the sphere fit on a small
 # body with a tail. Tool.AllFits… and Tool.RootOnTheTails… fit the diplodocus, 140 s and 50 s
 # there; --all's code runs sanitized in Tool.AllNames… and Tool.AnOpenMesh….
-# ContactFriction.ASlidingPart… and …TheDragIsTheSame… slide a tube for seconds at steps down to
-# 1/960 s (20 s each optimised); the position hold they measure runs sanitized in
-# ContactFriction.AStuckTip… and Contact.FrictionDrags….)
-exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody|Tool\.AllFitsEveryPartIntoOneRigUnderTheNamesGiven|Tool\.RootOnTheTailsUpperSurfaceFitsTheWholeTail|ContactFriction\.ASlidingPartLagsByItsKineticDragMuTimesItsWeight|ContactFriction\.TheDragIsTheSameAtEveryFrameRateAndStep'
+# The ContactFriction.* tests slide or hold a tube for seconds at steps down to 1/960 s (2 to 20 s
+# each optimised; unoptimised Eigen under ASan runs the hold's per-step solve ~200× slower: the
+# frame-rate test alone took 318 s, the stuck tip over 11 minutes); the position hold runs
+# sanitized in Contact.FrictionDrags… and Contact.APartLaidOnTheGround… (friction 0.5).)
+exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody|Tool\.AllFitsEveryPartIntoOneRigUnderTheNamesGiven|Tool\.RootOnTheTailsUpperSurfaceFitsTheWholeTail|^ContactFriction\.'
 filter=(-E "$exclude")
 if [ "${1:-}" = "--all" ]; then
   filter=()
