@@ -149,6 +149,9 @@ class ElasticSweep {
   bool radial_active() const { return radial_.active; }
 
  private:
+  // Each row's J as a column of `m` (sections 1..K−1, zero past its point), scaled by √share — the
+  // kick's mass share or (kick false) the compliance 1/k — so that mᵀm is J D Jᵀ or J C Jᵀ.
+  void scaled_rows(std::span<const ContactRow> rows, Eigen::MatrixXd& m, bool positional, bool kick) const;
   // All oscillators of one kind, flat: coordinate c of section i at index i·width + c.
   // A few step maps stay cached, keyed by (dt, integrator): a simulator alternates its internal
   // step, half of it (the mid-step predictor) and the odd partial step to a switching time.

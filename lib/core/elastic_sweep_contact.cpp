@@ -62,21 +62,23 @@ double ElasticSweep::row_coupling(const ContactRow& a, const ContactRow& b, bool
                                              .dot(Eigen::Map<const Eigen::VectorXd>(b.modal.data(), dim));
 }
 
+void ElasticSweep::scaled_rows(std::span<const ContactRow> rows, Eigen::MatrixXd& m, bool positional, bool kick) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index coords = static_cast<Eigen::Index>(positional_.x.size()) - 3;  // sections 1..K−1
+  m.setZero(coords, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const std::vector<double>& j = positional ? rows[k].positional : rows[k].rotational;
+    for (std::size_t q = 0; q < j.size(); ++q) {
+      const double share = positional ? positional_share(3 + q, kick) : rotational_share(3 + q, kick);
+      m(static_cast<Eigen::Index>(q), k) = j[q] * std::sqrt(share);
+    }
+  }
+}
+
 void ElasticSweep::row_couplings(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr,
                                  Eigen::MatrixXd& modal, Eigen::MatrixXd& by_mass, Eigen::MatrixXd& by_compliance) const {
   const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
-  const Eigen::Index coords = static_cast<Eigen::Index>(positional_.x.size()) - 3;  // sections 1..K−1
-  // Each row's J as a column, zero past its point; scaled by √share so that JᵀJ is J D Jᵀ.
-  const auto fill = [&](Eigen::MatrixXd& m, bool positional, bool kick) {
-    m.setZero(coords, n);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const std::vector<double>& j = positional ? rows[k].positional : rows[k].rotational;
-      for (std::size_t q = 0; q < j.size(); ++q) {
-        const double share = positional ? positional_share(3 + q, kick) : rotational_share(3 + q, kick);
-        m(static_cast<Eigen::Index>(q), k) = j[q] * std::sqrt(share);
-      }
-    }
-  };
+  const auto fill = [&](Eigen::MatrixXd& m, bool positional, bool kick) { scaled_rows(rows, m, positional, kick); };
   row_compliances(rows, jp, jr, by_compliance);
   fill(jp, true, true);
   by_mass.noalias() = jp.transpose() * jp;
@@ -94,19 +96,7 @@ void ElasticSweep::row_couplings(std::span<const ContactRow> rows, Eigen::Matrix
 
 void ElasticSweep::row_compliances(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr,
                                    Eigen::MatrixXd& by_compliance) const {
-  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
-  const Eigen::Index coords = static_cast<Eigen::Index>(positional_.x.size()) - 3;  // sections 1..K−1
-  // Each row's J as a column, zero past its point; scaled by √(1/k) so that JᵀJ is J C Jᵀ.
-  const auto fill = [&](Eigen::MatrixXd& m, bool positional) {
-    m.setZero(coords, n);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const std::vector<double>& j = positional ? rows[k].positional : rows[k].rotational;
-      for (std::size_t q = 0; q < j.size(); ++q) {
-        const double share = positional ? positional_share(3 + q, false) : rotational_share(3 + q, false);
-        m(static_cast<Eigen::Index>(q), k) = j[q] * std::sqrt(share);
-      }
-    }
-  };
+  const auto fill = [&](Eigen::MatrixXd& m, bool positional) { scaled_rows(rows, m, positional, false); };
   fill(jp, true);
   fill(jr, false);
   by_compliance.noalias() = jp.transpose() * jp;
