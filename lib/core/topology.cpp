@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <utility>
 
 #include "core/error.h"
 
@@ -77,6 +78,16 @@ std::vector<std::uint32_t> weld_exact(const Mesh& mesh, std::size_t& welded) {
   return weld;
 }
 
+// Rows of the triangles around each vertex.
+VertexAdjacency triangle_rows(std::size_t nv, const std::vector<std::uint32_t>& triangles) {
+  const std::size_t nt = triangles.size() / 3;
+  return rows_from_pairs(nv, [&](auto&& visit) {
+    for (std::size_t f = 0; f < nt; ++f) {
+      for (int c = 0; c < 3; ++c) visit(triangles[3 * f + c], static_cast<std::uint32_t>(f));
+    }
+  });
+}
+
 }  // namespace
 
 std::uint32_t nearest_vertex(const Mesh& mesh, const Vec3& p) {
@@ -117,34 +128,92 @@ Topology build_topology(const Mesh& mesh) {
       t.triangles.insert(t.triangles.end(), {a, b, c});
     }
   }
-  const std::size_t nt = t.triangles.size() / 3;
-  t.vertex_triangles = rows_from_pairs(nv, [&](auto&& visit) {
-    for (std::size_t f = 0; f < nt; ++f) {
-      for (int c = 0; c < 3; ++c) visit(t.triangles[3 * f + c], static_cast<std::uint32_t>(f));
-    }
-  });
+  t.vertex_triangles = triangle_rows(nv, t.triangles);
   return t;
 }
 
-std::size_t hole_edge_count(const Topology& topology) {
-  std::vector<std::uint64_t> edges;
-  edges.reserve(topology.triangles.size());
+namespace {
+
+// The edges only one triangle uses, each as that triangle runs along it (a → b), sorted by a.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> rim_edges(const Topology& topology) {
+  struct Use {
+    std::uint64_t key;  // the undirected edge
+    std::uint32_t a, b;
+  };
+  std::vector<Use> uses;
+  uses.reserve(topology.triangles.size());
   for (std::size_t t = 0; t + 2 < topology.triangles.size(); t += 3) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint64_t a = topology.triangles[t + static_cast<std::size_t>(k)];
-      const std::uint64_t b = topology.triangles[t + static_cast<std::size_t>((k + 1) % 3)];
-      edges.push_back(std::min(a, b) << 32 | std::max(a, b));
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t a = topology.triangles[t + k], b = topology.triangles[t + (k + 1) % 3];
+      uses.push_back({std::uint64_t{std::min(a, b)} << 32 | std::max(a, b), a, b});
     }
   }
-  std::sort(edges.begin(), edges.end());
-  std::size_t once = 0;
-  for (std::size_t i = 0; i < edges.size();) {
+  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> once;
+  for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    once += j - i == 1;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    if (j - i == 1) once.emplace_back(uses[i].a, uses[i].b);
     i = j;
   }
+  std::sort(once.begin(), once.end());
   return once;
+}
+
+}  // namespace
+
+std::size_t hole_edge_count(const Topology& topology) {
+  return rim_edges(topology).size();
+}
+
+std::vector<std::vector<std::uint32_t>> hole_rims(const Topology& topology) {
+  const auto edges = rim_edges(topology);
+  std::vector<bool> used(edges.size(), false);
+  // The first unused rim edge leaving vertex a (edges are sorted by a), or edges.size().
+  const auto leaving = [&](std::uint32_t a) {
+    auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(a, std::uint32_t{0}));
+    for (; it != edges.end() && it->first == a; ++it) {
+      const auto k = static_cast<std::size_t>(it - edges.begin());
+      if (!used[k]) return k;
+    }
+    return edges.size();
+  };
+  std::vector<std::vector<std::uint32_t>> rims;
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    if (used[e]) continue;
+    used[e] = true;
+    std::vector<std::uint32_t> rim{edges[e].first};
+    std::uint32_t at = edges[e].second;
+    while (at != rim.front()) {
+      const std::size_t next = leaving(at);
+      if (next == edges.size()) break;  // the chain does not close (triangles oriented both ways)
+      used[next] = true;
+      rim.push_back(at);
+      at = edges[next].second;
+    }
+    if (at == rim.front() && rim.size() >= 3) rims.push_back(std::move(rim));
+  }
+  return rims;
+}
+
+void add_triangles(Topology& topology, std::span<const std::uint32_t> triangles) {
+  if (triangles.empty()) return;
+  const std::size_t nv = topology.weld.size();
+  const VertexAdjacency before = std::move(topology.adjacency);
+  topology.adjacency = rows_from_pairs(nv, [&](auto&& visit) {
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      for (const std::uint32_t w : before.of(v)) visit(v, w);
+    }
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::uint32_t a = triangles[t + k], b = triangles[t + (k + 1) % 3];
+        visit(a, b);
+        visit(b, a);
+      }
+    }
+  });
+  topology.triangles.insert(topology.triangles.end(), triangles.begin(), triangles.end());
+  topology.vertex_triangles = triangle_rows(nv, topology.triangles);
 }
 
 namespace {

@@ -44,6 +44,15 @@ Topology build_topology(const Mesh& mesh);
 // with holes is an open surface to the walks over it (rings of surface distance run into them).
 std::size_t hole_edge_count(const Topology& topology);
 
+// The rims of the mesh's holes: closed chains of those edges, each in the direction its triangles
+// run along it (a patch over the hole runs the other way), at least three vertices long. A rim
+// whose triangles disagree on their orientation does not chain and is left out.
+std::vector<std::vector<std::uint32_t>> hole_rims(const Topology& topology);
+
+// Adds `triangles` (three representatives each) to the topology: its triangles, neighbours and
+// the rows of triangles around each vertex (fit/hole_patches.h patches holes so).
+void add_triangles(Topology& topology, std::span<const std::uint32_t> triangles);
+
 // Neighbours over the mesh's own polygon edges, no welding (what the tests compare against).
 VertexAdjacency vertex_adjacency(const Mesh& mesh);
 

@@ -64,10 +64,13 @@ std::vector<double> average_distance(const Mesh& mesh, const Topology& topology,
       ++count[v];
       nearest[v] = std::min(nearest[v], d[v]);
     }
-    // The next source: the vertex farthest from every source so far (another piece first).
+    // The next source: the vertex farthest from every source so far (another piece first). A
+    // vertex no face uses (a file may list them; a hole cut from a mesh leaves them) is no piece:
+    // each would take a source of its own, and a cut of 23 such left the part one source only.
     std::uint32_t next = source;
     for (std::uint32_t v = 0; v < n; ++v) {
-      if (topology.weld[v] == v && nearest[v] > nearest[next]) next = v;
+      if (topology.weld[v] == v && nearest[v] > nearest[next] && !topology.adjacency.of(v).empty())
+        next = v;
     }
     if (!(nearest[next] > 0)) break;
     source = next;

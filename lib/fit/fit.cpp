@@ -13,6 +13,7 @@
 #include "core/limits.h"
 #include "core/locate.h"
 #include "core/text.h"
+#include "fit/hole_patches.h"
 #include "fit/loop.h"
 #include "fit/mid_tube.h"
 #include "fit/slicer.h"
@@ -53,7 +54,8 @@ double percentile_90(std::vector<double> distances) {
 }  // namespace
 
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
-                           const std::vector<std::uint32_t>& vertices) {
+                           const std::vector<std::uint32_t>& vertices,
+                           std::span<const std::uint32_t> patches) {
   FitError e;
   // The sweep's tube, tessellated: stations along t, 2n angles around.
   const int k = shape.section_count();
@@ -119,6 +121,16 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
       part_faces.insert(part_faces.end(), {all[f], all[f + 1], all[f + 2]});
     }
   }
+  if (!patches.empty()) {
+    // (Over representatives: a part vertex welded to another stands for it.)
+    std::vector<char> rep_in_part(mesh.vertex_count(), 0);
+    const Topology seams = build_topology(mesh);
+    for (const std::uint32_t v : vertices) rep_in_part[seams.weld[v]] = 1;
+    for (std::size_t f = 0; f + 2 < patches.size(); f += 3) {
+      if (rep_in_part[patches[f]] || rep_in_part[patches[f + 1]] || rep_in_part[patches[f + 2]])
+        part_faces.insert(part_faces.end(), {patches[f], patches[f + 1], patches[f + 2]});
+    }
+  }
   const TriangleDistance to_part(mesh.positions, part_faces);
   if (!to_part.empty()) {
     double s2 = 0;
@@ -175,8 +187,12 @@ void reverse_axis(AxisTrace& axis) {
 
 struct SweepFitter::Impl {
   explicit Impl(const Mesh& mesh)
-      : topology(build_topology(mesh)), slicer(mesh.positions, topology.triangles), surface(mesh.positions, topology.triangles) {}
-  Topology topology;  // first: the slicer and the surface are over its welded triangles
+      : topology(build_topology(mesh)),
+        patched(fit::patched_topology(mesh, topology)),
+        slicer(mesh.positions, patched.triangles),
+        surface(mesh.positions, patched.triangles) {}
+  Topology topology;  // the mesh's own: the part is walked over it (select_sweep_part)
+  Topology patched;   // before the slicer and the surface, which are over its welded triangles
   MeshSlicer slicer;
   TriangleDistance surface;  // the whole mesh: seeds off the surface, the axis' end inside it
   double diagonal = 0;
@@ -202,6 +218,9 @@ const MeshSlicer& SweepFitter::slicer() const {
 }
 const Topology& SweepFitter::topology() const {
   return impl_->topology;
+}
+const Topology& SweepFitter::patched_topology() const {
+  return impl_->patched;
 }
 double SweepFitter::diagonal() const {
   return impl_->diagonal;
@@ -237,7 +256,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   const auto start = std::chrono::steady_clock::now();
   validate(o);
   const Mesh& mesh = mesh_;
-  const Topology& topo = impl_->topology;
+  const Topology& topo = impl_->patched;  // the walks that trace; the part uses the mesh's own
 
   FitResult r;
   r.sweep.name = o.name;
@@ -460,7 +479,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     r.sweep.rest = sections_along(impl_->slicer, cut, k, o.radial, &r.star_violations, &r.warnings);
     r.length = r.sweep.rest.length();
     const PartSeeds seeds{Vec3::Zero(), mesh.positions[r.tip_vertex], r.tip_cut};
-    r.part_vertices = select_sweep_part(mesh, topo, r.sweep.rest, seeds);
+    r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
     // The radii that best match the part's vertices (the slices run through facets' chords).
     fit_radii(r.sweep.rest, mesh, r.part_vertices);
     // The limits below are relative to the radii the rig keeps, not to the slices'.
@@ -469,9 +488,11 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     for (const double x : radii) r.mean_radius += x;
     r.mean_radius /= static_cast<double>(radii.size());
     // The part again, as sweep-bind will select it: its bound near the sweep reads the radii.
-    r.part_vertices = select_sweep_part(mesh, topo, r.sweep.rest, seeds);
+    r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
     if (o.measure_error || o.tolerance > 0) {
-      r.error = measure_fit_error(r.sweep.rest, mesh, r.part_vertices);
+      r.error = measure_fit_error(
+          r.sweep.rest, mesh, r.part_vertices,
+          std::span(impl_->patched.triangles).subspan(impl_->topology.triangles.size()));
     }
   };
   if (o.tolerance > 0) {

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -171,8 +172,11 @@ class SweepFitter {
   // tip, empty part). A fit that breaks a limit is returned with `problems`.
   FitResult fit(const FitOptions& options) const;
 
-  const MeshSlicer& slicer() const;
-  const Topology& topology() const;
+  const MeshSlicer& slicer() const;  // over the patched surface
+  const Topology& topology() const;   // the mesh's own: parts are walked over it, as sweep-bind does
+  // The topology with the mesh's holes patched (fit/hole_patches.h): what the surface distances,
+  // their rings and the slices run over, and what find_parts searches.
+  const Topology& patched_topology() const;
   double diagonal() const;  // of the mesh's bounding box
 
  private:
@@ -215,7 +219,11 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
 int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32_t>& vertices);
 
 // Distances between the given part vertices and the sweep's surface, both ways (see FitError).
+// The way back measures to the part's faces, and to `patches` (triangles over representatives:
+// fit/hole_patches.h) touching the part: over a hole, the patch is the surface's best stand-in,
+// and without it a sample there is the hole's radius from the nearest face.
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
-                           const std::vector<std::uint32_t>& vertices);
+                           const std::vector<std::uint32_t>& vertices,
+                           std::span<const std::uint32_t> patches = {});
 
 }  // namespace sweep::fit

@@ -199,10 +199,24 @@ struct SkinBake {
   fs::path glb;
 };
 
+// This test process's bakes: one folder, removed with its files when the process exits (CTest runs
+// each test in a process of its own), so that the .glb paths handed out stay valid until then.
+const fs::path& skin_dir() {
+  struct Scratch {
+    fs::path path = fs::temp_directory_path() / ("sweep_skin_test_" + std::to_string(::getpid()));
+    Scratch() { fs::create_directories(path); }
+    ~Scratch() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  };
+  static const Scratch scratch;
+  return scratch.path;
+}
+
 SkinBake bake_skinned(const Tube& tube, const Scene& scene, int joints, const std::string& name, int ring = 1,
                       bool fit = false) {
-  const fs::path dir = fs::temp_directory_path() / ("sweep_skin_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path& dir = skin_dir();
   BakeOptions o;
   o.outputs = {dir / (name + ".glb"), dir / (name + ".pc2")};
   o.joints = joints;

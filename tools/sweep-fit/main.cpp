@@ -20,6 +20,7 @@
 #include "core/text.h"
 #include "fit/discover.h"
 #include "fit/fit.h"
+#include "fit/hole_patches.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "io/path_checks.h"
@@ -367,7 +368,7 @@ int run_all(const Settings& s) {
   std::vector<sweep::fit::FitResult> fits;
   fitting(s, mesh, fits, start, [&] {
     const sweep::fit::SweepFitter fitter(mesh.mesh());
-    const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh.mesh(), fitter.topology());
+    const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh.mesh(), fitter.patched_topology());
     if (parts.empty()) {
       fail(ErrorCategory::bad_input,
            s.mesh.string() + ": " +
@@ -413,8 +414,8 @@ int run_list(const Settings& s) {
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   const sweep::Topology topology = sweep::build_topology(mesh);
   std::vector<std::string> passed_over;
-  const std::vector<sweep::fit::FoundPart> parts =
-      sweep::fit::find_parts(mesh, topology, {}, s.verbose ? &passed_over : nullptr);
+  const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(
+      mesh, sweep::fit::patched_topology(mesh, topology), {}, s.verbose ? &passed_over : nullptr);
   sweep::fit_tool::print_parts(parts, sweep::hole_edge_count(topology));
   for (const std::string& x : passed_over) std::cout << "  passed over " << x << "\n";
   if (!s.report.empty())

@@ -6,6 +6,7 @@
 
 #include "core/rig.h"
 #include "core/text.h"
+#include "fit/hole_patches.h"
 #include "io/atomic_file.h"
 
 namespace sweep::fit_tool {
@@ -261,8 +262,10 @@ std::string no_parts_found(std::size_t hole_edges) {
   std::string m = "no tubular parts found";
   if (hole_edges > 0) {
     m += " (the mesh is open: " + std::to_string(hole_edges) +
-         " edges rim its holes, and a ring of surface distance that runs into a hole measures no "
-         "tube, so holes can hide a part; fill them first)";
+         " edges rim its holes; the search patches a hole of up to " +
+         std::to_string(fit::kMaxTriangulatedRim) +
+         " edges round, but a ring of surface distance that runs into a larger one measures no "
+         "tube, so such holes can hide a part; fill them first)";
   }
   return m;
 }
