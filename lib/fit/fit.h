@@ -207,7 +207,9 @@ class FitFailure : public Error {
 // whose plane also cuts another surface (its loop over 1.5 local radii) is moved along the axis
 // within 3/8 of the spacing, an end section inwards by up to a quarter of the length, to a plane
 // that cuts the part alone; failing that, an interior section's radii are interpolated from its
-// neighbours. Star-shape violations and warnings are appended when the pointers are given.
+// neighbours. An end section is moved too where its loop was pinched around another tube fused to
+// the part (loop_around's necks); an interior one takes the part's piece of such a loop. Star-shape
+// violations and warnings are appended when the pointers are given.
 SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int sections, int radial,
                           std::vector<StarViolation>* violations = nullptr,
                           std::vector<std::string>* warnings = nullptr);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <utility>
 
 namespace sweep::fit {
 namespace {
@@ -36,7 +38,134 @@ double boundary_distance(const std::vector<Vec2>& poly, const Vec2& p) {
   return best;
 }
 
+// Necks (cut_at_necks). Measured on the loops loop_around picked at every axis point and key
+// section of the 26 parts of BENCHMARKS.md's fit-evidence table and of three generated tubes
+// (1,940 loops; the score is the chord over the thinner piece's thickness 2·area/perimeter, both
+// pieces over a tenth of the loop's area): homer's fused thighs at the right leg's root, 0.36 (a
+// figure 8: a chord 0.024 long between two discs of radius 0.065); elephant's trunk where the tusk
+// lies against it, 0.155 (the tusk's outline joined to the trunk's by a neck); every other loop
+// 0.648 or more (a bulge of an oblique slice through elephant's curled trunk; refined_elephant's
+// curled trunk 0.92, dino's leg and foot 0.96); the flat ears 1.7 (bunny00) and 2.2 (armadillo),
+// tube_lobed 2.1, tube_ellipse 2.4. A half of an ellipse cut across its middle scores 3.3 for a
+// circle down to 4/π ≈ 1.27 however flat (a chord of 2b, a thickness of π b/2 at most).
+// A chord is a neck when it is shorter than this share of the thinner piece's thickness: between
+// homer's 0.36 and the 0.648 of the curled trunk's bulge, and well below the flat parts' 1.27.
+constexpr double kMaxNeckOfThickness = 0.5;
+// Each piece must hold at least this share of the loop's area: a sliver is no second tube (and a
+// slice through mesh vertices can double back on itself, a chord of length 0 around nothing).
+constexpr double kMinNeckPieceShare = 0.1;
+// Cuts at most this many necks of one loop (a plane through a leg, the other leg and a hand).
+constexpr int kMaxNeckCuts = 4;
+
+double cross(const Vec2& a, const Vec2& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Whether segments pq and rs cross at a point inside both (touching at an end does not count).
+bool segments_cross(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
+  const double d1 = cross(q - p, r - p), d2 = cross(q - p, s - p);
+  const double d3 = cross(s - r, p - r), d4 = cross(s - r, q - r);
+  return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+// A neck of the closed polygon q: the chord from q[a] to q[b] (a < b); the inner piece is
+// q[a..b], the outer q[b..m-1], q[0..a]. `keep_inner`: the piece that contains the point.
+struct Neck {
+  std::size_t a = 0, b = 0;
+  bool keep_inner = true;
+};
+
+std::optional<Neck> find_neck(const std::vector<Vec2>& q, const Vec2& point) {
+  const std::size_t m = q.size();
+  if (m < 4) return std::nullopt;
+  // Prefix sums of the shoelace terms and of the edge lengths: a piece's area and perimeter in
+  // O(1). Relative to the point, which lies inside (the basis origin in loop_around).
+  std::vector<double> twice_area(m + 1, 0.0), length(m + 1, 0.0);
+  for (std::size_t i = 0; i < m; ++i) {
+    const Vec2 a = q[i] - point, b = q[(i + 1) % m] - point;
+    twice_area[i + 1] = twice_area[i] + cross(a, b);
+    length[i + 1] = length[i] + (b - a).norm();
+  }
+  const double total = std::abs(twice_area[m]);
+  if (!(total > 0)) return std::nullopt;
+  // A piece's thickness 2A/P is at most its equivalent radius (isoperimetric inequality), so a
+  // neck is shorter than kMaxNeckOfThickness equivalent radii of the whole loop.
+  const double max_chord = kMaxNeckOfThickness * std::sqrt(total / 2 / std::numbers::pi);
+  std::vector<std::size_t> by_x(m);
+  for (std::size_t i = 0; i < m; ++i) by_x[i] = i;
+  std::sort(by_x.begin(), by_x.end(),
+            [&](std::size_t i, std::size_t j) { return q[i].x() < q[j].x(); });
+  struct Candidate {
+    double score;
+    std::size_t a, b;
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t u = 0; u < m; ++u) {
+    for (std::size_t w = u + 1; w < m && q[by_x[w]].x() - q[by_x[u]].x() < max_chord; ++w) {
+      const std::size_t a = std::min(by_x[u], by_x[w]), b = std::max(by_x[u], by_x[w]);
+      if (b - a < 2 || (a == 0 && b == m - 1)) continue;  // neighbours along the loop
+      const double chord = (q[b] - q[a]).norm();
+      if (!(chord < max_chord)) continue;
+      const Vec2 qa = q[a] - point, qb = q[b] - point;
+      const double inner = std::abs(twice_area[b] - twice_area[a] + cross(qb, qa));
+      const double outer =
+          std::abs(twice_area[m] - (twice_area[b] - twice_area[a]) + cross(qa, qb));
+      if (inner < kMinNeckPieceShare * total || outer < kMinNeckPieceShare * total) continue;
+      const double inner_thickness = inner / (length[b] - length[a] + chord);
+      const double outer_thickness = outer / (length[m] - (length[b] - length[a]) + chord);
+      const double score = chord / std::min(inner_thickness, outer_thickness);
+      if (score < kMaxNeckOfThickness) candidates.push_back({score, a, b});
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+    return x.score < y.score || (x.score == y.score && (x.a < y.a || (x.a == y.a && x.b < y.b)));
+  });
+  for (const Candidate& c : candidates) {
+    // The chord must run inside the loop (across a C's mouth it runs outside): its midpoint
+    // inside, and no edge but those at its ends crossing it.
+    if (!contains(q, (q[c.a] + q[c.b]) / 2)) continue;
+    bool crossed = false;
+    for (std::size_t i = 0, j = m - 1; i < m && !crossed; j = i++) {
+      crossed = segments_cross(q[c.a], q[c.b], q[j], q[i]);
+    }
+    if (crossed) continue;
+    std::vector<Vec2> inner(q.begin() + static_cast<std::ptrdiff_t>(c.a),
+                            q.begin() + static_cast<std::ptrdiff_t>(c.b) + 1);
+    if (contains(inner, point)) return Neck{c.a, c.b, true};
+    std::vector<Vec2> outer(q.begin() + static_cast<std::ptrdiff_t>(c.b), q.end());
+    outer.insert(outer.end(), q.begin(), q.begin() + static_cast<std::ptrdiff_t>(c.a) + 1);
+    if (contains(outer, point)) return Neck{c.a, c.b, false};
+    return std::nullopt;  // the point lies on the neck: neither piece is its own
+  }
+  return std::nullopt;
+}
+
+// Keeps the piece of `v` (a closed loop, in step with the polygon the neck was found on) that the
+// neck says.
+template <class T>
+void keep_piece(std::vector<T>& v, const Neck& n) {
+  std::vector<T> out;
+  if (n.keep_inner) {
+    out.assign(v.begin() + static_cast<std::ptrdiff_t>(n.a),
+               v.begin() + static_cast<std::ptrdiff_t>(n.b) + 1);
+  } else {
+    out.assign(v.begin() + static_cast<std::ptrdiff_t>(n.b), v.end());
+    out.insert(out.end(), v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n.a) + 1);
+  }
+  v = std::move(out);
+}
+
 }  // namespace
+
+int cut_at_necks(std::vector<Vec2>& loop, const Vec2& point) {
+  int cuts = 0;
+  for (; cuts < kMaxNeckCuts; ++cuts) {
+    const std::optional<Neck> neck = find_neck(loop, point);
+    if (!neck) break;
+    keep_piece(loop, *neck);
+  }
+  return cuts;
+}
 
 PlaneBasis plane_basis(const Vec3& origin, const Vec3& normal) {
   PlaneBasis b;
@@ -81,7 +210,7 @@ void measure_loop(const PlaneBasis& basis, Loop& loop) {
 }
 
 std::optional<Loop> loop_around(const std::vector<SlicePolyline>& slice, const Vec3& point,
-                                const Vec3& normal, double max_distance) {
+                                const Vec3& normal, double max_distance, Necks necks) {
   const PlaneBasis basis = plane_basis(point, normal);
   const Vec2 p = Vec2::Zero();
   std::optional<std::size_t> best_inside, best_near;
@@ -116,6 +245,17 @@ std::optional<Loop> loop_around(const std::vector<SlicePolyline>& slice, const V
   loop.points = slice[*pick].points;
   loop.was_open = !slice[*pick].closed;
   loop.around = best_inside.has_value();
+  if (loop.around && necks == Necks::cut) {
+    std::vector<Vec2> poly;
+    poly.reserve(loop.points.size());
+    for (const Vec3& x : loop.points) poly.push_back(basis.to_plane(x));
+    for (; loop.necks_cut < kMaxNeckCuts; ++loop.necks_cut) {
+      const std::optional<Neck> neck = find_neck(poly, p);
+      if (!neck) break;
+      keep_piece(poly, *neck);
+      keep_piece(loop.points, *neck);
+    }
+  }
   measure_loop(basis, loop);
   return loop;
 }

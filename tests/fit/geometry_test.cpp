@@ -69,6 +69,143 @@ TEST(Loop, PicksTheLeastLoopAroundThePointOrTheNearest) {
   EXPECT_FALSE(loop_around(slice, p, Vec3::UnitZ(), 0.1));
 }
 
+// A closed polyline in the z = 0 plane, as a slice gives it.
+SlicePolyline outline(const std::vector<Vec2>& q) {
+  SlicePolyline line;
+  line.closed = true;
+  for (const Vec2& x : q) line.points.emplace_back(x.x(), x.y(), 0);
+  return line;
+}
+
+// n + 1 points on the unit circle around `centre` from angle `from` to `to` (counter-clockwise).
+void arc(std::vector<Vec2>& q, const Vec2& centre, double from, double to, int n) {
+  for (int k = 0; k <= n; ++k) {
+    const double a = from + (to - from) * k / n;
+    q.push_back(centre + Vec2(std::cos(a), std::sin(a)));
+  }
+}
+
+// Two unit discs whose centres are D = 1.99 apart, the outline of their union: a figure 8 pinched
+// to a neck 0.2 wide between them (homer's thighs cut just above the crotch). The disc around the
+// point, cut by the neck's chord, is the loop:
+//
+//      ___   ___
+//    /     \/     \       the corners (D/2, ±h), h = sqrt(1 - D²/4); the neck is the chord
+//   |   A   |   B   |     between them; the kept piece of A is the unit disc less the circular
+//    \ ___ /\ ___ /       segment beyond the chord (of B, the same mirrored)
+//
+// Before necks were cut, loop_around returned the whole figure 8 (area ≈ 2π, centroid D/2).
+TEST(Loop, AFigure8IsCutAtItsNeckAndThePointsDiscKept) {
+  const double d = 1.99;
+  const double alpha = std::acos(d / 2);  // the corners, seen from A's centre
+  const int n = 2000;                     // points on each disc's arc
+  std::vector<Vec2> q;
+  arc(q, {0, 0}, alpha, 2 * std::numbers::pi - alpha, n);  // A, the upper corner round
+  q.pop_back();                                            // the lower corner, once
+  arc(q, {d, 0}, std::numbers::pi + alpha, 3 * std::numbers::pi - alpha, n);  // B, back up
+  q.pop_back();
+  const std::vector<SlicePolyline> slice = {outline(q)};
+  // The disc less its segment beyond the chord: area π − (α − sin α cos α), centroid at
+  // −(2/3) sin³α / area from the disc's centre, towards the far side from the neck.
+  const double area = std::numbers::pi - (alpha - std::sin(alpha) * std::cos(alpha));
+  const double shift = 2.0 / 3 * std::pow(std::sin(alpha), 3) / area;
+  // The 2000-gon inscribed in the arc falls short of it by (2π/n)²/6 of the area (1.6e-6).
+  const double tolerance = 1e-5;
+  for (const bool in_a : {true, false}) {
+    const Vec3 point = in_a ? Vec3(0.2, 0.3, 0) : Vec3(d - 0.4, -0.1, 0);
+    const std::optional<Loop> loop = loop_around(slice, point, Vec3::UnitZ(), 0, Necks::cut);
+    ASSERT_TRUE(loop);
+    EXPECT_EQ(loop->necks_cut, 1);
+    EXPECT_TRUE(loop->around);
+    EXPECT_NEAR(loop->area, area, tolerance * area) << (in_a ? "A" : "B");
+    EXPECT_NEAR(loop->radius, std::sqrt(area / std::numbers::pi), tolerance);
+    const Vec3 centroid = in_a ? Vec3(-shift, 0, 0) : Vec3(d + shift, 0, 0);
+    EXPECT_NEAR((loop->centroid - centroid).norm(), 0, tolerance) << (in_a ? "A" : "B");
+    EXPECT_EQ(loop->points.size(), static_cast<std::size_t>(n + 1));  // the arc, corner to corner
+  }
+  // Necks::keep (the axis tracer's): the figure 8 as it is.
+  const std::optional<Loop> whole = loop_around(slice, Vec3(0.2, 0.3, 0), Vec3::UnitZ(), 0);
+  ASSERT_TRUE(whole);
+  EXPECT_EQ(whole->necks_cut, 0);
+  EXPECT_EQ(whole->points.size(), q.size());
+  EXPECT_NEAR(whole->centroid.x(), d / 2, 1e-9);
+}
+
+// Sections of real parts that are no necks, however close two stretches of them come: a flat ear
+// (an ellipse 50:1), a lobed tube (tube_lobed's 5 lobes of 0.2, and 3 lobes of 0.5), two discs
+// fused broadly (a peanut: 1.6 wide between discs of radius 1), a C whose mouth is narrow (the
+// chord across it runs outside). Each comes back whole, its area the polygon's own.
+TEST(Loop, EllipsesLobesPeanutsAndCsAreNotCut) {
+  const auto polygon_area = [](const std::vector<Vec2>& q) {
+    double a2 = 0;
+    for (std::size_t i = 0, j = q.size() - 1; i < q.size(); j = i++) {
+      a2 += q[j].x() * q[i].y() - q[j].y() * q[i].x();
+    }
+    return std::abs(a2) / 2;
+  };
+  const auto polar = [](const auto& r, int n) {
+    std::vector<Vec2> q;
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * std::numbers::pi * k / n;
+      q.push_back(r(a) * Vec2(std::cos(a), std::sin(a)));
+    }
+    return q;
+  };
+  struct Case {
+    const char* name;
+    std::vector<Vec2> q;
+    Vec2 point;
+  };
+  std::vector<Case> cases;
+  {
+    std::vector<Vec2> q;
+    for (int k = 0; k < 400; ++k) {
+      const double a = 2 * std::numbers::pi * k / 400;
+      q.emplace_back(std::cos(a), 0.02 * std::sin(a));
+    }
+    cases.push_back({"ellipse 50:1", q, {0, 0}});
+    cases.push_back({"ellipse 50:1, point off centre", q, {0.6, 0.005}});
+  }
+  cases.push_back(
+      {"5 lobes of 0.2", polar([](double a) { return 1 + 0.2 * std::cos(5 * a); }, 400), {0, 0}});
+  cases.push_back(
+      {"3 lobes of 0.5", polar([](double a) { return 1 + 0.5 * std::cos(3 * a); }, 400), {0, 0}});
+  {
+    const double d = 1.2, alpha = std::acos(d / 2);
+    std::vector<Vec2> q;
+    arc(q, {0, 0}, alpha, 2 * std::numbers::pi - alpha, 200);
+    q.pop_back();
+    arc(q, {d, 0}, std::numbers::pi + alpha, 3 * std::numbers::pi - alpha, 200);
+    q.pop_back();
+    cases.push_back({"peanut", q, {-0.3, 0}});
+  }
+  {
+    // An annulus 0.6 to 1 less a wedge of ±6° around +x: a mouth 0.21 wide, a band 0.4 wide.
+    std::vector<Vec2> q;
+    const double gap = 6 * std::numbers::pi / 180;
+    for (int k = 0; k <= 200; ++k) {
+      const double a = gap + (2 * std::numbers::pi - 2 * gap) * k / 200;
+      q.emplace_back(std::cos(a), std::sin(a));
+    }
+    for (int k = 200; k >= 0; --k) {
+      const double a = gap + (2 * std::numbers::pi - 2 * gap) * k / 200;
+      q.emplace_back(0.6 * std::cos(a), 0.6 * std::sin(a));
+    }
+    cases.push_back({"C", q, {-0.8, 0}});
+  }
+  for (const Case& c : cases) {
+    const std::optional<Loop> loop = loop_around({outline(c.q)}, Vec3(c.point.x(), c.point.y(), 0),
+                                                 Vec3::UnitZ(), 0, Necks::cut);
+    ASSERT_TRUE(loop) << c.name;
+    EXPECT_TRUE(loop->around) << c.name;
+    EXPECT_EQ(loop->necks_cut, 0) << c.name;
+    EXPECT_EQ(loop->points.size(), c.q.size()) << c.name;
+    EXPECT_NEAR(loop->area, polygon_area(c.q), 1e-12 * polygon_area(c.q)) << c.name;
+    std::vector<Vec2> q = c.q;
+    EXPECT_EQ(cut_at_necks(q, c.point), 0) << c.name;
+  }
+}
+
 TEST(Frames, RotationMinimizingOnAPlanarArcAddsNoTwist) {
   // A quarter circle in the x-z plane: the RMF of a planar curve keeps its binormal (here y).
   std::vector<Vec3> p, t;
