@@ -227,7 +227,13 @@ TEST(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
 // length) at 1 s and still there at 2 s (the same with 1, 2 or 4 contact stations per span, and
 // with the floor 0.01 below: +0.60); +0.059 for E = 2e9; the rubber tube (E = 1e7) is flung up
 // 13 units within 0.4 s. A tube whose root clears the floor and whose tip alone rests on it (the
-// friction tests) is not affected. Enable once the move out of the floor no longer lifts it.
+// friction tests) is not affected. Most of the rise is the move's speed update in
+// ContactSolver::move_out (q̇ += Δq/dt, Δq shaped by the springs' compliance, not by the masses:
+// the velocity solve then zeroes the contacts' normal speeds, and what is left elsewhere lifts the
+// tube). Without that update (a diagnostic, not a fix: it is what lets resting parts settle) the
+// E = 2e9 tube stays within 0.002 units of the floor and the E = 2e8 one within 0.008, but the
+// rubber one still rises 0.07 and is still thrown off a 20° slope. Enable once the move out of the
+// floor no longer lifts it.
 TEST(Contact, DISABLED_ATubeLyingAlongTheFloorFromItsRootStaysOnIt) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2));
