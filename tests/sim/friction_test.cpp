@@ -356,7 +356,9 @@ TEST(ContactFriction, APartHeldOnAWorldFloorSleepsWhileTheBodyStandsStill) {
 // by the cone's angle φ = atan μ off n: F = P tan(θ − φ); on the slope the tip's drop is
 // D + x tan θ, so x = F/k = (S − D − x tan θ) tan(θ − φ), i.e.
 //     x = (S − D) τ / (1 + τ tan θ),  τ = tan(θ − φ)
-// (16.1 mm at μ = 0, 8.06 mm at μ = tan θ / 2).
+// (16.1 mm at μ = 0, 8.06 mm at μ = tan θ / 2). Red without the position hold (tried: the speeds'
+// friction alone lets the tip slide as on a frictionless slope, 16.0 mm at μ = 1.5 tan θ and at
+// μ = tan θ / 2, creeping 2.4e-3 units over the 2 s).
 constexpr double kSlope = 20 * std::numbers::pi / 180;  // tan θ = 0.364
 
 Collider slope_under_tip(const SweepDef& def, double theta) {
@@ -463,9 +465,11 @@ TEST(ContactFriction, ATipHeldOnASlopeSleepsAndWakesWhereItWas) {
   // Asleep, it is not stepped: not a bit moves.
   const std::vector<double>& asleep = run.poses[static_cast<std::size_t>(slept)];
   for (int k = slept; k < woke; ++k) ASSERT_EQ(run.poses[static_cast<std::size_t>(k)], asleep) << "frame " << k;
-  // Woken, the anchors it slept on hold it where it was: it moves by less than the sleep tolerance
-  // (kHeldDrift × length: what it was allowed to move by as it fell asleep), and ends where a
-  // part never put to sleep ends, to the same tolerance.
+  // Woken, the anchors it slept on hold it where it was: it moves by less than a tenth of the
+  // sleep tolerance (kHeldDrift × length; a tenth is what a part resting on a collider trembles
+  // by), and ends where a part never put to sleep ends, to the same bound. Measured 3.1e-8 and
+  // 6e-13 units against 3.1e-5; red if waking forgot the anchors (tried: the tip slips down the
+  // slope in its first step awake, 1.08e-4 units both).
   double jump = 0;
   for (std::size_t k = static_cast<std::size_t>(woke); k < run.poses.size(); ++k)
     jump = std::max(jump, farthest_apart(run.poses[k], asleep));
@@ -473,8 +477,8 @@ TEST(ContactFriction, ATipHeldOnASlopeSleepsAndWakesWhereItWas) {
   std::printf("sleep on the slope: asleep at frame %d, woken at %d, asleep again at %d; moved %.3g units once "
               "woken; %.3g units from a part never asleep at the end\n",
               slept, woke, slept_again, jump, apart);
-  EXPECT_LT(jump, kHeldDrift * length);
-  EXPECT_LT(apart, kHeldDrift * length);
+  EXPECT_LT(jump, 0.1 * kHeldDrift * length);
+  EXPECT_LT(apart, 0.1 * kHeldDrift * length);
 }
 
 // A tube pressed onto the floor by the body, dragged along it, then left still (held: its tip
