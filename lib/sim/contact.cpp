@@ -175,6 +175,11 @@ bool ContactSolver::may_reach(const SweepShape& shape, std::span<const PlacedCol
                               std::span<const PlacedCollider> to) const {
   Bound b = bound(shape);
   for (std::size_t c = 0; c < from.size() && c < to.size(); ++c) {
+    // One that has not moved against the part cannot come nearer than it was (a part asleep on
+    // the ground while the body stands still stays asleep).
+    if (from[c].to_mesh.center == to[c].to_mesh.center &&
+        from[c].to_mesh.rotation.coeffs() == to[c].to_mesh.rotation.coeffs())
+      continue;
     // Grown by how far any of its points may travel: its origin's move, and its turn (an angle)
     // times its size (a plane: times how far the part is from its point).
     Bound swept = b;

@@ -115,6 +115,7 @@ void Simulator::advance_frame() {
   // A body that jumps during this frame (a cut, a respawn) puts the parts to rest in the new place
   // rather than whipping them: no body loads this frame.
   teleporting_ = jumps(static_cast<double>(frame_) / scene_.fps, target);
+  teleport_to_ = target;
   if (teleporting_) {
     teleports_.push_back(frame_ + 1);
     for (SweepState& st : sweeps_) {
@@ -122,6 +123,12 @@ void Simulator::advance_frame() {
       st.view.reset();
       st.contact.forget_anchors();
       st.moved = true;
+      // It settles in the new place as a part does from its start: awake (a part asleep on the
+      // ground, reset to its unloaded rest, must sag and meet the ground there again), its sleep
+      // timer and held pose from nothing.
+      st.awake = st.driven;
+      st.quiet = 0;
+      st.held_at.clear();
     }
   }
   int busy = 0;
@@ -232,8 +239,9 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
         if (sw > cur && sw < next) next = sw;
       }
     }
+    // (A teleport's frame feels no body loads: its corners split nothing.)
     for (double kink : kinks_) {
-      if (kink > cur && kink < next) next = kink;
+      if (!teleporting_ && kink > cur && kink < next) next = kink;
     }
     // The corner of a linear body path is a kick (pieces start at switching times, so a corner
     // in [cur, next) is at cur).
@@ -278,7 +286,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
       set_body_motion(body, cur + 0.5 * (next - cur));
       const bool contacts = !scene_.colliders.empty();
       if (contacts) {
-        place_colliders(cur, s.placed);
+        place_colliders(teleporting_ ? teleport_to_ : cur, s.placed);
         s.contact.begin_step(body, s.placed);
       }
       // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
@@ -286,7 +294,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
       const bool whole = grid_step && cur == from && next == to;
       body.step(whole ? scene_.step_seconds() : next - cur);
       if (contacts) {
-        place_colliders(next, s.placed);
+        place_colliders(teleporting_ ? teleport_to_ : next, s.placed);
         if (s.contact.resolve(body, s.placed, next - cur) && !on_view) s.touched = true;
       }
       stepped = true;

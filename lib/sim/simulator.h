@@ -108,6 +108,9 @@ class Simulator {
   std::vector<SweepState> sweeps_;
   int frame_ = 0;
   bool teleporting_ = false;  // during a frame in which the body jumps: no body loads
+  // Its end: during it the colliders stand where they are then, so that a world collider does
+  // not sweep across the part (nor drag it by friction) as the body jumps past it.
+  double teleport_to_ = 0;
   std::vector<double> kinks_;  // times where a linear path's velocity jumps
   std::vector<std::size_t> kink_keys_;  // and their keys
   double teleport_distance_ = 0, teleport_angle_ = 0;

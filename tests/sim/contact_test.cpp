@@ -218,6 +218,46 @@ TEST(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
   EXPECT_EQ(sim.steps_taken(0), steps_when_asleep) << "asleep, it is not stepped";
 }
 
+// KNOWN BUG (found building the friction review's slope test, not fixed): a tube lying along a
+// floor from its root — the floor a thousandth of a unit below its rest surface, frictionless,
+// gravity not pre-loaded — must stay on it: a cantilever lying on the ground cannot rise above
+// its rest height (beyond the last contact only its weight loads it, which bends it down). It
+// rises instead, bent up along its whole length and held so: measured for E = 2e8, a centre
+// 1.15 units above its rest height within the first second, the tip +0.92 units (3% of the
+// length) at 1 s and still there at 2 s (the same with 1, 2 or 4 contact stations per span, and
+// with the floor 0.01 below: +0.60); +0.059 for E = 2e9; the rubber tube (E = 1e7) is flung up
+// 13 units within 0.4 s. A tube whose root clears the floor and whose tip alone rests on it (the
+// friction tests) is not affected. Most of the rise is the move's speed update in
+// ContactSolver::move_out (q̇ += Δq/dt, Δq shaped by the springs' compliance, not by the masses:
+// the velocity solve then zeroes the contacts' normal speeds, and what is left elsewhere lifts the
+// tube). Without that update (a diagnostic, not a fix: it is what lets resting parts settle) the
+// E = 2e9 tube stays within 0.002 units of the floor and the E = 2e8 one within 0.008, but the
+// rubber one still rises 0.07 and is still thrown off a 20° slope. Enable once the move out of the
+// floor no longer lifts it.
+TEST(Contact, DISABLED_ATubeLyingAlongTheFloorFromItsRootStaysOnIt) {
+  Rig rig;
+  rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2));
+  rig.sweeps[0].name = "tube";
+  for (Material& m : rig.sweeps[0].section_materials) m.youngs_modulus = 2e8;
+  rig.sweeps[0].material->youngs_modulus = 2e8;
+  Scene scene;
+  scene.duration = 1;
+  scene.fps = 30;
+  scene.gravity = Vec3(0, -9.81, 0);
+  scene.gravity_preloaded = false;
+  Collider floor = Collider::plane(Vec3(0, -test::beam::kRadius - 0.001, 0), Vec3(0, 1, 0));
+  floor.friction = 0;
+  scene.colliders = {floor};
+  Simulator sim(rig, scene);
+  double highest = -1e300;
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    sim.advance_frame();
+    for (const Frame& f : sim.sweep(0).deformed().frames) highest = std::max(highest, f.center.y());
+  }
+  // At rest height, to the contact's tolerance (1e-4 of the length, as the ground test's margin).
+  EXPECT_LE(highest, 1e-4 * rig.sweeps[0].rest.length());
+}
+
 // Undamped, kicked into a sphere: what the springs hold (kinetic and elastic, in joules in
 // material mode) never grows past the kick's energy, and the inelastic hit takes some of it (the
 // part's own ringing keeps most).
