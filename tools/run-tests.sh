@@ -4,7 +4,7 @@
 #      validator);
 #   2. builds the dev preset (warnings as errors) and runs every CTest test;
 #   3. builds the asan preset and runs every test again under AddressSanitizer + UBSan;
-#   4. runs each libFuzzer target a fixed number of times (SWEEP_FUZZ_RUNS, default 1000000; fixed
+#   4. runs each libFuzzer target a fixed number of times (SWEEP_FUZZ_RUNS, default 300000; fixed
 #      seed, so the same on every machine) on its committed corpus.
 # SWEEP_TESTS_QUICK=1 stops after step 2 (for a quick local check).
 set -euo pipefail
@@ -26,8 +26,8 @@ fi
 stage "the same suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 tools/run-sanitizers.sh
 
-stage "fuzzing every parser, ${SWEEP_FUZZ_RUNS:-1000000} runs each"
-tools/run-fuzz.sh --runs "${SWEEP_FUZZ_RUNS:-1000000}"
+stage "fuzzing every parser, ${SWEEP_FUZZ_RUNS:-300000} runs each"
+tools/run-fuzz.sh --runs "${SWEEP_FUZZ_RUNS:-300000}"
 
 stage "done"
 echo "stages (dev suite, sanitizer suite, fuzzing): 3 passed, 0 failed"

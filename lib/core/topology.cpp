@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include "core/error.h"
@@ -191,7 +192,24 @@ std::vector<std::vector<std::uint32_t>> hole_rims(const Topology& topology) {
       rim.push_back(at);
       at = edges[next].second;
     }
-    if (at == rim.front() && rim.size() >= 3) rims.push_back(std::move(rim));
+    if (at != rim.front()) continue;
+    // Two holes that touch at a vertex may chain into one figure-eight through it: each simple
+    // loop of the chain is a rim of its own (its patch must not fold over the surface between).
+    std::vector<std::uint32_t> loop;
+    std::unordered_map<std::uint32_t, std::size_t> place;  // vertex → index in `loop`
+    for (const std::uint32_t v : rim) {
+      const auto seen = place.find(v);
+      if (seen == place.end()) {
+        place.emplace(v, loop.size());
+        loop.push_back(v);
+        continue;
+      }
+      const std::size_t k = seen->second;
+      if (loop.size() - k >= 3) rims.emplace_back(loop.begin() + static_cast<std::ptrdiff_t>(k), loop.end());
+      for (std::size_t i = k + 1; i < loop.size(); ++i) place.erase(loop[i]);
+      loop.resize(k + 1);
+    }
+    if (loop.size() >= 3) rims.push_back(std::move(loop));
   }
   return rims;
 }

@@ -45,8 +45,9 @@ Topology build_topology(const Mesh& mesh);
 std::size_t hole_edge_count(const Topology& topology);
 
 // The rims of the mesh's holes: closed chains of those edges, each in the direction its triangles
-// run along it (a patch over the hole runs the other way), at least three vertices long. A rim
-// whose triangles disagree on their orientation does not chain and is left out.
+// run along it (a patch over the hole runs the other way), at least three vertices long, each
+// through a vertex once (two holes touching at a vertex are two rims). A rim whose triangles
+// disagree on their orientation does not chain and is left out.
 std::vector<std::vector<std::uint32_t>> hole_rims(const Topology& topology);
 
 // Adds `triangles` (three representatives each) to the topology: its triangles, neighbours and

@@ -48,8 +48,15 @@ std::vector<double> average_distance(const Mesh& mesh, const Topology& topology,
   const std::size_t n = mesh.vertex_count();
   std::vector<double> sum(n, 0.0), nearest(n, kInf);
   std::vector<int> count(n, 0);
-  // Start at the point farthest from vertex 0: an extremity, not the middle of the body.
+  // Start at the point farthest from the first vertex a face uses: an extremity, not the middle
+  // of the body.
   std::uint32_t source = topology.weld[0];
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (!topology.adjacency.of(v).empty()) {
+      source = v;
+      break;
+    }
+  }
   {
     const std::vector<double> d = surface_distances(mesh, topology, std::span(&source, 1));
     for (std::uint32_t v = 0; v < n; ++v) {

@@ -55,7 +55,8 @@ double percentile_90(std::vector<double> distances) {
 
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
                            const std::vector<std::uint32_t>& vertices,
-                           std::span<const std::uint32_t> patches) {
+                           std::span<const std::uint32_t> patches,
+                           std::span<const std::uint32_t> weld) {
   FitError e;
   // The sweep's tube, tessellated: stations along t, 2n angles around.
   const int k = shape.section_count();
@@ -121,11 +122,10 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
       part_faces.insert(part_faces.end(), {all[f], all[f + 1], all[f + 2]});
     }
   }
-  if (!patches.empty()) {
+  if (!patches.empty() && weld.size() == mesh.vertex_count()) {
     // (Over representatives: a part vertex welded to another stands for it.)
     std::vector<char> rep_in_part(mesh.vertex_count(), 0);
-    const Topology seams = build_topology(mesh);
-    for (const std::uint32_t v : vertices) rep_in_part[seams.weld[v]] = 1;
+    for (const std::uint32_t v : vertices) rep_in_part[weld[v]] = 1;
     for (std::size_t f = 0; f + 2 < patches.size(); f += 3) {
       if (rep_in_part[patches[f]] || rep_in_part[patches[f + 1]] || rep_in_part[patches[f + 2]])
         part_faces.insert(part_faces.end(), {patches[f], patches[f + 1], patches[f + 2]});
@@ -189,10 +189,12 @@ struct SweepFitter::Impl {
   explicit Impl(const Mesh& mesh)
       : topology(build_topology(mesh)),
         patched(fit::patched_topology(mesh, topology)),
-        slicer(mesh.positions, patched.triangles),
-        surface(mesh.positions, patched.triangles) {}
+        slicer(mesh.positions, traced().triangles),
+        surface(mesh.positions, traced().triangles) {}
+  // What the distances, rings and slices run over: patched where the mesh has holes.
+  const Topology& traced() const { return patched ? *patched : topology; }
   Topology topology;  // the mesh's own: the part is walked over it (select_sweep_part)
-  Topology patched;   // before the slicer and the surface, which are over its welded triangles
+  std::optional<Topology> patched;  // before the slicer and the surface, which are over its triangles
   MeshSlicer slicer;
   TriangleDistance surface;  // the whole mesh: seeds off the surface, the axis' end inside it
   double diagonal = 0;
@@ -220,7 +222,7 @@ const Topology& SweepFitter::topology() const {
   return impl_->topology;
 }
 const Topology& SweepFitter::patched_topology() const {
-  return impl_->patched;
+  return impl_->traced();
 }
 double SweepFitter::diagonal() const {
   return impl_->diagonal;
@@ -256,7 +258,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   const auto start = std::chrono::steady_clock::now();
   validate(o);
   const Mesh& mesh = mesh_;
-  const Topology& topo = impl_->patched;  // the walks that trace; the part uses the mesh's own
+  const Topology& topo = impl_->traced();  // the walks that trace; the part uses the mesh's own
 
   FitResult r;
   r.sweep.name = o.name;
@@ -492,7 +494,8 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     if (o.measure_error || o.tolerance > 0) {
       r.error = measure_fit_error(
           r.sweep.rest, mesh, r.part_vertices,
-          std::span(impl_->patched.triangles).subspan(impl_->topology.triangles.size()));
+          std::span(impl_->traced().triangles).subspan(impl_->topology.triangles.size()),
+          impl_->topology.weld);
     }
   };
   if (o.tolerance > 0) {

@@ -222,10 +222,11 @@ int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32
 
 // Distances between the given part vertices and the sweep's surface, both ways (see FitError).
 // The way back measures to the part's faces, and to `patches` (triangles over representatives:
-// fit/hole_patches.h) touching the part: over a hole, the patch is the surface's best stand-in,
-// and without it a sample there is the hole's radius from the nearest face.
+// fit/hole_patches.h, `weld` the topology's) touching the part: over a hole, the patch is the
+// surface's best stand-in, and without it a sample there is the hole's radius from any face.
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
                            const std::vector<std::uint32_t>& vertices,
-                           std::span<const std::uint32_t> patches = {});
+                           std::span<const std::uint32_t> patches = {},
+                           std::span<const std::uint32_t> weld = {});
 
 }  // namespace sweep::fit

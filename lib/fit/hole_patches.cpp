@@ -25,15 +25,21 @@ std::vector<std::uint32_t> hole_patches(const Mesh& mesh, const Topology& topolo
   if (rims.empty()) return out;
   QuietFpEnvironment quiet;  // CGAL's interval arithmetic raises FP flags by design (slicer.h)
   // A rim's triangulation knows nothing of the surface around it: a diagonal may be an edge the
-  // mesh (or an earlier patch, where two holes touch) already has. A triangle that would give an
-  // edge a third triangle is left out, a gap of a triangle in the patch.
-  std::unordered_map<std::uint64_t, int> edge_uses;
+  // mesh (or an earlier patch) already has between two rim vertices. A patch that would give such
+  // an edge a third triangle is left out whole: the hole stays open rather than half closed.
+  std::vector<char> on_rim(mesh.vertex_count(), 0);
+  for (const std::vector<std::uint32_t>& rim : rims) {
+    for (const std::uint32_t v : rim) on_rim[v] = 1;
+  }
   const auto edge = [](std::uint32_t a, std::uint32_t b) {
     return std::uint64_t{std::min(a, b)} << 32 | std::max(a, b);
   };
+  std::unordered_map<std::uint64_t, int> edge_uses;  // edges between rim vertices (looked up only)
   for (std::size_t t = 0; t + 2 < topology.triangles.size(); t += 3) {
-    for (std::size_t k = 0; k < 3; ++k)
-      ++edge_uses[edge(topology.triangles[t + k], topology.triangles[t + (k + 1) % 3])];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t a = topology.triangles[t + k], b = topology.triangles[t + (k + 1) % 3];
+      if (on_rim[a] && on_rim[b]) ++edge_uses[edge(a, b)];
+    }
   }
   Vec3 lo = mesh.positions[0], hi = lo;
   for (const Vec3& p : mesh.positions) {
@@ -56,7 +62,13 @@ std::vector<std::uint32_t> hole_patches(const Mesh& mesh, const Topology& topolo
       polyline.emplace_back(p.x(), p.y(), p.z());
     }
     std::vector<CGAL::Triple<int, int, int>> patch;
-    CGAL::Polygon_mesh_processing::triangulate_hole_polyline(polyline, std::back_inserter(patch));
+    try {
+      CGAL::Polygon_mesh_processing::triangulate_hole_polyline(polyline, std::back_inserter(patch));
+    } catch (const std::exception&) {  // a CGAL precondition (Debug builds): this hole stays open
+      continue;
+    }
+    std::vector<std::uint32_t> triangles;
+    std::vector<std::uint64_t> edges;
     for (const CGAL::Triple<int, int, int>& tri : patch) {
       // A triangle of a polygon's triangulation taken in increasing rim order runs the way the
       // rim does (either side of a diagonal meets it once each way), as the rim's own triangles
@@ -66,18 +78,28 @@ std::vector<std::uint32_t> hole_patches(const Mesh& mesh, const Topology& topolo
       const std::array<std::uint32_t, 3> t{rim[static_cast<std::size_t>(k[2])],
                                            rim[static_cast<std::size_t>(k[1])],
                                            rim[static_cast<std::size_t>(k[0])]};
-      const std::uint64_t e[3] = {edge(t[0], t[1]), edge(t[1], t[2]), edge(t[2], t[0])};
-      if (edge_uses[e[0]] >= 2 || edge_uses[e[1]] >= 2 || edge_uses[e[2]] >= 2) continue;
-      for (const std::uint64_t x : e) ++edge_uses[x];
-      out.insert(out.end(), t.begin(), t.end());
+      triangles.insert(triangles.end(), t.begin(), t.end());
+      edges.insert(edges.end(), {edge(t[0], t[1]), edge(t[1], t[2]), edge(t[2], t[0])});
     }
+    std::unordered_map<std::uint64_t, int> uses;  // this patch's
+    for (const std::uint64_t e : edges) ++uses[e];
+    const bool fits = patch.size() == rim.size() - 2 &&
+                      std::all_of(edges.begin(), edges.end(), [&](std::uint64_t e) {
+                        const auto before = edge_uses.find(e);
+                        return (before == edge_uses.end() ? 0 : before->second) + uses[e] <= 2;
+                      });
+    if (!fits) continue;
+    for (const std::uint64_t e : edges) ++edge_uses[e];
+    out.insert(out.end(), triangles.begin(), triangles.end());
   }
   return out;
 }
 
-Topology patched_topology(const Mesh& mesh, const Topology& topology) {
+std::optional<Topology> patched_topology(const Mesh& mesh, const Topology& topology) {
+  const std::vector<std::uint32_t> patches = hole_patches(mesh, topology);
+  if (patches.empty()) return std::nullopt;
   Topology patched = topology;
-  add_triangles(patched, hole_patches(mesh, topology));
+  add_triangles(patched, patches);
   return patched;
 }
 

@@ -3,8 +3,10 @@
 // (no part: rings that enclose nothing are no tube).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -107,6 +109,9 @@ TEST(Discover, AnOpenSheetCutFromATubeHasNoParts) {
   const Mesh trough = without(tube, [](const Vec3& c) { return c.y() > 0.3 * kR || c.z() < 0; });
   ASSERT_GT(hole_edge_count(build_topology(trough)), 0u);
   EXPECT_TRUE(fit::find_parts(trough, build_topology(trough)).empty());
+  // sweep-fit searches the patched surface: its rim, as long as the mesh, is an open side, not a
+  // gap in a part, and stays open.
+  EXPECT_FALSE(fit::patched_topology(trough, build_topology(trough)).has_value());
 }
 
 // A body with a tube of 12r, and a hole about a radius across in the tube's side halfway along:
@@ -137,7 +142,9 @@ TEST(HolePatches, AHoleIsClosedOverItsRimsOwnVerticesKeepingTheOrientation) {
     EXPECT_GT(p.x(), 0);
     EXPECT_LT(std::abs(p.z() - HoledTube::kHoleAt), kR);
   }
-  const Topology patched = fit::patched_topology(t.holed, topology);
+  const std::optional<Topology> patched_or_none = fit::patched_topology(t.holed, topology);
+  ASSERT_TRUE(patched_or_none.has_value());
+  const Topology& patched = *patched_or_none;
   EXPECT_EQ(hole_edge_count(patched), 0u);
   EXPECT_EQ(patched.triangles.size() - topology.triangles.size(), 3 * (rims[0].size() - 2))
       << "a disc over the rim: two triangles fewer than its vertices";
@@ -151,11 +158,58 @@ TEST(HolePatches, AHoleIsClosedOverItsRimsOwnVerticesKeepingTheOrientation) {
     }
   }
   for (const auto& [a, b] : runs) EXPECT_TRUE(runs.count({b, a})) << a << " -> " << b << " alone";
-  // The rows follow the triangles: each rim vertex now neighbours vertices across the hole.
-  for (const std::uint32_t v : rims[0]) {
-    EXPECT_GE(patched.adjacency.of(v).size(), topology.adjacency.of(v).size());
-  }
+  // The rows follow the triangles: rim vertices now neighbour vertices across the hole.
+  std::size_t gained = 0;
+  for (const std::uint32_t v : rims[0])
+    gained += patched.adjacency.of(v).size() - topology.adjacency.of(v).size();
+  EXPECT_EQ(gained, 2 * (rims[0].size() - 3)) << "each of the patch's diagonals, both ways";
   EXPECT_EQ(patched.vertex_triangles.neighbours.size(), patched.triangles.size());
+}
+
+TEST(HolePatches, TwoHolesTouchingAtAVertexAreTwoRimsEachPatched) {
+  // Two triangles of the fan around one vertex that share nothing else, taken out: two holes
+  // meeting at that vertex, whose rim edges chain into one figure-eight through it (its patch
+  // folded over the surface between them, found in review).
+  const Mesh whole = HoledTube().whole;
+  const std::vector<std::uint32_t> tris = whole.triangles();
+  const std::uint32_t v = tris[3 * (tris.size() / 6)];  // a vertex halfway through the faces
+  std::vector<std::size_t> fan;
+  for (std::size_t f = 0; f + 2 < tris.size(); f += 3) {
+    if (tris[f] == v || tris[f + 1] == v || tris[f + 2] == v) fan.push_back(f);
+  }
+  const auto shared = [&](std::size_t f, std::size_t g) {
+    int n = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) n += tris[f + i] == tris[g + j];
+    return n;
+  };
+  // Every such pair (the walk along the rims picks its way at the shared vertex by index, so
+  // some pairs chained into one figure-eight and some did not).
+  int pairs = 0;
+  for (std::size_t i = 0; i < fan.size(); ++i) {
+    for (std::size_t j = i + 1; j < fan.size(); ++j) {
+      if (shared(fan[i], fan[j]) != 1) continue;
+      ++pairs;
+      Mesh holed;
+      holed.positions = whole.positions;
+      for (std::size_t f = 0; f + 2 < tris.size(); f += 3) {
+        if (f != fan[i] && f != fan[j]) holed.add_face({tris[f], tris[f + 1], tris[f + 2]});
+      }
+      const Topology topology = build_topology(holed);
+      ASSERT_EQ(hole_edge_count(topology), 6u);
+      const std::vector<std::vector<std::uint32_t>> rims = hole_rims(topology);
+      ASSERT_EQ(rims.size(), 2u) << "fan triangles " << i << " and " << j;
+      for (const std::vector<std::uint32_t>& rim : rims) {
+        EXPECT_EQ(rim.size(), 3u);
+        EXPECT_EQ(std::count(rim.begin(), rim.end(), v), 1);
+      }
+      const std::optional<Topology> patched = fit::patched_topology(holed, topology);
+      ASSERT_TRUE(patched.has_value());
+      EXPECT_EQ(hole_edge_count(*patched), 0u);
+      EXPECT_EQ(patched->triangles.size(), tris.size()) << "each hole closed by its own triangle";
+    }
+  }
+  EXPECT_GE(pairs, 3);
 }
 
 TEST(HolePatches, AClosedMeshIsLeftAsItWas) {
@@ -163,6 +217,7 @@ TEST(HolePatches, AClosedMeshIsLeftAsItWas) {
   const Topology topology = build_topology(t.whole);
   EXPECT_TRUE(hole_rims(topology).empty());
   EXPECT_TRUE(fit::hole_patches(t.whole, topology).empty());
+  EXPECT_FALSE(fit::patched_topology(t.whole, topology).has_value());
 }
 
 TEST(HolePatches, AHoleInTheTubeNeitherHidesNorShortensThePart) {
@@ -170,7 +225,7 @@ TEST(HolePatches, AHoleInTheTubeNeitherHidesNorShortensThePart) {
   const std::vector<fit::FoundPart> whole = fit::find_parts(t.whole, build_topology(t.whole));
   const Topology topology = build_topology(t.holed);
   const std::vector<fit::FoundPart> patched =
-      fit::find_parts(t.holed, fit::patched_topology(t.holed, topology));
+      fit::find_parts(t.holed, fit::patched_topology(t.holed, topology).value());
   ASSERT_EQ(whole.size(), 1u);
   ASSERT_EQ(patched.size(), 1u);
   EXPECT_EQ(patched[0].tip_vertex, whole[0].tip_vertex);
@@ -208,6 +263,21 @@ TEST(Discover, VerticesNoFaceUsesTakeNoSourceOfTheAverage) {
   ASSERT_EQ(parts.size(), 1u);
   EXPECT_EQ(parts[0].tip_vertex, whole[0].tip_vertex);
   EXPECT_NEAR(parts[0].root.z(), whole[0].root.z(), 1e-9);
+  // Nor is a loose vertex 0 where the sampling starts (two samples: the first must be the far end
+  // of the part, as without it).
+  Mesh first;
+  first.positions.push_back(Vec3(5, 0, 0));
+  first.positions.insert(first.positions.end(), t.whole.positions.begin(), t.whole.positions.end());
+  const std::vector<std::uint32_t> tris = t.whole.triangles();
+  for (std::size_t f = 0; f + 2 < tris.size(); f += 3)
+    first.add_face({tris[f] + 1, tris[f + 1] + 1, tris[f + 2] + 1});
+  fit::DiscoverOptions two;
+  two.samples = 2;
+  const std::vector<fit::FoundPart> a = fit::find_parts(t.whole, build_topology(t.whole), two);
+  const std::vector<fit::FoundPart> b = fit::find_parts(first, build_topology(first), two);
+  ASSERT_EQ(a.size(), 1u);
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_EQ(b[0].tip_vertex, a[0].tip_vertex + 1);
 }
 
 }  // namespace

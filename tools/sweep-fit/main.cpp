@@ -372,7 +372,7 @@ int run_all(const Settings& s) {
     if (parts.empty()) {
       fail(ErrorCategory::bad_input,
            s.mesh.string() + ": " +
-               sweep::fit_tool::no_parts_found(sweep::hole_edge_count(fitter.topology())));
+               sweep::fit_tool::no_parts_found(sweep::hole_edge_count(fitter.patched_topology())));
     }
     if (!names.empty() && names.size() != parts.size()) {
       fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) +
@@ -413,10 +413,12 @@ int run_list(const Settings& s) {
   const sweep::Mesh mesh = read_checked_mesh(s).read.mesh;
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   const sweep::Topology topology = sweep::build_topology(mesh);
+  const std::optional<sweep::Topology> patched = sweep::fit::patched_topology(mesh, topology);
+  const sweep::Topology& searched = patched ? *patched : topology;
   std::vector<std::string> passed_over;
-  const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(
-      mesh, sweep::fit::patched_topology(mesh, topology), {}, s.verbose ? &passed_over : nullptr);
-  sweep::fit_tool::print_parts(parts, sweep::hole_edge_count(topology));
+  const std::vector<sweep::fit::FoundPart> parts =
+      sweep::fit::find_parts(mesh, searched, {}, s.verbose ? &passed_over : nullptr);
+  sweep::fit_tool::print_parts(parts, sweep::hole_edge_count(searched));
   for (const std::string& x : passed_over) std::cout << "  passed over " << x << "\n";
   if (!s.report.empty())
     sweep::fit_tool::write_parts_report(s.report, s.mesh, parts, seconds_since(start));

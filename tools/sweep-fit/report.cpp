@@ -262,10 +262,11 @@ std::string no_parts_found(std::size_t hole_edges) {
   std::string m = "no tubular parts found";
   if (hole_edges > 0) {
     m += " (the mesh is open: " + std::to_string(hole_edges) +
-         " edges rim its holes; the search patches a hole of up to " +
-         std::to_string(fit::kMaxTriangulatedRim) +
-         " edges round, but a ring of surface distance that runs into a larger one measures no "
-         "tube, so such holes can hide a part; fill them first)";
+         " edges rim holes the search left open — it patches a hole of up to " +
+         std::to_string(fit::kMaxTriangulatedRim) + " edges round and " +
+         format_percent(fit::kMaxPatchedHoleShare) +
+         " of the mesh's size across — and a ring of surface distance that runs into one measures "
+         "no tube, so such holes can hide a part; fill them first)";
   }
   return m;
 }

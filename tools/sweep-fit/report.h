@@ -51,7 +51,8 @@ void write_parts_report(const std::filesystem::path& report, const std::filesyst
 // A fit's summary for a person: sections, root, part, error (and the axis with `verbose`).
 void print_fit(const fit::FitResult& r, bool verbose);
 
-// "no tubular parts found", with why when the mesh is open (`hole_edges`: hole_edge_count).
+// "no tubular parts found", with why when the mesh is open (`hole_edges`: hole_edge_count of the
+// patched topology, the holes the search left open).
 std::string no_parts_found(std::size_t hole_edges);
 
 // The parts found, as a table (or no_parts_found).
