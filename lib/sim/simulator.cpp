@@ -63,6 +63,32 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   for (const SweepDef& def : rig.sweeps) longest = std::max(longest, def.rest.length());
   teleport_distance_ = scene.teleport_distance > 0 ? scene.teleport_distance : longest;
   teleport_angle_ = scene.teleport_angle > 0 ? scene.teleport_angle : 0.5 * 3.141592653589793;
+  if (scene.teleport_enabled && scene.body.moves() && scene.fps > 0) {
+    const std::vector<BodyKey>& keys = scene.body.keys();
+    for (std::size_t k = 0; k + 1 < keys.size(); ++k) {
+      const double a = keys[k].time, b = keys[k + 1].time;
+      // The most the piece moves within a frame's time (at its mean rate: exact for linear pieces).
+      const double share = std::min(1.0, 1.0 / (scene.fps * (b - a)));
+      const BodyState from = scene.body.at(a), to = scene.body.at(b);
+      if (share * (to.translation - from.translation).norm() <= teleport_distance_ &&
+          share * from.rotation.angularDistance(to.rotation) <= teleport_angle_)
+        continue;
+      if (!cuts_.empty() && cuts_.back().second == a) {
+        cuts_.back().second = b;
+      } else {
+        cuts_.emplace_back(a, b);
+      }
+    }
+  }
+}
+
+bool Simulator::body_loads(double from, double to) const {
+  if (in_teleport(from) || in_teleport(to) || in_teleport(from, to)) {
+    // Only what lies after the span, its last key left out.
+    if (to <= teleport_to_) return false;
+    from = std::nextafter(teleport_to_, std::numeric_limits<double>::infinity());
+  }
+  return scene_.body.loads_between(from, to);
 }
 
 bool Simulator::jumps(double from, double to) const {
@@ -72,14 +98,14 @@ bool Simulator::jumps(double from, double to) const {
          a.rotation.angularDistance(b.rotation) > teleport_angle_;
 }
 
-void Simulator::set_body_motion(ElasticSweep& sweep, double mid) const {
+void Simulator::set_body_motion(ElasticSweep& sweep, double mid, bool teleporting) const {
   const bool windy = scene_.wind.settings().any();
   if (!scene_.body.moves() && !windy) return;  // a body at rest: gravity, if any, was set once
   ElasticSweep::BodyMotion m;
   const BodyState b = scene_.body.at(mid);
   const Quat to_body = b.rotation.conjugate();
   m.gravity = to_body * scene_.gravity;
-  if (!teleporting_) {
+  if (!teleporting) {
     m.acceleration = b.acceleration;
     m.angular_velocity = b.angular_velocity;
     m.angular_acceleration = b.angular_acceleration;
@@ -112,11 +138,33 @@ void Simulator::advance_frame() {
   const double grid_time = static_cast<double>(n) * h;
   const double partial = target - grid_time > kOnGridTolerance * h ? target - grid_time : 0.0;
 
-  // A body that jumps during this frame (a cut, a respawn) puts the parts to rest in the new place
-  // rather than whipping them: no body loads this frame.
-  teleporting_ = jumps(static_cast<double>(frame_) / scene_.fps, target);
-  teleport_to_ = target;
-  if (teleporting_) {
+  // A body that jumps during this frame (a cut, a respawn) puts the parts to rest in the new place,
+  // at this frame's start, rather than whipping them: no body loads until the jump's end, even
+  // when that end (or an internal step that crosses the jump) falls in a later frame. A cut of
+  // the path this frame reaches is the jump; else one found between the frame's ends alone
+  // (several pieces together, a cubic path's swing) lasts the frame.
+  const double start = static_cast<double>(frame_) / scene_.fps;
+  double cut_from = std::numeric_limits<double>::infinity(), cut_to = -cut_from;
+  for (const auto& [a, b] : cuts_) {
+    if (a < target && b > start) cut_from = std::min(cut_from, a), cut_to = std::max(cut_to, b);
+  }
+  // Still inside the last teleport (a cut longer than a frame): the parts were put to rest already.
+  const bool going_on = teleported_ && start < teleport_to_;
+  bool reset = false;
+  if (cut_to > cut_from) {
+    if (going_on && cut_from < teleport_to_) {
+      teleport_to_ = std::max(teleport_to_, cut_to);
+    } else {
+      reset = true;
+      teleport_to_ = cut_to;
+    }
+  } else if (!going_on && jumps(start, target)) {
+    reset = true;
+    teleport_to_ = target;
+  }
+  if (reset) {
+    teleported_ = true;
+    teleport_from_ = start;
     teleports_.push_back(frame_ + 1);
     for (SweepState& st : sweeps_) {
       st.body.reset();
@@ -212,7 +260,7 @@ bool Simulator::has_work(int i, double from, double to) const {
   const SweepState& st = sweeps_[i];
   if (!st.driven) return false;
   if (st.awake) return true;
-  if (!teleporting_ && scene_.body.loads_between(from, to)) return true;
+  if (body_loads(from, to)) return true;
   if (collider_comes(i, from, to)) return true;
   for (std::size_t f : st.forces) {
     const SceneForce& force = scene_.forces[f];
@@ -239,15 +287,17 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
         if (sw > cur && sw < next) next = sw;
       }
     }
-    // (A teleport's frame feels no body loads: its corners split nothing.)
+    // (A teleport feels no body loads: the corners inside it split nothing.)
     for (double kink : kinks_) {
-      if (!teleporting_ && kink > cur && kink < next) next = kink;
+      if (kink > cur && kink < next && !in_teleport(kink)) next = kink;
     }
+    const bool teleporting = in_teleport(cur, next);
     // The corner of a linear body path is a kick (pieces start at switching times, so a corner
-    // in [cur, next) is at cur).
-    if (!teleporting_) {
+    // in [cur, next) is at cur); none inside a teleport, ends included (the part is at rest in
+    // the new place as at a scene's start, where the body's motion gives no kick either).
+    if (!teleporting) {
       for (std::size_t k = 0; k < kinks_.size(); ++k) {
-        if (kinks_[k] >= cur && kinks_[k] < next) {
+        if (kinks_[k] >= cur && kinks_[k] < next && !in_teleport(kinks_[k])) {
           Vec3 dv, dw;
           scene_.body.jump_at(kink_keys_[k], dv, dw);
           body.apply_body_kick(dv, dw);
@@ -278,15 +328,15 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
         ids[k] = 0;
       }
     }
-    if (!awake && !teleporting_ && (scene_.body.loads_between(cur, next) || collider_comes(i, cur, next))) {
+    if (!awake && !teleporting && (body_loads(cur, next) || collider_comes(i, cur, next))) {
       awake = true;
       if (!on_view) s.quiet = 0;
     }
     if (awake) {
-      set_body_motion(body, cur + 0.5 * (next - cur));
+      set_body_motion(body, cur + 0.5 * (next - cur), teleporting);
       const bool contacts = !scene_.colliders.empty();
       if (contacts) {
-        place_colliders(teleporting_ ? teleport_to_ : cur, s.placed);
+        place_colliders(teleporting ? std::max(cur, teleport_to_) : cur, s.placed);
         s.contact.begin_step(body, s.placed);
       }
       // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
@@ -294,7 +344,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
       const bool whole = grid_step && cur == from && next == to;
       body.step(whole ? scene_.step_seconds() : next - cur);
       if (contacts) {
-        place_colliders(teleporting_ ? teleport_to_ : next, s.placed);
+        place_colliders(teleporting ? std::max(next, teleport_to_) : next, s.placed);
         if (s.contact.resolve(body, s.placed, next - cur) && !on_view) s.touched = true;
       }
       stepped = true;
@@ -309,7 +359,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
   if (!grid_step) return;
   ++s.steps;
   if (!sleep_.enabled || body.force_count() > 0 || s.windy) return;
-  if (!teleporting_ && scene_.body.loads_between(from, to)) return;
+  if (body_loads(from, to)) return;
   bool quiet = body.max_speed() < sleep_.speed && body.max_displacement() < sleep_.displacement;
   if (s.touched) {
     // A part held by a collider rests away from its rest pose, and each step its springs take up

@@ -17,6 +17,7 @@
 // Sweeps never interact, so a frame steps them side by side on the threads (OpenMP) when more
 // than one has work; results do not depend on the thread count.
 #include <exception>
+#include <utility>
 #include <vector>
 
 #include "core/elastic_sweep.h"
@@ -99,7 +100,7 @@ class Simulator {
   void check_finite(const ElasticSweep& body, double t) const;
 
   // The body's loads on sweep i over a piece centred on `mid` (inertia, turning gravity).
-  void set_body_motion(ElasticSweep& sweep, double mid) const;
+  void set_body_motion(ElasticSweep& sweep, double mid, bool teleporting) const;
   // Whether the body jumps between the two times (cut, respawn): see Scene::teleport_distance.
   bool jumps(double from, double to) const;
 
@@ -107,10 +108,28 @@ class Simulator {
   SleepSettings sleep_;
   std::vector<SweepState> sweeps_;
   int frame_ = 0;
-  bool teleporting_ = false;  // during a frame in which the body jumps: no body loads
-  // Its end: during it the colliders stand where they are then, so that a world collider does
-  // not sweep across the part (nor drag it by friction) as the body jumps past it.
-  double teleport_to_ = 0;
+  // The last teleport, a span of time [teleport_from_, teleport_to_]: from the start of the first
+  // frame the jump reaches (where the parts were put to rest) to the end of the jump (the path's
+  // cut, or that frame's end when the jump is not one piece of the path). Every internal step or
+  // piece of one that overlaps it, whichever frame it falls in, feels no body loads and sees the
+  // colliders where they stand at its end (so that a world collider does not sweep across the
+  // part, nor drag it by friction, as the body jumps past it); no corner of the path inside it,
+  // ends included, kicks the part or splits a step.
+  bool teleported_ = false;
+  double teleport_from_ = 0, teleport_to_ = 0;
+  // The cuts of the path: pieces (merged when they touch) that move farther than the teleport
+  // distance, or turn more than its angle, within a frame's time. Known from the path, they are
+  // found wherever the frames fall (a cut split over two frames, each half under the distance).
+  std::vector<std::pair<double, double>> cuts_;
+  // Whether [from, to] overlaps the teleport's span (not just touches it).
+  bool in_teleport(double from, double to) const {
+    return teleported_ && from < teleport_to_ && to > teleport_from_;
+  }
+  // Whether time t lies in the teleport's span, ends included.
+  bool in_teleport(double t) const { return teleported_ && t >= teleport_from_ && t <= teleport_to_; }
+  // Whether the body loads the parts during [from, to] outside the teleport's span (its keys,
+  // both ends of the cut included, are not loads: the part is at rest in the new place).
+  bool body_loads(double from, double to) const;
   std::vector<double> kinks_;  // times where a linear path's velocity jumps
   std::vector<std::size_t> kink_keys_;  // and their keys
   double teleport_distance_ = 0, teleport_angle_ = 0;

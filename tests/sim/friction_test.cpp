@@ -307,6 +307,91 @@ TEST(ContactFriction, ATeleportForgetsTheAnchorsAndThePartSettlesAsIfItStartedTh
   EXPECT_LE(worst, 1e-9 * rig.sweeps[0].rest.length());
 }
 
+// A cut whose keys do not both fall inside the frame that starts it (the review's scenes): the
+// tube sags onto the tip floor from the start and rests there, the body still, then is cut 40
+// units on along it by two keys [t1, t2]; it must then move as the same scene started there, from
+// the start of the first frame the cut reaches (frame by frame over 1.5 s, to 1e-9 of the length,
+// as above). The teleport is the cut's span of the path, not that frame: a step or corner of the
+// next frame that still touches the span is inside the teleport too.
+double cut_off_a_fresh_start(double fps, double step, double t1, double t2, std::vector<int>* teleports) {
+  Rig rig;
+  rig.sweeps.push_back(stiff_tube());
+  Collider floor = tip_floor(rig.sweeps[0], 0.02);
+  floor.friction = 0.5;
+  const Vec3 there(40, 0, 0);  // > 31, the tube's length
+  constexpr double kAfter = 1.5;
+  const double reset = std::floor(t1 * fps * (1 + 1e-12)) / fps;  // the start of t1's frame
+  const auto run = [&](const BodyPath& path, double duration, std::vector<int>* tp) {
+    Scene scene;
+    scene.duration = duration;
+    scene.fps = fps;
+    scene.step = step;
+    scene.gravity = Vec3(0, -kG, 0);
+    scene.gravity_preloaded = false;
+    scene.body = path;
+    scene.colliders = {floor};
+    Simulator sim(rig, scene);
+    std::vector<std::vector<double>> out{centres(sim.sweep(0))};
+    for (int k = 1; k < scene.frame_count(); ++k) {
+      sim.advance_frame();
+      out.push_back(centres(sim.sweep(0)));
+    }
+    if (tp != nullptr) *tp = sim.teleports();
+    return out;
+  };
+  const auto cut = run(BodyPath({{0, Vec3::Zero(), Quat::Identity()},
+                                 {t1, Vec3::Zero(), Quat::Identity()},
+                                 {t2, there, Quat::Identity()},
+                                 {100, there, Quat::Identity()}},
+                                BodyInterpolation::linear),
+                       reset + kAfter, teleports);
+  const auto fresh = run(BodyPath({{0, there, Quat::Identity()}, {100, there, Quat::Identity()}},
+                                  BodyInterpolation::linear),
+                         kAfter, nullptr);
+  const std::size_t at = static_cast<std::size_t>(std::lround(reset * fps));
+  double worst = 0;
+  for (std::size_t k = 1; k < fresh.size() && at + k < cut.size(); ++k)
+    worst = std::max(worst, farthest_apart(cut[at + k], fresh[k]));
+  std::printf("cut %.6f..%.6f at %g fps, step %g: off a fresh start at %.6f by at most %.3g units\n", t1, t2, fps,
+              step, reset, worst);
+  return worst;
+}
+
+// (a) The cut keyed on frame boundaries, 2.0 .. 2.0 + 1/30 at 30 fps: its end (a corner of the
+// path) is the next frame's first instant. Red before the teleport was the cut's span: that
+// corner kicked the freshly reset part by the jump's −40·30 units/s, 25.15 units off.
+TEST(ContactFriction, ACutKeyedOnFrameBoundariesDoesNotKickThePartAtItsEnd) {
+  const double length = test::beam::tube(kRadius, kRadius, 0.5).rest.length();
+  std::vector<int> teleports;
+  const double worst = cut_off_a_fresh_start(30, 0, 2.0, 2.0 + 1.0 / 30, &teleports);
+  EXPECT_EQ(teleports, std::vector<int>{61});
+  EXPECT_LE(worst, 1e-9 * length);
+}
+
+// (b) The cut inside a frame's partial step, 2.0397 .. 2.0399 at 25 fps on a 1/480 s grid (the
+// frame's last grid step ends at 2.03958): the grid step that crosses the jump is the next frame's
+// first. Red before the teleport was the cut's span: that step had the body's loads and swept the
+// floor along the jump, 42.75 units off.
+TEST(ContactFriction, ACutInsideAFramesPartialStepIsATeleportInTheNextFramesStepToo) {
+  const double length = test::beam::tube(kRadius, kRadius, 0.5).rest.length();
+  std::vector<int> teleports;
+  const double worst = cut_off_a_fresh_start(25, 1.0 / 480, 2.0397, 2.0399, &teleports);
+  EXPECT_EQ(teleports, std::vector<int>{51});
+  EXPECT_LE(worst, 1e-9 * length);
+}
+
+// (c) A cut split over two frames, each half under the teleport distance: 40 units in one
+// frame's time, 2.02 .. 2.02 + 1/30 at 30 fps, moves 16 units in frame 61 and 24 in frame 62 (the
+// tube 31 long). A cut is a piece of the path that moves farther than the teleport distance within
+// a frame's time, wherever the frames fall: the parts are put to rest at the start of frame 61.
+TEST(ContactFriction, ACutSplitOverTwoFramesIsStillATeleport) {
+  const double length = test::beam::tube(kRadius, kRadius, 0.5).rest.length();
+  std::vector<int> teleports;
+  const double worst = cut_off_a_fresh_start(30, 0, 2.02, 2.02 + 1.0 / 30, &teleports);
+  EXPECT_EQ(teleports, std::vector<int>{61});
+  EXPECT_LE(worst, 1e-9 * length);
+}
+
 // The body drags the root and stops: the tip stuck on the (world) floor, the tube bent behind it,
 // the part must fall asleep while the body stands still. Red before ContactSolver::may_reach let
 // a collider that has not moved against the part be: a part resting on a world collider was woken
