@@ -34,7 +34,7 @@ std::vector<std::uint32_t> hole_patches(const Mesh& mesh, const Topology& topolo
   const auto edge = [](std::uint32_t a, std::uint32_t b) {
     return std::uint64_t{std::min(a, b)} << 32 | std::max(a, b);
   };
-  std::unordered_map<std::uint64_t, int> edge_uses;  // edges between rim vertices (looked up only)
+  std::unordered_map<std::uint64_t, int> edge_uses;  // edges between rim vertices (never iterated)
   for (std::size_t t = 0; t + 2 < topology.triangles.size(); t += 3) {
     for (std::size_t k = 0; k < 3; ++k) {
       const std::uint32_t a = topology.triangles[t + k], b = topology.triangles[t + (k + 1) % 3];
