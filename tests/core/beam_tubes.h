@@ -49,6 +49,12 @@ inline SweepDef tube(double a, double b, double damping_ratio, int sections = kS
   return def;
 }
 
+// The tube of another stiffness: every section's material and the sweep's.
+inline void set_youngs_modulus(SweepDef& def, double youngs_modulus) {
+  for (Material& m : def.section_materials) m.youngs_modulus = youngs_modulus;
+  def.material->youngs_modulus = youngs_modulus;
+}
+
 inline SectionProperties props_of(const SweepDef& def) {
   std::vector<double> r(kRadii);
   for (int j = 0; j < kRadii; ++j) r[j] = kScale * def.rest.radius_sample(1, j);

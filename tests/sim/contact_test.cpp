@@ -169,8 +169,7 @@ TEST(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2, 16));
   rig.sweeps[0].name = "tube";
-  for (Material& m : rig.sweeps[0].section_materials) m.youngs_modulus = 2e8;
-  rig.sweeps[0].material->youngs_modulus = 2e8;
+  test::beam::set_youngs_modulus(rig.sweeps[0], 2e8);
   Scene scene;
   scene.duration = 8;
   scene.fps = 30;
@@ -238,8 +237,7 @@ TEST(Contact, DISABLED_ATubeLyingAlongTheFloorFromItsRootStaysOnIt) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2));
   rig.sweeps[0].name = "tube";
-  for (Material& m : rig.sweeps[0].section_materials) m.youngs_modulus = 2e8;
-  rig.sweeps[0].material->youngs_modulus = 2e8;
+  test::beam::set_youngs_modulus(rig.sweeps[0], 2e8);
   Scene scene;
   scene.duration = 1;
   scene.fps = 30;
@@ -285,8 +283,7 @@ void expect_no_energy_gain(const Rig& rig, const Vec3& kick, const Collider& bal
 
 TEST(Contact, ContactsNeverAddEnergy) {
   Rig material = rubber_tube(0.0);
-  for (Material& m : material.sweeps[0].section_materials) m.youngs_modulus = 2e8;
-  material.sweeps[0].material->youngs_modulus = 2e8;
+  test::beam::set_youngs_modulus(material.sweeps[0], 2e8);
   expect_no_energy_gain(material, Vec3(40, 0, 0), Collider::sphere(Vec3(2.5, 0, 0.8 * 31), 1.0));
   // The paper's independent springs, undamped.
   Rig paper;
@@ -325,8 +322,7 @@ TEST(Contact, FrictionDragsAPartTheBodyPullsOverTheGround) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2, 12));
   rig.sweeps[0].name = "tube";
-  for (Material& m : rig.sweeps[0].section_materials) m.youngs_modulus = 2e8;
-  rig.sweeps[0].material->youngs_modulus = 2e8;
+  test::beam::set_youngs_modulus(rig.sweeps[0], 2e8);
   const auto lag = [&](double mu) {
     Scene scene;
     scene.duration = 2;

@@ -34,8 +34,7 @@ constexpr double kDuration = 2.5;    // s: the steady lag is the mean over [kSet
 SweepDef stiff_tube() {
   SweepDef def = test::beam::tube(kRadius, kRadius, 0.5);
   def.name = "tube";
-  for (Material& m : def.section_materials) m.youngs_modulus = kStiff;
-  def.material->youngs_modulus = kStiff;
+  test::beam::set_youngs_modulus(def, kStiff);
   return def;
 }
 
@@ -579,8 +578,7 @@ TEST(ContactFriction, TheHoldNeverAddsEnergyWhileTheBodyIsStill) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(kRadius, kRadius, 0.0));
   rig.sweeps[0].name = "tube";
-  for (Material& m : rig.sweeps[0].section_materials) m.youngs_modulus = 2e8;
-  rig.sweeps[0].material->youngs_modulus = 2e8;
+  test::beam::set_youngs_modulus(rig.sweeps[0], 2e8);
   const Vec3 pressed(0, -1, 0), dragged(1.5, -1, 0);
   for (const bool release : {false, true}) {
     double lost[2] = {0, 0};  // the share of the start's energy lost by the end, μ = 0 and μ = 2
@@ -636,8 +634,7 @@ TEST(ContactFriction, DISABLED_LagAgainstMuTable) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(kRadius, kRadius, 0.2, 12));
   rig.sweeps[0].name = "tube";
-  for (Material& m : rig.sweeps[0].section_materials) m.youngs_modulus = 2e8;
-  rig.sweeps[0].material->youngs_modulus = 2e8;
+  test::beam::set_youngs_modulus(rig.sweeps[0], 2e8);
   for (const double mu : {0.0, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0, 4.0}) {
     Scene scene;
     scene.duration = 2;
