@@ -155,16 +155,22 @@ void keep_piece(std::vector<T>& v, const Neck& n) {
   v = std::move(out);
 }
 
-}  // namespace
-
-int cut_at_necks(std::vector<Vec2>& loop, const Vec2& point) {
+// cut_at_necks, keeping `alongside` (the same loop in 3D, point for point, or null) in step.
+int cut_necks(std::vector<Vec2>& loop, const Vec2& point, std::vector<Vec3>* alongside) {
   int cuts = 0;
   for (; cuts < kMaxNeckCuts; ++cuts) {
     const std::optional<Neck> neck = find_neck(loop, point);
     if (!neck) break;
     keep_piece(loop, *neck);
+    if (alongside) keep_piece(*alongside, *neck);
   }
   return cuts;
+}
+
+}  // namespace
+
+int cut_at_necks(std::vector<Vec2>& loop, const Vec2& point) {
+  return cut_necks(loop, point, nullptr);
 }
 
 PlaneBasis plane_basis(const Vec3& origin, const Vec3& normal) {
@@ -249,12 +255,7 @@ std::optional<Loop> loop_around(const std::vector<SlicePolyline>& slice, const V
     std::vector<Vec2> poly;
     poly.reserve(loop.points.size());
     for (const Vec3& x : loop.points) poly.push_back(basis.to_plane(x));
-    for (; loop.necks_cut < kMaxNeckCuts; ++loop.necks_cut) {
-      const std::optional<Neck> neck = find_neck(poly, p);
-      if (!neck) break;
-      keep_piece(poly, *neck);
-      keep_piece(loop.points, *neck);
-    }
+    loop.necks_cut = cut_necks(poly, p, &loop.points);
   }
   measure_loop(basis, loop);
   return loop;

@@ -52,7 +52,8 @@ struct Scene {
   // A body that jumps farther than this in one frame's time (mesh units), or turns by more than
   // this (radians), has been cut or respawned: the parts are put to rest in the new place instead
   // of feeling the jump (a piece of the path between two keys, wherever the frames fall, or the
-  // body between a frame's ends; Simulator keeps the jump's span of time). 0 = the default: the longest part's length, and a quarter turn.
+  // body between a frame's ends; Simulator keeps the jump's span of time). 0 = the default: the
+  // longest part's length, and a quarter turn.
   double teleport_distance = 0;
   double teleport_angle = 0;
   bool teleport_enabled = true;
