@@ -16,6 +16,7 @@ namespace sweep::sim {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+using test_probes::for_each_surface_sample;
 using test_probes::penetration;
 using test_probes::tip_impulse;
 
@@ -23,14 +24,12 @@ using test_probes::tip_impulse;
 // the box's span in its other two axes (which side of a plate the part is on where the plate is).
 double farthest(const SweepShape& shape, const Collider& c, int axis) {
   double far = -1e300;
-  for (int a = 0; a <= 400; ++a) {
-    for (int b = 0; b < 48; ++b) {
-      const Vec3 p = c.pose.to_local(surface_point(shape, 2 * kPi * b / 48, shape.length() * a / 400));
-      bool behind = true;
-      for (int o = 0; o < 3; ++o) behind = behind && (o == axis || std::abs(p[o]) <= c.half_size[o]);
-      if (behind) far = std::max(far, p[axis]);
-    }
-  }
+  for_each_surface_sample(shape, [&](const Vec3& world) {
+    const Vec3 p = c.pose.to_local(world);
+    bool behind = true;
+    for (int o = 0; o < 3; ++o) behind = behind && (o == axis || std::abs(p[o]) <= c.half_size[o]);
+    if (behind) far = std::max(far, p[axis]);
+  });
   return far;
 }
 
