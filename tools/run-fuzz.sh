@@ -29,7 +29,9 @@ targets=(rig_json scene binding off_mesh obj_mesh ply_mesh fit_off)
 
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DSWEEP_FUZZ=ON -DSWEEP_WERROR=ON -DSWEEP_BUILD_TESTS=OFF >/dev/null
+built_at=$SECONDS
 cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+echo "fuzz targets built in $((SECONDS - built_at)) s"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -48,6 +50,7 @@ for t in "${targets[@]}"; do
   dict=()
   if [ -f tests/fuzz/"$t".dict ]; then dict=(-dict=tests/fuzz/"$t".dict); fi
   set +e
+  target_start=$SECONDS
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     "$build/tests/fuzz/fuzz_$t" "$work/$t/corpus" "${budget[@]}" -timeout=10 -seed="$seed" \
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "${dict[@]}" \
@@ -55,6 +58,7 @@ for t in "${targets[@]}"; do
   status=$?
   set -e
   grep -E '^stat::number_of_executed_units|^Done [0-9]+ runs' "$work/$t/log" | tail -1 || true
+  echo "fuzz_$t: $((SECONDS - target_start)) s"
   if [ $status -ne 0 ]; then
     failed+=("$t")
     mkdir -p tests/fuzz/regressions/"$t"

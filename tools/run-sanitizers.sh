@@ -4,9 +4,10 @@
 # that only time things skip themselves under the sanitizers. Any sanitizer report fails its test
 # (ASan aborts; UBSan is built with -fno-sanitize-recover) and so the script.
 #   tools/run-sanitizers.sh [--all] [extra ctest arguments, e.g. -R BadInput]
+# The libraries are built at -O1 here (lib/CMakeLists.txt), the tests and tools at -O0.
 # By default (the CI budget) the tests that only repeat already-sanitized code paths on CGAL's real
-# meshes or at stress-test length are left out: unoptimized under ASan they take ~20 of the ~25
-# minutes (the diplodocus fits alone ~8). --all runs every test.
+# meshes or at stress-test length are left out: with everything unoptimized under ASan they took
+# ~20 of the ~25 minutes (the diplodocus fits alone ~8). --all runs every test.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 jobs=${SWEEP_JOBS:-$(nproc)}
