@@ -48,9 +48,10 @@ constexpr int kErrorAnglesPerSample = 2;
 // spacing of 0.45 radii there), the axis is smoothed down to it (limit_axis_curvature).
 constexpr double kMaxCurvatureRadii = 1;
 // The radii fitted to a part decide which vertices the part keeps (near the sweep, a bridge's
-// foot off its surface): while that changes the part, the radii are fitted again to the new part,
-// from the slices' radii, up to this many times. (A tusk's foot, still in the part the first
-// radii were fitted to, pulls them out along it and keeps itself in.)
+// foot off its surface): while the part they select is not the one they were fitted to, they are
+// fitted again to the new part, from the slices' radii, up to this many times. (A tusk's foot,
+// still in the part the first radii were fitted to, pulls them out along it and keeps itself in.)
+// Fitting is deterministic: a part that stays as it was is not fitted twice.
 constexpr int kMaxRefits = 2;
 
 // The value a tenth of the distances exceed (nth_element: linear, reorders the copy it is given).
@@ -495,16 +496,15 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
     const std::vector<double> slice_radii = r.sweep.rest.radii;
     // The radii that best match the part's vertices (the slices run through facets' chords).
-    fit_radii(r.sweep.rest, mesh, r.part_vertices);
+    std::vector<std::uint32_t> fitted_to = r.part_vertices;
+    fit_radii(r.sweep.rest, mesh, fitted_to);
     // The part again, as sweep-bind will select it: its bound near the sweep reads the radii.
     r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
-    for (int refit = 0; refit < kMaxRefits; ++refit) {
+    for (int refit = 0; refit < kMaxRefits && r.part_vertices != fitted_to; ++refit) {
+      fitted_to = r.part_vertices;
       r.sweep.rest.radii = slice_radii;
-      fit_radii(r.sweep.rest, mesh, r.part_vertices);
-      std::vector<std::uint32_t> part = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
-      const bool settled = part == r.part_vertices;
-      r.part_vertices = std::move(part);
-      if (settled) break;
+      fit_radii(r.sweep.rest, mesh, fitted_to);
+      r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
     }
     // The limits below are relative to the radii the rig keeps, not to the slices'.
     const std::vector<double>& radii = r.sweep.rest.radii;
