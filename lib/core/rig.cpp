@@ -39,6 +39,23 @@ double disc_radius(const SweepShape& rest, int section) {
 }
 }  // namespace
 
+SweepShape without_narrow_lobes(const SweepShape& rest) {
+  SweepShape out = rest;
+  const int n = rest.radial_count;
+  const int half = std::max(1, static_cast<int>(std::lround(n * kLobeWindowDegrees / 360)));
+  std::vector<double> window(static_cast<std::size_t>(2 * half + 1));
+  for (int i = 0; i < rest.section_count(); ++i) {
+    for (int j = 0; j < n; ++j) {
+      for (int d = -half; d <= half; ++d)
+        window[static_cast<std::size_t>(d + half)] = rest.radius_sample(i, ((j + d) % n + n) % n);
+      std::nth_element(window.begin(), window.begin() + half, window.end());
+      out.radii[static_cast<std::size_t>(i) * n + static_cast<std::size_t>(j)] =
+          std::min(window[static_cast<std::size_t>(half)], rest.radius_sample(i, j));
+    }
+  }
+  return out;
+}
+
 double root_disc_radius(const SweepShape& rest) { return disc_radius(rest, 0); }
 double tip_disc_radius(const SweepShape& rest) { return disc_radius(rest, rest.section_count() - 1); }
 
@@ -55,9 +72,16 @@ std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& t
     const SweepCoords c = locator.locate(p);
     return kProtrusionReachRadii * radius_at(rest, c.theta, c.t);
   };
+  // Outwards, the part's surface is judged against the radii without their narrow lobes: a
+  // neighbour fused alongside (a tusk) makes a lobe of the section towards it, which the fitted
+  // radii follow as far as its foot is still in the part.
+  const SweepShape lobeless = without_narrow_lobes(rest);
   near_sweep.on_surface = [&](const Vec3& p) {
     const SweepCoords c = locator.locate(p);
-    return c.z != 0 || std::abs(c.s - 1) <= kBridgeFootRadii;
+    if (c.z != 0) return true;
+    if (c.s * radius_at(rest, c.theta, c.t) > (1 + kBridgeFootRadii) * radius_at(lobeless, c.theta, c.t))
+      return false;
+    return std::abs(c.s - 1) <= kBridgeFootRadii;
   };
   if (seeds.tip_cut) {
     return select_part_between(mesh, topology, rest.frames.front(), root_disc_radius(rest),

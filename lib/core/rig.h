@@ -95,6 +95,15 @@ inline constexpr double kProtrusionReachRadii = 3;
 // surface, reached from a bridge through such vertices, go with the bridge. (Only from a bridge:
 // a part the sweep misses elsewhere must still show in the fit error, not be cut away.)
 inline constexpr double kBridgeFootRadii = 0.25;
+// Outwards, "off the surface" is measured against the radii without their narrow lobes
+// (without_narrow_lobes): a tusk fused alongside the trunk makes a lobe of the sections towards
+// it, which radii fitted to a part that still holds the tusk's foot follow.
+// A section's radii with each sample lowered to the median of the samples within
+// kLobeWindowDegrees either side of it (never raised): a lobe at most half that wide is cut off
+// (at n = 24, 30°: two samples either side, a lobe of up to two samples); a section's broad
+// shape (an ellipse, a flat ear's strip, a few broad lobes) is kept but for its sharpest peaks.
+inline constexpr double kLobeWindowDegrees = 30;
+SweepShape without_narrow_lobes(const SweepShape& rest);
 std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
                                              const SweepShape& rest, const PartSeeds& seeds);
 

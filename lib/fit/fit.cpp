@@ -42,6 +42,17 @@ constexpr double kStubRadii = 1;
 // The error's tessellation of the sweep surface: stations per span and angles per radius sample.
 constexpr int kErrorStationsPerSpan = 4;
 constexpr int kErrorAnglesPerSample = 2;
+// A tube's axis bends no tighter than its radius (curvature × radius ≤ 1: tighter, the section
+// planes cross inside the tube). Where slice centroids zigzag more than that (a tusk fused along
+// the trunk pulls them aside: elephant's and refined_elephant's axes turned 22–57° per section
+// spacing of 0.45 radii there), the axis is smoothed down to it (limit_axis_curvature).
+constexpr double kMaxCurvatureRadii = 1;
+// The radii fitted to a part decide which vertices the part keeps (near the sweep, a bridge's
+// foot off its surface): while the part they select is not the one they were fitted to, they are
+// fitted again to the new part, from the slices' radii, up to this many times. (A tusk's foot,
+// still in the part the first radii were fitted to, pulls them out along it and keeps itself in.)
+// Fitting is deterministic: a part that stays as it was is not fitted twice.
+constexpr int kMaxRefits = 2;
 
 // The value a tenth of the distances exceed (nth_element: linear, reorders the copy it is given).
 double percentile_90(std::vector<double> distances) {
@@ -446,6 +457,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     refuse(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r.tip_vertex) +
                                          " has no length to fit (" + r.root_reason + ")");
   }
+  if (o.axis.empty()) limit_axis_curvature(r.axis, kMaxCurvatureRadii);
   const std::vector<double> s = arc_lengths(r.axis.points);
   r.traced_length = s.back();
   if (!o.axis.empty()) r.surface_length = r.traced_length;
@@ -482,15 +494,23 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
     r.length = r.sweep.rest.length();
     const PartSeeds seeds{Vec3::Zero(), mesh.positions[r.tip_vertex], r.tip_cut};
     r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
+    const std::vector<double> slice_radii = r.sweep.rest.radii;
     // The radii that best match the part's vertices (the slices run through facets' chords).
-    fit_radii(r.sweep.rest, mesh, r.part_vertices);
+    std::vector<std::uint32_t> fitted_to = r.part_vertices;
+    fit_radii(r.sweep.rest, mesh, fitted_to);
+    // The part again, as sweep-bind will select it: its bound near the sweep reads the radii.
+    r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
+    for (int refit = 0; refit < kMaxRefits && r.part_vertices != fitted_to; ++refit) {
+      fitted_to = r.part_vertices;
+      r.sweep.rest.radii = slice_radii;
+      fit_radii(r.sweep.rest, mesh, fitted_to);
+      r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
+    }
     // The limits below are relative to the radii the rig keeps, not to the slices'.
     const std::vector<double>& radii = r.sweep.rest.radii;
     r.mean_radius = 0;
     for (const double x : radii) r.mean_radius += x;
     r.mean_radius /= static_cast<double>(radii.size());
-    // The part again, as sweep-bind will select it: its bound near the sweep reads the radii.
-    r.part_vertices = select_sweep_part(mesh, impl_->topology, r.sweep.rest, seeds);
     if (o.measure_error || o.tolerance > 0) {
       r.error = measure_fit_error(
           r.sweep.rest, mesh, r.part_vertices,

@@ -40,6 +40,8 @@ constexpr double kMaxEndTurnDegrees = 15;
 constexpr double kMinKinkDegrees = 3;
 constexpr double kKinkRatio = 3;
 constexpr int kMaxKinkedEndPoints = 4;
+// limit_axis_curvature: at most this many rounds of smoothing.
+constexpr int kMaxCurvatureRounds = 50;
 
 }  // namespace
 
@@ -393,6 +395,40 @@ std::vector<Quat> rotation_minimizing_frames(const std::vector<Vec3>& points,
     t = t1;
   }
   return out;
+}
+
+int limit_axis_curvature(AxisTrace& axis, double max_curvature_radii) {
+  const std::size_t m = axis.points.size();
+  if (m < 3) return 0;
+  // The local radius: the slice's where measured, the nearest measured one elsewhere.
+  std::vector<double> r = axis.radii;
+  const double largest = *std::max_element(r.begin(), r.end());
+  for (std::size_t i = 0; i < m; ++i) {
+    if (r[i] > 0) continue;
+    std::size_t lo = i, hi = i;
+    while (lo > 0 && !(axis.radii[lo] > 0)) --lo;
+    while (hi + 1 < m && !(axis.radii[hi] > 0)) ++hi;
+    r[i] = axis.radii[lo] > 0 ? axis.radii[lo] : axis.radii[hi] > 0 ? axis.radii[hi] : largest;
+  }
+  int moves = 0;
+  for (int round = 0; round < kMaxCurvatureRounds; ++round) {
+    std::vector<Vec3> next = axis.points;
+    bool moved = false;
+    for (std::size_t i = 1; i + 1 < m; ++i) {
+      const Vec3 u = axis.points[i] - axis.points[i - 1], v = axis.points[i + 1] - axis.points[i];
+      const double a = u.norm(), b = v.norm();
+      if (!(a > 0) || !(b > 0)) continue;
+      const double turn = std::acos(std::clamp(u.dot(v) / (a * b), -1.0, 1.0));
+      if (turn / (0.5 * (a + b)) * r[i] <= max_curvature_radii) continue;
+      next[i] = 0.5 * axis.points[i] + 0.25 * (axis.points[i - 1] + axis.points[i + 1]);
+      moved = true;
+      ++moves;
+    }
+    axis.points = std::move(next);
+    if (!moved) break;
+  }
+  if (moves > 0) axis.tangents = central_tangents(axis.points);
+  return moves;
 }
 
 }  // namespace sweep::fit

@@ -50,6 +50,14 @@ void trim_axis_start(AxisTrace& axis, const Vec3& point, double max_extension);
 // chords, radii of the slice loops around each point (0 where there is none).
 AxisTrace axis_from_polyline(const MeshSlicer& slicer, const std::vector<Vec3>& points);
 
+// Smooths the axis where it bends tighter than `max_curvature_radii` over its local radius (the
+// turn at a point over the mean of its two segments, times its radius: the slices' where measured,
+// the nearest measured one elsewhere): each such point moves halfway to the midpoint of its
+// neighbours, repeated until none is left (at most 50 rounds); tangents follow. The ends stay.
+// Returns the number of moves. A tube cannot bend tighter than its radius; an axis that seems
+// to (slice centroids pulled aside by a neighbour fused to the part) is off centre there.
+int limit_axis_curvature(AxisTrace& axis, double max_curvature_radii);
+
 // Arc length at each point of a polyline (0 at the first).
 std::vector<double> arc_lengths(const std::vector<Vec3>& points);
 

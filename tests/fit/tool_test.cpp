@@ -255,23 +255,24 @@ TEST_F(Tool, ListFindsTheDiplodocusNeckTailAndFourLegs) {
       << "tube.obj and parts.json only: --list writes no rig";
 }
 
-// A part --all cannot fit (CGAL's elk, a sculpture of many holes: one "part" found has its tip
-// behind its root) names that part and writes nothing; with --force the others are written.
-TEST_F(Tool, AllNamesAPartItCannotFitAndForceLeavesItOut) {
+// Parts --all fits but does not trust (CGAL's elk, a sculpture of many holes: two "arms" are 13 %
+// and 11.7 % off at the 90th percentile) are named and nothing is written; with --force all eight
+// are. (The part this test once saw refused outright, its tip behind its root section, fits
+// since the axis' curvature is limited: a stub of 38 vertices. The path where --force leaves a
+// part out has no mesh here that takes it.)
+TEST_F(Tool, AllNamesThePartsItDoesNotTrustAndForceWritesThem) {
   const fs::path elk = diplodocus().parent_path() / "elk.off";
   if (!fs::exists(elk)) GTEST_SKIP() << "run tools/setup-deps.sh";
   const std::string rig = path("elk.rig.json");
   ToolRun r = run_tool(elk.string() + " --all -o " + rig);
   EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find(" of 8): the tip's nearest vertex"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("--force fits the other parts"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("arm5: the fit is not to be trusted"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(--force writes the rig anyway)"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(rig));
   r = run_tool(elk.string() + " --all --force -o " + rig);
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("left out (--force)"), std::string::npos) << r.output;
-  std::size_t left_out = 0;
-  for (std::size_t at = 0; (at = r.output.find("left out (--force)", at)) != std::string::npos; ++at) ++left_out;
-  EXPECT_EQ(io::read_rig(rig).sweeps.size(), 8u - left_out);
+  EXPECT_EQ(r.output.find("left out (--force)"), std::string::npos) << r.output;
+  EXPECT_EQ(io::read_rig(rig).sweeps.size(), 8u);
 }
 
 // An open mesh whose rings of surface distance all run into holes (CGAL's mech-holes-shark, a
