@@ -258,8 +258,7 @@ TEST_F(Tool, ListFindsTheDiplodocusNeckTailAndFourLegs) {
 // Parts --all fits but does not trust (CGAL's elk, a sculpture of many holes: two "arms" are 13 %
 // and 11.7 % off at the 90th percentile) are named and nothing is written; with --force all eight
 // are. (The part this test once saw refused outright, its tip behind its root section, fits
-// since the axis' curvature is limited: a stub of 38 vertices. The path where --force leaves a
-// part out has no mesh here that takes it.)
+// since the axis' curvature is limited: a stub of 38 vertices; the next test takes that path.)
 TEST_F(Tool, AllNamesThePartsItDoesNotTrustAndForceWritesThem) {
   const fs::path elk = diplodocus().parent_path() / "elk.off";
   if (!fs::exists(elk)) GTEST_SKIP() << "run tools/setup-deps.sh";
@@ -273,6 +272,26 @@ TEST_F(Tool, AllNamesThePartsItDoesNotTrustAndForceWritesThem) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output.find("left out (--force)"), std::string::npos) << r.output;
   EXPECT_EQ(io::read_rig(rig).sweeps.size(), 8u);
+}
+
+// A part --all cannot fit at all (CGAL's knot2, a knotted tube with no end: of the two "parts"
+// the search offers, one has its tip's nearest vertex behind its root section) names that part
+// and writes nothing; with --force the other is written and that one left out.
+TEST_F(Tool, AllNamesAPartItCannotFitAndForceLeavesItOut) {
+  const fs::path knot = diplodocus().parent_path() / "knot2.off";
+  if (!fs::exists(knot)) GTEST_SKIP() << "run tools/setup-deps.sh";
+  const std::string rig = path("knot.rig.json");
+  ToolRun r = run_tool(knot.string() + " --all -o " + rig);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find(" of 2): the tip's nearest vertex"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--force fits the other parts"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(rig));
+  r = run_tool(knot.string() + " --all --force -o " + rig);
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::size_t left_out = 0;
+  for (std::size_t at = 0; (at = r.output.find("left out (--force)", at)) != std::string::npos; ++at) ++left_out;
+  EXPECT_EQ(left_out, 1u) << r.output;
+  EXPECT_EQ(io::read_rig(rig).sweeps.size(), 1u);
 }
 
 // An open mesh whose rings of surface distance all run into holes (CGAL's mech-holes-shark, a
