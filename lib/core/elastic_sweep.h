@@ -107,9 +107,11 @@ class ElasticSweep {
   // Contact (sim/contact.h). A contact row is one direction d at a point of the axis (t its arc
   // length), as the springs see it: J = ∂(d·p)/∂q over the offsets and joint turns of the sections
   // up to the point (linearised: the point taken between its two sections, which move it), built
-  // on the current pose. Through the rows the solver moves the part as a force held there would
-  // (each spring by its compliance 1/k: the least spring energy for the move) and kicks it as an
-  // impulse there would (each spring by its mass, the chain's mass matrix in material mode).
+  // on the current pose. Through the rows the solver moves the part as a force held there over the
+  // step would (move_rows: each spring by its inertia and compliance), holds it across the normal
+  // as a static force would (apply_rows: each spring by its compliance 1/k, the least spring energy
+  // for the move) and kicks it as an impulse there would (each spring by its mass, the chain's mass
+  // matrix in material mode).
   struct ContactRow {
     int first = 1, last = 0;                    // sections first..last take part
     std::vector<double> positional, rotational;  // J, index 3·(i − first) + c
@@ -139,6 +141,20 @@ class ElasticSweep {
   // motion the move took back is taken out of its speeds as well.
   void apply_rows(std::span<const ContactRow> rows, std::span<const double> amounts, bool as_impulses,
                   double speeds_dt = 0);
+  // The step's moves (the contact solver's push out of a collider): J G Jᵀ, the move along b per N
+  // of force along a, G = (M/dt² + D/dt + K)⁻¹ per spring (per mode in material mode, which moves
+  // by bending alone): what the step itself would have done with the force in it had it
+  // been an implicit (backward Euler) step — the springs' inertia over a short step, their
+  // compliance over a long one. A move shaped by compliance alone swings the whole part about a
+  // point pushed near its root (a tube lying on the floor rose off it).
+  void row_move_couplings(std::span<const ContactRow> rows, double dt, Eigen::MatrixXd& scratch,
+                          Eigen::MatrixXd& by_move) const;
+  // Moves through those couplings (amounts in N: q += G Σ Jᵀ amount, the shape rebuilt), and the
+  // speeds by the same move over dt (q̇ += Δq / dt: an impulse's share, by mass, over a short step):
+  // the step's motion the move took back leaves the speeds too. Of that change of the speeds only
+  // the part α ∈ [0, 1] that leaves the least kinetic energy is kept (all of it when it only stops
+  // the step's motion, as under a part resting on the ground).
+  void move_rows(std::span<const ContactRow> rows, std::span<const double> amounts, double dt);
 
   // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
   const ChainModel* chain() const { return chain_.get(); }
@@ -181,6 +197,9 @@ class ElasticSweep {
   void init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int));
   void gather_loads(const std::vector<ActiveForce>& forces);
   int map_slot(double dt);                 // the cached maps for dt, computed if missing
+  // The contact moves' change of the speeds since v0, cut to the part that leaves the least
+  // kinetic energy.
+  void keep_least_energy_speeds();
   void advance_banks(int slot);            // every active oscillator, loads held
   void rebuild();
   // Material mode: rotational loads to modal loads, and modal state back to joint coordinates.

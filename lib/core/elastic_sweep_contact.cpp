@@ -109,7 +109,9 @@ double ElasticSweep::positional_share(std::size_t m, bool by_mass) const {
   if (by_mass) return 1.0 / positional_.params[m].mass;
   // Material mode moves by bending alone: its stretch and shear springs are stiff and carry
   // whatever fast oscillation a kick gave them, so moving one, however little, can hand the part
-  // that spring's energy.
+  // that spring's energy (tried in move_rows: a kicked tube gained 24 kJ in one move and went
+  // through a thin plate). So no move relieves them of a load a collider takes: a soft part lying
+  // along the floor keeps its whole weight on its first span's shear springs.
   return chain_ ? 0.0 : 1.0 / positional_.params[m].stiffness;
 }
 double ElasticSweep::rotational_share(std::size_t m, bool by_mass) const {
@@ -141,7 +143,6 @@ void ElasticSweep::apply_rows(std::span<const ContactRow> rows, std::span<const 
                               double speeds_dt) {
   assert(rows.size() == amounts.size());
   const bool speeds_too = !as_impulses && speeds_dt > 0;
-  Bank* moving = chain_ ? &modal_ : &rotational_;
   if (speeds_too) {
     // The speeds before, to take the move's share of them back out below.
     for (Bank* b : {&positional_, &rotational_, &modal_}) std::copy(b->v.begin(), b->v.end(), b->v0.begin());
@@ -182,11 +183,16 @@ void ElasticSweep::apply_rows(std::span<const ContactRow> rows, std::span<const 
     }
   }
   if (!as_impulses) rebuild();
-  if (!speeds_too) return;
   // Δq / dt is a change of speed not made by an impulse (the move shares itself by compliance, an
   // impulse by mass), so it could add kinetic energy where it does not only cancel the step's own
-  // motion. Take the part α ∈ [0, 1] of it that leaves the least kinetic energy: all of it when it
-  // only cancels motion (a part resting on the ground), never more energy than before.
+  // motion.
+  if (speeds_too) keep_least_energy_speeds();
+}
+
+void ElasticSweep::keep_least_energy_speeds() {
+  // Take the part α ∈ [0, 1] of the change since v0 that leaves the least kinetic energy: all of
+  // it when it only cancels motion (a part resting on the ground), never more energy than before.
+  Bank* moving = chain_ ? &modal_ : &rotational_;
   double along = 0, square = 0;  // Σ m v0 Δv and Σ m Δv², over the coordinates that carry energy
   for (const Bank* b : {static_cast<const Bank*>(&positional_), static_cast<const Bank*>(moving)}) {
     const double unit = energy_unit(*b);
@@ -200,6 +206,77 @@ void ElasticSweep::apply_rows(std::span<const ContactRow> rows, std::span<const 
   for (Bank* b : {&positional_, &rotational_, &modal_}) {
     for (std::size_t m = 0; m < b->v.size(); ++m) b->v[m] = b->v0[m] + alpha * (b->v[m] - b->v0[m]);
   }
+}
+
+// 1 / (m/dt² + c/dt + k): one spring's move per unit of force held over a step dt.
+namespace {
+double step_compliance(const OscillatorParams& p, double dt) {
+  return 1.0 / (p.mass / (dt * dt) + p.damping / dt + p.stiffness);
+}
+}  // namespace
+
+void ElasticSweep::row_move_couplings(std::span<const ContactRow> rows, double dt, Eigen::MatrixXd& scratch,
+                                      Eigen::MatrixXd& by_move) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index coords = static_cast<Eigen::Index>(positional_.x.size()) - 3;  // sections 1..K−1
+  // Each row as a column, scaled by √G: the modes' part (Φᵀ Jᵀ, × metres per unit as the kicks';
+  // material mode moves by bending alone, as its static moves: see positional_share), or the
+  // paper's rotational and positional springs'.
+  const Eigen::Index dim = chain_ ? static_cast<Eigen::Index>(modal_.x.size()) : 2 * coords;
+  scratch.setZero(dim, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const ContactRow& row = rows[static_cast<std::size_t>(k)];
+    if (chain_) {
+      assert(static_cast<Eigen::Index>(row.modal.size()) == dim);
+      for (Eigen::Index c = 0; c < dim; ++c) {
+        const std::size_t m = static_cast<std::size_t>(c);
+        scratch(c, k) = row.modal[m] * std::sqrt(chain_->metres_per_unit * step_compliance(modal_.params[m], dt));
+      }
+      continue;
+    }
+    for (std::size_t q = 0; q < row.positional.size(); ++q) {
+      const Eigen::Index i = static_cast<Eigen::Index>(q);
+      scratch(i, k) = row.rotational[q] * std::sqrt(step_compliance(rotational_.params[3 + q], dt));
+      scratch(coords + i, k) = row.positional[q] * std::sqrt(step_compliance(positional_.params[3 + q], dt));
+    }
+  }
+  by_move.noalias() = scratch.transpose() * scratch;
+}
+
+void ElasticSweep::move_rows(std::span<const ContactRow> rows, std::span<const double> amounts, double dt) {
+  assert(rows.size() == amounts.size());
+  for (Bank* b : {&positional_, &rotational_, &modal_}) std::copy(b->v.begin(), b->v.end(), b->v0.begin());
+  const auto move = [&](Bank& b, std::size_t m, double load) {
+    const double dx = load * step_compliance(b.params[m], dt);
+    b.x[m] += dx;
+    b.v[m] += dx / dt;
+  };
+  if (chain_) {
+    // The modal load Φᵀ Jᵀ Σ amount (per metre × metres per unit), as a kick's; the joints follow.
+    const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
+    modal_scratch_.assign(static_cast<std::size_t>(dim), 0.0);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      if (amounts[k] == 0) continue;
+      Eigen::Map<Eigen::VectorXd>(modal_scratch_.data(), dim) +=
+          (amounts[k] * chain_->metres_per_unit) * Eigen::Map<const Eigen::VectorXd>(rows[k].modal.data(), dim);
+    }
+    for (std::size_t m = 0; m < modal_scratch_.size(); ++m) move(modal_, m, modal_scratch_[m]);
+    modal_.active = rotational_.active = true;
+    joints_from_modes();
+  } else {
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const double s = amounts[k];
+      if (s == 0) continue;
+      const ContactRow& row = rows[k];
+      for (std::size_t q = 0; q < row.positional.size(); ++q) {
+        move(positional_, 3 + q, s * row.positional[q]);
+        move(rotational_, 3 + q, s * row.rotational[q]);
+      }
+    }
+    positional_.active = rotational_.active = true;
+  }
+  rebuild();
+  keep_least_energy_speeds();
 }
 
 }  // namespace sweep

@@ -308,14 +308,15 @@ void ContactSolver::move_out(ElasticSweep& sweep, std::span<const PlacedCollider
       // A point no spring can move (the root, and in material mode the first span, which only the
       // stiff stretch and shear springs carry) cannot be pushed: it is not waited for.
       const Eigen::Index i = static_cast<Eigen::Index>(p);
-      if (by_compliance_(i, i) > 0) worst = std::min(worst, residual_[p]);
+      if (by_move_(i, i) > 0) worst = std::min(worst, residual_[p]);
     }
     if (worst >= -kGapTolerance * length) break;
-    solve(by_compliance_, residual_, total, amount_);
-    // The step's motion the move took back leaves the speeds too (q̇ += Δq / dt, as in
-    // position-based dynamics): else a part lying on the ground keeps its fall in its speeds,
-    // falls through each step, is pushed back, and never comes to rest.
-    sweep.apply_rows(rows_, amount_, false, dt);
+    // The move is the step's own answer to a force held over it (ElasticSweep::move_rows): through
+    // the springs' inertia over the step as much as their compliance, and the speeds by the same
+    // move over dt (as in position-based dynamics: else a part lying on the ground keeps its fall
+    // in its speeds, falls through each step, is pushed back, and never comes to rest).
+    solve(by_move_, residual_, total, amount_);
+    sweep.move_rows(rows_, amount_, dt);
     for (std::size_t p = 0; p < n; ++p) total[p] += amount_[p];
   }
 }
@@ -424,10 +425,15 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     sweep.contact_row(stations_[planes_[p].station], normal, rows_[p]);
   }
   sweep.row_couplings(rows_, jp_, jr_, modal_, by_mass_, by_compliance_);
+  sweep.row_move_couplings(rows_, dt, jr_, by_move_);
 
   // Move the ends back onto their planes; the true curve is re-measured after each solve.
   total_.assign(n, 0.0);
+  // The move's change of each row's speed, for N below.
+  move_speed_.resize(n);
+  for (std::size_t p = 0; p < n; ++p) move_speed_[p] = -sweep.row_speed(rows_[p]);
   move_out(sweep, colliders, dt, total_, true);
+  for (std::size_t p = 0; p < n; ++p) move_speed_[p] += sweep.row_speed(rows_[p]);
 
   // Touching: pushed, or resting on the plane. Their approach speeds out, all together.
   bool touching = false;
@@ -473,8 +479,8 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     for (std::size_t q = 0; q < n; ++q) {
       const Eigen::Index j = static_cast<Eigen::Index>(q);
       change += by_mass_(i, j) * amount_[q];
-      change += by_compliance_(i, j) * moved_[q] / dt;
     }
+    change += move_speed_[p];
     residual_[p] = -change;
   }
   none_.assign(n, 0.0);

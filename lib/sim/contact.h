@@ -15,21 +15,22 @@
 // a plate). The contacts of a step are solved together, as the complementarity problem they are
 // (a push ≥ 0 only where the gap closes; projected Gauss–Seidel on the couplings of the contact
 // rows, ElasticSweep::contact_row), so that pushes do not fight and lift the part off elsewhere:
-// first the ends are moved back onto their planes through the springs (each spring by its
-// compliance — 1/k, the diagonal of a material joint's block —, the true curve re-measured and the
-// solve repeated, up to 16 times), then the approach speeds are taken out by impulses (by the
-// masses: inelastic), then the sliding speeds by friction (Coulomb, all contacts together:
-// projected Gauss–Seidel over two rows across each normal, each contact's impulse held in its cone
-// |λ| ≤ μ N·dt, each update lowering the kinetic energy relative to the colliders, so friction never
-// adds any). N·dt is read two ways, each contact taking the larger: the impulses that would change
-// the points' normal speeds as the move and the kicks did (a hit, a soft part falling each step),
-// and the force that holds the springs off where the loads alone would hold them (a stiff part
-// resting), times dt. The friction acts at the section's centre (no roll), on positions first
-// (contact_stick.cpp: a station held at an anchor on its collider while the springs' force across
-// the normal stays within μN, slid to where it is μN if not — a steady slide drags by μN at any step,
-// tests/sim/friction_test.cpp), then on the speeds with what is left of each cone (the first step
-// of a contact, and the directions the springs barely move). Where nothing touches, nothing is
-// done: the springs keep their exact integration.
+// first the ends are moved back onto their planes through the springs (as the step would have moved
+// them with the force in it, each spring or mode by 1/(m/dt² + c/dt + k): by its inertia over a
+// short step, its compliance over a long one; the speeds by the same move over dt; the true curve
+// re-measured and the solve repeated, up to 16 times), then the approach speeds are taken out by
+// impulses (by the masses: inelastic), then the sliding speeds by friction (Coulomb, all contacts
+// together: projected Gauss–Seidel over two rows across each normal, each contact's impulse held in
+// its cone |λ| ≤ μ N·dt, each update lowering the kinetic energy relative to the colliders, so
+// friction never adds any). N·dt is read two ways, each contact taking the larger: the impulses
+// that would change the points' normal speeds as the move and the kicks did (a hit, a soft part
+// falling each step), and the force that holds the springs off where the loads alone would hold
+// them (a stiff part resting), times dt. The friction acts at the section's centre (no roll), on
+// positions first (contact_stick.cpp: a station held at an anchor on its collider while the
+// springs' force across the normal stays within μN, slid to where it is μN if not — a steady slide
+// drags by μN at any step, tests/sim/friction_test.cpp), then on the speeds with what is left of
+// each cone (the first step of a contact, and the directions the springs barely move). Where
+// nothing touches, nothing is done: the springs keep their exact integration.
 //
 // What it costs: a sweep far from every collider (its bounding spheres at the step's two ends
 // clear of the collider) costs one distance per collider; then each span, then each chord near a
@@ -148,6 +149,8 @@ class ContactSolver {
   std::vector<Plane> planes_;
   std::vector<ElasticSweep::ContactRow> rows_;  // one per plane, along its normal
   Eigen::MatrixXd by_mass_, by_compliance_;     // J M⁻¹ Jᵀ and J C Jᵀ over the rows
+  Eigen::MatrixXd by_move_;                     // J G Jᵀ: the moves' couplings (ElasticSweep::move_rows)
+  std::vector<double> move_speed_;              // the move's change of each row's speed
   std::vector<double> residual_, amount_, total_, coupled_;
   std::vector<double> moved_, pressed_, held_, none_;  // the move's forces; normal impulses; forces; zeros
   SupportScratch support_;
