@@ -432,7 +432,7 @@ TEST(ContactFriction, APartHeldOnAWorldFloorSleepsWhileTheBodyStandsStill) {
 // so that the tube sags onto it, the tip alone touching. A part clamped at its root cannot run
 // down a slope as a rigid block does (acceleration g (sin θ − μ cos θ)): its slope test is
 // Coulomb's cone at the tip, in closed form. (A tube lying along the slope from its root was
-// tried first: the frictionless floor itself lifts such a tube, Contact.DISABLED_ATubeLyingAlong…)
+// tried first: until stop 29 the frictionless floor itself lifted such a tube; Contact.ATubeLyingAlong… now keep it down.)
 // The tube propped at its tip by a force P (vertical) and pushed sideways by F sags by
 // S − P/k and swings out by F/k (k = 3EI/L³, S the free sag wL⁴/8EI). Held where it landed, the
 // support is vertical: its share across n is P sin θ against P cos θ along it, within the cone
@@ -612,11 +612,14 @@ TEST(ContactFriction, TheHoldNeverAddsEnergyWhileTheBodyIsStill) {
       EXPECT_LE(most, start * (1 + 1e-9)) << (release ? "released" : "held") << ", mu " << mu;
     }
     // The test touches: the inelastic contacts take some of it. Held, the tip sticks and rubs
-    // as the tube rings, and friction takes far more (measured 25% against 5.6% without it).
+    // as the tube rings, and friction takes more: measured 22.7% against 17.4% without it. (25%
+    // against 5.6% while the push out of the floor changed speeds along the springs' compliance
+    // rather than by the masses: that move gave back some of what an inelastic contact takes —
+    // the same effect that lifted a tube lying on the floor, Contact.ATubeLyingAlong….)
     EXPECT_GT(lost[0], 0.0) << (release ? "released" : "held");
     EXPECT_GT(lost[1], 0.0) << (release ? "released" : "held");
     if (!release) {
-      EXPECT_GT(lost[1], 2 * lost[0]);
+      EXPECT_GT(lost[1], 1.2 * lost[0]);
     }
   }
 }
