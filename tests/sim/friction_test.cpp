@@ -432,7 +432,8 @@ TEST(ContactFriction, APartHeldOnAWorldFloorSleepsWhileTheBodyStandsStill) {
 // so that the tube sags onto it, the tip alone touching. A part clamped at its root cannot run
 // down a slope as a rigid block does (acceleration g (sin θ − μ cos θ)): its slope test is
 // Coulomb's cone at the tip, in closed form. (A tube lying along the slope from its root was
-// tried first: until stop 29 the frictionless floor itself lifted such a tube; Contact.ATubeLyingAlong… now keep it down.)
+// tried first: until stop 29 the frictionless floor itself lifted such a tube; the
+// Contact.ATubeLyingAlong… tests now keep it down.)
 // The tube propped at its tip by a force P (vertical) and pushed sideways by F sags by
 // S − P/k and swings out by F/k (k = 3EI/L³, S the free sag wL⁴/8EI). Held where it landed, the
 // support is vertical: its share across n is P sin θ against P cos θ along it, within the cone
