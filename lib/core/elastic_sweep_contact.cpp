@@ -211,6 +211,7 @@ void ElasticSweep::keep_least_energy_speeds() {
 // 1 / (m/dt² + c/dt + k): one spring's move per unit of force held over a step dt.
 namespace {
 double step_compliance(const OscillatorParams& p, double dt) {
+  assert(dt > 0);  // an undamped spring over no time would be 0/0
   return 1.0 / (p.mass / (dt * dt) + p.damping / dt + p.stiffness);
 }
 }  // namespace

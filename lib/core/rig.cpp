@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/locate.h"
 
@@ -44,10 +45,27 @@ SweepShape without_narrow_lobes(const SweepShape& rest) {
   const int n = rest.radial_count;
   const int half = std::max(1, static_cast<int>(std::lround(n * kLobeWindowDegrees / 360)));
   std::vector<double> window(static_cast<std::size_t>(2 * half + 1));
+  std::vector<Eigen::Vector2d> outline(static_cast<std::size_t>(n));
+  std::vector<char> reflex(static_cast<std::size_t>(n));
+  const auto at = [n](int j) { return static_cast<std::size_t>(((j % n) + n) % n); };
   for (int i = 0; i < rest.section_count(); ++i) {
+    // The section's outline, its samples in turn; where it turns outwards (a reflex corner) a
+    // lobe leaves the section. A convex outline (a circle, an ellipse however flat, a strip) has
+    // no lobe, whatever its samples' median says.
     for (int j = 0; j < n; ++j) {
-      for (int d = -half; d <= half; ++d)
-        window[static_cast<std::size_t>(d + half)] = rest.radius_sample(i, ((j + d) % n + n) % n);
+      const double theta = 2 * std::numbers::pi * j / n;
+      outline[at(j)] = rest.radius_sample(i, j) * Eigen::Vector2d(std::cos(theta), std::sin(theta));
+    }
+    for (int j = 0; j < n; ++j) {
+      const Eigen::Vector2d a = outline[at(j)] - outline[at(j - 1)], b = outline[at(j + 1)] - outline[at(j)];
+      const double lengths = a.norm() * b.norm();
+      reflex[at(j)] = lengths > 0 && a.x() * b.y() - a.y() * b.x() < -kLobeBaseTurn * lengths;
+    }
+    for (int j = 0; j < n; ++j) {
+      bool pinched = false;
+      for (int d = 1; d <= half; ++d) pinched = pinched || reflex[at(j - d)] || reflex[at(j + d)];
+      if (!pinched) continue;
+      for (int d = -half; d <= half; ++d) window[static_cast<std::size_t>(d + half)] = rest.radius_sample(i, static_cast<int>(at(j + d)));
       std::nth_element(window.begin(), window.begin() + half, window.end());
       out.radii[static_cast<std::size_t>(i) * n + static_cast<std::size_t>(j)] =
           std::min(window[static_cast<std::size_t>(half)], rest.radius_sample(i, j));

@@ -399,7 +399,7 @@ std::vector<Quat> rotation_minimizing_frames(const std::vector<Vec3>& points,
 
 int limit_axis_curvature(AxisTrace& axis, double max_curvature_radii) {
   const std::size_t m = axis.points.size();
-  if (m < 3) return 0;
+  if (m < 3 || axis.radii.size() != m) return 0;
   // The local radius: the slice's where measured, the nearest measured one elsewhere.
   std::vector<double> r = axis.radii;
   const double largest = *std::max_element(r.begin(), r.end());
@@ -408,7 +408,9 @@ int limit_axis_curvature(AxisTrace& axis, double max_curvature_radii) {
     std::size_t lo = i, hi = i;
     while (lo > 0 && !(axis.radii[lo] > 0)) --lo;
     while (hi + 1 < m && !(axis.radii[hi] > 0)) ++hi;
-    r[i] = axis.radii[lo] > 0 ? axis.radii[lo] : axis.radii[hi] > 0 ? axis.radii[hi] : largest;
+    const bool below = axis.radii[lo] > 0, above = axis.radii[hi] > 0;
+    if (below && above) r[i] = i - lo <= hi - i ? axis.radii[lo] : axis.radii[hi];
+    else r[i] = below ? axis.radii[lo] : above ? axis.radii[hi] : largest;
   }
   int moves = 0;
   for (int round = 0; round < kMaxCurvatureRounds; ++round) {

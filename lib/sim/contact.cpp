@@ -453,7 +453,6 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   // made zero, a pull allowed): the push already took it out, and letting the velocity solve
   // leave it a speed off the plane sets a resting part jittering. One only resting there is
   // free to leave.
-  moved_.assign(total_.begin(), total_.end());  // the move's forces, for N below
   for (std::size_t p = 0; p < n; ++p) total_[p] = total_[p] > 0 ? std::numeric_limits<double>::infinity() : 0.0;
   solve(by_mass_, residual_, total_, amount_);
   sweep.apply_rows(rows_, amount_, true);
@@ -464,8 +463,8 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     return true;
   }
   // The normal impulse N·dt each touching contact took over the step, which its friction is
-  // bounded by: the move's change of the points' speeds along their normals (Δq/dt: J C Jᵀ total
-  // / dt, the step's fall it took back) and the kicks' (J M⁻¹ Jᵀ amount), read back as the
+  // bounded by: the move's change of the points' speeds along their normals (Δq/dt, measured as the
+  // move made it: move_speed_, the step's fall it took back) and the kicks' (J M⁻¹ Jᵀ amount), read back as the
   // impulses ≥ 0 that would make that change together (one solve over the contacts: two rows at
   // one point, or neighbours on one chain, share it rather than each counting it whole). A part
   // resting on the ground gets its weight times dt, however long the step.

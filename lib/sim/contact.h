@@ -152,7 +152,7 @@ class ContactSolver {
   Eigen::MatrixXd by_move_;                     // J G Jᵀ: the moves' couplings (ElasticSweep::move_rows)
   std::vector<double> move_speed_;              // the move's change of each row's speed
   std::vector<double> residual_, amount_, total_, coupled_;
-  std::vector<double> moved_, pressed_, held_, none_;  // the move's forces; normal impulses; forces; zeros
+  std::vector<double> pressed_, held_, none_;  // normal impulses; forces; zeros
   SupportScratch support_;
   Eigen::MatrixXd jp_, jr_, modal_;  // the rows' J (positional, rotational) and Φᵀ Jᵀ, one column each
   std::vector<char> evaluated_;       // whether start_/end_ hold station s this step
