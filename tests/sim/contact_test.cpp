@@ -223,7 +223,7 @@ TEST(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
 // springs' compliance alone, with its speed Δq/dt, the push on a station near the root swung the
 // whole tube up about it (E = 2e8: +1.15 units; 2e9: +0.07; the rubber tube flung 20 units up, and
 // 3.3 off a 20° slope).
-double highest_lying(double youngs_modulus, double slope) {
+double highest_lying(double youngs_modulus, double slope, double friction = 0) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2));
   rig.sweeps[0].name = "tube";
@@ -236,7 +236,7 @@ double highest_lying(double youngs_modulus, double slope) {
   // Tilted about the tube's axis: its fall across the tube, +x and down.
   const Vec3 n(std::sin(slope), std::cos(slope), 0);
   Collider floor = Collider::plane(-(test::beam::kRadius + 0.001) * n, n);
-  floor.friction = 0;
+  floor.friction = friction;
   scene.colliders = {floor};
   Simulator sim(rig, scene);
   double highest = -1e300;
@@ -265,6 +265,18 @@ TEST(Contact, ATubeLyingAlongASlopeOrASoftOneStaysOnTheFloor) {
   // the move, tried, it is 0), which the bending lifts the rest over.
   EXPECT_LE(highest_lying(1e7, 0), 1e-3 * length);
   EXPECT_LE(highest_lying(1e7, 20 * kPi / 180), 1e-3 * length) << "on the slope";
+}
+
+// KNOWN BUG (review at stop 29, not fixed): with friction the rubber tube (E = 1e7) lying on the
+// 20° slope is still thrown up — measured +10.5 units at μ = 2 (+20.0 at a 1/30 s step), +0.040
+// at μ = 0.5; E ≥ 1e8 and the paper's springs stay down. Most likely the friction hold
+// (sim/contact_stick.cpp): it still moves the part through the springs' compliance and sets the
+// speeds by Δq/dt, the move the push out of a collider no longer makes (it lifted the frictionless
+// tube the same way). Enable once the hold moves by the step's own response too.
+TEST(Contact, DISABLED_ASoftTubeLyingOnAFrictionalSlopeStaysOnIt) {
+  const double length = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2).rest.length();
+  for (const double mu : {0.5, 2.0})
+    EXPECT_LE(highest_lying(1e7, 20 * kPi / 180, mu), 1e-3 * length) << "mu " << mu;
 }
 
 // Undamped, kicked into a sphere: what the springs hold (kinetic and elastic, in joules in
