@@ -413,5 +413,42 @@ TEST(Slicer, SeamSplitVerticesSliceAsOneClosedLoop) {
   EXPECT_EQ(slice[0].points.size(), static_cast<std::size_t>(2 * segments));  // side edges and quads' diagonals
 }
 
+// Faces add_face refuses are taken locally: one turned against its neighbours goes in turned over
+// (its ring stays one loop), and a fin on one of the tube's edges (three faces at an edge) with a
+// copy of a corner, its slice a piece of its own beside the tube's closed loop.
+TEST(Slicer, AFaceTurnedOverAndAFinOnAnEdgeLeaveTheTubesLoopClosed) {
+  constexpr int rings = 4, segments = 8;
+  const Eigen::AngleAxisd turn(0.7, Vec3(1, 2, 3).normalized());
+  Mesh m;
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double th = 2 * std::numbers::pi * j / segments;
+      m.positions.push_back(turn * Vec3(std::cos(th), std::sin(th), i));
+    }
+  const auto id = [](int i, int j) { return static_cast<std::uint32_t>(i * segments + j % segments); };
+  for (int i = 0; i + 1 < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      if (i == 1 && j == 3) {
+        m.add_face({id(i, j), id(i + 1, j + 1), id(i, j + 1)});  // turned over
+      } else {
+        m.add_face({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
+      }
+      m.add_face({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
+    }
+  m.positions.push_back(turn * Vec3(2.5, 0, 1.5));  // a fin on the edge from (1, 0) to (2, 0)
+  m.add_face({id(1, 0), id(2, 0), static_cast<std::uint32_t>(m.positions.size() - 1)});
+  const MeshSlicer slicer(m);
+  EXPECT_GE(slicer.repaired_face_count(), 2u) << "the turned face (or a neighbour) and the fin";
+  const std::vector<SlicePolyline> slice = slicer.slice(turn * Vec3(0.1, 0.05, 1.37), turn * Vec3(0, 0, 1));
+  int closed = 0;
+  for (const SlicePolyline& pl : slice) {
+    if (!pl.closed) continue;
+    ++closed;
+    EXPECT_EQ(pl.points.size(), static_cast<std::size_t>(2 * segments));  // side edges and diagonals
+  }
+  EXPECT_EQ(closed, 1);
+  EXPECT_EQ(slice.size(), 2u) << "the tube's loop and the fin's piece";
+}
+
 }  // namespace
 }  // namespace sweep::fit
