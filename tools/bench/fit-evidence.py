@@ -41,6 +41,7 @@ PARTS = [
     ("man", "arm", "lying against the body", "-0.185,0.035,-0.075", "-0.16,0.02,0.26"),
     ("camel", "tail", "lying against the body", "0.002,-0.0135,-0.4465", None),
     ("cow", "tail", "lying against the body (coarse mesh)", "-0.485,-0.145,0.005", None),
+    ("cow", "horn", "curved, tapering to a point", "0.418,0.311,-0.069", None),
     ("bunny00", "ear", "flat, leaving the head", "-0.3,0.445,-0.36", None),
     ("bull", "tail", "curled, a tuft at the end", "0.43,0.35,0.26", None),
     ("bull", "horn", "curved, tapering to a point", "-0.23,0.28,0.4", None),
