@@ -463,11 +463,12 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     return true;
   }
   // The normal impulse N·dt each touching contact took over the step, which its friction is
-  // bounded by: the move's change of the points' speeds along their normals (Δq/dt, measured as the
-  // move made it: move_speed_, the step's fall it took back) and the kicks' (J M⁻¹ Jᵀ amount), read back as the
-  // impulses ≥ 0 that would make that change together (one solve over the contacts: two rows at
-  // one point, or neighbours on one chain, share it rather than each counting it whole). A part
-  // resting on the ground gets its weight times dt, however long the step.
+  // bounded by: the move's change of the points' speeds along their normals (Δq/dt, measured as
+  // the move made it: move_speed_, the step's fall it took back) and the kicks' (J M⁻¹ Jᵀ
+  // amount), read back as the impulses ≥ 0 that would make that change together (one solve over
+  // the contacts: two rows at one point, or neighbours on one chain, share it rather than each
+  // counting it whole). A part resting on the ground gets its weight times dt, however long the
+  // step.
   for (std::size_t p = 0; p < n; ++p) {
     if (!std::isfinite(residual_[p]) || !(by_mass_(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p)) > 0)) {
       residual_[p] = std::numeric_limits<double>::infinity();  // not touching, or held by the root
