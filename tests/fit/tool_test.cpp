@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "assets/mesh_io.h"
@@ -255,22 +257,30 @@ TEST_F(Tool, ListFindsTheDiplodocusNeckTailAndFourLegs) {
       << "tube.obj and parts.json only: --list writes no rig";
 }
 
+// `--all` on one of CGAL's sample meshes into `rig`, refused: exit 2, every phrase said, no rig
+// written; then the same with --force, whose run it returns (nothing if the mesh is not there).
+std::optional<ToolRun> refused_then_forced(const char* mesh_file, const std::string& rig,
+                                           std::initializer_list<const char*> phrases) {
+  const fs::path mesh = diplodocus().parent_path() / mesh_file;
+  if (!fs::exists(mesh)) return std::nullopt;
+  const ToolRun r = run_tool(mesh.string() + " --all -o " + rig);
+  EXPECT_EQ(r.code, 2) << r.output;
+  for (const char* phrase : phrases) EXPECT_NE(r.output.find(phrase), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(rig));
+  return run_tool(mesh.string() + " --all --force -o " + rig);
+}
+
 // Parts --all fits but does not trust (CGAL's elk, a sculpture of many holes: two "arms" are 13 %
 // and 11.7 % off at the 90th percentile) are named and nothing is written; with --force all eight
 // are. (The part this test once saw refused outright, its tip behind its root section, fits
 // since the axis' curvature is limited: a stub of 38 vertices; the next test takes that path.)
 TEST_F(Tool, AllNamesThePartsItDoesNotTrustAndForceWritesThem) {
-  const fs::path elk = diplodocus().parent_path() / "elk.off";
-  if (!fs::exists(elk)) GTEST_SKIP() << "run tools/setup-deps.sh";
   const std::string rig = path("elk.rig.json");
-  ToolRun r = run_tool(elk.string() + " --all -o " + rig);
-  EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find("arm5: the fit is not to be trusted"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("(--force writes the rig anyway)"), std::string::npos) << r.output;
-  EXPECT_FALSE(fs::exists(rig));
-  r = run_tool(elk.string() + " --all --force -o " + rig);
-  ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_EQ(r.output.find("left out (--force)"), std::string::npos) << r.output;
+  const auto forced =
+      refused_then_forced("elk.off", rig, {"arm5: the fit is not to be trusted", "(--force writes the rig anyway)"});
+  if (!forced) GTEST_SKIP() << "run tools/setup-deps.sh";
+  ASSERT_EQ(forced->code, 0) << forced->output;
+  EXPECT_EQ(forced->output.find("left out (--force)"), std::string::npos) << forced->output;
   EXPECT_EQ(io::read_rig(rig).sweeps.size(), 8u);
 }
 
@@ -278,19 +288,15 @@ TEST_F(Tool, AllNamesThePartsItDoesNotTrustAndForceWritesThem) {
 // the search offers, one has its tip's nearest vertex behind its root section) names that part
 // and writes nothing; with --force the other is written and that one left out.
 TEST_F(Tool, AllNamesAPartItCannotFitAndForceLeavesItOut) {
-  const fs::path knot = diplodocus().parent_path() / "knot2.off";
-  if (!fs::exists(knot)) GTEST_SKIP() << "run tools/setup-deps.sh";
   const std::string rig = path("knot.rig.json");
-  ToolRun r = run_tool(knot.string() + " --all -o " + rig);
-  EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find(" of 2): the tip's nearest vertex"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("--force fits the other parts"), std::string::npos) << r.output;
-  EXPECT_FALSE(fs::exists(rig));
-  r = run_tool(knot.string() + " --all --force -o " + rig);
-  ASSERT_EQ(r.code, 0) << r.output;
+  const auto forced =
+      refused_then_forced("knot2.off", rig, {" of 2): the tip's nearest vertex", "--force fits the other parts"});
+  if (!forced) GTEST_SKIP() << "run tools/setup-deps.sh";
+  const std::string& out = forced->output;
+  ASSERT_EQ(forced->code, 0) << out;
   std::size_t left_out = 0;
-  for (std::size_t at = 0; (at = r.output.find("left out (--force)", at)) != std::string::npos; ++at) ++left_out;
-  EXPECT_EQ(left_out, 1u) << r.output;
+  for (std::size_t at = 0; (at = out.find("left out (--force)", at)) != std::string::npos; ++at) ++left_out;
+  EXPECT_EQ(left_out, 1u) << out;
   EXPECT_EQ(io::read_rig(rig).sweeps.size(), 1u);
 }
 
