@@ -212,6 +212,16 @@ void ElasticSweep::apply_body_kick(const Vec3& dv, const Vec3& dw) {
   kick_motion.angular_acceleration = dw;
   add_body_loads(kick_motion);
   loads_to_springs(false);
+  if (chain_) {
+    // Material mode takes the kick by bending alone (the joints, through the chain's full mass
+    // matrix). Its stretch and shear shifts each carry all the mass beyond them on a mass of their
+    // own (a diagonal mass, good for loads that last): each took the whole kick, and a shift moves
+    // every section past it, so section i was kicked i times — the tip of a 32-section tube went
+    // at 32× the body's jump (Body.AKickLeavesThePartStillInTheWorld), the stiff springs ringing
+    // with it and throwing a part's stuck tip off its floor.
+    const int k = def_.rest.section_count();
+    for (int m = 3; m < 3 * k; ++m) positional_.f[m] = 0;
+  }
   kick();
 }
 

@@ -184,7 +184,7 @@ class ContactSolver {
   std::vector<ElasticSweep::ContactRow> stick_rows_;  // two across each held pair's normal, then rows_
   std::vector<double> spent_;  // per plane: the friction impulse (N·s) the hold took of its cone
   std::vector<double> stick_amount_, repush_;
-  Eigen::MatrixXd stick_by_compliance_;
+  Eigen::MatrixXd stick_by_compliance_, stick_by_mass_;
 };
 
 }  // namespace sweep::sim

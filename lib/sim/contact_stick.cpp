@@ -13,7 +13,8 @@
 // over all the held rows together (W⁺ over the modes the springs bend: see below), less what the
 // normal forces do across (W_tn N). It depends on
 // where the springs are, not on the step: the drag of a steady slide is μN at any step and frame
-// rate. What of the cone the hold spends (|F|·dt), the speeds' friction may not.
+// rate. Nor may its move stop more of the station's momentum than the cone gives over the step
+// (μN·dt; see below). What of the cone the hold spends, the speeds' friction may not.
 #include <algorithm>
 #include <cmath>
 
@@ -33,6 +34,19 @@ constexpr double kMovable = 1e-12;
 constexpr double kBends = 1e-2;
 // After the hold, a gap below this (× the length) sends the part back through the normal move.
 constexpr double kGapSlack = 1e-7;
+
+// A⁺ over the modes of a symmetric positive semi-definite A whose eigenvalue is above `share` of
+// its largest (the others left out: see kBends).
+Eigen::MatrixXd pseudo_inverse(const Eigen::MatrixXd& a, double share) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> modes(a);
+  const Eigen::VectorXd& lambda = modes.eigenvalues();  // ascending
+  const Eigen::Index n = lambda.size();
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (lambda[i] > share * lambda[n - 1]) inverse[i] = 1 / lambda[i];
+  }
+  return modes.eigenvectors() * inverse.asDiagonal() * modes.eigenvectors().transpose();
+}
 
 }  // namespace
 
@@ -71,7 +85,7 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
   if (m == 0) return;
 
   // Two rows across each held pair's normal (fixed in the collider: the same at every step), then
-  // the normal rows, for W_tn. Only moved by, never kicked: no modal part.
+  // the normal rows, for W_tn. With their modal part: the momentum check below reads J M⁻¹ Jᵀ.
   stick_rows_.resize(2 * m + n);
   Eigen::VectorXd offset(2 * m);  // how far each held station is off its anchor along its rows
   for (std::size_t k = 0; k < m; ++k) {
@@ -81,12 +95,12 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     const Vec3 across[2] = {pl.normal.unitOrthogonal(), pl.normal.cross(pl.normal.unitOrthogonal())};
     const Vec3 off = here_local(h) - anchors_[h.anchor].local;
     for (int r = 0; r < 2; ++r) {
-      sweep.contact_row(stations_[pl.station], placed.to_mesh.rotation * across[r], stick_rows_[2 * k + r], false);
+      sweep.contact_row(stations_[pl.station], placed.to_mesh.rotation * across[r], stick_rows_[2 * k + r]);
       offset[static_cast<Eigen::Index>(2 * k + r)] = across[r].dot(off);
     }
   }
   std::copy(rows_.begin(), rows_.end(), stick_rows_.begin() + static_cast<std::ptrdiff_t>(2 * m));
-  sweep.row_compliances(stick_rows_, jp_, jr_, stick_by_compliance_);  // moves only: no masses
+  sweep.row_couplings(stick_rows_, jp_, jr_, modal_, stick_by_mass_, stick_by_compliance_);
   const Eigen::Index t = static_cast<Eigen::Index>(2 * m);
   const Eigen::MatrixXd& w = stick_by_compliance_;
 
@@ -115,22 +129,14 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
   // reads the curve's second-order shortening, not a force — over that compliance, tens of μN;
   // and two stations close on a stiff chain pushed apart (nearly the same rows), where W⁻¹ reads
   // two huge opposite forces out of rounding.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> modes(wtt);
-  const Eigen::VectorXd& lambda = modes.eigenvalues();  // ascending
-  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(h);
-  for (Eigen::Index i = 0; i < h; ++i) {
-    if (lambda[i] > kBends * lambda[h - 1]) inverse[i] = 1 / lambda[i];
-  }
-  const Eigen::MatrixXd& v = modes.eigenvectors();
-  const auto pinv = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-    return v * inverse.cwiseProduct(v.transpose() * x);
-  };
+  const Eigen::MatrixXd pinv = pseudo_inverse(wtt, kBends);
   // The force across the normal the springs press each station with now, and once moved back
   // onto its anchor (a move of amount a changes J q by W a, so the force by a).
-  const Eigen::VectorXd now = pinv(strain);
-  const Eigen::VectorXd back = pinv(strain - off);
+  const Eigen::VectorXd now = pinv * strain;
+  const Eigen::VectorXd back = pinv * (strain - off);
   stick_amount_.assign(2 * m, 0.0);
   std::vector<char> slid(m, 0);
+  std::vector<double> taken(m, 0.0);  // N·s of each pair's cone the hold takes
   for (Eigen::Index i = 0; i < h; i += 2) {
     const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
     const Eigen::Vector2d force = back.segment<2>(i);
@@ -140,8 +146,34 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     slid[k] = scale < 1;
     stick_amount_[2 * k] = scale * force.x() - now[i];
     stick_amount_[2 * k + 1] = scale * force.y() - now[i + 1];
-    spent_[held_pairs_[k].plane] += scale * force.norm() * dt;
+    taken[k] = scale * force.norm() * dt;
   }
+  // The springs' force is not all a hold takes: its move sets the speeds by Δq/dt, stopping
+  // whatever the station carried off its anchor over the step — the impulse P that changes the
+  // rows' speeds by W a / dt, P = (J M⁻¹ Jᵀ)⁺ W a / dt. A hold stops no more than the cone gives
+  // over the step (μN·dt): past that its move is cut to the share that does, and the station
+  // slides. Held by the springs' force alone, a soft tube whipping as it landed on a frictional
+  // slope was carried 1.5 to 22 units a step off its anchors, moved back through the compliance
+  // and stopped for free, its springs pumped by 5 to 200 J a step: it was thrown 10 units up.
+  {
+    Eigen::VectorXd amount(h);
+    Eigen::MatrixXd wmm(h, h);
+    for (Eigen::Index i = 0; i < h; ++i) {
+      amount[i] = stick_amount_[static_cast<std::size_t>(kept[i])];
+      for (Eigen::Index j = 0; j < h; ++j) wmm(i, j) = stick_by_mass_(kept[i], kept[j]);
+    }
+    const Eigen::VectorXd impulse = pseudo_inverse(wmm, kBends) * (wtt * amount / dt);
+    for (Eigen::Index i = 0; i < h; i += 2) {
+      const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
+      const double cone = held_pairs_[k].cone * dt, stopped = impulse.segment<2>(i).norm();
+      if (stopped <= cone) continue;
+      slid[k] = 1;
+      taken[k] = cone;
+      stick_amount_[2 * k] *= cone / stopped;
+      stick_amount_[2 * k + 1] *= cone / stopped;
+    }
+  }
+  for (std::size_t k = 0; k < m; ++k) spent_[held_pairs_[k].plane] += taken[k];
   sweep.apply_rows({stick_rows_.data(), 2 * m}, stick_amount_, false, dt);
   for (std::size_t k = 0; k < m; ++k) {
     anchors_[held_pairs_[k].anchor].step = step_;
