@@ -23,6 +23,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -127,6 +128,13 @@ struct FitResult {
   // given; tip_cut_reason says how that was seen ("" when there is no tip-side cut).
   bool tip_cut = false;
   std::string tip_cut_reason;
+  // The part's end is not a tube (a foot that spreads sideways, a hoof, a tuft): the sweep
+  // fitted through it was far off there alone, so the sweep ends where the tube does, and the
+  // part's vertices past its last section are carried rigidly by it, as a head is; traced_length
+  // and surface_length are then the axis and the surface distance to there. end_cut_reason says
+  // where and with what numbers ("" when the sweep runs to the tip).
+  bool end_cut = false;
+  std::string end_cut_reason;
   double length = 0;       // arc length of the axis from section 0 to K-1, mesh units
   double traced_length = 0;    // the axis from the root to the tip vertex, mesh units
   double surface_length = 0;   // surface distance from the tip vertex to the root ring
@@ -224,9 +232,11 @@ int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32
 // The way back measures to the part's faces, and to `patches` (triangles over representatives:
 // fit/hole_patches.h, `weld` the topology's) touching the part: over a hole, the patch is the
 // surface's best stand-in, and without it a sample there is the hole's radius from any face.
+// With `along`, each measured vertex's section parameter t and distance are appended to it.
 FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
                            const std::vector<std::uint32_t>& vertices,
                            std::span<const std::uint32_t> patches = {},
-                           std::span<const std::uint32_t> weld = {});
+                           std::span<const std::uint32_t> weld = {},
+                           std::vector<std::pair<double, double>>* along = nullptr);
 
 }  // namespace sweep::fit

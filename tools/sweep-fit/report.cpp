@@ -31,6 +31,8 @@ Json fit_entry(const fit::FitResult& r) {
   s["root_reason"] = r.root_reason;
   s["tip_cut"] = r.tip_cut;
   if (r.tip_cut) s["tip_cut_reason"] = r.tip_cut_reason;
+  s["end_cut"] = r.end_cut;
+  if (r.end_cut) s["end_cut_reason"] = r.end_cut_reason;
   s["part_vertex_count"] = r.part_vertices.size();
   s["measured_vertex_count"] = r.error.measured_count;
   s["beyond_ends_vertex_count"] = r.error.beyond_ends_count;
@@ -238,6 +240,7 @@ void print_fit(const fit::FitResult& r, bool verbose) {
             << "  root " << format_point(r.root) << (r.root_found ? " (found: " : " (")
             << r.root_reason << ")\n"
             << (r.tip_cut ? "  tip-side cut at the last section (" + r.tip_cut_reason + ")\n" : "")
+            << (r.end_cut ? "  the sweep ends before the part does (" + r.end_cut_reason + ")\n" : "")
             << "  part: " << r.part_vertices.size() << " vertices, "
             << format_percent(r.in_range_share()) << " between the end sections; axis "
             << format_number(r.traced_length) << " over a surface distance of "
