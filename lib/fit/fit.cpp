@@ -18,6 +18,7 @@
 #include "fit/mid_tube.h"
 #include "fit/slicer.h"
 #include "fit/surface_distance.h"
+#include "fit/tube_end.h"
 
 namespace sweep::fit {
 namespace {
@@ -53,28 +54,6 @@ constexpr double kMaxCurvatureRadii = 1;
 // still in the part the first radii were fitted to, pulls them out along it and keeps itself in.)
 // Fitting is deterministic: a part that stays as it was is not fitted twice.
 constexpr int kMaxRefits = 2;
-// An end that is not a tube (a foot spreading sideways from the leg, a hoof, a tuft): a traced fit
-// is cut where the run of spans at its tip end whose RMS distance exceeds this share of the error
-// limit (FitOptions::max_error) begins, when that run is at most this share of the sweep's length
-// and the vertices before it are within the limit. The cut fit is kept only if it meets every
-// limit, fits better than the uncut one, and its part, now carried past the last section, gains at
-// most FitOptions::max_leak_share of the vertices it had (an end that is closed off: not a hand
-// fused to the hip, whose walk past the wrist would go on into the body). Measured per vertex on
-// camel.off's hind leg (refused at 9.2 % RMS): 98 % of the squared error lay in the last fifth of
-// t, the foot (spans 5-15 % RMS each), every span before it 0-2 %.
-constexpr double kEndCutSpanShare = 0.5;
-constexpr double kMaxEndCutShare = 1.0 / 3;
-// ... and only where the key sections are at most this many mean radii apart: farther, a span's
-// error is the sections' spacing, not the shape (diplodocus's tail at K = 4 has ends 5 % off).
-constexpr double kMaxEndCutSpacingRadii = 2;
-
-// The value a tenth of the distances exceed (nth_element: linear, reorders the copy it is given).
-double percentile_90(std::vector<double> distances) {
-  if (distances.empty()) return 0;
-  const auto p90 = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() * 9 / 10);
-  std::nth_element(distances.begin(), p90, distances.end());
-  return *p90;
-}
 
 }  // namespace
 
@@ -561,50 +540,10 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   if (o.axis.empty() && !mid_tube && !far_end && o.measure_error && r.error.measured_count > 0) {
     const SweepShape& shape = r.sweep.rest;
     const int k = shape.section_count();
-    const double limit = o.max_error * r.mean_radius;
-    std::vector<double> sum2(static_cast<std::size_t>(k - 1), 0.0);
-    std::vector<std::size_t> count(static_cast<std::size_t>(k - 1), 0);
-    const auto span_of = [&](double t) {
-      const auto i = std::upper_bound(shape.t.begin(), shape.t.end(), t) - shape.t.begin() - 1;
-      return static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(i, 0, k - 2));
-    };
-    for (const auto& [t, dist] : along) {
-      sum2[span_of(t)] += dist * dist;
-      ++count[span_of(t)];
-    }
-    const auto off_tube = [&](int i) {
-      const auto u = static_cast<std::size_t>(i);
-      return count[u] > 0 && std::sqrt(sum2[u] / static_cast<double>(count[u])) >
-                                 kEndCutSpanShare * limit;
-    };
-    int end_first = k - 1;  // the first section of the end's run of spans off the tube
-    for (;;) {  // (the run goes on over one span within it that is not off: a toe's gap)
-      if (end_first > 0 && off_tube(end_first - 1)) {
-        --end_first;
-      } else if (end_first < k - 1 && end_first >= 2 && off_tube(end_first - 2)) {
-        end_first -= 2;
-      } else {
-        break;
-      }
-    }
-    const double cut_t = shape.t[static_cast<std::size_t>(end_first)];
-    std::vector<double> before;
-    double end2 = 0, before2 = 0;
-    for (const auto& [t, dist] : along) {
-      if (t < cut_t) {
-        before.push_back(dist);
-        before2 += dist * dist;
-      } else {
-        end2 += dist * dist;
-      }
-    }
-    const std::size_t end_count = along.size() - before.size();
-    if (end_first > 0 && end_first < k - 1 && cut_t >= (1 - kMaxEndCutShare) * shape.length() &&
-        shape.length() <= kMaxEndCutSpacingRadii * r.mean_radius * (k - 1) &&
-        !before.empty() && percentile_90(before) <= limit) {
-      const double end_rms = std::sqrt(end2 / static_cast<double>(std::max<std::size_t>(end_count, 1)));
-      const double before_rms = std::sqrt(before2 / static_cast<double>(before.size()));
-      const double share = 1 - cut_t / shape.length();
+    if (const std::optional<TubeEnd> tube_end = find_tube_end(shape, along, o.max_error * r.mean_radius, r.mean_radius)) {
+      const int end_first = tube_end->first_section;
+      const double end_rms = tube_end->end_rms, before_rms = tube_end->before_rms, share = tube_end->share;
+      const std::size_t end_count = tube_end->end_count;
       const Vec3 end_point = shape.frames[static_cast<std::size_t>(end_first)].center;
       const double old_mean_radius = r.mean_radius;
       const FitResult uncut = r;
