@@ -40,6 +40,8 @@ PARTS = [
     ("man", "finger", "tapering", "0.104,-0.078,-0.019", None),
     ("man", "arm", "lying against the body", "-0.185,0.035,-0.075", "-0.16,0.02,0.26"),
     ("camel", "tail", "lying against the body", "0.002,-0.0135,-0.4465", None),
+    ("camel", "hind leg", "hock bulge, a flat foot", "0.14,-0.48,-0.34", None),
+    ("camel", "front leg", "knee bulge, a flat foot", "0.12,-0.48,0.13", None),
     ("cow", "tail", "lying against the body (coarse mesh)", "-0.485,-0.145,0.005", None),
     ("cow", "horn", "curved, tapering to a point", "0.418,0.311,-0.069", None),
     ("bunny00", "ear", "flat, leaving the head", "-0.3,0.445,-0.36", None),
