@@ -218,7 +218,8 @@ void ElasticSweep::apply_body_kick(const Vec3& dv, const Vec3& dw) {
     // own (a diagonal mass, good for loads that last): each took the whole kick, and a shift moves
     // every section past it, so section i was kicked i times — the tip of a 32-section tube went
     // at 32× the body's jump (Body.AKickLeavesThePartStillInTheWorld), the stiff springs ringing
-    // with it and throwing a part's stuck tip off its floor.
+    // with it and throwing a part's stuck tip off its floor. (So a kick's share along the axis,
+    // which only the stretch springs could take, is left out: they are too stiff to show it.)
     const int k = def_.rest.section_count();
     for (int m = 3; m < 3 * k; ++m) positional_.f[m] = 0;
   }

@@ -102,7 +102,8 @@ class ElasticSweep {
   const BodyMotion& body_motion() const { return body_; }
   // An instant change of the body's velocity (Δv of its origin, Δω; body axes): each section
   // takes the impulse −m (Δv + Δω × c), as at the corner of a linear keyframed path (material
-  // mode: through its joints alone, which leaves the part all but still in the world).
+  // mode: through its joints alone, which leaves the part all but still in the world across its
+  // axis; a kick along the axis, which the joints cannot take, is left out).
   void apply_body_kick(const Vec3& dv, const Vec3& dw);
 
   // Contact (sim/contact.h). A contact row is one direction d at a point of the axis (t its arc

@@ -152,7 +152,13 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
   // whatever the station carried off its anchor over the step — the impulse P that changes the
   // rows' speeds by W a / dt, P = (J M⁻¹ Jᵀ)⁺ W a / dt. A hold stops no more than the cone gives
   // over the step (μN·dt): past that its move is cut to the share that does, and the station
-  // slides. Held by the springs' force alone, a soft tube whipping as it landed on a frictional
+  // slides. What it takes of the cone is the larger of the force it holds over the step and the
+  // momentum it stops (two readings of one friction, as N's), so that the speeds' friction after
+  // it cannot take a second cone. (An approximation, measured rather than derived: in material
+  // mode J M⁻¹ Jᵀ includes the stretch and shear shifts' diagonal masses, which the hold's move
+  // does not move; with the joints' masses alone P reads 1.2–5× larger, more stations slide, and
+  // the rubber tube below was thrown again, +2.7 units at μ = 0.5, the tip on a slope sliding 8 %
+  // past its closed form.) Held by the springs' force alone, a soft tube whipping as it landed on a frictional
   // slope was carried 1.5 to 22 units a step off its anchors, moved back through the compliance
   // and stopped for free, its springs pumped by 5 to 200 J a step: it was thrown 10 units up.
   {
@@ -166,7 +172,10 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     for (Eigen::Index i = 0; i < h; i += 2) {
       const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
       const double cone = held_pairs_[k].cone * dt, stopped = impulse.segment<2>(i).norm();
-      if (stopped <= cone) continue;
+      if (stopped <= cone) {
+        taken[k] = std::max(taken[k], stopped);
+        continue;
+      }
       slid[k] = 1;
       taken[k] = cone;
       stick_amount_[2 * k] *= cone / stopped;

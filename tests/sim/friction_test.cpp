@@ -613,14 +613,15 @@ TEST(ContactFriction, TheHoldNeverAddsEnergyWhileTheBodyIsStill) {
       EXPECT_LE(most, start * (1 + 1e-9)) << (release ? "released" : "held") << ", mu " << mu;
     }
     // The test touches: the inelastic contacts take some of it. Held, the tip sticks and rubs
-    // as the tube rings, and friction takes more: measured 66.2% against 60.4% without it. (Before
-    // the body's kicks went through the joints alone, Body.AKickLeavesThePartStillInTheWorld, the
-    // corner that stops the body put 147 J rather than 36 J into the tube, most of it ringing in
-    // the stiff stretch and shear springs, and friction took 22.7% against 17.4%.)
+    // as the tube rings, and friction takes more: it leaves at most 90 % of what the frictionless
+    // floor leaves (measured 30.9 % of the energy against 39.6 %: 69.1 % lost against 60.4 %).
+    // (Before the body's kicks went through the joints alone, Body.AKickLeavesThePartStillInTheWorld,
+    // the corner that stops the body put 147 J rather than 36 J into the tube, most of it ringing
+    // in the stiff stretch and shear springs, and friction took 22.7 % against 17.4 %.)
     EXPECT_GT(lost[0], 0.0) << (release ? "released" : "held");
     EXPECT_GT(lost[1], 0.0) << (release ? "released" : "held");
     if (!release) {
-      EXPECT_GT(lost[1], lost[0]);
+      EXPECT_LT(1 - lost[1], 0.9 * (1 - lost[0]));
     }
   }
 }
