@@ -536,8 +536,12 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   } else {
     build(o.sections);
   }
-  // 4b. An end that is not a tube: the sweep ends where the tube does (kEndCutSpanShare).
-  if (o.axis.empty() && !mid_tube && !far_end && o.measure_error && r.error.measured_count > 0) {
+  // 4b. An end that is not a tube: the sweep ends where the tube does (fit/tube_end.h). At a
+  // fixed section count only: a foot spoils every rung of the tolerance search, which would climb
+  // to max_sections before the end is cut (camel's hind leg: K = 256, 1.6 % RMS, the axis still
+  // in the foot); and only when the error is measured, which tells where the end is.
+  const bool fixed_count = o.tolerance == 0;
+  if (o.axis.empty() && !mid_tube && !far_end && fixed_count && o.measure_error && r.error.measured_count > 0) {
     const SweepShape& shape = r.sweep.rest;
     const int k = shape.section_count();
     if (const std::optional<TubeEnd> tube_end = find_tube_end(shape, along, o.max_error * r.mean_radius, r.mean_radius)) {
@@ -614,7 +618,6 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
         r.axis.end_reason = "the part's end is not a tube past " + format_point(end_point, 4) +
                             " (the sweep was " + format_percent(end_rms / old_mean_radius) +
                             " of the mean radius off it, RMS)";
-        r.warnings.push_back(r.end_cut_reason);
       } else {
         r = uncut;
         cut = uncut_axis;

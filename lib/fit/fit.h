@@ -59,7 +59,9 @@ struct FitOptions {
   // diagonal; farther means the request names a point off the mesh.
   double seed_distance = 0.1;
   RingOptions rings;
-  bool measure_error = true;  // the two-way distances (~5 ms for a 5,000-vertex part)
+  // The two-way distances (~5 ms for a 5,000-vertex part); they also tell where an end that is
+  // not a tube begins (FitResult::end_cut): without them the sweep runs to the tip.
+  bool measure_error = true;
   // Limits beyond which the fit is a problem (FitResult::problems):
   // the traced axis, root to tip, against the surface distance from the tip to the root ring
   // (a tube's axis is a little shorter than its surface over the tip's cap; far shorter is a

@@ -31,15 +31,20 @@ std::optional<TubeEnd> find_tube_end(const SweepShape& shape, std::span<const st
     const auto u = static_cast<std::size_t>(i);
     return count[u] > 0 && std::sqrt(sum2[u] / static_cast<double>(count[u])) > kEndCutSpanShare * limit;
   };
-  int end_first = k - 1;
-  for (;;) {  // (the run goes on over one span within it that is not off: a toe's gap)
-    if (end_first > 0 && off_tube(end_first - 1)) {
-      --end_first;
-    } else if (end_first < k - 1 && end_first >= 2 && off_tube(end_first - 2)) {
-      end_first -= 2;
-    } else {
-      break;
+  // From the tip end back: the run goes on over spans with no vertex measured (neither on nor
+  // off) and over fitting stretches shorter than kMaxEndGapRadii mean radii (a toe's gap); by
+  // length, not by span, so that it is the same run at any section count.
+  int end_first = k - 1;  // the run's first section (k − 1: no run)
+  double gap = 0;         // fitting length since the run's last span off the tube (or the tip)
+  for (int i = k - 2; i >= 0; --i) {
+    if (count[static_cast<std::size_t>(i)] == 0) continue;
+    if (off_tube(i)) {
+      end_first = i;
+      gap = 0;
+      continue;
     }
+    gap += shape.t[static_cast<std::size_t>(i) + 1] - shape.t[static_cast<std::size_t>(i)];
+    if (gap > kMaxEndGapRadii * mean_radius) break;
   }
   TubeEnd end;
   end.first_section = end_first;

@@ -25,6 +25,9 @@ inline constexpr double kMaxEndCutShare = 1.0 / 3;
 // ... and only where the key sections are at most this many mean radii apart: farther, a span's
 // error is the sections' spacing, not the shape (diplodocus's tail at K = 4 has ends 5 % off).
 inline constexpr double kMaxEndCutSpacingRadii = 2;
+// The run goes on over fitting stretches shorter than this many mean radii (a toe's gap), and
+// must begin within it of the tip.
+inline constexpr double kMaxEndGapRadii = 1;
 
 struct TubeEnd {
   int first_section = 0;   // the first key section of the end's run of spans off the tube
@@ -36,10 +39,11 @@ struct TubeEnd {
 };
 
 // Where the tube ends, from each measured part vertex's (t, distance to the sweep): the run of
-// spans at the tip end whose RMS exceeds kEndCutSpanShare × `limit` (going on over a single span
-// within it that does not: a toe's gap), when it begins past (1 − kMaxEndCutShare) of the length,
-// the sections are at most kMaxEndCutSpacingRadii × `mean_radius` apart, and the vertices before
-// it are within `limit` at the 90th percentile. None when the end is a tube or cannot be told.
+// spans at the tip end whose RMS exceeds kEndCutSpanShare × `limit` (going on over spans with no
+// vertex and over fitting stretches shorter than kMaxEndGapRadii mean radii), when it begins past
+// (1 − kMaxEndCutShare) of the length, the sections are at most kMaxEndCutSpacingRadii ×
+// `mean_radius` apart, and the vertices before it are within `limit` at the 90th percentile. None
+// when the end is a tube or cannot be told.
 std::optional<TubeEnd> find_tube_end(const SweepShape& shape, std::span<const std::pair<double, double>> along,
                                      double limit, double mean_radius);
 

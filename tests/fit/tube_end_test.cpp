@@ -48,6 +48,26 @@ TEST(TubeEnd, OneSpanWithinTheRunDoesNotStopIt) {
   EXPECT_EQ(end->first_section, 7);
 }
 
+TEST(TubeEnd, TheRunGoesOnOverSpansWithNoVertexButNotOverAFittingRadius) {
+  const SweepShape shape = test::straight_shape(11, 8, 1.0);
+  // Spans 7 and 9 off, span 8 with no vertex measured (dense sections on a coarse mesh): one run.
+  std::vector<std::pair<double, double>> along;
+  for (const auto& [t, d] : measured([](int span) { return span == 7 || span == 9 ? 0.2 : 0.01; })) {
+    if (t < 8 || t >= 9) along.emplace_back(t, d);
+  }
+  const std::optional<TubeEnd> end = find_tube_end(shape, along, kLimit, 1.0);
+  ASSERT_TRUE(end.has_value());
+  EXPECT_EQ(end->first_section, 7);
+  // Spans 6 (a little: within the limit) and 9 off, 7 and 8 fit: two radii of tube between
+  // them, the run is span 9 alone.
+  const std::optional<TubeEnd> tip_only = find_tube_end(
+      shape, measured([](int span) { return span == 9 ? 0.2 : span == 6 ? 0.08 : 0.01; }), kLimit, 1.0);
+  ASSERT_TRUE(tip_only.has_value());
+  EXPECT_EQ(tip_only->first_section, 9);
+  // The last two spans fit: no run begins at the tip end, whatever is off before them.
+  EXPECT_FALSE(find_tube_end(shape, measured([](int span) { return span == 7 ? 0.2 : 0.01; }), kLimit, 1.0));
+}
+
 TEST(TubeEnd, NoCutForATubeALongRunOrSectionsFarApart) {
   const SweepShape shape = test::straight_shape(11, 8, 1.0);
   // Every span on the tube: nothing to cut.
