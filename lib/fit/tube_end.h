@@ -25,9 +25,10 @@ inline constexpr double kMaxEndCutShare = 1.0 / 3;
 // ... and only where the key sections are at most this many mean radii apart: farther, a span's
 // error is the sections' spacing, not the shape (diplodocus's tail at K = 4 has ends 5 % off).
 inline constexpr double kMaxEndCutSpacingRadii = 2;
-// The run goes on over fitting stretches shorter than this many mean radii (a toe's gap), and
+// The run goes on over fitting stretches no longer than this many mean radii (a toe's gap; as
+// long as the longest span the cut is tried with, so that one fitting span never ends it), and
 // must begin within it of the tip.
-inline constexpr double kMaxEndGapRadii = 1;
+inline constexpr double kMaxEndGapRadii = kMaxEndCutSpacingRadii;
 
 struct TubeEnd {
   int first_section = 0;   // the first key section of the end's run of spans off the tube

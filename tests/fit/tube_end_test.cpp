@@ -16,9 +16,9 @@ namespace {
 // measured vertex a tenth of the way into each span at each of ten places: `off(span)` the
 // distance of that span's vertices.
 template <class Off>
-std::vector<std::pair<double, double>> measured(Off off) {
+std::vector<std::pair<double, double>> measured(Off off, int spans = 10) {
   std::vector<std::pair<double, double>> along;
-  for (int span = 0; span < 10; ++span) {
+  for (int span = 0; span < spans; ++span) {
     for (int i = 0; i < 10; ++i) along.emplace_back(span + 0.05 + 0.1 * i, off(span));
   }
   return along;
@@ -48,7 +48,7 @@ TEST(TubeEnd, OneSpanWithinTheRunDoesNotStopIt) {
   EXPECT_EQ(end->first_section, 7);
 }
 
-TEST(TubeEnd, TheRunGoesOnOverSpansWithNoVertexButNotOverAFittingRadius) {
+TEST(TubeEnd, TheRunGoesOnOverSpansWithNoVertexButNotOverMoreThanTwoRadiiOfTube) {
   const SweepShape shape = test::straight_shape(11, 8, 1.0);
   // Spans 7 and 9 off, span 8 with no vertex measured (dense sections on a coarse mesh): one run.
   std::vector<std::pair<double, double>> along;
@@ -58,14 +58,20 @@ TEST(TubeEnd, TheRunGoesOnOverSpansWithNoVertexButNotOverAFittingRadius) {
   const std::optional<TubeEnd> end = find_tube_end(shape, along, kLimit, 1.0);
   ASSERT_TRUE(end.has_value());
   EXPECT_EQ(end->first_section, 7);
-  // Spans 6 (a little: within the limit) and 9 off, 7 and 8 fit: two radii of tube between
-  // them, the run is span 9 alone.
+  // On 15 spans, 11 and 14 off, 12 and 13 fit (two radii of tube): still one run.
+  const std::optional<TubeEnd> gap2 = find_tube_end(
+      test::straight_shape(16, 8, 1.0), measured([](int span) { return span == 11 || span == 14 ? 0.2 : 0.01; }, 15),
+      kLimit, 1.0);
+  ASSERT_TRUE(gap2.has_value());
+  EXPECT_EQ(gap2->first_section, 11);
+  // Spans 5 (a little: within the limit) and 9 off, 6 to 8 fit (three radii of tube): the run is
+  // span 9 alone.
   const std::optional<TubeEnd> tip_only = find_tube_end(
-      shape, measured([](int span) { return span == 9 ? 0.2 : span == 6 ? 0.08 : 0.01; }), kLimit, 1.0);
+      shape, measured([](int span) { return span == 9 ? 0.2 : span == 5 ? 0.08 : 0.01; }), kLimit, 1.0);
   ASSERT_TRUE(tip_only.has_value());
   EXPECT_EQ(tip_only->first_section, 9);
-  // The last two spans fit: no run begins at the tip end, whatever is off before them.
-  EXPECT_FALSE(find_tube_end(shape, measured([](int span) { return span == 7 ? 0.2 : 0.01; }), kLimit, 1.0));
+  // The last three spans fit: no run begins at the tip end, whatever is off before them.
+  EXPECT_FALSE(find_tube_end(shape, measured([](int span) { return span == 6 ? 0.2 : 0.01; }), kLimit, 1.0));
 }
 
 TEST(TubeEnd, NoCutForATubeALongRunOrSectionsFarApart) {
