@@ -265,13 +265,22 @@ Scene::BodyCollider read_body_collider(const io::JsonReader& r, const Json& v, c
   return b;
 }
 
+// A step's length in seconds ("step", "contact_step"), within the limits.
+double step_length(const io::JsonReader& r, const Json& value, const std::string& where) {
+  const double step = r.positive(value, where);
+  if (step < limits::kMinStep || step > limits::kMaxStep)
+    r.fail_at(where, "must be between " + format_number(limits::kMinStep) + " and " +
+                         format_number(limits::kMaxStep) + " s, got " + io::describe(value));
+  return step;
+}
+
 }  // namespace
 
 Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
                   const Rig& rig) {
   r.object(json, pointer,
            {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces",
-            "body", "teleport", "wind", "colliders", "body_collider", "contact_stations"});
+            "body", "teleport", "wind", "colliders", "body_collider", "contact_stations", "contact_step"});
   Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
@@ -307,11 +316,7 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
   if (const Json* st = r.optional(json, "step")) {
     if (r.optional(json, "substeps"))
       r.fail_at(member(pointer, "step"), "give either \"step\" or \"substeps\", not both");
-    scene.step = r.positive(*st, member(pointer, "step"));
-    if (scene.step < limits::kMinStep || scene.step > limits::kMaxStep)
-      r.fail_at(member(pointer, "step"), "must be between " + format_number(limits::kMinStep) +
-                                             " and " + format_number(limits::kMaxStep) +
-                                             " s, got " + io::describe(*st));
+    scene.step = step_length(r, *st, member(pointer, "step"));
   }
   if (const Json* g = r.optional(json, "gravity")) scene.gravity = r.vec3(*g, member(pointer, "gravity"));
   if (const Json* g = r.optional(json, "gravity_start")) {
@@ -374,6 +379,8 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
   if (const Json* st = r.optional(json, "contact_stations")) {
     scene.contact_stations = static_cast<int>(r.integer(*st, member(pointer, "contact_stations"), 1, 64));
   }
+  if (const Json* st = r.optional(json, "contact_step")) scene.contact_step = step_length(r, *st, member(pointer, "contact_step"));
+
   const std::string fp = member(pointer, "forces");
   const Json& forces = r.required(json, pointer, "forces");
   r.array(forces, fp);

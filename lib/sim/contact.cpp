@@ -173,13 +173,26 @@ bool ContactSolver::near(const Bound& b, const PlacedCollider& placed) {
 
 bool ContactSolver::may_reach(const SweepShape& shape, std::span<const PlacedCollider> from,
                               std::span<const PlacedCollider> to) const {
-  Bound b = bound(shape);
+  // One that has not moved against the part cannot come nearer than it was (a part asleep on the
+  // ground while the body stands still stays asleep).
+  return meets(bound(shape), from, to, true);
+}
+
+bool ContactSolver::within_reach(const ElasticSweep& sweep, std::span<const PlacedCollider> from,
+                                 std::span<const PlacedCollider> to) const {
+  // Wherever its springs take it, a part stays within twice its rest length of its root (it does
+  // not stretch to twice its length), its sections within their radii of their centres.
+  const SweepShape& rest = sweep.rest();
+  const Bound reach{sweep.deformed().frames.front().center, 2 * rest.length() + 1.5 * largest_radius(rest)};
+  return meets(reach, from, to, false);
+}
+
+bool ContactSolver::meets(const Bound& b, std::span<const PlacedCollider> from, std::span<const PlacedCollider> to,
+                          bool moved_only) {
   for (std::size_t c = 0; c < from.size() && c < to.size(); ++c) {
-    // One that has not moved against the part cannot come nearer than it was (a part asleep on
-    // the ground while the body stands still stays asleep).
-    if (from[c].to_mesh.center == to[c].to_mesh.center &&
-        from[c].to_mesh.rotation.coeffs() == to[c].to_mesh.rotation.coeffs())
-      continue;
+    const bool still = from[c].to_mesh.center == to[c].to_mesh.center &&
+                       from[c].to_mesh.rotation.coeffs() == to[c].to_mesh.rotation.coeffs();
+    if (still && moved_only) continue;
     // Grown by how far any of its points may travel: its origin's move, and its turn (an angle)
     // times its size (a plane: times how far the part is from its point).
     Bound swept = b;

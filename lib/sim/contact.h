@@ -112,6 +112,11 @@ class ContactSolver {
   bool may_reach(const SweepShape& shape, std::span<const PlacedCollider> from,
                  std::span<const PlacedCollider> to) const;
 
+  // Whether a collider at `from` or `to` is within the part's reach — where its springs could take
+  // it from its root (Simulator cuts a long step into pieces of Scene::contact_step there).
+  bool within_reach(const ElasticSweep& sweep, std::span<const PlacedCollider> from,
+                    std::span<const PlacedCollider> to) const;
+
   // Before a step: where the axis is, and where each collider is at the step's start.
   void begin_step(const ElasticSweep& sweep, std::span<const PlacedCollider> colliders);
   // After the step (`dt` s long), colliders where they are at its end: pushes the part out and
@@ -139,6 +144,10 @@ class ContactSolver {
   };
   Bound bound(const SweepShape& shape) const;
   static bool near(const Bound& b, const PlacedCollider& placed);
+  // Whether any collider, at `from` or `to`, comes within the bound, grown by how far the collider
+  // moves in between (moved_only: only those that move at all).
+  static bool meets(const Bound& b, std::span<const PlacedCollider> from, std::span<const PlacedCollider> to,
+                    bool moved_only);
 
   int per_span_ = 1;
   std::vector<double> stations_;      // axis parameters of the chords' ends

@@ -74,6 +74,12 @@ struct Scene {
   BodyCollider body_collider;
   // Chords per span between key sections that meet the colliders (sim/contact.h).
   int contact_stations = 2;
+  // The longest step a part takes while a collider is within its reach (s): a longer internal
+  // step is cut into equal pieces no longer than this there, each resolved against the colliders.
+  // The contacts' push out and friction are first order in the step: at 1/30 s a soft tube lying
+  // on a slope was thrown 8 to 24 units, at the default 1/480 s it stays on it (BENCHMARKS.md).
+  // Far from every collider a coarse step stays whole.
+  double contact_step = kDefaultStep;
 
   // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. At it the follower loads of the diplodocus
   // Fig. 4 scene are within 1e-5 of the part's length of a 16× finer step (BENCHMARKS.md).

@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/limits.h"
+#include "core/text.h"
 
 namespace sweep::sim {
 
@@ -26,6 +28,9 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   }
   if (scene.contact_stations < 1 || scene.contact_stations > 64)
     fail(ErrorCategory::usage, "Scene::contact_stations must be between 1 and 64");
+  if (!std::isfinite(scene.contact_step) || scene.contact_step < limits::kMinStep || scene.contact_step > limits::kMaxStep)
+    fail(ErrorCategory::usage, "Scene::contact_step must be between " + format_number(limits::kMinStep) + " and " +
+                                   format_number(limits::kMaxStep) + " s");
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
     sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def),
@@ -333,19 +338,35 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
       if (!on_view) s.quiet = 0;
     }
     if (awake) {
-      set_body_motion(body, cur + 0.5 * (next - cur), teleporting);
-      const bool contacts = !scene_.colliders.empty();
-      if (contacts) {
-        place_colliders(teleporting ? std::max(cur, teleport_to_) : cur, s.placed);
-        s.contact.begin_step(body, s.placed);
-      }
       // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
       // bits, and a step of new length costs new step maps.
       const bool whole = grid_step && cur == from && next == to;
-      body.step(whole ? scene_.step_seconds() : next - cur);
-      if (contacts) {
-        place_colliders(teleporting ? std::max(next, teleport_to_) : next, s.placed);
-        if (s.contact.resolve(body, s.placed, next - cur) && !on_view) s.touched = true;
+      const double length = whole ? scene_.step_seconds() : next - cur;
+      const bool contacts = !scene_.colliders.empty();
+      const auto collider_time = [&](double t) { return teleporting ? std::max(t, teleport_to_) : t; };
+      // Within a collider's reach the step is cut into equal pieces no longer than contact_step,
+      // each met by the colliders (Scene::contact_step says why).
+      int pieces = 1;
+      if (contacts && length > scene_.contact_step * (1 + 1e-9)) {
+        place_colliders(collider_time(cur), s.placed);
+        place_colliders(collider_time(next), s.placed_end);
+        if (s.contact.within_reach(body, s.placed, s.placed_end))
+          pieces = static_cast<int>(std::ceil(length / scene_.contact_step * (1 - 1e-9)));
+      }
+      const double piece = length / pieces;
+      for (int p = 0; p < pieces; ++p) {
+        const double a = cur + (next - cur) * p / pieces;
+        const double b = p + 1 == pieces ? next : cur + (next - cur) * (p + 1) / pieces;
+        set_body_motion(body, a + 0.5 * (b - a), teleporting);
+        if (contacts) {
+          place_colliders(collider_time(a), s.placed);
+          s.contact.begin_step(body, s.placed);
+        }
+        body.step(piece);
+        if (contacts) {
+          place_colliders(collider_time(b), s.placed);
+          if (s.contact.resolve(body, s.placed, b - a) && !on_view) s.touched = true;
+        }
       }
       stepped = true;
     }

@@ -84,6 +84,7 @@ class Simulator {
     ContactSolver contact;              // its contacts with the scene's colliders
     ContactSolver::AnchorMemo anchors;  // contact's stick anchors across the view's partial step
     std::vector<PlacedCollider> placed{};  // scratch: the colliders in mesh coordinates at one time
+    std::vector<PlacedCollider> placed_end{};  // scratch: the same at a step's end
     bool touched = false;               // touched a collider during the current internal step
     std::vector<Vec3> held_at{};        // its section centres when it last moved, while it touches
   };

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/beam_tubes.h"
+#include "core/error.h"
 #include "core/sample_sweeps.h"
 #include "sim/contact.h"
 #include "sim/simulator.h"
@@ -224,7 +225,8 @@ TEST(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
 // springs' compliance alone, with its speed Δq/dt, the push on a station near the root swung the
 // whole tube up about it (E = 2e8: +1.15 units; 2e9: +0.07; the rubber tube flung 20 units up, and
 // 3.3 off a 20° slope).
-double highest_lying(double youngs_modulus, double slope, double friction = 0) {
+double highest_lying(double youngs_modulus, double slope, double friction = 0, double step = 0,
+                     double contact_step = Scene::kDefaultStep) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2));
   rig.sweeps[0].name = "tube";
@@ -234,6 +236,8 @@ double highest_lying(double youngs_modulus, double slope, double friction = 0) {
   scene.fps = 30;
   scene.gravity = Vec3(0, -9.81, 0);
   scene.gravity_preloaded = false;
+  scene.step = step;
+  scene.contact_step = contact_step;
   // Tilted about the tube's axis: its fall across the tube, +x and down.
   const Vec3 n(std::sin(slope), std::cos(slope), 0);
   Collider floor = Collider::plane(-(test::beam::kRadius + 0.001) * n, n);
@@ -283,13 +287,91 @@ TEST(Contact, ASoftTubeLyingOnAFrictionalSlopeStaysOnIt) {
   }
 }
 
+// A coarse internal step (1/30 s, one a frame) near a collider is cut into pieces of
+// Scene::contact_step: the contacts' push out and friction are first order in the step, and at
+// 1/30 s each free step carried the swinging rubber tube 5 to 9 units into the slope and the push
+// out lifted it, the springs' energy climbing from 4 to 460 J against the 139 J gravity can give:
+// it was thrown 7.7 to 23.6 units up (1/60 s: 0.45 to 1.31).
+TEST(Contact, ACoarseStepIsCutIntoContactStepsNearACollider) {
+  const double length = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2).rest.length();
+  const double slope = 20 * kPi / 180;
+  for (const double mu : {0.0, 2.0}) {
+    const double coarse = highest_lying(1e7, slope, mu, 1.0 / 30);
+    std::printf("rubber on the 20 degree slope, step 1/30 s, mu %.1f: highest %+.4g units\n", mu, coarse);
+    EXPECT_LE(coarse, 1e-3 * length) << "mu " << mu;
+    // The same motion as the default step's: pieces of 1/480 s are its steps, to rounding.
+    EXPECT_NEAR(coarse, highest_lying(1e7, slope, mu), 1e-9 * length) << "mu " << mu;
+  }
+}
+
+// Far from every collider a coarse step stays whole: the frames are those of the scene without the
+// collider, to the bit.
+TEST(Contact, ACoarseStepFarFromEveryColliderIsNotCut) {
+  const Rig rig = rubber_tube(0.1);
+  Scene scene;
+  scene.duration = 0.5;
+  scene.fps = 30;
+  scene.step = 1.0 / 30;
+  scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(20, 0, 0)));
+  Scene far = scene;
+  // The tube is 31 units long from its root at the origin: its reach is 62 units and its radius.
+  far.colliders = {Collider::sphere(Vec3(0, 70, 0), 1.0)};
+  Simulator alone(rig, scene), beside(rig, far);
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    alone.advance_frame();
+    beside.advance_frame();
+    const auto& a = alone.sweep(0).deformed().frames;
+    const auto& b = beside.sweep(0).deformed().frames;
+    for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i].center, b[i].center) << "frame " << k << " section " << i;
+  }
+  // Within its reach (a sphere it never touches), the pieces change the frames by rounding alone.
+  Scene within = scene;
+  within.colliders = {Collider::sphere(Vec3(0, 50, 0), 1.0)};
+  Simulator cut(rig, within), whole(rig, scene);
+  double most = 0;
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    cut.advance_frame();
+    whole.advance_frame();
+    const auto& a = cut.sweep(0).deformed().frames;
+    const auto& b = whole.sweep(0).deformed().frames;
+    for (std::size_t i = 0; i < a.size(); ++i) most = std::max(most, (a[i].center - b[i].center).norm());
+  }
+  EXPECT_GT(most, 0.0) << "not cut: the pieces round differently";
+  EXPECT_LT(most, 1e-9 * rig.sweeps[0].rest.length());
+}
+
+// A scene built in code, not read from a file, is checked by the simulator itself.
+TEST(Contact, TheSimulatorRefusesAContactStepOrStationCountOutOfRange) {
+  const Rig rig = rubber_tube(0.1);
+  const auto refused = [&](const Scene& scene) {
+    try {
+      Simulator sim(rig, scene);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.category(), ErrorCategory::usage);
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  for (const double step : {0.0, -1.0, 2.0, std::nan("")}) {
+    Scene scene;
+    scene.contact_step = step;
+    EXPECT_NE(refused(scene).find("Scene::contact_step must be between 1e-06 and 1 s"), std::string::npos) << step;
+  }
+  Scene scene;
+  scene.contact_stations = 0;
+  EXPECT_NE(refused(scene).find("Scene::contact_stations must be between 1 and 64"), std::string::npos);
+  EXPECT_EQ(refused(Scene{}), "");
+}
+
 // Undamped, kicked into a sphere: what the springs hold (kinetic and elastic, in joules in
 // material mode) never grows past the kick's energy, and the inelastic hit takes some of it (the
 // part's own ringing keeps most).
-void expect_no_energy_gain(const Rig& rig, const Vec3& kick, const Collider& ball) {
+// At the default step and at a coarse one (1/30 s, cut into contact steps near the sphere).
+void expect_no_energy_gain(const Rig& rig, const Vec3& kick, const Collider& ball, double step = 0) {
   Scene scene;
   scene.duration = 1;
   scene.fps = 240;
+  scene.step = step;
   scene.forces.push_back(tip_impulse(rig.sweeps[0], kick));
   scene.colliders = {ball};
   Simulator sim(rig, scene);
@@ -311,7 +393,10 @@ void expect_no_energy_gain(const Rig& rig, const Vec3& kick, const Collider& bal
 TEST(Contact, ContactsNeverAddEnergy) {
   Rig material = rubber_tube(0.0);
   test::beam::set_youngs_modulus(material.sweeps[0], 2e8);
-  expect_no_energy_gain(material, Vec3(40, 0, 0), Collider::sphere(Vec3(2.5, 0, 0.8 * 31), 1.0));
+  for (const double step : {0.0, 1.0 / 30}) {
+    SCOPED_TRACE(step);
+    expect_no_energy_gain(material, Vec3(40, 0, 0), Collider::sphere(Vec3(2.5, 0, 0.8 * 31), 1.0), step);
+  }
   // The paper's independent springs, undamped.
   Rig paper;
   paper.sweeps.push_back(test::sweep_def(test::straight_shape(12, 16, 0.3)));
@@ -319,7 +404,10 @@ TEST(Contact, ContactsNeverAddEnergy) {
   for (SectionSprings& s : paper.sweeps[0].springs) {
     for (SpringSettings* k : {&s.positional, &s.bend, &s.twist, &s.radial}) k->damping_ratio = 0;
   }
-  expect_no_energy_gain(paper, Vec3(1, 0, 0), Collider::sphere(Vec3(0.6 + 0.3 + 0.1, 0, 8.8), 0.1));
+  for (const double step : {0.0, 1.0 / 30}) {
+    SCOPED_TRACE(step);
+    expect_no_energy_gain(paper, Vec3(1, 0, 0), Collider::sphere(Vec3(0.6 + 0.3 + 0.1, 0, 8.8), 0.1), step);
+  }
 }
 
 TEST(Contact, TheSameMotionAtEveryFrameRate) {

@@ -52,7 +52,7 @@ TEST(Scene, CollidersAreReadWithTheirShapesAndPlaces) {
   rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
   rig.sweeps.back().name = "tube";
   const io::Json json = io::Json::parse(R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30,
-    "forces": [], "contact_stations": 2, "colliders": [
+    "forces": [], "contact_stations": 2, "contact_step": 0.001, "colliders": [
       {"name": "ball", "shape": "sphere", "center": [1, 2, 3], "radius": 0.5, "margin": 0.01, "friction": 0.2},
       {"shape": "capsule", "from": [0, 0, 0], "to": [0, 2, 0], "radius": 0.1, "attached": "body"},
       {"shape": "box", "center": [0, 0, 5], "half_size": [1, 2, 0.01], "rotation": [0, 0, 0.7071068, 0.7071068]},
@@ -60,6 +60,7 @@ TEST(Scene, CollidersAreReadWithTheirShapesAndPlaces) {
   const Scene scene = parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
   ASSERT_EQ(scene.colliders.size(), 4u);
   EXPECT_EQ(scene.contact_stations, 2);
+  EXPECT_EQ(scene.contact_step, 0.001);
   const Collider& ball = scene.colliders[0];
   EXPECT_EQ(ball.name, "ball");
   EXPECT_EQ(ball.shape, ColliderShape::sphere);
@@ -87,6 +88,14 @@ TEST(Scene, BadCollidersAreRefusedWithWhereAndWhy) {
   EXPECT_NE(refusal(R"([{"shape": "capsule", "from": [0, 0, 0], "radius": 1}])").find("/colliders/0: missing required member \"to\""), std::string::npos);
   EXPECT_NE(refusal(R"({"shape": "plane"})").find("/colliders: "), std::string::npos);
   EXPECT_EQ(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1}])"), "");
+}
+
+TEST(Scene, ABadContactStepIsRefusedWithWhereAndWhy) {
+  EXPECT_NE(refusal(R"([], "contact_step": 0)").find("/contact_step: must be a positive number"), std::string::npos);
+  EXPECT_NE(refusal(R"([], "contact_step": 2)").find("/contact_step: must be between 1e-06 and 1 s, got 2"), std::string::npos);
+  EXPECT_NE(refusal(R"([], "contact_step": "fine")").find("/contact_step: "), std::string::npos);
+  EXPECT_EQ(refusal(R"([], "contact_step": 0.004)"), "");
+  EXPECT_EQ(Scene{}.contact_step, Scene::kDefaultStep);
 }
 
 // The message a scene with this "body_collider" is refused with ("" if it is read).
