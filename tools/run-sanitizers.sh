@@ -24,8 +24,11 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 # frame-rate test alone took 318 s, the stuck tip over 11 minutes); the position hold runs
 # sanitized in Contact.FrictionDrags… and Contact.APartLaidOnTheGround… (friction 0.5), its
 # momentum bound with it; Contact.ASoftTubeLyingOnAFrictionalSlope… (two 1 s runs of the
-# 32-section rubber tube held along a slope) took 120 s under ASan, the longest test there.)
-exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody|Tool\.AllFitsEveryPartIntoOneRigUnderTheNamesGiven|Tool\.RootOnTheTailsUpperSurfaceFitsTheWholeTail|^ContactFriction\.|Contact\.ASoftTubeLyingOnAFrictionalSlopeStaysOnIt'
+# 32-section rubber tube held along a slope) took 120 s under ASan, the longest test there;
+# Contact.ATubeLyingOnAFrictionalSlope… (six 1.5 s runs, 16 s optimised) and
+# Contact.ACoarseStepIsCut… (four 1 s runs, 7 s) are left out with it: the patches' hold and the
+# cut step run sanitized in Contact.ContactsNeverAddEnergy and Contact.ACoarseStepFarFrom….)
+exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody|Tool\.AllFitsEveryPartIntoOneRigUnderTheNamesGiven|Tool\.RootOnTheTailsUpperSurfaceFitsTheWholeTail|^ContactFriction\.|Contact\.ASoftTubeLyingOnAFrictionalSlopeStaysOnIt|Contact\.ATubeLyingOnAFrictionalSlope|Contact\.ACoarseStepIsCutIntoContactSteps'
 filter=(-E "$exclude")
 if [ "${1:-}" = "--all" ]; then
   filter=()

@@ -27,8 +27,9 @@
 // falling each step), and the force that holds the springs off where the loads alone would hold
 // them (a stiff part resting), times dt. The friction acts at the section's centre (no roll), on
 // positions first (contact_stick.cpp: a station held at an anchor on its collider while the
-// springs' force across the normal stays within μN, slid to where it is μN if not — a steady slide
-// drags by μN at any step, tests/sim/friction_test.cpp), then on the speeds with what is left of
+// springs' force across the normal stays within μN — neighbouring stations on one collider
+// sharing their cones —, slid to where it is μN if not — a steady slide drags by μN at any step,
+// tests/sim/friction_test.cpp), then on the speeds with what is left of
 // each cone (the first step of a contact, and the directions the springs barely move). Where
 // nothing touches, nothing is done: the springs keep their exact integration.
 //

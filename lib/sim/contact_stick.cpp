@@ -8,7 +8,8 @@
 // its contact started or where it last slid to — and at the end of every step it is moved back
 // there across the normal, through the springs' compliance as the normal move is, when the force
 // that takes stays in the cone |F| ≤ μN (stick); else it is moved only as far as leaves the springs
-// pressing it with μN against its slip, and the anchor follows it (slide). The force is the
+// pressing it with μN against its slip, and the anchor follows it (slide). Neighbouring stations on
+// one collider are a patch and share their cones (Σ|F| ≤ Σ μN; see below). The force is the
 // quasi-static one, as N's own reading (ElasticSweep::row_strain): F = W⁺ J (q − C f), W = J C Jᵀ
 // over all the held rows together (W⁺ over the modes the springs bend: see below), less what the
 // normal forces do across (W_tn N). It depends on
@@ -16,6 +17,7 @@
 // rate. Nor may its move stop more of the station's momentum than the cone gives over the step
 // (μN·dt; see below). What of the cone the hold spends, the speeds' friction may not.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -46,6 +48,12 @@ Eigen::MatrixXd pseudo_inverse(const Eigen::MatrixXd& a, double share) {
     if (lambda[i] > share * lambda[n - 1]) inverse[i] = 1 / lambda[i];
   }
   return modes.eigenvectors() * inverse.asDiagonal() * modes.eigenvectors().transpose();
+}
+
+// Two unit directions across a normal, the same at every step for the same normal.
+std::array<Vec3, 2> across_of(const Vec3& normal) {
+  const Vec3 first = normal.unitOrthogonal();
+  return {first, normal.cross(first)};
 }
 
 }  // namespace
@@ -92,7 +100,7 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     const Held& h = held_pairs_[k];
     const Plane& pl = planes_[h.plane];
     const PlacedCollider& placed = colliders[pl.collider];
-    const Vec3 across[2] = {pl.normal.unitOrthogonal(), pl.normal.cross(pl.normal.unitOrthogonal())};
+    const std::array<Vec3, 2> across = across_of(pl.normal);
     const Vec3 off = here_local(h) - anchors_[h.anchor].local;
     for (int r = 0; r < 2; ++r) {
       sweep.contact_row(stations_[pl.station], placed.to_mesh.rotation * across[r], stick_rows_[2 * k + r]);
@@ -137,30 +145,57 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
   stick_amount_.assign(2 * m, 0.0);
   std::vector<char> slid(m, 0);
   std::vector<double> taken(m, 0.0);  // N·s of each pair's cone the hold takes
+  // The held pairs in patches: neighbouring stations on one collider. A patch shares its cones
+  // (friction per patch, as game engines' patch friction: the normal force along a stiff part lying
+  // on the ground is the solver's choice among many that hold it — a statically indeterminate
+  // contact — and a station it leaves lightly pressed would slide under the load its neighbours
+  // hold).
+  struct Patch {
+    Eigen::Index from = 0, to = 0;  // kept rows [from, to)
+    double cone = 0;                // Σ μN, N
+  };
+  std::vector<Patch> patches;
   for (Eigen::Index i = 0; i < h; i += 2) {
-    const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
-    const Eigen::Vector2d force = back.segment<2>(i);
-    // Stick while the cone holds the force; else slide, pressed by μN along the same line.
-    const double cone = held_pairs_[k].cone;
-    const double scale = force.norm() > cone ? cone / force.norm() : 1.0;
-    slid[k] = scale < 1;
-    stick_amount_[2 * k] = scale * force.x() - now[i];
-    stick_amount_[2 * k + 1] = scale * force.y() - now[i + 1];
-    taken[k] = scale * force.norm() * dt;
+    const Plane& pl = planes_[held_pairs_[static_cast<std::size_t>(kept[i] / 2)].plane];
+    bool joins = false;
+    if (i > 0) {
+      const Plane& before = planes_[held_pairs_[static_cast<std::size_t>(kept[i - 2] / 2)].plane];
+      joins = before.collider == pl.collider && pl.station - before.station <= 2 * per_span_;
+    }
+    if (!joins) patches.push_back({i, i, 0.0});
+    patches.back().to = i + 2;
+    patches.back().cone += held_pairs_[static_cast<std::size_t>(kept[i] / 2)].cone;
+  }
+  // Stick while the patch's cone holds its stations' forces; else slide, each pressed by its share
+  // of the cone along the same line.
+  for (const Patch& patch : patches) {
+    double force = 0;
+    for (Eigen::Index i = patch.from; i < patch.to; i += 2) force += back.segment<2>(i).norm();
+    const double scale = force > patch.cone ? patch.cone / force : 1.0;
+    for (Eigen::Index i = patch.from; i < patch.to; i += 2) {
+      const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
+      slid[k] = scale < 1;
+      stick_amount_[2 * k] = scale * back[i] - now[i];
+      stick_amount_[2 * k + 1] = scale * back[i + 1] - now[i + 1];
+      taken[k] = scale * back.segment<2>(i).norm() * dt;
+    }
   }
   // The springs' force is not all a hold takes: its move sets the speeds by Δq/dt, stopping
   // whatever the station carried off its anchor over the step — the impulse P that changes the
-  // rows' speeds by W a / dt, P = (J M⁻¹ Jᵀ)⁺ W a / dt. A hold stops no more than the cone gives
-  // over the step (μN·dt): past that its move is cut to the share that does, and the station
-  // slides. What it takes of the cone is the larger of the force it holds over the step and the
-  // momentum it stops (two readings of one friction, as N's), so that the speeds' friction after
-  // it cannot take a second cone. (An approximation, measured rather than derived: in material
-  // mode J M⁻¹ Jᵀ includes the stretch and shear shifts' diagonal masses, which the hold's move
-  // does not move; with the joints' masses alone P reads 1.2–5× larger, more stations slide, and
-  // the rubber tube below was thrown again, +2.7 units at μ = 0.5, the tip on a slope sliding 8 %
-  // past its closed form.) Held by the springs' force alone, a soft tube whipping as it landed on a frictional
-  // slope was carried 1.5 to 22 units a step off its anchors, moved back through the compliance
-  // and stopped for free, its springs pumped by 5 to 200 J a step: it was thrown 10 units up.
+  // rows' speeds by W a / dt, P = (J M⁻¹ Jᵀ)⁺ W a / dt. A patch stops no more than its cone gives
+  // over the step (μN·dt): past that its move is cut to the share that does, and its stations
+  // slide. What it takes of the cone is the larger of the force it holds over the step and the
+  // momentum it stops (two readings of one friction, as N's), shared by its pairs as their cones
+  // are, so that the speeds' friction after it cannot take a second cone. A patch's impulse is
+  // its stations' together, as vectors: along a chain the rows' impulses that make a smooth change
+  // of speed alternate (20–40× the stations' own m Δv, each alone, on a stiff tube lying on a
+  // slope, which let it slide 2.4 units down the slope at μ = 2; together they are its momentum).
+  // (An approximation, measured rather than derived: in material mode J M⁻¹ Jᵀ includes the
+  // stretch and shear shifts' diagonal masses, which the hold's move does not move; with the
+  // joints' masses alone P reads 1.2–5× larger, and the rubber tube below was thrown again.) Held
+  // by the springs' force alone, a soft tube whipping as it landed on a frictional slope was
+  // carried 1.5 to 22 units a step off its anchors, moved back through the compliance and stopped
+  // for free, its springs pumped by 5 to 200 J a step: it was thrown 10 units up.
   {
     Eigen::VectorXd amount(h);
     Eigen::MatrixXd wmm(h, h);
@@ -169,17 +204,27 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
       for (Eigen::Index j = 0; j < h; ++j) wmm(i, j) = stick_by_mass_(kept[i], kept[j]);
     }
     const Eigen::VectorXd impulse = pseudo_inverse(wmm, kBends) * (wtt * amount / dt);
-    for (Eigen::Index i = 0; i < h; i += 2) {
-      const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
-      const double cone = held_pairs_[k].cone * dt, stopped = impulse.segment<2>(i).norm();
-      if (stopped <= cone) {
-        taken[k] = std::max(taken[k], stopped);
-        continue;
+    for (const Patch& patch : patches) {
+      Vec3 stopped = Vec3::Zero();
+      double held = 0;
+      for (Eigen::Index i = patch.from; i < patch.to; i += 2) {
+        const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
+        const Plane& pl = planes_[held_pairs_[k].plane];
+        const std::array<Vec3, 2> across = across_of(pl.normal);
+        stopped += impulse[i] * across[0] + impulse[i + 1] * across[1];  // collider coordinates
+        held += taken[k];
       }
-      slid[k] = 1;
-      taken[k] = cone;
-      stick_amount_[2 * k] *= cone / stopped;
-      stick_amount_[2 * k + 1] *= cone / stopped;
+      const double cone = patch.cone * dt, size = stopped.norm();
+      const double cut = size > cone ? cone / size : 1.0;
+      const double take = std::min(cone, std::max(held, size));
+      for (Eigen::Index i = patch.from; i < patch.to; i += 2) {
+        const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
+        taken[k] = take * held_pairs_[k].cone / patch.cone;
+        if (cut == 1.0) continue;
+        slid[k] = 1;
+        stick_amount_[2 * k] *= cut;
+        stick_amount_[2 * k + 1] *= cut;
+      }
     }
   }
   for (std::size_t k = 0; k < m; ++k) spent_[held_pairs_[k].plane] += taken[k];
