@@ -180,10 +180,12 @@ bool ContactSolver::may_reach(const SweepShape& shape, std::span<const PlacedCol
 
 bool ContactSolver::within_reach(const ElasticSweep& sweep, std::span<const PlacedCollider> from,
                                  std::span<const PlacedCollider> to) const {
-  // Wherever its springs take it, a part stays within twice its rest length of its root (it does
-  // not stretch to twice its length), its sections within their radii of their centres.
-  const SweepShape& rest = sweep.rest();
-  const Bound reach{sweep.deformed().frames.front().center, 2 * rest.length() + 1.5 * largest_radius(rest)};
+  // Wherever its springs take it, a part's axis stays within twice its rest length of its root
+  // (it does not stretch to twice its length); its surface within its sections' reach of the axis,
+  // as they are now (the paper's radial springs swell a kicked section past its rest radius: 1.9
+  // against 0.3 in a review's probe, which the second length covered).
+  const Bound reach{sweep.deformed().frames.front().center,
+                    2 * sweep.rest().length() + 1.5 * largest_radius(sweep.deformed())};
   return meets(reach, from, to, false);
 }
 
