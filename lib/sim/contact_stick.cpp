@@ -153,31 +153,33 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
   struct Patch {
     Eigen::Index from = 0, to = 0;  // kept rows [from, to)
     double cone = 0;                // Σ μN, N
+    double held = 0;                // N·s of it the springs' force takes over the step
   };
+  const auto pair_at = [&](Eigen::Index row) { return static_cast<std::size_t>(kept[row] / 2); };
   std::vector<Patch> patches;
   for (Eigen::Index i = 0; i < h; i += 2) {
-    const Plane& pl = planes_[held_pairs_[static_cast<std::size_t>(kept[i] / 2)].plane];
+    const Plane& pl = planes_[held_pairs_[pair_at(i)].plane];
     bool joins = false;
     if (i > 0) {
-      const Plane& before = planes_[held_pairs_[static_cast<std::size_t>(kept[i - 2] / 2)].plane];
+      const Plane& before = planes_[held_pairs_[pair_at(i - 2)].plane];
       joins = before.collider == pl.collider && pl.station - before.station <= 2 * per_span_;
     }
-    if (!joins) patches.push_back({i, i, 0.0});
+    if (!joins) patches.push_back({i, i, 0.0, 0.0});
     patches.back().to = i + 2;
-    patches.back().cone += held_pairs_[static_cast<std::size_t>(kept[i] / 2)].cone;
+    patches.back().cone += held_pairs_[pair_at(i)].cone;
   }
   // Stick while the patch's cone holds its stations' forces; else slide, each pressed by its share
   // of the cone along the same line.
-  for (const Patch& patch : patches) {
+  for (Patch& patch : patches) {
     double force = 0;
     for (Eigen::Index i = patch.from; i < patch.to; i += 2) force += back.segment<2>(i).norm();
     const double scale = force > patch.cone ? patch.cone / force : 1.0;
+    patch.held = scale * force * dt;
     for (Eigen::Index i = patch.from; i < patch.to; i += 2) {
-      const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
+      const std::size_t k = pair_at(i);
       slid[k] = scale < 1;
       stick_amount_[2 * k] = scale * back[i] - now[i];
       stick_amount_[2 * k + 1] = scale * back[i + 1] - now[i + 1];
-      taken[k] = scale * back.segment<2>(i).norm() * dt;
     }
   }
   // The springs' force is not all a hold takes: its move sets the speeds by Δq/dt, stopping
@@ -210,19 +212,15 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     const Eigen::VectorXd impulse = pseudo_inverse(wmm, kBends) * (wtt * amount / dt);
     for (const Patch& patch : patches) {
       Vec3 stopped = Vec3::Zero();
-      double held = 0;
       for (Eigen::Index i = patch.from; i < patch.to; i += 2) {
-        const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
-        const Plane& pl = planes_[held_pairs_[k].plane];
-        const std::array<Vec3, 2> across = across_of(pl.normal);
+        const std::array<Vec3, 2> across = across_of(planes_[held_pairs_[pair_at(i)].plane].normal);
         stopped += impulse[i] * across[0] + impulse[i + 1] * across[1];  // collider coordinates
-        held += taken[k];
       }
       const double cone = patch.cone * dt, size = stopped.norm();
       const double cut = size > cone ? cone / size : 1.0;
-      const double take = std::min(cone, std::max(held, size));
+      const double take = std::min(cone, std::max(patch.held, size));
       for (Eigen::Index i = patch.from; i < patch.to; i += 2) {
-        const std::size_t k = static_cast<std::size_t>(kept[i] / 2);
+        const std::size_t k = pair_at(i);
         taken[k] = take * held_pairs_[k].cone / patch.cone;
         if (cut == 1.0) continue;
         slid[k] = 1;

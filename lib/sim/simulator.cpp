@@ -5,6 +5,7 @@
 #include <exception>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "core/error.h"
 #include "core/limits.h"
@@ -347,24 +348,31 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
       // Within a collider's reach the step is cut into equal pieces no longer than contact_step,
       // each met by the colliders (Scene::contact_step says why).
       int pieces = 1;
+      bool placed_at_ends = false;  // s.placed at cur, s.placed_end at next
       if (contacts && length > scene_.contact_step * (1 + 1e-9)) {
         place_colliders(collider_time(cur), s.placed);
         place_colliders(collider_time(next), s.placed_end);
+        placed_at_ends = true;
         if (s.contact.within_reach(body, s.placed, s.placed_end))
           pieces = static_cast<int>(std::ceil(length / scene_.contact_step * (1 - 1e-9)));
       }
       const double piece = length / pieces;
       for (int p = 0; p < pieces; ++p) {
         const double a = cur + (next - cur) * p / pieces;
-        const double b = p + 1 == pieces ? next : cur + (next - cur) * (p + 1) / pieces;
+        const bool last = p + 1 == pieces;
+        const double b = last ? next : cur + (next - cur) * (p + 1) / pieces;
         set_body_motion(body, a + 0.5 * (b - a), teleporting);
         if (contacts) {
-          place_colliders(collider_time(a), s.placed);
+          if (p > 0 || !placed_at_ends) place_colliders(collider_time(a), s.placed);
           s.contact.begin_step(body, s.placed);
         }
         body.step(piece);
         if (contacts) {
-          place_colliders(collider_time(b), s.placed);
+          if (last && placed_at_ends) {
+            std::swap(s.placed, s.placed_end);
+          } else {
+            place_colliders(collider_time(b), s.placed);
+          }
           if (s.contact.resolve(body, s.placed, b - a) && !on_view) s.touched = true;
         }
       }
