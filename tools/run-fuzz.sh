@@ -8,7 +8,7 @@
 #   tools/run-fuzz.sh [SECONDS]    SECONDS per target (default 60), for exploring; bounded by time,
 #                                  so two runs differ. SWEEP_FUZZ_SEED=0 also lets libFuzzer pick a seed.
 # Configures its own clang build (build/fuzz: SWEEP_FUZZ=ON, which instruments the library for
-# coverage under ASan+UBSan), builds only the fuzz targets, and runs each on a scratch copy of its
+# coverage under ASan+UBSan; line tables only for debug info: enough for symbolized reports), builds only the fuzz targets, and runs each on a scratch copy of its
 # committed seed corpus (tests/fuzz/corpus/<target>/; new inputs it finds stay in the scratch
 # copy). Any crash, leak, sanitizer report or timeout fails the script; the input that did it is
 # copied to tests/fuzz/regressions/<target>/ so that it can be fixed and kept (those files are
@@ -28,6 +28,7 @@ jobs=${SWEEP_JOBS:-2}
 targets=(rig_json scene binding off_mesh obj_mesh ply_mesh fit_off)
 
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
   -DSWEEP_FUZZ=ON -DSWEEP_WERROR=ON -DSWEEP_BUILD_TESTS=OFF >/dev/null
 built_at=$SECONDS
 cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"

@@ -7,6 +7,11 @@
 #   4. runs each libFuzzer target a fixed number of times (SWEEP_FUZZ_RUNS, default 300000; fixed
 #      seed, so the same on every machine) on its committed corpus.
 # SWEEP_TESTS_QUICK=1 stops after step 2 (for a quick local check).
+# Under CI (CI=true: a fresh clone nobody debugs in) the dev build leaves out debug info: -g does not
+# change the code GCC generates, and it is a third of the build's compile time.
+# Tests run with OMP_WAIT_POLICY=passive: ctest runs two tests at once, each with OpenMP threads, and
+# spinning threads waiting for a parallel region took 40 % of a contact test's CPU time beside
+# another test (measured: 21.2 s user active, 12.7 s passive).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 tools/setup-deps.sh --tests
@@ -14,8 +19,12 @@ jobs=$(nproc)
 start=$SECONDS
 stage() { echo; echo "== $1 ($((SECONDS - start)) s so far)"; }
 
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
+dev_flags=()
+if [ "${CI:-}" = true ]; then dev_flags=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -DNDEBUG"); fi
+
 stage "dev build and test suite"
-cmake --preset dev >/dev/null
+cmake --preset dev "${dev_flags[@]}" >/dev/null
 cmake --build --preset dev -j "$jobs"
 ctest --preset dev -j "$jobs"
 if [ "${SWEEP_TESTS_QUICK:-0}" = 1 ]; then
