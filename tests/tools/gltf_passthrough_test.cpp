@@ -966,6 +966,50 @@ TEST(ObjPassthrough, NanAndZeroNormalsAreRecomputedFromTheFaces) {
   EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
 }
 
+// A glTF's NORMAL with a NaN and a zero (the tail's side, rings 5 and 6, mid-tube): recomputed from
+// the faces round the vertex (area-weighted; on this cylinder radial in the tail's own space, the
+// node's scale being along its axis), the accessor re-pointed at the repaired values, a warning
+// counting them, and the .glb valid.
+TEST(GltfPassthrough, NanAndZeroNormalsAreRecomputedFromTheFaces) {
+  constexpr int S = TexturedAsset::kSegments;
+  const TexturedWorkspace ws("gltf-bad-normals");
+  const Json doc = Json::parse(slurp(ws / "creature.gltf"));
+  const std::size_t normal_accessor = doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"];
+  const Json& accessor = doc["accessors"][normal_accessor];
+  const std::size_t at = doc["bufferViews"][accessor["bufferView"].get<std::size_t>()].value("byteOffset", 0) +
+                         accessor.value("byteOffset", 0);
+  std::string bin = slurp(ws / "creature.bin");
+  const std::uint32_t nan_vertex = 5 * (S + 1) + 1, zero_vertex = 6 * (S + 1) + 2;
+  const float nan_normal[3] = {std::numeric_limits<float>::quiet_NaN(), 0, 1}, zero[3] = {0, 0, 0};
+  std::memcpy(bin.data() + at + 12 * nan_vertex, nan_normal, 12);
+  std::memcpy(bin.data() + at + 12 * zero_vertex, zero, 12);
+  spit(ws / "creature.bin", bin);
+  const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("warning: " + (ws / "creature.gltf").string() + ": mesh 0 primitive 0: 2 normals are not "
+                       "finite or of no length (first: vertex " + std::to_string(nan_vertex) + " (nan, 0, 1)); "
+                       "recomputed from the faces round each vertex (area-weighted)"),
+            std::string::npos) << r.err;
+  const Glb out = read_glb(ws / "out.glb");
+  const Json& side = out.json["meshes"][0]["primitives"][0];
+  const std::vector<float> normals = floats(out.json, out.bin, side["attributes"]["NORMAL"], 3);
+  for (const auto& [v, j] : {std::pair{nan_vertex, 1}, std::pair{zero_vertex, 2}}) {
+    const double th = 2 * std::numbers::pi * j / S;
+    EXPECT_NEAR(normals[3 * v], std::cos(th), 1e-5) << v;
+    EXPECT_NEAR(normals[3 * v + 1], std::sin(th), 1e-5) << v;
+    EXPECT_NEAR(normals[3 * v + 2], 0, 1e-5) << v;
+  }
+  for (const float x : normals) ASSERT_TRUE(std::isfinite(x));
+  for (std::size_t k = 0; k < side["targets"].size(); ++k) {
+    for (const float x : floats(out.json, out.bin, side["targets"][k]["NORMAL"], 3)) ASSERT_TRUE(std::isfinite(x)) << k;
+  }
+  int code = -1;
+  const std::string report = validate(ws / "out.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+}
+
 // Blender imports the OBJ and its .glb alike: the same (position, UV) corners, the same materials
 // and image, and the .glb plays the .pc2. Skipped without Blender.
 // An OBJ whose only extra is a vertex colour (`v x y z r g b`, plain `f` lines) is carried too

@@ -15,7 +15,8 @@ namespace {
 
 std::vector<std::string> sweep_names(const fs::path& rig) {
   std::vector<std::string> names;
-  for (const auto& s : nlohmann::json::parse(slurp(rig))["sweeps"]) names.push_back(s["name"]);
+  const nlohmann::json doc = nlohmann::json::parse(slurp(rig));
+  for (const auto& s : doc["sweeps"]) names.push_back(s["name"]);
   std::sort(names.begin(), names.end());
   return names;
 }
