@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
+#include <sstream>
 #include <thread>
 
 #include "pipeline.h"
@@ -103,19 +105,46 @@ TEST(ObjSequence, FilesAKilledRunSetAsideArePutBackOrRemoved) {
 
 // --max-output-size is an upper bound on what the bake writes: under a limit one byte short of
 // what the sequence takes it is refused before anything is written; under any limit it is taken
-// at, it writes no more than the limit.
+// at, it writes no more than the limit. The tube is made a third the size and moved off the origin,
+// and the body moves, so every coordinate of every frame takes eight or nine digits and a sign
+// (the estimate used to assume a typical 36-byte line and let this bake overrun the limit).
 TEST(ObjSequence, TheSizeLimitHoldsForWhatIsWritten) {
   const Workspace ws("obj-sequence-size");
-  spit(ws / "push.json", scene(1.0, 30));
-  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, bake(ws, "push.json", "o.obj"), ws.io).code, 0);
+  std::istringstream in(slurp(ws / "tube.obj"));
+  std::string obj;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("v ", 0) == 0) {
+      std::istringstream v(line.substr(2));
+      double x = 0, y = 0, z = 0;
+      v >> x >> y >> z;
+      char text[128];
+      std::snprintf(text, sizeof text, "v %.9g %.9g %.9g", x / 3 - 0.0123457, y / 3 - 0.0234568, z / 3 - 0.3456789);
+      line = text;
+    }
+    obj += line + "\n";
+  }
+  spit(ws / "off.obj", obj);
+  ASSERT_EQ(run_tool(SWEEP_FIT_EXE, quoted(ws / "off.obj") + " -o " + quoted(ws / "off.rig.json") +
+                                        " --name tube --root -0.0123457,-0.0234568,-0.3390122"
+                                        " --tip -0.0123457,-0.0234568,-0.0123456 -k 6 -n 8 -q",
+                     ws.io).code, 0);
+  ASSERT_EQ(run_tool(SWEEP_BIND_EXE, quoted(ws / "off.rig.json") + " -q", ws.io).code, 0);
+  spit(ws / "moving.json", scene(1.0, 30, R"(, "body": {"keys": [{"time": 0, "translation": [0, 0, 0]},
+                                                                  {"time": 1, "translation": [0.1, 0.2, 0.3]}]})"));
+  auto run = [&](const std::string& out, const std::string& extra) {
+    return run_tool(SWEEP_SIM_EXE, quoted(ws / "off.rig.json") + " -s " + quoted(ws / "moving.json") + " -q -o " +
+                                       quoted(ws / out) + extra,
+                    ws.io);
+  };
+  ASSERT_EQ(run("o.obj", "").code, 0);
   std::uint64_t written = 0;
   for (const std::string& f : frames(ws.work, "o")) written += fs::file_size(ws / f);
-  ASSERT_GT(written, 100000u);
+  ASSERT_GT(written, 1000000u);
   const std::set<std::string> before = listing(ws.work);
   int taken = 0;
   for (const double share : {1.0, 1.2, 1.4, 1.6, 2.0}) {
     const std::uint64_t limit = static_cast<std::uint64_t>(share * static_cast<double>(written)) - (share == 1.0);
-    const ToolRun r = run_tool(SWEEP_SIM_EXE, bake(ws, "push.json", "n.obj") + " --max-output-size " + std::to_string(limit), ws.io);
+    const ToolRun r = run("n.obj", " --max-output-size " + std::to_string(limit));
     SCOPED_TRACE("limit " + std::to_string(limit) + " for " + std::to_string(written) + " bytes\n" + r.err);
     if (share == 1.0) {
       EXPECT_EQ(r.code, 4) << "one byte short of what it writes";

@@ -347,6 +347,7 @@ void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, boo
   outputs.add(s.rig, text);
   add_report_and_preview(outputs, s, mesh, fits, true, seconds);
   outputs.commit();
+  if (s.quiet) return;  // -q: nothing on success, as the other tools
   for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
   std::cout << (replaced > 0 ? "replaced in " : updating ? "added to " : "wrote ") << s.rig.string()
             << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
@@ -536,7 +537,7 @@ int main(int argc, char** argv) {
                       ->check(CLI::IsMember({"world", "local"}))
                       ->capture_default_str();
     app.add_flag("-v,--verbose", s.verbose, "Say more");
-    app.add_flag("-q,--quiet", s.quiet, "No notes (a killed run's leftovers removed, the mesh taken)");
+    app.add_flag("-q,--quiet", s.quiet, "Print nothing on success (no summary, no notes)");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);
     s.root_given = root->count() > 0;
