@@ -52,6 +52,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -94,6 +95,9 @@ struct BakeInfo {
   bool body_moves = false;
   // The mesh file the bake deforms and which mesh of it (BakeSource).
   BakeSource source;
+  // Where a writer says what it repaired in the source (normals recomputed, a missing texture
+  // left out); none: said nowhere.
+  std::function<void(const std::string&)> warn;
 };
 
 // The body's pose for one frame: world = rotation · position + translation.

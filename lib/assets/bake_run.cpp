@@ -122,6 +122,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   info.animated_vertices = animated;
   info.body_moves = scene.body.moves();
   info.source = options.source;
+  info.warn = options.warn;
   std::vector<io::SkinPoser*> skins;  // the skinned writers among them
   for (const auto& out : options.outputs) {
     if (options.joints != 0 && lower_extension(out) == "glb") {

@@ -20,8 +20,9 @@ std::uint32_t u32_at(const Bytes& b, std::size_t at) {
 
 
 // A buffer's bytes: the .glb's binary chunk, a base64 data URI, or a file beside the glTF.
-std::optional<Bytes> buffer_bytes(const Json& buffer, const Bytes& bin,
-                                  const std::filesystem::path& dir) {
+std::optional<Bytes> buffer_bytes(const Json& buffer, const Bytes& bin, const std::filesystem::path& gltf,
+                                  std::size_t index) {
+  const std::filesystem::path dir = gltf.parent_path();
   if (!buffer.is_object()) return std::nullopt;
   const auto uri = buffer.find("uri");
   if (uri == buffer.end()) return bin;
@@ -32,8 +33,15 @@ std::optional<Bytes> buffer_bytes(const Json& buffer, const Bytes& bin,
     if (comma == std::string::npos) return std::nullopt;
     return decode_base64(std::string_view(u).substr(comma + 8));
   }
+  const std::filesystem::path file = dir / u;
+  std::error_code ec;
+  // A FIFO or a device would block the importer forever (or never end): said here, by name.
+  if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec)) {
+    fail(ErrorCategory::bad_input, gltf.string() + ": /buffers/" + std::to_string(index) + "/uri: '" + u +
+                                       "' is not a regular file (a FIFO, a device or a folder); a buffer must be a file");
+  }
   try {
-    return read_file(dir / u);
+    return read_file(file);
   } catch (const Error&) {
     return std::nullopt;  // assimp reports a missing buffer itself
   }
@@ -96,7 +104,7 @@ GltfDocument read_gltf_document(const std::filesystem::path& path) {
   GltfDocument out;
   out.json = Json::parse(json_text, nullptr, /*allow_exceptions=*/false);
   if (out.json.is_object() && out.json.contains("buffers") && out.json["buffers"].is_array()) {
-    for (const Json& b : out.json["buffers"]) out.buffers.push_back(buffer_bytes(b, bin, path.parent_path()));
+    for (const Json& b : out.json["buffers"]) out.buffers.push_back(buffer_bytes(b, bin, path, out.buffers.size()));
   }
   return out;
 }

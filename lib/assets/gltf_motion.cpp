@@ -9,6 +9,7 @@
 
 #include "assets/gltf_document.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/text.h"
 
 namespace sweep::io {
@@ -152,6 +153,30 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
       }
       for (float v : c.values) {
         if (!std::isfinite(v)) refuse(gltf, "animation '" + name + "': a " + path + " value of node '" + node_name + "' is not finite");
+      }
+      // A translation past the limit of any length (core/limits.h) is no body's path: a key of
+      // 1e35 is finite, but the motion it asks for is not, and the run would stop halfway.
+      for (std::size_t k = 0; width == 3 && k < c.times.size(); ++k) {
+        for (int i = 0; i < 3; ++i) {
+          if (std::abs(c.values[3 * k + i]) > limits::kMaxLength) {
+            fail(ErrorCategory::bad_input, gltf.string() + ": animation '" + name + "': translation key " +
+                                               std::to_string(k) + " of node '" + node_name + "' (at " +
+                                               format_number(c.times[k]) + " s) is " + format_number(c.values[3 * k + i]) +
+                                               " along " + "xyz"[i] + ", past the limit of 1e9 mesh units");
+          }
+        }
+      }
+      // A rotation key of no length (a zero quaternion) names no rotation: normalizing it gives
+      // NaN, and taking it as "no rotation" would be a guess.
+      for (std::size_t k = 0; width == 4 && k < c.times.size(); ++k) {
+        const double length = Eigen::Vector4d(c.values[4 * k], c.values[4 * k + 1], c.values[4 * k + 2],
+                                              c.values[4 * k + 3]).norm();
+        if (!(length > 1e-6)) {
+          fail(ErrorCategory::bad_input, gltf.string() + ": animation '" + name + "': rotation key " + std::to_string(k) +
+                                             " of node '" + node_name + "' (at " + format_number(c.times[k]) +
+                                             " s) is a quaternion of length " + format_number(length) +
+                                             ", not a rotation (a unit quaternion [x, y, z, w])");
+        }
       }
       moves = true;
     }

@@ -160,6 +160,7 @@ struct GltfPassthrough::State {
     int same_as = -1;
     bool deformed = false;
     std::vector<float> normals, tangents;  // the input's (3 and 4 a vertex), when present
+    bool normals_repaired = false;  // some were not finite or zero: written anew (repair_normals)
     Mat3 to_local = Mat3::Identity(), normal_to_world = Mat3::Identity(), to_world = Mat3::Identity();
     std::vector<std::uint32_t> listed;  // local vertices whose position or normal can change
     BinBlock listed_block;
@@ -505,6 +506,44 @@ void weld(State& s, const Mesh& rest) {
 
 }  // namespace
 
+namespace {
+
+// A normal that is not finite or has no length (`vn nan 0 1`, `vn 0 0 0`, a NaN in a glTF's
+// NORMAL) would make every target's normal delta NaN, and the file's own accessor invalid: it is
+// replaced by the surface's own normal there (area-weighted over the faces round the vertex, the
+// one the bend turns), in the primitive's space, and the accessor is written anew with the others
+// (finish). A warning says how many and the first.
+void repair_normals(State& s, const std::function<void(const std::string&)>& warn) {
+  for (State::Primitive& p : s.primitives) {
+    if (p.same_as >= 0) continue;  // its vertices are an earlier primitive's, repaired there
+    std::size_t repaired = 0;
+    std::string first;
+    for (std::uint32_t i = 0; i < p.count && 3u * i + 2 < p.normals.size(); ++i) {
+      float* n = &p.normals[3 * i];
+      const double length = Vec3(n[0], n[1], n[2]).norm();
+      if (std::isfinite(length) && length > 0) continue;
+      if (repaired++ == 0) {
+        first = "vertex " + std::to_string(i) + " (" + format_exact(n[0]) + ", " + format_exact(n[1]) + ", " +
+                format_exact(n[2]) + ")";
+      }
+      const Vec3 world = s.rest_normals[s.rep[p.source[i]]].cast<double>();
+      Vec3 local = p.to_world.transpose() * world;
+      local = local.norm() > 0 && std::isfinite(local.norm()) ? Vec3(local.normalized()) : Vec3::UnitY();
+      for (int c = 0; c < 3; ++c) n[c] = static_cast<float>(local[c]);
+    }
+    if (repaired == 0) continue;
+    p.normals_repaired = true;
+    if (warn) {
+      warn(s.where + "mesh " + std::to_string(p.mesh) + " primitive " + std::to_string(p.index) + ": " +
+           std::to_string(repaired) + (repaired == 1 ? " normal is" : " normals are") +
+           " not finite or of no length (first: " + first +
+           "); recomputed from the faces round each vertex (area-weighted)");
+    }
+  }
+}
+
+}  // namespace
+
 GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, const Mesh& rest,
                                  const std::vector<std::uint32_t>& animated, const BakeInfo& info)
     : s_(std::make_unique<State>()) {
@@ -517,7 +556,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.body_moves = info.body_moves;
   if (const std::string ext = lower_extension(source); ext == "obj" || ext == "fbx") {
     std::optional<SurfaceGltf> converted =
-        ext == "obj" ? obj_as_gltf(source, rest)
+        ext == "obj" ? obj_as_gltf(source, rest, info.warn)
                      : surface_as_gltf(read_welded_surface(source, info.source.mesh_name), rest, source);
     if (!converted) fail(ErrorCategory::internal, s.where + "no surface to carry");
     s.doc = std::move(converted->doc);
@@ -538,6 +577,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   for (const std::uint32_t v : animated) s.animated[v] = 1;
   weld(s, rest);
   s.rest_normals = smooth_normals(s.rest_f, s.welded_triangles);
+  repair_normals(s, info.warn);
   // The vertices whose normal can change: on a welded face with a moving vertex.
   std::vector<char> moving_rep(rest.vertex_count(), 0), near(rest.vertex_count(), 0);
   for (const std::uint32_t v : animated) moving_rep[s.rep[v]] = 1;
@@ -593,7 +633,7 @@ std::uint64_t GltfPassthrough::fixed_bytes() const {
   std::uint64_t bytes = 0;
   for (const std::string& b : s_->buffer_bytes) bytes += b.size() + 16;
   for (const State::Image& i : s_->images) bytes += i.bytes.size() + 4;
-  for (const State::Primitive& p : s_->primitives) bytes += 4 * p.listed.size();
+  for (const State::Primitive& p : s_->primitives) bytes += 4 * p.listed.size() + (p.normals_repaired ? 4 * p.normals.size() : 0);
   const std::uint64_t f = static_cast<std::uint64_t>(s_->frames);
   return bytes + 12 * f + 28 * f * s_->shown.size();
 }
@@ -733,6 +773,26 @@ Json GltfPassthrough::finish(const AppendBin& append) {
     image.erase("uri");
     image["bufferView"] = add_view(i.block);
     image["mimeType"] = i.media_type;
+  }
+  // Repaired normals (repair_normals): the primitive's NORMAL accessor re-pointed at them, so no
+  // accessor of the file holds the bad ones.
+  for (State::Primitive& p : s.primitives) {
+    if (!p.normals_repaired) continue;
+    const Json& index = json["meshes"][p.mesh]["primitives"][p.index]["attributes"]["NORMAL"];
+    Json& accessor = json["accessors"][index.get<std::size_t>()];
+    accessor["bufferView"] = add_view(s.put(append, p.normals.data(), p.normals.size() * sizeof(float)));
+    accessor.erase("byteOffset");
+    accessor.erase("sparse");
+    if (accessor.contains("min") || accessor.contains("max")) {
+      Eigen::Vector3f lo = Eigen::Vector3f::Constant(1), hi = Eigen::Vector3f::Constant(-1);
+      for (std::size_t i = 0; i + 2 < p.normals.size(); i += 3) {
+        const Eigen::Vector3f n(p.normals[i], p.normals[i + 1], p.normals[i + 2]);
+        lo = lo.cwiseMin(n);
+        hi = hi.cwiseMax(n);
+      }
+      accessor["min"] = vec3_json(lo);
+      accessor["max"] = vec3_json(hi);
+    }
   }
   if (s.shown.empty()) return json;  // nothing moves: the input as it was
   const std::size_t frames = static_cast<std::size_t>(s.frames);

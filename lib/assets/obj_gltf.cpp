@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdlib>
 #include <cstring>
+#include <cmath>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -33,11 +35,16 @@ double number(const std::string& t) {
   return std::strtod(t.c_str(), nullptr);
 }
 
+std::string place(const fs::path& file, int line) {
+  return file.string() + ": line " + std::to_string(line) + ": ";
+}
+
 struct Material {
   std::string name;
   std::array<double, 4> colour{1, 1, 1, 1};
   std::string texture;  // the file, relative to the .mtl
   fs::path dir;
+  int texture_line = 0;  // the map_Kd line, for messages
 };
 
 std::map<std::string, Material> read_mtl(const fs::path& mtl) {
@@ -51,7 +58,9 @@ std::map<std::string, Material> read_mtl(const fs::path& mtl) {
   }
   std::istringstream in(text);
   Material* m = nullptr;
+  int number_of_line = 0;
   for (std::string line; std::getline(in, line);) {
+    ++number_of_line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::vector<std::string> t = tokens(line);
     if (t.empty()) continue;
@@ -60,11 +69,26 @@ std::map<std::string, Material> read_mtl(const fs::path& mtl) {
       m->name = t[1];
       m->dir = mtl.parent_path();
     } else if (m && t[0] == "Kd" && t.size() >= 4) {
-      for (int c = 0; c < 3; ++c) m->colour[c] = std::clamp(number(t[c + 1]), 0.0, 1.0);
+      // A colour that is not finite would be a NaN base colour, which no viewer draws.
+      for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite(number(t[c + 1]))) {
+          fail(ErrorCategory::bad_input, place(mtl, number_of_line) + "material '" + m->name +
+                                             "': Kd must be three finite numbers, got '" + t[1] + " " + t[2] +
+                                             " " + t[3] + "'");
+        }
+        m->colour[c] = std::clamp(number(t[c + 1]), 0.0, 1.0);
+      }
     } else if (m && t[0] == "d" && t.size() >= 2) {
+      if (!std::isfinite(number(t[1]))) {
+        fail(ErrorCategory::bad_input, place(mtl, number_of_line) + "material '" + m->name +
+                                           "': d (opacity) must be a finite number, got '" + t[1] + "'");
+      }
       m->colour[3] = std::clamp(number(t[1]), 0.0, 1.0);
     } else if (m && t[0] == "map_Kd" && t.size() >= 2) {
       m->texture = t.back();  // options (-s, -o, ...) come before the file name
+      // Written on Windows: ".\\textures\\skin.png". A backslash is no part of a file name here.
+      std::replace(m->texture.begin(), m->texture.end(), '\\', '/');
+      m->texture_line = number_of_line;
     }
   }
   return out;
@@ -90,29 +114,44 @@ long long index_of(const std::string& t, std::size_t count) {
 
 }  // namespace
 
-std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
+std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest,
+                                       const std::function<void(const std::string&)>& warn) {
   const std::string text = read_file(obj);
   std::vector<std::array<float, 2>> uvs;
   std::vector<std::array<float, 3>> normals, colours;
   std::map<std::string, Material> library;
   std::vector<std::string> material_order;             // in first use
   std::map<std::string, std::vector<std::vector<Corner>>> faces;  // per material
-  std::size_t positions = 0;
+  std::size_t positions = 0, face_count = 0;
   std::string current;
   bool any_surface = false;
   std::istringstream in(text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? text.substr(3) : text);
+  int line_number = 0;
   for (std::string line; std::getline(in, line);) {
+    ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::vector<std::string> t = tokens(line);
     if (t.empty()) continue;
     if (t[0] == "v") {
       ++positions;
       if (t.size() >= 7) {
-        colours.push_back({static_cast<float>(number(t[4])), static_cast<float>(number(t[5])), static_cast<float>(number(t[6]))});
+        const std::array<float, 3> c{static_cast<float>(number(t[4])), static_cast<float>(number(t[5])),
+                                     static_cast<float>(number(t[6]))};
+        if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) {
+          fail(ErrorCategory::bad_input, place(obj, line_number) + "vertex " + std::to_string(positions - 1) +
+                                             " has a colour that is not finite (" + t[4] + ", " + t[5] + ", " +
+                                             t[6] + ")");
+        }
+        colours.push_back(c);
         any_surface = true;
       }
     } else if (t[0] == "vt" && t.size() >= 3) {
       uvs.push_back({static_cast<float>(number(t[1])), static_cast<float>(1 - number(t[2]))});
+      if (!std::isfinite(uvs.back()[0]) || !std::isfinite(uvs.back()[1])) {
+        fail(ErrorCategory::bad_input, place(obj, line_number) + "texture coordinate " +
+                                           std::to_string(uvs.size()) + " (1-based) is not finite (" + t[1] +
+                                           ", " + t[2] + ")");
+      }
       any_surface = true;
     } else if (t[0] == "vn" && t.size() >= 4) {
       Eigen::Vector3d n(number(t[1]), number(t[2]), number(t[3]));
@@ -135,7 +174,18 @@ std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
           at = slash == std::string::npos ? slash : slash + 1;
         }
         face.push_back({index_of(parts[0], positions), index_of(parts[1], uvs.size()), index_of(parts[2], normals.size())});
+        // A vt or vn named but not there would drop the face's UVs or normals, or index past them.
+        const Corner& c = face.back();
+        for (const auto& [given, index, count, what] :
+             {std::tuple{parts[1], c.vt, uvs.size(), "texture coordinate"}, std::tuple{parts[2], c.vn, normals.size(), "normal"}}) {
+          if (!given.empty() && (index < 0 || index >= static_cast<long long>(count))) {
+            fail(ErrorCategory::bad_input, place(obj, line_number) + "face " + std::to_string(face_count) +
+                                               " uses " + what + " " + given + " (as in the file), out of range (the file has " +
+                                               std::to_string(count) + " before this line)");
+          }
+        }
       }
+      ++face_count;
       if (!faces.count(current)) material_order.push_back(current);
       faces[current].push_back(std::move(face));
     }
@@ -177,9 +227,15 @@ std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest) {
         sm.texture_name = (m.dir / m.texture).string();
         try {
           sm.texture = read_file(m.dir / m.texture);
-        } catch (const Error&) {
-          fail(ErrorCategory::bad_input, sm.texture_name + ": cannot read material '" + name +
-                                             "''s texture (map_Kd), which the .glb bake embeds");
+        } catch (const Error& e) {
+          // Files other tools write often name textures that were not sent along: the material is
+          // kept with its base colour, and the bake goes on.
+          if (warn) {
+            warn(sm.texture_name + ": cannot read material '" + name + "''s texture (map_Kd, line " +
+                 std::to_string(m.texture_line) + " of its library): " + e.what() +
+                 "; the material keeps its base colour only");
+          }
+          sm.texture_name.clear();
         }
       }
       prim.material = static_cast<int>(surface.materials.size());

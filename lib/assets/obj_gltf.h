@@ -11,6 +11,7 @@
 // top left); normals are normalized; a texture is embedded (PNG or JPEG, by its bytes). An
 // attribute is written on a primitive only when all its corners have it.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -26,8 +27,11 @@ struct SurfaceGltf {
 };
 
 // nullopt when the OBJ has none of vt, vn, vertex colours or usemtl (the plain .glb then serves).
-// A texture or material library that cannot be read: Error(bad_input) naming it.
-std::optional<SurfaceGltf> obj_as_gltf(const std::filesystem::path& obj, const Mesh& rest);
+// A material library that cannot be read, a colour, UV or Kd that is not finite, a face's vt or
+// vn index out of range: Error(bad_input) naming the file and line. A texture that cannot be read
+// (map_Kd; "\" separators are read as "/"): a warning (`warn`), the material kept without it.
+std::optional<SurfaceGltf> obj_as_gltf(const std::filesystem::path& obj, const Mesh& rest,
+                                       const std::function<void(const std::string&)>& warn = {});
 
 // Any file's surface (mesh_surface.h) as such a document, named after `file`: one primitive a
 // surface primitive, its positions the mesh's (float32) at each vertex's source.

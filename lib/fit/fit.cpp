@@ -277,6 +277,16 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   r.seed_limit = o.seed_distance * impl_->diagonal;
   auto seed_vertex = [&](const Vec3& p, const char* what, double& off_surface) {
     off_surface = impl_->surface.distance(p);
+    if (!std::isfinite(off_surface)) {
+      // Past ~1e154 the squared distance overflows. The distance to the mesh's bounding box is
+      // then the surface's to every digit printed (the box is nothing beside it).
+      Vec3 lo = mesh.positions[0], hi = lo;
+      for (const Vec3& q : mesh.positions) {
+        lo = lo.cwiseMin(q);
+        hi = hi.cwiseMax(q);
+      }
+      off_surface = (p - p.cwiseMax(lo).cwiseMin(hi)).stableNorm();
+    }
     if (off_surface > r.seed_limit) {
       refuse(ErrorCategory::bad_input,
              std::string(what) + " " + format_point(p) + " is far from the mesh: " +

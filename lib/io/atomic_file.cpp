@@ -72,10 +72,15 @@ std::string temp_base(const std::string& name) {
 
 namespace {
 
-// ".<name>.<tool>-<pid>.tmp-XXXXXX" of one of these tools: the pid, or 0 when `file` is not one.
-long temporary_pid(const std::string& file) {
-  const std::size_t tmp = file.rfind(".tmp-");
+// ".<name>.<tool>-<pid>.tmp-XXXXXX" (a temporary) or ".<name>.<tool>-<pid>.old-XXXXXX" (an earlier
+// file set aside while a set was published) of one of these tools: the pid, or 0 when `file` is
+// neither. `set_aside_file` says which; `name` gets <name>.
+long temporary_pid(const std::string& file, bool* set_aside_file = nullptr, std::string* name = nullptr) {
+  std::size_t tmp = file.rfind(".tmp-");
+  const std::size_t old = file.rfind(".old-");
+  if (tmp == std::string::npos || (old != std::string::npos && old > tmp)) tmp = old;
   if (file.empty() || file[0] != '.' || tmp == std::string::npos || file.size() != tmp + 11) return 0;
+  if (set_aside_file) *set_aside_file = tmp == old;
   const std::size_t dash = file.rfind('-', tmp);
   const std::size_t dot = file.rfind('.', dash);
   if (dash == std::string::npos || dot == std::string::npos || dash < dot) return 0;
@@ -86,7 +91,35 @@ long temporary_pid(const std::string& file) {
     if (file[i] < '0' || file[i] > '9' || pid > 100000000) return 0;
     pid = pid * 10 + (file[i] - '0');
   }
+  if (name) *name = file.substr(1, dot - 1);
   return pid;
+}
+
+}  // namespace
+
+namespace {
+
+// ".<name>.old-XXXXXX": an earlier file set aside as earlier versions named it (no tool or process
+// in the name); `name` gets <name>.
+bool legacy_set_aside(const std::string& file, std::string& name) {
+  if (file.size() < 13 || file[0] != '.' || file.compare(file.size() - 11, 5, ".old-") != 0) return false;
+  name = file.substr(1, file.size() - 12);
+  return !name.empty();
+}
+
+// An earlier file set aside by a run killed while publishing (`hidden`, standing for `target`):
+// put back when nothing took its name (the run died before its new file went into place), else
+// superseded and removed. A name cut to fit (temp_base) cannot be put back: only removed.
+void settle_set_aside(const fs::path& hidden, const fs::path& target, const std::string& why) {
+  struct stat st {};
+  const std::string name = target.filename().string();
+  if (temp_base(name) == name && ::lstat(target.c_str(), &st) != 0 && errno == ENOENT &&
+      ::rename(hidden.c_str(), target.c_str()) == 0) {
+    note("put back " + target.string() + ", set aside by a run that was killed" + why +
+         " before its new file went into place");
+  } else if (::unlink(hidden.c_str()) == 0) {
+    note("removed " + hidden.string() + ", an earlier " + name + " set aside by a run that was killed" + why);
+  }
 }
 
 }  // namespace
@@ -95,15 +128,29 @@ void remove_stale_temporaries(const fs::path& folder) {
   static std::set<fs::path> done;  // once a folder per run
   if (!done.insert(folder).second) return;
   std::error_code ec;
+  std::vector<std::pair<fs::path, std::string>> set_aside_files;  // (hidden, target name)
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string file = it->path().filename().string();
-    const long pid = temporary_pid(file);
+    bool earlier = false;
+    std::string name;
+    const long pid = temporary_pid(file, &earlier, &name);
+    if (pid <= 0 && legacy_set_aside(file, name)) set_aside_files.emplace_back(it->path(), name);
     if (pid <= 0 || pid == ::getpid()) continue;
     if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours)
-    if (::unlink(it->path().c_str()) == 0) {
+    if (earlier) {
+      settle_set_aside(it->path(), folder / name, " (process " + std::to_string(pid) + " is gone)");
+    } else if (::unlink(it->path().c_str()) == 0) {
       note("removed " + it->path().string() + ", left by a run that was killed (process " +
            std::to_string(pid) + " is gone)");
     }
+  }
+  // Earlier versions named a set-aside file without its process. A run sets files aside and
+  // settles them under the folder's lock (Publication::commit), so under that lock any such file
+  // is a killed run's.
+  if (set_aside_files.empty()) return;
+  const FolderLock lock(folder);
+  for (const auto& [hidden, name] : set_aside_files) {
+    if (fs::exists(fs::symlink_status(hidden, ec))) settle_set_aside(hidden, folder / name, "");
   }
 }
 
@@ -111,7 +158,11 @@ fs::path set_aside(const fs::path& target) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   struct stat st {};
   if (::lstat(target.c_str(), &st) != 0) return {};
-  std::string name = (dir / ("." + temp_base(target.filename().string()) + ".old-XXXXXX")).string();
+  // Named by the tool and process, as temporaries are: a run killed while publishing leaves it,
+  // and the next run writing here puts it back or removes it (remove_stale_temporaries).
+  std::string name = (dir / ("." + temp_base(target.filename().string()) + "." + tool_name() + "-" +
+                             std::to_string(::getpid()) + ".old-XXXXXX"))
+                         .string();
   const int fd = ::mkostemp(name.data(), O_CLOEXEC);  // reserves the name
   if (fd < 0 || ::close(fd) != 0 || ::rename(target.c_str(), name.c_str()) != 0) {
     const std::string reason = std::strerror(errno);
@@ -288,6 +339,8 @@ void Publication::add(const fs::path& path, std::string_view bytes) {
   add(std::move(file));
 }
 
+void Publication::remove(const fs::path& path) { removals_.push_back(path); }
+
 std::vector<fs::path> Publication::targets() const {
   std::vector<fs::path> out;
   for (const auto& f : files_) out.push_back(f->target());
@@ -301,17 +354,22 @@ void Publication::commit() {
   for (const auto& f : files_) {
     folders.insert(f->target().has_parent_path() ? f->target().parent_path() : fs::path("."));
   }
+  for (const fs::path& r : removals_) folders.insert(r.has_parent_path() ? r.parent_path() : fs::path("."));
   std::vector<std::unique_ptr<FolderLock>> locks;
   for (const fs::path& folder : folders) locks.push_back(std::make_unique<FolderLock>(folder));
-  std::vector<fs::path> earlier(files_.size());
+  // The files to remove are set aside after the targets, the same way: put back on failure.
+  std::vector<fs::path> names;
+  for (const auto& f : files_) names.push_back(f->target());
+  names.insert(names.end(), removals_.begin(), removals_.end());
+  std::vector<fs::path> earlier(names.size());
   std::size_t aside = 0, published = 0;
   try {
-    for (; aside < files_.size(); ++aside) earlier[aside] = set_aside(files_[aside]->target());
+    for (; aside < names.size(); ++aside) earlier[aside] = set_aside(names[aside]);
     for (; published < files_.size(); ++published) files_[published]->publish();
   } catch (...) {
     for (std::size_t k = 0; k < published; ++k) ::unlink(files_[k]->target().c_str());
     for (std::size_t k = 0; k < aside; ++k) {
-      if (!earlier[k].empty()) std::rename(earlier[k].c_str(), files_[k]->target().c_str());
+      if (!earlier[k].empty()) std::rename(earlier[k].c_str(), names[k].c_str());
     }
     throw;
   }
@@ -319,6 +377,7 @@ void Publication::commit() {
     if (!old.empty()) ::unlink(old.c_str());
   }
   files_.clear();
+  removals_.clear();
 }
 
 }  // namespace sweep::io

@@ -72,11 +72,15 @@ class Publication {
   void add(std::unique_ptr<TempFile> sealed);
   // `bytes` written to a sealed temporary for `path`, added.
   void add(const std::filesystem::path& path, std::string_view bytes);
+  // A file to remove with the commit (set aside with the earlier files, removed once all are in
+  // place, put back if the set cannot be completed): a re-bake's frames past its new end.
+  void remove(const std::filesystem::path& path);
   void commit();
   std::vector<std::filesystem::path> targets() const;
 
  private:
   std::vector<std::unique_ptr<TempFile>> files_;
+  std::vector<std::filesystem::path> removals_;
 };
 
 // Renames an existing `target` to a hidden unique name beside it and returns that name (empty
@@ -85,7 +89,9 @@ class Publication {
 std::filesystem::path set_aside(const std::filesystem::path& target);
 
 // Removes, once a run per folder, the temporaries in `folder` that these tools' runs left when
-// they were killed (named as TempFile names them, their process gone), each with a note().
+// they were killed (named as TempFile names them, their process gone), each with a note(); an
+// earlier file such a run had set aside (set_aside) is put back under its name when nothing has
+// taken it, else removed.
 void remove_stale_temporaries(const std::filesystem::path& folder);
 
 // Holds an exclusive lock on a folder (flock; released when destroyed, or when the process

@@ -1,11 +1,17 @@
 #include "io/interrupt.h"
 
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <csignal>
 
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <cstring>
+#include <string_view>
 #include <utility>
 
 namespace sweep::io {
@@ -28,6 +34,56 @@ std::atomic<int> pending{0};
 std::string tool = "sweep";
 char declared[kPathBytes];  // "a.glb, a.pc2, r.json" or empty
 std::function<void(const std::string&)> note_sink;
+
+// The folders this run made temporaries in: the handler removes every temporary of this process
+// there (".*.<tool>-<pid>.tmp-*"), however many, so no count of tracked names caps the cleanup
+// (an .obj sequence of thousands of frames). A run writes into a handful of folders.
+constexpr int kFolders = 64;
+struct Folder {
+  std::atomic<int> state{0};  // 0 free, 1 being filled, 2 live
+  char path[kPathBytes];
+};
+Folder folders[kFolders];
+char own_marker[96];  // ".<tool>-<pid>.tmp-": what names this process's temporaries
+
+bool contains(const char* text, const char* part) {
+  for (; *text != '\0'; ++text) {
+    std::size_t i = 0;
+    while (part[i] != '\0' && text[i] == part[i]) ++i;
+    if (part[i] == '\0') return true;
+  }
+  return false;
+}
+
+// Async-signal-safe: open, getdents64 (the raw system call: readdir may allocate), unlinkat.
+void remove_own_temporaries(const char* folder) {
+  if (own_marker[0] == '\0') return;  // no handler installed: nothing is ours by name
+  const int fd = ::open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  alignas(8) char buffer[8192];
+  for (;;) {
+    const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer);
+    if (n <= 0) break;
+    bool removed = false;
+    for (long at = 0; at < n;) {
+      struct Entry {
+        std::uint64_t inode;
+        std::int64_t offset;
+        unsigned short length;
+        unsigned char type;
+        char name[1];
+      };
+      const Entry* e = reinterpret_cast<const Entry*>(buffer + at);
+      if (e->name[0] == '.' && contains(e->name, own_marker)) {
+        removed = ::unlinkat(fd, e->name, 0) == 0 || removed;
+      }
+      at += e->length;
+    }
+    // Removing entries while reading may skip some: read the folder again from its start.
+    if (removed) ::lseek(fd, 0, SEEK_SET);
+  }
+  ::close(fd);
+}
 
 void put(const char* text) {
   std::size_t left = std::strlen(text);
@@ -67,6 +123,9 @@ extern "C" void on_interrupt(int signal) {
     if (count < kListed) not_written[count] = s.target;
     ++count;
   }
+  for (Folder& f : folders) {
+    if (f.state.load() == 2) remove_own_temporaries(f.path);
+  }
   if (progress_open.load()) put("\r\033[K");  // the progress bar's line, cleared
   put("error: interrupted by ");
   put(signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGHUP ? "SIGHUP" : "a signal");
@@ -98,6 +157,10 @@ constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 
 void install_interrupt_handlers(const char* tool_name_in) {
   tool = tool_name_in;
+  const std::string marker = "." + tool + "-" + std::to_string(::getpid()) + ".tmp-";
+  const std::size_t n = std::min(marker.size(), sizeof own_marker - 1);
+  std::memcpy(own_marker, marker.c_str(), n);
+  own_marker[n] = '\0';
   struct sigaction action {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
@@ -107,7 +170,32 @@ void install_interrupt_handlers(const char* tool_name_in) {
 
 const std::string& tool_name() { return tool; }
 
+namespace {
+
+// Records the folder of `temp` (once) for the handler's sweep of this process's temporaries.
+void track_folder(const std::string& temp) noexcept {
+  const std::size_t slash = temp.rfind('/');
+  const std::string_view folder = slash == std::string::npos ? std::string_view(".")
+                                  : slash == 0               ? std::string_view("/")
+                                                             : std::string_view(temp).substr(0, slash);
+  if (folder.size() >= kPathBytes) return;
+  for (Folder& f : folders) {
+    if (f.state.load() == 2 && folder == f.path) return;
+  }
+  for (Folder& f : folders) {
+    int expected = 0;
+    if (!f.state.compare_exchange_strong(expected, 1)) continue;
+    std::memcpy(f.path, folder.data(), folder.size());
+    f.path[folder.size()] = '\0';
+    f.state.store(2);
+    return;
+  }
+}
+
+}  // namespace
+
 int track_temporary(const std::string& temp, const std::string& target) noexcept {
+  track_folder(temp);
   if (temp.size() >= kPathBytes) return -1;
   for (int i = 0; i < kSlots; ++i) {
     int expected = 0;

@@ -2,7 +2,10 @@
 // Stopping a run halfway leaves nothing behind. Every named temporary (TempFile) is tracked while
 // it exists; SIGINT, SIGTERM and SIGHUP remove them all, end an open progress line, say what was
 // not written and exit with 128 + the signal (130, 143, 129, as shells report a process they
-// stopped). Nothing in the handler allocates or locks: the tracked names live in fixed slots.
+// stopped). Nothing in the handler allocates or locks: the names it lists live in fixed slots, and
+// besides them it removes every temporary of this process (named by its tool and pid) in each
+// folder a temporary was made in, read with the raw getdents64 call: no count of temporaries
+// (an .obj sequence of thousands of frames) escapes it.
 //
 // Temporaries are named ".<output name>.<tool>-<pid>.tmp-XXXXXX" beside the output, so a later run
 // writing the same output can tell one whose process is gone (SIGKILL, a power cut) and remove it.
@@ -20,7 +23,8 @@ void install_interrupt_handlers(const char* tool_name);
 const std::string& tool_name();
 
 // Tracks a temporary (`temp`) standing for `target`; returns its slot, or -1 when every slot is
-// taken (the temporary is then still removed by its owner, only not on a signal).
+// taken (the temporary is then still removed by its owner, and on a signal by its name: its
+// folder is recorded either way).
 int track_temporary(const std::string& temp, const std::string& target) noexcept;
 void untrack_temporary(int slot) noexcept;
 

@@ -84,6 +84,7 @@ struct Scenario {
   double turn_end = 40;  // degrees at 1.5 s
   std::vector<Vec3> T{{0, 0.5, 0}, {0.25, 0.5, 0}, {0.25, 0.5, 0.125}};
   Quat R0 = turn_y(30);
+  bool zero_quaternion = false;  // the rotation key at 1.5 s written as [0, 0, 0, 0]
 
   // The closed form: B(x) = Ry(θ)(x − P − T0) + P + T(t), θ(t) linear to turn_end over [0, 1.5].
   sim::BodyState expected(double t) const {
@@ -106,7 +107,7 @@ struct Scenario {
     const int tvals = g.add(tv, "VEC3", 3);
     const int rt = g.add({0, 1.5f}, "SCALAR", 2);
     std::vector<float> rv = quat_xyzw(R0);
-    const std::vector<float> r1 = quat_xyzw(turn_y(turn_end) * R0);
+    const std::vector<float> r1 = zero_quaternion ? std::vector<float>(4, 0.0f) : quat_xyzw(turn_y(turn_end) * R0);
     rv.insert(rv.end(), r1.begin(), r1.end());
     const int rvals = g.add(rv, "VEC4", 2);
     Json samplers = Json::array({{{"input", tt}, {"output", tvals}, {"interpolation", interpolation}},
@@ -189,6 +190,24 @@ TEST(GltfBody, WhatCannotBeABodysMotionIsRefusedWithWhatToDo) {
   std::ofstream(obj) << "v 0 0 0\n";
   expect_refused([&] { io::read_gltf_body_path(obj, "Body"); }, ErrorCategory::bad_input,
                  {"not a glTF file"});
+}
+
+// A key the file can hold but no body can follow: a translation past the limit of any length (a
+// finite 1e35 used to stop the run halfway as "not finite", exit 5), a rotation of no length (used
+// to be taken as no rotation). Refused before anything is simulated, naming the key.
+TEST(GltfBody, AKeyPastTheLengthLimitOrOfNoRotationIsRefusedNamingIt) {
+  Scenario far;
+  far.T[1] = Vec3(1e35, 0.5, 0);
+  const fs::path file = scratch("far.gltf");
+  far.write(file);
+  expect_refused([&] { io::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
+                 {"far.gltf: animation 'Walk': translation key 1 of node 'Body' (at 1 s) is ", " along x, past the limit of 1e9 mesh units"});
+  Scenario zero;
+  zero.zero_quaternion = true;
+  const fs::path nothing = scratch("zero-quaternion.gltf");
+  zero.write(nothing);
+  expect_refused([&] { io::read_gltf_body_path(nothing, "Body"); }, ErrorCategory::bad_input,
+                 {"zero-quaternion.gltf: animation 'Walk': rotation key 1 of node 'Body' (at 1.5 s) is a quaternion of length 0, not a rotation"});
 }
 
 // sweep-sim on a glTF tube whose node "Body" is animated: the scene says only {"node": "Body"}.

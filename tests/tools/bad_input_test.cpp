@@ -16,54 +16,11 @@
 #include <nlohmann/json.hpp>
 
 #include "assets/mesh_io.h"
+#include "bad_input_case.h"
 #include "pipeline.h"
 #include "tube.h"
 
 namespace sweep::test {
-namespace {
-
-using nlohmann::json;
-
-struct Case {
-  std::string name;
-  const char* tool;
-  // Prepares the workspace and returns the tool's arguments.
-  std::function<std::string(const Workspace&)> setup;
-  int code;
-  std::vector<std::string> expect = {};   // substrings of stderr
-  std::vector<std::string> creates = {};  // exit 0 only: files the run must write
-  bool one_line = true;                   // stderr is exactly one "error: " line
-};
-
-// Test names, not bytes, in gtest's messages.
-void PrintTo(const Case& c, std::ostream* os) {
-  *os << c.name;
-}
-
-void edit_json(const fs::path& p, const std::function<void(json&)>& change) {
-  json j = json::parse(slurp(p));
-  change(j);
-  spit(p, j.dump(2));
-}
-
-// Every file below `dir` with its bytes.
-std::map<std::string, std::string> snapshot(const fs::path& dir) {
-  std::map<std::string, std::string> files;
-  for (const std::string& name : listing(dir)) {
-    const fs::path p = dir / name;
-    std::error_code ec;
-    files[name] = fs::is_regular_file(p, ec) ? slurp(p) : std::string("<not a file>");
-  }
-  return files;
-}
-
-std::string names(const std::map<std::string, std::string>& files) {
-  std::string s;
-  for (const auto& [name, bytes] : files) s += " " + name;
-  return s;
-}
-
-class BadInput : public testing::TestWithParam<Case> {};
 
 TEST_P(BadInput, ExitCodeMessageAndNothingLeftBehind) {
   const Case& c = GetParam();
@@ -92,9 +49,7 @@ TEST_P(BadInput, ExitCodeMessageAndNothingLeftBehind) {
   }
 }
 
-std::string case_name(const testing::TestParamInfo<Case>& info) {
-  return info.param.name;
-}
+namespace {
 
 // ---- meshes ----
 

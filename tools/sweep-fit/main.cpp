@@ -26,6 +26,7 @@
 #include "io/path_checks.h"
 #include "io/read_file.h"
 #include "io/rig_json.h"
+#include "io/update_lock.h"
 #include "preview/png.h"
 #include "preview/render.h"
 #include "sweep-fit/report.h"
@@ -45,6 +46,9 @@ struct Settings {
   std::string name = "part";  // the sweep's name in the rig
   std::string root, tip;  // X,Y,Z in mesh units (root optional: found where the part meets the body)
   std::int64_t tip_vertex = -1;   // the tip as a vertex index
+  std::string tip_vertex_text;    // --tip-vertex as given (read by tip_vertex_index)
+  bool root_given = false, tip_given = false;  // --root, --tip given (even empty: refused)
+  bool quiet = false;             // -q: no notes
   bool force = false;             // write the rig even when the fit breaks a limit
   fs::path axis;              // optional axis polyline: "X Y Z" (or X,Y,Z) per line, root first
   int sections = sweep::fit::FitOptions{}.sections;
@@ -111,6 +115,14 @@ std::vector<std::string> split_names(const std::string& text) {
     names.push_back(text.substr(at, comma == std::string::npos ? comma : comma - at));
     if (names.back().empty()) fail(ErrorCategory::usage, "--names: an empty name in '" + text + "'");
     sweep::io::check_utf8(names.back(), "--names");
+    // Two parts of one name would be one sweep in the rig: the second would replace the first.
+    for (std::size_t k = 0; k + 1 < names.size(); ++k) {
+      if (names[k] == names.back()) {
+        fail(ErrorCategory::usage, "--names: '" + names.back() + "' is given twice (parts " +
+                                       std::to_string(k + 1) + " and " + std::to_string(names.size()) +
+                                       " in '" + text + "'); a rig holds one sweep a name");
+      }
+    }
     if (comma == std::string::npos) break;
     at = comma + 1;
   }
@@ -123,10 +135,28 @@ std::string mesh_path_for(const fs::path& rig, const fs::path& mesh) {
   return fs::weakly_canonical(fs::absolute(mesh)).lexically_relative(rig_dir).generic_string();
 }
 
+// --tip-vertex's text as a vertex index: a whole number below the vertex limit (core/limits.h),
+// the text quoted back as given when it is not one.
+std::int64_t tip_vertex_index(const std::string& text) {
+  std::string why;
+  const std::optional<std::uint64_t> v = sweep::tools::read_whole(text, why);
+  if (!v) fail(ErrorCategory::usage, "--tip-vertex " + why);
+  if (*v > sweep::limits::kMaxVertices) {
+    fail(ErrorCategory::usage, "--tip-vertex " + text + " is past the vertices of any mesh (a mesh has at most " +
+                                   std::to_string(sweep::limits::kMaxVertices) + ")");
+  }
+  return static_cast<std::int64_t>(*v);
+}
+
 // Reads the rig to update (when -o exists), so that a bad rig fails before any work; checks that
 // it is a rig of this mesh (file, and the mesh of it --mesh names).
 sweep::Rig open_rig(const Settings& s, bool& updating) {
   sweep::Rig rig;
+  // A folder, FIFO or device under the rig's name is an output that cannot be written (exit 4),
+  // not a rig to read (exit 2): TempFile's check says so.
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(s.rig, ec);
+  if (!ec && fs::exists(st) && !fs::is_regular_file(st)) sweep::io::check_can_create(s.rig);
   updating = !s.rig.empty() && fs::exists(s.rig);
   if (updating) {
     rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
@@ -140,6 +170,14 @@ sweep::Rig open_rig(const Settings& s, bool& updating) {
   rig.mesh = mesh_path_for(s.rig, s.mesh);
   return rig;
 }
+
+// Two runs updating one rig take turns from reading it to writing it back, so neither drops the
+// sweep the other adds (io/update_lock.h). The rig's folder is checked first, for the message
+// every output gives when it cannot be written there.
+struct RigUpdate {
+  explicit RigUpdate(const Settings& s) : lock((sweep::io::check_can_create(s.rig), s.rig)) {}
+  sweep::io::UpdateLock lock;
+};
 
 // Gives every section of `def` the sweep's material `m` (or none).
 void set_material(sweep::SweepDef& def, const std::optional<sweep::Material>& m) {
@@ -296,10 +334,20 @@ void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, boo
   int replaced = 0;
   for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep, material);
   const double seconds = seconds_since(start);
+  const std::string text = sweep::io::format_rig(rig);
+  // Never write a rig that sweep-bind refuses: one read back through the rig reader's limits
+  // (a mesh a glTF node scales by 1e30 gives sections far past the ±1e9 of any length).
+  try {
+    sweep::io::parse_rig(text, s.rig.string());
+  } catch (const sweep::Error& e) {
+    fail(ErrorCategory::bad_input, s.mesh.string() + ": the fitted rig would break the rig format's limits (" +
+                                       e.what() + "); nothing written. Scale the mesh into range first");
+  }
   sweep::io::Publication outputs;
-  outputs.add(s.rig, sweep::io::format_rig(rig));
+  outputs.add(s.rig, text);
   add_report_and_preview(outputs, s, mesh, fits, true, seconds);
   outputs.commit();
+  if (s.quiet) return;  // -q: nothing on success, as the other tools
   for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
   std::cout << (replaced > 0 ? "replaced in " : updating ? "added to " : "wrote ") << s.rig.string()
             << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
@@ -324,10 +372,11 @@ int run_one(const Settings& s) {
   const std::optional<sweep::Material> material = read_material_option(s);
   sweep::fit::FitOptions o = fit_options(s);
   if (!s.axis.empty()) o.axis = read_axis(s.axis);
-  if (!s.root.empty()) o.root = to_point(s.root, "--root");
-  if (!s.tip.empty()) o.tip = to_point(s.tip, "--tip");
+  if (s.root_given) o.root = to_point(s.root, "--root");
+  if (s.tip_given) o.tip = to_point(s.tip, "--tip");
   o.tip_vertex = s.tip_vertex;
   bool updating = false;
+  const RigUpdate lock(s);
   sweep::Rig rig = open_rig(s, updating);
   const ReadMesh mesh = read_checked_mesh(s, &rig, updating);
   if (s.space == "local") {
@@ -343,7 +392,7 @@ int run_one(const Settings& s) {
     // space the mesh (and the rig) are in.
     const Eigen::Affine3d& to_world = mesh.read.to_world;
     if (o.root) o.root = to_world * *o.root;
-    if (!s.tip.empty()) o.tip = to_world * o.tip;
+    if (s.tip_given) o.tip = to_world * o.tip;
     for (Vec3& p : o.axis) p = to_world * p;
   }
   check_outputs(s);
@@ -362,6 +411,7 @@ int run_all(const Settings& s) {
   const std::optional<sweep::Material> material = read_material_option(s);
   const std::vector<std::string> names = split_names(s.names);
   bool updating = false;
+  const RigUpdate lock(s);
   sweep::Rig rig = open_rig(s, updating);
   const ReadMesh mesh = read_checked_mesh(s, &rig, updating);
   check_outputs(s);
@@ -453,8 +503,7 @@ int main(int argc, char** argv) {
                                 "inside the body); default: found where the part meets the body");
     auto* tip = app.add_option("--tip", s.tip, "X,Y,Z: on or near the part's end");
     auto* tip_vertex =
-        app.add_option("--tip-vertex", s.tip_vertex, "The part's end as a vertex index")
-            ->check(CLI::NonNegativeNumber)
+        app.add_option("--tip-vertex", s.tip_vertex_text, "The part's end as a vertex index")
             ->excludes(tip);
     app.add_flag("--force", s.force,
                  "Write the rig even when the fit breaks a limit (stops short, leaks into the "
@@ -488,7 +537,12 @@ int main(int argc, char** argv) {
                       ->check(CLI::IsMember({"world", "local"}))
                       ->capture_default_str();
     app.add_flag("-v,--verbose", s.verbose, "Say more");
+    app.add_flag("-q,--quiet", s.quiet, "Print nothing on success (no summary, no notes)");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
+    if (s.quiet) sweep::io::set_note_sink(nullptr);
+    s.root_given = root->count() > 0;
+    s.tip_given = tip->count() > 0;
+    if (tip_vertex->count() > 0) s.tip_vertex = tip_vertex_index(s.tip_vertex_text);
     // The modes: one part (named by --tip, --tip-vertex or --axis), --all, --list.
     const bool finding = list->count() > 0 || all->count() > 0;
     for (const CLI::Option* one : {tip, tip_vertex, root, axis, name}) {

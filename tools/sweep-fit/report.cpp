@@ -286,6 +286,14 @@ void print_parts(const std::vector<fit::FoundPart>& parts, std::size_t hole_edge
     std::printf("%-8s %8u  %-28s %-28s %10.4g %10.4g %8zu\n", p.name.c_str(), p.tip_vertex,
                 tip.c_str(), root.c_str(), p.length, p.mean_radius, p.vertex_count);
   }
+  // Parts found on an open mesh (a tube whose ends are open rims) are measured up to the rims: say
+  // that the mesh is open, as when no part is found.
+  if (hole_edges > 0) {
+    std::printf("the mesh is open: %zu edges rim holes the search left open (a hole of up to %d edges "
+                "round and %s of the mesh's size across is patched); a part that ends at one ends at "
+                "its rim\n",
+                hole_edges, static_cast<int>(fit::kMaxTriangulatedRim), format_percent(fit::kMaxPatchedHoleShare).c_str());
+  }
   std::fflush(stdout);
 }
 

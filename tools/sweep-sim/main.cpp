@@ -18,6 +18,7 @@
 #include "assets/bake_run.h"
 #include "assets/gltf_motion.h"
 #include "assets/mesh_io.h"
+#include "core/limits.h"
 #include "core/text.h"
 #include "io/atomic_file.h"
 #include "io/binding_file.h"
@@ -52,6 +53,7 @@ struct Settings {
   bool sleep = true;
   bool quiet = false;
   std::uint64_t max_output_bytes = 0;  // --max-output-size: refuse a bake that would write more
+  std::string max_output_text;         // --max-output-size as given (checked by read_byte_size)
   int joints = 0;                      // --joints: skinned .glb with this many joints a sweep; 0 = morph targets
   bool joints_given = false;
   std::string joints_text;             // --joints as given: "" alone (the default, see run)
@@ -317,18 +319,16 @@ int main(int argc, char** argv) {
         ->check(sweep::tools::kNonEmptyName);
     app.add_option("-s,--scene", s.scene, "Scene file (default: the rig file's own \"scene\")")
         ->check(sweep::tools::kNonEmptyName);
-    app.add_option("--max-output-size", s.max_output_bytes,
+    app.add_option("--max-output-size", s.max_output_text,
                    "Refuse, before simulating, a bake whose files would take more than this many "
                    "bytes (suffixes K, M, G: powers of 1000; KiB, MiB, GiB: of 1024)")
-        // CLI11 2.1's AsSizeValue reads K as 1024 whatever its flag: our own units, as documented.
-        ->transform(CLI::AsNumberWithUnit(
-            std::map<std::string, std::uint64_t>{{"k", 1000}, {"kb", 1000}, {"m", 1000000},
-                                                 {"mb", 1000000}, {"g", 1000000000},
-                                                 {"gb", 1000000000}, {"kib", 1024},
-                                                 {"mib", 1u << 20}, {"gib", 1u << 30}},
-            CLI::AsNumberWithUnit::Options(CLI::AsNumberWithUnit::CASE_INSENSITIVE |
-                                           CLI::AsNumberWithUnit::UNIT_OPTIONAL),
-            "SIZE"));
+        // Our own parse: CLI11's AsNumberWithUnit reads 0, -1 and an overflow as "no limit".
+        ->check(CLI::Validator(
+            [](std::string& text) {
+              std::string why;
+              return sweep::tools::read_byte_size(text, why) ? std::string() : why;
+            },
+            "SIZE", "BYTES"));
     app.add_option("--report", s.report,
                    "Write a JSON report: frames, per-frame displacement, timings")
         ->check(sweep::tools::kNonEmptyName);
@@ -338,7 +338,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 100000));
     app.add_option("--step", s.step,
                    "Override the scene's internal step, seconds (independent of the frame rate)")
-        ->check(CLI::Range(1e-6, 1.0));
+        ->check(sweep::tools::finite_range(sweep::limits::kMinStep, sweep::limits::kMaxStep));
     app.add_option("--threads", s.threads, "Threads for stepping and deforming (default: all cores)")
         ->check(CLI::Range(1, 1024));
     app.add_option("--stations", s.stations,
@@ -372,6 +372,10 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", s.quiet, "No summary and no progress bar");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);
+    if (!s.max_output_text.empty()) {
+      std::string why;
+      s.max_output_bytes = *sweep::tools::read_byte_size(s.max_output_text, why);
+    }
     s.joints_given = joints->count() > 0;
     s.joints = sweep::io::kDefaultSkinJoints;
     if (s.joints_given && !s.joints_text.empty()) s.joints = whole_number(s.joints_text, "--joints");
