@@ -1,0 +1,77 @@
+#pragma once
+// A skinned character's own clip driving a bake (scene "body": {"node", "animation", "loop",
+// "preroll"} on a skinned glTF mesh). Every vertex outside the parts follows the clip by linear
+// blend skinning (gltf_skin.h). Each part's root follows its root joint: the joint with the most
+// skin weight on the part's root ring (the bound vertices within 2 % of the part's length of its
+// root). It is found here, from the mesh's weights, not stored in the rig: the weights are in the
+// mesh file the rig already names, so a rig fitted before skins were read works unchanged, and
+// re-weighting the mesh cannot leave a stale joint in the rig. The part's rigid motion is
+//     B_i(t) = J_r(t) · M⁻¹     (J_r = World(r, t) · IBM_r, M the mesh node's transform)
+// which takes the mesh as read (world space at rest) to the pose at t: a vertex skinned to r alone
+// follows it exactly. The simulator sees it as a body path of its own (sampled 8 times a frame, and
+// at every frame time, linear pieces): the part feels its root's acceleration, turning,
+// centrifugal and Coriolis loads. A bound vertex of blend weight w is placed at
+//     B_i(t) · p + (1 − w) · (LBS(v, t) − B_i(t) · rest_v)
+// with p its position deformed by the part in the mesh's frame: the part itself where w = 1, the
+// skinned pose where w = 0. The part's own keys (the joints skinning it) are not yet a target for
+// its springs: the part moves rigidly with its root joint plus its simulated deformation.
+//
+// Time: scene time τ (frame k at k / fps) maps to the clip's time start + τ, held at its ends, or
+// with `loop` start + (τ mod its length); `preroll` seconds (rounded to whole frames) are simulated
+// before frame 0, so that a looping bake starts in steady motion.
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "assets/gltf_skin.h"
+#include "bind/bind.h"
+#include "core/rig.h"
+#include "sim/body_path.h"
+
+namespace sweep::io {
+
+class SkinnedClip {
+ public:
+  // Checks the scene's node and clip against the model and finds each part's root joint. Throws
+  // Error(bad_input) naming the file and listing what it holds: an unknown node (not the skinned
+  // mesh's node nor a joint of its skin), an unknown clip, a clip that moves none of the skin's
+  // joints, a part's root joint that is scaled or sheared by the clip.
+  SkinnedClip(const std::filesystem::path& file, SkinModel model, const Eigen::Affine3d& to_world, const Rig& rig,
+              const bind::Binding& binding, const std::string& node, const std::string& animation, bool loop,
+              double preroll_seconds, double fps);
+
+  int preroll_frames() const { return preroll_frames_; }
+  double clip_time(double scene_time) const;
+  const std::string& clip_name() const { return model_.clips[clip_].name; }
+  // The joint node each sweep's root follows.
+  int root_joint_node(int sweep) const { return model_.joints[root_joint_[sweep]]; }
+  const SkinModel& model() const { return model_; }
+
+  // The joint matrices at scene time τ.
+  std::vector<Eigen::Matrix4d> joint_matrices_at(double scene_time) const;
+  // B_i from the joint matrices.
+  Eigen::Affine3d part_transform(const std::vector<Eigen::Matrix4d>& joints, int sweep) const;
+  // Sweep i's root motion from scene time −preroll to `duration`, on the simulator's clock
+  // (simulator time 0 = scene time −preroll).
+  sim::BodyPath sweep_path(int sweep, double duration) const;
+
+  // World positions at scene time τ: `deformed` the bake's positions in the mesh's frame (rest
+  // where no part moves them), `rest` the mesh as read.
+  void pose(double scene_time, std::span<const Eigen::Vector3f> deformed, std::span<const Eigen::Vector3f> rest,
+            std::span<Eigen::Vector3f> out) const;
+
+ private:
+  SkinModel model_;
+  int clip_ = -1;
+  bool loop_ = false;
+  int preroll_frames_ = 0;
+  double fps_ = 30;
+  Eigen::Affine3d from_mesh_ = Eigen::Affine3d::Identity();  // M⁻¹
+  std::vector<int> root_joint_;  // per sweep, into model_.joints
+  std::vector<Vec3> pivot_;      // per sweep: the root ring's centre at rest
+  const bind::Binding* binding_ = nullptr;
+};
+
+}  // namespace sweep::io
