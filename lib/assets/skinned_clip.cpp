@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <Eigen/SVD>
 #include <map>
 
 #include "core/error.h"
@@ -24,6 +25,9 @@ std::string joined(const std::vector<std::string>& names) {
 constexpr double kRootRingShare = 0.02;
 // Samples of a part's root motion per output frame (the body path's linear pieces).
 constexpr int kSamplesPerFrame = 8;
+// How far from a rotation (|RᵀR − I|, per entry) a root joint's motion may be: 1e-4, a scale of
+// 1 ± 5e-5 at most.
+constexpr double kRigidTolerance = 1e-4;
 
 }  // namespace
 
@@ -114,7 +118,9 @@ sim::BodyPath SkinnedClip::sweep_path(int sweep, double duration) const {
       const double scene_time = (f - preroll_frames_ + static_cast<double>(s) / kSamplesPerFrame) / fps_;
       const Eigen::Affine3d b = part_transform(joint_matrices_at(scene_time), sweep);
       const Eigen::Matrix3d r = b.linear();
-      if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6) || !(r.determinant() > 0)) {
+      // Exporters write scales of 1 as 0.9999999 and so on (float32 round trips): a scale within
+      // kRigidTolerance of 1 is that noise, not a scale channel.
+      if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < kRigidTolerance) || !(r.determinant() > 0)) {
         fail(ErrorCategory::bad_input,
              "animation '" + clip_name() + "': the root joint '" + model_.nodes[root_joint_node(sweep)].name +
                  "' of part " + std::to_string(sweep) + " is scaled or sheared at " + format_number(clip_time(scene_time)) +
@@ -123,8 +129,9 @@ sim::BodyPath SkinnedClip::sweep_path(int sweep, double duration) const {
       sim::BodyKey key;
       key.time = t;
       key.translation = b * pivot_[sweep];
-      Quat q(r);
-      q.normalize();
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Quat q(Eigen::Matrix3d(svd.matrixU() * svd.matrixV().transpose()));
+      q.normalize();  // the nearest rotation (polar decomposition)
       if (q.dot(last) < 0) q.coeffs() *= -1;  // continuous, so that slerp takes the short way
       last = q;
       key.rotation = q;

@@ -180,6 +180,10 @@ int run(Settings s) {
     if (auto model = sweep::io::read_gltf_skin(mesh_path, mesh.positions, read.to_world)) {
       skinned.emplace(mesh_path, std::move(*model), read.to_world, rig, binding, scene.body_node, scene.body_animation,
                       scene.body_loop, scene.body_preroll, scene.fps);
+      for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
+        sweep::io::note("clip '" + skinned->clip_name() + "': part \"" + rig.sweeps[i].name + "\" hangs from joint '" +
+                        skinned->model().nodes[skinned->root_joint_node(static_cast<int>(i))].name + "'");
+      }
     } else {
       if (scene.body_loop || scene.body_preroll > 0)
         sweep::fail(sweep::ErrorCategory::bad_input,
