@@ -261,7 +261,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       pose.translation = body.translation;
     }
     for (io::SkinPoser* skin : skins) skin->pose(shapes);
-    if (options.skinned != nullptr) options.skinned->pose(k / scene.fps, positions, rest, world);
+    if (options.skinned != nullptr) options.skinned->pose(k / scene.fps, positions, world);
     for (auto& w : writers) w->frame(k, options.skinned != nullptr ? world : positions, pose);
     report.write_seconds += seconds_since(t0);
     report.per_frame.push_back(stats);

@@ -141,19 +141,19 @@ sim::BodyPath SkinnedClip::sweep_path(int sweep, double duration) const {
   return sim::BodyPath(std::move(keys), sim::BodyInterpolation::linear, pivot_[sweep]);
 }
 
-void SkinnedClip::pose(double scene_time, std::span<const Eigen::Vector3f> deformed, std::span<const Eigen::Vector3f> rest,
-                       std::span<Eigen::Vector3f> out) const {
+void SkinnedClip::pose(double scene_time, std::span<const Eigen::Vector3f> deformed, std::span<Eigen::Vector3f> out) const {
   const std::vector<Eigen::Matrix4d> joints = joint_matrices_at(scene_time);
   for (std::size_t v = 0; v < out.size(); ++v) out[v] = skin_vertex(model_, joints, v).cast<float>();
-  for (std::size_t i = 0; i < binding_->sweeps.size(); ++i) {
-    const bind::SweepBinding& table = binding_->sweeps[i];
-    const Eigen::Affine3d b = part_transform(joints, static_cast<int>(i));
-    for (std::size_t k = 0; k < table.size(); ++k) {
-      const std::uint32_t v = table.vertices[k];
-      const double w = table.weight[k];
-      Vec3 p = b * deformed[v].cast<double>();
-      if (w < 1) p += (1 - w) * (skin_vertex(model_, joints, v) - b * rest[v].cast<double>());
-      out[v] = p.cast<float>();
+  for (const bind::SweepBinding& table : binding_->sweeps) {
+    for (const std::uint32_t v : table.vertices) {
+      // The vertex's own skinning matrix, taking the mesh as read to the keyed pose, carries its
+      // simulated deviation: M_v · p, which is the keyed pose where p is the rest.
+      Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+      for (int i = 0; i < 4; ++i) {
+        const double w = model_.vertex_weights[v][i];
+        if (w != 0) m += w * joints[model_.vertex_joints[v][i]];
+      }
+      out[v] = (m * from_mesh_.matrix() * deformed[v].cast<double>().homogeneous()).head<3>().cast<float>();
     }
   }
 }

@@ -10,11 +10,14 @@
 // which takes the mesh as read (world space at rest) to the pose at t: a vertex skinned to r alone
 // follows it exactly. The simulator sees it as a body path of its own (sampled 8 times a frame, and
 // at every frame time, linear pieces): the part feels its root's acceleration, turning,
-// centrifugal and Coriolis loads. A bound vertex of blend weight w is placed at
-//     B_i(t) · p + (1 − w) · (LBS(v, t) − B_i(t) · rest_v)
-// with p its position deformed by the part in the mesh's frame: the part itself where w = 1, the
-// skinned pose where w = 0. The part's own keys (the joints skinning it) are not yet a target for
-// its springs: the part moves rigidly with its root joint plus its simulated deformation.
+// centrifugal and Coriolis loads, and deforms away from its rest in its root's frame. The part's
+// own keyed pose is what it deforms around (the spring-bone pattern: the keyed pose composed with
+// the simulated deviation): a bound vertex is placed by its own skinning matrix,
+//     M_v(t) · p,    M_v(t) = Σ_i w_i J_{k_i}(t) · M⁻¹
+// with p its position deformed by the part in the mesh's frame, so that a part at rest is exactly
+// its skinned pose, and its deviation turns with the keyed bend of the joints that skin it. The
+// deviation is driven by the root joint's motion only: the keyed bend's own accelerations (a
+// tail's joints swinging on their own) do not yet load the springs.
 //
 // Time: scene time τ (frame k at k / fps) maps to the clip's time start + τ, held at its ends, or
 // with `loop` start + (τ mod its length); `preroll` seconds (rounded to whole frames) are simulated
@@ -58,9 +61,8 @@ class SkinnedClip {
   sim::BodyPath sweep_path(int sweep, double duration) const;
 
   // World positions at scene time τ: `deformed` the bake's positions in the mesh's frame (rest
-  // where no part moves them), `rest` the mesh as read.
-  void pose(double scene_time, std::span<const Eigen::Vector3f> deformed, std::span<const Eigen::Vector3f> rest,
-            std::span<Eigen::Vector3f> out) const;
+  // where no part moves them).
+  void pose(double scene_time, std::span<const Eigen::Vector3f> deformed, std::span<Eigen::Vector3f> out) const;
 
  private:
   SkinModel model_;
