@@ -166,6 +166,15 @@ int run_sim(const Creature& c, const std::string& scene_json, const fs::path& ou
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// The committed creature is its generator's output, byte for byte.
+TEST(SkinnedClip, TheFixtureIsItsGeneratorsOutput) {
+  if (std::system("python3 --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "no python3";
+  const fs::path out = scratch("regenerated.gltf");
+  ASSERT_EQ(std::system(("python3 '" + (fs::path(SWEEP_SOURCE_DIR) / "meshes/make_skinned_tail.py").string() + "' '" +
+                         out.string() + "'").c_str()), 0);
+  EXPECT_EQ(io::read_file(out), io::read_file(fixture()));
+}
+
 TEST(SkinnedClip, ChannelsInterpolateAsGltfDefines) {
   const Mesh mesh = io::read_mesh(fixture());
   const auto model = io::read_gltf_skin(fixture(), mesh.positions, Eigen::Affine3d::Identity());
