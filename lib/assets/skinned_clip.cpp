@@ -24,7 +24,7 @@ std::string joined(const std::vector<std::string>& names) {
 // The root ring: bound vertices within this share of the part's length of its root.
 constexpr double kRootRingShare = 0.02;
 // Samples of a part's root motion per output frame (the body path's linear pieces).
-constexpr int kSamplesPerFrame = 8;
+constexpr int kSamplesPerFrame = 2;
 // How far from a rotation (|RᵀR − I|, per entry) a root joint's motion may be: 1e-4, a scale of
 // 1 ± 5e-5 at most.
 constexpr double kRigidTolerance = 1e-4;

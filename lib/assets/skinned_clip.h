@@ -8,9 +8,13 @@
 // re-weighting the mesh cannot leave a stale joint in the rig. The part's rigid motion is
 //     B_i(t) = J_r(t) · M⁻¹     (J_r = World(r, t) · IBM_r, M the mesh node's transform)
 // which takes the mesh as read (world space at rest) to the pose at t: a vertex skinned to r alone
-// follows it exactly. The simulator sees it as a body path of its own (sampled 8 times a frame, and
-// at every frame time, linear pieces): the part feels its root's acceleration, turning,
-// centrifugal and Coriolis loads, and deforms away from its rest in its root's frame. The part's
+// follows it exactly. The simulator sees it as a body path of its own: linear pieces through
+// samples twice a frame (every frame time among them), each sample a kink the part feels as a
+// kick. Eight a frame changed a walking tail's swing by under 0.01 degrees at several times the
+// simulation's cost (the simulator scans its kinks each step); the smooth cubic path turns a 3-D
+// rotation through its rotation vector and left a looping bake's cycles unequal, so it is not
+// used. The part feels its root's acceleration, turning, centrifugal and Coriolis loads, and
+// deforms away from its rest in its root's frame. The part's
 // own keyed pose is what it deforms around (the spring-bone pattern: the keyed pose composed with
 // the simulated deviation): a bound vertex is placed by its own skinning matrix,
 //     M_v(t) · p,    M_v(t) = Σ_i w_i J_{k_i}(t) · M⁻¹
