@@ -340,8 +340,9 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
   expect_refused([&] { (void)clip.sweep_path(0, 1.0); }, ErrorCategory::bad_input, {"root joint 'Tail1'", "scaled or sheared"});
 }
 
-// A .glb of a skinned clip is refused before anything is written, saying to bake .pc2.
-TEST(SkinnedClip, TheGlbOfASkinnedClipIsRefusedWithWhatToDo) {
+// sweep-sim refuses a .glb of a skinned clip (exit 3, saying to bake .pc2) and a clip the file does
+// not hold (exit 2, listing those it does), before anything is written.
+TEST(SkinnedClip, SweepSimRefusesAGlbAndAnUnknownClipWithWhatToDo) {
   const Creature c = creature("glb");
   const fs::path glb = scratch("glb.glb");
   fs::remove(glb);
@@ -349,6 +350,13 @@ TEST(SkinnedClip, TheGlbOfASkinnedClipIsRefusedWithWhatToDo) {
     "body": {"node": "Hip", "animation": "Walk"}})", glb, "glb"), 3);
   EXPECT_NE(io::read_file(scratch("glb.err")).find("bake to .pc2"), std::string::npos) << io::read_file(scratch("glb.err"));
   EXPECT_FALSE(fs::exists(glb));
+  // An unknown clip: exit 2 (bad input), the file's clips listed, nothing written.
+  const fs::path pc2 = scratch("run.pc2");
+  fs::remove(pc2);
+  EXPECT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [],
+    "body": {"node": "Creature", "animation": "Run"}})", pc2, "run"), 2);
+  EXPECT_NE(io::read_file(scratch("run.err")).find("'Walk', 'Blink'"), std::string::npos) << io::read_file(scratch("run.err"));
+  EXPECT_FALSE(fs::exists(pc2));
 }
 
 }  // namespace
