@@ -89,7 +89,54 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   for (std::size_t v = 0; v < nv; ++v) rest[v] = mesh.positions[v].cast<float>();
   positions = rest;
 
-  Simulator sim(rig, scene, options.sleep);
+  if (options.skinned != nullptr) {
+    for (const auto& out : options.outputs) {
+      if (lower_extension(out) == "glb")
+        fail(ErrorCategory::unsupported, out.string() + ": the .glb bake of a skinned character's clip is not written yet "
+                                                         "(the part's motion would have to go back under the skin); bake to "
+                                                         ".pc2 or .obj, which hold world positions");
+    }
+  }
+  // The simulators: one for the whole rig, or with a skinned clip one a sweep, on its root joint's
+  // path (sweep i is sweep of_sweep[i].second of simulator of_sweep[i].first).
+  std::vector<Rig> part_rigs;
+  std::vector<Scene> part_scenes;
+  std::vector<std::unique_ptr<Simulator>> sims;
+  std::vector<std::pair<int, int>> of_sweep;
+  int preroll_frames = 0;
+  if (options.skinned == nullptr) {
+    sims.push_back(std::make_unique<Simulator>(rig, scene, options.sleep));
+    for (int i = 0; i < sweeps; ++i) of_sweep.emplace_back(0, i);
+  } else {
+    preroll_frames = options.skinned->preroll_frames();
+    const double preroll = preroll_frames / scene.fps;
+    double longest = 0;
+    for (const SweepDef& def : rig.sweeps) longest = std::max(longest, def.rest.length());
+    part_rigs.reserve(sweeps);
+    part_scenes.reserve(sweeps);  // the simulators keep references to these
+    for (int i = 0; i < sweeps; ++i) {
+      Rig r = rig;
+      r.sweeps = {rig.sweeps[i]};
+      part_rigs.push_back(std::move(r));
+      Scene s = scene;
+      s.duration = scene.duration + preroll;
+      s.body_node.clear();
+      s.body = options.skinned->sweep_path(i, s.duration);
+      if (s.teleport_distance == 0) s.teleport_distance = longest;  // as for the whole rig
+      s.forces.clear();
+      for (SceneForce f : scene.forces) {
+        if (f.sweep_index != i) continue;
+        f.sweep_index = 0;
+        f.start += preroll;
+        f.end += preroll;
+        s.forces.push_back(f);
+      }
+      part_scenes.push_back(std::move(s));
+      sims.push_back(std::make_unique<Simulator>(part_rigs.back(), part_scenes.back(), options.sleep));
+      of_sweep.emplace_back(i, 0);
+    }
+  }
+  auto sim_of = [&](int i) -> Simulator& { return *sims[of_sweep[i].first]; };
   // Only driven sweeps' vertices can ever move: the writers are told, so glTF stores sparse
   // targets and the others skip the rest.
   std::vector<std::uint32_t> animated;
@@ -97,8 +144,8 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   BakeReport report;
   for (int i = 0; i < sweeps; ++i) {
     const bind::SweepBinding& table = binding.sweeps[i];
-    report.sweeps.push_back({rig.sweeps[i].name, sim.is_driven(i), 0, 0, table.size()});
-    if (!sim.is_driven(i)) continue;
+    report.sweeps.push_back({rig.sweeps[i].name, sim_of(i).is_driven(of_sweep[i].second), 0, 0, table.size()});
+    if (!report.sweeps[i].driven) continue;
     animated.insert(animated.end(), table.vertices.begin(), table.vertices.end());
     if (options.exact) continue;
     fast[i] =
@@ -121,6 +168,10 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   info.fps = scene.fps;
   info.animated_vertices = animated;
   info.body_moves = scene.body.moves();
+  if (options.skinned != nullptr) {
+    info.animated_vertices.reset();  // the clip moves every vertex
+    info.body_moves = false;         // the positions are the world's
+  }
   info.source = options.source;
   info.warn = options.warn;
   std::vector<io::SkinPoser*> skins;  // the skinned writers among them
@@ -152,9 +203,17 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   report.step_seconds = scene.step_seconds();
   double max_displacement = 0;
   double edge_stretch = 1;
+  std::vector<Vec3f> world(options.skinned != nullptr ? nv : 0);
+  {
+    const auto t0 = Clock::now();
+    for (int k = 0; k < preroll_frames; ++k)
+      for (auto& sim : sims) sim->advance_frame();
+    report.simulate_seconds += seconds_since(t0);
+  }
   for (int k = 0; k < info.frame_count; ++k) {
     auto t0 = Clock::now();
-    if (k > 0) sim.advance_frame();
+    if (k > 0)
+      for (auto& sim : sims) sim->advance_frame();
     report.simulate_seconds += seconds_since(t0);
 
     t0 = Clock::now();
@@ -163,8 +222,11 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     bool any_moved = false;
     jobs.clear();
     for (int i = 0; i < sweeps; ++i) {
-      shapes[i] = &sim.sweep(i).deformed();
-      if (k == 0 || !sim.moved_last_frame(i)) continue;
+      const Simulator& sim = sim_of(i);
+      const int j = of_sweep[i].second;
+      shapes[i] = &sim.sweep(j).deformed();
+      // After a preroll frame 0 is not the rest pose: every driven sweep is deformed there.
+      if (k == 0 ? !(preroll_frames > 0 && report.sweeps[i].driven) : !sim.moved_last_frame(j)) continue;
       any_moved = true;
       ++stats.awake_sweeps;
       ++report.sweeps[i].frames_deformed;
@@ -195,12 +257,13 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     t0 = Clock::now();
     io::BodyPose pose;
     if (info.body_moves) {
-      const BodyState body = sim.body();
+      const BodyState body = sims.front()->body();
       pose.rotation = body.rotation;
       pose.translation = body.translation;
     }
     for (io::SkinPoser* skin : skins) skin->pose(shapes);
-    for (auto& w : writers) w->frame(k, positions, pose);
+    if (options.skinned != nullptr) options.skinned->pose(k / scene.fps, positions, world);
+    for (auto& w : writers) w->frame(k, options.skinned != nullptr ? world : positions, pose);
     report.write_seconds += seconds_since(t0);
     report.per_frame.push_back(stats);
     if (options.progress) options.progress(k + 1, info.frame_count);
@@ -215,12 +278,17 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     for (const auto& f : w->files()) report.files.push_back(f);
   }
   report.write_seconds += seconds_since(t0);
-  for (int i = 0; i < sweeps; ++i) report.sweeps[i].steps = sim.steps_taken(i);
+  for (int i = 0; i < sweeps; ++i) report.sweeps[i].steps = sim_of(i).steps_taken(of_sweep[i].second);
   if (!skins.empty()) {
     report.skin_joints = skins.front()->joint_count();
     report.skin_error = skins.front()->skin_error();
   }
-  for (const int frame : sim.teleports()) report.teleport_times.push_back(frame / scene.fps);
+  for (const auto& sim : sims) {
+    for (const int frame : sim->teleports())
+      if (frame >= preroll_frames) report.teleport_times.push_back((frame - preroll_frames) / scene.fps);
+  }
+  std::sort(report.teleport_times.begin(), report.teleport_times.end());
+  report.teleport_times.erase(std::unique(report.teleport_times.begin(), report.teleport_times.end()), report.teleport_times.end());
   return report;
 }
 

@@ -14,6 +14,7 @@
 #include "assets/bake.h"
 #include "assets/bake_skin.h"
 #include "assets/edge_stretch.h"
+#include "assets/skinned_clip.h"
 #include "bind/bind.h"
 #include "core/mesh.h"
 #include "core/rig.h"
@@ -50,6 +51,10 @@ struct BakeOptions {
   int ring_joints = 1;
   io::RingMotion ring_motion = io::RingMotion::scale;
   bool ring_fit = false;
+  // A skinned mesh's clip drives the bake (assets/skinned_clip.h): each sweep is simulated on its
+  // root joint's motion (a simulator of its own, the scene's forces on it kept), the preroll's
+  // frames first, and the writers get world positions. .pc2 and .obj only: a .glb is refused.
+  const io::SkinnedClip* skinned = nullptr;
   // Told what a person should know before a long bake (a .glb too large for engines to load).
   std::function<void(const std::string&)> warn;
 };

@@ -336,10 +336,15 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
     const std::string bp = member(pointer, "body");
     if (b->is_object() && b->contains("node")) {
       // The glTF mesh's own animation of a node: the tools read it from the mesh.
-      r.object(*b, bp, {"node", "animation"});
+      r.object(*b, bp, {"node", "animation", "loop", "preroll"});
       scene.body_node = r.string((*b)["node"], member(bp, "node"));
       if (scene.body_node.empty()) r.fail_at(member(bp, "node"), "must name a node of the glTF mesh");
       if (const Json* a = r.optional(*b, "animation")) scene.body_animation = r.string(*a, member(bp, "animation"));
+      if (const Json* l = r.optional(*b, "loop")) {
+        if (!l->is_boolean()) r.fail_at(member(bp, "loop"), "must be true or false, got " + io::describe(*l));
+        scene.body_loop = l->get<bool>();
+      }
+      if (const Json* p = r.optional(*b, "preroll")) scene.body_preroll = r.bounded(*p, member(bp, "preroll"), 0, 3600);
     } else {
       scene.body = read_body(r, *b, bp);
     }

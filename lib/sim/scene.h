@@ -49,6 +49,10 @@ struct Scene {
   // which read meshes, turn it into `body` (assets/gltf_motion.h). "" = none.
   std::string body_node;
   std::string body_animation;  // the animation's name; "" = the first one that moves the node
+  // A skinned mesh's clip (assets/skinned_clip.h): repeat it over the duration, and simulate this
+  // many seconds before frame 0 (rounded to whole frames).
+  bool body_loop = false;
+  double body_preroll = 0;
   // A body that jumps farther than this in one frame's time (mesh units), or turns by more than
   // this (radians), has been cut or respawned: the parts are put to rest in the new place instead
   // of feeling the jump (a piece of the path between two keys, wherever the frames fall, or the

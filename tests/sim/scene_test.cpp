@@ -98,6 +98,37 @@ TEST(Scene, ABadContactStepIsRefusedWithWhereAndWhy) {
   EXPECT_EQ(Scene{}.contact_step, Scene::kDefaultStep);
 }
 
+// A skinned mesh's clip: "loop" and "preroll" are read beside "node" and "animation", and bad ones
+// refused with where and why.
+TEST(Scene, ASkinnedClipsLoopAndPrerollAreRead) {
+  Rig rig;
+  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
+  rig.sweeps.back().name = "tube";
+  auto read = [&](const std::string& body) {
+    const io::Json json = io::Json::parse(R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30,
+      "forces": [], "body": )" + body + "}");
+    return parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+  };
+  const Scene scene = read(R"({"node": "Hip", "animation": "Walk", "loop": true, "preroll": 1.5})");
+  EXPECT_EQ(scene.body_node, "Hip");
+  EXPECT_EQ(scene.body_animation, "Walk");
+  EXPECT_TRUE(scene.body_loop);
+  EXPECT_EQ(scene.body_preroll, 1.5);
+  const Scene plain = read(R"({"node": "Hip"})");
+  EXPECT_FALSE(plain.body_loop);
+  EXPECT_EQ(plain.body_preroll, 0);
+  auto refused = [&](const std::string& body) {
+    try {
+      read(body);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused(R"({"node": "Hip", "loop": 1})").find("/body/loop: must be true or false"), std::string::npos);
+  EXPECT_NE(refused(R"({"node": "Hip", "preroll": -1})").find("/body/preroll: "), std::string::npos);
+}
+
 // The message a scene with this "body_collider" is refused with ("" if it is read).
 std::string body_refusal(const std::string& body) {
   return refusal(R"([], "body_collider": )" + body);

@@ -11,12 +11,15 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "assets/bake.h"
 #include "assets/bake_run.h"
 #include "assets/gltf_motion.h"
+#include "assets/gltf_skin.h"
+#include "assets/skinned_clip.h"
 #include "assets/mesh_io.h"
 #include "core/limits.h"
 #include "core/text.h"
@@ -173,8 +176,22 @@ int run(Settings s) {
   const sweep::bind::Binding binding = sweep::bind::load_binding(binding_path, mesh, rig);
   sweep::sim::Scene scene =
       sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
+  // A skinned mesh plays its clip (assets/skinned_clip.h); any other follows one node rigidly.
+  std::optional<sweep::io::SkinnedClip> skinned;
   if (!scene.body_node.empty()) {
-    scene.body = sweep::io::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
+    if (auto model = sweep::io::read_gltf_skin(mesh_path, mesh.positions, read.to_world)) {
+      skinned.emplace(mesh_path, std::move(*model), read.to_world, rig, binding, scene.body_node, scene.body_animation,
+                      scene.body_loop, scene.body_preroll, scene.fps);
+      for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
+        sweep::io::note("clip '" + skinned->clip_name() + "': part \"" + rig.sweeps[i].name + "\" hangs from joint '" +
+                        skinned->model().nodes[skinned->root_joint_node(static_cast<int>(i))].name + "'");
+      }
+    } else {
+      if (scene.body_loop || scene.body_preroll > 0)
+        sweep::fail(sweep::ErrorCategory::bad_input,
+                    mesh_path.string() + ": the scene's body \"loop\" and \"preroll\" play a skinned mesh's clip, and this mesh is not skinned");
+      scene.body = sweep::io::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
+    }
   }
   if (scene.body_collider.spheres > 0) {
     const sweep::tools::BodyProxy proxy =
@@ -237,6 +254,7 @@ int run(Settings s) {
   options.ring_joints = s.ring_joints;
   options.ring_fit = s.ring_fit;
   options.sleep.enabled = s.sleep;
+  if (skinned) options.skinned = &*skinned;
   sweep::tools::ProgressBar bar("baking");
   if (!s.quiet) options.progress = [&](int done, int total) { bar.update(done, total); };
   // The bake's files and the report go into place together, or none of them.

@@ -1,0 +1,161 @@
+#include "assets/skinned_clip.h"
+
+#include <algorithm>
+#include <cmath>
+#include <Eigen/SVD>
+#include <map>
+
+#include "core/error.h"
+#include "core/text.h"
+
+namespace sweep::io {
+namespace {
+
+[[noreturn]] void refuse(const std::filesystem::path& file, const std::string& what) {
+  fail(ErrorCategory::bad_input, file.string() + ": " + what);
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out.empty() ? "none" : out;
+}
+
+// The root ring: bound vertices within this share of the part's length of its root.
+constexpr double kRootRingShare = 0.02;
+// Samples of a part's root motion per output frame (the body path's linear pieces).
+constexpr int kSamplesPerFrame = 2;
+// How far from a rotation (|RᵀR − I|, per entry) a root joint's motion may be: 1e-4, a scale of
+// 1 ± 5e-5 at most.
+constexpr double kRigidTolerance = 1e-4;
+
+}  // namespace
+
+SkinnedClip::SkinnedClip(const std::filesystem::path& file, SkinModel model, const Eigen::Affine3d& to_world,
+                         const Rig& rig, const bind::Binding& binding, const std::string& node,
+                         const std::string& animation, bool loop, double preroll_seconds, double fps)
+    : model_(std::move(model)), loop_(loop), fps_(fps), from_mesh_(to_world.inverse()), binding_(&binding) {
+  const std::string mesh_node = model_.nodes[model_.mesh_node].name;
+  std::vector<std::string> joint_names;
+  for (int j : model_.joints) joint_names.push_back("'" + model_.nodes[j].name + "'");
+  const int n = model_.find_node(node);
+  if (n < 0 || (n != model_.mesh_node && model_.joint_of_node(n) < 0)) {
+    refuse(file, "the scene's body follows node '" + node + "', which is " +
+                     (n < 0 ? "not a node of the file" : "neither the skinned mesh's node nor a joint of its skin") +
+                     ": name the skinned mesh's node '" + mesh_node + "' or one of its joints (" + joined(joint_names) + ")");
+  }
+  if (model_.clips.empty()) refuse(file, "the scene's body plays a clip of node '" + node + "', but the file has no animations");
+  if (animation.empty()) {
+    clip_ = 0;
+  } else {
+    clip_ = model_.find_clip(animation);
+    if (clip_ < 0) refuse(file, "no animation is named '" + animation + "'; the file's clips are " + model_.clip_names());
+  }
+  bool moves = false;
+  for (const ClipChannel& c : model_.clips[clip_].channels) {
+    // A joint, or a node above the skeleton (its whole motion reaches the joints).
+    for (int j : model_.joints) {
+      for (int p = j; p >= 0 && !moves; p = model_.nodes[p].parent) moves = p == c.node;
+    }
+  }
+  if (!moves) {
+    refuse(file, "animation '" + clip_name() + "' moves none of the joints of the skin of '" + mesh_node +
+                     "' (it moves " + joined(model_.moved_nodes(clip_)) + "); the file's clips are " + model_.clip_names());
+  }
+  if (!(preroll_seconds >= 0) || !std::isfinite(preroll_seconds)) refuse(file, "the body's preroll must be a finite number of seconds, at least 0");
+  preroll_frames_ = static_cast<int>(std::lround(preroll_seconds * fps));
+  // Each part's root joint: the most weight over its root ring.
+  for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
+    const bind::SweepBinding& table = binding.sweeps[i];
+    std::map<int, double> weight;
+    Vec3 centre = Vec3::Zero();
+    int ring = 0;
+    if (table.size() > 0) {
+      const float first = *std::min_element(table.t.begin(), table.t.end());
+      const double band = first + kRootRingShare * rig.sweeps[i].rest.length();
+      for (std::size_t k = 0; k < table.size(); ++k) {
+        if (table.t[k] > band) continue;
+        const std::uint32_t v = table.vertices[k];
+        for (int e = 0; e < 4; ++e) weight[model_.vertex_joints[v][e]] += model_.vertex_weights[v][e];
+        centre += to_world * model_.bind_positions[v];
+        ++ring;
+      }
+    }
+    if (ring == 0) refuse(file, "part '" + rig.sweeps[i].name + "' binds no vertex near its root: its root joint cannot be found");
+    const auto best = std::max_element(weight.begin(), weight.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    root_joint_.push_back(best->first);
+    pivot_.push_back(centre / ring);
+  }
+}
+
+double SkinnedClip::clip_time(double scene_time) const {
+  const SkinClip& c = model_.clips[clip_];
+  const double length = c.end - c.start;
+  if (!loop_ || !(length > 0)) return c.start + std::clamp(scene_time, 0.0, std::max(length, 0.0));
+  double u = std::fmod(scene_time, length);
+  if (u < 0) u += length;
+  return c.start + u;
+}
+
+std::vector<Eigen::Matrix4d> SkinnedClip::joint_matrices_at(double scene_time) const {
+  return joint_matrices(model_, world_transforms(model_, clip_, clip_time(scene_time)));
+}
+
+Eigen::Affine3d SkinnedClip::part_transform(const std::vector<Eigen::Matrix4d>& joints, int sweep) const {
+  Eigen::Affine3d b;
+  b.matrix() = joints[root_joint_[sweep]] * from_mesh_.matrix();
+  return b;
+}
+
+sim::BodyPath SkinnedClip::sweep_path(int sweep, double duration) const {
+  const long long frames = static_cast<long long>(std::floor(duration * fps_ + 1e-9));
+  std::vector<sim::BodyKey> keys;
+  Quat last = Quat::Identity();
+  for (long long f = 0; f <= frames; ++f) {
+    for (int s = 0; s < (f < frames ? kSamplesPerFrame : 1); ++s) {
+      // On the simulator's clock: frame f at f / fps exactly, as the simulator computes it.
+      const double t = s == 0 ? f / fps_ : (f + static_cast<double>(s) / kSamplesPerFrame) / fps_;
+      const double scene_time = (f - preroll_frames_ + static_cast<double>(s) / kSamplesPerFrame) / fps_;
+      const Eigen::Affine3d b = part_transform(joint_matrices_at(scene_time), sweep);
+      const Eigen::Matrix3d r = b.linear();
+      // Exporters write scales of 1 as 0.9999999 and so on (float32 round trips): a scale within
+      // kRigidTolerance of 1 is that noise, not a scale channel.
+      if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < kRigidTolerance) || !(r.determinant() > 0)) {
+        fail(ErrorCategory::bad_input,
+             "animation '" + clip_name() + "': the root joint '" + model_.nodes[root_joint_node(sweep)].name +
+                 "' of part " + std::to_string(sweep) + " is scaled or sheared at " + format_number(clip_time(scene_time)) +
+                 " s (a scale channel on it or above it, or a scaled inverse bind matrix): a part's root moves and turns rigidly");
+      }
+      sim::BodyKey key;
+      key.time = t;
+      key.translation = b * pivot_[sweep];
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Quat q(Eigen::Matrix3d(svd.matrixU() * svd.matrixV().transpose()));
+      q.normalize();  // the nearest rotation (polar decomposition)
+      if (q.dot(last) < 0) q.coeffs() *= -1;  // continuous, so that slerp takes the short way
+      last = q;
+      key.rotation = q;
+      keys.push_back(key);
+    }
+  }
+  return sim::BodyPath(std::move(keys), sim::BodyInterpolation::linear, pivot_[sweep]);
+}
+
+void SkinnedClip::pose(double scene_time, std::span<const Eigen::Vector3f> deformed, std::span<Eigen::Vector3f> out) const {
+  const std::vector<Eigen::Matrix4d> joints = joint_matrices_at(scene_time);
+  for (std::size_t v = 0; v < out.size(); ++v) out[v] = skin_vertex(model_, joints, v).cast<float>();
+  for (const bind::SweepBinding& table : binding_->sweeps) {
+    for (const std::uint32_t v : table.vertices) {
+      // The vertex's own skinning matrix, taking the mesh as read to the keyed pose, carries its
+      // simulated deviation: M_v · p, which is the keyed pose where p is the rest.
+      Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+      for (int i = 0; i < 4; ++i) {
+        const double w = model_.vertex_weights[v][i];
+        if (w != 0) m += w * joints[model_.vertex_joints[v][i]];
+      }
+      out[v] = (m * from_mesh_.matrix() * deformed[v].cast<double>().homogeneous()).head<3>().cast<float>();
+    }
+  }
+}
+
+}  // namespace sweep::io
