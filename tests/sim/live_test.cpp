@@ -94,7 +94,7 @@ TEST(Live, IrregularFrameTimesGiveTheSamePoses) {
       ++compared;
     }
   }
-  EXPECT_GT(compared, 100);
+  EXPECT_GE(compared, 64);  // 8 rounds of 8
   EXPECT_LE(largest, 1e-9 * rig.sweeps[0].rest.length());
   EXPECT_GT(moved, 0.01 * rig.sweeps[0].rest.length());
 }

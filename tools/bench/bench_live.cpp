@@ -170,7 +170,7 @@ int main(int argc, char** argv) {
   dino.rig.mesh = diplodocus_path().string();
   io::write_rig(dir / "dino.rig.json", dino.rig);
   bind::write_binding(dir / "dino.bind", dino.binding);
-  write_text(dir / "settings.scene.json", R"({"format": "sweep-scene", "version": 1, "gravity": [0, -9.81, 0]})");
+  write_text(dir / "settings.scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "gravity": [0, -9.81, 0], "forces": []})");
   std::vector<float> rest;
   for (const Vec3& p : dino.mesh.positions) rest.insert(rest.end(), {float(p.x()), float(p.y()), float(p.z())});
 
