@@ -8,7 +8,8 @@
 //  - "live (C++)": Simulator::advance_to(t + 1/60) after set_body_pose, then the fast path, timed
 //    apart (step, deform);
 //  - "libsweep": sweep_set_body + sweep_advance (step and deform) through the C interface, and
-//    sweep_positions (the world-space copy an engine uploads) timed apart.
+//    sweep_positions (the world-space copy an engine uploads) timed apart; also back to back (warm
+//    caches, no pacing) and with a coarser internal step (settings "step": 1/120 s).
 // Time: median over the frames after the first 10, per frame, µs; rounds alternate the cases and
 // thread counts, median over rounds.
 #include <unistd.h>
@@ -116,14 +117,14 @@ void check(int code) {
 }
 
 // Through the C interface, as an engine calls it.
-Cost live_c(const fs::path& dir, const std::vector<float>& rest, int frames) {
+Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>& rest, int frames, bool paced = true) {
   sweep_instance* in = sweep_open((dir / "dino.rig.json").c_str(), (dir / "dino.bind").c_str(),
-                                  (dir / "settings.scene.json").c_str(), rest.data(), static_cast<int>(rest.size() / 3));
+                                  (dir / settings).c_str(), rest.data(), static_cast<int>(rest.size() / 3));
   if (in == nullptr) check(SWEEP_ERROR_INTERNAL);
   std::vector<float> out(rest.size());
   std::vector<double> total, copy;
   for (int k = 0; k < frames; ++k) {
-    pace();
+    if (paced) pace();
     const double t = (k + 1) * kFrame;
     const auto t0 = Clock::now();
     const sim::BodyState b = walk(t);
@@ -171,6 +172,9 @@ int main(int argc, char** argv) {
   io::write_rig(dir / "dino.rig.json", dino.rig);
   bind::write_binding(dir / "dino.bind", dino.binding);
   write_text(dir / "settings.scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "gravity": [0, -9.81, 0], "forces": []})");
+  // The same with an internal step of 1/120 s: 2 steps a 60 fps frame instead of 8.
+  write_text(dir / "coarse.scene.json",
+             R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": 0.008333333333333333, "gravity": [0, -9.81, 0], "forces": []})");
   std::vector<float> rest;
   for (const Vec3& p : dino.mesh.positions) rest.insert(rest.end(), {float(p.x()), float(p.y()), float(p.z())});
 
@@ -189,15 +193,19 @@ int main(int argc, char** argv) {
   std::size_t bound = 0;
   for (const auto& s : dino.binding.sweeps) bound += s.size();
   const char* names[] = {"scene player, 30 fps (sweep-sim's frame)", "scene player, 60 fps", "live (C++): set_body_pose + advance_to",
-                         "libsweep: sweep_set_body + sweep_advance"};
-  std::vector<std::vector<std::vector<Cost>>> runs(4, std::vector<std::vector<Cost>>(max_threads));
+                         "libsweep: sweep_set_body + sweep_advance", "libsweep, frames back to back",
+                         "libsweep, step 1/120 s (2 steps a frame)"};
+  constexpr int kCases = 6;
+  std::vector<std::vector<std::vector<Cost>>> runs(kCases, std::vector<std::vector<Cost>>(max_threads));
   for (int r = 0; r < rounds; ++r) {
     for (int th = 1; th <= max_threads; ++th) {
       omp_set_num_threads(th);
       runs[0][th - 1].push_back(scene_player(dino, player30, frames / 2 + kSkip));
       runs[1][th - 1].push_back(scene_player(dino, player60, frames));
       runs[2][th - 1].push_back(live_cpp(dino, settings, frames));
-      runs[3][th - 1].push_back(live_c(dir, rest, frames));
+      runs[3][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames));
+      runs[4][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, false));
+      runs[5][th - 1].push_back(live_c(dir, "coarse.scene.json", rest, frames));
     }
   }
   std::string csv = "case,threads,frame_us,step_us,deform_us,positions_us\n";
@@ -205,11 +213,11 @@ int main(int argc, char** argv) {
                        "frame, frames 1/60 s apart:\n\n",
                        bound, dino.mesh.vertex_count());
   md += "| case | threads | frame µs (median) | step µs | deform µs | sweep_positions µs |\n|---|---|---|---|---|---|\n";
-  for (int c = 0; c < 4; ++c) {
+  for (int c = 0; c < kCases; ++c) {
     for (int th = 1; th <= max_threads; ++th) {
       const Cost m = median_of(runs[c][th - 1]);
       csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g\n", names[c], th, m.frame_us, m.step_us, m.deform_us, m.copy_us);
-      md += c == 3 ? fmt("| %s | %d | %.1f | — | — | %.1f |\n", names[c], th, m.frame_us, m.copy_us)
+      md += c >= 3 ? fmt("| %s | %d | %.1f | — | — | %.1f |\n", names[c], th, m.frame_us, m.copy_us)
                    : fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", names[c], th, m.frame_us, m.step_us, m.deform_us);
     }
   }
