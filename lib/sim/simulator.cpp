@@ -402,6 +402,26 @@ void Simulator::set_gravity(const Vec3& gravity) {
   }
 }
 
+void Simulator::set_wind(const WindSettings& wind) {
+  const bool finite = wind.velocity.allFinite() && std::isfinite(wind.gust) && std::isfinite(wind.gust_period) &&
+                      std::isfinite(wind.turbulence) && std::isfinite(wind.air_density) &&
+                      std::isfinite(wind.drag_coefficient);
+  if (!finite || wind.gust < 0 || wind.gust > 1 || wind.gust_period <= 0 || wind.turbulence < 0 || wind.air_density < 0 ||
+      wind.drag_coefficient < 0)
+    fail(ErrorCategory::usage, "wind: finite numbers, gust from 0 to 1, a positive gust period, and no negative "
+                               "turbulence, air density or drag coefficient");
+  scene_.wind = Wind(wind);
+  // Set every step from now on, so that wind that stops stops loading the parts too.
+  live_loads_ = true;
+  for (SweepState& s : sweeps_) {
+    if (!s.body.definition().material) continue;
+    s.windy = wind.any();
+    drive(s);
+    s.awake = true;
+    s.quiet = 0;
+  }
+}
+
 void Simulator::place_colliders(double t, std::vector<PlacedCollider>& out) const {
   out.resize(scene_.colliders.size());
   const BodyState b = scene_.body.at(t);

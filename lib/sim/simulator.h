@@ -68,9 +68,11 @@ class Simulator {
   //  - a force: a scene force (sweep_index, spec, start and end in s, start ≥ time()), played
   //    exactly as one read from the scene. Forces that are over are dropped as new ones come.
   //  - gravity (world axes, m/s²): material-mode parts feel its change from the next step on.
+  //  - wind (sim/wind.h): the same, its gusts and turbulence timed on the simulator's clock.
   void set_body_pose(const Quat& rotation, const Vec3& translation);
   void add_force(const SceneForce& force);
   void set_gravity(const Vec3& gravity);
+  void set_wind(const WindSettings& wind);
   const Scene& scene() const { return scene_; }
 
   int sweep_count() const { return static_cast<int>(sweeps_.size()); }
@@ -144,7 +146,7 @@ class Simulator {
   std::vector<SweepState> sweeps_;
   int frame_ = 0;
   double time_ = 0;
-  bool live_loads_ = false;  // gravity changed live: the parts' loads are set every step
+  bool live_loads_ = false;  // gravity or wind changed live: the parts' loads are set every step
   bool pose_pending_ = false;
   BodyKey pending_pose_{};
   // The last teleport, a span of time [teleport_from_, teleport_to_]: from the start of the first

@@ -186,6 +186,35 @@ TEST(Live, GravityGivenLiveIsTheScenesGravity) {
   EXPECT_GT(moved, 1e-3 * rig.sweeps[0].rest.length());  // it sags
 }
 
+// Wind switched on live at time 0 is the scene's wind, gusts and turbulence included; switched
+// off, the part settles back to its rest.
+TEST(Live, WindGivenLiveIsTheScenesWind) {
+  const Rig rig = material_part();
+  WindSettings w;
+  w.velocity = Vec3(4, 0, 1);
+  w.gust = 0.4;
+  w.turbulence = 0.3;
+  w.seed = 7;
+  w.enabled = true;
+  Scene windy;
+  windy.wind = Wind(w);
+  Simulator from_scene(rig, windy), live(rig, Scene{});
+  live.set_wind(w);
+  double largest = 0, moved = 0;
+  const std::vector<double> rest = pose(live.sweep(0));
+  for (int k = 1; k <= 60; ++k) {
+    from_scene.advance_to(k / 60.0);
+    live.advance_to(k / 60.0);
+    largest = std::max(largest, max_difference(pose(from_scene.sweep(0)), pose(live.sweep(0))));
+    moved = std::max(moved, max_difference(pose(live.sweep(0)), rest));
+  }
+  EXPECT_LE(largest, 1e-12 * rig.sweeps[0].rest.length());
+  EXPECT_GT(moved, 1e-4 * rig.sweeps[0].rest.length());  // the wind bends it
+  live.set_wind(WindSettings{});
+  for (int k = 61; k <= 60 * 30; ++k) live.advance_to(k / 60.0);
+  EXPECT_LT(max_difference(pose(live.sweep(0)), rest), 0.01 * moved);
+}
+
 TEST(Live, BadLiveInputIsRefused) {
   const Rig rig = bent_part();
   Simulator sim(rig, Scene{});
@@ -197,6 +226,9 @@ TEST(Live, BadLiveInputIsRefused) {
   wrong.sweep_index = 3;
   EXPECT_THROW(sim.add_force(wrong), Error);
   EXPECT_THROW(sim.set_body_pose(Quat(2, 0, 0, 0), Vec3::Zero()), Error);
+  WindSettings gale;
+  gale.gust = 2;
+  EXPECT_THROW(sim.set_wind(gale), Error);
   EXPECT_EQ(sim.time(), 0.5);
 }
 
