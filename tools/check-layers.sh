@@ -12,11 +12,12 @@ declare -A allowed=(
   [bind]="core bind"
   [sim]="core bind sim"
   [io]="core bind sim io"
+  [capi]="core bind sim io capi"
   [assets]="core bind sim io assets"
   [fit]="core fit"
   [preview]="core preview"
 )
-runtime="core bind sim io"
+runtime="core bind sim io capi"
 # Headers of the authoring libraries a runtime module must never see.
 authoring='^#include <(assimp/|tiny_gltf|tiny_obj_loader|CGAL/|boost/|png\.h|gmp|mpfr)'
 

@@ -5,7 +5,10 @@
 #   3. its link line and `ldd` name no authoring library (CGAL and its GMP/MPFR, assimp,
 #      tinygltf, tinyobjloader, libpng, Boost);
 #   4. the installed tools bind and bake the bent-tube rig, and the example, stepping and deforming
-#      frame by frame through the runtime API, ends on the bake's last frame bit for bit.
+#      frame by frame through the runtime API, ends on the bake's last frame bit for bit;
+#   5. libsweep: examples/capi (C) builds against the prefix alone, links no authoring library and
+#      runs its live loop on the bent tube; so does examples/capi/sweep_ctypes.py (Python's ctypes)
+#      on the installed libsweep.so.
 # Usage: tools/check-runtime.sh [BUILD_DIR]   (default: build/dev). Exit 0 on success.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -19,6 +22,9 @@ cmake --install "$build" --prefix "$work/prefix" > "$work/install.log" || die "c
 for tool in sweep-fit sweep-bind sweep-sim; do
   [[ -x $work/prefix/bin/$tool ]] || die "$tool was not installed"
 done
+[[ -f $work/prefix/include/sweep/sweep.h ]] || die "sweep/sweep.h was not installed"
+libsweep=$(find "$work/prefix" -name 'libsweep.so' | head -n 1)
+[[ -n $libsweep ]] || die "libsweep.so was not installed"
 [[ -f $work/prefix/lib/cmake/sweep/sweepConfig.cmake ]] || die "no CMake package installed"
 say "installed into a temporary prefix: $(cd "$work/prefix" && find . -type f | wc -l) files"
 
@@ -64,4 +70,20 @@ if mine != last:
     sys.exit(f"the example's last frame differs from sweep-sim's in {diffs} of {frame // 4} floats")
 print(f"check-runtime: the example's last frame equals the bake's ({points} vertices, frame {samples - 1}), bit for bit")
 EOF
+# libsweep's C example: built against the prefix alone, as a C program.
+cmake -S "$root/examples/capi" -B "$work/capi" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_BUILD_TYPE=Release > "$work/capi-configure.log" \
+  || { cat "$work/capi-configure.log"; die "configuring examples/capi against the installed package"; }
+cmake --build "$work/capi" > "$work/capi-build.log" 2>&1 \
+  || { cat "$work/capi-build.log"; die "building examples/capi against the installed package"; }
+capi=$work/capi/sweep-capi-example
+if ldd "$capi" | grep -Eiq "$authoring"; then
+  ldd "$capi"
+  die "the C example loads an authoring library"
+fi
+"$capi" "$rig" "$work/tube.bind" "$mesh" > "$work/capi.log" || { cat "$work/capi.log"; die "the C example failed"; }
+say "C example: $(tail -n 1 "$work/capi.log")"
+python3 "$root/examples/capi/sweep_ctypes.py" "$libsweep" "$rig" "$work/tube.bind" "$mesh" > "$work/ctypes.log" \
+  || { cat "$work/ctypes.log"; die "the ctypes example failed"; }
+say "ctypes example: $(tail -n 1 "$work/ctypes.log")"
 say "ok"

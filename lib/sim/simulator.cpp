@@ -13,6 +13,14 @@
 
 namespace sweep::sim {
 
+namespace {
+
+// How close (relative) a frame time must be to an internal time to count as on it: frame times
+// k/fps carry a rounding error of an ulp or so, which must not turn into a partial step of ~h.
+constexpr double kOnGridTolerance = 1e-9;
+
+}  // namespace
+
 Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
     : scene_(scene), sleep_(sleep) {
   if (!scene.body_node.empty() && scene.body.empty()) {
@@ -56,26 +64,31 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   for (SweepState& s : sweeps_) {
     s.ids.assign(s.forces.size(), 0);
     s.view_ids.assign(s.forces.size(), 0);
-    // A moving body reaches every part (a part it never loads sleeps all the same), and wind every
-    // part with a material.
-    if (scene.body.moves()) s.driven = true;
   }
+  // A moving body reaches every part (a part it never loads sleeps all the same: path_changed), and
+  // wind every part with a material.
   for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
     if (rig.sweeps[i].material && scene.wind.settings().any()) sweeps_[i].driven = sweeps_[i].awake = sweeps_[i].windy = true;
   }
-  kink_keys_ = scene.body.kink_keys();
-  for (const std::size_t k : kink_keys_) kinks_.push_back(scene.body.keys()[k].time);
   double longest = 0;
   for (const SweepDef& def : rig.sweeps) longest = std::max(longest, def.rest.length());
   teleport_distance_ = scene.teleport_distance > 0 ? scene.teleport_distance : longest;
   teleport_angle_ = scene.teleport_angle > 0 ? scene.teleport_angle : 0.5 * 3.141592653589793;
-  if (scene.teleport_enabled && scene.body.moves() && scene.fps > 0) {
-    const std::vector<BodyKey>& keys = scene.body.keys();
+  path_changed();
+}
+
+void Simulator::path_changed() {
+  kink_keys_ = scene_.body.kink_keys();
+  kinks_.clear();
+  for (const std::size_t k : kink_keys_) kinks_.push_back(scene_.body.keys()[k].time);
+  cuts_.clear();
+  if (scene_.teleport_enabled && scene_.body.moves() && scene_.fps > 0) {
+    const std::vector<BodyKey>& keys = scene_.body.keys();
     for (std::size_t k = 0; k + 1 < keys.size(); ++k) {
       const double a = keys[k].time, b = keys[k + 1].time;
       // The most the piece moves within a frame's time (at its mean rate: exact for linear pieces).
-      const double share = std::min(1.0, 1.0 / (scene.fps * (b - a)));
-      const BodyState from = scene.body.at(a), to = scene.body.at(b);
+      const double share = std::min(1.0, 1.0 / (scene_.fps * (b - a)));
+      const BodyState from = scene_.body.at(a), to = scene_.body.at(b);
       if (share * (to.translation - from.translation).norm() <= teleport_distance_ &&
           share * from.rotation.angularDistance(to.rotation) <= teleport_angle_)
         continue;
@@ -85,6 +98,10 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
         cuts_.emplace_back(a, b);
       }
     }
+  }
+  // A moving body reaches every part.
+  if (scene_.body.moves()) {
+    for (SweepState& s : sweeps_) drive(s);
   }
 }
 
@@ -106,7 +123,8 @@ bool Simulator::jumps(double from, double to) const {
 
 void Simulator::set_body_motion(ElasticSweep& sweep, double mid, bool teleporting) const {
   const bool windy = scene_.wind.settings().any();
-  if (!scene_.body.moves() && !windy) return;  // a body at rest: gravity, if any, was set once
+  // A body at rest: gravity, if any, was set once (unless it was changed live).
+  if (!scene_.body.moves() && !windy && !live_loads_) return;
   ElasticSweep::BodyMotion m;
   const BodyState b = scene_.body.at(mid);
   const Quat to_body = b.rotation.conjugate();
@@ -124,23 +142,44 @@ void Simulator::set_body_motion(ElasticSweep& sweep, double mid, bool teleportin
   sweep.set_body_motion(m);
 }
 
-namespace {
-
-// How close (relative) a frame time must be to an internal time to count as on it: frame times
-// k/fps carry a rounding error of an ulp or so, which must not turn into a partial step of ~h.
-constexpr double kOnGridTolerance = 1e-9;
-
-}  // namespace
-
 void Simulator::advance_frame() {
-  for (SweepState& st : sweeps_) st.moved = false;
-  const double h = scene_.step_seconds();
   const double target = static_cast<double>(frame_ + 1) / scene_.fps;
-  // Internal steps done by the frame time, and the partial step beyond them (0 on the grid).
-  const double q = target / h;
+  take_body_pose(target);
+  advance_between(time_, target);
+  ++frame_;
+  time_ = target;
+}
+
+long long Simulator::grid_steps_by(double t) const {
+  const double q = t / scene_.step_seconds();
   long long n = std::llround(q);
   if (std::abs(q - static_cast<double>(n)) > kOnGridTolerance * std::max(1.0, q))
     n = static_cast<long long>(std::floor(q));
+  return n;
+}
+
+void Simulator::advance_to(double t) {
+  if (!std::isfinite(t) || t < time_ || t > limits::kMaxTime)
+    fail(ErrorCategory::usage, "advance to t = " + (std::isfinite(t) ? format_number(t) : std::string("a non-finite time")) +
+                                   " s: must be a time from the current one (" + format_number(time_) + " s) to " +
+                                   format_number(limits::kMaxTime) + " s");
+  // A time within rounding of an internal time is that time: a body key or force switch there then
+  // falls on the step boundary, not an ulp before it inside the step just taken.
+  const double q = t / scene_.step_seconds();
+  const double on = std::round(q);
+  if (std::abs(q - on) <= kOnGridTolerance * std::max(1.0, q)) t = std::max(time_, on * scene_.step_seconds());
+  if (t == time_) return;
+  take_body_pose(t);
+  advance_between(time_, t);
+  ++frame_;
+  time_ = t;
+}
+
+void Simulator::advance_between(double start, double target) {
+  for (SweepState& st : sweeps_) st.moved = false;
+  const double h = scene_.step_seconds();
+  // Internal steps done by the frame time, and the partial step beyond them (0 on the grid).
+  const long long n = grid_steps_by(target);
   const double grid_time = static_cast<double>(n) * h;
   const double partial = target - grid_time > kOnGridTolerance * h ? target - grid_time : 0.0;
 
@@ -149,7 +188,6 @@ void Simulator::advance_frame() {
   // when that end (or an internal step that crosses the jump) falls in a later frame. A cut of
   // the path this frame reaches is the jump; else one found between the frame's ends alone
   // (several pieces together, a cubic path's swing) lasts the frame.
-  const double start = static_cast<double>(frame_) / scene_.fps;
   double cut_from = std::numeric_limits<double>::infinity(), cut_to = -cut_from;
   for (const auto& [a, b] : cuts_) {
     if (a < target && b > start) cut_from = std::min(cut_from, a), cut_to = std::max(cut_to, b);
@@ -234,7 +272,154 @@ void Simulator::advance_frame() {
     if (st.failure && (failed == nullptr || st.failure_step < failed->failure_step)) failed = &st;
   }
   if (failed != nullptr) std::rethrow_exception(failed->failure);
-  ++frame_;
+}
+
+void Simulator::drive(SweepState& s) {
+  if (s.driven) return;
+  // Never stepped until now, it stands at rest: its clock joins the others' (the steps it skips
+  // would have done nothing).
+  s.grid = grid_steps_by(time_);
+  s.driven = true;
+}
+
+double Simulator::earliest_grid_time() const {
+  double t = time_;
+  for (const SweepState& s : sweeps_) {
+    if (s.driven) t = std::min(t, static_cast<double>(s.grid) * scene_.step_seconds());
+  }
+  return t;
+}
+
+void Simulator::set_body_pose(const Quat& rotation, const Vec3& translation) {
+  if (!rotation.coeffs().allFinite() || !translation.allFinite() || std::abs(rotation.norm() - 1) > 1e-6)
+    fail(ErrorCategory::usage, "the body's pose must be finite, its rotation a unit quaternion");
+  pending_pose_.rotation = rotation.normalized();
+  pending_pose_.translation = translation;
+  pose_pending_ = true;
+}
+
+void Simulator::take_body_pose(double target) {
+  if (!pose_pending_) return;
+  pose_pending_ = false;
+  const BodyPath& path = scene_.body;
+  const Vec3 pivot = path.pivot();
+  // The keys hold the pivot's position p (world = R (mesh − c) + p): p = translation + R c.
+  BodyKey key = pending_pose_;
+  key.translation += key.rotation * pivot;
+  std::vector<BodyKey> keys;
+  if (frame_ == 0 && !path.moves()) {
+    // Before the first advance: the body starts here, at rest, its parts pre-loaded with gravity
+    // in its axes as at a scene's start.
+    key.time = 0;
+    keys.push_back(key);
+    for (SweepState& s : sweeps_) {
+      if (!s.body.definition().material || scene_.gravity == Vec3::Zero()) continue;
+      const Vec3 g = key.rotation.conjugate() * scene_.gravity;
+      s.body.set_gravity(g, scene_.gravity_preloaded);
+      s.view.set_gravity(g, scene_.gravity_preloaded);
+    }
+  } else {
+    // The keys the internal clocks still need: from the one before the last key at or before the
+    // earliest clock (its velocity before is that key's kick), up to now.
+    const double keep_from = earliest_grid_time();
+    if (path.interpolation() == BodyInterpolation::linear) {
+      const std::vector<BodyKey>& old = path.keys();
+      std::size_t first = 0;
+      for (std::size_t k = 0; k < old.size(); ++k) {
+        if (old[k].time <= keep_from) first = k;
+      }
+      if (first > 0) --first;
+      for (std::size_t k = first; k < old.size() && old[k].time < time_; ++k) keys.push_back(old[k]);
+    }
+    const BodyState now = path.at(time_);
+    keys.push_back(BodyKey{.time = time_, .translation = now.translation + now.rotation * pivot, .rotation = now.rotation});
+    key.time = target;
+    keys.push_back(key);
+  }
+  scene_.body = BodyPath(std::move(keys), BodyInterpolation::linear, pivot);
+  path_changed();
+}
+
+void Simulator::add_force(const SceneForce& force) {
+  if (force.sweep_index < 0 || force.sweep_index >= sweep_count())
+    fail(ErrorCategory::usage, "a force on sweep " + std::to_string(force.sweep_index) + ": the rig has " +
+                                   std::to_string(sweep_count()) + " sweeps");
+  if (!std::isfinite(force.start) || !std::isfinite(force.end) || force.start < time_ || force.end < force.start)
+    fail(ErrorCategory::usage, "a force from " + format_number(force.start) + " s to " + format_number(force.end) +
+                                   " s: it must start now (" + format_number(time_) + " s) or later, and not end before it starts");
+  if (!force.spec.vector.allFinite() || !force.spec.point.allFinite())
+    fail(ErrorCategory::usage, "a force's point and vector must be finite");
+  drop_finished_forces();
+  SweepState& s = sweeps_[force.sweep_index];
+  drive(s);
+  scene_.forces.push_back(force);
+  s.forces.push_back(scene_.forces.size() - 1);
+  s.ids.push_back(0);
+  s.view_ids.push_back(0);
+}
+
+void Simulator::drop_finished_forces() {
+  // A force is over once every step its sweep takes starts after its end, and it has been taken off.
+  std::vector<std::size_t> renumber(scene_.forces.size(), 0);
+  std::vector<bool> keep(scene_.forces.size(), true);
+  for (const SweepState& s : sweeps_) {
+    const double clock = static_cast<double>(s.grid) * scene_.step_seconds();
+    for (std::size_t k = 0; k < s.forces.size(); ++k) {
+      if (s.ids[k] == 0 && s.view_ids[k] == 0 && scene_.forces[s.forces[k]].end < clock) keep[s.forces[k]] = false;
+    }
+  }
+  if (std::find(keep.begin(), keep.end(), false) == keep.end()) return;
+  std::size_t next = 0;
+  for (std::size_t f = 0; f < keep.size(); ++f) {
+    renumber[f] = next;
+    if (keep[f]) scene_.forces[next++] = scene_.forces[f];
+  }
+  scene_.forces.resize(next);
+  for (SweepState& s : sweeps_) {
+    std::size_t out = 0;
+    for (std::size_t k = 0; k < s.forces.size(); ++k) {
+      if (!keep[s.forces[k]]) continue;
+      s.forces[out] = renumber[s.forces[k]];
+      s.ids[out] = s.ids[k];
+      s.view_ids[out] = s.view_ids[k];
+      ++out;
+    }
+    s.forces.resize(out);
+    s.ids.resize(out);
+    s.view_ids.resize(out);
+  }
+}
+
+void Simulator::set_gravity(const Vec3& gravity) {
+  if (!gravity.allFinite()) fail(ErrorCategory::usage, "gravity must be finite");
+  scene_.gravity = gravity;
+  live_loads_ = true;
+  for (SweepState& s : sweeps_) {
+    if (!s.body.definition().material) continue;
+    drive(s);
+    s.awake = true;
+    s.quiet = 0;
+  }
+}
+
+void Simulator::set_wind(const WindSettings& wind) {
+  const bool finite = wind.velocity.allFinite() && std::isfinite(wind.gust) && std::isfinite(wind.gust_period) &&
+                      std::isfinite(wind.turbulence) && std::isfinite(wind.air_density) &&
+                      std::isfinite(wind.drag_coefficient);
+  if (!finite || wind.gust < 0 || wind.gust > 1 || wind.gust_period <= 0 || wind.turbulence < 0 || wind.air_density < 0 ||
+      wind.drag_coefficient < 0)
+    fail(ErrorCategory::usage, "wind: finite numbers, gust from 0 to 1, a positive gust period, and no negative "
+                               "turbulence, air density or drag coefficient");
+  scene_.wind = Wind(wind);
+  // Set every step from now on, so that wind that stops stops loading the parts too.
+  live_loads_ = true;
+  for (SweepState& s : sweeps_) {
+    if (!s.body.definition().material) continue;
+    s.windy = wind.any();
+    drive(s);
+    s.awake = true;
+    s.quiet = 0;
+  }
 }
 
 void Simulator::place_colliders(double t, std::vector<PlacedCollider>& out) const {

@@ -49,8 +49,31 @@ class Simulator {
 
   // Advances to the next output frame time, frame/fps. Frame 0 is the rest pose at time 0.
   void advance_frame();
+  // Advances to time t ≥ time() on the same internal clock: internal steps of Scene::step_seconds()
+  // up to the last one before t, then one exact partial step to t on the view. Where t falls
+  // changes nothing but what is shown: advancing in any slices to the same time gives the same
+  // pose (to the rounding of the times). Counts as a frame (frame() is the advances made).
+  void advance_to(double t);
   int frame() const { return frame_; }
-  double time() const { return frame_ / scene_.fps; }
+  double time() const { return time_; }
+
+  // Live input, for a game's loop (each applies from the current time on):
+  //  - the body's pose at the end of the next advance_to (world = rotation · mesh + translation).
+  //    The body moves from its pose now to it as a linear piece of a body path: translation
+  //    straight and rotation by slerp across the advance, at constant velocity, the change of
+  //    velocity from the last advance's piece a kick at its start (BodyPath, linear). A pose
+  //    given before the first advance is also where the body starts, at rest. The path kept is
+  //    what the internal clock still needs (a few keys). It replaces the scene's body path from
+  //    now on; without a new pose the body holds the last one.
+  //  - a force: a scene force (sweep_index, spec, start and end in s, start ≥ time()), played
+  //    exactly as one read from the scene. Forces that are over are dropped as new ones come.
+  //  - gravity (world axes, m/s²): material-mode parts feel its change from the next step on.
+  //  - wind (sim/wind.h): the same, its gusts and turbulence timed on the simulator's clock.
+  void set_body_pose(const Quat& rotation, const Vec3& translation);
+  void add_force(const SceneForce& force);
+  void set_gravity(const Vec3& gravity);
+  void set_wind(const WindSettings& wind);
+  const Scene& scene() const { return scene_; }
 
   int sweep_count() const { return static_cast<int>(sweeps_.size()); }
   // Sweep i at the current frame's time.
@@ -105,10 +128,27 @@ class Simulator {
   // Whether the body jumps between the two times (cut, respawn): see Scene::teleport_distance.
   bool jumps(double from, double to) const;
 
-  const Scene& scene_;
+  // Advances every sweep from `start` (the current time) to `target`.
+  void advance_between(double start, double target);
+  // After the body path changed: its corners, its cuts, and every part driven if it moves.
+  void path_changed();
+  // Applies a body pose given for the advance to `target`.
+  void take_body_pose(double target);
+  // The earliest time a driven sweep's internal clock stands at (what the path must still cover).
+  double earliest_grid_time() const;
+  // Internal steps done by time t (t within rounding of an internal time counts as on it).
+  long long grid_steps_by(double t) const;
+  void drive(SweepState& s);  // marks it driven, its clock brought to the current time
+  void drop_finished_forces();
+
+  Scene scene_;  // a copy: live input changes its body path, forces and gravity
   SleepSettings sleep_;
   std::vector<SweepState> sweeps_;
   int frame_ = 0;
+  double time_ = 0;
+  bool live_loads_ = false;  // gravity or wind changed live: the parts' loads are set every step
+  bool pose_pending_ = false;
+  BodyKey pending_pose_{};
   // The last teleport, a span of time [teleport_from_, teleport_to_]: from the start of the first
   // frame the jump reaches (where the parts were put to rest) to the end of the jump (the path's
   // cut, or that frame's end when the jump is not one piece of the path). Every internal step or

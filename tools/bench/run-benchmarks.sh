@@ -33,7 +33,8 @@ if [ -z "$build" ]; then
 else
   cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
-targets=(sweep-bench-beam sweep-bench-deform sweep-bench-fit sweep-bench-integrate sweep-bench-skip sweep-bench-stress)
+targets=(sweep-bench-beam sweep-bench-deform sweep-bench-fit sweep-bench-integrate sweep-bench-skip sweep-bench-stress
+         sweep-bench-live)
 cmake --build "$build" -j "${SWEEP_BENCH_JOBS:-2}" --target "${targets[@]}"
 
 results="$here/tools/bench/results"
@@ -41,14 +42,14 @@ mkdir -p "$results"
 # Clear only what this script writes: fit-evidence.{md,png} (tools/bench/fit-evidence.py) and
 # glb_frames.md (tools/bench/glb-frames.sh) and skin_joints.md (tools/bench/skin-joints.sh) come
 # from their own scripts and are kept.
-for b in deform skip integrate beam fit stress framerate follower; do rm -f "$results/$b".csv "$results/$b".md; done
+for b in deform skip live integrate beam fit stress framerate follower; do rm -f "$results/$b".csv "$results/$b".md; done
 rm -f "$results"/deform_*.png "$results"/fit_*.png "$results"/integrate.png
 for kept in fit-evidence.md fit-evidence.png glb_frames.md skin_joints.md; do
   [ -s "$results/$kept" ] || { echo "error: $results/$kept is missing: run the script that writes it first (see BENCHMARKS.md)" >&2; exit 1; }
 done
 bin="$build/tools/bench"
 start=$(date +%s)
-for b in deform skip integrate beam fit stress; do
+for b in deform skip live integrate beam fit stress; do
   echo "bench: $b ($mode)" >&2
   "$bin/sweep-bench-$b" "${quick[@]}" --out "$results" >/dev/null
 done
@@ -222,6 +223,20 @@ walks (the contact solver's cost: some 30 contacts a step), and the same with th
 the tail settles on the floor and sleeps.
 
 $(cat "$results/skip.md")
+
+### The live frame through libsweep (\`sweep-bench-live\`)
+
+A game's frame: the diplodocus tail and neck in material mode with gravity (pre-loaded), a new
+body pose every frame (a slow walk with a sway), frames 1/60 s apart, through the C interface
+(\`sweep_set_body\` + \`sweep_advance\`: step and deform; \`sweep_positions\`, the world-space copy of
+all vertices an engine uploads, apart), against the scene player's frame (\`advance_frame\` and the
+fast path, what \`sweep-sim\` does per output frame) in the same run, at 30 fps (16 internal steps a
+frame) and at 60 fps (8), and the live simulator in C++ with step and deform timed apart. The last
+two rows: libsweep with frames back to back (warm caches, no sleeping threads), and with the
+settings' \`step\` at 1/120 s (2 internal steps a frame instead of 8). Median over frames after the
+first 10, median over rounds (5; 3 in quick mode) alternating cases and thread counts.
+
+$(cat "$results/live.md")
 
 ## Integration: integrator × dt against the closed-form oscillator
 

@@ -1,0 +1,86 @@
+/* libsweep: the sweep runtime behind a C interface, for any engine or FFI (C, C#, Rust, Python's
+ * ctypes...). One instance is one character: a rig, its binding, the mesh's rest positions and
+ * optional scene settings, read once; then each frame the game gives the body's pose and any
+ * forces, advances by its frame time, and reads the deformed positions back.
+ *
+ * Time: the instance keeps its own clock of internal steps (the settings' "step", 1/480 s by
+ * default) and reaches any time by one exact partial step beyond the last one, so the motion does
+ * not depend on how the game slices time: advancing by 1/60, 1/144, 1/30 ... lands on the same
+ * pose at the same times as regular frames.
+ *
+ * Errors: every int function returns 0, or an error code in the categories of the tools' exit
+ * codes (SWEEP_ERROR_*); sweep_open returns NULL. sweep_last_error() then tells what went wrong,
+ * for the calling thread. A bad argument (NULL, NaN, an unknown part, a negative dt, a matrix that
+ * is not rigid) is refused with an error and changes nothing; it never crashes the host. After a
+ * simulation diverged (SWEEP_ERROR_DIVERGED) the instance refuses to advance: close it.
+ *
+ * Threads: an instance is used by one thread at a time; different instances run on any threads.
+ * Within an advance, parts step side by side on OpenMP's threads (OMP_NUM_THREADS). */
+#ifndef SWEEP_SWEEP_H
+#define SWEEP_SWEEP_H
+
+#if defined(_WIN32) && defined(SWEEP_BUILDING_LIBRARY)
+#define SWEEP_API __declspec(dllexport)
+#elif defined(_WIN32)
+#define SWEEP_API __declspec(dllimport)
+#elif defined(__GNUC__)
+#define SWEEP_API __attribute__((visibility("default")))
+#else
+#define SWEEP_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The error codes: the exit codes of sweep-fit, sweep-bind and sweep-sim (README). */
+enum {
+  SWEEP_OK = 0,
+  SWEEP_ERROR_USAGE = 1,       /* a bad argument: NULL, NaN, unknown part, dt < 0, non-rigid pose */
+  SWEEP_ERROR_BAD_INPUT = 2,   /* a file is missing, unreadable, malformed or does not match */
+  SWEEP_ERROR_UNSUPPORTED = 3, /* valid input this version cannot handle */
+  SWEEP_ERROR_OUTPUT = 4,
+  SWEEP_ERROR_DIVERGED = 5,    /* the simulation diverged (explicit integrators) */
+  SWEEP_ERROR_INTERNAL = 6     /* a bug, or out of memory */
+};
+
+typedef struct sweep_instance sweep_instance;
+
+/* Reads the rig (.rig.json), its binding (.bind, from sweep-bind) and optional settings: a scene
+ * file (NULL: the defaults) whose settings apply (gravity, step, integrator, colliders, wind) and
+ * whose forces and body keys, if any, also play. rest_xyz: the mesh's vertex_count rest positions,
+ * x y z each, in the order the binding was made for (they are checked against it). NULL on error. */
+SWEEP_API sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const char* settings_path,
+                                     const float* rest_xyz, int vertex_count);
+/* Frees everything the instance holds; NULL is allowed and does nothing. */
+SWEEP_API void sweep_close(sweep_instance* instance);
+/* The last failed call's message on this thread ("" if none); valid until this thread's next call. */
+SWEEP_API const char* sweep_last_error(void);
+
+/* The body's pose (world from mesh: a rigid 4×4 matrix, column-major, last row 0 0 0 1) at the end
+ * of the next sweep_advance. Across that advance the body moves from its pose now to it: translation
+ * straight, rotation by slerp, at constant speed; the parts feel that motion (its change of
+ * velocity from the last advance is a kick). Given before the first advance, it is also where the
+ * body starts, at rest. Not given, the body holds its last pose. */
+SWEEP_API int sweep_set_body(sweep_instance* instance, const double world_from_mesh[16]);
+/* A force (N, world axes) at the surface point of `part` nearest `point` (world), from now on for
+ * `seconds`; seconds 0: an impulse of `force` N·s now. It acts exactly as a scene force with that
+ * point, vector and times and the scene's defaults (components, nearest sections, physical moment
+ * in material mode). */
+SWEEP_API int sweep_add_force(sweep_instance* instance, const char* part, const double point[3], const double force[3],
+                              double seconds);
+/* Advances the instance's clock by dt ≥ 0 seconds and deforms the parts that moved. */
+SWEEP_API int sweep_advance(sweep_instance* instance, double dt);
+/* The deformed positions at the current time, world space: vertex_count × 3 floats. */
+SWEEP_API int sweep_positions(const sweep_instance* instance, float* out_xyz);
+/* The joints of the skinned export (sweep-sim --joints), for engines that skin on the GPU: their
+ * count, or minus an error code. This version has none to give: it returns -SWEEP_ERROR_UNSUPPORTED,
+ * and sweep_joints SWEEP_ERROR_UNSUPPORTED. */
+SWEEP_API int sweep_joint_count(const sweep_instance* instance);
+SWEEP_API int sweep_joints(const sweep_instance* instance, float* out_16xN);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SWEEP_SWEEP_H */

@@ -1,0 +1,275 @@
+// The C interface (sweep/sweep.h) over the runtime: an instance holds a rig, its binding, a
+// sim::Simulator fed live (sim/simulator.h, "Live input") and the fast deformers. Every entry
+// point catches everything: a C host sees an error code and a thread-local message, never an
+// exception.
+#include "sweep/sweep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <exception>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/limits.h"
+#include "core/text.h"
+#include "io/binding_file.h"
+#include "io/rig_json.h"
+#include "io/scene_json.h"
+#include "sim/fast_deform.h"
+#include "sim/simulator.h"
+
+struct sweep_instance {
+  sweep::Rig rig;
+  sweep::sim::Scene scene;
+  std::unique_ptr<sweep::sim::Simulator> simulator;
+  std::vector<std::unique_ptr<sweep::sim::FastDeformer>> deformers;
+  std::vector<sweep::sim::DeformJob> jobs;
+  std::vector<sweep::sim::Vec3f> positions;  // mesh space, at the current time
+  bool broken = false;  // diverged: the simulator stopped mid-advance
+};
+
+namespace {
+
+using sweep::ErrorCategory;
+using sweep::fail;
+
+thread_local std::string last_error;
+
+int report(int code, const std::string& message) {
+  try {
+    last_error = message;
+  } catch (...) {  // out of memory for the message itself: keep the code
+  }
+  return code;
+}
+
+// Runs `body`, turning whatever it throws into an error code and this thread's message.
+template <typename Body>
+int guarded(const char* function, Body&& body) {
+  try {
+    body();
+    return SWEEP_OK;
+  } catch (const sweep::Error& e) {
+    return report(sweep::exit_code(e.category()), std::string(function) + ": " + e.what());
+  } catch (const std::bad_alloc&) {
+    return report(SWEEP_ERROR_INTERNAL, std::string(function) + ": out of memory");
+  } catch (const std::exception& e) {
+    return report(SWEEP_ERROR_INTERNAL, std::string(function) + ": " + e.what());
+  } catch (...) {
+    return report(SWEEP_ERROR_INTERNAL, std::string(function) + ": an unknown exception");
+  }
+}
+
+void need(const void* pointer, const char* what) {
+  if (pointer == nullptr) fail(ErrorCategory::usage, std::string(what) + " is NULL");
+}
+
+void usable(const sweep_instance* instance) {
+  need(instance, "the instance");
+  if (instance->broken)
+    fail(ErrorCategory::diverged, "the simulation diverged in an earlier sweep_advance; close the instance");
+}
+
+// The binding's bound vertices, deformed by the parts' rest shapes, must come back near the rest
+// positions given: a binding made for another mesh does not. (The binding's own hash is of the
+// mesh's positions as doubles, which float positions cannot reproduce unless they were floats.)
+void check_rest(const sweep_instance& in, const std::vector<sweep::sim::Vec3f>& rest) {
+  std::vector<sweep::sim::Vec3f> shaped = rest;
+  for (std::size_t i = 0; i < in.deformers.size(); ++i) in.deformers[i]->deform(in.rig.sweeps[i].rest, shaped);
+  // 1 % of the shortest part: the fast path's rest error is a few millionths of it.
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const sweep::SweepDef& def : in.rig.sweeps) shortest = std::min(shortest, def.rest.length());
+  for (std::size_t v = 0; v < rest.size(); ++v) {
+    const double off = (shaped[v] - rest[v]).cast<double>().norm();
+    if (off > 0.01 * shortest) {
+      fail(ErrorCategory::bad_input, "the binding was made for a mesh with other vertex positions (vertex " +
+                                         std::to_string(v) + " is " + sweep::format_number(off) +
+                                         " from where it binds); run sweep-bind again");
+    }
+  }
+}
+
+sweep::Vec3 vec3(const double xyz[3]) { return {xyz[0], xyz[1], xyz[2]}; }
+
+bool finite_floats(const float* xyz) { return std::isfinite(xyz[0]) && std::isfinite(xyz[1]) && std::isfinite(xyz[2]); }
+
+// By classification, not arithmetic (Eigen's allFinite subtracts, which traps on an infinity when
+// the host enables floating-point exceptions).
+bool finite(const double* x, int n) {
+  for (int k = 0; k < n; ++k) {
+    if (!std::isfinite(x[k])) return false;
+  }
+  return true;
+}
+
+// A number for a message; NaN and infinities by name (no arithmetic on them).
+std::string describe(double x) {
+  if (std::isnan(x)) return "NaN";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  return sweep::format_number(x);
+}
+
+}  // namespace
+
+extern "C" {
+
+sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const char* settings_path,
+                           const float* rest_xyz, int vertex_count) {
+  std::unique_ptr<sweep_instance> in;
+  const int code = guarded("sweep_open", [&] {
+    need(rig_path, "rig_path");
+    need(binding_path, "binding_path");
+    need(rest_xyz, "rest_xyz");
+    if (vertex_count <= 0) fail(ErrorCategory::usage, "vertex_count must be positive, got " + std::to_string(vertex_count));
+    in = std::make_unique<sweep_instance>();
+    in->rig = sweep::io::read_rig(rig_path);
+    sweep::Mesh mesh;
+    std::vector<sweep::sim::Vec3f> rest(static_cast<std::size_t>(vertex_count));
+    mesh.positions.resize(rest.size());
+    for (std::size_t v = 0; v < rest.size(); ++v) {
+      rest[v] = {rest_xyz[3 * v], rest_xyz[3 * v + 1], rest_xyz[3 * v + 2]};
+      if (!finite_floats(rest_xyz + 3 * v)) fail(ErrorCategory::usage, "rest_xyz: vertex " + std::to_string(v) + " is not finite");
+      mesh.positions[v] = rest[v].cast<double>();
+    }
+    sweep::bind::Binding binding = sweep::bind::read_binding(binding_path);
+    const bool same_positions = binding.mesh_hash == sweep::bind::hash_positions(mesh.positions);
+    if (!same_positions) binding.mesh_hash = sweep::bind::hash_positions(mesh.positions);  // checked below instead
+    sweep::bind::check_binding(binding, mesh, in->rig, binding_path);
+    if (settings_path != nullptr) in->scene = sweep::sim::read_scene(settings_path, in->rig);
+    if (!in->scene.body_node.empty())
+      fail(ErrorCategory::unsupported, std::string(settings_path) + ": a body that follows a glTF node's animation needs the mesh file, which libsweep does not read; give the body's pose with sweep_set_body");
+    if (in->scene.body_collider.spheres > 0)
+      fail(ErrorCategory::unsupported, std::string(settings_path) + ": \"body_collider\" is fitted to the mesh by the tools; libsweep does not fit it");
+    for (std::size_t i = 0; i < in->rig.sweeps.size(); ++i) {
+      in->deformers.push_back(std::make_unique<sweep::sim::FastDeformer>(in->rig.sweeps[i].rest, binding.sweeps[i], rest));
+    }
+    if (!same_positions) check_rest(*in, rest);
+    in->simulator = std::make_unique<sweep::sim::Simulator>(in->rig, in->scene);
+    in->positions = std::move(rest);
+    in->jobs.reserve(in->deformers.size());
+  });
+  return code == SWEEP_OK ? in.release() : nullptr;
+}
+
+void sweep_close(sweep_instance* instance) { delete instance; }
+
+const char* sweep_last_error(void) { return last_error.c_str(); }
+
+int sweep_set_body(sweep_instance* instance, const double m[16]) {
+  return guarded("sweep_set_body", [&] {
+    usable(instance);
+    need(m, "world_from_mesh");
+    for (int k = 0; k < 16; ++k) {
+      if (!std::isfinite(m[k])) fail(ErrorCategory::usage, "world_from_mesh[" + std::to_string(k) + "] is not finite");
+    }
+    if (m[3] != 0 || m[7] != 0 || m[11] != 0 || m[15] != 1)
+      fail(ErrorCategory::usage, "world_from_mesh's last row must be 0 0 0 1 (column-major: elements 3, 7, 11, 15)");
+    sweep::Mat3 r;
+    for (int c = 0; c < 3; ++c) {
+      for (int row = 0; row < 3; ++row) r(row, c) = m[4 * c + row];
+    }
+    // Rigid: a rotation, to float precision (an engine's matrices are often floats).
+    const double off = (r.transpose() * r - sweep::Mat3::Identity()).cwiseAbs().maxCoeff();
+    if (off > 1e-5 || r.determinant() < 0)
+      fail(ErrorCategory::usage, "world_from_mesh is not rigid (a rotation and a translation): RᵀR is off the identity by " +
+                                     sweep::format_number(off) + (r.determinant() < 0 ? ", and it mirrors" : ""));
+    instance->simulator->set_body_pose(sweep::Quat(r).normalized(), {m[12], m[13], m[14]});
+  });
+}
+
+int sweep_add_force(sweep_instance* instance, const char* part, const double point[3], const double force[3],
+                    double seconds) {
+  return guarded("sweep_add_force", [&] {
+    usable(instance);
+    need(part, "part");
+    need(point, "point");
+    need(force, "force");
+    const sweep::Vec3 p = vec3(point), f = vec3(force);
+    if (!finite(point, 3) || !finite(force, 3)) fail(ErrorCategory::usage, "the point and the force must be finite");
+    if (f.norm() > sweep::limits::kMaxForce)
+      fail(ErrorCategory::usage, "a force of at most " + sweep::format_number(sweep::limits::kMaxForce) + " N, got one of " +
+                                     sweep::format_number(f.norm()));
+    if (!std::isfinite(seconds) || seconds < 0 || seconds > sweep::limits::kMaxTime)
+      fail(ErrorCategory::usage, "seconds must be between 0 (an impulse) and " + sweep::format_number(sweep::limits::kMaxTime) +
+                                     ", got " + describe(seconds));
+    sweep::sim::SceneForce live;
+    for (std::size_t i = 0; i < instance->rig.sweeps.size(); ++i) {
+      if (instance->rig.sweeps[i].name == part) live.sweep_index = static_cast<int>(i);
+    }
+    if (live.sweep_index < 0) {
+      std::string names;
+      for (const sweep::SweepDef& def : instance->rig.sweeps) names += (names.empty() ? "\"" : ", \"") + def.name + "\"";
+      fail(ErrorCategory::usage, "the rig has no part \"" + std::string(part) + "\" (its parts: " + names + ")");
+    }
+    live.sweep = part;
+    // The scene's defaults (io/scene_json.cpp): a point projected to the surface, world axes, the
+    // paper's components, nearest sections; physical moments in material mode. The scene gives
+    // points and vectors in the mesh's space: the body's pose now takes the world's there.
+    const sweep::sim::BodyState body = instance->simulator->body();
+    live.spec.at_world_point = true;
+    live.spec.point = body.rotation.conjugate() * (p - body.translation);
+    live.spec.vector = body.rotation.conjugate() * f;
+    if (instance->rig.sweeps[live.sweep_index].material) live.spec.moment = sweep::MomentModel::physical;
+    live.start = instance->simulator->time();
+    live.end = live.start + seconds;
+    instance->simulator->add_force(live);
+  });
+}
+
+int sweep_advance(sweep_instance* instance, double dt) {
+  return guarded("sweep_advance", [&] {
+    usable(instance);
+    if (!std::isfinite(dt) || dt < 0 || dt > sweep::limits::kMaxTime)
+      fail(ErrorCategory::usage, "dt must be a number of seconds from 0 to " + sweep::format_number(sweep::limits::kMaxTime) +
+                                     ", got " + describe(dt));
+    sweep::sim::Simulator& sim = *instance->simulator;
+    const int before = sim.frame();
+    try {
+      sim.advance_to(sim.time() + dt);
+    } catch (const sweep::Error& e) {
+      if (e.category() != ErrorCategory::usage) instance->broken = true;
+      throw;
+    }
+    if (sim.frame() == before) return;  // dt too small to move the clock
+    instance->jobs.clear();
+    for (int i = 0; i < sim.sweep_count(); ++i) {
+      if (sim.moved_last_frame(i)) instance->jobs.push_back({instance->deformers[i].get(), &sim.sweep(i).deformed()});
+    }
+    sweep::sim::deform_sweeps(instance->jobs, instance->positions);
+  });
+}
+
+int sweep_positions(const sweep_instance* instance, float* out_xyz) {
+  return guarded("sweep_positions", [&] {
+    need(instance, "the instance");
+    need(out_xyz, "out_xyz");
+    const sweep::sim::BodyState body = instance->simulator->body();
+    const Eigen::Matrix3f r = body.rotation.toRotationMatrix().cast<float>();
+    const sweep::sim::Vec3f t = body.translation.cast<float>();
+    for (std::size_t v = 0; v < instance->positions.size(); ++v) {
+      Eigen::Map<sweep::sim::Vec3f>(out_xyz + 3 * v) = r * instance->positions[v] + t;
+    }
+  });
+}
+
+int sweep_joint_count(const sweep_instance* instance) {
+  const int code = guarded("sweep_joint_count", [&] {
+    need(instance, "the instance");
+    fail(ErrorCategory::unsupported, "this version of libsweep gives positions only, not joints");
+  });
+  return -code;
+}
+
+int sweep_joints(const sweep_instance* instance, float* out_16xN) {
+  return guarded("sweep_joints", [&] {
+    need(instance, "the instance");
+    need(out_16xN, "out_16xN");
+    fail(ErrorCategory::unsupported, "this version of libsweep gives positions only, not joints");
+  });
+}
+
+}  // extern "C"
