@@ -136,7 +136,7 @@ TEST(ChainDynamics, AWhippedSoftTubeNeverHasMoreEnergyThanTheKickGaveIt) {
 // a soft part on it (E = 1e5 is a rope, 1e7 a rubber tube), straight or already bent, follows
 // without folding past a half turn in any span, and once the body is still its energy (relative to
 // the body, with gravity's) only falls.
-TEST(ChainDynamics, ASoftPartOnABodyTurningNinetyDegreesInAThirdOfASecondFollowsAndSettles) {
+TEST(ChainDynamics, ASoftPartOnABodyTurningNinetyDegreesInAThirdOfASecondFollowsAndOnlyLosesEnergyOnceItStops) {
   for (const bool bent : {false, true}) {
     for (const double e : {1e5, 1e6, 1e7}) {
       const Tube t(e, 0.05);
