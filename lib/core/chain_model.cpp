@@ -53,15 +53,16 @@ ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>
   m.mass = Eigen::MatrixXd::Zero(dim, dim);
   m.stiffness = Eigen::MatrixXd::Zero(dim, dim);
   m.node_mass.assign(k, 0.0);
+  m.node_inertia.assign(k, Vec3::Zero());
   Eigen::MatrixXd jl = Eigen::MatrixXd::Zero(3, dim), ja = Eigen::MatrixXd::Zero(3, dim);
   for (int i = 1; i < k; ++i) {
     const Material& mat = materials[i];
     const SectionProperties& p = props[i];
     const double rho_l = mat.density * mass_len[i];
     m.node_mass[i] = rho_l * p.area;
+    m.node_inertia[i] = Vec3(rho_l * p.i_xx, rho_l * p.i_yy, rho_l * p.polar);
     const Eigen::Matrix3d r = rest.frames[i].rotation.toRotationMatrix();
-    const Eigen::Matrix3d inertia =
-        r * Eigen::Vector3d(rho_l * p.i_xx, rho_l * p.i_yy, rho_l * p.polar).asDiagonal() * r.transpose();
+    const Eigen::Matrix3d inertia = r * m.node_inertia[i].asDiagonal() * r.transpose();
     // Node i at rest: joint j turns it about c_j (j < i) and turns its own frame (j ≤ i).
     jl.setZero();
     ja.setZero();

@@ -38,6 +38,7 @@ struct ChainModel {
   Eigen::VectorXd omega2;    // ω² of each mode, rad²/s²
   std::vector<double> damping_ratio;  // ζ of each mode
   std::vector<double> node_mass;      // kg, K entries (0 for the root)
+  std::vector<Vec3> node_inertia;     // kg·m², K entries: rotary inertia about the section's own axes
   // Positional springs of each section (3 per section, its own axes), in mesh units: kg·(m/unit)
   // and N/unit, so that displacements stay in mesh units.
   std::vector<OscillatorParams> positional;

@@ -606,8 +606,9 @@ void Simulator::check_finite(const ElasticSweep& body, double t) const {
     // which README reserves for the explicit integrators.
     msg << "sweep \"" << body.definition().name << "\" moved more than " << kRunawayFactor
         << " times its length by t = " << t
-        << " s: the scene's forces are far too large for its springs (raise mass or "
-           "frequency_hz, or lower the forces)";
+        << " s: the scene's forces are far too large for "
+        << (body.chain() ? "its material (raise youngs_modulus_pa or damping_ratio, or lower the forces)"
+                         : "its springs (raise mass or frequency_hz, or lower the forces)");
     fail(ErrorCategory::bad_input, msg.str());
   }
   msg << "the simulation diverged: sweep \"" << body.definition().name << "\" at t = " << t

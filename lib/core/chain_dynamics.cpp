@@ -1,0 +1,341 @@
+#include "core/chain_dynamics.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace sweep {
+namespace {
+
+// A step's Newton iteration stops once it moves no joint by more than this (radians over the step).
+constexpr double kNewtonTolerance = 1e-10;
+constexpr int kMaxNewtonIterations = 10;
+// Iterations that rebuild and factor the Newton matrix at their mid-step pose; later ones reuse it.
+constexpr int kNewtonRebuilds = 2;
+// The energy balance rescales the speeds by at most this: a larger change would be no O(h³)
+// correction but a step gone wrong, better left as it came.
+constexpr double kMaxEnergyScale = 1.1;
+
+Mat3 skew(const Vec3& a) {
+  Mat3 s;
+  s << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return s;
+}
+
+// J_l⁻ᵀ(φ) = I + ½[φ]× + β [φ]×², the transpose of the left Jacobian's inverse of exp (the map from a
+// small turn applied on the left to the change of φ), β = (1 − (θ/2) cot(θ/2)) / θ².
+Mat3 inverse_jacobian_transpose(const Vec3& phi) {
+  const double theta2 = phi.squaredNorm();
+  double beta;
+  if (theta2 < 1e-8) {
+    beta = 1.0 / 12 + theta2 / 720;
+  } else {
+    const double theta = std::sqrt(theta2);
+    beta = (1 - 0.5 * theta / std::tan(0.5 * theta)) / theta2;
+  }
+  const Mat3 s = skew(phi);
+  return Mat3::Identity() + 0.5 * s + beta * s * s;
+}
+
+// exp(turn) exp(φ) as a rotation vector.
+Vec3 turned(const Vec3& turn, const Vec3& phi) {
+  return vector_from_rotation(rotation_from_vector(turn) * rotation_from_vector(phi));
+}
+
+}  // namespace
+
+Vec3 vector_from_rotation(const Quat& q) {
+  const double w = q.w() < 0 ? -q.w() : q.w();
+  const Vec3 v = q.w() < 0 ? Vec3(-q.vec()) : Vec3(q.vec());
+  const double s = v.norm();
+  if (s < 1e-8) return (2.0 / w) * v;  // angle/s = 2 atan2(s, w)/s → 2/w (error ~ s²)
+  return (2 * std::atan2(s, w) / s) * v;
+}
+
+ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const SweepShape& rest)
+    : model_(std::move(model)), joints_(model_->joints) {
+  const int k = rest.section_count();
+  assert(k == joints_ + 1);
+  const double s = model_->metres_per_unit;
+  const int dim = 3 * joints_;
+  relative_rotation_.assign(k, Quat::Identity());
+  relative_offset_.assign(k, Vec3::Zero());
+  for (int i = 1; i < k; ++i) {
+    const Frame rel = rest.frames[i - 1].inverse() * rest.frames[i];
+    relative_rotation_[i] = rel.rotation;
+    relative_offset_[i] = s * rel.center;
+  }
+  root_centre_ = s * rest.frames[0].center;
+  root_rotation_ = rest.frames[0].rotation;
+  stiffness_.assign(k, Vec3::Zero());
+  for (int i = 1; i < k; ++i) stiffness_[i] = model_->stiffness.block<3, 3>(3 * (i - 1), 3 * (i - 1)).diagonal();
+
+  // C = M₀ Φ diag(2ζω) Φᵀ M₀: in the modes (Φᵀ M₀ Φ = I) each is damped by its own ratio.
+  Eigen::VectorXd rate(dim);
+  for (int c = 0; c < dim; ++c) rate[c] = 2 * model_->damping_ratio[c] * std::sqrt(std::max(model_->omega2[c], 0.0));
+  const Eigen::MatrixXd mphi = model_->mass * model_->modes;
+  damping_ = mphi * rate.asDiagonal() * mphi.transpose();
+  damping_ = 0.5 * (damping_ + damping_.transpose()).eval();
+
+  phi_ = w_ = Eigen::VectorXd::Zero(dim);
+  phi_saved_.assign(kMaxHalvings + 1, phi_);
+  w_saved_.assign(kMaxHalvings + 1, w_);
+  for (Eigen::VectorXd* v : {&phi_mid_, &w_mid_, &w_end_, &wdot_, &residual_, &scratch_}) *v = Eigen::VectorXd::Zero(dim);
+  mass_ = newton_ = Eigen::MatrixXd::Zero(dim, dim);
+  llt_ = Eigen::LLT<Eigen::MatrixXd>(dim);
+  centre_.assign(k, Vec3::Zero());
+  rotation_.assign(k, Quat::Identity());
+  pre_.assign(k, Mat3::Identity());
+  inertia_.assign(k, Mat3::Zero());
+  for (std::vector<Vec3>* v : {&omega_, &alpha_, &accel_, &force_, &moment_, &composite_first_}) v->assign(k + 1, Vec3::Zero());
+  composite_inertia_.assign(k + 1, Mat3::Zero());
+  set_pose(phi_);
+}
+
+void ChainDynamics::set_joint(int i, const Vec3& phi, const Vec3& w) {
+  assert(i >= 1 && i <= joints_);
+  phi_.segment<3>(3 * (i - 1)) = phi;
+  w_.segment<3>(3 * (i - 1)) = w;
+  set_pose(phi_);
+}
+
+void ChainDynamics::set_state(std::span<const double> phi, std::span<const double> w) {
+  const Eigen::Index dim = 3 * joints_;
+  assert(static_cast<Eigen::Index>(phi.size()) == dim && static_cast<Eigen::Index>(w.size()) == dim);
+  phi_ = Eigen::Map<const Eigen::VectorXd>(phi.data(), dim);
+  w_ = Eigen::Map<const Eigen::VectorXd>(w.data(), dim);
+  set_pose(phi_);
+}
+
+void ChainDynamics::get_state(std::span<double> phi, std::span<double> w) const {
+  const Eigen::Index dim = 3 * joints_;
+  Eigen::Map<Eigen::VectorXd>(phi.data(), dim) = phi_;
+  Eigen::Map<Eigen::VectorXd>(w.data(), dim) = w_;
+}
+
+void ChainDynamics::set_pose(const Eigen::VectorXd& phi) {
+  centre_[0] = root_centre_;
+  rotation_[0] = root_rotation_;
+  for (int i = 1; i <= joints_; ++i) {
+    const Quat a = (rotation_[i - 1] * relative_rotation_[i]).normalized();
+    pre_[i] = a.toRotationMatrix();
+    centre_[i] = centre_[i - 1] + rotation_[i - 1] * relative_offset_[i];
+    rotation_[i] = (a * rotation_from_vector(phi.segment<3>(3 * (i - 1)))).normalized();
+    const Mat3 r = rotation_[i].toRotationMatrix();
+    inertia_[i] = r * model_->node_inertia[i].asDiagonal() * r.transpose();
+  }
+}
+
+// Recursive Newton–Euler: out to the tip for each section's angular velocity Ω, angular
+// acceleration α and centre's acceleration a (gravity as the root accelerating up), back to the
+// root for the force f and moment n (about the joint's centre) that everything beyond each joint
+// needs; the joint's share is n in its own axes.
+void ChainDynamics::inverse_dynamics(const Eigen::VectorXd& w, const Eigen::VectorXd& wdot, const Body& body,
+                                     Eigen::VectorXd& out) {
+  const Vec3& c0 = centre_[0];
+  omega_[0] = body.angular_velocity;
+  alpha_[0] = body.angular_acceleration;
+  accel_[0] = body.acceleration + body.angular_acceleration.cross(c0) +
+              body.angular_velocity.cross(body.angular_velocity.cross(c0)) - body.gravity;
+  for (int i = 1; i <= joints_; ++i) {
+    const Vec3 u = pre_[i] * w.segment<3>(3 * (i - 1));
+    const Vec3 d = centre_[i] - centre_[i - 1];
+    const Vec3& o = omega_[i - 1];
+    accel_[i] = accel_[i - 1] + alpha_[i - 1].cross(d) + o.cross(o.cross(d));
+    alpha_[i] = alpha_[i - 1] + o.cross(u) + pre_[i] * wdot.segment<3>(3 * (i - 1));
+    omega_[i] = o + u;
+  }
+  Vec3 f = Vec3::Zero(), n = Vec3::Zero();
+  for (int i = joints_; i >= 1; --i) {
+    if (i < joints_) n += (centre_[i + 1] - centre_[i]).cross(f);
+    n += inertia_[i] * alpha_[i] + omega_[i].cross(inertia_[i] * omega_[i]);
+    f += model_->node_mass[i] * accel_[i];
+    out.segment<3>(3 * (i - 1)).noalias() = pre_[i].transpose() * n;
+  }
+}
+
+// Composite rigid bodies: block (j, k ≥ j) is the moment about c_j that everything beyond joint k
+// needs when joint k alone accelerates, Ic_k − [c_k − c_j]× [h_k]×, with Ic_k the rotary inertia of
+// the sections beyond k about c_k and h_k their first moment of mass about it.
+void ChainDynamics::build_mass_matrix() {
+  double mc = 0;
+  Vec3 h = Vec3::Zero();
+  Mat3 ic = Mat3::Zero();
+  for (int k = joints_; k >= 1; --k) {
+    if (k < joints_) {
+      const Vec3 d = centre_[k + 1] - centre_[k];
+      ic += (2 * h.dot(d)) * Mat3::Identity() - h * d.transpose() - d * h.transpose() +
+            mc * (d.squaredNorm() * Mat3::Identity() - d * d.transpose());
+      h += mc * d;
+    }
+    ic += inertia_[k];
+    mc += model_->node_mass[k];
+    composite_first_[k] = h;
+    composite_inertia_[k] = ic;
+  }
+  for (int k = 1; k <= joints_; ++k) {
+    const Mat3 hk = skew(composite_first_[k]);
+    for (int j = 1; j <= k; ++j) {
+      const Mat3 b = composite_inertia_[k] - skew(centre_[k] - centre_[j]) * hk;
+      const Mat3 block = pre_[j].transpose() * b * pre_[k];
+      mass_.block<3, 3>(3 * (j - 1), 3 * (k - 1)) = block;
+      if (j != k) mass_.block<3, 3>(3 * (k - 1), 3 * (j - 1)) = block.transpose();
+    }
+  }
+}
+
+const Eigen::MatrixXd& ChainDynamics::mass_matrix() {
+  build_mass_matrix();
+  return mass_;
+}
+
+void ChainDynamics::elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const {
+  for (int i = 1; i <= joints_; ++i) {
+    const Vec3 p = phi.segment<3>(3 * (i - 1));
+    out.segment<3>(3 * (i - 1)).noalias() = inverse_jacobian_transpose(p) * stiffness_[i].cwiseProduct(p);
+  }
+}
+
+int ChainDynamics::step(double h, const Body& body, std::span<const double> torque) {
+  assert(h > 0);
+  assert(torque.empty() || static_cast<int>(torque.size()) == 3 * joints_);
+  return advance(h, body, torque, 0);
+}
+
+// A step the Newton iteration does not settle (a part whipping through a large turn within one
+// step) is taken again as two half steps, down to 2^-kMaxHalvings of it: the step stays stable and
+// the cost grows only where the motion needs it. The choice depends on the state alone, so the
+// motion stays independent of the output rate.
+int ChainDynamics::advance(double h, const Body& body, std::span<const double> torque, int depth) {
+  phi_saved_[depth] = phi_;
+  w_saved_[depth] = w_;
+  int iterations = 0;
+  if (attempt(h, body, torque, iterations) || depth == kMaxHalvings) return iterations;
+  phi_ = phi_saved_[depth];
+  w_ = w_saved_[depth];
+  set_pose(phi_);
+  iterations += advance(0.5 * h, body, torque, depth + 1);
+  return iterations + advance(0.5 * h, body, torque, depth + 1);
+}
+
+bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> torque, int& iterations) {
+  // On a body at rest or moving uniformly (no frame forces) the step keeps the energy balance
+  // exactly: see the end.
+  const bool inertial = body.acceleration == Vec3::Zero() && body.angular_velocity == Vec3::Zero() &&
+                        body.angular_acceleration == Vec3::Zero();
+  const double before = inertial ? kinetic_energy() + elastic_energy() + gravity_potential(body.gravity) : 0.0;
+  w_end_ = w_;
+  bool converged = false;
+  double last = std::numeric_limits<double>::infinity();
+  while (iterations < kMaxNewtonIterations) {
+    ++iterations;
+    w_mid_ = 0.5 * (w_ + w_end_);
+    for (int i = 1; i <= joints_; ++i) {
+      phi_mid_.segment<3>(3 * (i - 1)) = turned(0.5 * h * w_mid_.segment<3>(3 * (i - 1)), phi_.segment<3>(3 * (i - 1)));
+    }
+    set_pose(phi_mid_);
+    if (iterations <= kNewtonRebuilds) {
+      // The Newton matrix at the mid-step pose: a light section's inertia changes much within a
+      // step (the tip turning fast about its own centre), and S⁻¹ magnifies a change in it.
+      build_mass_matrix();
+      newton_ = mass_;
+      newton_.noalias() += (0.5 * h) * damping_;
+      for (int i = 1; i <= joints_; ++i) {
+        const Mat3 jt = inverse_jacobian_transpose(phi_mid_.segment<3>(3 * (i - 1)));
+        newton_.block<3, 3>(3 * (i - 1), 3 * (i - 1)).noalias() +=
+            (0.25 * h * h) * (jt * stiffness_[i].asDiagonal() * jt.transpose());
+      }
+      llt_.compute(newton_);
+    }
+    wdot_ = (w_end_ - w_) / h;
+    inverse_dynamics(w_mid_, wdot_, body, residual_);
+    elastic_torque(phi_mid_, scratch_);
+    residual_ += scratch_;
+    residual_.noalias() += damping_ * w_mid_;
+    if (!torque.empty()) residual_ -= Eigen::Map<const Eigen::VectorXd>(torque.data(), 3 * joints_);
+    llt_.solveInPlace(residual_);
+    w_end_ -= h * residual_;
+    const double change = h * h * residual_.lpNorm<Eigen::Infinity>();  // the largest turn it changed
+    if (!std::isfinite(change)) return false;
+    if (change <= kNewtonTolerance) {
+      converged = true;
+      break;
+    }
+    if (iterations > kNewtonRebuilds && change > 0.5 * last) return false;  // not contracting
+    last = change;
+  }
+  w_mid_ = 0.5 * (w_ + w_end_);
+  for (int i = 1; i <= joints_; ++i) {
+    phi_.segment<3>(3 * (i - 1)) = turned(h * w_mid_.segment<3>(3 * (i - 1)), phi_.segment<3>(3 * (i - 1)));
+  }
+  w_ = w_end_;
+  set_pose(phi_);
+  if (!converged) return false;
+  if (inertial) {
+    // Implicit midpoint keeps a nearby energy, not the energy itself: it swings by O(h²) about it
+    // while a bent chain's inertia changes. Scaling the speeds so that the energy is exactly the
+    // step's balance — what it had, less the damping's h w_mᵀ C w_m, plus the torques' work
+    // h w_mᵀ τ — makes a free part keep its energy and a damped or driven one never gain more than
+    // it was given (an O(h³) change per step: the step stays second order).
+    scratch_.noalias() = damping_ * w_mid_;
+    double target = before - h * w_mid_.dot(scratch_);
+    if (!torque.empty()) target += h * w_mid_.dot(Eigen::Map<const Eigen::VectorXd>(torque.data(), 3 * joints_));
+    const double kinetic = kinetic_energy();
+    const double wanted = target - elastic_energy() - gravity_potential(body.gravity);
+    if (kinetic > 0) {
+      const double factor = wanted > 0 ? std::sqrt(wanted / kinetic) : 0.0;
+      if (factor <= kMaxEnergyScale) w_ *= factor;
+    }
+  }
+  return true;
+}
+
+void ChainDynamics::apply_impulse(int section, const Vec3& point, const Vec3& impulse) {
+  assert(section >= 1 && section <= joints_);
+  residual_.setZero();
+  for (int j = 1; j <= section; ++j) {
+    residual_.segment<3>(3 * (j - 1)) = pre_[j].transpose() * (point - centre_[j]).cross(impulse);
+  }
+  build_mass_matrix();
+  llt_.compute(mass_);
+  llt_.solveInPlace(residual_);
+  w_ += residual_;
+}
+
+void ChainDynamics::apply_joint_impulse(std::span<const double> impulse) {
+  assert(static_cast<int>(impulse.size()) == 3 * joints_);
+  residual_ = Eigen::Map<const Eigen::VectorXd>(impulse.data(), 3 * joints_);
+  build_mass_matrix();
+  llt_.compute(mass_);
+  llt_.solveInPlace(residual_);
+  w_ += residual_;
+}
+
+double ChainDynamics::kinetic_energy() const {
+  Vec3 omega = Vec3::Zero(), v = Vec3::Zero();
+  double e = 0;
+  for (int i = 1; i <= joints_; ++i) {
+    v += omega.cross(centre_[i] - centre_[i - 1]);
+    omega += pre_[i] * w_.segment<3>(3 * (i - 1));
+    e += 0.5 * (model_->node_mass[i] * v.squaredNorm() + omega.dot(inertia_[i] * omega));
+  }
+  return e;
+}
+
+double ChainDynamics::elastic_energy() const {
+  double e = 0;
+  for (int i = 1; i <= joints_; ++i) {
+    const Vec3 p = phi_.segment<3>(3 * (i - 1));
+    e += 0.5 * p.dot(stiffness_[i].cwiseProduct(p));
+  }
+  return e;
+}
+
+double ChainDynamics::gravity_potential(const Vec3& gravity) const {
+  double e = 0;
+  for (int i = 1; i <= joints_; ++i) e -= model_->node_mass[i] * gravity.dot(centre_[i]);
+  return e;
+}
+
+}  // namespace sweep
