@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The installed runtime, as a game programmer meets it (issue 14, part 3; issue 19, part 1):
+# The installed runtime, as a game programmer meets it:
 #   1. `cmake --install` the build into a temporary prefix;
 #   2. configure and build examples/runtime against that prefix only (find_package(sweep));
 #   3. its link line and `ldd` name no authoring library (CGAL and its GMP/MPFR, assimp,

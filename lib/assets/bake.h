@@ -88,7 +88,7 @@ struct BakeInfo {
   std::optional<std::vector<std::uint32_t>> animated_vertices;
   // Name of the glTF node and mesh (Blender's object name). Not used by the other formats.
   std::string name = "sweep_bake";
-  // Whether the body moves (issue 13): each frame then comes with the body's pose. The .pc2 and
+  // Whether the body moves: each frame then comes with the body's pose. The .pc2 and
   // .obj writers write world positions (pose applied; then in the mesh's local space); the .glb writer keeps the deformation in
   // the body's frame (morph targets) and animates its node's translation and rotation (LINEAR:
   // slerp), so engines play both. Without it every pose must be the identity.

@@ -1,5 +1,5 @@
 #pragma once
-// The skinned .glb bake (issue 14, "bones for engines"): instead of one morph target a frame, a
+// The skinned .glb bake ("bones for engines"): instead of one morph target a frame, a
 // skeleton whose joints follow the simulated sweeps, and a mesh skinned to it (linear blend
 // skinning, at most 4 joints a vertex), which every engine plays natively.
 //

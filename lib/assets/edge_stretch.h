@@ -1,5 +1,5 @@
 #pragma once
-// The bake's quality figure (issue 18): the largest edge stretch, deformed length / rest length,
+// The bake's quality figure: the largest edge stretch, deformed length / rest length,
 // over the mesh's edges and the bake's frames, and where it is. A part torn from the surface beside
 // it (a tube bound past its end) shows here first: its edges across the seam stretch many times.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// The body's motion from a glTF file's own animation (issue 13): scene "body": {"node": NAME,
+// The body's motion from a glTF file's own animation: scene "body": {"node": NAME,
 // "animation": NAME}. The mesh is read in world space at rest (the nodes' rest transforms
 // applied), so the body at time t is the node's motion away from its rest pose, in world axes:
 //     B(t) = P · L(t) · L₀⁻¹ · P⁻¹

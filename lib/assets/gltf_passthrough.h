@@ -1,6 +1,6 @@
 #pragma once
 // Private to the .glb bake writer (bake_gltf.cpp): a bake of a glTF/GLB mesh written as the INPUT
-// document plus the bake (issue 14 part 1). Everything in the input is kept as it was — nodes,
+// document plus the bake. Everything in the input is kept as it was — nodes,
 // names, transforms, meshes, materials, textures, images, samplers, every attribute, extensions and
 // animations — and its bytes are copied unchanged into the one BIN chunk: each input buffer at a
 // 16-byte aligned base (its bufferViews re-pointed), then each image that was a file or a data URI

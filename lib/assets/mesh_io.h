@@ -21,7 +21,7 @@
 // space by its node's world transform (FBX stores local positions under axis nodes); an identity
 // transform is applied without arithmetic. No unit scale is applied: an FBX's coordinates stay in
 // its unit, which SceneMesh::unit reports (its UnitScaleFactor, centimetres a unit).
-// Several meshes in one file (issue 18): a scene file (glTF, FBX and the other assimp formats but
+// Several meshes in one file: a scene file (glTF, FBX and the other assimp formats but
 // PLY and STL) holds meshes by name. One mesh of it is a node that shows one (Blender's object):
 // all that node's importer meshes (a glTF mesh's primitives, an FBX model's parts by material),
 // in the node's order, welded per importer mesh, placed by that node's world transform. Its name

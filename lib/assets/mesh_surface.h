@@ -1,6 +1,6 @@
 #pragma once
 // What a mesh file says about its surface beyond positions and faces — UVs, normals, vertex colours
-// and materials — for the .glb bake to carry (issue 14 part 1 b; obj_gltf.h makes it a glTF
+// and materials — for the .glb bake to carry (obj_gltf.h makes it a glTF
 // document). One primitive a material (a mesh of the file); glTF gives a vertex one UV and one
 // normal, so each primitive's vertices are the file's distinct (vertex, UV, normal, colour)
 // corners, each naming its `source`: the vertex of the mesh as read_mesh read it.

@@ -2,7 +2,7 @@
 // Private to the .glb bake (gltf_passthrough.cpp): a file's surface (mesh_surface.h; an FBX's from
 // mesh_import.cpp) as a glTF document, and an OBJ's surface — its UVs (`vt`), normals
 // (`vn`), vertex colours (`v x y z r g b`) and materials (`usemtl`, `mtllib`: Kd, d, map_Kd) — as a
-// glTF document, so that the passthrough .glb carries them (issue 14 part 1 b). One node and one
+// glTF document, so that the passthrough .glb carries them. One node and one
 // mesh named after the file; one primitive per material, in order of first use, its faces fanned
 // into triangles as Mesh::triangles() does. glTF gives a vertex one UV and one normal, so a vertex
 // is split where its corners differ (a UV seam, a hard edge): the primitives share one vertex

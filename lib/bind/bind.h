@@ -1,5 +1,5 @@
 #pragma once
-// Binding (DESIGN.md §2.4): every vertex of each sweep's part gets sweep coordinates (t, θ, s, z)
+// Binding (the paper's §III): every vertex of each sweep's part gets sweep coordinates (t, θ, s, z)
 // on that sweep's rest shape, so the deformed vertex is
 //     v' = C'(t) + R'(t)·(s r'(θ,t) cos θ, s r'(θ,t) sin θ, z)
 // and, with an optional blend zone at the part's root, v'' = v + w·(v' − v).

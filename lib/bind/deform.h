@@ -1,6 +1,6 @@
 #pragma once
 // Deforming a mesh from a binding and the sweeps' current shapes: the exact per-vertex path of
-// DESIGN.md §2.4 (deform_point on each bound vertex), the reference a faster station-sampled path
+// the paper's §III (deform_point on each bound vertex), the reference a faster station-sampled path
 // is measured against. For a vertex bound to sweep i with coordinates c and blend weight w,
 //     out = rest + w·(deform_point(deformed[i], c) − rest);
 // unbound vertices are copied from rest. Parallel over vertices (OpenMP); results do not depend

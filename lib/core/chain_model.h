@@ -1,5 +1,5 @@
 #pragma once
-// Material mode (issue 12, DESIGN.md §8): a sweep's sections as one chain of hinges, linearised at
+// Material mode: a sweep's sections as one chain of hinges, linearised at
 // the rest pose, M q̈ + C q̇ + K q = τ over the joints' rotation vectors q (3 per movable section,
 // in its own axes: bend about x, bend about y, twist about z). Joint j sits at section j's centre
 // and turns everything beyond it, so M is dense: the mass beyond a joint loads it.

@@ -1,5 +1,5 @@
 #pragma once
-// Deformation (DESIGN.md §2.4): a point is bound to a sweep by its sweep coordinates (t, θ, s, z),
+// Deformation (the paper's §III): a point is bound to a sweep by its sweep coordinates (t, θ, s, z),
 // found once on the rest shape (core/locate.h), and rebuilt from them on every pose of the sweep:
 // on the rest shape it comes back to where it was; on a deformed shape it follows the bending,
 // twisting and radial change. deform_point is that rebuild, the exact per-vertex path in double;

@@ -1,5 +1,5 @@
 #pragma once
-// The runtime: one elastic sweep (DESIGN.md §2.2–2.5). Load a SweepDef, add or remove forces,
+// The runtime: one elastic sweep (the paper's §II–III). Load a SweepDef, add or remove forces,
 // step(dt), read the deformed key frames and radii. No file or console I/O.
 //
 // Kinematics: the deformed frame of section i is M'_i = M'_{i-1} · T_{i-1,i} · D_i with
@@ -75,7 +75,7 @@ class ElasticSweep {
   // unloaded and sags.
   void set_gravity(const Vec3& g, bool preloaded = true);
 
-  // The body's motion as the part feels it (issue 13), in the body's axes (the mesh's, which the
+  // The body's motion as the part feels it, in the body's axes (the mesh's, which the
   // sweep lives in): the acceleration of the body's origin (mesh units/s²), its angular velocity
   // (rad/s) and angular acceleration (rad/s²), and gravity (m/s², in the body's axes: it turns
   // with the body; material mode only). Held until set again. Each section of mass m at centre c

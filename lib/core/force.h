@@ -1,5 +1,5 @@
 #pragma once
-// An external force at a surface point, split as the paper does (DESIGN.md §2.3) into loads on the
+// An external force at a surface point, split as the paper does (§III, Figs. 2–3) into loads on the
 // key sections' springs: a rotational part (torque about normalize(a × f)), a radial part (the
 // inward push in the cross-sectional plane, spread bilinearly over the four nearest radial
 // handles), and an optional positional part (spread over the two sections around the point).

@@ -1,5 +1,5 @@
 #pragma once
-// Sweep coordinates of a point (DESIGN.md §2.4; SweepCoords in core/deform_point.h): the parameter
+// Sweep coordinates of a point (the paper's §III; SweepCoords in core/deform_point.h): the parameter
 // t whose cross-section plane passes through it (the nearest such plane where several do), its
 // angle θ in that plane, the ratio s of its distance from the axis to the surface radius there,
 // and an axial offset z for points beyond the end sections (t is then clamped to 0 or L).

@@ -1,5 +1,5 @@
 #pragma once
-// A material for a sweep (issue 12): instead of spring frequencies, the part's stiffness and mass
+// A material for a sweep: instead of spring frequencies, the part's stiffness and mass
 // follow from what it is made of and how big it is. Given per sweep, overridable per section.
 #include <cmath>
 

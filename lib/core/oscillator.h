@@ -1,5 +1,5 @@
 #pragma once
-// One damped linear oscillator m ẍ + c ẋ + k x = f (DESIGN.md §2.2), with the force held constant
+// One damped linear oscillator m ẍ + c ẋ + k x = f (the paper's §II, Fig. 1), with the force held constant
 // over each step. Every integrator offered is, for this linear system, an affine map of (x, v, f):
 //   x' = xx·x + xv·v + xf·f,   v' = vx·x + vv·v + vf·f.
 // So each integrator is just a different way to fill a StepMap (computed once per parameter set

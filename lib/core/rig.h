@@ -14,7 +14,7 @@ namespace sweep {
 
 // How the part a sweep drives was picked out of the mesh (sweep-fit writes it, sweep-bind uses it
 // to select the same vertices): the region on the tip side of section 0's plane that is reached
-// from the tip point without crossing that plane (DESIGN.md §2.4). A stretch of a tube that goes on
+// from the tip point without crossing that plane (the paper's §III). A stretch of a tube that goes on
 // past the tip (a hose, a knot, a torus: tip_cut) is bounded on the tip side too, by the last key
 // section's plane and disc (tip_disc_radius); nothing beyond it is part of the part.
 struct PartSeeds {
@@ -34,7 +34,7 @@ struct SweepDef {
   double rotational_scale = 1.0;
   double radial_scale = 1.0;
   std::optional<PartSeeds> part;            // absent for rigs written by hand with no mesh part
-  // Material mode (issue 12): when set, the sections are one coupled chain whose bending and
+  // Material mode: when set, the sections are one coupled chain whose bending and
   // twisting stiffness, masses and inertias follow from this material and each section's polygon
   // (core/chain_model.h); `springs` then only sets the radial handles. Empty = the paper's
   // independent springs.

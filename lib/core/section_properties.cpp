@@ -9,7 +9,7 @@ namespace sweep {
 SectionProperties section_properties(std::span<const double> radii) {
   const std::size_t n = radii.size();
   assert(n >= 3);
-  // Shoelace sums about the section centre (DESIGN.md §8), then the parallel-axis shift.
+  // Shoelace sums about the section centre, then the parallel-axis shift.
   double a2 = 0, sx = 0, sy = 0, ixx = 0, iyy = 0, ixy = 0;
   for (std::size_t j = 0; j < n; ++j) {
     const std::size_t k = (j + 1) % n;

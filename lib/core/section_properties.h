@@ -1,5 +1,5 @@
 #pragma once
-// Properties of one key cross-section's polygon (DESIGN.md §8), from its n radius samples: the
+// Properties of one key cross-section's polygon, from its n radius samples: the
 // vertices are p_j = r_j (cos θ_j, sin θ_j) with θ_j = 2πj/n, in the section's own x, y axes.
 // Lengths in whatever unit the radii are given in (multiply by the mesh scale first for metres).
 #include <span>

@@ -21,7 +21,7 @@ struct SpringSettings {
   bool operator==(const SpringSettings&) const = default;
 };
 
-// The four oscillator kinds of one key section (DESIGN.md §2.2). Rotation is a rotation vector φ in
+// The four oscillator kinds of one key section (the paper's §II, Fig. 1). Rotation is a rotation vector φ in
 // the section's own frame: bend springs act about its local x and y axes, twist about its axis z.
 struct SectionSprings {
   SpringSettings positional{1.0, 1.5, 0.3};

@@ -1,5 +1,5 @@
 #pragma once
-// The sweep surface of DESIGN.md §2.1, S(θ,t) = C(t) + R(t)·(r(θ,t) cos θ, r(θ,t) sin θ, 0),
+// The sweep surface of the paper's §II, S(θ,t) = C(t) + R(t)·(r(θ,t) cos θ, r(θ,t) sin θ, 0),
 // through K key sections. The same evaluation serves the rest pose and every deformed pose: it
 // only sees section parameters, frames and radii, never which solver produced them.
 //

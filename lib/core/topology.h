@@ -57,7 +57,7 @@ void add_triangles(Topology& topology, std::span<const std::uint32_t> triangles)
 // Neighbours over the mesh's own polygon edges, no welding (what the tests compare against).
 VertexAdjacency vertex_adjacency(const Mesh& mesh);
 
-// The part a sweep drives (DESIGN.md §2.4), sorted: the vertices reached over the surface from the
+// The part a sweep drives (the paper's §III), sorted: the vertices reached over the surface from the
 // vertex nearest to `tip` without crossing the root section — the disc of radius `root_radius`
 // around root_plane.center in the plane with normal root_plane.axis(). Walking over an edge that
 // passes through that plane inside the disc is crossing it; elsewhere the plane may be crossed,

@@ -2,7 +2,7 @@
 // Finding a mesh's tubular parts without being told where they are (`sweep-fit --list`).
 //
 // Extremities are where the average surface distance to the rest of the mesh is locally largest
-// (the tips of tails, legs, fingers, ears: DESIGN.md §7). The average is estimated from a few
+// (the tips of tails, legs, fingers, ears). The average is estimated from a few
 // sources spread over the surface by farthest-point sampling. Each extremity, highest first, is
 // then traced by rings of surface distance (fit/rings.h): where the rings keep a steady size for
 // a few radii and then widen into the body, it is the tip of a part; the part's region is the

@@ -1,6 +1,6 @@
 #pragma once
 // Distance over the surface, and the loops where it takes a given value (level sets). Rings of
-// equal distance from a part's tip run around the part whatever its curl (DESIGN.md §7): their
+// equal distance from a part's tip run around the part whatever its curl: their
 // centroids are axis points, and their size shows where the part meets the body.
 #include <cstdint>
 #include <span>

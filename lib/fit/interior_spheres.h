@@ -1,5 +1,5 @@
 #pragma once
-// Spheres inside a closed mesh that together fill it (issue 16: the body as a collider). The body
+// Spheres inside a closed mesh that together fill it. The body
 // is approximated by spheres rather than kept as a signed-distance grid because the contact code
 // already meets spheres continuously in time (sim/contact.h) and a sphere is convex and cheap to
 // test; a distance grid is neither convex nor something that code can take.

@@ -1,5 +1,5 @@
 #pragma once
-// A tip given mid-tube (issue 18): a stretch of a tube that goes on past its tip (a hose, a knot,
+// A tip given mid-tube: a stretch of a tube that goes on past its tip (a hose, a knot,
 // a torus) has no end to climb to and no cap; the rings of surface distance from such a tip run
 // both ways along the tube. There the part is the stretch from the root to the tip, cut on the tip
 // side too (PartSeeds::tip_cut), and its axis comes from slices along the surface path between

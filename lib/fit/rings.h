@@ -1,5 +1,5 @@
 #pragma once
-// A part's axis from rings of equal surface distance from its tip (DESIGN.md §7). Level sets of the
+// A part's axis from rings of equal surface distance from its tip. Level sets of the
 // distance from the tip's vertex run around the part whatever its curl or elbow; their centroids
 // are axis points, and their size, which changes slowly along a tube, jumps where the part meets
 // the body: that is the root when the user gives none.

@@ -1,5 +1,5 @@
 #pragma once
-// An end that is not a tube (issue 11): a foot spreading sideways from a leg, a hoof, a tuft. A
+// An end that is not a tube: a foot spreading sideways from a leg, a hoof, a tuft. A
 // sweep fitted through it is far off there alone; the fitter (fit.cpp, step 4b) ends the sweep
 // where the tube does and carries the vertices past it rigidly, as a head is carried.
 #include <cstddef>

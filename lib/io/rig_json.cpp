@@ -50,7 +50,7 @@ void read_springs(const JsonReader& r, const Json& v, const std::string& ptr, Se
   if (const Json* x = r.optional(v, "radial")) read_spring(r, *x, member(ptr, "radial"), s.radial);
 }
 
-// A material given in a file overrides `m` field by field (issue 12, core/material.h).
+// A material given in a file overrides `m` field by field (core/material.h).
 void read_material(const JsonReader& r, const Json& v, const std::string& ptr, Material& m) {
   r.object(v, ptr, {"youngs_modulus_pa", "poisson_ratio", "shear_modulus_pa", "density_kg_m3", "metres_per_unit", "damping_ratio"});
   if (r.optional(v, "poisson_ratio") && r.optional(v, "shear_modulus_pa"))

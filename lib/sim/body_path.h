@@ -1,5 +1,5 @@
 #pragma once
-// The body's motion over time (issue 13): a keyframed rigid transform of the whole mesh, world =
+// The body's motion over time: a keyframed rigid transform of the whole mesh, world =
 // rotation · mesh + translation. Keys give a time, a translation (mesh units) and a rotation (unit
 // quaternion); between keys:
 //  - linear: translation straight from key to key, rotation by slerp — each piece at constant

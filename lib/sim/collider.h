@@ -1,5 +1,5 @@
 #pragma once
-// Colliders (issue 16): convex shapes the parts may not enter — spheres, capsules, boxes and
+// Colliders: convex shapes the parts may not enter — spheres, capsules, boxes and
 // planes — each fixed in the world or carried by the body. A collider is a shape in its own local
 // coordinates and a pose (local → world, or local → mesh for one the body carries); the contact
 // solver (sim/contact.h) only asks a shape its signed distance and the direction out of it.

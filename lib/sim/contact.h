@@ -1,5 +1,5 @@
 #pragma once
-// Contact between one sweep and the scene's colliders (issue 16), resolved after every step of the
+// Contact between one sweep and the scene's colliders, resolved after every step of the
 // springs and continuously in time: a part cannot step over a thin collider, however fast it moves.
 //
 // The part's surface is taken as its axis, cut into chords (`stations_per_span` per span between

@@ -1,4 +1,4 @@
-// Static friction on positions (issue 16): ContactSolver::hold, called by resolve() once the ends
+// Static friction on positions: ContactSolver::hold, called by resolve() once the ends
 // are out of the colliders and N is read, before the speeds' friction.
 //
 // Why positions: friction on the speeds alone holds a stiff part only for the step it kicks it —

@@ -1,5 +1,5 @@
 #pragma once
-// The fast deformation path (DESIGN.md §4, §6), in three parts: the layout of the bound vertices,
+// The fast deformation path, in three parts: the layout of the bound vertices,
 // planned at construction (fast_deform_layout.cpp); the per-frame station table (tabulate,
 // fast_deform_stations.cpp); and the kernel that rebuilds the vertices from it (deform_vertices,
 // fast_deform_kernel.cpp).
@@ -12,7 +12,7 @@
 //     r  = max(floor, P_A(w) + u·(P_B(w) − P_A(w)))        (P_A, P_B: the cell's cubics at A, B)
 //     v' = C(u) + X(u)·(r·s cos θ) + Y(u)·(r·s sin θ) + Z(u)·z,   C(u) = C_A + u·(C_B − C_A), ...
 //
-// Layout is deliberate (DESIGN.md §6: layout wins, arithmetic does not). At construction the bound
+// Layout is deliberate: layout wins, arithmetic does not. At construction the bound
 // vertices are cut into tiles of kTileVertices consecutive ones (mesh order) and each tile is
 // grouped by station span, so the two stations a vertex needs are loop invariants of its block (no
 // gathers) and the stores of a tile stay within a window that is in cache until it is complete.

@@ -42,7 +42,7 @@ struct Scene {
   Vec3 gravity = Vec3::Zero();
   bool gravity_preloaded = true;
   std::vector<SceneForce> forces;
-  // The body's motion (issue 13): the whole mesh moves with it, each part's root with the body, and
+  // The body's motion: the whole mesh moves with it, each part's root with the body, and
   // the parts feel its accelerations. Empty: the body stands still.
   BodyPath body;
   // Or the animation of a node of the glTF mesh (scene "body": {"node", "animation"}): the tools,

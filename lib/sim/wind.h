@@ -1,5 +1,5 @@
 #pragma once
-// Wind (issue 13): a mean velocity with gusts (its strength swelling and easing) and turbulence
+// Wind: a mean velocity with gusts (its strength swelling and easing) and turbulence
 // (its direction wandering), both from seeded smooth noise — sums of a few sines whose periods and
 // phases are drawn from the seed — so a bake is the same, byte for byte, every time and at any
 // frame rate. Uniform in space. It drags on the spans of material-mode parts (core/elastic_sweep.h).

@@ -1,11 +1,11 @@
 """Opens a glTF asset and its passthrough bake in Blender and checks that the bake is the asset whole
-and plays what sweep-sim baked (issue 14).
+and plays what sweep-sim baked.
 
 Run by Blender (Debian's `blender` package, 3.4), not by Python:
     blender -b --factory-startup --python-exit-code 1 --python check_passthrough.py -- \
         INPUT.gltf BAKE.glb BAKE.pc2 FPS OBJECT
 OBJECT is the name of the node whose mesh the bake deforms: the rig's mesh (its vertices are the
-.pc2's, in its own space: issue 18). INPUT may be an .obj (+ .mtl): its UVs are then compared as the
+.pc2's, in its own space). INPUT may be an .obj (+ .mtl): its UVs are then compared as the
 set of (position, UV) corners, and each .glb vertex is found in the .pc2 by its rest position.
   1. Both files through Blender's glTF importer: the same objects; the deformed object's UV layers
      (every loop's UV), vertex colours and materials equal the input's, and each material's image

@@ -3,7 +3,7 @@ the FBX case of the .glb bake's passthrough test (tests/tools/gltf_passthrough_t
     blender -b --factory-startup --python-exit-code 1 --python obj_to_fbx.py -- IN.obj OUT.fbx
         [SCALE_LENGTH APPLY_SCALE_OPTIONS]
 SCALE_LENGTH (the scene's unit scale, default 1: metres) and APPLY_SCALE_OPTIONS (the exporter's,
-default FBX_SCALE_UNITS) make files of other units for the unit test (issue 18): 1 and
+default FBX_SCALE_UNITS) make files of other units for the unit test: 1 and
 FBX_SCALE_NONE write the coordinates × 100 with UnitScaleFactor 1 (centimetres).
 """
 import sys

@@ -1,4 +1,4 @@
-// Material mode against beam theory (issue 12): generated straight tubes, K = 32 sections, a
+// Material mode against beam theory: generated straight tubes, K = 32 sections, a
 // chain of hinges with masses and stiffnesses from the material and each section's polygon.
 // (BENCHMARKS.md's table gives the same measures at K = 8, 16, 32 and 64.)
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Generated straight tubes in material mode and what beam theory says about them (issue 12): the
+// Generated straight tubes in material mode and what beam theory says about them: the
 // cases of tests/core/beam_test.cpp (at K = 32) and of BENCHMARKS.md's beam table (K = 8 … 64).
 // A tube is 3.1 m long (31 mesh units at 0.1 m per unit) whatever its section count, 5 cm in radius,
 // of a stiff rubber (E = 10 MPa, ν = 0.45, ρ = 1100 kg/m³).

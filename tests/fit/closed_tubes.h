@@ -1,5 +1,5 @@
 #pragma once
-// Tubes without an end (issue 18): a torus, the simplest closed tube, whose stretches from a root to
+// Tubes without an end: a torus, the simplest closed tube, whose stretches from a root to
 // a tip given mid-tube go on past the tip and back round to the root.
 #include <cmath>
 #include <numbers>

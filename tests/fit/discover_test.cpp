@@ -115,8 +115,8 @@ TEST(Discover, AnOpenSheetCutFromATubeHasNoParts) {
 }
 
 // A body with a tube of 12r, and a hole about a radius across in the tube's side halfway along:
-// the rings of surface distance from the tip run into it (issue 11: CGAL's elephant-with-holes,
-// 141 holes, listed no part and fitted its legs 0.03–0.04 long).
+// the rings of surface distance from the tip run into it (CGAL's elephant-with-holes,
+// 141 holes, once listed no part and fitted its legs 0.03–0.04 long).
 struct HoledTube {
   static constexpr double kBody = 10 * kR, kTube = 12 * kR, kHoleAt = kBody + 0.5 * kTube;
   Mesh whole, holed;

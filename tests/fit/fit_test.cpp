@@ -66,7 +66,7 @@ TEST(TubeFit, StraightCircularTubeFitsToFacetPrecision) {
   EXPECT_LT(fit_sweep(mesh, o).error.rms, 0.01 * tube.radius);
 }
 
-// A fit whose trace stops short says why the axis ends there (issue 18): the limits are set so
+// A fit whose trace stops short says why the axis ends there: the limits are set so
 // that this tube's axis counts as short; the message is what is tested.
 TEST(TubeFit, AStoppedShortProblemSaysWhyTheAxisEnds) {
   test::Tube tube;

@@ -91,7 +91,7 @@ TEST_F(Tool, FitsATubeAndWritesRigAndReport) {
   EXPECT_LT(s.at("fit_rms").get<double>(), 0.001);
 }
 
-// Issue 18: the mesh's size, bounding box and the space the points are read in are said (-v)
+// The mesh's size, bounding box and the space the points are read in are said (-v)
 // and reported, equal to the mesh's own.
 TEST_F(Tool, SaysTheMeshsBoundingBoxAndTheSpaceOfItsPoints) {
   const std::string report = path("report.json");

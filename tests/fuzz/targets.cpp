@@ -123,8 +123,8 @@ namespace {
 
 // ---- An independent reading of the vertex lines, for the mesh targets ----
 // Whatever a reader accepts must hold exactly the vertices the file's lines hold, in their order:
-// counted here line by line with strtod, a way unrelated to the readers' own (issue 17: a BOM
-// made the OBJ reader skip the first `v`, a lying PLY header had face lines read as vertices).
+// counted here line by line with strtod, a way unrelated to the readers' own (a BOM
+// once made the OBJ reader skip the first `v`, a lying PLY header had face lines read as vertices).
 
 std::string_view without_bom(std::string_view text) {
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);

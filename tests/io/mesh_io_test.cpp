@@ -174,7 +174,7 @@ TEST_F(MeshIo, ObjReadsCoordinatesExactlyWhereTinyobjWouldRound) {
                        {3, 3, 3}});
 }
 
-// Issue 17: a UTF-8 byte order mark before the first line is not content. Each text format reads
+// A UTF-8 byte order mark before the first line is not content. Each text format reads
 // the same mesh with and without one (the OBJ reader used to skip the first `v`, shifting every
 // face by one vertex).
 TEST_F(MeshIo, ByteOrderMarkIsSkippedByEveryTextReader) {

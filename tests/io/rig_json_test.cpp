@@ -201,7 +201,7 @@ TEST(RigJson, MeshPathIsRelativeToTheRigFile) {
 namespace sweep::io {
 namespace {
 
-// Issue 18: a part cut on the tip side too is version 2's one addition; a rig without one is
+// A part cut on the tip side too is version 2's one addition; a rig without one is
 // written as version 1, byte for byte as before.
 TEST(RigJson, TipCutIsVersionTwoAndOnlyWrittenWhenSet) {
   Rig rig = small_rig();
@@ -231,7 +231,7 @@ TEST(RigJson, TipCutIsVersionTwoAndOnlyWrittenWhenSet) {
              ErrorCategory::unsupported);
 }
 
-// Issue 18 (several meshes in one file): the mesh of the file a rig belongs to is version 3's
+// Several meshes in one file: the mesh of the file a rig belongs to is version 3's
 // addition, written only when the rig names one; a rig without it reads the whole file.
 TEST(RigJson, MeshNameIsVersionThreeAndOnlyWrittenWhenSet) {
   Rig rig = small_rig();

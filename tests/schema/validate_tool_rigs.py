@@ -67,7 +67,7 @@ if which in ("tube", "both"):
         "--material", rigs / "diplodocus-tail.material.json", "-k", 12, "-n", 16)
     check(rig, ["tube", "tube-material"], material_sweeps=["tube-material"])
 
-# A stretch of a torus, root and tip mid-tube: cut at the tip too, a version 2 rig (issue 18).
+# A stretch of a torus, root and tip mid-tube: cut at the tip too, a version 2 rig.
 if which in ("tube", "both"):
     import math
     torus = scratch / "torus.off"

@@ -1,4 +1,4 @@
-// The skinned .glb (issue 14 part 2, --joints): read back with tinygltf and skinned here, by hand,
+// The skinned .glb: read back with tinygltf and skinned here, by hand,
 // from the file's joints, weights, inverse bind matrices and animation, at sampled frames, against
 // the .pc2 of the same bake (the exact positions the simulator baked); the weights' invariants; a
 // tube at rest moves no joint; and the Khronos validator.

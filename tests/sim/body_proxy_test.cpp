@@ -1,4 +1,4 @@
-// The body as a collider (issue 16): spheres fitted in a body outside its parts (a small body with
+// The body as a collider: spheres fitted in a body outside its parts (a small body with
 // a tail, and CGAL's diplodocus outside its tail and neck). They must lie inside the body, fill
 // it, leave the parts' rest pose untouched, and stop the tail the body would otherwise let through.
 #include "tools/common/body_proxy.h"

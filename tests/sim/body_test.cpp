@@ -1,4 +1,4 @@
-// Driven by the body (issue 13): a keyframed root, the inertia the parts feel, teleports, and the
+// Driven by the body: a keyframed root, the inertia the parts feel, teleports, and the
 // files carrying the body's motion — against closed forms where there are any.
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>

@@ -1,4 +1,4 @@
-// The simulator's own clock (issue 12 step 1): the internal step does not depend on the frame rate,
+// The simulator's own clock: the internal step does not depend on the frame rate,
 // output frames are reached by an exact partial step, and forces switch exactly at their times.
 #include <gtest/gtest.h>
 

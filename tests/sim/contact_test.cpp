@@ -1,4 +1,4 @@
-// Colliders (issue 16): shapes against their closed forms, and parts that hit them — a fast swing
+// Colliders: shapes against their closed forms, and parts that hit them — a fast swing
 // into a thin plate, a thin capsule between two key sections, a part coming to rest on the ground
 // — measured on the deformed surface itself, densely sampled, not on the solver's own stations.
 #include <gtest/gtest.h>
@@ -284,7 +284,7 @@ TEST(Contact, ATubeLyingAlongASlopeOrASoftOneStaysOnTheFloor) {
   EXPECT_LE(highest_lying(1e7, 20 * kPi / 180), 1e-3 * length) << "on the slope";
 }
 
-// With friction too (review at stop 29): the rubber tube on the 20° slope was thrown +10.5 units
+// With friction too (found in review): the rubber tube on the 20° slope was thrown +10.5 units
 // at μ = 2 and +0.040 at 0.5. The friction hold (sim/contact_stick.cpp) held each station whose
 // springs' force stayed in the cone, however fast the whipping tube carried it off its anchor
 // (1.5 to 22 units a step), moving it back through the compliance each step and stopping its
@@ -302,7 +302,7 @@ TEST(Contact, ASoftTubeLyingOnAFrictionalSlopeStaysOnIt) {
 // Coulomb's cone on a slope: a tube lying along a 20° slope from its root (tan θ = 0.364) stays
 // where it lies at μ = 0.5 and 2, stiff (E = 2e8) or rubber (1e7), and slides down it at
 // μ = 0.5 tan θ. (Frictionless, over 2 s, the stiff tube swings up to 5.1 units down it, the rubber
-// one 27.) Until stop 31 both slid at any μ: the stiff tube 2.4 units at μ = 2, the rubber one
+// one 27.) Before friction per patch both slid at any μ: the stiff tube 2.4 units at μ = 2, the rubber one
 // 5.8 at μ = 0.5 and 1.1 at 2 — the hold read each station's cone alone, and the normal force
 // along a part lying on the ground is unevenly shared (every other station pressed, some at a
 // twentieth of their weight: the contact is statically indeterminate), and the momentum its move

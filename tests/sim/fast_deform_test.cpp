@@ -83,7 +83,7 @@ TEST(FastDeform, RestIsReproducedToFloatPrecisionAtTheStations) {
 }
 
 TEST(FastDeform, ErrorAgainstTheExactPathFallsQuadraticallyWithStations) {
-  // Between two stations the fast path interpolates linearly in t (DESIGN.md §4): its error
+  // Between two stations the fast path interpolates linearly in t: its error
   // against the exact path is that interpolation's error, which falls as the square of the
   // station spacing, a quarter with each doubling of the stations. So too at rest, where the
   // exact path gives back the rest positions to float precision (checked first): a bound vertex

@@ -1,4 +1,4 @@
-// Follower loads to second order (issue 12 step 2): a force that follows the moving surface is
+// Follower loads to second order: a force that follows the moving surface is
 // re-split at the predicted mid-step pose, so halving the step quarters the error.
 #include <gtest/gtest.h>
 

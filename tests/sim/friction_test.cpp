@@ -1,4 +1,4 @@
-// Colliders' friction (issue 16) against Coulomb's law: a straight stiff tube sags onto the ground
+// Colliders' friction against Coulomb's law: a straight stiff tube sags onto the ground
 // under its weight, its tip alone resting there, while the body carries its root sideways at a
 // constant speed; once the tip slides steadily it is dragged back by μN, N the tip's support, and
 // lags by μN L³/3EI (closed forms below; tests/core/beam_test.cpp checks the chain against
@@ -212,7 +212,7 @@ TEST(ContactFriction, TheOutputFrameRateDoesNotChangeTheMotion) {
 namespace sweep::sim {
 namespace {
 
-// The review's cases of the position hold (issue 16): a teleport, a slope, energy, sleep.
+// The review's cases of the position hold: a teleport, a slope, energy, sleep.
 
 std::vector<double> centres(const ElasticSweep& sweep) {
   std::vector<double> out;
@@ -432,7 +432,7 @@ TEST(ContactFriction, APartHeldOnAWorldFloorSleepsWhileTheBodyStandsStill) {
 // so that the tube sags onto it, the tip alone touching. A part clamped at its root cannot run
 // down a slope as a rigid block does (acceleration g (sin θ − μ cos θ)): its slope test is
 // Coulomb's cone at the tip, in closed form. (A tube lying along the slope from its root was
-// tried first: until stop 29 the frictionless floor itself lifted such a tube; the
+// tried first: before the push out was fixed, the frictionless floor itself lifted such a tube; the
 // Contact.ATubeLyingAlong… tests now keep it down.)
 // The tube propped at its tip by a force P (vertical) and pushed sideways by F sags by
 // S − P/k and swings out by F/k (k = 3EI/L³, S the free sag wL⁴/8EI). Held where it landed, the

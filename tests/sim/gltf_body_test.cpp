@@ -1,4 +1,4 @@
-// The body driven by a glTF file's own animation of a node (issue 13): the path read from the file
+// The body driven by a glTF file's own animation of a node: the path read from the file
 // against the closed form B(t) = P · L(t) · L0⁻¹ · P⁻¹, refusals that name what is wrong, and
 // sweep-sim baking a scene whose body is {"node": ...}: the parts' root side follows the node.
 #include <gtest/gtest.h>

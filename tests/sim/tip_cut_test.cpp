@@ -1,4 +1,4 @@
-// Issue 18: a stretch of a tube that goes on past its tip (a torus, CGAL's knot) is cut at the
+// A stretch of a tube that goes on past its tip (a torus, CGAL's knot) is cut at the
 // last section too, so nothing beyond it is bound or moves, and the bake's largest edge stretch
 // (its quality figure) stays small; a tube with an end gets no such cut. The figure itself
 // against closed-form values.

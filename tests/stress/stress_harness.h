@@ -1,5 +1,5 @@
 #pragma once
-// The stress harness of issue 6, shared by the test suite (tests/stress, short runs) and the
+// The stress harness, shared by the test suite (tests/stress, short runs) and the
 // benchmark (tools/bench/sweep-bench-stress, long runs): random forces (seeded) on one sweep with
 // extreme but valid springs, force scales and time steps, checking invariants after every step:
 //  - every spring coordinate finite, every deformed frame, centre and radius finite;
@@ -38,7 +38,7 @@ struct StressParams {
   double dt = 1.0 / 60;  // s
   double force = 10;     // N: largest force magnitude drawn
   Integrator integrator = Integrator::exact;
-  // Material mode (issue 12): when set, the sweep's springs and masses follow from it (the spring
+  // Material mode: when set, the sweep's springs and masses follow from it (the spring
   // members above but dt, force and the force scales are then unused; damping_ratio is the
   // material's).
   std::optional<Material> material;

@@ -1,4 +1,4 @@
-// Numerical stability under stress (issue 6), the fast versions: random seeded forces with springs,
+// Numerical stability under stress, the fast versions: random seeded forces with springs,
 // force scales and time steps spanning many orders of magnitude; degenerate geometry. The long runs
 // are tools/bench/sweep-bench-stress. Floating-point exceptions trap (tests/test_main.cpp), so an
 // overflow or a NaN fails where it is born.
@@ -85,7 +85,7 @@ TEST(Stress, DampedSweepReturnsToRestWithoutEnergyEverGrowing) {
   }
 }
 
-// Material mode (issue 12): stiff and soft (E from 1 kPa to 100 GPa), light and heavy (ρ from
+// Material mode: stiff and soft (E from 1 kPa to 100 GPa), light and heavy (ρ from
 // 10 to 20,000 kg/m³), tiny and huge meshes (1 mm to 10 m per unit), lightly to heavily damped, at
 // steps from 10 µs to 1 s: random forces, then free; nothing non-finite, frames orthonormal, radii
 // positive, and the energy never grows once the forces stop.

@@ -58,7 +58,7 @@ const char* const kInfOff = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 -inf 0\n3 0 1 2\n";
 const char* const kPastObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 9\n";
 const char* const kPastOff = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
 const char* const kNoFacesObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-// Issue 17: what the readers used to drop or shift silently.
+// What the readers used to drop or shift silently.
 const char* const kObjIndexPast32Bits = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4294967298\n";
 const char* const kObjFaceOfTwo = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n";
 // Announces 4 vertices and 1 face; holds 3 and 1, so the face line would be vertex 3.

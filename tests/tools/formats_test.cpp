@@ -1,4 +1,4 @@
-// Issue 18: one asset, every format sweep-fit reads. The textured tail of textured_asset.h (UVs split
+// One asset, every format sweep-fit reads. The textured tail of textured_asset.h (UVs split
 // at a seam as exporters split them, normals, a textured material, a rotated and non-uniformly
 // scaled node) written as glTF (.gltf), GLB, OBJ + MTL, STL and FBX is fitted by sweep-fit with the
 // same seeds: the rig (key sections' parameters, centres, frames, radii) and the part (which

@@ -1,4 +1,4 @@
-// Issue 14 part 1: a glTF asset baked to .glb comes back whole — the input document plus the bake.
+// A glTF asset baked to .glb comes back whole — the input document plus the bake.
 // The textured creature of textured_asset.h is fitted, bound and baked by the tools; the .glb must
 // hold the input's nodes, materials, textures, samplers, images (bytes), UVs and colours unchanged,
 // targets only on the Tail mesh, whose rest + delta at weight 1 is the .pc2's frame (the mesh's own
@@ -296,7 +296,7 @@ TEST(GltfPassthrough, TheBakedGlbIsTheInputPlusTheBake) {
   EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
 }
 
-// ---- Several meshes in one file (issue 18) ----
+// ---- Several meshes in one file ----
 
 std::string csv(const Vec3& p) {
   return std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
@@ -1179,7 +1179,7 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   EXPECT_NE(report.find("\"numWarnings\": 0"), std::string::npos) << report;
 }
 
-// FBX's unit (issue 18): assimp applies no unit scale (no post-processing), so the points are in the
+// FBX's unit: assimp applies no unit scale (no post-processing), so the points are in the
 // file's unit, which sweep-fit -v and the report say from the file's UnitScaleFactor. Blender writes
 // the tube in metres (UnitScaleFactor 100, coordinates as in the OBJ) and in centimetres
 // (UnitScaleFactor 1, coordinates × 100); each fits with seeds in its own unit. Skipped without

@@ -1,4 +1,4 @@
-// Issue 15: a bake stopped halfway leaves nothing behind. sweep-sim bakes to .glb and .pc2 with a
+// A bake stopped halfway leaves nothing behind. sweep-sim bakes to .glb and .pc2 with a
 // report; SIGINT, SIGTERM and SIGHUP at random moments (seeded, a bounded number) must end it with
 // 130, 143 or 129, "error: interrupted by ...", and the folder exactly as it was: no output under
 // its final name, no temporary. After SIGKILL nothing can run, so the temporary stays; the next run

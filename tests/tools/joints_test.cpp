@@ -1,4 +1,4 @@
-// sweep-sim --joints N (issue 14 part 2): a skinned .glb instead of morph targets, its error against
+// sweep-sim --joints N: a skinned .glb instead of morph targets, its error against
 // the bake in the summary and the report; a bad N is a usage error (exit 1) that writes nothing.
 #include <gtest/gtest.h>
 

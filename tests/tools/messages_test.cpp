@@ -1,4 +1,4 @@
-// Issue 18, messages a newcomer trips on: seeds measured against the surface, fits the same at any
+// Messages a newcomer trips on: seeds measured against the surface, fits the same at any
 // scale, why the axis ends (report, -v, the stopped-short message), a report on every failure once
 // the mesh is read, numbers by the format helper, one line for an .obj sequence, and tapered
 // tubes whose sections are star-shaped however the section planes meet the mesh's vertices.

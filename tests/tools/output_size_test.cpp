@@ -1,4 +1,4 @@
-// Issue 15, size before surprise: a bake's files are estimated before it starts; --max-output-size
+// Size before surprise: a bake's files are estimated before it starts; --max-output-size
 // refuses early (exit 4, nothing written) and a .glb with more morph targets than engines are sure
 // to take is warned about, with what to use instead.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Issue 17, the promises that need more than one run or more than the matrix's one-run shape:
+// The promises that need more than one run or more than the matrix's one-run shape:
 // no tool writes onto what it reads, an earlier bake survives a later one that fails, two bakes
 // of one .obj sequence never mix, a closed stdout is no error, out of memory is exit 6.
 #include <gtest/gtest.h>

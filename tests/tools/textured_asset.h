@@ -1,5 +1,5 @@
 #pragma once
-// A small textured glTF asset written by the tests themselves (issue 14): a creature whose tail is
+// A small textured glTF asset written by the tests themselves: a creature whose tail is
 // a tube sweep-fit can fit, with UVs, vertex colours, normals and tangents, a textured material on
 // the tube's side and a plain one on its caps, a node tree Creature → Tail (Tail: translation,
 // rotation and a non-uniform scale), a head node with no mesh, a second mesh Ground with its own

@@ -1,4 +1,4 @@
-// Material mode against beam theory (issue 12) at K = 8, 16, 32 and 64 sections: the cases of
+// Material mode against beam theory at K = 8, 16, 32 and 64 sections: the cases of
 // tests/core/beam_test.cpp (which asserts them at K = 32) on the same generated tubes
 // (tests/core/beam_tubes.h: 3.1 m long, 5 cm radius, E = 10 MPa, ρ = 1100 kg/m³, 32 radii).
 //

@@ -171,7 +171,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  // ---- material mode against the paper's springs (issue 12), same clock, same run ------------
+  // ---- material mode against the paper's springs, same clock, same run ------------
   // Tail and neck driven all the time at the default step (1/480 s); material mode with gravity
   // (the coupled chain stepped by its modes, pre-loaded weight, real moments) against the paper's
   // independent springs. Rounds alternate the two; median over rounds.
@@ -188,7 +188,7 @@ int main(int argc, char** argv) {
       f.spec.moment = MomentModel::physical;
       f.spec.vector *= 5e4;  // N: a push that bends a 10 m tail visibly
     }
-    // Issue 13: the same material frame on a body that walks and turns (cubic path, never still
+    // The same material frame on a body that walks and turns (cubic path, never still
     // over the run), in a gusty wind — against the material frame above.
     sim::Scene walking = heavy;
     {
@@ -227,7 +227,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  // ---- colliders (issue 16): 0, 4 and 16 near the walking diplodocus, a tail on the ground, the body --
+  // ---- colliders: 0, 4 and 16 near the walking diplodocus, a tail on the ground, the body --
   // The walking material frame above with the demo's ground and three leg capsules (none touched:
   // the broad phase's cost), then the fourth leg and 11 spheres around the body (16), then a floor raised into the
   // tail's way so that it lies on it (the contact solver's cost), and the body as 24 spheres (the

@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
       }
     }
   }
-  // Material mode (issue 12): long runs, and the corners of stiffness × density × mesh scale ×
+  // Material mode: long runs, and the corners of stiffness × density × mesh scale ×
   // damping × dt.
   auto material = [](double e, double rho, double scale, double z) {
     Material m;

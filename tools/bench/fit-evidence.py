@@ -13,7 +13,7 @@ None of these meshes was used by the project before (the diplodocus and the tric
 How the clicks were chosen: for each part, the tip that `sweep-fit MESH --list` reports (or, for
 a part --list does not name, the vertex at the end of the part read off the preview), moved half
 a mean radius along (1,1,1) and rounded to the radius' leading digit, as a person reads a point
-off a viewer. No click was adjusted after seeing a fit. Shapes name the classes of issue 11.
+off a viewer. No click was adjusted after seeing a fit. Shapes name classes of part (a tail, a leg, a neck, a horn...).
 """
 import argparse
 import json

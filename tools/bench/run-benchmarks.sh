@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The benchmark suite (issue 6) in one command: builds the Release preset, runs every benchmark,
+# The benchmark suite in one command: builds the Release preset, runs every benchmark,
 # and writes BENCHMARKS.md at the top of the repository plus CSV files and PNG plots under
 # tools/bench/results/.
 #
@@ -187,7 +187,7 @@ timed binding runs; Release build, this 2-core VM); this script does not measure
 - **Whole vectors of radii** (\`kPad\` in \`fast_deform_detail.h\`): a short angle-cell segment costs no
   scalar remainder, −18 % instructions a vertex on the ring-ordered tube (callgrind).
 - **One thread for small parts** (\`kParallelVertexThreshold\` = 40,000). Waking a thread team costs
-  tens of µs on these machines (DESIGN.md §6), more than the loop saves below ~40k vertices at its
+  tens of µs on these machines, more than the loop saves below ~40k vertices at its
   4–6 ns a vertex on one thread.
 - **A lone moving sweep is split** (\`kSplitLoneSweepVertices\` = 4,096). The threads are already
   awake from the simulator's and the last frame's work, so a split costs a few µs rather than tens
@@ -211,9 +211,9 @@ rows pace them like a 60 fps runtime, where between frames the caches cool and t
 fall asleep (waking them is part of the cost). The two "step 1/480 s" rows compare material mode (issue
 12: the coupled chain stepped by its modes, with gravity, real moments; E = 50 MPa, ρ = 1000 kg/m³,
 25 m per unit, the demo's material) with the paper's independent springs, same forces, same clock,
-measured in alternating rounds. The last row (issue 13) runs the same material frame on a body that walks
+measured in alternating rounds. The last row runs the same material frame on a body that walks
 and turns all the way (a cubic path) in a gusty wind: inertia and drag against the still body's frame.
-The "collider" rows (issue 16) run that walking material frame (without the wind) with the
+The "collider" rows run that walking material frame (without the wind) with the
 demo's ground plane and leg capsules (rigs/diplodocus-walk.scene.json): first the ground and three
 legs, then 16 colliders (the fourth leg and 11 spheres about the body), none of which the parts touch — what the
 broad phase costs: a part's bounding sphere against each collider, then each span near one, then
@@ -296,7 +296,7 @@ vertices. Time: median fit time with the slicer already built, without the error
 
 $(cat "$results/fit.md")
 
-## Fitting real parts from clicks (issue 11)
+## Fitting real parts from clicks
 
 \`tools/bench/fit-evidence.py\` (Release build; Debian 12, 2-core AMD EPYC, while a fuzzing run used
 the other core). Each part is fitted once at the defaults (K = 24, n = 24) from a tip clicked near
@@ -369,7 +369,7 @@ views for each target.
 
 $(cat "$results/glb_frames.md")
 
-## Skinned .glb: joints against error and size (issue 14, \`--joints N --ring-joints M\`)
+## Skinned .glb: joints against error and size (\`--joints N --ring-joints M\`)
 
 \`tools/bench/skin-joints.sh build/release/tools\` (release build, \`cmake --preset release\`): CGAL's
 diplodocus, tail and neck fitted and bound as the demo does (K = 24, n = 24, blend 0.02), the

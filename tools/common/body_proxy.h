@@ -1,5 +1,5 @@
 #pragma once
-// The body as a collider (issue 16): spheres filling the mesh where it is the body — nearer a face
+// The body as a collider: spheres filling the mesh where it is the body — nearer a face
 // of unbound vertices than one that a sweep binds (so not a part, nor a part's cap such as the
 // diplodocus's head) — and clear of every part's rest surface by the margin (sim::rest_room, the
 // measure of sim::rest_pose_overlaps, so the rest pose touches none). Fitted once at load

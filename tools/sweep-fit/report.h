@@ -13,9 +13,9 @@
 namespace sweep::fit_tool {
 
 // What the mesh's numbers are, for a person (-v) and the report ("mesh_summary"): its size, its
-// bounding box and the space --tip, --root and --axis are read in (issue 18: a glTF read after its
+// bounding box and the space --tip, --root and --axis are read in (a glTF read after its
 // node transforms, an FBX after its unit scale, said out loud).
-// Which mesh of the file was taken (issue 18: several meshes in one file) and why.
+// Which mesh of the file was taken and why.
 struct MeshSummary {
   std::size_t vertices = 0;
   std::size_t faces = 0;
