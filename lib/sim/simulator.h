@@ -17,6 +17,7 @@
 // Sweeps never interact, so a frame steps them side by side on the threads (OpenMP) when more
 // than one has work; results do not depend on the thread count.
 #include <exception>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -64,6 +65,10 @@ class Simulator {
   BodyState body() const { return scene_.body.at(time()); }
   // Frames (their numbers) at which the body jumped and the parts were put to rest.
   const std::vector<int>& teleports() const { return teleports_; }
+  // One message per world collider a teleport carried a part through unmet (a teleport meets the
+  // world's colliders only where they stand after it), naming the collider, the part and the
+  // frame: a body keyed to move that fast is taken as a cut, not as motion.
+  const std::vector<std::string>& skipped_colliders() const { return skipped_; }
 
  private:
   struct SweepState {
@@ -104,6 +109,9 @@ class Simulator {
   void set_body_motion(ElasticSweep& sweep, double mid, bool teleporting) const;
   // Whether the body jumps between the two times (cut, respawn): see Scene::teleport_distance.
   bool jumps(double from, double to) const;
+  // Adds to skipped_ the world colliders the parts, at rest and carried by the body over the
+  // teleport's [from, to), come into (frame: the frame the teleport was found in).
+  void note_skipped_colliders(double from, double to, int frame);
 
   const Scene& scene_;
   SleepSettings sleep_;
@@ -135,6 +143,7 @@ class Simulator {
   std::vector<std::size_t> kink_keys_;  // and their keys
   double teleport_distance_ = 0, teleport_angle_ = 0;
   std::vector<int> teleports_;
+  std::vector<std::string> skipped_;
 };
 
 }  // namespace sweep::sim
