@@ -154,7 +154,12 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   double edge_stretch = 1;
   for (int k = 0; k < info.frame_count; ++k) {
     auto t0 = Clock::now();
-    if (k > 0) sim.advance_frame();
+    if (k > 0) {
+      const std::size_t told = sim.skipped_colliders().size();
+      sim.advance_frame();
+      // A teleport that carried a part through a world collider unmet: said as it happens.
+      for (std::size_t m = told; m < sim.skipped_colliders().size() && options.warn; ++m) options.warn(sim.skipped_colliders()[m]);
+    }
     report.simulate_seconds += seconds_since(t0);
 
     t0 = Clock::now();

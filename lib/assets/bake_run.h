@@ -50,7 +50,8 @@ struct BakeOptions {
   int ring_joints = 1;
   io::RingMotion ring_motion = io::RingMotion::scale;
   bool ring_fit = false;
-  // Told what a person should know before a long bake (a .glb too large for engines to load).
+  // Told what a person should know before a long bake (a .glb too large for engines to load), and
+  // during it (a teleport that carried a part through a world collider, Simulator::skipped_colliders).
   std::function<void(const std::string&)> warn;
 };
 

@@ -240,6 +240,16 @@ void Simulator::advance_frame() {
     if (st.failure && (failed == nullptr || st.failure_step < failed->failure_step)) failed = &st;
   }
   if (failed != nullptr) std::rethrow_exception(failed->failure);
+  for (SweepState& st : sweeps_) {
+    if (!(st.too_fast > 0)) continue;
+    std::ostringstream msg;
+    msg << "frame " << frame_ + 1 << ": the body moves so fast against the world's colliders that sweep \""
+        << st.body.definition().name << "\" would need " << format_number(st.too_fast, 3)
+        << " pieces of a step near them, more than " << format_number(kMostPieces, 3)
+        << ": it may pass through one unmet; slow the body or give the scene a shorter step";
+    skipped_.push_back(msg.str());
+    st.too_fast = 0;
+  }
   ++frame_;
 }
 
@@ -416,6 +426,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
           // section against it in a piece (ContactSolver::pieces_for_move).
           const double by_move = s.contact.pieces_for_move(body, s.placed, s.placed_end);
           if (by_move > 1) pieces = std::max(pieces, static_cast<int>(std::min(std::ceil(by_move), kMostPieces)));
+          if (by_move > kMostPieces) s.too_fast = std::max(s.too_fast, by_move);
         }
       }
       const double piece = length / pieces;

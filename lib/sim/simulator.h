@@ -67,7 +67,9 @@ class Simulator {
   const std::vector<int>& teleports() const { return teleports_; }
   // One message per world collider a teleport carried a part through unmet (a teleport meets the
   // world's colliders only where they stand after it), naming the collider, the part and the
-  // frame: a body keyed to move that fast is taken as a cut, not as motion.
+  // frame: a body keyed to move that fast is taken as a cut, not as motion. And one per part and
+  // frame in which the body moved so fast that a step near a collider was cut into fewer pieces
+  // than it needed.
   const std::vector<std::string>& skipped_colliders() const { return skipped_; }
 
  private:
@@ -91,6 +93,7 @@ class Simulator {
     std::vector<PlacedCollider> placed{};  // scratch: the colliders in mesh coordinates at one time
     std::vector<PlacedCollider> placed_end{};  // scratch: the same at a step's end
     bool touched = false;               // touched a collider during the current internal step
+    double too_fast = 0;                // this frame: the most pieces a step needed past the cap
     std::vector<Vec3> held_at{};        // its section centres when it last moved, while it touches
   };
   // The scene's colliders in mesh coordinates at time t (world ones moved by the body's inverse).
