@@ -212,8 +212,15 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   }
   for (int k = 0; k < info.frame_count; ++k) {
     auto t0 = Clock::now();
-    if (k > 0)
-      for (auto& sim : sims) sim->advance_frame();
+    if (k > 0) {
+      for (auto& sim : sims) {
+        const std::size_t told = sim->skipped_colliders().size();
+        sim->advance_frame();
+        // A teleport that carried a part through a world collider unmet: said as it happens.
+        for (std::size_t m = told; m < sim->skipped_colliders().size() && options.warn; ++m)
+          options.warn(sim->skipped_colliders()[m]);
+      }
+    }
     report.simulate_seconds += seconds_since(t0);
 
     t0 = Clock::now();

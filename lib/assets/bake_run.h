@@ -55,7 +55,8 @@ struct BakeOptions {
   // root joint's motion (a simulator of its own, the scene's forces on it kept), the preroll's
   // frames first, and the writers get world positions. .pc2 and .obj only: a .glb is refused.
   const io::SkinnedClip* skinned = nullptr;
-  // Told what a person should know before a long bake (a .glb too large for engines to load).
+  // Told what a person should know before a long bake (a .glb too large for engines to load), and
+  // during it (a teleport that carried a part through a world collider, Simulator::skipped_colliders).
   std::function<void(const std::string&)> warn;
 };
 

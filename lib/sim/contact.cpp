@@ -151,6 +151,12 @@ ContactSolver::ContactSolver(const SweepShape& rest, int stations_per_span)
   end_.resize(stations_.size());
   evaluated_.resize(stations_.size());
   for (int i = 0; i + 1 < rest.section_count(); ++i) longest_span_ = std::max(longest_span_, rest.t[i + 1] - rest.t[i]);
+  smallest_reach_ = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < rest.section_count(); ++i) {
+    double r = 0;
+    for (const double x : rest.section_radii(i)) r = std::max(r, x);
+    smallest_reach_ = std::min(smallest_reach_, r);
+  }
 }
 
 // A sphere that holds the whole surface: about the mean of the key sections' centres, out to the
@@ -171,6 +177,23 @@ bool ContactSolver::near(const Bound& b, const PlacedCollider& placed) {
   return placed.collider->local_distance(placed.to_mesh.to_local(b.centre), &out) <= b.radius + placed.collider->margin;
 }
 
+bool ContactSolver::passes_near(const Bound& before, const Frame& start, const Bound& after,
+                                const PlacedCollider& placed) {
+  const Collider& c = *placed.collider;
+  const Vec3 a = start.to_local(before.centre), b = placed.to_mesh.to_local(after.centre);
+  // Every point of the part, moving straight from its place in the first sphere to its place in
+  // the second (as the chords below take it), stays within the larger radius of the segment
+  // between the centres.
+  const double reach = std::max(before.radius, after.radius) + c.margin;
+  Vec3 out;
+  const double da = c.local_distance(a, &out), db = c.local_distance(b, &out);
+  if (da <= reach || db <= reach) return true;
+  // The signed distance is 1-Lipschitz: nowhere on the segment below (da + db − |ab|) / 2. A
+  // step's move shorter than the gaps (every step but a very fast one) is settled here.
+  if (0.5 * (da + db - (b - a).norm()) > reach) return false;
+  return c.local_distance(nearest_on_segment(c, a, b), &out) <= reach;
+}
+
 bool ContactSolver::may_reach(const SweepShape& shape, std::span<const PlacedCollider> from,
                               std::span<const PlacedCollider> to) const {
   // One that has not moved against the part cannot come nearer than it was (a part asleep on the
@@ -187,6 +210,25 @@ bool ContactSolver::within_reach(const ElasticSweep& sweep, std::span<const Plac
   const Bound reach{sweep.deformed().frames.front().center,
                     2 * sweep.rest().length() + 1.5 * largest_radius(sweep.deformed())};
   return meets(reach, from, to, false);
+}
+
+double ContactSolver::pieces_for_move(const ElasticSweep& sweep, std::span<const PlacedCollider> from,
+                                      std::span<const PlacedCollider> to) const {
+  const Bound reach{sweep.deformed().frames.front().center,
+                    2 * sweep.rest().length() + 1.5 * largest_radius(sweep.deformed())};
+  double most = 0;
+  for (std::size_t c = 0; c < from.size() && c < to.size(); ++c) {
+    const double turn = from[c].to_mesh.rotation.angularDistance(to[c].to_mesh.rotation);
+    const double size = std::isfinite(from[c].collider->bounding_radius())
+                            ? from[c].collider->bounding_radius()
+                            : (reach.centre - from[c].to_mesh.center).norm() + reach.radius;
+    most = std::max(most, (to[c].to_mesh.center - from[c].to_mesh.center).norm() + turn * size);
+  }
+  // No farther than the part's thinnest rest section's reach a piece (at least a thousandth of its
+  // length): the separating planes, taken at a piece's start, then hold only what the collider
+  // really comes to (over a longer move they would hold points the collider passes beside).
+  const double piece = std::max(smallest_reach_, 1e-3 * sweep.rest().length());
+  return most / piece;
 }
 
 bool ContactSolver::meets(const Bound& b, std::span<const PlacedCollider> from, std::span<const PlacedCollider> to,
@@ -325,7 +367,7 @@ void ContactSolver::move_out(ElasticSweep& sweep, std::span<const PlacedCollider
       const Eigen::Index i = static_cast<Eigen::Index>(p);
       if (by_move_(i, i) > 0) worst = std::min(worst, residual_[p]);
     }
-    if (worst >= -kGapTolerance * length) break;
+      if (worst >= -kGapTolerance * length) break;
     // The move is the step's own answer to a force held over it (ElasticSweep::move_rows): through
     // the springs' inertia over the step as much as their compliance, and the speeds by the same
     // move over dt (as in position-based dynamics: else a part lying on the ground keeps its fall
@@ -340,12 +382,13 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   ++step_;  // a stick anchor lasts while its contact touches at every step (contact_stick.cpp)
   const SweepShape& shape = sweep.deformed();
   const double length = shape.length();
-  // Broad phase: a collider clear of the part's bounding sphere at both ends of the step (in its
-  // own frame) cannot have been reached; with none left, nothing more is computed.
+  // Broad phase: a collider clear of the part's bounding sphere at both ends of the step and on
+  // its way between them (in the collider's own frame) cannot have been reached; with none left,
+  // nothing more is computed.
   const Bound before = bound(start_shape_), after = bound(shape);
   bool any_near = false;
   for (std::size_t c = 0; c < colliders.size() && !any_near; ++c) {
-    any_near = near(before, {colliders[c].collider, start_pose_[c]}) || near(after, colliders[c]);
+    any_near = passes_near(before, start_pose_[c], after, colliders[c]);
   }
   if (!any_near) return false;
   // How far the surface may reach from a chord: 1.5× the radius, as in bound(), and the curve's
@@ -381,7 +424,7 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   planes_.clear();
   for (std::size_t c = 0; c < colliders.size(); ++c) {
     const Collider& col = *colliders[c].collider;
-    if (!near(before, {&col, start_pose_[c]}) && !near(after, colliders[c])) continue;
+    if (!passes_near(before, start_pose_[c], after, colliders[c])) continue;
     for (int j = 0; j < spans; ++j) {
       const double grow = 1.5 * span_reach_[static_cast<std::size_t>(j)] + bulge + col.margin;
       const Vec3 ends[4] = {start_pose_[c].to_local(start_shape_.frames[j].center),

@@ -33,8 +33,8 @@
 // each cone (the first step of a contact, and the directions the springs barely move). Where
 // nothing touches, nothing is done: the springs keep their exact integration.
 //
-// What it costs: a sweep far from every collider (its bounding spheres at the step's two ends
-// clear of the collider) costs one distance per collider; then each span, then each chord near a
+// What it costs: a sweep far from every collider (its bounding sphere clear of the collider at the
+// step's two ends and on its way between them) costs two distances per collider; then each span, then each chord near a
 // collider one more; contacts are solved only when a chord end comes within its reach of a plane.
 // Friction held on positions adds, for the pairs held, J C Jᵀ over their rows and the normal ones
 // and an eigensolve of its 2m × 2m tangential block (~1.1× the frame of a tail lying on a floor).
@@ -117,6 +117,11 @@ class ContactSolver {
   // it from its root (Simulator cuts a long step into pieces of Scene::contact_step there).
   bool within_reach(const ElasticSweep& sweep, std::span<const PlacedCollider> from,
                     std::span<const PlacedCollider> to) const;
+  // Into how many pieces a step within reach must be cut for no collider to move against the part
+  // farther than its thinnest section's reach in one (a body keyed to move very fast: Simulator
+  // cuts the step into at least the ceiling of this).
+  double pieces_for_move(const ElasticSweep& sweep, std::span<const PlacedCollider> from,
+                         std::span<const PlacedCollider> to) const;
 
   // Before a step: where the axis is, and where each collider is at the step's start.
   void begin_step(const ElasticSweep& sweep, std::span<const PlacedCollider> colliders);
@@ -145,6 +150,10 @@ class ContactSolver {
   };
   Bound bound(const SweepShape& shape) const;
   static bool near(const Bound& b, const PlacedCollider& placed);
+  // Whether the bound, carried straight (in the collider's frame) from `before` in the collider
+  // at `start` to `after` in `placed`, comes within reach of it on the way: the step's broad
+  // phase, which the ends alone are not (a part moving farther than its size in one step).
+  static bool passes_near(const Bound& before, const Frame& start, const Bound& after, const PlacedCollider& placed);
   // Whether any collider, at `from` or `to`, comes within the bound, grown by how far the collider
   // moves in between (moved_only: only those that move at all).
   static bool meets(const Bound& b, std::span<const PlacedCollider> from, std::span<const PlacedCollider> to,
@@ -154,6 +163,7 @@ class ContactSolver {
   std::vector<double> stations_;      // axis parameters of the chords' ends
   SweepShape start_shape_;            // the part at the step's start
   double longest_span_ = 0;           // between two key sections
+  double smallest_reach_ = 0;         // the thinnest rest section's largest radius
   std::vector<Vec3> start_, end_;     // their points at the step's start and end (mesh coordinates)
   std::vector<Frame> start_pose_;     // each collider's local → mesh at the step's start
   std::vector<Plane> planes_;

@@ -18,6 +18,10 @@ namespace {
 // How close (relative) a frame time must be to an internal time to count as on it: frame times
 // k/fps carry a rounding error of an ulp or so, which must not turn into a partial step of ~h.
 constexpr double kOnGridTolerance = 1e-9;
+// Pieces a step within a collider's reach is cut into, at most, for a fast body's sake.
+constexpr double kMostPieces = 1e5;
+// Times a teleport's path is sampled at, at most, for each part and world collider.
+constexpr int kSkippedSamples = 100000;
 
 }  // namespace
 
@@ -197,6 +201,7 @@ void Simulator::advance_between(double start, double target) {
   bool reset = false;
   if (cut_to > cut_from) {
     if (going_on && cut_from < teleport_to_) {
+      if (cut_to > teleport_to_) note_skipped_colliders(teleport_to_, cut_to, frame_ + 1);
       teleport_to_ = std::max(teleport_to_, cut_to);
     } else {
       reset = true;
@@ -206,6 +211,7 @@ void Simulator::advance_between(double start, double target) {
     reset = true;
     teleport_to_ = target;
   }
+  if (reset) note_skipped_colliders(start, teleport_to_, frame_ + 1);
   if (reset) {
     teleported_ = true;
     teleport_from_ = start;
@@ -272,6 +278,16 @@ void Simulator::advance_between(double start, double target) {
     if (st.failure && (failed == nullptr || st.failure_step < failed->failure_step)) failed = &st;
   }
   if (failed != nullptr) std::rethrow_exception(failed->failure);
+  for (SweepState& st : sweeps_) {
+    if (!(st.too_fast > 0)) continue;
+    std::ostringstream msg;
+    msg << "frame " << frame_ + 1 << ": the body moves so fast against the world's colliders that sweep \""
+        << st.body.definition().name << "\" would need " << format_number(st.too_fast, 3)
+        << " pieces of a step near them, more than " << format_number(kMostPieces, 3)
+        << ": it may pass through one unmet; slow the body or give the scene a shorter step";
+    skipped_.push_back(msg.str());
+    st.too_fast = 0;
+  }
 }
 
 void Simulator::drive(SweepState& s) {
@@ -422,6 +438,57 @@ void Simulator::set_wind(const WindSettings& wind) {
   }
 }
 
+void Simulator::note_skipped_colliders(double from, double to, int frame) {
+  // The farthest any point of a part's rest pose lies from the mesh's origin: how far a turn of
+  // the body by an angle moves it (times the angle).
+  double extent = 0;
+  for (const SweepState& st : sweeps_) {
+    const SweepShape& rest = st.body.rest();
+    double radius = 0;
+    for (const double r : rest.radii) radius = std::max(radius, r);
+    for (const Frame& f : rest.frames) extent = std::max(extent, f.center.norm() + rest.length() + 1.5 * radius);
+  }
+  // How far the body's motion between two times may move a part's point against the world (exact
+  // on a linear path, whose pieces move straight and turn one way).
+  const auto moved = [&](const BodyState& a, const BodyState& b) {
+    return (b.translation - a.translation).norm() + a.rotation.angularDistance(b.rotation) * extent;
+  };
+  for (const Collider& col : scene_.colliders) {
+    if (col.carried) continue;  // it jumps with the body
+    for (const SweepState& st : sweeps_) {
+      const SweepShape& rest = st.body.rest();
+      // Marched from the jump's start, each time as far as the body cannot have closed the gap
+      // the part had there (at least a thousandth of its length: a collider the part would cut
+      // by less is not told), up to the jump's end, where the colliders are met again.
+      const double least = 1e-3 * rest.length();
+      double t = from;
+      bool into = false;
+      for (int sample = 0; t < to && sample < kSkippedSamples && !into; ++sample) {
+        const BodyState here = scene_.body.at(t);
+        const Frame world_to_mesh = Frame{here.rotation, here.translation}.inverse();
+        const double gap = clearance(rest, {&col, world_to_mesh * col.pose}, scene_.contact_stations).gap;
+        into = gap < 0;
+        double dt = to - t;
+        while (dt > kOnGridTolerance * (to - from) && moved(here, scene_.body.at(t + dt)) > std::max(gap, least)) dt *= 0.5;
+        t += dt;
+      }
+      if (!into) continue;
+      const double travel = moved(scene_.body.at(from), scene_.body.at(to));
+      std::ostringstream msg;
+      msg << "frame " << frame << ": the body's move from t = " << format_number(from, 6) << " to "
+          << format_number(to, 6) << " s (" << format_number(travel, 6) << " mesh units, "
+          << format_number(travel / (to - from), 6)
+          << " a second) is taken as a teleport (it goes farther than the teleport distance, "
+          << format_number(teleport_distance_, 6) << ", or turns more than its angle, within a frame's time): sweep \""
+          << st.body.definition().name << "\" is put to rest in the new place and passes through collider \""
+          << col.name << "\" (a " << shape_name(col.shape)
+          << ") without meeting it; if the body really moves that fast, raise the scene's teleport "
+             "distance or set \"teleport\": false";
+      skipped_.push_back(msg.str());
+    }
+  }
+}
+
 void Simulator::place_colliders(double t, std::vector<PlacedCollider>& out) const {
   out.resize(scene_.colliders.size());
   const BodyState b = scene_.body.at(t);
@@ -534,12 +601,18 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
       // each met by the colliders (Scene::contact_step says why).
       int pieces = 1;
       bool placed_at_ends = false;  // s.placed at cur, s.placed_end at next
-      if (contacts && length > scene_.contact_step * (1 + 1e-9)) {
+      if (contacts && (length > scene_.contact_step * (1 + 1e-9) || scene_.body.moves())) {
         place_colliders(collider_time(cur), s.placed);
         place_colliders(collider_time(next), s.placed_end);
         placed_at_ends = true;
-        if (s.contact.within_reach(body, s.placed, s.placed_end))
+        if (s.contact.within_reach(body, s.placed, s.placed_end)) {
           pieces = static_cast<int>(std::ceil(length / scene_.contact_step * (1 - 1e-9)));
+          // And a body keyed to move very fast: no collider moves farther than the part's thinnest
+          // section against it in a piece (ContactSolver::pieces_for_move).
+          const double by_move = s.contact.pieces_for_move(body, s.placed, s.placed_end);
+          if (by_move > 1) pieces = std::max(pieces, static_cast<int>(std::min(std::ceil(by_move), kMostPieces)));
+          if (by_move > kMostPieces) s.too_fast = std::max(s.too_fast, by_move);
+        }
       }
       const double piece = length / pieces;
       for (int p = 0; p < pieces; ++p) {

@@ -17,6 +17,7 @@
 // Sweeps never interact, so a frame steps them side by side on the threads (OpenMP) when more
 // than one has work; results do not depend on the thread count.
 #include <exception>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -87,6 +88,12 @@ class Simulator {
   BodyState body() const { return scene_.body.at(time()); }
   // Frames (their numbers) at which the body jumped and the parts were put to rest.
   const std::vector<int>& teleports() const { return teleports_; }
+  // One message per world collider a teleport carried a part through unmet (a teleport meets the
+  // world's colliders only where they stand after it), naming the collider, the part and the
+  // frame: a body keyed to move that fast is taken as a cut, not as motion. And one per part and
+  // frame in which the body moved so fast that a step near a collider was cut into fewer pieces
+  // than it needed.
+  const std::vector<std::string>& skipped_colliders() const { return skipped_; }
 
  private:
   struct SweepState {
@@ -109,6 +116,7 @@ class Simulator {
     std::vector<PlacedCollider> placed{};  // scratch: the colliders in mesh coordinates at one time
     std::vector<PlacedCollider> placed_end{};  // scratch: the same at a step's end
     bool touched = false;               // touched a collider during the current internal step
+    double too_fast = 0;                // this frame: the most pieces a step needed past the cap
     std::vector<Vec3> held_at{};        // its section centres when it last moved, while it touches
   };
   // The scene's colliders in mesh coordinates at time t (world ones moved by the body's inverse).
@@ -127,6 +135,9 @@ class Simulator {
   void set_body_motion(ElasticSweep& sweep, double mid, bool teleporting) const;
   // Whether the body jumps between the two times (cut, respawn): see Scene::teleport_distance.
   bool jumps(double from, double to) const;
+  // Adds to skipped_ the world colliders the parts, at rest and carried by the body over the
+  // teleport's [from, to), come into (frame: the frame the teleport was found in).
+  void note_skipped_colliders(double from, double to, int frame);
 
   // Advances every sweep from `start` (the current time) to `target`.
   void advance_between(double start, double target);
@@ -175,6 +186,7 @@ class Simulator {
   std::vector<std::size_t> kink_keys_;  // and their keys
   double teleport_distance_ = 0, teleport_angle_ = 0;
   std::vector<int> teleports_;
+  std::vector<std::string> skipped_;
 };
 
 }  // namespace sweep::sim

@@ -574,5 +574,81 @@ TEST(Contact, ARestPoseInsideAColliderIsNamed) {
   EXPECT_NE(found[0].find("0.7 deep"), std::string::npos) << found[0];
 }
 
+// A body keyed to glide along +x at `speed` (mesh units/s, constant: no load on the part) carries
+// the rubber tube (along z, 31 units) into a world collider whose centre lies on the tube's axis
+// at 0.8 of its length, `ahead` units down the path. One frame, at the instant the tube's root is
+// level with the collider's centre: a part that crossed the collider's path untouched is at rest,
+// the collider's centre on its axis.
+struct Crossing {
+  double deepest = 0;  // how deep the surface is inside the collider at that frame
+  std::vector<int> teleports;
+  std::vector<std::string> skipped;
+};
+Crossing cross(const Collider& c, double ahead, double speed, bool teleport) {
+  const Rig rig = rubber_tube(0.1);
+  Scene scene;
+  scene.fps = speed / ahead;
+  scene.duration = 1 / scene.fps;
+  scene.teleport_enabled = teleport;
+  scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()}, {1, Vec3(speed, 0, 0), Quat::Identity()}},
+                        BodyInterpolation::linear);
+  scene.colliders = {c};
+  Simulator sim(rig, scene);
+  EXPECT_EQ(scene.frame_count(), 2);
+  sim.advance_frame();
+  const BodyState b = sim.body();
+  EXPECT_NEAR(b.translation.x(), ahead, 1e-9 * ahead);
+  Collider here = c;
+  here.pose = Frame{b.rotation, b.translation}.inverse() * c.pose;
+  return {penetration(sim.sweep(0).deformed(), here), sim.teleports(), sim.skipped_colliders()};
+}
+
+// The colliders across the tube's path: a ball, a box 40 units thick and a rod across the path.
+std::vector<std::pair<Collider, double>> across_the_path() {
+  const double z = 0.8 * test::beam::kLengthUnits;
+  std::vector<std::pair<Collider, double>> out = {{Collider::sphere(Vec3(52, 0, z), 2), 52},
+                                                  {Collider::box(Vec3(70, 0, z), Vec3(20, 5, 7)), 70},
+                                                  {Collider::capsule(Vec3(51, -5, z), Vec3(51, 5, z), 1), 51}};
+  for (auto& [c, x] : out) c.name = shape_name(c.shape);
+  return out;
+}
+
+TEST(Contact, AFastBodyCannotCarryAPartThroughAWorldCollider) {
+  // Without the teleport rule, the body's move is motion at any speed: 3,000 units/s crosses 6 units
+  // a step of 1/480 s, 100,000 units/s 208 (past the ball, the box and the rod, and far past the
+  // tube's own size, in one step).
+  const double length = test::beam::kLengthUnits;
+  for (const auto& [c, x] : across_the_path()) {
+    for (const double speed : {3000.0, 10000.0, 100000.0}) {
+      const Crossing r = cross(c, x, speed, false);
+      EXPECT_TRUE(r.teleports.empty());
+      EXPECT_LE(r.deepest, 1e-3 * length) << c.name << " at " << speed << " units/s";
+    }
+  }
+}
+
+TEST(Contact, ATeleportThatCarriesAPartThroughAWorldColliderIsSaid) {
+  // The same moves under the default teleport rule (farther than the tube's 31 units within a
+  // frame's time: 52 to 70 here) are cuts: the tube is put to rest in the new place and passes the
+  // collider unmet, which is said, naming the collider, the part and the frame.
+  for (const auto& [c, x] : across_the_path()) {
+    for (const double speed : {3000.0, 10000.0, 100000.0}) {
+      const Crossing r = cross(c, x, speed, true);
+      ASSERT_EQ(r.teleports, std::vector<int>{1});
+      ASSERT_EQ(r.skipped.size(), 1u) << c.name << " at " << speed;
+      EXPECT_GT(r.deepest, 0.5) << "at rest in the new place, the collider's centre on its axis";
+      EXPECT_EQ(r.skipped[0].rfind("frame 1: ", 0), 0u) << r.skipped[0];
+      EXPECT_NE(r.skipped[0].find("collider \"" + c.name + "\""), std::string::npos) << r.skipped[0];
+      EXPECT_NE(r.skipped[0].find("sweep \"tube\""), std::string::npos) << r.skipped[0];
+    }
+  }
+  // A teleport past a collider off its way says nothing.
+  Collider aside = Collider::sphere(Vec3(52, 40, 20), 2);
+  aside.name = "aside";
+  const Crossing r = cross(aside, 52, 10000, true);
+  EXPECT_EQ(r.teleports, std::vector<int>{1});
+  EXPECT_TRUE(r.skipped.empty()) << r.skipped[0];
+}
+
 }  // namespace
 }  // namespace sweep::sim
