@@ -36,6 +36,7 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
   init_bank(radial_, def_.rest.radial_count, pick_radial);
   loads_.resize(k, def_.rest.radial_count);
   section_velocity_.assign(k, Vec3::Zero());
+  locator_.reset(deformed_);  // its table sized now, not in the frame that first places a force
   if (def_.material) {
     chain_ = std::make_shared<const ChainModel>(build_chain_model(def_.rest, def_.section_materials));
     positional_.params = chain_->positional;
@@ -96,7 +97,8 @@ void ElasticSweep::init_bank(Bank& bank, int width, const SpringSettings& (*pick
 ElasticSweep::ActiveForce ElasticSweep::placed(const ForceSpec& force, ForceId id) const {
   ActiveForce a{id, force, force.t, force.theta};
   if (force.at_world_point) {
-    const SweepCoords c = SweepLocator(deformed_).locate(force.point);
+    locator_.reset(deformed_);
+    const SweepCoords c = locator_.locate(force.point);
     a.t = c.t;
     a.theta = c.theta;
   }

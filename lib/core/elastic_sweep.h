@@ -16,6 +16,7 @@
 
 #include "core/chain_model.h"
 #include "core/force.h"
+#include "core/locate.h"
 #include "core/oscillator.h"
 #include "core/rig.h"
 
@@ -37,6 +38,8 @@ class ElasticSweep {
   bool remove_force(ForceId id);
   void clear_forces();
   std::size_t force_count() const { return forces_.size(); }
+  // Room for `count` forces at once: add_force and copy_state_from then allocate nothing up to it.
+  void reserve_forces(std::size_t count) { forces_.reserve(count); }
 
   // An impulse (N·s): the same split as a force, applied at once as a change of velocity.
   void apply_impulse(const ForceSpec& impulse);
@@ -232,6 +235,10 @@ class ElasticSweep {
   void kick();                                    // loads in the banks' f as impulses (N·s)
   SectionLoads loads_;
   std::vector<ActiveForce> forces_;
+  // Scratch of placed(): the locator of a force or impulse given at a world point, reset on the
+  // current shape each time it is needed (its table's storage reused: a frame that plays one does
+  // not allocate).
+  mutable SweepLocator locator_;
   ForceId next_id_ = 1;
   Integrator integrator_ = Integrator::exact;
   std::array<MapSlot, kMapSlots> slots_{};

@@ -15,8 +15,13 @@ constexpr int kMaxRefineSteps = 100;
 
 }  // namespace
 
-SweepLocator::SweepLocator(const SweepShape& shape, int stations_per_span)
-    : shape_(shape), station_t_(station_parameters(shape, stations_per_span)) {
+SweepLocator::SweepLocator(const SweepShape& shape, int stations_per_span) { reset(shape, stations_per_span); }
+
+void SweepLocator::reset(const SweepShape& shape, int stations_per_span) {
+  shape_ = &shape;
+  station_parameters(shape, stations_per_span, station_t_);
+  station_center_.clear();
+  station_axis_.clear();
   for (double t : station_t_) {
     const Frame f = frame_at(shape, t);
     station_center_.push_back(f.center);
@@ -25,18 +30,19 @@ SweepLocator::SweepLocator(const SweepShape& shape, int stations_per_span)
 }
 
 SweepCoords SweepLocator::locate(const Vec3& v) const {
+  const SweepShape& shape = *shape_;
   const std::size_t m = station_t_.size();
   // Signed distance of v from the cross-section plane at a station: positive when v lies ahead.
   auto g_station = [&](std::size_t q) { return station_axis_[q].dot(v - station_center_[q]); };
   auto g_exact = [&](double t) {
-    const Frame f = frame_at(shape_, t);
+    const Frame f = frame_at(shape, t);
     return f.axis().dot(v - f.center);
   };
 
   double best_t = 0;
   double best_dist = std::numeric_limits<double>::infinity();
   auto consider = [&](double t) {
-    const double d = (v - center_at(shape_, t)).squaredNorm();
+    const double d = (v - center_at(shape, t)).squaredNorm();
     if (d < best_dist) {
       best_dist = d;
       best_t = t;
@@ -55,7 +61,7 @@ SweepCoords SweepLocator::locate(const Vec3& v) const {
         tb = ta;
       } else {
         int side = 0;
-        const double tol = kParamTolerance * shape_.length();
+        const double tol = kParamTolerance * shape.length();
         for (int it = 0; it < kMaxRefineSteps && tb - ta > tol; ++it) {
           const double tc = (ga * tb - gb * ta) / (ga - gb);
           const double gc = g_exact(tc);
@@ -83,19 +89,19 @@ SweepCoords SweepLocator::locate(const Vec3& v) const {
   // Behind (or on) the root plane or beyond (or on) the tip plane: the end sections with an axial
   // offset. A point exactly on an end plane is a candidate there even when no bracket starts at it.
   if (g_station(0) <= 0) consider(0.0);
-  if (g_station(m - 1) >= 0) consider(shape_.length());
+  if (g_station(m - 1) >= 0) consider(shape.length());
 
-  const Frame f = frame_at(shape_, best_t);
+  const Frame f = frame_at(shape, best_t);
   const Vec3 local = f.to_local(v);
   SweepCoords c;
   c.t = best_t;
-  const bool at_end = best_t == 0.0 || best_t == shape_.length();
+  const bool at_end = best_t == 0.0 || best_t == shape.length();
   c.z = at_end ? local.z() : 0.0;
   double theta = std::atan2(local.y(), local.x());
   if (theta < 0) theta += 2 * std::numbers::pi;
   c.theta = theta;
   const double rho = std::hypot(local.x(), local.y());
-  c.s = rho / radius_at(shape_, theta, best_t);
+  c.s = rho / radius_at(shape, theta, best_t);
   return c;
 }
 

@@ -19,11 +19,16 @@ namespace sweep {
 class SweepLocator {
  public:
   explicit SweepLocator(const SweepShape& shape, int stations_per_span = 16);
+  // None yet: reset() it before locating.
+  SweepLocator() = default;
+  // Against `shape` (kept by reference, as by the constructor), the table rebuilt in place: a
+  // locator kept for a shape that changes allocates nothing once its table has grown.
+  void reset(const SweepShape& shape, int stations_per_span = 16);
   SweepCoords locate(const Vec3& point) const;
-  const SweepShape& shape() const { return shape_; }
+  const SweepShape& shape() const { return *shape_; }
 
  private:
-  const SweepShape& shape_;
+  const SweepShape* shape_ = nullptr;
   std::vector<double> station_t_;
   std::vector<Vec3> station_center_;
   std::vector<Vec3> station_axis_;

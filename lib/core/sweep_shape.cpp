@@ -155,15 +155,20 @@ void radii_at_samples(const SweepShape& shape, double t, std::span<double> out) 
 }
 
 std::vector<double> station_parameters(const SweepShape& shape, int stations_per_span) {
-  const int k = shape.section_count();
   std::vector<double> t;
+  station_parameters(shape, stations_per_span, t);
+  return t;
+}
+
+void station_parameters(const SweepShape& shape, int stations_per_span, std::vector<double>& t) {
+  const int k = shape.section_count();
+  t.clear();
   t.reserve(static_cast<std::size_t>(std::max(k - 1, 0)) * stations_per_span + 1);
   for (int s = 0; s + 1 < k; ++s) {
     for (int q = 0; q < stations_per_span; ++q)
       t.push_back(shape.t[s] + (shape.t[s + 1] - shape.t[s]) * q / stations_per_span);
   }
   t.push_back(shape.length());
-  return t;
 }
 
 Vec3 surface_point(const SweepShape& shape, double theta, double t) {

@@ -121,6 +121,7 @@ Vec3 surface_point(const SweepShape& shape, double theta, double t);  // S(θ,t)
 // The parameters of `stations_per_span` evenly spaced stations a span, t_s + (t_{s+1} − t_s)·q/S,
 // and the tip's: (K − 1)·S + 1 of them (the locator's and the fast deformation path's stations).
 std::vector<double> station_parameters(const SweepShape& shape, int stations_per_span);
+void station_parameters(const SweepShape& shape, int stations_per_span, std::vector<double>& out);  // into `out`
 
 // r(θ_j, t) for every sample angle θ_j at once (out.size() == n), as radius_at gives them but
 // without the floor: the fast deformation path tabulates these at its stations.

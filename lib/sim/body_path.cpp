@@ -51,6 +51,21 @@ std::vector<Vec3> tangents(const std::vector<double>& t, const std::vector<Vec3>
 
 BodyPath::BodyPath(std::vector<BodyKey> keys, BodyInterpolation interpolation, const Vec3& pivot)
     : keys_(std::move(keys)), interpolation_(interpolation), pivot_(pivot) {
+  prepare();
+}
+
+void BodyPath::swap_keys(std::vector<BodyKey>& keys, BodyInterpolation interpolation, const Vec3& pivot) {
+  keys_.swap(keys);
+  interpolation_ = interpolation;
+  pivot_ = pivot;
+  moves_ = false;
+  rho_.clear();
+  rho_tangent_.clear();
+  tangent_.clear();
+  prepare();
+}
+
+void BodyPath::prepare() {
   for (BodyKey& k : keys_) k.rotation.normalize();
   for (std::size_t k = 1; k < keys_.size(); ++k) {
     if (keys_[k].translation != keys_[0].translation || keys_[k].rotation.angularDistance(keys_[0].rotation) > 0)
@@ -141,15 +156,14 @@ BodyState BodyPath::about_pivot(double t) const {
   return s;
 }
 
-std::vector<std::size_t> BodyPath::kink_keys() const {
-  std::vector<std::size_t> out;
-  if (interpolation_ != BodyInterpolation::linear || !moves_) return out;
+void BodyPath::kink_keys(std::vector<std::size_t>& out) const {
+  out.clear();
+  if (interpolation_ != BodyInterpolation::linear || !moves_) return;
   // A key at time 0 or before: the scene starts with the body already in motion, its parts at rest
   // in it (no kick).
   for (std::size_t k = 0; k < keys_.size(); ++k) {
     if (keys_[k].time > 0) out.push_back(k);
   }
-  return out;
 }
 
 void BodyPath::jump_at(std::size_t key, Vec3& dv, Vec3& dw) const {

@@ -42,6 +42,10 @@ class BodyPath {
   BodyPath() = default;
   // Keys in strictly increasing time (checked by the scene reader), rotations unit.
   BodyPath(std::vector<BodyKey> keys, BodyInterpolation interpolation, const Vec3& pivot = Vec3::Zero());
+  // The same path as BodyPath(keys, interpolation, pivot) would make, made in place: the keys are
+  // swapped in and the old ones handed back in `keys`, so a caller rebuilding the path every frame
+  // reuses both buffers (a linear path then allocates nothing).
+  void swap_keys(std::vector<BodyKey>& keys, BodyInterpolation interpolation, const Vec3& pivot);
 
   bool empty() const { return keys_.empty(); }
   const std::vector<BodyKey>& keys() const { return keys_; }
@@ -55,13 +59,15 @@ class BodyPath {
   // Linear paths: the keys where velocity jumps (every key of a moving path after time 0: at 0 the
   // scene starts with the body in motion and its parts at rest), and the jump at key `key` (after −
   // before) of the origin's velocity and of the angular velocity, both in body axes.
-  std::vector<std::size_t> kink_keys() const;
+  // (Into `out`, its capacity reused.)
+  void kink_keys(std::vector<std::size_t>& out) const;
   void jump_at(std::size_t key, Vec3& dv, Vec3& dw) const;
 
   // Whether the parts feel anything during (from, to): acceleration, rotation or a kink.
   bool loads_between(double from, double to) const;
 
  private:
+  void prepare();  // from keys_, interpolation_ and pivot_: moves_, and the cubic's splines
   std::size_t piece(double t) const;  // keys_[p] ≤ t < keys_[p+1]
   BodyState about_pivot(double t) const;
   std::vector<BodyKey> keys_;

@@ -213,8 +213,7 @@ void FastDeformer::deform_vertices(std::span<Vec3f> out, bool split) const {
   k.vertex = vertex_.data();
   k.out = out.data()->data();
   const float* const tab = stations_.data();
-#pragma omp parallel for schedule(static) if (split)
-  for (std::ptrdiff_t bi = 0; bi < blocks; ++bi) {
+  const auto run_block = [&](std::ptrdiff_t bi) {
     const Block& blk = blocks_[bi];
     const float* A = tab + static_cast<std::size_t>(blk.span) * row_;
     const Segment* seg = segments_.data() + blk.segments;
@@ -230,6 +229,14 @@ void FastDeformer::deform_vertices(std::span<Vec3f> out, bool split) const {
     } else {
       deform_block(k, A, A + row_, seg, blk.begin, blk.end, runs);
     }
+  };
+  // Serial without entering a parallel region: even on one thread, libgomp allocates a team for
+  // each region entered, and a game's frame must not allocate.
+  if (split) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t bi = 0; bi < blocks; ++bi) run_block(bi);
+  } else {
+    for (std::ptrdiff_t bi = 0; bi < blocks; ++bi) run_block(bi);
   }
   for (std::size_t b = 0; b < blend_index_.size(); ++b) {
     Vec3f& o = out[vertex_[blend_index_[b]]];

@@ -23,6 +23,10 @@ constexpr double kMostPieces = 1e5;
 // Times a teleport's path is sampled at, at most, for each part and world collider.
 constexpr int kSkippedSamples = 100000;
 
+// Keys a live body path keeps (take_body_pose): a few before the earliest internal clock, now and
+// the pose given. Its buffers are reserved for this many, so a game's frames do not allocate.
+constexpr std::size_t kLiveKeys = 8;
+
 }  // namespace
 
 Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
@@ -44,6 +48,9 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   if (!std::isfinite(scene.contact_step) || scene.contact_step < limits::kMinStep || scene.contact_step > limits::kMaxStep)
     fail(ErrorCategory::usage, "Scene::contact_step must be between " + format_number(limits::kMinStep) + " and " +
                                    format_number(limits::kMaxStep) + " s");
+  pose_keys_.reserve(kLiveKeys);
+  kink_keys_.reserve(kLiveKeys);
+  kinks_.reserve(kLiveKeys);
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
     sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def),
@@ -68,6 +75,10 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   for (SweepState& s : sweeps_) {
     s.ids.assign(s.forces.size(), 0);
     s.view_ids.assign(s.forces.size(), 0);
+    // Room for all its forces on at once, in the body and the view: switching them on and copying
+    // the body into the view then allocate nothing during the frames.
+    s.body.reserve_forces(s.forces.size());
+    s.view.reserve_forces(s.forces.size());
   }
   // A moving body reaches every part (a part it never loads sleeps all the same: path_changed), and
   // wind every part with a material.
@@ -82,7 +93,7 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
 }
 
 void Simulator::path_changed() {
-  kink_keys_ = scene_.body.kink_keys();
+  scene_.body.kink_keys(kink_keys_);
   kinks_.clear();
   for (const std::size_t k : kink_keys_) kinks_.push_back(scene_.body.keys()[k].time);
   cuts_.clear();
@@ -322,7 +333,8 @@ void Simulator::take_body_pose(double target) {
   // The keys hold the pivot's position p (world = R (mesh − c) + p): p = translation + R c.
   BodyKey key = pending_pose_;
   key.translation += key.rotation * pivot;
-  std::vector<BodyKey> keys;
+  std::vector<BodyKey>& keys = pose_keys_;  // scratch: the path's old keys come back into it
+  keys.clear();
   if (frame_ == 0 && !path.moves()) {
     // Before the first advance: the body starts here, at rest, its parts pre-loaded with gravity
     // in its axes as at a scene's start.
@@ -352,7 +364,8 @@ void Simulator::take_body_pose(double target) {
     key.time = target;
     keys.push_back(key);
   }
-  scene_.body = BodyPath(std::move(keys), BodyInterpolation::linear, pivot);
+  scene_.body.swap_keys(keys, BodyInterpolation::linear, pivot);
+  keys.reserve(kLiveKeys);  // the scene's own keys came back: allocates once, on the first pose
   path_changed();
 }
 
@@ -372,6 +385,8 @@ void Simulator::add_force(const SceneForce& force) {
   s.forces.push_back(scene_.forces.size() - 1);
   s.ids.push_back(0);
   s.view_ids.push_back(0);
+  s.body.reserve_forces(s.forces.size());  // allocates here, not in the frames that switch it on
+  s.view.reserve_forces(s.forces.size());
 }
 
 void Simulator::drop_finished_forces() {

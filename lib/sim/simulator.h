@@ -160,6 +160,7 @@ class Simulator {
   bool live_loads_ = false;  // gravity or wind changed live: the parts' loads are set every step
   bool pose_pending_ = false;
   BodyKey pending_pose_{};
+  std::vector<BodyKey> pose_keys_;  // scratch of take_body_pose: the live path's next keys
   // The last teleport, a span of time [teleport_from_, teleport_to_]: from the start of the first
   // frame the jump reaches (where the parts were put to rest) to the end of the jump (the path's
   // cut, or that frame's end when the jump is not one piece of the path). Every internal step or
