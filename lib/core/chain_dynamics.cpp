@@ -83,7 +83,9 @@ ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const Swee
   w_saved_.assign(kMaxHalvings + 1, w_);
   for (Eigen::VectorXd* v : {&phi_mid_, &w_mid_, &w_end_, &wdot_, &residual_, &scratch_}) *v = Eigen::VectorXd::Zero(dim);
   mass_ = newton_ = Eigen::MatrixXd::Zero(dim, dim);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(dim);
+  // Sized by a first factorisation (later ones reuse its storage): Eigen's LLT(size) leaves its
+  // status unset, and moving such an object reads it (undefined behaviour, caught by UBSan).
+  llt_.compute(Eigen::MatrixXd::Identity(dim, dim));
   centre_.assign(k, Vec3::Zero());
   rotation_.assign(k, Quat::Identity());
   pre_.assign(k, Mat3::Identity());
