@@ -9,8 +9,8 @@
 #                                  so two runs differ. SWEEP_FUZZ_SEED=0 also lets libFuzzer pick a seed.
 # Configures its own clang build (build/fuzz: SWEEP_FUZZ=ON, which instruments the library for
 # coverage under ASan+UBSan; line tables only for debug info: enough for symbolized reports),
-# builds only the fuzz targets, and runs each on a scratch copy of its committed seed corpus (tests/fuzz/corpus/<target>/; new inputs it finds stay in the scratch
-# copy). Any crash, leak, sanitizer report or timeout fails the script; the input that did it is
+# builds only the fuzz targets, and runs each on a scratch copy of its committed seed corpus
+# (tests/fuzz/corpus/<target>/; new inputs it finds stay in the scratch copy). Any crash, leak, sanitizer report or timeout fails the script; the input that did it is
 # copied to tests/fuzz/regressions/<target>/ so that it can be fixed and kept (those files are
 # replayed by the Fuzz/Replay tests of the regular suite). Prints each target's executions.
 set -euo pipefail
