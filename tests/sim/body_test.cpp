@@ -17,9 +17,13 @@
 #include "core/beam_tubes.h"
 #include "core/sample_sweeps.h"
 #include "sim/simulator.h"
+#include "sim/sweep_pose.h"
 
 namespace sweep::sim {
 namespace {
+
+using test_pose::max_difference;
+using test_pose::pose;
 
 namespace fs = std::filesystem;
 using Vec3f = Eigen::Vector3f;
@@ -51,24 +55,6 @@ Scene scene_of(BodyPath path, double duration, double fps = 30, double step = Sc
   s.step = step;
   s.body = std::move(path);
   return s;
-}
-
-// Section centres and radii, and rotations times the length, flat (body frame).
-std::vector<double> pose(const ElasticSweep& s) {
-  std::vector<double> p;
-  const double len = s.rest().length();
-  for (const Frame& f : s.deformed().frames) {
-    for (int c = 0; c < 3; ++c) p.push_back(f.center[c]);
-    for (int c = 0; c < 4; ++c) p.push_back(len * f.rotation.coeffs()[c] * (f.rotation.w() < 0 ? -1 : 1));
-  }
-  p.insert(p.end(), s.deformed().radii.begin(), s.deformed().radii.end());
-  return p;
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0;
-  for (std::size_t m = 0; m < a.size(); ++m) d = std::max(d, std::abs(a[m] - b[m]));
-  return d;
 }
 
 // The corner of a linear body path is an instant change of the body's velocity: the part, not

@@ -7,9 +7,13 @@
 
 #include "core/sample_sweeps.h"
 #include "sim/simulator.h"
+#include "sim/sweep_pose.h"
 
 namespace sweep::sim {
 namespace {
+
+using test_pose::max_difference;
+using test_pose::pose;
 
 Rig bent_rig() {
   Rig rig;
@@ -45,19 +49,6 @@ Scene busy_scene(double fps, double step) {
   return s;
 }
 
-// The section frames and radii, flat: centres (mesh units), rotations times the length (so an
-// angle counts as the distance it moves the tip), radii.
-std::vector<double> pose(const ElasticSweep& s) {
-  std::vector<double> p;
-  const double len = s.rest().length();
-  for (const Frame& f : s.deformed().frames) {
-    for (int c = 0; c < 3; ++c) p.push_back(f.center[c]);
-    for (int c = 0; c < 4; ++c) p.push_back(len * f.rotation.coeffs()[c] * (f.rotation.w() < 0 ? -1 : 1));
-  }
-  p.insert(p.end(), s.deformed().radii.begin(), s.deformed().radii.end());
-  return p;
-}
-
 // Poses at every frame, keyed by the frame's time in units of 1/720 s (a multiple of 1/24, 1/30,
 // 1/60 and 1/144 s is an integer there).
 std::map<long long, std::vector<double>> bake(const Rig& rig, const Scene& scene) {
@@ -70,12 +61,6 @@ std::map<long long, std::vector<double>> bake(const Rig& rig, const Scene& scene
     out[k * per_frame] = pose(sim.sweep(0));
   }
   return out;
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0;
-  for (std::size_t m = 0; m < a.size(); ++m) d = std::max(d, std::abs(a[m] - b[m]));
-  return d;
 }
 
 TEST(Clock, AnyFrameRateGivesTheSamePoseAtEverySharedTime) {

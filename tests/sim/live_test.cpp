@@ -8,9 +8,13 @@
 #include "core/error.h"
 #include "core/sample_sweeps.h"
 #include "sim/simulator.h"
+#include "sim/sweep_pose.h"
 
 namespace sweep::sim {
 namespace {
+
+using test_pose::max_difference;
+using test_pose::pose;
 
 Rig bent_part() {
   Rig rig;
@@ -40,24 +44,6 @@ SceneForce push(double start, double end, const Vec3& v) {
   f.start = start;
   f.end = end;
   return f;
-}
-
-// Section centres, rotations times the length, radii: flat, in the body's frame.
-std::vector<double> pose(const ElasticSweep& s) {
-  std::vector<double> p;
-  const double len = s.rest().length();
-  for (const Frame& f : s.deformed().frames) {
-    for (int c = 0; c < 3; ++c) p.push_back(f.center[c]);
-    for (int c = 0; c < 4; ++c) p.push_back(len * f.rotation.coeffs()[c] * (f.rotation.w() < 0 ? -1 : 1));
-  }
-  p.insert(p.end(), s.deformed().radii.begin(), s.deformed().radii.end());
-  return p;
-}
-
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0;
-  for (std::size_t m = 0; m < a.size(); ++m) d = std::max(d, std::abs(a[m] - b[m]));
-  return d;
 }
 
 // A linear body path that walks, turns and stops.
