@@ -178,6 +178,15 @@ inline bind::SweepBinding locate_all(const SweepShape& shape, const Mesh& mesh) 
 
 // A bent, tapered, lobed tube of about `vertices` vertices (rings × 500 segments, capped), its
 // K = 16, n = 16 sweep, and the binding of every vertex.
+// The same rig in material mode: every part given the diplodocus's flesh (tests/diplodocus_seeds.h).
+inline RealRig in_material(RealRig rig) {
+  for (SweepDef& d : rig.rig.sweeps) {
+    d.material = test::diplodocus_flesh();
+    d.section_materials.assign(d.rest.section_count(), *d.material);
+  }
+  return rig;
+}
+
 inline RealRig dense_tube_rig(std::size_t vertices) {
   tube::TubeParams p;
   p.length = 1.0;

@@ -159,11 +159,7 @@ int main(int argc, char** argv) {
   const int rounds = args.quick ? 3 : 5;
   const int max_threads = std::min(2, omp_get_max_threads());
 
-  RealRig dino = diplodocus_rig();
-  for (SweepDef& d : dino.rig.sweeps) {
-    d.material = test::diplodocus_flesh();
-    d.section_materials.assign(d.rest.section_count(), *d.material);
-  }
+  RealRig dino = in_material(diplodocus_rig());
   // The files an engine would ship: rig, binding, settings (gravity, pre-loaded: the modelled
   // pose is the pose under it).
   const fs::path dir = fs::temp_directory_path() / fmt("sweep-bench-live-%d", static_cast<int>(::getpid()));

@@ -116,15 +116,6 @@ RealRig four_tubes() {
   return r;
 }
 
-// The rig's sweeps in material mode, of the demo's flesh.
-RealRig in_material(RealRig rig) {
-  for (SweepDef& d : rig.rig.sweeps) {
-    d.material = test::diplodocus_flesh();
-    d.section_materials.assign(d.rest.section_count(), *d.material);
-  }
-  return rig;
-}
-
 }  // namespace
 }  // namespace sweep::bench
 
