@@ -26,7 +26,7 @@ class Error : public std::runtime_error {
   ErrorCategory category_;
 };
 
-// Exit codes, as listed in the README.
+// Exit codes, as listed in docs/tools.md ("Exit codes").
 constexpr int exit_code(ErrorCategory c) {
   switch (c) {
     case ErrorCategory::usage: return 1;

@@ -1,7 +1,7 @@
 #pragma once
 // The one table of limits. Every entry point that takes these values (fit options, the rig
 // reader, the binding reader, the scene reader, the mesh readers) checks them against this table,
-// so a file one tool writes is a file the next one reads; the README lists them ("Limits").
+// so a file one tool writes is a file the next one reads; docs/formats.md lists them ("Limits").
 // Each limit is far beyond any real use and close enough that the arithmetic on it stays finite.
 #include <cstdint>
 

@@ -691,7 +691,7 @@ void Simulator::check_finite(const ElasticSweep& body, double t) const {
   if (scene_.integrator == Integrator::exact) {
     // The closed form cannot diverge: a runaway here is the inputs' doing (forces far too large
     // for the springs, within the limits each has on its own), so it is bad input, not exit 5,
-    // which README reserves for the explicit integrators.
+    // which docs/tools.md reserves for the explicit integrators.
     msg << "sweep \"" << body.definition().name << "\" moved more than " << kRunawayFactor
         << " times its length by t = " << t
         << " s: the scene's forces are far too large for "

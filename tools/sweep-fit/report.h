@@ -38,7 +38,7 @@ std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummar
 // The report of one or more fits: written also when a fit fails (rig_written false), so that a
 // script sees the numbers; `failure`, when given, is the error the run ends with ("error":
 // message and exit code), `fits` then holding what was fitted before it and, for a FitFailure,
-// the fit as far as it got. Format "sweep-fit-report", version 2 (README: sweep-fit's report).
+// the fit as far as it got. Format "sweep-fit-report", version 2 (docs/tools.md: sweep-fit's report).
 std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary& summary,
                             const std::filesystem::path& rig,
                             const std::vector<fit::FitResult>& fits, bool rig_written,

@@ -33,7 +33,7 @@
 extern "C" {
 #endif
 
-/* The error codes: the exit codes of sweep-fit, sweep-bind and sweep-sim (README). */
+/* The error codes: the exit codes of sweep-fit, sweep-bind and sweep-sim (docs/tools.md, "Exit codes"). */
 enum {
   SWEEP_OK = 0,
   SWEEP_ERROR_USAGE = 1,       /* a bad argument: NULL, NaN, unknown part, dt < 0, non-rigid pose */
