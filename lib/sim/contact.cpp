@@ -381,16 +381,41 @@ void ContactSolver::move_out(ElasticSweep& sweep, std::span<const PlacedCollider
 bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
   ++step_;  // a stick anchor lasts while its contact touches at every step (contact_stick.cpp)
   const SweepShape& shape = sweep.deformed();
-  const double length = shape.length();
+  const double length = shape.length();  // before the push moves it
+  const Bound before = bound(start_shape_), after = bound(shape);
+  if (!any_passes_near(before, after, colliders)) return false;
+  measure_span_reach(shape);
+  collect_planes(shape, colliders, before, after);
+  if (planes_.empty() || !may_touch(sweep, colliders, length)) return false;
+  build_rows(sweep, colliders, dt);
+  push_out(sweep, colliders, dt);
+  if (!stop_approach(sweep, colliders, dt, length)) return false;
+  if (dt < kShortestPiece) {
+    // A sliver of a step (a force or a path corner just off the step grid) holds nothing, but the
+    // contacts that touched the step before still do: their anchors carry on.
+    for (Anchor& a : anchors_) a.step += a.step == step_ - 1;
+    return true;
+  }
+  measure_normal_impulses(sweep, dt);
+  // Static friction on positions first (contact_stick.cpp): what of each cone it spends, the
+  // speeds below may not.
+  hold(sweep, colliders, dt);
+  slide(sweep, colliders, dt);
+  return true;
+}
+
+bool ContactSolver::any_passes_near(const Bound& before, const Bound& after,
+                                    std::span<const PlacedCollider> colliders) const {
   // Broad phase: a collider clear of the part's bounding sphere at both ends of the step and on
   // its way between them (in the collider's own frame) cannot have been reached; with none left,
   // nothing more is computed.
-  const Bound before = bound(start_shape_), after = bound(shape);
-  bool any_near = false;
-  for (std::size_t c = 0; c < colliders.size() && !any_near; ++c) {
-    any_near = passes_near(before, start_pose_[c], after, colliders[c]);
+  for (std::size_t c = 0; c < colliders.size(); ++c) {
+    if (passes_near(before, start_pose_[c], after, colliders[c])) return true;
   }
-  if (!any_near) return false;
+  return false;
+}
+
+void ContactSolver::measure_span_reach(const SweepShape& shape) {
   // How far the surface may reach from a chord: 1.5× the radius, as in bound(), and the curve's
   // own bulge between two stations (half a chord's parameter length bounds it, loosely: the
   // Hermite curve's speed stays under 1.5 over a span and its Bézier hull within a third).
@@ -407,6 +432,10 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
       span_reach_[static_cast<std::size_t>(j)] = std::max(span_reach_[static_cast<std::size_t>(j)], r);
     }
   }
+}
+
+void ContactSolver::collect_planes(const SweepShape& shape, std::span<const PlacedCollider> colliders,
+                                   const Bound& before, const Bound& after) {
   const double bulge = 0.5 * longest_span_ / per_span_;
   // Stations are evaluated only on spans some collider comes near (a span's curve lies within a
   // third of its length of its chord: a sphere about the two sections' centres holds it).
@@ -453,28 +482,33 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
       }
     }
   }
-  if (planes_.empty()) return false;
+}
+
+bool ContactSolver::may_touch(const ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double length) {
   const std::size_t n = planes_.size();
   // Most steps near a collider end clear of it: then nothing touches and nothing is built. A
   // station whose centre is farther from its plane than 1.5× its span's radius is clear without
   // measuring its section's reach.
-  bool may_touch = false;
-  for (std::size_t p = 0; p < n && !may_touch; ++p) {
+  bool near_plane = false;
+  for (std::size_t p = 0; p < n && !near_plane; ++p) {
     const Plane& pl = planes_[p];
     const PlacedCollider& placed = colliders[pl.collider];
     const double centre = pl.normal.dot(placed.to_mesh.to_local(end_[static_cast<std::size_t>(pl.station)]) - pl.point);
     const std::size_t span = std::min(static_cast<std::size_t>(pl.station / per_span_), span_reach_.size() - 1);
-    may_touch = centre - 1.5 * span_reach_[span] - pl.margin <= kTouchSlack * length;
+    near_plane = centre - 1.5 * span_reach_[span] - pl.margin <= kTouchSlack * length;
   }
-  if (!may_touch) return false;
+  if (!near_plane) return false;
   residual_.resize(n);
   double closest = std::numeric_limits<double>::infinity();
   for (std::size_t p = 0; p < n; ++p) {
     residual_[p] = gap(sweep, planes_[p], colliders[planes_[p].collider]);
     closest = std::min(closest, residual_[p]);
   }
-  if (closest > kTouchSlack * length) return false;
+  return closest <= kTouchSlack * length;
+}
 
+void ContactSolver::build_rows(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
+  const std::size_t n = planes_.size();
   // The contact rows along each plane's normal, on the pose the springs reached, and their
   // couplings: the linear model the solves below use.
   rows_.resize(n);
@@ -484,7 +518,10 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   }
   sweep.row_couplings(rows_, jp_, jr_, modal_, by_mass_, by_compliance_);
   sweep.row_move_couplings(rows_, dt, jr_, by_move_);
+}
 
+void ContactSolver::push_out(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
+  const std::size_t n = planes_.size();
   // Move the ends back onto their planes; the true curve is re-measured after each solve.
   total_.assign(n, 0.0);
   // The move's change of each row's speed, for N below.
@@ -492,7 +529,11 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   for (std::size_t p = 0; p < n; ++p) move_speed_[p] = -sweep.row_speed(rows_[p]);
   move_out(sweep, colliders, dt, total_, true);
   for (std::size_t p = 0; p < n; ++p) move_speed_[p] += sweep.row_speed(rows_[p]);
+}
 
+bool ContactSolver::stop_approach(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt,
+                                  double length) {
+  const std::size_t n = planes_.size();
   // Touching: pushed, or resting on the plane. Their approach speeds out, all together.
   bool touching = false;
   for (std::size_t p = 0; p < n; ++p) {
@@ -514,12 +555,11 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   for (std::size_t p = 0; p < n; ++p) total_[p] = total_[p] > 0 ? std::numeric_limits<double>::infinity() : 0.0;
   solve(by_mass_, residual_, total_, amount_);
   sweep.apply_rows(rows_, amount_, true);
-  if (dt < kShortestPiece) {
-    // A sliver of a step (a force or a path corner just off the step grid) holds nothing, but the
-    // contacts that touched the step before still do: their anchors carry on.
-    for (Anchor& a : anchors_) a.step += a.step == step_ - 1;
-    return true;
-  }
+  return true;
+}
+
+void ContactSolver::measure_normal_impulses(const ElasticSweep& sweep, double dt) {
+  const std::size_t n = planes_.size();
   // The normal impulse N·dt each touching contact took over the step, which its friction is
   // bounded by: the move's change of the points' speeds along their normals (Δq/dt, measured as
   // the move made it: move_speed_, the step's fall it took back) and the kicks' (J M⁻¹ Jᵀ
@@ -552,10 +592,10 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
   }
   solve(by_compliance_, residual_, none_, held_);
   for (std::size_t p = 0; p < n; ++p) pressed_[p] = std::max(pressed_[p], held_[p] * dt);
-  // Static friction on positions first (contact_stick.cpp): what of each cone it spends, the
-  // speeds below may not.
-  hold(sweep, colliders, dt);
+}
 
+void ContactSolver::slide(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
+  const std::size_t n = planes_.size();
   // Sliding speeds, all contacts together: each contact's friction impulse lies in its cone
   // (|λ| ≤ μN), stops its slip if that is enough (stick) and is μN against the slip if not
   // (kinetic). Two rows per contact, across its normal at its section's centre (no roll).
@@ -585,10 +625,9 @@ bool ContactSolver::resolve(ElasticSweep& sweep, std::span<const PlacedCollider>
     cone_[k] = mu * pressed_[p] - spent_[p];
     ++k;
   }
-  if (k == 0) return true;
+  if (k == 0) return;
   solve_friction(sweep, k);
   sweep.apply_rows({slide_rows_.data(), 2 * k}, {friction_.data(), 2 * k}, true);
-  return true;
 }
 
 }  // namespace sweep::sim

@@ -184,6 +184,22 @@ class ContactSolver {
   std::vector<double> slip_, cone_, friction_, friction_w_;
   Eigen::MatrixXd slide_by_mass_, slide_by_compliance_;
   void solve_friction(const ElasticSweep& sweep, std::size_t contacts);
+  // resolve()'s stages, in order: the broad phase; each span's reach over the step; the planes
+  // separating each chord near a collider from it at the step's start; whether any station may
+  // touch its plane (gaps measured into residual_; `length` the part's at the step's end, before
+  // the push); the contact rows and their couplings; the
+  // push back onto the planes; the approach speeds taken out (false: nothing touches); the normal
+  // impulses N·dt friction is bounded by; the sliding speeds' friction.
+  bool any_passes_near(const Bound& before, const Bound& after, std::span<const PlacedCollider> colliders) const;
+  void measure_span_reach(const SweepShape& shape);
+  void collect_planes(const SweepShape& shape, std::span<const PlacedCollider> colliders, const Bound& before,
+                      const Bound& after);
+  bool may_touch(const ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double length);
+  void build_rows(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt);
+  void push_out(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt);
+  bool stop_approach(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt, double length);
+  void measure_normal_impulses(const ElasticSweep& sweep, double dt);
+  void slide(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt);
   // The move's rounds: the ends back onto their planes through the springs, `total` the forces so
   // far (residual_ already holding the gaps when `measured`).
   void move_out(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt, std::vector<double>& total,
