@@ -103,10 +103,8 @@ inline constexpr double kBridgeFootRadii = 0.25;
 // lowered to the median of the samples in that window (never raised): a lobe at most half that
 // wide, pinched at its base, is cut off (at n = 24, 30°: two samples either side, a lobe of up to
 // two samples). A convex section — a circle, an ellipse or a strip however flat, at any sample
-// count — is kept whole (the median alone cut the tips of a 2:1 ellipse at 12 samples). Measured
-// on the fit-evidence parts against the median alone: the same fits but refined_elephant's trunk
-// 1.32 → 1.44 % RMS and dino's leg 3.14 → 3.43 %; with a turn of 11.5° on both sides of a lobe
-// asked, elephant's trunk went back to 4.0 % (its tusk's lobe is pinched on one side only).
+// count — is kept whole (the median alone cut the tips of a 2:1 ellipse at 12 samples; the
+// measured choice is in docs/findings.md, "Fitting real parts").
 inline constexpr double kLobeWindowDegrees = 30;
 inline constexpr double kLobeBaseTurn = 0.05;
 SweepShape without_narrow_lobes(const SweepShape& rest);
