@@ -69,15 +69,24 @@ SWEEP_API int sweep_set_body(sweep_instance* instance, const double world_from_m
  * in material mode). */
 SWEEP_API int sweep_add_force(sweep_instance* instance, const char* part, const double point[3], const double force[3],
                               double seconds);
-/* Advances the instance's clock by dt ≥ 0 seconds and deforms the parts that moved. */
+/* Advances the instance's clock by dt ≥ 0 seconds. What the game reads is computed when it reads it:
+ * sweep_positions deforms, and sweep_joints poses, only the parts that moved since they last did. */
 SWEEP_API int sweep_advance(sweep_instance* instance, double dt);
 /* The deformed positions at the current time, world space: vertex_count × 3 floats. */
 SWEEP_API int sweep_positions(const sweep_instance* instance, float* out_xyz);
-/* The joints of the skinned export (sweep-sim --joints), for engines that skin on the GPU: their
- * count, or minus an error code. This version has none to give: it returns -SWEEP_ERROR_UNSUPPORTED,
- * and sweep_joints SWEEP_ERROR_UNSUPPORTED. */
+/* The joints of the skinned export (`sweep-sim --joints`), for an engine that skins on the GPU: it
+ * loads the exported .glb (mesh, weights, inverse bind matrices) once and each frame reads these
+ * instead of the positions. sweep_joint_count: how many (the body joint included), or minus an error
+ * code. sweep_joints: each joint's world matrix (world from joint, column-major, 16 floats a joint),
+ * in the order `sweep-sim --joints` writes them (the .glb's skin joints: the body, then per part its
+ * station joints and their ring joints). The skeleton is that of `--joints` given alone (24 joints
+ * along each part, 24 around each station but the root) until sweep_set_skin says otherwise; an
+ * export made with --ring-fit has its ring joints fitted to the bake, which a live frame samples. */
 SWEEP_API int sweep_joint_count(const sweep_instance* instance);
 SWEEP_API int sweep_joints(const sweep_instance* instance, float* out_16xN);
+/* The skeleton the export was made with: `sweep-sim --joints joints_per_sweep --ring-joints
+ * ring_joints` (2 to 255 joints a part, at most its stations; 1 to 64 ring joints, 1 = none). */
+SWEEP_API int sweep_set_skin(sweep_instance* instance, int joints_per_sweep, int ring_joints);
 
 #ifdef __cplusplus
 }
