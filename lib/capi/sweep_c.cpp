@@ -311,9 +311,7 @@ int sweep_positions(const sweep_instance* instance, float* out_xyz) {
     const sweep::sim::BodyState body = instance->simulator->body();
     const Eigen::Matrix3f r = body.rotation.toRotationMatrix().cast<float>();
     const sweep::sim::Vec3f t = body.translation.cast<float>();
-    for (std::size_t v = 0; v < instance->positions.size(); ++v) {
-      Eigen::Map<sweep::sim::Vec3f>(out_xyz + 3 * v) = r * instance->positions[v] + t;
-    }
+    sweep::sim::transform_positions(instance->positions, r, t, out_xyz);
   });
 }
 

@@ -340,8 +340,8 @@ int main(int argc, char** argv) {
   }
   std::string csv = "case,threads,frame_us,step_us,deform_us,read_us\n";
   std::string md = fmt("Diplodocus tail + neck (%zu bound vertices of %zu), material mode, gravity, a new body pose every "
-                       "frame, frames 1/60 s apart:\n\n",
-                       bound, dino.mesh.vertex_count());
+                       "frame, frames 1/60 s apart (a %s build):\n\n",
+                       bound, dino.mesh.vertex_count(), SWEEP_BUILD_TYPE);
   md += "| case | threads | frame µs (median) | step µs | deform µs | read µs (sweep_positions or sweep_joints) |\n"
         "|---|---|---|---|---|---|\n";
   for (int c = 0; c < kCases; ++c) {

@@ -3,10 +3,11 @@
  * optional scene settings, read once; then each frame the game gives the body's pose and any
  * forces, advances by its frame time, and reads the deformed positions back.
  *
- * Time: the instance keeps its own clock of internal steps (the settings' "step", 1/480 s by
- * default) and reaches any time by one exact partial step beyond the last one, so the motion does
- * not depend on how the game slices time: advancing by 1/60, 1/144, 1/30 ... lands on the same
- * pose at the same times as regular frames.
+ * Time: the instance keeps its own clock of internal steps (the settings' "step"; settings that
+ * give none, or none at all, take 1/60 s with the exact integrator: one step a 60 fps frame, where
+ * sweep-sim takes 1/480 s) and reaches any time by one exact partial step beyond the last one, so
+ * the motion does not depend on how the game slices time: advancing by 1/60, 1/144, 1/30 ... lands
+ * on the same pose at the same times as regular frames.
  *
  * Errors: every int function returns 0, or an error code in the categories of the tools' exit
  * codes (SWEEP_ERROR_*); sweep_open returns NULL. sweep_last_error() then tells what went wrong,
