@@ -21,6 +21,7 @@
 #include "io/scene_json.h"
 #include "sim/fast_deform.h"
 #include "sim/simulator.h"
+#include "sim/skin_joints.h"
 
 struct sweep_instance {
   sweep::Rig rig;
@@ -28,9 +29,36 @@ struct sweep_instance {
   std::unique_ptr<sweep::sim::Simulator> simulator;
   std::vector<std::unique_ptr<sweep::sim::FastDeformer>> deformers;
   std::vector<sweep::sim::DeformJob> jobs;
-  std::vector<sweep::sim::Vec3f> positions;  // mesh space, at the current time
+  std::vector<sweep::sim::Vec3f> positions;  // mesh space, as of the last deform
+  std::unique_ptr<sweep::sim::SkinJoints> joints;  // the skinned export's skeleton, posed on demand
+  // Per sweep: moved since its vertices were last deformed / its joints last posed. What a frame
+  // reads is computed when it is read (sweep_positions, sweep_joints), for the parts that moved.
+  std::vector<char> deform_due, joints_due;
   bool broken = false;  // diverged: the simulator stopped mid-advance
+  // The deformed positions and posed joints, brought up to the current time (const entry points
+  // read through these: an instance is used by one thread at a time).
+  void deform_moved();
+  void pose_moved();
 };
+
+void sweep_instance::deform_moved() {
+  jobs.clear();
+  for (int i = 0; i < simulator->sweep_count(); ++i) {
+    if (!deform_due[i]) continue;
+    jobs.push_back({deformers[i].get(), &simulator->sweep(i).deformed()});
+    deform_due[i] = 0;
+  }
+  if (!jobs.empty()) sweep::sim::deform_sweeps(jobs, positions);
+}
+
+void sweep_instance::pose_moved() {
+  for (int i = 0; i < simulator->sweep_count(); ++i) {
+    if (!joints_due[i]) continue;
+    const sweep::ElasticSweep& sweep = simulator->sweep(i);
+    joints->pose(i, sweep.deformed(), sweep.radial_active());
+    joints_due[i] = 0;
+  }
+}
 
 namespace {
 
@@ -93,6 +121,32 @@ void check_rest(const sweep_instance& in, const std::vector<sweep::sim::Vec3f>& 
   }
 }
 
+// The internal step of an instance whose settings give none: one step a 60 fps frame. Measured on
+// the diplodocus in material mode, walking, under gravity and hit (sweep-bench-live, BENCHMARKS.md):
+// its vertices stay within 2e-5 of their part's length of a step 64 times finer (1/3840 s; 1e-6 at
+// sweep-sim's 1/480 s), at a sixth of the cost of 1/480 s. The oscillators step in closed form (stable
+// at any step); what a longer step gives up is the loads' variation within it, which a body moving
+// at constant velocity across each frame (sweep_set_body) barely has.
+constexpr double kLiveStep = 1.0 / 60;
+
+// The stations a span of the skinned export (sweep-sim's default), which bound its joints a sweep.
+constexpr int kExportStationsPerSpan = 8;
+
+std::vector<const sweep::SweepShape*> rest_shapes(const sweep::Rig& rig) {
+  std::vector<const sweep::SweepShape*> rests;
+  for (const sweep::SweepDef& def : rig.sweeps) rests.push_back(&def.rest);
+  return rests;
+}
+
+// The skeleton of `sweep-sim --joints` given alone: 24 joints a sweep and 24 around each station,
+// or as many along each sweep as the fewest stations any sweep has.
+sweep::sim::SkinJointLayout default_skin(const sweep::Rig& rig) {
+  sweep::sim::SkinJointLayout layout;
+  for (const sweep::SweepDef& def : rig.sweeps)
+    layout.stations = std::min(layout.stations, std::max(2, (def.rest.section_count() - 1) * kExportStationsPerSpan + 1));
+  return layout;
+}
+
 sweep::Vec3 vec3(const double xyz[3]) { return {xyz[0], xyz[1], xyz[2]}; }
 
 bool finite_floats(const float* xyz) { return std::isfinite(xyz[0]) && std::isfinite(xyz[1]) && std::isfinite(xyz[2]); }
@@ -140,6 +194,9 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     if (!same_positions) binding.mesh_hash = sweep::bind::hash_positions(mesh.positions);  // checked below instead
     sweep::bind::check_binding(binding, mesh, in->rig, binding_path);
     if (settings_path != nullptr) in->scene = sweep::sim::read_scene(settings_path, in->rig);
+    // Settings that give no step take the live one, with the exact integrator (stable at any step).
+    if (in->scene.step == 0 && in->scene.substeps == 0 && in->scene.integrator == sweep::Integrator::exact)
+      in->scene.step = kLiveStep;
     if (!in->scene.body_node.empty())
       fail(ErrorCategory::unsupported, std::string(settings_path) + ": a body that follows a glTF node's animation needs the mesh file, which libsweep does not read; give the body's pose with sweep_set_body");
     if (in->scene.body_collider.spheres > 0)
@@ -151,6 +208,9 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     in->simulator = std::make_unique<sweep::sim::Simulator>(in->rig, in->scene);
     in->positions = std::move(rest);
     in->jobs.reserve(in->deformers.size());
+    in->deform_due.assign(in->deformers.size(), 0);
+    in->joints_due.assign(in->deformers.size(), 0);
+    in->joints = std::make_unique<sweep::sim::SkinJoints>(rest_shapes(in->rig), default_skin(in->rig));
   });
   return code == SWEEP_OK ? in.release() : nullptr;
 }
@@ -235,11 +295,11 @@ int sweep_advance(sweep_instance* instance, double dt) {
       throw;
     }
     if (sim.frame() == before) return;  // dt too small to move the clock
-    instance->jobs.clear();
     for (int i = 0; i < sim.sweep_count(); ++i) {
-      if (sim.moved_last_frame(i)) instance->jobs.push_back({instance->deformers[i].get(), &sim.sweep(i).deformed()});
+      if (!sim.moved_last_frame(i)) continue;
+      instance->deform_due[i] = 1;
+      instance->joints_due[i] = 1;
     }
-    sweep::sim::deform_sweeps(instance->jobs, instance->positions);
   });
 }
 
@@ -247,28 +307,48 @@ int sweep_positions(const sweep_instance* instance, float* out_xyz) {
   return guarded("sweep_positions", [&] {
     need(instance, "the instance");
     need(out_xyz, "out_xyz");
+    const_cast<sweep_instance*>(instance)->deform_moved();
     const sweep::sim::BodyState body = instance->simulator->body();
     const Eigen::Matrix3f r = body.rotation.toRotationMatrix().cast<float>();
     const sweep::sim::Vec3f t = body.translation.cast<float>();
-    for (std::size_t v = 0; v < instance->positions.size(); ++v) {
-      Eigen::Map<sweep::sim::Vec3f>(out_xyz + 3 * v) = r * instance->positions[v] + t;
-    }
+    sweep::sim::transform_positions(instance->positions, r, t, out_xyz);
   });
 }
 
 int sweep_joint_count(const sweep_instance* instance) {
+  int count = 0;
   const int code = guarded("sweep_joint_count", [&] {
     need(instance, "the instance");
-    fail(ErrorCategory::unsupported, "this version of libsweep gives positions only, not joints");
+    count = instance->joints->joint_count();
   });
-  return -code;
+  return code == SWEEP_OK ? count : -code;
 }
 
 int sweep_joints(const sweep_instance* instance, float* out_16xN) {
   return guarded("sweep_joints", [&] {
     need(instance, "the instance");
     need(out_16xN, "out_16xN");
-    fail(ErrorCategory::unsupported, "this version of libsweep gives positions only, not joints");
+    sweep_instance& in = *const_cast<sweep_instance*>(instance);
+    in.pose_moved();
+    const sweep::sim::BodyState body = in.simulator->body();
+    in.joints->world_matrices({body.rotation, body.translation},
+                              {out_16xN, static_cast<std::size_t>(16) * in.joints->joint_count()});
+  });
+}
+
+int sweep_set_skin(sweep_instance* instance, int joints_per_sweep, int ring_joints) {
+  return guarded("sweep_set_skin", [&] {
+    usable(instance);
+    for (const sweep::SweepDef& def : instance->rig.sweeps) {
+      const int stations = (def.rest.section_count() - 1) * kExportStationsPerSpan + 1;
+      if (joints_per_sweep > stations)
+        fail(ErrorCategory::usage, "joints_per_sweep " + std::to_string(joints_per_sweep) + " on sweep \"" + def.name +
+                                       "\", which has " + std::to_string(stations) + " stations: at most one joint a station");
+    }
+    auto joints = std::make_unique<sweep::sim::SkinJoints>(rest_shapes(instance->rig),
+                                                           sweep::sim::SkinJointLayout{joints_per_sweep, ring_joints});
+    instance->joints = std::move(joints);
+    std::fill(instance->joints_due.begin(), instance->joints_due.end(), 1);
   });
 }
 

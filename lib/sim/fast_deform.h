@@ -176,4 +176,9 @@ struct DeformJob {
 // Either way the results do not depend on the thread count.
 void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out);
 
+// out[v] = rotation · in[v] + translation for every vertex, as flat x y z floats: the world-space copy
+// of a mesh an engine uploads (compiled as the kernel is: -O3, AVX2 or baseline x86-64, no FMA).
+void transform_positions(std::span<const Vec3f> in, const Eigen::Matrix3f& rotation, const Vec3f& translation,
+                         float* out);
+
 }  // namespace sweep::sim

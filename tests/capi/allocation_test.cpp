@@ -1,5 +1,5 @@
-// libsweep's per-frame calls allocate nothing after the first frame: sweep_set_body, sweep_advance
-// and sweep_positions over many frames of varying length, a held force and an impulse playing,
+// libsweep's per-frame calls allocate nothing after the first frame: sweep_set_body, sweep_advance,
+// sweep_positions and sweep_joints over many frames of varying length, a held force and an impulse playing,
 // without one call of operator new or malloc on any thread (the shared library's allocations go
 // through the counting allocator of tests/allocation_counter.cpp, which this executable defines).
 // sweep_add_force may allocate (the instance's force lists grow): the forces are given before the
@@ -63,6 +63,9 @@ TEST(CApiAllocation, FrameCallsAllocateNothingAfterTheFirstFrame) {
   const double impulse_point[3] = {1.3, 0.0, 1.0}, impulse_force[3] = {0.5, -4, 0};
   ASSERT_EQ(sweep_add_force(in, "tube", held_point, held_force, 100), SWEEP_OK) << sweep_last_error();
   std::vector<float> out(rest.size());
+  const int joint_count = sweep_joint_count(in);
+  ASSERT_GT(joint_count, 0) << sweep_last_error();
+  std::vector<float> joints(16 * static_cast<std::size_t>(joint_count));
   double t = 0;
   // One frame: the body's pose at its end (turning about z, moving in x and y), advance, read back.
   const auto frame = [&](double dt, int& failures) {
@@ -72,6 +75,7 @@ TEST(CApiAllocation, FrameCallsAllocateNothingAfterTheFirstFrame) {
     failures += sweep_set_body(in, m) != SWEEP_OK;
     failures += sweep_advance(in, dt) != SWEEP_OK;
     failures += sweep_positions(in, out.data()) != SWEEP_OK;
+    failures += sweep_joints(in, joints.data()) != SWEEP_OK;
   };
   int failures = 0;
   frame(1.0 / 60, failures);  // the warm-up frame

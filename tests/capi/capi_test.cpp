@@ -294,8 +294,11 @@ TEST_F(CApi, BadCallsReturnErrorsWithMessages) {
   const double nan_point[3] = {std::nan(""), 0, 0};
   refused(sweep_add_force(in, "tube", nan_point, f, 0), "must be finite");
   refused(sweep_positions(in, nullptr), "out_xyz is NULL");
-  EXPECT_EQ(sweep_joint_count(in), -SWEEP_ERROR_UNSUPPORTED);
-  EXPECT_EQ(sweep_joints(in, out), SWEEP_ERROR_UNSUPPORTED);
+  refused(sweep_joints(in, nullptr), "out_16xN is NULL");
+  EXPECT_EQ(sweep_joint_count(nullptr), -SWEEP_ERROR_USAGE);
+  refused(sweep_set_skin(in, 1, 24), "joints a sweep: expected 2 to 255, got 1");
+  refused(sweep_set_skin(in, 24, 65), "ring joints a station: expected 1 to 64, got 65");
+  refused(sweep_set_skin(in, 255, 1), "at most one joint a station");
   // None of it changed anything.
   ASSERT_EQ(sweep_advance(in, 0.5), SWEEP_OK) << sweep_last_error();
   EXPECT_EQ(max_difference(positions(in), before), 0.0);

@@ -7,13 +7,18 @@
 //  - "scene player, 60 fps": the same at 60 fps (8 steps a frame);
 //  - "live (C++)": Simulator::advance_to(t + 1/60) after set_body_pose, then the fast path, timed
 //    apart (step, deform);
-//  - "libsweep": sweep_set_body + sweep_advance (step and deform) through the C interface, and
-//    sweep_positions (the world-space copy an engine uploads) timed apart; also back to back (warm
-//    caches, no pacing) and with a coarser internal step (settings "step": 1/120 s).
+//  - "libsweep": sweep_set_body + sweep_advance (the step) and the read through the C interface:
+//    sweep_positions (the moved parts deformed, the world-space copy an engine uploads) or
+//    sweep_joints (the skinned export's joints, for an engine that skins on the GPU), timed apart;
+//    with sweep-sim's internal step (settings "step": 1/480 s) and with the live default (settings
+//    that give none: one step a 60 fps frame), also back to back (warm caches, no pacing);
+//  - a crowd: 1 and 100 instances, their frames shared among 1 or 2 threads;
+//  - the accuracy a coarser step costs: the same run at steps from 1/480 to 1/30 s against 1/3840 s.
 // Time: median over the frames after the first 10, per frame, µs; rounds alternate the cases and
 // thread counts, median over rounds.
 #include <unistd.h>
 
+#include <barrier>
 #include <thread>
 
 #include "bench_common.h"
@@ -116,17 +121,127 @@ void check(int code) {
   if (code != SWEEP_OK) throw std::runtime_error("libsweep: " + std::string(sweep_last_error()));
 }
 
-// Through the C interface, as an engine calls it.
-Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>& rest, int frames, bool paced = true) {
+// The body's pose at t as sweep_set_body takes it.
+void body_matrix(double t, double m[16]) {
+  const sim::BodyState b = walk(t);
+  const Mat3 r = b.rotation.toRotationMatrix();
+  for (int c = 0; c < 3; ++c) {
+    for (int row = 0; row < 3; ++row) m[4 * c + row] = r(row, c);
+    m[3 + 4 * c] = 0;
+    m[12 + c] = b.translation[c];
+  }
+  m[15] = 1;
+}
+
+// What a frame reads back: the deformed positions (an engine that skins on the CPU or uploads
+// vertices) or the joints (one that skins on the GPU).
+enum class Read { positions, joints };
+
+sweep_instance* open_dino(const fs::path& dir, const char* settings, const std::vector<float>& rest) {
   sweep_instance* in = sweep_open((dir / "dino.rig.json").c_str(), (dir / "dino.bind").c_str(),
                                   (dir / settings).c_str(), rest.data(), static_cast<int>(rest.size() / 3));
   if (in == nullptr) check(SWEEP_ERROR_INTERNAL);
-  std::vector<float> out(rest.size());
-  std::vector<double> total, copy;
+  return in;
+}
+
+// Through the C interface, as an engine calls it: step (sweep_set_body + sweep_advance) and read
+// (sweep_positions: the parts that moved deformed, the world-space copy; or sweep_joints) timed
+// apart. `ring`: the skeleton's ring joints (0: the default).
+Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>& rest, int frames, bool paced, Read read,
+            int ring = 0) {
+  sweep_instance* in = open_dino(dir, settings, rest);
+  if (ring > 0) check(sweep_set_skin(in, 24, ring));
+  std::vector<float> out(read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(in)));
+  std::vector<double> total, step, copy;
   for (int k = 0; k < frames; ++k) {
     if (paced) pace();
-    const double t = (k + 1) * kFrame;
     const auto t0 = Clock::now();
+    double m[16];
+    body_matrix((k + 1) * kFrame, m);
+    check(sweep_set_body(in, m));
+    check(sweep_advance(in, kFrame));
+    const auto t1 = Clock::now();
+    check(read == Read::positions ? sweep_positions(in, out.data()) : sweep_joints(in, out.data()));
+    const auto t2 = Clock::now();
+    if (k < kSkip) continue;
+    total.push_back(us(t0, t2));
+    step.push_back(us(t0, t1));
+    copy.push_back(us(t1, t2));
+  }
+  sweep_close(in);
+  return {median(total), median(step), 0, median(copy)};
+}
+
+// A crowd: `count` instances, each its own creature on the same walk (a phase apart), every frame
+// stepped and read on `threads` threads (the game's workers: each takes every threads-th creature,
+// libsweep's own OpenMP kept to one thread inside them), frames 1/60 s apart. The frame: from the
+// workers' start to the last one's end.
+double crowd(const fs::path& dir, const std::vector<float>& rest, int count, int threads, int frames, Read read) {
+  std::vector<sweep_instance*> herd;
+  for (int c = 0; c < count; ++c) herd.push_back(open_dino(dir, "settings.scene.json", rest));
+  const std::size_t size = read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(herd[0]));
+  std::vector<std::vector<float>> out(static_cast<std::size_t>(count), std::vector<float>(size));
+  int frame = 0;
+  const auto work = [&](int worker) {
+    for (int c = worker; c < count; c += threads) {
+      double m[16];
+      body_matrix((frame + 1) * kFrame + 0.37 * c, m);
+      check(sweep_set_body(herd[c], m));
+      check(sweep_advance(herd[c], kFrame));
+      check(read == Read::positions ? sweep_positions(herd[c], out[c].data()) : sweep_joints(herd[c], out[c].data()));
+    }
+  };
+  std::vector<double> total;
+  std::barrier start(threads), done(threads);
+  bool stop = false;
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) {
+    pool.emplace_back([&, w] {
+      omp_set_num_threads(1);
+      for (;;) {
+        start.arrive_and_wait();
+        if (stop) return;
+        work(w);
+        done.arrive_and_wait();
+      }
+    });
+  }
+  const int inner = omp_get_max_threads();
+  omp_set_num_threads(1);
+  for (frame = 0; frame < frames; ++frame) {
+    pace();
+    const auto t0 = Clock::now();
+    start.arrive_and_wait();
+    work(0);
+    done.arrive_and_wait();
+    if (frame >= kSkip) total.push_back(us(t0, Clock::now()));
+  }
+  stop = true;
+  start.arrive_and_wait();
+  for (std::thread& t : pool) t.join();
+  omp_set_num_threads(inner);
+  for (sweep_instance* in : herd) sweep_close(in);
+  return median(total);
+}
+
+// The cost of a coarser internal step: the same live run (the walk, gravity, and a 20 kN hit on the
+// tail's tip at 0.5 s, held 0.1 s) with settings whose "step" is `step`, against the same run at
+// `reference`: the largest distance of any bound vertex over `frames` frames at 60 fps, over the
+// length of the part it is bound to. Also the frame's cost, back to back.
+struct StepError {
+  double relative = 0, frame_us = 0;
+};
+std::vector<std::vector<float>> step_run(const fs::path& dir, double step, const std::vector<float>& rest, int frames,
+                                         double& frame_us) {
+  const fs::path settings = dir / fmt("step-%.9g.scene.json", step);
+  write_text(settings, fmt(R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": %.17g, "gravity": [0, -9.81, 0], "forces": []})", step));
+  sweep_instance* in = sweep_open((dir / "dino.rig.json").c_str(), (dir / "dino.bind").c_str(), settings.c_str(),
+                                  rest.data(), static_cast<int>(rest.size() / 3));
+  if (in == nullptr) check(SWEEP_ERROR_INTERNAL);
+  std::vector<std::vector<float>> out;
+  std::vector<double> times;
+  for (int k = 0; k < frames; ++k) {
+    const double t = (k + 1) * kFrame;
     const sim::BodyState b = walk(t);
     double m[16] = {0};
     const Mat3 r = b.rotation.toRotationMatrix();
@@ -135,17 +250,20 @@ Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>&
       m[12 + c] = b.translation[c];
     }
     m[15] = 1;
+    if (k == 30) {
+      const double point[3] = {-0.5, -0.345, -0.012}, force[3] = {0, 0, 20000};
+      check(sweep_add_force(in, "tail", point, force, 0.1));
+    }
+    const auto t0 = Clock::now();
     check(sweep_set_body(in, m));
     check(sweep_advance(in, kFrame));
-    const auto t1 = Clock::now();
-    check(sweep_positions(in, out.data()));
-    const auto t2 = Clock::now();
-    if (k < kSkip) continue;
-    total.push_back(us(t0, t1));
-    copy.push_back(us(t1, t2));
+    times.push_back(us(t0, Clock::now()));
+    out.emplace_back(rest.size());
+    check(sweep_positions(in, out.back().data()));
   }
   sweep_close(in);
-  return {median(total), 0, 0, median(copy)};
+  frame_us = median(times);
+  return out;
 }
 
 }  // namespace
@@ -168,9 +286,9 @@ int main(int argc, char** argv) {
   io::write_rig(dir / "dino.rig.json", dino.rig);
   bind::write_binding(dir / "dino.bind", dino.binding);
   write_text(dir / "settings.scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "gravity": [0, -9.81, 0], "forces": []})");
-  // The same with an internal step of 1/120 s: 2 steps a 60 fps frame instead of 8.
-  write_text(dir / "coarse.scene.json",
-             R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": 0.008333333333333333, "gravity": [0, -9.81, 0], "forces": []})");
+  // The same with sweep-sim's internal step, 1/480 s: 8 steps a 60 fps frame instead of 1.
+  write_text(dir / "fine.scene.json",
+             R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": 0.0020833333333333333, "gravity": [0, -9.81, 0], "forces": []})");
   std::vector<float> rest;
   for (const Vec3& p : dino.mesh.positions) rest.insert(rest.end(), {float(p.x()), float(p.y()), float(p.z())});
 
@@ -188,34 +306,90 @@ int main(int argc, char** argv) {
 
   std::size_t bound = 0;
   for (const auto& s : dino.binding.sweeps) bound += s.size();
-  const char* names[] = {"scene player, 30 fps (sweep-sim's frame)", "scene player, 60 fps", "live (C++): set_body_pose + advance_to",
-                         "libsweep: sweep_set_body + sweep_advance", "libsweep, frames back to back",
-                         "libsweep, step 1/120 s (2 steps a frame)"};
-  constexpr int kCases = 6;
+  const char* names[] = {"scene player, 30 fps (sweep-sim's frame)",
+                         "scene player, 60 fps",
+                         "live (C++): set_body_pose + advance_to, step 1/480 s",
+                         "libsweep, step 1/480 s (8 a frame): positions",
+                         "libsweep, live step 1/60 s: positions",
+                         "libsweep, live step, frames back to back: positions",
+                         "libsweep, live step: joints out (24 + 23×24 ring a part)",
+                         "libsweep, live step: joints out (24 a part, no ring)"};
+  constexpr int kCases = 8;
   std::vector<std::vector<std::vector<Cost>>> runs(kCases, std::vector<std::vector<Cost>>(max_threads));
+  // A crowd of 1 and 100, on 1 and 2 threads, positions and joints out.
+  const int herd_sizes[] = {1, 100};
+  std::vector<double> herd_runs[2][2][2];  // [size][threads − 1][read]
   for (int r = 0; r < rounds; ++r) {
     for (int th = 1; th <= max_threads; ++th) {
       omp_set_num_threads(th);
       runs[0][th - 1].push_back(scene_player(dino, player30, frames / 2 + kSkip));
       runs[1][th - 1].push_back(scene_player(dino, player60, frames));
       runs[2][th - 1].push_back(live_cpp(dino, settings, frames));
-      runs[3][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames));
-      runs[4][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, false));
-      runs[5][th - 1].push_back(live_c(dir, "coarse.scene.json", rest, frames));
+      runs[3][th - 1].push_back(live_c(dir, "fine.scene.json", rest, frames, true, Read::positions));
+      runs[4][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::positions));
+      runs[5][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, false, Read::positions));
+      runs[6][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints));
+      runs[7][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 1));
+      for (int h = 0; h < 2; ++h) {
+        for (int read = 0; read < 2; ++read) {
+          herd_runs[h][th - 1][read].push_back(crowd(dir, rest, herd_sizes[h], th, h == 0 ? frames : frames / 2 + kSkip,
+                                                     read == 0 ? Read::positions : Read::joints));
+        }
+      }
     }
   }
-  std::string csv = "case,threads,frame_us,step_us,deform_us,positions_us\n";
+  std::string csv = "case,threads,frame_us,step_us,deform_us,read_us\n";
   std::string md = fmt("Diplodocus tail + neck (%zu bound vertices of %zu), material mode, gravity, a new body pose every "
-                       "frame, frames 1/60 s apart:\n\n",
-                       bound, dino.mesh.vertex_count());
-  md += "| case | threads | frame µs (median) | step µs | deform µs | sweep_positions µs |\n|---|---|---|---|---|---|\n";
+                       "frame, frames 1/60 s apart (a %s build):\n\n",
+                       bound, dino.mesh.vertex_count(), SWEEP_BUILD_TYPE);
+  md += "| case | threads | frame µs (median) | step µs | deform µs | read µs (sweep_positions or sweep_joints) |\n"
+        "|---|---|---|---|---|---|\n";
   for (int c = 0; c < kCases; ++c) {
     for (int th = 1; th <= max_threads; ++th) {
       const Cost m = median_of(runs[c][th - 1]);
       csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g\n", names[c], th, m.frame_us, m.step_us, m.deform_us, m.copy_us);
-      md += c >= 3 ? fmt("| %s | %d | %.1f | — | — | %.1f |\n", names[c], th, m.frame_us, m.copy_us)
+      md += c >= 3 ? fmt("| %s | %d | %.1f | %.1f | — | %.1f |\n", names[c], th, m.frame_us, m.step_us, m.copy_us)
                    : fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", names[c], th, m.frame_us, m.step_us, m.deform_us);
     }
+  }
+  md += "\nA crowd: N instances through libsweep, the live step, each frame every creature's pose, advance and read, "
+        "the creatures shared among the threads (libsweep's own threads kept to one inside each), frames 1/60 s apart:\n\n"
+        "| creatures | threads | frame µs, positions (median) | frame µs, joints out (median) |\n|---|---|---|---|\n";
+  csv += "\ncreatures,threads,frame_us_positions,frame_us_joints\n";
+  for (int h = 0; h < 2; ++h) {
+    for (int th = 1; th <= max_threads; ++th) {
+      const double pos = median(herd_runs[h][th - 1][0]), joints = median(herd_runs[h][th - 1][1]);
+      md += fmt("| %d | %d | %.1f | %.1f |\n", herd_sizes[h], th, pos, joints);
+      csv += fmt("%d,%d,%.4g,%.4g\n", herd_sizes[h], th, pos, joints);
+    }
+  }
+  // What a coarser step costs in accuracy, against a step 8× finer than the default.
+  const int accuracy_frames = args.quick ? 120 : 300;
+  double reference_us = 0;
+  const auto reference = step_run(dir, sim::Scene::kDefaultStep / 8, rest, accuracy_frames, reference_us);
+  md += fmt("\nA coarser internal step against a fine one (1/%d s), the same live run (the walk, gravity, a 20 kN push on "
+            "the tail's tip from 0.5 to 0.6 s), %d frames at 60 fps: the largest distance of a bound vertex from where the "
+            "fine step puts it, over its part's length, and the frame's cost back to back (1 thread):\n\n",
+            static_cast<int>(std::lround(8 / sim::Scene::kDefaultStep)), accuracy_frames);
+  md += "| step | steps a 60 fps frame | largest error / length | frame µs (median) |\n|---|---|---|---|\n";
+  csv += "\nstep_s,steps_per_frame,max_error_relative,frame_us\n";
+  omp_set_num_threads(1);
+  for (const double step : {1.0 / 480, 1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30}) {
+    double frame_us = 0;
+    const auto run = step_run(dir, step, rest, accuracy_frames, frame_us);
+    double worst = 0;
+    for (std::size_t i = 0; i < dino.binding.sweeps.size(); ++i) {
+      const double length = dino.rig.sweeps[i].rest.length();
+      for (int k = 0; k < accuracy_frames; ++k) {
+        for (const std::uint32_t v : dino.binding.sweeps[i].vertices) {
+          const Eigen::Map<const Eigen::Vector3f> a(run[k].data() + 3 * v), b(reference[k].data() + 3 * v);
+          worst = std::max(worst, static_cast<double>((a - b).norm()) / length);
+        }
+      }
+    }
+    const std::string name = fmt("1/%d s", static_cast<int>(std::lround(1 / step)));
+    md += fmt("| %s | %.3g | %.2e | %.1f |\n", name.c_str(), kFrame / step, worst, frame_us);
+    csv += fmt("%.9g,%.3g,%.4g,%.4g\n", step, kFrame / step, worst, frame_us);
   }
   write_text(args.out / "live.csv", csv);
   write_text(args.out / "live.md", md);

@@ -129,17 +129,20 @@ $(cat "$results/skip.md")
 ### The live frame through libsweep (\`sweep-bench-live\`)
 
 A game's frame: the diplodocus tail and neck in material mode with gravity (pre-loaded), a new
-body pose every frame (a slow walk with a sway), frames 1/60 s apart, through the C interface
-(\`sweep_set_body\` + \`sweep_advance\`: step and deform; \`sweep_positions\`, the world-space copy of
-all vertices an engine uploads, apart), against the scene player's frame (\`advance_frame\` and the
-fast path, what \`sweep-sim\` does per output frame) in the same run, at 30 fps (16 internal steps a
-frame) and at 60 fps (8), and the live simulator in C++ with step and deform timed apart. The last
-two rows: libsweep with frames back to back (warm caches, no sleeping threads), and with the
-settings' \`step\` at 1/120 s (2 internal steps a frame instead of 8). Median over frames after the
-first 10, median over rounds (5; 3 in quick mode) alternating cases and thread counts.
+body pose every frame (a slow walk with a sway), frames 1/60 s apart, through the C interface: the
+step (\`sweep_set_body\` + \`sweep_advance\`) and the read (\`sweep_positions\`: the moved parts
+deformed and the world-space copy of all vertices an engine uploads; or \`sweep_joints\`: the
+skinned export's joints, for an engine that skins on the GPU) timed apart. Against it, in the same
+run, the scene player's frame (\`advance_frame\` and the fast path, what \`sweep-sim\` does per
+output frame) at 30 fps (16 internal steps a frame) and at 60 fps (8), and the live simulator in C++
+at \`sweep-sim\`'s step, 1/480 s. What each change bought, row against row: libsweep at 1/480 s (8
+steps a frame, as before) against its live default, 1/60 s (one step a frame: settings that give no
+step); positions against joints out (no deformation, no copy of the mesh); the crowd's 100
+creatures against one. Median over frames after the first 10, median over rounds (5; 3 in quick
+mode) alternating cases and thread counts. The last table is what the coarser step costs in
+accuracy, measured against a step 64 times finer than \`sweep-sim\`'s.
 
 $(cat "$results/live.md")
-| libsweep, step 1/120 s (2 steps a frame) | 2 | 75992.1 | — | — | 35.8 |
 
 ## Integration: integrator × dt against the closed-form oscillator
 

@@ -3,10 +3,11 @@
  * optional scene settings, read once; then each frame the game gives the body's pose and any
  * forces, advances by its frame time, and reads the deformed positions back.
  *
- * Time: the instance keeps its own clock of internal steps (the settings' "step", 1/480 s by
- * default) and reaches any time by one exact partial step beyond the last one, so the motion does
- * not depend on how the game slices time: advancing by 1/60, 1/144, 1/30 ... lands on the same
- * pose at the same times as regular frames.
+ * Time: the instance keeps its own clock of internal steps (the settings' "step"; settings that
+ * give none, or none at all, take 1/60 s with the exact integrator: one step a 60 fps frame, where
+ * sweep-sim takes 1/480 s) and reaches any time by one exact partial step beyond the last one, so
+ * the motion does not depend on how the game slices time: advancing by 1/60, 1/144, 1/30 ... lands
+ * on the same pose at the same times as regular frames.
  *
  * Errors: every int function returns 0, or an error code in the categories of the tools' exit
  * codes (SWEEP_ERROR_*); sweep_open returns NULL. sweep_last_error() then tells what went wrong,
@@ -69,15 +70,24 @@ SWEEP_API int sweep_set_body(sweep_instance* instance, const double world_from_m
  * in material mode). */
 SWEEP_API int sweep_add_force(sweep_instance* instance, const char* part, const double point[3], const double force[3],
                               double seconds);
-/* Advances the instance's clock by dt ≥ 0 seconds and deforms the parts that moved. */
+/* Advances the instance's clock by dt ≥ 0 seconds. What the game reads is computed when it reads it:
+ * sweep_positions deforms, and sweep_joints poses, only the parts that moved since they last did. */
 SWEEP_API int sweep_advance(sweep_instance* instance, double dt);
 /* The deformed positions at the current time, world space: vertex_count × 3 floats. */
 SWEEP_API int sweep_positions(const sweep_instance* instance, float* out_xyz);
-/* The joints of the skinned export (sweep-sim --joints), for engines that skin on the GPU: their
- * count, or minus an error code. This version has none to give: it returns -SWEEP_ERROR_UNSUPPORTED,
- * and sweep_joints SWEEP_ERROR_UNSUPPORTED. */
+/* The joints of the skinned export (`sweep-sim --joints`), for an engine that skins on the GPU: it
+ * loads the exported .glb (mesh, weights, inverse bind matrices) once and each frame reads these
+ * instead of the positions. sweep_joint_count: how many (the body joint included), or minus an error
+ * code. sweep_joints: each joint's world matrix (world from joint, column-major, 16 floats a joint),
+ * in the order `sweep-sim --joints` writes them (the .glb's skin joints: the body, then per part its
+ * station joints and their ring joints). The skeleton is that of `--joints` given alone (24 joints
+ * along each part, 24 around each station but the root) until sweep_set_skin says otherwise; an
+ * export made with --ring-fit has its ring joints fitted to the bake, which a live frame samples. */
 SWEEP_API int sweep_joint_count(const sweep_instance* instance);
 SWEEP_API int sweep_joints(const sweep_instance* instance, float* out_16xN);
+/* The skeleton the export was made with: `sweep-sim --joints joints_per_sweep --ring-joints
+ * ring_joints` (2 to 255 joints a part, at most its stations; 1 to 64 ring joints, 1 = none). */
+SWEEP_API int sweep_set_skin(sweep_instance* instance, int joints_per_sweep, int ring_joints);
 
 #ifdef __cplusplus
 }
