@@ -14,10 +14,10 @@ Skeleton (joint positions read off the mesh: centroids of its cross sections, y 
 Every joint rests unrotated at its position; its inverse bind matrix is the inverse translation.
 
 Weights: each joint moves a bone, a segment (a joint to its child; the last of a chain to the end
-of the limb). A vertex's nearest bone names its limb (tail, neck, a leg, or the trunk: Hip, Chest);
-it is weighted by the bones of that limb and the trunk (a trunk vertex by every bone) as
-1 / (d^2 + 0.01^2)^2, d its distance to the bone, keeping the 4 largest, normalised to sum 1. So a
-tail vertex never moves with a leg, and weights blend smoothly over each joint.
+of the limb). A vertex belongs to the limb (tail, neck, a leg) of its nearest bone outside the trunk
+(Hip, Chest); it is weighted by the bones of that limb and the trunk as 1 / (d^2 + 0.01^2)^2, d its
+distance to the bone, keeping the 4 largest, normalised to sum 1. So no vertex moves with both a leg
+and the tail or neck, and weights blend smoothly over each joint.
 
 Clip "Walk" (1.2 s, loops; LINEAR keys every 1/30 s, the last key the first's values, so the clip
 wraps without a seam): a brisk lateral-sequence walk in place, phase p = 2 pi t / 1.2 s.
@@ -99,9 +99,9 @@ def skin_weights(positions):
     joints, weights = [], []
     for p in positions:
         d = [segment_distance(p, head, end) for (_, _, head, end) in JOINTS]
-        limb = limb_of[JOINTS[min(range(len(d)), key=d.__getitem__)][0]]
-        allowed = range(len(JOINTS)) if limb == "trunk" else \
-            [index[n] for n in LIMBS[limb] + LIMBS["trunk"]]
+        limbs = [j for j in range(len(JOINTS)) if limb_of[JOINTS[j][0]] != "trunk"]
+        limb = limb_of[JOINTS[min(limbs, key=d.__getitem__)][0]]
+        allowed = [index[n] for n in LIMBS[limb] + LIMBS["trunk"]]
         raw = sorted(((1.0 / (d[j] ** 2 + 1e-4) ** 2, j) for j in allowed), reverse=True)[:4]
         total = sum(w for w, _ in raw)
         # float32 weights whose float32 sum is 1: the largest takes what the others leave.

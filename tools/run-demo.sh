@@ -3,7 +3,7 @@
 # tail and the neck of a mesh into one rig, bind it, and bake the scene of the paper's Fig. 4
 # (bending, twisting and cross-sectional change at once) to .glb and .pc2, with a JSON report and
 # a preview picture; then, for the bundled example, a second demo in material mode with gravity and
-# a third on a body that walks, turns and stops.
+# a third, the diplodocus rigged (a skeleton, skin weights and a looping walk clip) and walking.
 #
 #   tools/run-demo.sh                     # CGAL's diplodocus (23,982 vertices), the bundled example
 #   MESH=my.off TAIL_ROOT=x,y,z TAIL_TIP=x,y,z NECK_ROOT=x,y,z NECK_TIP=x,y,z SCENE=my.scene.json \
@@ -58,12 +58,21 @@ if [ -z "${MESH:-}" ]; then
   "$bin/sweep-sim/sweep-sim" "$material_demo.rig.json" --scene rigs/diplodocus-material.scene.json \
     -o "$material_demo.glb" -o "$material_demo.pc2" --report "$material_demo.sim.json"
   preview "$material_demo.pc2" -o "$material_demo.png" --report "$material_demo.sim.json"
-  # The third: the same rig on a body that walks, turns and stops (rigs/diplodocus-walk.scene.json,
-  # a keyframed root, with gravity and a breeze): tail and neck lag, swing and settle.
+  # The third: the diplodocus given a skeleton, skin weights and a looping 1.2 s walk
+  # (meshes/make_skinned_diplodocus.py writes it as a skinned .glb); tail and neck fitted on its bind
+  # pose with the same materials, and the clip walked in a loop after a 12 s preroll
+  # (rigs/diplodocus-walk.scene.json): tail and neck lag and overshoot the pose the clip keys.
   walk_demo="$out-walk"
-  "$bin/sweep-sim/sweep-sim" "$material_demo.rig.json" --scene rigs/diplodocus-walk.scene.json \
-    -o "$walk_demo.glb" -o "$walk_demo.pc2" --report "$walk_demo.sim.json"
-  preview "$walk_demo.pc2" -o "$walk_demo.png" --report "$walk_demo.sim.json"
+  python3 meshes/make_skinned_diplodocus.py "$mesh" "$out-skinned.glb"
+  rm -f "$walk_demo.rig.json"
+  "$bin/sweep-fit/sweep-fit" "$out-skinned.glb" -o "$walk_demo.rig.json" --name tail --root "$tail_root" --tip "$tail_tip" \
+    --material rigs/diplodocus-tail.material.json --report "$walk_demo.fit-tail.json"
+  "$bin/sweep-fit/sweep-fit" "$out-skinned.glb" -o "$walk_demo.rig.json" --name neck --root "$neck_root" --tip "$neck_tip" \
+    --material rigs/diplodocus-neck.material.json --report "$walk_demo.fit-neck.json"
+  "$bin/sweep-bind/sweep-bind" "$walk_demo.rig.json" --blend 0.02 -q
+  "$bin/sweep-sim/sweep-sim" "$walk_demo.rig.json" --scene rigs/diplodocus-walk.scene.json \
+    -o "$walk_demo.pc2" -o "$walk_demo.obj" --report "$walk_demo.sim.json"
+  preview "$walk_demo.pc2" -o "$walk_demo.png" --report "$walk_demo.sim.json" --frames 9
 fi
 
 cat <<MSG
@@ -79,6 +88,7 @@ MSG
 if [ -n "$material_demo" ]; then
   cat <<MSG
 Material mode with gravity (the second demo): $material_demo.glb $material_demo.pc2 $material_demo.png
-Walking, turning and stopping (the third): $walk_demo.glb $walk_demo.pc2 $walk_demo.png
+The rigged diplodocus walking (the third): $out-skinned.glb (the rigged input: open it in Blender or an
+  engine) and its bake $walk_demo.pc2, ${walk_demo}_NNNN.obj, $walk_demo.png
 MSG
 fi

@@ -235,7 +235,7 @@ int main(int argc, char** argv) {
     }
     walking.body = sim::BodyPath(keys, sim::BodyInterpolation::cubic);
     using sim::Collider;
-    const std::vector<Collider> demo = {  // rigs/diplodocus-walk.scene.json
+    const std::vector<Collider> demo = {  // rigs/diplodocus-path.scene.json
         Collider::plane(Vec3(0, -0.462, 0), Vec3::UnitY()),
         Collider::capsule(Vec3(-0.1915, -0.1739, -0.0871), Vec3(-0.2894, -0.3609, -0.1242), 0.0441),
         Collider::capsule(Vec3(0.1538, -0.2441, 0.13), Vec3(0.2263, -0.4616, 0.1177), 0.0333),

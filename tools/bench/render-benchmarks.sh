@@ -116,7 +116,7 @@ fall asleep (waking them is part of the cost). The two "step 1/480 s" rows compa
 measured in alternating rounds. The last row runs the same material frame on a body that walks
 and turns all the way (a cubic path) in a gusty wind: inertia and drag against the still body's frame.
 The "collider" rows run that walking material frame (without the wind) with the
-demo's ground plane and leg capsules (rigs/diplodocus-walk.scene.json): first the ground and three
+demo's ground plane and leg capsules (rigs/diplodocus-path.scene.json): first the ground and three
 legs, then 16 colliders (the fourth leg and 11 spheres about the body), none of which the parts touch — what the
 broad phase costs: a part's bounding sphere against each collider, then each span near one, then
 each chord near one, with the tail passing within a radius and a half of a hind leg for much of
