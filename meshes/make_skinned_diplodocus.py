@@ -28,7 +28,8 @@ wraps without a seam): a brisk lateral-sequence walk in place, phase p = 2 pi t 
   Tail:  Tail1..Tail4 sway about y, 3, 4, 5, 6 deg, each 0.5 rad behind the one before.
   Neck:  Neck1..Neck3 sway about y, 2 deg each, 0.4 rad apart; Head nods 3 deg about z.
 
-Run: python3 meshes/make_skinned_diplodocus.py meshes/cgal/diplodocus.off out/diplodocus-skinned.glb"""
+Run: python3 meshes/make_skinned_diplodocus.py meshes/cgal/diplodocus.off out/diplodocus-skinned.glb
+  [--keyed FPS FRAMES keyed.pc2]   also the pose the clip keys at frames k / FPS (needs numpy)"""
 import json
 import math
 import struct
@@ -147,9 +148,62 @@ def walk_keys():
     return times, keys
 
 
-def main(off_path, out):
+def keyed_pose_cache(positions, joints, weights, fps, frames, out):
+    """The clip's own pose (linear blend skinning of the keys, looped; no part's motion) at frames
+    k / fps, as a .pc2: the reference a bake's parts lag behind (sweep-preview.py --reference).
+    Uses numpy (Debian's python3-numpy, as the preview does)."""
+    import numpy as np
+    times, keys = walk_keys()
+    times = np.array(times)
+    bind = np.array(positions)
+    lbs_joints, lbs_weights = np.array(joints), np.array(weights)
+    index = {name: j for j, (name, _, _, _) in enumerate(JOINTS)}
+
+    def rotation(q):
+        x, y, z, w = q
+        return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+    def sample(values, k, u, spherical):  # glTF's LINEAR: lerp, or slerp for rotations
+        a, b = np.array(values[k], float), np.array(values[k + 1], float)
+        if not spherical:
+            return a + u * (b - a)
+        if a @ b < 0:
+            b = -b
+        angle = math.acos(min(1.0, a @ b))
+        if angle < 1e-12:
+            return a
+        return (math.sin((1 - u) * angle) * a + math.sin(u * angle) * b) / math.sin(angle)
+
+    with open(out, "wb") as f:
+        f.write(b"POINTCACHE2\0" + struct.pack("<iiffi", 1, len(positions), 0.0, 1.0, frames))
+        for frame in range(frames):
+            t = math.fmod(frame / fps, PERIOD)
+            k = min(int(np.searchsorted(times, t, side="right")) - 1, len(times) - 2)
+            u = (t - times[k]) / (times[k + 1] - times[k])
+            world, skinning = [], []
+            for name, parent, head, _ in JOINTS:
+                local = np.eye(4)
+                translation, turn = keys.get(name, (None, None))
+                origin = (0.0, 0.0, 0.0) if parent is None else JOINTS[index[parent]][2]
+                local[:3, 3] = sample(translation, k, u, False) if translation else np.subtract(head, origin)
+                if turn:
+                    local[:3, :3] = rotation(sample(turn, k, u, True))
+                world.append(local if parent is None else world[index[parent]] @ local)
+                inverse_bind = np.eye(4)
+                inverse_bind[:3, 3] = np.negative(head)
+                skinning.append(world[-1] @ inverse_bind)
+            blend = np.einsum("vi,vijk->vjk", lbs_weights, np.array(skinning)[lbs_joints])
+            pose = np.einsum("vjk,vk->vj", blend[:, :3, :3], bind) + blend[:, :3, 3]
+            f.write(pose.astype("<f4").tobytes())
+
+
+def main(off_path, out, keyed=None):
     positions, triangles = read_off(off_path)
     joints, weights = skin_weights(positions)
+    if keyed is not None:
+        keyed_pose_cache(positions, joints, weights, *keyed)
     times, keys = walk_keys()
 
     buf = bytearray()
@@ -229,6 +283,10 @@ def main(off_path, out):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
+    args = sys.argv[1:]
+    if len(args) == 6 and args[2] == "--keyed":
+        main(args[0], args[1], (float(args[3]), int(args[4]), args[5]))
+    elif len(args) == 2:
+        main(args[0], args[1])
+    else:
         raise SystemExit(__doc__.split("\n\n")[-1])
-    main(sys.argv[1], sys.argv[2])

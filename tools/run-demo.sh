@@ -63,7 +63,8 @@ if [ -z "${MESH:-}" ]; then
   # pose with the same materials, and the clip walked in a loop after a 12 s preroll
   # (rigs/diplodocus-walk.scene.json): tail and neck lag and overshoot the pose the clip keys.
   walk_demo="$out-walk"
-  python3 meshes/make_skinned_diplodocus.py "$mesh" "$out-skinned.glb"
+  # (and the pose the clip keys at the scene's 73 frames, which the picture colours the lag against)
+  /usr/bin/python3 meshes/make_skinned_diplodocus.py "$mesh" "$out-skinned.glb" --keyed 30 73 "$walk_demo.keyed.pc2"
   rm -f "$walk_demo.rig.json"
   "$bin/sweep-fit/sweep-fit" "$out-skinned.glb" -o "$walk_demo.rig.json" --name tail --root "$tail_root" --tip "$tail_tip" \
     --material rigs/diplodocus-tail.material.json --report "$walk_demo.fit-tail.json"
@@ -72,7 +73,7 @@ if [ -z "${MESH:-}" ]; then
   "$bin/sweep-bind/sweep-bind" "$walk_demo.rig.json" --blend 0.02 -q
   "$bin/sweep-sim/sweep-sim" "$walk_demo.rig.json" --scene rigs/diplodocus-walk.scene.json \
     -o "$walk_demo.pc2" -o "$walk_demo.obj" --report "$walk_demo.sim.json"
-  preview "$walk_demo.pc2" -o "$walk_demo.png" --report "$walk_demo.sim.json" --frames 9
+  preview "$walk_demo.pc2" -o "$walk_demo.png" --report "$walk_demo.sim.json" --reference "$walk_demo.keyed.pc2" --frames 9 --dpi 90
 fi
 
 cat <<MSG

@@ -6,7 +6,10 @@ deforms, .off or .obj, its vertices in the cache's order) the frames are shaded 
 triangle lit from the viewer and a key light, the still body grey, the moving part in the colour of
 its displacement, drawn back to front; without it, points. With --report (sweep-sim's JSON report)
 a last panel plots the largest displacement over time; with --scene, the scene's colliders are
-drawn in grey where they are in the world (those carried by a moving body, at its rest place).
+drawn in grey where they are in the world (those carried by a moving body, at its rest place). With
+--reference (a cache of the same points and frames: the pose a skinned character's clip keys, without
+the parts' motion) the colour is each point's distance from its place in the reference's frame, so a
+walking character's legs stay grey and its tail and neck show how far they lag the keyed pose.
 
     tools/sweep-preview.py out/diplodocus.pc2 -o out/diplodocus.png --mesh diplodocus.off \
         --report out/report.json
@@ -212,12 +215,22 @@ def main():
     ap.add_argument("--dpi", type=int, default=110, help="resolution of the picture (default 110)")
     ap.add_argument("--scene", help="scene (or rig with a scene) whose colliders to draw")
     ap.add_argument("--mesh", help="the deformed mesh (.off, .obj): shaded surfaces, not points")
+    ap.add_argument("--reference", help="a .pc2 of the same points and frames (e.g. the pose a clip keys): "
+                                        "colour by the distance from it")
     args = ap.parse_args()
     try:
         frames = read_pc2(args.pc2)
         report = json.load(open(args.report)) if args.report else None
     except (OSError, ValueError) as e:
         print(f"error: {args.pc2 if not isinstance(e, json.JSONDecodeError) else args.report}: {e}", file=sys.stderr)
+        return 2
+    try:
+        reference = read_pc2(args.reference) if args.reference else None
+        if reference is not None and reference.shape != frames.shape:
+            raise ValueError(f"{reference.shape[0]} frames of {reference.shape[1]} points, the cache has "
+                             f"{frames.shape[0]} of {frames.shape[1]}: not a reference for this bake")
+    except (OSError, ValueError) as e:
+        print(f"error: {args.reference}: {e}", file=sys.stderr)
         return 2
     try:
         colliders = collider_outlines(args.scene) if args.scene else []
@@ -234,7 +247,10 @@ def main():
         return 2
     fps = args.fps or (report["fps"] if report else None)
     rest = frames[0]
-    moved = displacements(frames)
+    if reference is not None:
+        moved = np.linalg.norm(frames.astype(np.float64) - reference, axis=2)
+    else:
+        moved = displacements(frames)
     extent = max(float(np.ptp(frames.reshape(-1, 3), axis=0).max()), 1e-30)
     moving = moved.max(axis=0) > 1e-5 * extent
     picks = np.unique(np.linspace(0, len(frames) - 1, max(1, args.frames)).round().astype(int))
@@ -285,7 +301,8 @@ def main():
         ax.set_ylabel("largest vertex displacement\n(mesh units)")
         ax.grid(alpha=0.3)
     fig.suptitle(f"{os.path.basename(args.pc2)}: {frames.shape[1]} vertices, {len(frames)} frames; "
-                 f"colour = displacement from where the body carries frame 0 (max {vmax:.3g})", fontsize=10)
+                 + (f"colour = distance from {os.path.basename(args.reference)} (max {vmax:.3g})" if reference is not None
+                    else f"colour = displacement from where the body carries frame 0 (max {vmax:.3g})"), fontsize=10)
     fig.tight_layout()
     # Written beside the target and renamed into place: never a half-written picture.
     out_dir = os.path.dirname(os.path.abspath(args.output))

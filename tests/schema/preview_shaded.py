@@ -3,7 +3,8 @@ along x) whose far third moves up in the second frame, seen from the side. With 
 silhouette is filled (a surface), where points leave most of it white; the still part is grey and
 the moving part coloured, also when the whole tube walks off and turns (the body's rigid
 motion is not displacement); a mesh whose faces name vertices the cache has not is exit 2, named, and
-no picture. Usage: preview_shaded.py REPO_ROOT WORK_DIR"""
+no picture; with --reference (a keyed pose) the colours are distances from it, so what the
+reference moves too stays grey. Usage: preview_shaded.py REPO_ROOT WORK_DIR"""
 import os
 import struct
 import subprocess
@@ -86,3 +87,39 @@ run = subprocess.run([sys.executable, script, pc2, "-o", os.path.join(work, "bad
                      capture_output=True, text=True)
 assert run.returncode == 2 and "bad.obj" in run.stderr and "not the mesh" in run.stderr, (run.returncode, run.stderr)
 assert not os.path.exists(os.path.join(work, "bad.png")), "a picture was written for a wrong mesh"
+
+# --reference: colours are distances from a reference cache's same frame (a clip's keyed pose). The
+# reference bends the near third down (a keyed motion the bake shares, not rigid: without the
+# reference it is coloured) and the bake lifts the far third on top of it: with the reference the
+# near third is grey and the far third coloured.
+keyed = rest.copy()
+near = rest[:, 0] < -0.35
+keyed[near, 1] -= 0.5 * (-0.35 - rest[near, 0])
+baked = keyed.copy()
+baked[rest[:, 0] > 0.35, 1] += 0.3
+reference = os.path.join(work, "keyed.pc2")
+for path, second in ((pc2, baked), (reference, keyed)):
+    with open(path, "wb") as f:
+        f.write(b"POINTCACHE2\0" + struct.pack("<iiffi", 1, len(rest), 0.0, 1.0, 2))
+        f.write(rest.astype("<f4").tobytes() + second.astype("<f4").tobytes())
+for extra, near_grey in (((), False), (("--reference", reference), True)):
+    img = render("reference.png", "--mesh", obj, *extra)
+    drawn_r, grey_r, coloured_r = paint(img)
+    columns = np.nonzero(drawn_r.any(axis=0))[0]
+    left = np.zeros_like(drawn_r)
+    left[:, columns.min():columns.min() + (columns.max() - columns.min()) // 5] = True
+    right = np.zeros_like(drawn_r)
+    right[:, columns.max() - (columns.max() - columns.min()) // 5:] = True
+    assert (coloured_r & right).sum() > 0.5 * (drawn_r & right).sum(), "the lifted far third must be coloured"
+    if near_grey:
+        assert (grey_r & left).sum() > 0.5 * (drawn_r & left).sum(), "what the reference moves too must be grey"
+    else:
+        assert (coloured_r & left).sum() > 0.5 * (drawn_r & left).sum(), "without a reference the bent end is coloured"
+# A reference of other frames or points is exit 2, named, and no picture.
+short = os.path.join(work, "short.pc2")
+with open(short, "wb") as f:
+    f.write(b"POINTCACHE2\0" + struct.pack("<iiffi", 1, len(rest), 0.0, 1.0, 1) + rest.astype("<f4").tobytes())
+run = subprocess.run([sys.executable, script, pc2, "-o", os.path.join(work, "short.png"), "--reference", short],
+                     capture_output=True, text=True)
+assert run.returncode == 2 and "short.pc2" in run.stderr and "not a reference" in run.stderr, (run.returncode, run.stderr)
+assert not os.path.exists(os.path.join(work, "short.png")), "a picture was written for a wrong reference"
