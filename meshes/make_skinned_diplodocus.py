@@ -5,9 +5,10 @@ and writes it as a binary glTF (.glb): the walking demo's creature (tools/run-de
 The mesh is kept as read: the OFF's vertices in their order (so a bake of it lines up with the OFF,
 as the preview's --mesh needs) and its faces fanned into triangles. It is not committed (CGAL's
 sample meshes never are); this script makes it from the unpacked sample, byte for byte the same on
-every run (standard library only; numbers written as float32).
+every run (the .glb needs the standard library only; numbers written as float32).
 
-Skeleton (joint positions read off the mesh: centroids of its cross sections, y up, head at +x):
+Skeleton (joint positions read off the mesh: centroids of its body's, tail's, neck's and legs'
+cross sections; y up, head at +x):
   Hip -> Chest -> Neck1 -> Neck2 -> Neck3 -> Head;  Hip -> Tail1 -> Tail2 -> Tail3 -> Tail4;
   Hip -> HindL -> HindL_knee, Hip -> HindR -> HindR_knee, Chest -> FrontL -> FrontL_knee,
   Chest -> FrontR -> FrontR_knee  (L: -z side, R: +z side).
