@@ -41,10 +41,10 @@ results="$here/tools/bench/results"
 mkdir -p "$results"
 # Clear only what this script writes: fit-evidence.{md,png} (tools/bench/fit-evidence.py) and
 # glb_frames.md (tools/bench/glb-frames.sh) and skin_joints.md (tools/bench/skin-joints.sh) come
-# from their own scripts and are kept.
+# from their own scripts and are kept, as is real-assets.md (recorded by hand).
 for b in deform skip live integrate beam fit stress framerate follower; do rm -f "$results/$b".csv "$results/$b".md; done
 rm -f "$results"/deform_*.png "$results"/fit_*.png "$results"/integrate.png
-for kept in fit-evidence.md fit-evidence.png glb_frames.md skin_joints.md; do
+for kept in fit-evidence.md fit-evidence.png glb_frames.md skin_joints.md real-assets.md; do
   [ -s "$results/$kept" ] || { echo "error: $results/$kept is missing: run the script that writes it first (see BENCHMARKS.md)" >&2; exit 1; }
 done
 bin="$build/tools/bench"
@@ -355,6 +355,11 @@ n = 32, \`--root\` and \`--tip\` given, 0.15 s; the same with the root found, 0.
 build before them in one run on a busy machine (load 5.7: every time about 3× the quiet figures
 above): the tail fit 0.59 s against 0.53 s (1.11×), with the root found 0.63 against 0.51 (1.24×),
 \`--all\` 3.48 against 3.25 (1.07×), \`--list\` unchanged (it fits nothing).
+
+
+## Parts found on models from other tools (\`--list\`)
+
+$(cat "$results/real-assets.md")
 
 ## .glb size and memory against frames
 
