@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <iterator>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <sstream>
 
 #include "bind/deform.h"
+#include "bind/loose_pieces.h"
 #include "core/error.h"
 #include "core/frame.h"
 #include "core/hash.h"
@@ -70,13 +72,15 @@ void check_inputs(const Rig& rig, const Mesh& mesh, const BindOptions& o) {
   }
 }
 
-Candidates locate_part(const SweepDef& def, const Mesh& mesh, const Topology* topology,
+// The candidates of one sweep: `selected` (its part and loose pieces, ascending) for a sweep with
+// seeds, else every vertex on the tip side of its root plane, filtered by `keep` below.
+Candidates locate_part(const SweepDef& def, const Mesh& mesh, std::vector<std::uint32_t> selected,
                        const BindOptions& o) {
   const SweepShape& rest = def.rest;
   const Frame& root = rest.frames[0];
   Candidates c;
   if (def.part) {
-    c.vertices = select_sweep_part(mesh, *topology, rest, *def.part);
+    c.vertices = std::move(selected);
   } else {
     const Vec3 normal = root.axis();
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -176,11 +180,44 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
   result.sweeps.resize(sweep_count);
   std::vector<int> owner(mesh.vertex_count(), -1);
   std::vector<double> owner_distance(mesh.vertex_count(), std::numeric_limits<double>::infinity());
+  // The seeded parts walked over the surface, then the loose pieces against them.
+  std::vector<std::vector<std::uint32_t>> selected(sweep_count);
+  std::vector<double> select_seconds(sweep_count, 0.0);
+  for (std::size_t i = 0; i < sweep_count; ++i) {
+    const SweepDef& def = rig.sweeps[i];
+    if (!def.part) continue;
+    const Clock::time_point sweep_start = Clock::now();
+    try {
+      selected[i] = select_sweep_part(mesh, *topology, def.rest, *def.part);
+    } catch (const Error& e) {
+      throw Error(e.category(), sweep_label(def, i) + ": " + e.what());
+    }
+    select_seconds[i] = seconds_since(sweep_start);
+  }
+  if (any_seeds) {
+    for (const LoosePiece& piece : find_loose_pieces(rig, mesh, *topology, selected)) {
+      if (piece.sweep < 0) {
+        result.warnings.push_back(describe_piece(piece, mesh) + " lies " + format_number(piece.gap) +
+                                  " from part '" + rig.sweeps[static_cast<std::size_t>(piece.near)].name +
+                                  "' but is not bound (" + piece.why_unbound +
+                                  "): it will not move with the part");
+        continue;
+      }
+      const auto i = static_cast<std::size_t>(piece.sweep);
+      std::vector<std::uint32_t> merged;
+      merged.reserve(selected[i].size() + piece.vertices.size());
+      std::merge(selected[i].begin(), selected[i].end(), piece.vertices.begin(), piece.vertices.end(),
+                 std::back_inserter(merged));
+      selected[i] = std::move(merged);
+      ++result.sweeps[i].loose_piece_count;
+      result.sweeps[i].loose_vertex_count += piece.vertices.size();
+    }
+  }
   for (std::size_t i = 0; i < sweep_count; ++i) {
     const Clock::time_point sweep_start = Clock::now();
     const SweepDef& def = rig.sweeps[i];
     try {
-      candidates[i] = locate_part(def, mesh, topology ? &*topology : nullptr, options);
+      candidates[i] = locate_part(def, mesh, std::move(selected[i]), options);
     } catch (const Error& e) {
       throw Error(e.category(), sweep_label(def, i) + ": " + e.what());
     }
@@ -197,7 +234,7 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
         owner[v] = static_cast<int>(i);
       }
     }
-    st.seconds = seconds_since(sweep_start);
+    st.seconds = select_seconds[i] + seconds_since(sweep_start);
   }
 
   // The tables: owned candidates in ascending vertex order, coordinates rounded to float32.

@@ -11,7 +11,8 @@
 //    select_part (core/topology.h) from part->tip, bounded by section 0's disc
 //    (root_disc_radius), i.e. the surface reached from the tip without crossing the root section;
 //    with part->tip_cut, select_part_between: bounded by the last section's disc too
-//    (tip_disc_radius), so the tube beyond it stays unbound and never moves;
+//    (tip_disc_radius), so the tube beyond it stays unbound and never moves; and the loose pieces
+//    lying against the part (bind/loose_pieces.h: a tuft of separate quads, unwelded vertices);
 //  - a sweep without seeds (a rig written by hand): every vertex on the tip side of section 0's
 //    plane whose located plane lies within the sweep (0 ≤ t ≤ L) and which lies inside the tube
 //    widened by `seedless_radius_factor` (s ≤ factor), plus cap vertices beyond the tip section no
@@ -91,6 +92,10 @@ struct SweepBindStats {
   // Largest distance between a bound vertex and its rest position rebuilt from the stored float32
   // coordinates (deform_point on the rest shape, no blend), mesh units.
   double rest_max_error = 0;
+  // Loose pieces (bind/loose_pieces.h) that go with this sweep's part, and their vertices (counted
+  // in part_vertex_count too).
+  std::size_t loose_piece_count = 0;
+  std::size_t loose_vertex_count = 0;
   double seconds = 0;  // wall time of this sweep's selection and location
 };
 
@@ -98,6 +103,9 @@ struct BindResult {
   Binding binding;
   std::vector<SweepBindStats> sweeps;  // one per rig sweep, in rig order
   std::size_t unbound_vertex_count = 0;
+  // Things the user should know; the binding holds: a loose piece next to a part left unbound
+  // (it will not move with the part), named by its vertices.
+  std::vector<std::string> warnings;
   double seconds = 0;  // wall time of the whole binding (hashes, selection, location, checks)
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <optional>
 
 #include <Eigen/Eigenvalues>
@@ -181,6 +182,140 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
   }
 }
 
+// The mesh's shells (pieces connected by edges, over weld representatives): shell[v] for every
+// vertex (a non-representative takes its representative's); -1 for a vertex no face uses.
+std::vector<int> shells_of(const Topology& topology, int& count) {
+  const std::size_t n = topology.weld.size();
+  std::vector<int> shell(n, -1);
+  count = 0;
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (topology.weld[v] != v || shell[v] >= 0 || topology.adjacency.of(v).empty()) continue;
+    shell[v] = count;
+    stack.assign(1, v);
+    while (!stack.empty()) {
+      const std::uint32_t u = stack.back();
+      stack.pop_back();
+      for (const std::uint32_t w : topology.adjacency.of(u)) {
+        if (shell[w] < 0) {
+          shell[w] = count;
+          stack.push_back(w);
+        }
+      }
+    }
+    ++count;
+  }
+  for (std::uint32_t v = 0; v < n; ++v) shell[v] = shell[topology.weld[v]];
+  return shell;
+}
+
+// Separate shells around a body (a spider's legs, a doll's arms): each is traced from its end
+// away from the body only. The body is the shells of at least kBodyShellShare of the largest
+// shell's area; a smaller shell's attachment is its vertex nearest to them, its end the vertex
+// farthest over its surface from there. Candidates of such a shell nearer over its surface to
+// the attachment than half that are its body end, never a tip (traced from there, a leg's rings
+// run from its hip to its foot, and the part comes out root at the foot).
+constexpr double kBodyShellShare = 0.25;
+// A shell this many of the body shells' sample points or fewer is compared with all of them.
+constexpr std::size_t kBodySamples = 4096;
+// A separate shell whose part is at least this share of the body's radius (√(area / 4π) of the
+// largest shell) across is a piece of the body's core (an abdomen beside a thorax), not a part.
+constexpr double kCoreRadiusShare = 0.5;
+// ... as is the whole of a body shell (this share of its area), traced from one end to the other.
+constexpr double kWholeShellShare = 0.9;
+
+struct Shells {
+  std::vector<int> of;             // shell of each vertex, -1 for none
+  std::vector<char> body;          // per shell: one of the body's
+  std::vector<std::uint32_t> end;  // per shell: its end away from the body (body shells: unused)
+  std::vector<double> reach;       // per shell: surface distance from its attachment to its end
+  std::vector<double> area;        // per shell
+  std::vector<double> from_attachment;  // per vertex of a non-body shell: that distance
+  double body_radius = 0;          // √(area / 4π) of the largest shell
+  int largest = -1;
+  int count = 0;
+  bool several() const { return count > 1; }
+  // A body with separate pieces that may be parts: some shell is not one of the body's (two
+  // tubes of one size, a link of two rings, are two bodies: each may be a part).
+  bool with_parts() const { return several() && std::find(body.begin(), body.end(), 0) != body.end(); }
+};
+
+Shells find_shells(const Mesh& mesh, const Topology& topology, const std::vector<double>& vertex_area) {
+  Shells s;
+  s.of = shells_of(topology, s.count);
+  if (s.count < 2) return s;
+  const std::size_t n = mesh.vertex_count();
+  std::vector<double> area(static_cast<std::size_t>(s.count), 0.0);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (s.of[v] >= 0) area[static_cast<std::size_t>(s.of[v])] += vertex_area[v];
+  }
+  s.area = area;
+  s.largest = static_cast<int>(std::max_element(area.begin(), area.end()) - area.begin());
+  const double largest = area[static_cast<std::size_t>(s.largest)];
+  s.body_radius = std::sqrt(largest / (4 * std::numbers::pi));
+  s.body.assign(area.size(), 0);
+  for (std::size_t c = 0; c < area.size(); ++c) s.body[c] = area[c] >= kBodyShellShare * largest;
+  std::vector<std::uint32_t> body_points;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (topology.weld[v] == v && s.of[v] >= 0 && s.body[static_cast<std::size_t>(s.of[v])])
+      body_points.push_back(v);
+  }
+  const std::size_t stride = std::max<std::size_t>(1, body_points.size() / kBodySamples);
+  std::vector<double> gap(area.size(), kInf);
+  std::vector<std::uint32_t> attachment(area.size(), 0);
+  for (std::uint32_t v = 0; v < n; ++v) {
+    const int c = s.of[v];
+    if (topology.weld[v] != v || c < 0 || s.body[static_cast<std::size_t>(c)]) continue;
+    double nearest = kInf;
+    for (std::size_t k = 0; k < body_points.size(); k += stride)
+      nearest = std::min(nearest, (mesh.positions[body_points[k]] - mesh.positions[v]).squaredNorm());
+    if (nearest < gap[static_cast<std::size_t>(c)]) {
+      gap[static_cast<std::size_t>(c)] = nearest;
+      attachment[static_cast<std::size_t>(c)] = v;
+    }
+  }
+  s.end.assign(area.size(), 0);
+  s.reach.assign(area.size(), 0);
+  s.from_attachment.assign(n, kInf);
+  for (std::size_t c = 0; c < area.size(); ++c) {
+    if (s.body[c] || !std::isfinite(gap[c])) continue;
+    const std::vector<double> d = surface_distances(mesh, topology, std::span(&attachment[c], 1));
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (s.of[v] != static_cast<int>(c) || !std::isfinite(d[topology.weld[v]])) continue;
+      s.from_attachment[v] = d[topology.weld[v]];
+      if (topology.weld[v] == v && d[v] > s.reach[c]) {
+        s.reach[c] = d[v];
+        s.end[c] = v;
+      }
+    }
+  }
+  return s;
+}
+
+// The candidates in the order they are traced: the local maxima of the average distance, highest
+// first, but on a separate shell only those on its far half, and its end always.
+std::vector<std::uint32_t> candidates(const Topology& topology, const std::vector<double>& average,
+                                      const Shells& shells) {
+  std::vector<std::uint32_t> out = local_maxima(topology, average);
+  if (!shells.several()) return out;
+  const auto near_body_end = [&](std::uint32_t v) {
+    const int c = shells.of[v];
+    return c >= 0 && !shells.body[static_cast<std::size_t>(c)] &&
+           !(shells.from_attachment[v] >= 0.5 * shells.reach[static_cast<std::size_t>(c)]);
+  };
+  out.erase(std::remove_if(out.begin(), out.end(), near_body_end), out.end());
+  for (std::size_t c = 0; c < shells.body.size(); ++c) {
+    if (shells.body[c] || !(shells.reach[c] > 0)) continue;
+    if (std::find(out.begin(), out.end(), shells.end[c]) == out.end()) out.push_back(shells.end[c]);
+  }
+  std::stable_sort(out.begin(), out.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const double fa = std::isfinite(average[a]) ? average[a] : -kInf;
+    const double fb = std::isfinite(average[b]) ? average[b] : -kInf;
+    return fa != fb ? fa > fb : a < b;
+  });
+  return out;
+}
+
 }  // namespace
 
 std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
@@ -202,10 +337,11 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
       total_area += 3 * third;
     }
   }
+  const Shells shells = find_shells(mesh, topology, vertex_area);
   std::vector<char> covered(n, 0), in_part(n, 0);
   int traced = 0;
   std::optional<FoundPart> lone_tube;
-  for (const std::uint32_t tip : local_maxima(topology, average)) {
+  for (const std::uint32_t tip : candidates(topology, average, shells)) {
     if (covered[tip]) continue;
     if (traced++ >= o.max_candidates) break;
     const std::vector<double> d = surface_distances(mesh, topology, std::span(&tip, 1));
@@ -293,6 +429,29 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
       // around it are still found).
       cover(long_enough ? 2 * rings.rings[static_cast<std::size_t>(cap)].radius
                         : junction.distance);
+      continue;
+    }
+    // On a body with separate parts: a part of a separate shell found twice (from two tips of
+    // one end: most of its region is a part already), and the body's core pieces.
+    const int shell = shells.with_parts() ? shells.of[tip] : -1;
+    std::size_t shared = 0;
+    if (shell >= 0) {
+      for (std::size_t v = 0; v < n; ++v) shared += in_part[v] && d[topology.weld[v]] <= junction.distance;
+    }
+    // (A body shell's rings that cover it whole run from one end of the body to the other.)
+    const bool core = shell >= 0 && ((shell != shells.largest && radius >= kCoreRadiusShare * shells.body_radius) ||
+                                     (shells.body[static_cast<std::size_t>(shell)] &&
+                                      area >= kWholeShellShare * shells.area[static_cast<std::size_t>(shell)]));
+    if (2 * shared > count || core) {
+      if (passed_over) {
+        passed_over->push_back("vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": " +
+                               (core ? "a piece of the body's core (" + format_percent(radius / shells.body_radius) +
+                                           " of the body's radius across, " +
+                                           format_percent(area / shells.area[static_cast<std::size_t>(shell)]) +
+                                           " of its shell)"
+                                     : std::string("the same part as one found before")));
+      }
+      cover(junction.distance);
       continue;
     }
     FoundPart p;

@@ -7,6 +7,9 @@
 // then traced by rings of surface distance (fit/rings.h): where the rings keep a steady size for
 // a few radii and then widen into the body, it is the tip of a part; the part's region is the
 // surface nearer to the tip than that junction, and no later candidate inside it is traced again.
+// On a body with separate shells (legs modelled apart and pushed into it), a smaller shell is
+// traced from its end away from the body only, and a shell that is part of the body's core (an
+// abdomen beside a thorax, the body shell itself traced end to end) is no part (discover.cpp).
 #include <cstdint>
 #include <string>
 #include <vector>

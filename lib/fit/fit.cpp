@@ -551,10 +551,12 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
   // to max_sections before the end is cut (camel's hind leg: K = 256, 1.6 % RMS, the axis still
   // in the foot); and only when the error is measured, which tells where the end is.
   const bool fixed_count = o.tolerance == 0;
-  if (o.axis.empty() && !mid_tube && !far_end && fixed_count && o.measure_error && r.error.measured_count > 0) {
+  // Cuts the sweep where `tube_end` begins and fits it again; kept (true) only if the cut fit meets
+  // the limits below, else the fit is put back as it was.
+  const auto cut_end = [&](const TubeEnd* tube_end, const char* kind) {
     const SweepShape& shape = r.sweep.rest;
     const int k = shape.section_count();
-    if (const std::optional<TubeEnd> tube_end = find_tube_end(shape, along, o.max_error * r.mean_radius, r.mean_radius)) {
+    {
       const int end_first = tube_end->first_section;
       const double end_rms = tube_end->end_rms, before_rms = tube_end->before_rms, share = tube_end->share;
       const std::size_t end_count = tube_end->end_count;
@@ -615,7 +617,7 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
         const std::size_t carried = r.error.beyond_ends_count - r.error.beyond_root_count;
         r.end_cut = true;
         r.end_cut_reason =
-            "the part's end is not a tube (a foot, a hoof, a tuft): the sweep fitted through it "
+            "the part's end is not a tube (" + std::string(kind) + "): the sweep fitted through it "
             "was " + format_percent(end_rms / old_mean_radius) + " of the mean radius off its " +
             std::to_string(end_count) + " vertices (RMS) over the last " + format_percent(share) +
             " of its length, against " + format_percent(before_rms / old_mean_radius) +
@@ -628,10 +630,31 @@ FitResult SweepFitter::fit(const FitOptions& o) const {
         r.axis.end_reason = "the part's end is not a tube past " + format_point(end_point, 4) +
                             " (the sweep was " + format_percent(end_rms / old_mean_radius) +
                             " of the mean radius off it, RMS)";
-      } else {
-        r = uncut;
-        cut = uncut_axis;
+        return true;
       }
+      r = uncut;
+      cut = uncut_axis;
+      return false;
+    }
+  };
+  const bool may_cut = o.axis.empty() && !mid_tube && !far_end && fixed_count && o.measure_error;
+  if (may_cut && r.error.measured_count > 0) {
+    if (const std::optional<TubeEnd> tube_end =
+            find_tube_end(r.sweep.rest, along, o.max_error * r.mean_radius, r.mean_radius)) {
+      cut_end(&*tube_end, "a foot, a hoof, a tuft");
+    }
+  }
+  // 4c. An end the sweep cannot follow and 4b does not cut (a head turned across the neck, a hand,
+  // clicked at its top or a fingertip: a long end, or sections far apart): when the fit breaks
+  // the error limits, the sweep is cut where the spans first go off the tube from the root on,
+  // or up to kMaxWideEndSteps sections before, the first cut that meets every limit kept.
+  const auto too_far = [&] {
+    return r.error.measured_count > 0 && (r.error.p90 > o.max_error * r.mean_radius ||
+                                          r.error.surface_p90 > o.max_surface_error * r.mean_radius);
+  };
+  if (may_cut && !r.end_cut && too_far()) {
+    for (const TubeEnd& wide : wide_end_cuts(r.sweep.rest, along, o.max_error * r.mean_radius)) {
+      if (cut_end(&wide, "a head, a hand: an end the sweep cannot follow")) break;
     }
   }
   if (const std::string why = check_shape(r.sweep.rest); !why.empty()) {

@@ -70,4 +70,47 @@ std::optional<TubeEnd> find_tube_end(const SweepShape& shape, std::span<const st
   return end;
 }
 
+std::vector<TubeEnd> wide_end_cuts(const SweepShape& shape, std::span<const std::pair<double, double>> along,
+                                   double limit) {
+  std::vector<TubeEnd> out;
+  const int k = shape.section_count();
+  if (k < 3 || along.empty()) return out;
+  std::vector<double> sum2(static_cast<std::size_t>(k - 1), 0.0);
+  std::vector<std::size_t> count(static_cast<std::size_t>(k - 1), 0);
+  for (const auto& [t, dist] : along) {
+    const auto i = std::upper_bound(shape.t.begin(), shape.t.end(), t) - shape.t.begin() - 1;
+    const auto span = static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(i, 0, k - 2));
+    sum2[span] += dist * dist;
+    ++count[span];
+  }
+  int first = -1;
+  for (int i = 0; i < k - 1 && first < 0; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    if (count[u] > 0 && std::sqrt(sum2[u] / static_cast<double>(count[u])) > kEndCutSpanShare * limit) first = i;
+  }
+  const double length = shape.length();
+  for (int cut = first; cut >= std::max(1, first - kMaxWideEndSteps); --cut) {
+    TubeEnd end;
+    end.first_section = cut;
+    end.t = shape.t[static_cast<std::size_t>(cut)];
+    end.share = 1 - end.t / length;
+    double end2 = 0, before2 = 0;
+    std::size_t before = 0;
+    for (const auto& [t, dist] : along) {
+      if (t < end.t) {
+        before2 += dist * dist;
+        ++before;
+      } else {
+        end2 += dist * dist;
+      }
+    }
+    if (before == 0) continue;
+    end.end_count = along.size() - before;
+    end.end_rms = std::sqrt(end2 / static_cast<double>(std::max<std::size_t>(end.end_count, 1)));
+    end.before_rms = std::sqrt(before2 / static_cast<double>(before));
+    out.push_back(end);
+  }
+  return out;
+}
+
 }  // namespace sweep::fit

@@ -48,6 +48,15 @@ struct TubeEnd {
 std::optional<TubeEnd> find_tube_end(const SweepShape& shape, std::span<const std::pair<double, double>> along,
                                      double limit, double mean_radius);
 
+// An end find_tube_end does not take (longer than kMaxEndCutShare, sections farther apart: a
+// head turned across the neck, a hand clicked at a fingertip), for a fit that breaks the error
+// limit `limit`: cuts at the first span, from the root on, whose RMS exceeds kEndCutSpanShare ×
+// `limit`, then at each of up to kMaxWideEndSteps sections before it (none before section 1),
+// to be tried in that order. Empty when no span is off the tube.
+inline constexpr int kMaxWideEndSteps = 3;
+std::vector<TubeEnd> wide_end_cuts(const SweepShape& shape, std::span<const std::pair<double, double>> along,
+                                   double limit);
+
 // The value a tenth of the distances exceed (nth_element: linear, reorders the copy it is given).
 double percentile_90(std::vector<double> distances);
 

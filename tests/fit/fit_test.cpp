@@ -567,7 +567,11 @@ TEST(OtherMeshes, ATipVertexIsTheEndAsListedNotClimbedToAnother) {
   o.tip_vertex = 19;
   const FitResult r = fit_cgal("camel.off", o);
   EXPECT_EQ(r.tip_vertex, 19u);
-  EXPECT_GT(r.length, 0.3);
+  // The neck, 0.26 long to where the head begins (the head, past it, carried: a sweep through it
+  // was 13.7 % off at the 90th percentile, refused), not a stub.
+  EXPECT_TRUE(r.problems.empty()) << r.problems.front();
+  EXPECT_TRUE(r.end_cut) << "the head is carried";
+  EXPECT_GT(r.length, 0.2);
   EXPECT_GT(r.root.y(), 0.15) << "the root is at the neck's base, not under the head";
   EXPECT_LT(r.root.y(), 0.25);
 }

@@ -58,6 +58,7 @@ std::string report_text(const Settings& s, const fs::path& mesh_path, const std:
   doc["vertex_count"] = r.binding.vertex_count;
   doc["unbound_vertex_count"] = r.unbound_vertex_count;
   doc["blend"] = s.options.blend;
+  doc["warnings"] = r.warnings;
   nlohmann::ordered_json sweeps = nlohmann::ordered_json::array();
   for (const sweep::bind::SweepBindStats& st : r.sweeps) {
     nlohmann::ordered_json j;
@@ -65,6 +66,8 @@ std::string report_text(const Settings& s, const fs::path& mesh_path, const std:
     j["part_vertex_count"] = st.part_vertex_count;
     j["bound_vertex_count"] = st.bound_vertex_count;
     j["blended_vertex_count"] = st.blended_vertex_count;
+    j["loose_piece_count"] = st.loose_piece_count;
+    j["loose_vertex_count"] = st.loose_vertex_count;
     j["length"] = st.length;
     j["rest_max_error"] = st.rest_max_error;
     j["rest_max_error_relative"] = st.length > 0 ? st.rest_max_error / st.length : 0.0;
@@ -109,6 +112,7 @@ int run(const Settings& s) {
   } catch (const sweep::Error& e) {
     throw sweep::Error(e.category(), s.rig.string() + ": " + e.what());
   }
+  for (const std::string& w : r.warnings) sweep::tools::warn(w);
   const Clock::time_point write_start = Clock::now();
   // The binding and its report go into place together, or neither.
   sweep::io::Publication outputs;
@@ -128,6 +132,10 @@ int run(const Settings& s) {
       if (st.bound_vertex_count != st.part_vertex_count) {
         std::cout << " (" << st.part_vertex_count - st.bound_vertex_count
                   << " of its part went to a nearer sweep)";
+      }
+      if (st.loose_piece_count > 0) {
+        std::cout << ", " << st.loose_piece_count << (st.loose_piece_count == 1 ? " loose piece (" : " loose pieces (")
+                  << st.loose_vertex_count << " vertices) with it";
       }
       if (st.blended_vertex_count > 0) std::cout << ", " << st.blended_vertex_count << " blended";
       std::cout << ", rest error max " << sweep::format_number(st.rest_max_error) << " ("

@@ -3,6 +3,7 @@
 // updated by adding or replacing the sweep of that name). --list finds the mesh's parts, --all
 // fits them all. The work is in lib/fit/ (fit.h, discover.h); report.h prints and reports.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <filesystem>
@@ -59,6 +60,8 @@ struct Settings {
   bool list = false;      // --list: print the parts found, write no rig
   bool all = false;       // --all: fit every part found into the rig
   std::string names;      // --names a,b,c for --all
+  std::string only, skip;  // --only / --skip a,b,c for --all: parts by their suggested names
+  std::string up = "Y";   // --up: the up axis the suggested names go by
   fs::path preview;       // optional PNG: the fit drawn over the mesh from three sides
   fs::path material;      // optional material file: the fitted sweeps move in material mode
 };
@@ -105,20 +108,20 @@ std::vector<Vec3> read_axis(const fs::path& path) {
   return points;
 }
 
-// "a,b,c" → names (empty: none given); each must be a non-empty UTF-8 name.
-std::vector<std::string> split_names(const std::string& text) {
+// "a,b,c" → names (empty: none given); each must be a non-empty UTF-8 name, given once.
+std::vector<std::string> split_names(const std::string& text, const std::string& flag = "--names") {
   std::vector<std::string> names;
   if (text.empty()) return names;
   std::size_t at = 0;
   for (;;) {
     const std::size_t comma = text.find(',', at);
     names.push_back(text.substr(at, comma == std::string::npos ? comma : comma - at));
-    if (names.back().empty()) fail(ErrorCategory::usage, "--names: an empty name in '" + text + "'");
-    sweep::io::check_utf8(names.back(), "--names");
+    if (names.back().empty()) fail(ErrorCategory::usage, flag + ": an empty name in '" + text + "'");
+    sweep::io::check_utf8(names.back(), flag);
     // Two parts of one name would be one sweep in the rig: the second would replace the first.
     for (std::size_t k = 0; k + 1 < names.size(); ++k) {
       if (names[k] == names.back()) {
-        fail(ErrorCategory::usage, "--names: '" + names.back() + "' is given twice (parts " +
+        fail(ErrorCategory::usage, flag + ": '" + names.back() + "' is given twice (parts " +
                                        std::to_string(k + 1) + " and " + std::to_string(names.size()) +
                                        " in '" + text + "'); a rig holds one sweep a name");
       }
@@ -207,6 +210,34 @@ bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::
 std::optional<sweep::Material> read_material_option(const Settings& s) {
   if (s.material.empty()) return std::nullopt;
   return sweep::io::read_material_file(s.material, sweep::tools::warn);
+}
+
+// --up as the direction the suggested names go by.
+sweep::fit::DiscoverOptions discover_options(const Settings& s) {
+  sweep::fit::DiscoverOptions o;
+  o.up = s.up == "X" ? Vec3::UnitX() : s.up == "Z" ? Vec3::UnitZ() : Vec3::UnitY();
+  return o;
+}
+
+// The parts --all fits: those --only names, or all but those --skip names (by the names --list
+// suggests). A name no part has is refused with the names there are.
+std::vector<sweep::fit::FoundPart> chosen_parts(const Settings& s, std::vector<sweep::fit::FoundPart> parts) {
+  const bool only = !s.only.empty();
+  const std::vector<std::string> given = split_names(only ? s.only : s.skip, only ? "--only" : "--skip");
+  if (given.empty()) return parts;
+  std::string found;
+  for (const sweep::fit::FoundPart& p : parts) found += (found.empty() ? "" : ", ") + p.name;
+  for (const std::string& name : given) {
+    if (std::none_of(parts.begin(), parts.end(), [&](const sweep::fit::FoundPart& p) { return p.name == name; })) {
+      fail(ErrorCategory::usage, std::string(only ? "--only" : "--skip") + ": no part found is named '" + name +
+                                     "' (the parts found: " + found + "; see --list)");
+    }
+  }
+  std::erase_if(parts, [&](const sweep::fit::FoundPart& p) {
+    return (std::find(given.begin(), given.end(), p.name) != given.end()) != only;
+  });
+  if (parts.empty()) fail(ErrorCategory::usage, "--skip leaves no part to fit (the parts found: " + found + ")");
+  return parts;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -418,16 +449,18 @@ int run_all(const Settings& s) {
   std::vector<sweep::fit::FitResult> fits;
   fitting(s, mesh, fits, start, [&] {
     const sweep::fit::SweepFitter fitter(mesh.mesh());
-    const std::vector<sweep::fit::FoundPart> parts = sweep::fit::find_parts(mesh.mesh(), fitter.patched_topology());
-    if (parts.empty()) {
+    const std::vector<sweep::fit::FoundPart> found =
+        sweep::fit::find_parts(mesh.mesh(), fitter.patched_topology(), discover_options(s));
+    if (found.empty()) {
       fail(ErrorCategory::bad_input,
            s.mesh.string() + ": " +
                sweep::fit_tool::no_parts_found(sweep::hole_edge_count(fitter.patched_topology())));
     }
+    const std::vector<sweep::fit::FoundPart> parts = chosen_parts(s, found);
     if (!names.empty() && names.size() != parts.size()) {
       fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) +
-                                     " names for the " + std::to_string(parts.size()) +
-                                     " parts found (see --list)");
+                                     " names for the " + std::to_string(parts.size()) + " parts " +
+                                     (parts.size() == found.size() ? "found (see --list)" : "chosen by --only or --skip"));
     }
     for (std::size_t i = 0; i < parts.size(); ++i) {
       sweep::fit::FitOptions o = fit_options(s);
@@ -467,7 +500,7 @@ int run_list(const Settings& s) {
   const sweep::Topology& searched = patched ? *patched : topology;
   std::vector<std::string> passed_over;
   const std::vector<sweep::fit::FoundPart> parts =
-      sweep::fit::find_parts(mesh, searched, {}, s.verbose ? &passed_over : nullptr);
+      sweep::fit::find_parts(mesh, searched, discover_options(s), s.verbose ? &passed_over : nullptr);
   sweep::fit_tool::print_parts(parts, sweep::hole_edge_count(searched));
   for (const std::string& x : passed_over) std::cout << "  passed over " << x << "\n";
   if (!s.report.empty())
@@ -496,6 +529,18 @@ int main(int argc, char** argv) {
     auto* names = app.add_option("--names", s.names,
                                  "With --all: the parts' names, comma-separated, in --list's order "
                                  "(default: the suggested names)");
+    auto* only = app.add_option("--only", s.only,
+                                "With --all: fit only these parts, comma-separated, by the names --list "
+                                "suggests");
+    auto* skip = app.add_option("--skip", s.skip,
+                                "With --all: fit every part but these, comma-separated, by the names "
+                                "--list suggests")
+                     ->excludes(only);
+    auto* up = app.add_option("--up", s.up,
+                              "With --list or --all: the mesh's up axis, which the suggested names go by "
+                              "(a leg points down, a neck rises)")
+                   ->check(CLI::IsMember({"X", "Y", "Z"}))
+                   ->capture_default_str();
     auto* name =
         app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
     auto* root = app.add_option("--root", s.root,
@@ -552,6 +597,10 @@ int main(int argc, char** argv) {
       }
     }
     if (names->count() > 0 && !s.all) fail(ErrorCategory::usage, "--names goes with --all");
+    for (const CLI::Option* choice : {only, skip}) {
+      if (choice->count() > 0 && !s.all) fail(ErrorCategory::usage, choice->get_name() + " goes with --all");
+    }
+    if (up->count() > 0 && !finding) fail(ErrorCategory::usage, "--up names the parts --list and --all find: it goes with them");
     if (space->count() > 0 && finding) {
       fail(ErrorCategory::usage, std::string("--space says what --root, --tip and --axis are in: it does not go with ") +
                                      (s.list ? "--list" : "--all"));
