@@ -1,9 +1,10 @@
 // The .glb bake of a skinned character's clip: the input asset whole (skeleton, skin, every clip,
 // material, image, UV set, names and extras) plus the parts' motion as morph targets under the skin
 // (assets/gltf_passthrough.h). On a copy of the committed creature meshes/skinned_tail.gltf given a
-// textured material, two UV sets and extras, the file is read back with tinygltf and skinned here,
-// as an engine plays its new animation: morph weights first, then linear blend skinning with the
-// animation's keys, against the .pc2 of the same run. Then what it refuses.
+// textured material, two UV sets, normals and extras, the file is read back with tinygltf and
+// skinned here, as an engine plays its new animation: morph weights first, then linear blend
+// skinning with the animation's keys, against the .pc2 of the same run. Then what it refuses, and
+// --under-skin's cache (the bake before skinning).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <tiny_gltf.h>
@@ -291,10 +292,12 @@ const WalkBake& walk_bake() {
   return bake;
 }
 
-TEST(SkinnedGlb, KeepsTheAssetWhole) {
-  const WalkBake& bake = walk_bake();
-  ASSERT_TRUE(bake.ok) << io::read_file(here("walk.err"));
-  const tinygltf::Model in = load(bake.asset.gltf), out = load(bake.glb);
+// The asset whole, and its new animation, played as an engine plays it (morph weights, then the
+// skin), is the .pc2 at every frame; the skin alone is far from it.
+TEST(SkinnedGlb, KeepsTheAssetWholeAndPlaysTheBake) {
+  const WalkBake& walk = walk_bake();
+  ASSERT_TRUE(walk.ok) << io::read_file(here("walk.err"));
+  const tinygltf::Model in = load(walk.asset.gltf), out = load(walk.glb);
 
   // The asset whole: nodes and their names, the skin's joints, every clip with its keys, the
   // material, texture, sampler and image (its bytes), both UV sets, the extras.
@@ -336,19 +339,10 @@ TEST(SkinnedGlb, KeepsTheAssetWhole) {
   EXPECT_EQ(pout.material, 0);
   EXPECT_EQ(out.nodes[4].extras.Get("bone").Get<std::string>(), "tail tip");
   EXPECT_EQ(out.asset.extras.Get("author").Get<std::string>(), "test");
-}
 
-// The new animation, played as an engine plays it (morph weights, then the skin), is the .pc2 at
-// every frame; the skin alone is far from it.
-TEST(SkinnedGlb, PlayingItsNewAnimationIsTheBake) {
-  const WalkBake& bake_files = walk_bake();
-  ASSERT_TRUE(bake_files.ok) << io::read_file(here("walk.err"));
-  const tinygltf::Model out = load(bake_files.glb);
-  const fs::path& pc2 = bake_files.pc2;
-  const tinygltf::Primitive& pout = out.meshes[0].primitives[0];
   const int bake = find_animation(out, "sweep bake");
   ASSERT_GE(bake, 0);
-  const Pc2 cache(pc2);
+  const Pc2 cache(walk.pc2);
   const int frames = cache.frames;
   ASSERT_EQ(frames, 31);
   ASSERT_EQ(pout.targets.size(), 31u);
@@ -423,26 +417,26 @@ TEST(SkinnedGlb, RefusesWhatItCannotCarry) {
     EXPECT_FALSE(fs::exists(glb)) << name;
     EXPECT_FALSE(fs::exists(pc2)) << name;
   };
-  refused(setup("targets", [](Json& d) {
-            d["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", 0}}};  // the POSITION accessor: valid data
-          }),
-          "targets", "", "already has morph targets");
+  const Asset targets = setup("targets", [](Json& d) {
+    d["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", 0}}};  // the POSITION accessor: valid data
+  });
+  refused(targets, "targets", "", "already has morph targets");
   refused(setup("meshopt", [](Json& d) { d["extensionsUsed"] = {"EXT_meshopt_compression"}; }), "meshopt", "",
           "EXT_meshopt_compression");
-  refused(setup("joints"), "joints", "--joints 4", "keeps its own skeleton");
+  refused(targets, "joints", "--joints 4", "keeps its own skeleton");  // said before the targets are
 }
 
 // --under-skin: the .pc2 holds each vertex before skinning (bind space), so skinning it by the
 // clip — here the .glb's own joints and weights, its morph targets left out — is the world .pc2;
 // a vertex no part moves is its POSITION.
 TEST(SkinnedGlb, UnderSkinTheCacheIsTheBakeBeforeSkinning) {
-  const Asset s = setup("under");
-  const fs::path glb = here("under.glb"), world = here("under_world.pc2"), under = here("under.pc2");
-  ASSERT_EQ(run_sim(s, kWalk, "-o '" + glb.string() + "' -o '" + world.string() + "'", "under_world"), 0)
-      << io::read_file(here("under_world.err"));
+  const WalkBake& walk = walk_bake();
+  ASSERT_TRUE(walk.ok) << io::read_file(here("walk.err"));
+  const Asset& s = walk.asset;
+  const fs::path under = here("under.pc2");
   ASSERT_EQ(run_sim(s, kWalk, "-o '" + under.string() + "'", "under", "--under-skin"), 0) << io::read_file(here("under.err"));
-  const tinygltf::Model out = load(glb);
-  const Pc2 w(world), u(under);
+  const tinygltf::Model out = load(walk.glb);
+  const Pc2 w(walk.pc2), u(under);
   ASSERT_EQ(u.frames, w.frames);
   ASSERT_EQ(u.points, w.points);
   const int bake = find_animation(out, "sweep bake");
