@@ -60,6 +60,8 @@
 
 namespace sweep::io {
 
+class SkinnedClip;  // assets/skinned_clip.h
+
 // The mesh a bake deforms, as read from its file (assets/mesh_io.h: read_scene_mesh).
 struct BakeSource {
   // The file (empty: unknown). A .gltf or .glb makes the .glb writer write that document whole
@@ -98,6 +100,12 @@ struct BakeInfo {
   // Where a writer says what it repaired in the source (normals recomputed, a missing texture
   // left out); none: said nowhere.
   std::function<void(const std::string&)> warn;
+  // A skinned character's clip drove the bake (assets/skinned_clip.h): frame k is its pose at
+  // scene time k / fps, and the frames are world positions (every vertex may move). The .glb
+  // writer then keeps the skin and writes the parts' motion under it (gltf_passthrough.h);
+  // `part_vertices` (ascending) are the vertices the parts move off their skinned pose.
+  const SkinnedClip* skinned = nullptr;
+  std::vector<std::uint32_t> part_vertices;
 };
 
 // The body's pose for one frame: world = rotation · position + translation.

@@ -126,12 +126,15 @@ void GltfWriter::start_passthrough(const Mesh&) {
 
 void GltfWriter::start(const Mesh& mesh) {
   if (detail::is_passthrough_source(info().source.path)) {
-    passthrough_ = detail::GltfPassthrough::open(info().source.path, out(), mesh, animated(), info());
+    // A skinned clip moves every vertex; the parts' vertices are those that leave their skinned pose.
+    passthrough_ = detail::GltfPassthrough::open(info().source.path, out(), mesh,
+                                                 info().skinned ? info().part_vertices : animated(), info());
     if (passthrough_) {
       start_passthrough(mesh);
       return;
     }
   }
+  if (info().skinned) fail(ErrorCategory::internal, out().string() + ": a skinned clip's bake needs its glTF source");
   const std::size_t n = rest().size();
   const std::uint64_t frames = static_cast<std::uint64_t>(info().frame_count);
   const std::vector<std::uint32_t> triangles = mesh.triangles();

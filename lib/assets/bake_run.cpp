@@ -89,13 +89,13 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   for (std::size_t v = 0; v < nv; ++v) rest[v] = mesh.positions[v].cast<float>();
   positions = rest;
 
-  if (options.skinned != nullptr) {
-    for (const auto& out : options.outputs) {
-      if (lower_extension(out) == "glb")
-        fail(ErrorCategory::unsupported, out.string() + ": the .glb bake of a skinned character's clip is not written yet "
-                                                         "(the part's motion would have to go back under the skin); bake to "
-                                                         ".pc2 or .obj, which hold world positions");
-    }
+  if (options.under_skin && options.skinned == nullptr) {
+    fail(ErrorCategory::usage, "--under-skin: the scene's body plays no skinned mesh's clip, so there is no skin to "
+                               "write the frames under");
+  }
+  if (options.skinned != nullptr && options.joints != 0) {
+    fail(ErrorCategory::unsupported, "--joints: a skinned character's clip keeps its own skeleton in the .glb (the "
+                                     "parts' motion as morph targets under the skin); leave out --joints");
   }
   // The simulators: one for the whole rig, or with a skinned clip one a sweep, on its root joint's
   // path (sweep i is sweep of_sweep[i].second of simulator of_sweep[i].first).
@@ -171,10 +171,13 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   if (options.skinned != nullptr) {
     info.animated_vertices.reset();  // the clip moves every vertex
     info.body_moves = false;         // the positions are the world's
+    info.skinned = options.skinned;
+    info.part_vertices = animated;
   }
   info.source = options.source;
   info.warn = options.warn;
   std::vector<io::SkinPoser*> skins;  // the skinned writers among them
+  std::vector<char> glb_output;
   for (const auto& out : options.outputs) {
     if (options.joints != 0 && lower_extension(out) == "glb") {
       io::SkinBakeWriter skin = io::make_skin_bake_writer(out, skin_sweeps, skin_layout);
@@ -184,6 +187,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       writers.push_back(io::make_bake_writer(out));
     }
     writers.back()->begin(mesh, info);
+    glb_output.push_back(lower_extension(out) == "glb");
   }
   check_output_size(options, writers);
 
@@ -270,7 +274,13 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     }
     for (io::SkinPoser* skin : skins) skin->pose(shapes);
     if (options.skinned != nullptr) options.skinned->pose(k / scene.fps, positions, world);
-    for (auto& w : writers) w->frame(k, options.skinned != nullptr ? world : positions, pose);
+    // A skinned clip: world positions, or (under_skin, .pc2 and .obj) the positions the parts
+    // deformed in the rest pose, which are each vertex before skinning: the clip places a bound
+    // vertex by its skinning matrix applied to them (SkinnedClip::pose).
+    for (std::size_t w = 0; w < writers.size(); ++w) {
+      const bool world_frame = options.skinned != nullptr && !(options.under_skin && !glb_output[w]);
+      writers[w]->frame(k, world_frame ? world : positions, pose);
+    }
     report.write_seconds += seconds_since(t0);
     report.per_frame.push_back(stats);
     if (options.progress) options.progress(k + 1, info.frame_count);

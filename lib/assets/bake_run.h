@@ -53,8 +53,13 @@ struct BakeOptions {
   bool ring_fit = false;
   // A skinned mesh's clip drives the bake (assets/skinned_clip.h): each sweep is simulated on its
   // root joint's motion (a simulator of its own, the scene's forces on it kept), the preroll's
-  // frames first, and the writers get world positions. .pc2 and .obj only: a .glb is refused.
+  // frames first, and the writers get world positions; a .glb is the input asset whole with the
+  // parts' motion as morph targets under its skin (gltf_passthrough.h). With joints: refused.
   const io::SkinnedClip* skinned = nullptr;
+  // With skinned: .pc2 and .obj frames hold each vertex before skinning (the mesh's bind space,
+  // its POSITION where no part moves it): skinning them by the clip gives the bake. Without
+  // skinned: Error(usage).
+  bool under_skin = false;
   // Told what a person should know before a long bake (a .glb too large for engines to load), and
   // during it (a teleport that carried a part through a world collider, Simulator::skipped_colliders).
   std::function<void(const std::string&)> warn;

@@ -15,6 +15,8 @@
 #include <string>
 
 #include "assets/gltf_document.h"
+#include "assets/gltf_skin.h"
+#include "assets/skinned_clip.h"
 #include "assets/smooth_normals.h"
 #include "assets/obj_gltf.h"
 #include "core/error.h"
@@ -188,6 +190,21 @@ struct GltfPassthrough::State {
     BinBlock translation_block, rotation_block;
   };
   std::vector<Shown> shown;
+
+  // A skinned character's clip drove the bake (BakeInfo::skinned): the targets go under its skin,
+  // and the clip's channels are resampled at the frame times into the new animation.
+  const SkinnedClip* skin = nullptr;
+  int next_frame = 0;
+  struct Resampled {
+    int node = 0;
+    ChannelPath path = ChannelPath::translation;
+    const ClipChannel* channel = nullptr;  // the clip's (the last one on this node and path)
+    std::vector<float> values;             // 3 or 4 a frame
+    BinBlock block;
+  };
+  std::vector<Resampled> resampled;
+  std::vector<Eigen::Vector3f> keyed;  // one frame's skinned pose (no part motion), world
+  std::vector<Eigen::Vector3f> keyed_normals;
 
   // The mesh, welded by rest position, for the smooth normals that turn the input's.
   std::vector<Vec3> rest_world;
@@ -405,9 +422,11 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
                  " draws it many times (EXT_mesh_gpu_instancing); morph targets would move every "
                  "copy alike (bake to .pc2)");
       }
-      if (nodes[v->node].contains("skin")) {
+      if (nodes[v->node].contains("skin") &&
+          (s.skin == nullptr || static_cast<int>(v->node) != s.skin->model().mesh_node)) {
         s.refuse(what + " moves and is skinned by " + s.node_name(v->node) +
-                 "; the .glb bake does not combine its morph targets with a skin (bake to .pc2)");
+                 ", but no clip of its skin drives the bake; the .glb bake puts morph targets under a "
+                 "skin only when the scene's body plays its clip (bake to .pc2)");
       }
       State::Shown shown;
       shown.node = v->node;
@@ -544,6 +563,110 @@ void repair_normals(State& s, const std::function<void(const std::string&)>& war
 
 }  // namespace
 
+namespace {
+
+// The clip's channels, one a node and path (the last, as world_transforms takes it), to be keyed
+// at the frame times.
+void resample_clip(State& s) {
+  const SkinClip& clip = s.skin->model().clips[static_cast<std::size_t>(s.skin->clip())];
+  for (const ClipChannel& c : clip.channels) {
+    auto same = std::find_if(s.resampled.begin(), s.resampled.end(),
+                             [&](const State::Resampled& r) { return r.node == c.node && r.path == c.path; });
+    if (same == s.resampled.end()) {
+      State::Resampled r;
+      r.node = c.node;
+      r.path = c.path;
+      same = s.resampled.insert(s.resampled.end(), std::move(r));
+    }
+    same->channel = &c;
+    same->values.reserve(static_cast<std::size_t>(c.width()) * static_cast<std::size_t>(s.frames));
+  }
+}
+
+// One frame of a skinned clip's bake. glTF applies morph targets before skinning: a vertex with
+// skinning matrix S = Σ w_i J_i shows at S (b + d) = S b + A d (A the 3×3 linear part of S, b its
+// POSITION), so the target that puts it at the baked world position p is d = A⁻¹ (p − S b): the
+// part's motion taken back through the vertex's own skinning matrix. Normals and tangents are
+// skinned by A too: the input's, as the clip alone shows them (A n), are turned by the rotation
+// that takes the clip's pose's smooth normal to the bake's, and taken back by A⁻¹.
+void frame_under_skin(State& s, std::span<const Eigen::Vector3f> positions, const AppendBin& append) {
+  const SkinModel& model = s.skin->model();
+  const double time = s.next_frame / s.fps;
+  const std::vector<Eigen::Matrix4d> joints = s.skin->joint_matrices_at(time);
+  s.keyed.resize(positions.size());
+  for (std::size_t v = 0; v < positions.size(); ++v) s.keyed[v] = skin_vertex(model, joints, v).cast<float>();
+  s.keyed_normals = smooth_normals(s.keyed, s.welded_triangles);
+  s.frame_normals = smooth_normals(positions, s.welded_triangles);
+  std::vector<Eigen::Vector3f> d, n, t;
+  for (State::Primitive& p : s.primitives) {
+    if (!p.deformed || p.same_as >= 0) continue;
+    d.assign(p.listed.size(), Eigen::Vector3f::Zero());
+    n.assign(p.normals.empty() ? 0 : p.listed.size(), Eigen::Vector3f::Zero());
+    t.assign(p.tangents.empty() ? 0 : p.listed.size(), Eigen::Vector3f::Zero());
+    const float inf = std::numeric_limits<float>::infinity();
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(inf), hi = Eigen::Vector3f::Constant(-inf);
+    if (p.listed.size() < p.count) lo = hi = Eigen::Vector3f::Zero();
+    for (std::size_t k = 0; k < p.listed.size(); ++k) {
+      const std::uint32_t i = p.listed[k], v = p.source[i];
+      Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+      for (int e = 0; e < 4; ++e) {
+        const double w = model.vertex_weights[v][e];
+        if (w != 0) m += w * joints[model.vertex_joints[v][e]];
+      }
+      const Mat3 a = m.topLeftCorner<3, 3>();
+      const double det = a.determinant();
+      if (!(std::abs(det) > 1e-12 * std::pow(a.cwiseAbs().maxCoeff(), 3))) {
+        s.refuse("mesh " + std::to_string(p.mesh) + " primitive " + std::to_string(p.index) + " vertex " +
+                 std::to_string(i) + ": its skinning matrix at " + format_number(time) + " s (frame " +
+                 std::to_string(s.next_frame) + ") is singular (its joints' weighted rotations cancel), "
+                 "so no morph target under the skin can move it; bake to .pc2");
+      }
+      const Mat3 a_inv = a.inverse();
+      if (s.animated[v]) {
+        const Vec3 keyed = (m * model.bind_positions[v].homogeneous()).head<3>();
+        d[k] = (a_inv * (positions[v].cast<double>() - keyed)).cast<float>();
+      }
+      lo = lo.cwiseMin(d[k]);
+      hi = hi.cwiseMax(d[k]);
+      const Eigen::Vector3f& n0 = s.keyed_normals[s.rep[v]];
+      const Eigen::Vector3f& n1 = s.frame_normals[s.rep[v]];
+      if (n0 == n1) continue;
+      const Eigen::Quaterniond turn = Eigen::Quaterniond::FromTwoVectors(n0.cast<double>(), n1.cast<double>());
+      if (!p.normals.empty()) {
+        const Vec3 local(p.normals[3 * i], p.normals[3 * i + 1], p.normals[3 * i + 2]);
+        const Vec3 turned = (a_inv * (turn * (a * local).normalized())).normalized();
+        n[k] = (turned - local).cast<float>();
+      }
+      if (!p.tangents.empty()) {
+        const Vec3 local(p.tangents[4 * i], p.tangents[4 * i + 1], p.tangents[4 * i + 2]);
+        const Vec3 turned = (a_inv * (turn * (a * local))).normalized();
+        t[k] = (turned - local).cast<float>();
+      }
+    }
+    p.lo.push_back(lo);
+    p.hi.push_back(hi);
+    if (p.listed.empty()) continue;
+    p.positions.push_back(s.put(append, d.data(), d.size() * sizeof(Eigen::Vector3f)));
+    if (!n.empty()) p.normals_blocks.push_back(s.put(append, n.data(), n.size() * sizeof(Eigen::Vector3f)));
+    if (!t.empty()) p.tangents_blocks.push_back(s.put(append, t.data(), t.size() * sizeof(Eigen::Vector3f)));
+  }
+  // The clip's channels at this frame's clip time (looped or held as the bake played it).
+  const double clip_time = s.skin->clip_time(time);
+  for (State::Resampled& r : s.resampled) {
+    Eigen::Vector4d value = channel_value(*r.channel, clip_time);
+    const int width = r.channel->width();
+    const std::size_t at = r.values.size();
+    if (width == 4 && at >= 4) {  // on the side of the key before, so that slerp takes the short way
+      double dot = 0;
+      for (int c = 0; c < 4; ++c) dot += value[c] * r.values[at - 4 + c];
+      if (dot < 0) value = -value;
+    }
+    for (int c = 0; c < width; ++c) r.values.push_back(static_cast<float>(value[c]));
+  }
+}
+
+}  // namespace
+
 GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, const Mesh& rest,
                                  const std::vector<std::uint32_t>& animated, const BakeInfo& info)
     : s_(std::make_unique<State>()) {
@@ -554,6 +677,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.frames = info.frame_count;
   s.fps = info.fps;
   s.body_moves = info.body_moves;
+  s.skin = info.skinned;
   if (const std::string ext = lower_extension(source); ext == "obj" || ext == "fbx") {
     std::optional<SurfaceGltf> converted =
         ext == "obj" ? obj_as_gltf(source, rest, info.warn)
@@ -569,6 +693,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   check_compression(s);
   read_bytes(s);
   map_primitives(s, rest, animated);
+  if (s.skin != nullptr) resample_clip(s);
 
   s.rest_world = rest.positions;
   s.rest_f.resize(rest.vertex_count());
@@ -635,6 +760,7 @@ std::uint64_t GltfPassthrough::fixed_bytes() const {
   for (const State::Image& i : s_->images) bytes += i.bytes.size() + 4;
   for (const State::Primitive& p : s_->primitives) bytes += 4 * p.listed.size() + (p.normals_repaired ? 4 * p.normals.size() : 0);
   const std::uint64_t f = static_cast<std::uint64_t>(s_->frames);
+  for (const State::Resampled& r : s_->resampled) bytes += 4 * r.channel->width() * f;
   return bytes + 12 * f + 28 * f * s_->shown.size();
 }
 
@@ -677,6 +803,11 @@ void GltfPassthrough::start(const AppendBin& append) {
 
 void GltfPassthrough::frame(std::span<const Eigen::Vector3f> positions, const BodyPose& body, const AppendBin& append) {
   State& s = *s_;
+  if (s.skin != nullptr) {
+    frame_under_skin(s, positions, append);
+    ++s.next_frame;
+    return;
+  }
   s.frame_normals = smooth_normals(positions, s.welded_triangles);
   std::vector<Eigen::Vector3f> d, n, t;
   for (State::Primitive& p : s.primitives) {
@@ -750,6 +881,7 @@ Json GltfPassthrough::finish(const AppendBin& append) {
     shown.translation_block = s.put(append, shown.translations.data(), shown.translations.size() * 4);
     shown.rotation_block = s.put(append, shown.rotations.data(), shown.rotations.size() * 4);
   }
+  for (State::Resampled& r : s.resampled) r.block = s.put(append, r.values.data(), r.values.size() * 4);
   Json json = s.doc.json;
   for (const char* key : {"bufferViews", "accessors", "animations", "meshes", "nodes"}) {
     if (!json.contains(key) || !json[key].is_array()) json[key] = Json::array();
@@ -866,6 +998,15 @@ Json GltfPassthrough::finish(const AppendBin& append) {
       animation["channels"].push_back(
           {{"sampler", animation["samplers"].size() - 1}, {"target", {{"node", shown.node}, {"path", path}}}});
     }
+  }
+  for (const State::Resampled& r : s.resampled) {
+    const bool rotation = r.path == ChannelPath::rotation;
+    const std::size_t values = add_accessor({{"bufferView", add_view(r.block)}, {"componentType", kFloat},
+                                             {"count", frames}, {"type", rotation ? "VEC4" : "VEC3"}});
+    animation["samplers"].push_back({{"input", times}, {"output", values}, {"interpolation", "LINEAR"}});
+    const char* path = rotation ? "rotation" : r.path == ChannelPath::scale ? "scale" : "translation";
+    animation["channels"].push_back(
+        {{"sampler", animation["samplers"].size() - 1}, {"target", {{"node", r.node}, {"path", path}}}});
   }
   std::string name = "sweep bake";
   for (int k = 2;; ++k) {

@@ -27,11 +27,22 @@
 //    the body (the .pc2 moves every vertex; here only the deformed meshes' nodes are animated).
 //  When no mesh moves (no force reaches a part), the document is written as it was, with no
 //  animation added.
+//  A skinned character's clip (BakeInfo::skinned): the skinned mesh keeps its skin, and each frame's
+//  target is taken back under it — a vertex's world offset from its skinned pose, Δ = p − S·b
+//  (S = Σ w_i J_i its skinning matrix at the frame, b its POSITION), becomes A⁻¹·Δ with A the 3×3
+//  linear part of S, since glTF applies morph targets before skinning: skinning the target
+//  reproduces the bake to float precision. Targets list the parts' vertices (BakeInfo::part_vertices)
+//  and their face neighbours; normals and tangents are turned in world space and taken back by A⁻¹
+//  as well. The new animation holds the weights channel and every channel of the clip resampled at
+//  the frame times (the clip time each frame played: looped or held, after any preroll), LINEAR,
+//  so an engine playing it alone shows the bake; the file's clips are kept as they were.
+//  A vertex whose skinning matrix is singular at some frame is refused then (Error(unsupported)).
+//  Another skinned mesh that moves, with no clip of its skin driving the bake, is refused.
 // Refused, before anything is simulated (Error(unsupported), exit 3, naming the file and what):
 // compressed geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression), a deformed
 // primitive that already has morph targets or whose POSITION, NORMAL or TANGENT is not a plain
 // float accessor (sparse, quantized), a deformed mesh shown by several nodes with different world
-// transforms, or by a skinned node, and a moving body under a parent that is not a similarity
+// transforms, or by a skinned node whose clip does not drive the bake, and a moving body under a parent that is not a similarity
 // (rotation, uniform scale, translation). A buffer or image that cannot be read is Error(bad_input).
 // An OBJ source with UVs, normals, colours or materials is first made a glTF document (obj_gltf.h);
 // its vertices are split per corner, so each primitive vertex names its source vertex in the mesh

@@ -52,6 +52,7 @@ class SkinnedClip {
   int preroll_frames() const { return preroll_frames_; }
   double clip_time(double scene_time) const;
   const std::string& clip_name() const { return model_.clips[clip_].name; }
+  int clip() const { return clip_; }  // into model().clips
   // The joint node each sweep's root follows.
   int root_joint_node(int sweep) const { return model_.joints[root_joint_[sweep]]; }
   const SkinModel& model() const { return model_; }

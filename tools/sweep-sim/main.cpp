@@ -52,6 +52,7 @@ struct Settings {
   double step = 0;                // s; overrides the scene's step and substeps; 0 = the scene's
   int threads = 0;                // OpenMP threads; 0 = OpenMP's default
   bool exact = false;             // per-vertex reference deformation instead of the fast path
+  bool under_skin = false;        // --under-skin: a skinned clip's .pc2/.obj before skinning
   int stations = 8;               // fast path: stations per span
   bool sleep = true;
   bool quiet = false;
@@ -254,6 +255,7 @@ int run(Settings s) {
   options.ring_joints = s.ring_joints;
   options.ring_fit = s.ring_fit;
   options.sleep.enabled = s.sleep;
+  options.under_skin = s.under_skin;
   if (skinned) options.skinned = &*skinned;
   sweep::tools::ProgressBar bar("baking");
   if (!s.quiet) options.progress = [&](int done, int total) { bar.update(done, total); };
@@ -330,7 +332,10 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("sweep-sim ") + SWEEP_VERSION);
     app.add_option("rig", s.rig, "Rig file (from sweep-fit)")->required();
     app.add_option("-o,--output", s.outputs,
-                   "Output: .glb, .pc2 or .obj (a numbered sequence); repeatable")
+                   "Output: .glb, .pc2 or .obj (a numbered sequence); repeatable. When the scene's "
+                   "body plays a skinned glTF mesh's clip, .pc2 and .obj hold world positions and the "
+                   ".glb is the asset whole (skeleton, clips, materials) with the parts' motion as "
+                   "morph targets under its skin and a \"sweep bake\" animation playing both")
         ->required()
         ->check(sweep::tools::kNonEmptyName);
     app.add_option("-b,--binding", s.binding, "Binding file (default: the rig's path with .bind)")
@@ -382,6 +387,10 @@ int main(int argc, char** argv) {
                  "With --joints: fit the ring joints' keys by least squares over the vertices they "
                  "weigh (less error; every ring joint is keyed, a larger file)")
         ->needs(joints);
+    app.add_flag("--under-skin", s.under_skin,
+                 "When the scene's body plays a skinned glTF mesh's clip: .pc2 and .obj frames hold "
+                 "each vertex before skinning, in the mesh's bind space (the parts' motion alone), "
+                 "for a Mesh Cache modifier above the Armature modifier in Blender");
     app.add_flag("--exact", s.exact,
                  "Deform with the exact per-vertex path (the reference; slower)");
     app.add_flag(
