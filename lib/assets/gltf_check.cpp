@@ -1,6 +1,7 @@
 // The glTF checks of mesh_checks.h, on the document as gltf_document.h reads it: what assimp would
 // crash on, drop silently or blame on something else is refused first, with the JSON pointer.
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
 #include <optional>
 
@@ -61,10 +62,11 @@ void check_accessors(const std::string& where, const Json& doc, const std::vecto
                                          "'s " + std::to_string(length) + " bytes");
     }
     const std::uint64_t b = gltf_unsigned(*view, "buffer", buffers.size());
-    if (b < buffers.size() && buffers[b] && gltf_unsigned(*view, "byteOffset", 0) + length > buffers[b]->size()) {
-      fail(ErrorCategory::bad_input, where + "/bufferViews/" + std::to_string(v) + ": bytes " +
-                                         std::to_string(gltf_unsigned(*view, "byteOffset", 0)) + " to " +
-                                         std::to_string(gltf_unsigned(*view, "byteOffset", 0) + length) +
+    const std::uint64_t view_offset = gltf_unsigned(*view, "byteOffset", 0);
+    // Compared without adding: the file's offset and length may each be up to 2^64 - 1.
+    if (b < buffers.size() && buffers[b] && !gltf_fits(view_offset, length, 0, 0, 0, 0, buffers[b]->size())) {
+      fail(ErrorCategory::bad_input, where + "/bufferViews/" + std::to_string(v) + ": its " + std::to_string(length) +
+                                         " bytes from byte " + std::to_string(view_offset) +
                                          " are past the end of buffer " + std::to_string(b) + " (" +
                                          std::to_string(buffers[b]->size()) + " bytes)");
     }
@@ -158,13 +160,16 @@ Json check_gltf_indices(const std::filesystem::path& path) {
       const std::uint64_t size = type == 5121 ? 1 : type == 5123 ? 2 : type == 5125 ? 4 : 0;
       if (size == 0) continue;
       const std::uint64_t stride = gltf_unsigned(*view, "byteStride", size);
-      const std::uint64_t begin = gltf_unsigned(*view, "byteOffset", 0) + gltf_unsigned(*indices, "byteOffset", 0);
-      const std::uint64_t view_end = gltf_unsigned(*view, "byteOffset", 0) + gltf_unsigned(*view, "byteLength", 0);
+      const std::uint64_t view_offset = gltf_unsigned(*view, "byteOffset", 0);
+      const std::uint64_t view_length = gltf_unsigned(*view, "byteLength", 0);
+      const std::uint64_t offset = gltf_unsigned(*indices, "byteOffset", 0);
       const std::uint64_t vertices = gltf_unsigned(*positions, "count", 0);
       const std::uint64_t count = gltf_unsigned(*indices, "count", 0);
-      for (std::uint64_t i = 0; i < count; ++i) {
-        const std::uint64_t a = begin + i * stride;
-        if (stride == 0 || a + size > data->size() || a + size > view_end) break;  // assimp's call
+      // Indices outside the view or the buffer are assimp's to report; only those within are read.
+      if (!gltf_fits(view_offset, view_length, offset, 1, size, stride, data->size())) continue;
+      const std::uint64_t fit = 1 + (view_length - offset - size) / stride;
+      for (std::uint64_t i = 0; i < std::min(count, fit); ++i) {
+        const std::uint64_t a = view_offset + offset + i * stride;
         std::uint32_t v = 0;
         std::memcpy(&v, data->data() + a, size);
         if (size == 1) v &= 0xffu;

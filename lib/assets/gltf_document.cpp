@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "core/error.h"
+#include "io/json_reader.h"
 #include "io/read_file.h"
 
 namespace sweep::io::detail {
@@ -77,6 +78,21 @@ std::uint64_t gltf_unsigned(const Json& obj, const char* key, std::uint64_t fall
   return it != obj.end() && it->is_number_unsigned() ? it->get<std::uint64_t>() : fallback;
 }
 
+std::string gltf_string(const Json& obj, const char* key, const std::string& fallback, const std::string& where) {
+  const auto it = obj.is_object() ? obj.find(key) : obj.end();
+  if (!obj.is_object() || it == obj.end()) return fallback;
+  if (!it->is_string()) fail(ErrorCategory::bad_input, where + "/" + key + ": must be a string, got " + describe(*it));
+  return it->get<std::string>();
+}
+
+bool gltf_fits(std::uint64_t view_offset, std::uint64_t view_length, std::uint64_t offset, std::uint64_t count,
+               std::uint64_t element, std::uint64_t stride, std::uint64_t buffer_size) {
+  if (view_offset > buffer_size || view_length > buffer_size - view_offset) return false;
+  if (count == 0) return offset <= view_length;
+  return stride >= element && element > 0 && offset <= view_length && element <= view_length - offset &&
+         count - 1 <= (view_length - offset - element) / stride;
+}
+
 const Json* gltf_element(const Json& doc, const char* array, const Json& index) {
   const auto it = doc.find(array);
   if (it == doc.end() || !it->is_array() || !index.is_number_unsigned()) return nullptr;
@@ -114,7 +130,8 @@ std::optional<std::vector<float>> read_float_accessor(const GltfDocument& file, 
   const Json* accessor = gltf_element(file.json, "accessors", index);
   if (accessor == nullptr || accessor->contains("sparse")) return std::nullopt;
   const char* type = components == 1 ? "SCALAR" : components == 3 ? "VEC3" : components == 4 ? "VEC4" : "";
-  if (gltf_unsigned(*accessor, "componentType", 0) != 5126 || accessor->value("type", "") != type) return std::nullopt;
+  const auto t = accessor->find("type");
+  if (gltf_unsigned(*accessor, "componentType", 0) != 5126 || t == accessor->end() || *t != type) return std::nullopt;
   const Json* view = accessor->contains("bufferView") ? gltf_element(file.json, "bufferViews", (*accessor)["bufferView"]) : nullptr;
   if (view == nullptr || !view->contains("buffer")) return std::nullopt;
   const std::uint64_t b = gltf_unsigned(*view, "buffer", file.buffers.size());
@@ -123,11 +140,12 @@ std::optional<std::vector<float>> read_float_accessor(const GltfDocument& file, 
   const std::uint64_t element = 4u * static_cast<std::uint64_t>(components);
   const std::uint64_t stride = gltf_unsigned(*view, "byteStride", element);
   const std::uint64_t view_begin = gltf_unsigned(*view, "byteOffset", 0);
-  const std::uint64_t view_end = view_begin + gltf_unsigned(*view, "byteLength", 0);
-  const std::uint64_t begin = view_begin + gltf_unsigned(*accessor, "byteOffset", 0);
+  const std::uint64_t offset = gltf_unsigned(*accessor, "byteOffset", 0);
   const std::uint64_t count = gltf_unsigned(*accessor, "count", 0);
-  if (stride < element || view_end > data.size()) return std::nullopt;
-  if (count > 0 && begin + (count - 1) * stride + element > view_end) return std::nullopt;
+  if (!gltf_fits(view_begin, gltf_unsigned(*view, "byteLength", 0), offset, count, element, stride, data.size())) {
+    return std::nullopt;
+  }
+  const std::uint64_t begin = view_begin + offset;
   std::vector<float> out(count * static_cast<std::uint64_t>(components));
   for (std::uint64_t i = 0; i < count; ++i) {
     std::memcpy(out.data() + i * components, data.data() + begin + i * stride, element);  // little-endian

@@ -33,6 +33,17 @@ std::optional<std::string> decode_base64(std::string_view text);
 const nlohmann::json* gltf_element(const nlohmann::json& doc, const char* array, const nlohmann::json& index);
 // An unsigned member, or `fallback` when absent or not unsigned.
 std::uint64_t gltf_unsigned(const nlohmann::json& obj, const char* key, std::uint64_t fallback);
+// A string member (a name, an interpolation, a type), or `fallback` when absent or `obj` is not an
+// object. Throws Error(bad_input) when it is there but not a string, naming `where` (the file and
+// the JSON pointer of `obj`) and the member.
+std::string gltf_string(const nlohmann::json& obj, const char* key, const std::string& fallback,
+                        const std::string& where);
+
+// Whether `count` elements of `element` bytes, `stride` apart, from byte `offset` of a bufferView
+// of `view_length` bytes at byte `view_offset` of a buffer of `buffer_size` bytes, lie within both
+// (without overflow: the numbers are the file's, up to 2^64 - 1).
+bool gltf_fits(std::uint64_t view_offset, std::uint64_t view_length, std::uint64_t offset, std::uint64_t count,
+               std::uint64_t element, std::uint64_t stride, std::uint64_t buffer_size);
 
 // A FLOAT accessor of `components` numbers an element (1 SCALAR, 3 VEC3, 4 VEC4), read whole, in
 // element order; nullopt when it is not such an accessor or its bytes do not fit its buffer.

@@ -91,7 +91,7 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
   std::vector<std::optional<std::size_t>> parent(nodes.is_array() ? nodes.size() : 0);
   for (std::size_t i = 0; i < parent.size(); ++i) {
     if (!nodes[i].is_object()) continue;
-    if (nodes[i].value("name", "") == node_name && !node) node = i;
+    if (detail::gltf_string(nodes[i], "name", "", gltf.string() + ": /nodes/" + std::to_string(i)) == node_name && !node) node = i;
     for (const Json& c : nodes[i].value("children", Json::array())) {
       if (c.is_number_unsigned() && c.get<std::size_t>() < parent.size()) parent[c.get<std::size_t>()] = i;
     }
@@ -110,17 +110,22 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
   for (std::size_t a = 0; animations.is_array() && a < animations.size() && used.empty(); ++a) {
     const Json& anim = animations[a];
     if (!anim.is_object()) continue;
-    const std::string name = anim.value("name", "animation " + std::to_string(a));
+    const std::string at = gltf.string() + ": /animations/" + std::to_string(a);
+    const std::string name = detail::gltf_string(anim, "name", "animation " + std::to_string(a), at);
     if (!animation_name.empty() && name != animation_name) continue;
     bool moves = false;
-    for (const Json& ch : anim.value("channels", Json::array())) {
-      const Json target = ch.is_object() ? ch.value("target", Json::object()) : Json::object();
+    const Json anim_channels = anim.value("channels", Json::array());
+    for (std::size_t ci = 0; anim_channels.is_array() && ci < anim_channels.size(); ++ci) {
+      const Json& ch = anim_channels[ci];
+      // value() throws on anything but an object: a target that is not one targets nothing.
+      const Json target = ch.is_object() && ch.contains("target") && ch["target"].is_object() ? ch["target"] : Json::object();
       const Json target_node = target.value("node", Json());
       if (!target_node.is_number_unsigned()) continue;
       const std::size_t n = target_node.get<std::size_t>();
-      const std::string path = target.value("path", "");
+      const std::string path = detail::gltf_string(target, "path", "", at + "/channels/" + std::to_string(ci) + "/target");
       if (ancestors.count(n) && path != "weights") {
-        refuse(gltf, "animation '" + name + "' moves node '" + nodes[n].value("name", std::to_string(n)) +
+        refuse(gltf, "animation '" + name + "' moves node '" +
+                         detail::gltf_string(nodes[n], "name", std::to_string(n), gltf.string() + ": /nodes/" + std::to_string(n)) +
                          "', above '" + node_name + "': only the body node's own animation is read; "
                          "animate '" + node_name + "' itself");
       }
@@ -129,7 +134,8 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
       if (path != "translation" && path != "rotation") continue;
       const Json* sampler = ch.contains("sampler") ? detail::gltf_element(anim, "samplers", ch["sampler"]) : nullptr;
       if (sampler == nullptr) refuse(gltf, "animation '" + name + "': a channel of node '" + node_name + "' has no sampler");
-      const std::string interpolation = sampler->value("interpolation", "LINEAR");
+      const std::string interpolation =
+          detail::gltf_string(*sampler, "interpolation", "LINEAR", at + "/samplers/" + ch["sampler"].dump());
       if (interpolation != "LINEAR") {
         refuse(gltf, "animation '" + name + "' moves node '" + node_name + "' with " + interpolation +
                          " interpolation; only LINEAR is read (export the animation baked, with linear keys)");

@@ -25,13 +25,15 @@ using Mat4 = Eigen::Matrix4d;
 std::optional<std::vector<double>> read_numbers(const GltfDocument& file, const Json& index, int components) {
   const Json* accessor = detail::gltf_element(file.json, "accessors", index);
   if (accessor == nullptr || accessor->contains("sparse")) return std::nullopt;
-  const std::string type = accessor->value("type", "");
+  const auto type_member = accessor->find("type");
+  const std::string type = type_member != accessor->end() && type_member->is_string() ? type_member->get<std::string>() : "";
   const int want = type == "SCALAR" ? 1 : type == "VEC2" ? 2 : type == "VEC3" ? 3 : type == "VEC4" ? 4 : type == "MAT4" ? 16 : 0;
   if (want != components) return std::nullopt;
   const std::uint64_t ct = detail::gltf_unsigned(*accessor, "componentType", 0);
   const int size = ct == 5120 || ct == 5121 ? 1 : ct == 5122 || ct == 5123 ? 2 : ct == 5125 || ct == 5126 ? 4 : 0;
   if (size == 0) return std::nullopt;
-  const bool normalized = accessor->value("normalized", false);
+  const auto normalized_member = accessor->find("normalized");
+  const bool normalized = normalized_member != accessor->end() && normalized_member->is_boolean() && normalized_member->get<bool>();
   const Json* view = accessor->contains("bufferView") ? detail::gltf_element(file.json, "bufferViews", (*accessor)["bufferView"]) : nullptr;
   if (view == nullptr) return std::nullopt;
   const std::uint64_t b = detail::gltf_unsigned(*view, "buffer", file.buffers.size());
@@ -40,11 +42,13 @@ std::optional<std::vector<double>> read_numbers(const GltfDocument& file, const 
   const std::uint64_t element = static_cast<std::uint64_t>(size) * components;
   const std::uint64_t stride = detail::gltf_unsigned(*view, "byteStride", element);
   const std::uint64_t view_begin = detail::gltf_unsigned(*view, "byteOffset", 0);
-  const std::uint64_t view_end = view_begin + detail::gltf_unsigned(*view, "byteLength", 0);
-  const std::uint64_t begin = view_begin + detail::gltf_unsigned(*accessor, "byteOffset", 0);
+  const std::uint64_t offset = detail::gltf_unsigned(*accessor, "byteOffset", 0);
   const std::uint64_t count = detail::gltf_unsigned(*accessor, "count", 0);
-  if (stride < element || view_end > data.size()) return std::nullopt;
-  if (count > 0 && begin + (count - 1) * stride + element > view_end) return std::nullopt;
+  if (!detail::gltf_fits(view_begin, detail::gltf_unsigned(*view, "byteLength", 0), offset, count, element, stride,
+                         data.size())) {
+    return std::nullopt;
+  }
+  const std::uint64_t begin = view_begin + offset;
   std::vector<double> out(count * static_cast<std::uint64_t>(components));
   for (std::uint64_t i = 0; i < count; ++i) {
     const char* at = data.data() + begin + i * stride;
@@ -213,7 +217,7 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
     const Json& node = nodes[i];
     SkinNode& out = model.nodes[i];
     if (!node.is_object()) continue;
-    out.name = node.value("name", "node " + std::to_string(i));
+    out.name = detail::gltf_string(node, "name", "node " + std::to_string(i), gltf.string() + ": /nodes/" + std::to_string(i));
     auto numbers = [&](const char* key, std::size_t n) -> std::optional<std::vector<double>> {
       const auto it = node.find(key);
       if (it == node.end()) return std::nullopt;
@@ -258,7 +262,8 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
     std::vector<std::array<double, 4>> vw;
     bool readable = true;
     for (const Json& prim : mesh->value("primitives", Json::array())) {
-      const Json attributes = prim.is_object() ? prim.value("attributes", Json::object()) : Json::object();
+      const Json attributes = prim.is_object() && prim.contains("attributes") && prim["attributes"].is_object()
+                                  ? prim["attributes"] : Json::object();
       const auto p = read_numbers(file, attributes.value("POSITION", Json()), 3);
       if (!p) {
         readable = false;
@@ -266,7 +271,8 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
       }
       const std::size_t count = p->size() / 3;
       for (std::size_t v = 0; v < count; ++v) positions.emplace_back((*p)[3 * v], (*p)[3 * v + 1], (*p)[3 * v + 2]);
-      const std::string mesh_name = mesh->value("name", "mesh " + nodes[node]["mesh"].dump());
+      const std::string mesh_name = detail::gltf_string(*mesh, "name", "mesh " + nodes[node]["mesh"].dump(),
+                                                        gltf.string() + ": /meshes/" + nodes[node]["mesh"].dump());
       if (attributes.contains("JOINTS_1") || attributes.contains("WEIGHTS_1")) {
         refuse(gltf, "mesh '" + mesh_name + "' has more than 4 joint influences a vertex (JOINTS_1/WEIGHTS_1); "
                      "limit the influences to 4 in the exporter (Blender: \"Limit to 4\" under skinning)");
@@ -283,7 +289,13 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
         for (int k = 0; k < 4; ++k) {
           const double jv = (*j)[4 * v + k], wv = (*w)[4 * v + k];
           if (!(wv >= 0) || !std::isfinite(wv)) refuse(gltf, "mesh '" + mesh_name + "', vertex " + std::to_string(positions.size() - count + v) + ": a negative or non-finite skin weight");
-          joints[k] = static_cast<std::uint16_t>(std::min(jv, 65535.0));
+          // A joint is an index (glTF stores it as an unsigned byte or short): a float or signed
+          // accessor's negative, fractional or non-finite value names no joint.
+          if (!(jv >= 0 && jv <= 65535 && jv == std::floor(jv))) {
+            refuse(gltf, "mesh '" + mesh_name + "', vertex " + std::to_string(positions.size() - count + v) +
+                             ": joint " + format_number(jv) + " in JOINTS_0 is not a joint index (a whole number from 0)");
+          }
+          joints[k] = static_cast<std::uint16_t>(jv);
           weights[k] = wv;
           sum += wv;
         }
@@ -350,10 +362,14 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
     const Json& anim = animations[a];
     if (!anim.is_object()) continue;
     SkinClip clip;
-    clip.name = anim.value("name", "animation " + std::to_string(a));
-    for (const Json& ch : anim.value("channels", Json::array())) {
-      const Json target = ch.is_object() ? ch.value("target", Json::object()) : Json::object();
-      const std::string path = target.value("path", "");
+    const std::string at = gltf.string() + ": /animations/" + std::to_string(a);
+    clip.name = detail::gltf_string(anim, "name", "animation " + std::to_string(a), at);
+    const Json channels = anim.value("channels", Json::array());
+    for (std::size_t ci = 0; channels.is_array() && ci < channels.size(); ++ci) {
+      const Json& ch = channels[ci];
+      // value() throws on anything but an object: a target that is not one targets nothing.
+      const Json target = ch.is_object() && ch.contains("target") && ch["target"].is_object() ? ch["target"] : Json::object();
+      const std::string path = detail::gltf_string(target, "path", "", at + "/channels/" + std::to_string(ci) + "/target");
       if (path != "translation" && path != "rotation" && path != "scale") continue;  // morph weights, pointers
       const Json tn = target.value("node", Json());
       if (!tn.is_number_unsigned() || tn.get<std::size_t>() >= nodes.size()) continue;
@@ -363,7 +379,8 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
       const std::string what = "animation '" + clip.name + "': the " + path + " of node '" + model.nodes[c.node].name + "'";
       const Json* sampler = ch.contains("sampler") ? detail::gltf_element(anim, "samplers", ch["sampler"]) : nullptr;
       if (sampler == nullptr) refuse(gltf, what + " has no sampler");
-      const std::string interpolation = sampler->value("interpolation", "LINEAR");
+      const std::string interpolation = detail::gltf_string(*sampler, "interpolation", "LINEAR",
+                                                            at + "/samplers/" + ch["sampler"].dump());
       if (interpolation == "STEP") c.interpolation = ChannelInterpolation::step;
       else if (interpolation == "CUBICSPLINE") c.interpolation = ChannelInterpolation::cubic;
       else if (interpolation != "LINEAR") refuse(gltf, what + ": unknown interpolation '" + interpolation + "'");

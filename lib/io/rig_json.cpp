@@ -1,6 +1,7 @@
 #include "io/rig_json.h"
 
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "core/error.h"
@@ -66,6 +67,14 @@ void read_material(const JsonReader& r, const Json& v, const std::string& ptr, M
   if (const Json* x = r.optional(v, "density_kg_m3")) m.density = r.positive(*x, member(ptr, "density_kg_m3"));
   if (const Json* x = r.optional(v, "metres_per_unit")) m.metres_per_unit = r.positive(*x, member(ptr, "metres_per_unit"));
   if (const Json* x = r.optional(v, "damping_ratio")) m.damping_ratio = r.non_negative(*x, member(ptr, "damping_ratio"));
+  // Each constant finite is not enough: G = E / (2 (1 + ν)) overflows for a large E and ν near -1
+  // (compared without computing it, which would overflow).
+  const bool shear_finite = m.shear_modulus > 0 || 1 + m.poisson_ratio >= 1 ||
+                            m.youngs_modulus / 2 <= std::numeric_limits<double>::max() * (1 + m.poisson_ratio);
+  if (!shear_finite) {
+    r.fail_at(ptr, "its shear modulus E / (2 (1 + poisson_ratio)) is not finite (E " + format_number(m.youngs_modulus) +
+                       ", poisson_ratio " + format_number(m.poisson_ratio, 10) + "): lower youngs_modulus_pa or raise poisson_ratio");
+  }
 }
 
 Quat read_rotation(const JsonReader& r, const Json& v, const std::string& ptr) {

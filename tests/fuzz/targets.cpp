@@ -2,15 +2,21 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "assets/gltf_document.h"
+#include "assets/gltf_motion.h"
+#include "assets/gltf_skin.h"
+#include "assets/mesh_checks.h"
 #include "assets/mesh_io.h"
 #include "core/error.h"
 #include "core/hash.h"
@@ -35,6 +41,53 @@ constexpr const char* kRig = R"({"format": "sweep-rig", "version": 1, "mesh": "t
 const Rig& fixed_rig() {
   static const Rig rig = io::parse_rig(kRig, "fixed-rig");
   return rig;
+}
+
+// The rig the material target resolves scenes against: two material sweeps, named as the
+// diplodocus scenes of rigs/ name them, one with a section overriding its sweep's material.
+constexpr const char* kMaterialRig = R"({"format": "sweep-rig", "version": 1, "mesh": "body.obj",
+  "sweeps": [
+    {"name": "neck", "radial_samples": 4,
+     "material": {"youngs_modulus_pa": 5e7, "poisson_ratio": 0.45, "density_kg_m3": 1000, "metres_per_unit": 25},
+     "sections": [
+      {"name": "root", "t": 0, "center": [0, 0, 0], "rotation": [0, 0, 0, 1], "radii": [0.1, 0.1, 0.1, 0.1]},
+      {"name": "tip", "t": 1, "center": [0, 0, 1], "rotation": [0, 0, 0, 1], "radii": [0.05, 0.05, 0.05, 0.05],
+       "material": {"youngs_modulus_pa": 1e7}}]},
+    {"name": "tail", "radial_samples": 4,
+     "material": {"shear_modulus_pa": 2e7, "density_kg_m3": 600, "damping_ratio": 0.1},
+     "sections": [
+      {"name": "root", "t": 0, "center": [0, 0, 0], "rotation": [0, 0, 0, 1], "radii": [0.1, 0.1, 0.1, 0.1]},
+      {"name": "mid", "t": 0.5, "center": [0, 0, -0.5], "rotation": [0, 0, 0, 1], "radii": [0.1, 0.1, 0.1, 0.1]},
+      {"name": "tip", "t": 1, "center": [0, 0, -1], "rotation": [0, 0, 0, 1], "radii": [0.05, 0.05, 0.05, 0.05]}]}]})";
+
+const Rig& material_rig() {
+  static const Rig rig = io::parse_rig(kMaterialRig, "material-rig");
+  return rig;
+}
+
+// A folder of this process's own for the targets whose readers take a path: a glTF's relative
+// buffer URIs then resolve inside it. Removed when the process ends.
+struct ScratchDir {
+  std::filesystem::path path;
+  ScratchDir()
+      : path(std::filesystem::temp_directory_path() / ("sweep_fuzz_" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
+// `data` written to the file `name` of the scratch folder.
+std::filesystem::path scratch_file(const std::string& name, std::string_view data) {
+  static const ScratchDir dir;
+  const std::filesystem::path path = dir.path / name;
+  if (FILE* f = std::fopen(path.c_str(), "wb")) {
+    std::fwrite(data.data(), 1, data.size(), f);
+    std::fclose(f);
+  }
+  return path;
 }
 
 // A mesh for check_binding: a triangle (the binding's own checks come first anyway).
@@ -90,13 +143,7 @@ void rig_json(std::string_view data) {
 void scene(std::string_view data) {
   // read_scene takes a path (it tells a scene file from a rig file carrying one), so the input is
   // written to a file of this process's own.
-  static const std::filesystem::path path =
-      std::filesystem::temp_directory_path() /
-      ("sweep_fuzz_scene_" + std::to_string(::getpid()) + ".json");
-  if (FILE* f = std::fopen(path.c_str(), "wb")) {
-    std::fwrite(data.data(), 1, data.size(), f);
-    std::fclose(f);
-  }
+  const std::filesystem::path path = scratch_file("scene.json", data);
   try {
     const sim::Scene s = sim::read_scene(path, fixed_rig(), [](const std::string&) {});
     (void)s.frame_count();
@@ -295,6 +342,170 @@ void fit_off(std::string_view data) {
   }
 }
 
+namespace {
+
+void expect(bool holds, const std::string& what) {
+  if (!holds) throw std::logic_error(what);
+}
+
+// The POSITION of the first node with a skin and a mesh, its primitives in order, read through
+// read_float_accessor (not read_gltf_skin's own reader): the vertices the importer would have read,
+// so that read_gltf_skin gets past its mesh match. Empty when they cannot be read that way.
+std::vector<Vec3> skinned_positions(const std::filesystem::path& file) {
+  using Json = nlohmann::json;
+  const io::detail::GltfDocument doc = io::detail::read_gltf_document(file);
+  std::vector<Vec3> out;
+  const auto nodes = doc.json.is_object() ? doc.json.find("nodes") : doc.json.end();
+  if (!doc.json.is_object() || nodes == doc.json.end() || !nodes->is_array()) return out;
+  for (const Json& node : *nodes) {
+    if (!node.is_object() || !node.contains("skin") || !node.contains("mesh")) continue;
+    const Json* mesh = io::detail::gltf_element(doc.json, "meshes", node.at("mesh"));
+    const auto prims = mesh != nullptr ? mesh->find("primitives") : Json::const_iterator();
+    if (mesh == nullptr || prims == mesh->end() || !prims->is_array()) return out;
+    for (const Json& prim : *prims) {
+      const auto attributes = prim.is_object() ? prim.find("attributes") : prim.end();
+      if (!prim.is_object() || attributes == prim.end() || !attributes->is_object() ||
+          !attributes->contains("POSITION")) {
+        return {};
+      }
+      const auto p = io::detail::read_float_accessor(doc, attributes->at("POSITION"), 3);
+      if (!p) return {};
+      for (std::size_t v = 0; v + 2 < p->size(); v += 3) out.emplace_back((*p)[v], (*p)[v + 1], (*p)[v + 2]);
+    }
+    return out;
+  }
+  return out;
+}
+
+// What read_gltf_skin promises of a model it returns, then its skinning at rest and at each clip's
+// start, middle and end (out-of-range indices are ASan's to see).
+void check_skin_model(const io::SkinModel& m) {
+  const std::size_t nodes = m.nodes.size(), joints = m.joints.size();
+  expect(m.mesh_node >= 0 && static_cast<std::size_t>(m.mesh_node) < nodes, "gltf: the skinned node is not a node");
+  expect(m.inverse_bind.size() == joints, "gltf: not one inverse bind matrix a joint");
+  for (const int j : m.joints) expect(j >= 0 && static_cast<std::size_t>(j) < nodes, "gltf: a joint is not a node");
+  for (const Eigen::Matrix4d& ibm : m.inverse_bind) expect(ibm.allFinite(), "gltf: a non-finite inverse bind matrix");
+  const std::size_t n = m.bind_positions.size();
+  expect(m.vertex_joints.size() == n && m.vertex_weights.size() == n, "gltf: not one joint set and weight set a vertex");
+  for (std::size_t v = 0; v < n; ++v) {
+    expect(m.bind_positions[v].allFinite(), "gltf: a non-finite bind position");
+    double sum = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double w = m.vertex_weights[v][k];
+      expect(std::isfinite(w) && w >= 0, "gltf: a negative or non-finite weight");
+      expect(w == 0 || m.vertex_joints[v][k] < joints, "gltf: a weighted joint past the skin's joints");
+      sum += w;
+    }
+    expect(std::abs(sum - 1) < 1e-9, "gltf: weights that do not sum to 1");
+  }
+  for (const io::SkinClip& clip : m.clips) {
+    for (const io::ClipChannel& c : clip.channels) {
+      expect(c.node >= 0 && static_cast<std::size_t>(c.node) < nodes, "gltf: a channel of no node");
+      const std::size_t per_key =
+          static_cast<std::size_t>(c.width()) * (c.interpolation == io::ChannelInterpolation::cubic ? 3 : 1);
+      expect(!c.times.empty() && c.values.size() == c.times.size() * per_key, "gltf: keys and values do not match");
+      for (std::size_t k = 0; k < c.times.size(); ++k) {
+        expect(std::isfinite(c.times[k]) && (k == 0 || c.times[k] > c.times[k - 1]), "gltf: key times not increasing");
+      }
+      for (const double x : c.values) expect(std::isfinite(x), "gltf: a non-finite key value");
+    }
+  }
+  const std::size_t skinned = std::min<std::size_t>(n, 256);  // bounded: size is not what is tested
+  auto skin_at = [&](int clip, double t) {
+    const std::vector<Eigen::Matrix4d> joint = io::joint_matrices(m, io::world_transforms(m, clip, t));
+    for (std::size_t v = 0; v < skinned; ++v) (void)io::skin_vertex(m, joint, v);
+  };
+  skin_at(-1, 0);
+  for (std::size_t c = 0; c < std::min<std::size_t>(m.clips.size(), 8); ++c) {
+    const io::SkinClip& clip = m.clips[c];
+    for (const double t : {clip.start, 0.5 * (clip.start + clip.end), clip.end}) skin_at(static_cast<int>(c), t);
+  }
+}
+
+// What read_gltf_body_path promises of a path it returns: keys at finite, increasing times, finite
+// translations, unit rotations; and the motion between them finite.
+void check_body_path(const sim::BodyPath& path) {
+  const std::vector<sim::BodyKey>& keys = path.keys();
+  expect(!keys.empty(), "gltf: a body path without keys");
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    expect(std::isfinite(keys[k].time) && (k == 0 || keys[k].time > keys[k - 1].time), "gltf: body key times not increasing");
+    expect(keys[k].translation.allFinite(), "gltf: a non-finite body translation");
+    expect(std::abs(keys[k].rotation.norm() - 1) < 1e-6, "gltf: a body rotation that is not a unit quaternion");
+  }
+  for (const double t : {keys.front().time, 0.5 * (keys.front().time + keys.back().time), keys.back().time}) {
+    const sim::BodyState s = path.at(t);
+    expect(s.translation.allFinite() && s.rotation.coeffs().allFinite() && s.velocity.allFinite() &&
+               s.angular_velocity.allFinite(),
+           "gltf: a body path whose motion is not finite");
+  }
+}
+
+// The names of the file's first nodes (those that are strings), for read_gltf_body_path.
+std::vector<std::string> first_node_names(const std::filesystem::path& file) {
+  std::vector<std::string> names;
+  const io::detail::GltfDocument doc = io::detail::read_gltf_document(file);
+  if (!doc.json.is_object()) return names;
+  const auto nodes = doc.json.find("nodes");
+  if (nodes == doc.json.end() || !nodes->is_array()) return names;
+  for (const nlohmann::json& node : *nodes) {
+    if (names.size() == 3) break;
+    const auto name = node.is_object() ? node.find("name") : node.end();
+    if (node.is_object() && name != node.end() && name->is_string()) names.push_back(name->get<std::string>());
+  }
+  return names;
+}
+
+}  // namespace
+
+void gltf(std::string_view data) {
+  const bool binary = data.substr(0, 4) == "glTF";
+  const std::filesystem::path path = scratch_file(binary ? "fuzz.glb" : "fuzz.gltf", data);
+  try {
+    (void)io::detail::check_gltf_indices(path);
+  } catch (const Error& e) {
+    ignore(e);
+  }
+  std::vector<std::string> names;
+  try {
+    names = first_node_names(path);
+    const std::vector<Vec3> positions = skinned_positions(path);
+    if (const std::optional<io::SkinModel> model = io::read_gltf_skin(path, positions, Eigen::Affine3d::Identity())) {
+      check_skin_model(*model);
+    }
+  } catch (const Error& e) {
+    ignore(e);
+  }
+  for (const std::string& name : names) {
+    try {
+      check_body_path(io::read_gltf_body_path(path, name));
+    } catch (const Error& e) {
+      ignore(e);
+    }
+  }
+  std::filesystem::remove(path);
+}
+
+void material(std::string_view data) {
+  try {
+    const Material m = io::parse_material(std::string(data), "fuzz.material.json", [](const std::string&) {});
+    const bool finite = std::isfinite(m.youngs_modulus) && m.youngs_modulus > 0 && std::isfinite(m.density) &&
+                        m.density > 0 && std::isfinite(m.metres_per_unit) && m.metres_per_unit > 0 &&
+                        std::isfinite(m.damping_ratio) && m.damping_ratio >= 0 && std::isfinite(m.shear()) &&
+                        m.shear() > 0;
+    expect(finite, "material: an accepted material with a constant that is not finite and positive");
+  } catch (const Error& e) {
+    ignore(e);
+  }
+  const std::filesystem::path path = scratch_file("material-scene.json", data);
+  try {
+    const sim::Scene s = sim::read_scene(path, material_rig(), [](const std::string&) {});
+    (void)s.frame_count();
+  } catch (const Error& e) {
+    ignore(e);
+  }
+  std::filesystem::remove(path);
+}
+
 const std::vector<Target>& targets() {
   static const std::vector<Target> all = {{"rig_json", rig_json},
                                           {"scene", scene},
@@ -302,7 +513,9 @@ const std::vector<Target>& targets() {
                                           {"off_mesh", off_mesh},
                                           {"obj_mesh", obj_mesh},
                                           {"ply_mesh", ply_mesh},
-                                          {"fit_off", fit_off}};
+                                          {"fit_off", fit_off},
+                                          {"gltf", gltf},
+                                          {"material", material}};
   return all;
 }
 

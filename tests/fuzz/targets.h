@@ -24,6 +24,17 @@ void ply_mesh(std::string_view data);  // io::parse_ply (the ASCII body check, t
 // fit from its first part's tip (or vertex 0) with the root found; a fit that returns holds only
 // finite numbers and part vertices of the mesh.
 void fit_off(std::string_view data);
+// What a .gltf/.glb (chosen by its first bytes) meets on the project's own JSON side, before and
+// besides assimp: check_gltf_indices (accessors, skins, index ranges), read_gltf_skin (with the
+// skinned node's POSITION read independently, so the fuzzer gets past the mesh match) and its
+// skinning at each clip's start, middle and end, and read_gltf_body_path for the file's first node
+// names. What is accepted must hold: weights that sum to 1 on joints of the skin, one inverse bind
+// matrix a joint, finite keys; a body path of finite translations and unit rotations.
+void gltf(std::string_view data);
+// The material members and the scene members that depend on them: io::parse_material (an accepted
+// material's constants are finite and positive, its shear modulus too), then sim::read_scene on the
+// same bytes against a fixed rig of two material sweeps, "neck" and "tail".
+void material(std::string_view data);
 
 struct Target {
   const char* name;  // also the folder name under tests/fuzz/corpus/ and tests/fuzz/regressions/

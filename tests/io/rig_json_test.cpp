@@ -81,6 +81,24 @@ TEST(RigJson, MaterialsAndTheirPerSectionOverridesRoundTrip) {
   EXPECT_EQ(doc["sweeps"][0]["sections"][1]["material"].size(), 2u);
 }
 
+// Each constant finite and in range, yet G = E / (2 (1 + ν)) = 1e308 / 2e-7 overflows: refused with
+// the place (found by the material fuzz target: tests/fuzz/regressions/material/). The same
+// material a little less extreme, G = 1e300 / 2e-7 = 5e306, is accepted with that G.
+TEST(RigJson, AMaterialWhoseShearModulusOverflowsIsRefused) {
+  try {
+    parse_material(R"({"youngs_modulus_pa": 1e308, "poisson_ratio": -0.9999999})", "m.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.category(), ErrorCategory::bad_input);
+    EXPECT_NE(std::string(e.what()).find("m.json: (document): its shear modulus E / (2 (1 + poisson_ratio)) is not "
+                                         "finite (E 1e+308, poisson_ratio -0.9999999)"),
+              std::string::npos)
+        << e.what();
+  }
+  const Material ok = parse_material(R"({"youngs_modulus_pa": 1e300, "poisson_ratio": -0.9999999})", "m.json");
+  EXPECT_DOUBLE_EQ(ok.shear(), 1e300 / (2 * (1 - 0.9999999)));
+}
+
 // Parses `text`, expects a bad-input error whose message contains `expected`.
 void expect_bad(const std::string& text, const std::string& expected,
                 ErrorCategory category = ErrorCategory::bad_input) {
