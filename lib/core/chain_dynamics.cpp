@@ -10,12 +10,13 @@ namespace {
 
 // A step's Newton iteration stops once it moves no joint by more than this (radians over the step).
 constexpr double kNewtonTolerance = 1e-10;
-constexpr int kMaxNewtonIterations = 10;
-// Iterations that rebuild and factor the Newton matrix at their mid-step pose; later ones reuse it.
-constexpr int kNewtonRebuilds = 2;
-// The energy balance rescales the speeds by at most this: a larger change would be no O(h³)
-// correction but a step gone wrong, better left as it came.
-constexpr double kMaxEnergyScale = 1.1;
+constexpr int kMaxNewtonIterations = 24;
+// An iteration that shrinks the change by less than this factor refreshes the Newton matrix.
+constexpr double kContraction = 0.5;
+// A Newton change larger than this (radians over a step) is a diverging iteration.
+constexpr double kLargestTurn = 1.0;
+// A fresh Newton matrix whose iteration shrinks the change by less than this: the step is halved.
+constexpr double kDivergence = 0.9;
 
 Mat3 skew(const Vec3& a) {
   Mat3 s;
@@ -78,7 +79,7 @@ ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const Swee
   damping_ = mphi * rate.asDiagonal() * mphi.transpose();
   damping_ = 0.5 * (damping_ + damping_.transpose()).eval();
 
-  phi_ = w_ = Eigen::VectorXd::Zero(dim);
+  phi_ = w_ = rest_load_ = last_change_ = Eigen::VectorXd::Zero(dim);
   phi_saved_.assign(kMaxHalvings + 1, phi_);
   w_saved_.assign(kMaxHalvings + 1, w_);
   for (Eigen::VectorXd* v : {&phi_mid_, &w_mid_, &w_end_, &wdot_, &residual_, &scratch_}) *v = Eigen::VectorXd::Zero(dim);
@@ -100,6 +101,16 @@ void ChainDynamics::set_joint(int i, const Vec3& phi, const Vec3& w) {
   phi_.segment<3>(3 * (i - 1)) = phi;
   w_.segment<3>(3 * (i - 1)) = w;
   set_pose(phi_);
+}
+
+void ChainDynamics::set_rest_load(std::span<const double> load) {
+  const Eigen::Index dim = 3 * joints_;
+  if (load.empty()) {
+    rest_load_.setZero();
+    return;
+  }
+  assert(static_cast<Eigen::Index>(load.size()) == dim);
+  rest_load_ = Eigen::Map<const Eigen::VectorXd>(load.data(), dim);
 }
 
 void ChainDynamics::set_state(std::span<const double> phi, std::span<const double> w) {
@@ -195,7 +206,8 @@ const Eigen::MatrixXd& ChainDynamics::mass_matrix() {
 void ChainDynamics::elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const {
   for (int i = 1; i <= joints_; ++i) {
     const Vec3 p = phi.segment<3>(3 * (i - 1));
-    out.segment<3>(3 * (i - 1)).noalias() = inverse_jacobian_transpose(p) * stiffness_[i].cwiseProduct(p);
+    out.segment<3>(3 * (i - 1)).noalias() =
+        inverse_jacobian_transpose(p) * (stiffness_[i].cwiseProduct(p) + rest_load_.segment<3>(3 * (i - 1)));
   }
 }
 
@@ -221,14 +233,31 @@ int ChainDynamics::advance(double h, const Body& body, std::span<const double> t
   return iterations + advance(0.5 * h, body, torque, depth + 1);
 }
 
+void ChainDynamics::factor_newton_matrix(double h) {
+  build_mass_matrix();
+  newton_ = mass_;
+  newton_.noalias() += (0.5 * h) * damping_;
+  for (int i = 1; i <= joints_; ++i) {
+    const Mat3 jt = inverse_jacobian_transpose(phi_mid_.segment<3>(3 * (i - 1)));
+    newton_.block<3, 3>(3 * (i - 1), 3 * (i - 1)).noalias() += (0.25 * h * h) * (jt * stiffness_[i].asDiagonal() * jt.transpose());
+  }
+  llt_.compute(newton_);
+  factored_step_ = h;
+  ++factorizations_;
+}
+
 bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> torque, int& iterations) {
-  // On a body at rest or moving uniformly (no frame forces) the step keeps the energy balance
-  // exactly: see the end.
-  const bool inertial = body.acceleration == Vec3::Zero() && body.angular_velocity == Vec3::Zero() &&
-                        body.angular_acceleration == Vec3::Zero();
-  const double before = inertial ? kinetic_energy() + elastic_energy() + gravity_potential(body.gravity) : 0.0;
+  // The first guess: the last step's change of the speeds again (an O(h²) guess for a smooth
+  // motion, where w₁ = w₀ is O(h)).
   w_end_ = w_;
+  if (last_change_step_ == h) w_end_ += last_change_;
   bool converged = false;
+  // The Newton matrix S is kept from step to step (it only steers the iteration, whose fixed point
+  // does not depend on it) and refreshed at the mid-step pose when the step length changed or the
+  // iteration contracts slowly: the pose moved since, or a light section turning fast changed its
+  // inertia within the step (S⁻¹ magnifies that in the stiff, light directions). A fresh S that
+  // still does not contract: the step is halved.
+  bool fresh = false;
   double last = std::numeric_limits<double>::infinity();
   while (iterations < kMaxNewtonIterations) {
     ++iterations;
@@ -237,18 +266,9 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
       phi_mid_.segment<3>(3 * (i - 1)) = turned(0.5 * h * w_mid_.segment<3>(3 * (i - 1)), phi_.segment<3>(3 * (i - 1)));
     }
     set_pose(phi_mid_);
-    if (iterations <= kNewtonRebuilds) {
-      // The Newton matrix at the mid-step pose: a light section's inertia changes much within a
-      // step (the tip turning fast about its own centre), and S⁻¹ magnifies a change in it.
-      build_mass_matrix();
-      newton_ = mass_;
-      newton_.noalias() += (0.5 * h) * damping_;
-      for (int i = 1; i <= joints_; ++i) {
-        const Mat3 jt = inverse_jacobian_transpose(phi_mid_.segment<3>(3 * (i - 1)));
-        newton_.block<3, 3>(3 * (i - 1), 3 * (i - 1)).noalias() +=
-            (0.25 * h * h) * (jt * stiffness_[i].asDiagonal() * jt.transpose());
-      }
-      llt_.compute(newton_);
+    if (factored_step_ != h) {
+      factor_newton_matrix(h);
+      fresh = true;
     }
     wdot_ = (w_end_ - w_) / h;
     inverse_dynamics(w_mid_, wdot_, body, residual_);
@@ -259,38 +279,42 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
     llt_.solveInPlace(residual_);
     w_end_ -= h * residual_;
     const double change = h * h * residual_.lpNorm<Eigen::Infinity>();  // the largest turn it changed
-    if (!std::isfinite(change)) return false;
+    if (!(change <= kLargestTurn) || (!fresh && change > last)) {
+      // Diverging. With a kept S: start the step again from its first guess with a fresh one;
+      // with a fresh S: halve the step. (Before the change grows out of range: the next
+      // iteration's turns would overflow.)
+      factored_step_ = 0;
+      if (fresh) return false;
+      w_end_ = w_;
+      last = std::numeric_limits<double>::infinity();
+      continue;
+    }
     if (change <= kNewtonTolerance) {
       converged = true;
       break;
     }
-    if (iterations > kNewtonRebuilds && change > 0.5 * last) return false;  // not contracting
+    if (change > kContraction * last) {
+      // A fresh S is exact but for the velocity terms' derivatives (gyroscopic, Coriolis), which
+      // only slow it down: it fails only when it no longer contracts at all.
+      if (fresh && change > kDivergence * last) break;
+      if (!fresh) factored_step_ = 0;  // refresh at the next iteration's pose
+    }
     last = change;
   }
   w_mid_ = 0.5 * (w_ + w_end_);
   for (int i = 1; i <= joints_; ++i) {
     phi_.segment<3>(3 * (i - 1)) = turned(h * w_mid_.segment<3>(3 * (i - 1)), phi_.segment<3>(3 * (i - 1)));
   }
+  if (converged) {
+    last_change_ = w_end_ - w_;
+    last_change_step_ = h;
+  } else {
+    last_change_step_ = 0;
+  }
   w_ = w_end_;
   set_pose(phi_);
-  if (!converged) return false;
-  if (inertial) {
-    // Implicit midpoint keeps a nearby energy, not the energy itself: it swings by O(h²) about it
-    // while a bent chain's inertia changes. Scaling the speeds so that the energy is exactly the
-    // step's balance — what it had, less the damping's h w_mᵀ C w_m, plus the torques' work
-    // h w_mᵀ τ — makes a free part keep its energy and a damped or driven one never gain more than
-    // it was given (an O(h³) change per step: the step stays second order).
-    scratch_.noalias() = damping_ * w_mid_;
-    double target = before - h * w_mid_.dot(scratch_);
-    if (!torque.empty()) target += h * w_mid_.dot(Eigen::Map<const Eigen::VectorXd>(torque.data(), 3 * joints_));
-    const double kinetic = kinetic_energy();
-    const double wanted = target - elastic_energy() - gravity_potential(body.gravity);
-    if (kinetic > 0) {
-      const double factor = wanted > 0 ? std::sqrt(wanted / kinetic) : 0.0;
-      if (factor <= kMaxEnergyScale) w_ *= factor;
-    }
-  }
-  return true;
+  if (!converged) factored_step_ = 0;
+  return converged;
 }
 
 void ChainDynamics::apply_impulse(int section, const Vec3& point, const Vec3& impulse) {
@@ -301,6 +325,7 @@ void ChainDynamics::apply_impulse(int section, const Vec3& point, const Vec3& im
   }
   build_mass_matrix();
   llt_.compute(mass_);
+  factored_step_ = 0;  // llt_ now holds M, not S
   llt_.solveInPlace(residual_);
   w_ += residual_;
 }
@@ -310,6 +335,7 @@ void ChainDynamics::apply_joint_impulse(std::span<const double> impulse) {
   residual_ = Eigen::Map<const Eigen::VectorXd>(impulse.data(), 3 * joints_);
   build_mass_matrix();
   llt_.compute(mass_);
+  factored_step_ = 0;  // llt_ now holds M, not S
   llt_.solveInPlace(residual_);
   w_ += residual_;
 }
@@ -329,7 +355,7 @@ double ChainDynamics::elastic_energy() const {
   double e = 0;
   for (int i = 1; i <= joints_; ++i) {
     const Vec3 p = phi_.segment<3>(3 * (i - 1));
-    e += 0.5 * p.dot(stiffness_[i].cwiseProduct(p));
+    e += p.dot(0.5 * stiffness_[i].cwiseProduct(p) + rest_load_.segment<3>(3 * (i - 1)));
   }
   return e;
 }

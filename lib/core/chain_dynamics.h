@@ -21,21 +21,25 @@
 // Step: implicit midpoint on the Lie group, w₁ solves
 //   M(q_m)(w₁ − w₀)/h + c(q_m, w_m) + J⁻ᵀ(φ_m) K φ_m + C w_m = τ_gravity(q_m) + τ,
 //   w_m = (w₀ + w₁)/2, exp(φ_m) = exp(h w_m / 2) exp(φ₀), exp(φ₁) = exp(h w_m) exp(φ₀),
-// by a Newton iteration on S = M(q_m) + (h/2) C + (h²/4) J⁻ᵀ K J⁻¹, rebuilt at the mid-step pose for
-// the first iterations (a light section turning fast changes M within a step, and the stiff,
-// light directions of S magnify that); a step whose iteration does not settle is taken as two
-// halves. On a body that does not accelerate, the speeds are then scaled (an O(h³) change) so that
-// the energy is exactly the step's balance: what it had, less the damping's h w_mᵀ C w_m, plus the
-// torques' work h w_mᵀ τ.
+// by a Newton iteration on S = M(q_m) + (h/2) C + (h²/4) J⁻ᵀ K J⁻¹; S and its factorization are
+// kept across iterations and steps and rebuilt at the mid-step pose when the iteration contracts
+// slowly (a light section turning fast changes M within a step, and the stiff, light directions
+// of S magnify that); a step whose iteration does not settle with a fresh S is taken as two halves.
 // Why this one: implicit midpoint is A-stable for the stiff linear springs at any step (they enter
 // S whole: a stiff tube at 1/24 s settles in a few iterations where an explicit or split step
-// would blow up), second order, symplectic (its own energy error stays bounded: 0.4 % over 10 s of
-// a whipping soft part at 1/480 s before the balance), and its damping only removes energy; the
-// balance makes "never gains energy" exact. A variational energy-momentum integrator would keep
-// the energy without the scaling but needs the derivatives of M(q); an XPBD rod converges to the
-// rod only with many iterations; a co-rotational modal step needs an eigen-solve per step.
-// Cost: S is dense (O(K²) to build, O(K³) to factor, twice a step), far above the modal step's;
-// an articulated-body solve would make it O(K) but for the modal damping's coupling of the joints.
+// would blow up), second order, symplectic (its energy error stays bounded and does not drift:
+// 0.4 % over 10 s of a whipping soft part, tested), and its damping only removes energy. A
+// variational energy-momentum integrator would keep the energy exactly but needs the derivatives
+// of M(q); an XPBD rod converges to the rod only with many iterations; a co-rotational modal step
+// needs an eigen-solve per step.
+// Rest load. A constant generalized load b on φ (the springs pre-loaded so that the rest pose
+// holds under gravity: ElasticSweep's "as modelled" rest) enters as the energy bᵀφ, i.e. the
+// torque J⁻ᵀ(φ) b: the springs' rest angles shifted, a conservative load (a torque held fixed in
+// the joint's axes is not one, and feeds a twisting part energy).
+// Cost: an iteration is O(K) (Newton–Euler) plus two dense O(K²) products (the damping, the solve
+// with the kept factorization); S is dense (O(K²) to build, O(K³) to factor) but rebuilt only when
+// the pose has moved far since. An articulated-body solve would make the whole step O(K) but for
+// the modal damping's coupling of the joints.
 //
 // Units: metres, kilograms, seconds (the model's); the pose starts from the rest shape scaled by
 // the model's metres per unit. Allocation-free after construction.
@@ -72,6 +76,9 @@ class ChainDynamics {
   Vec3 speed(int i) const { return w_.segment<3>(3 * (i - 1)); }    // w_i
   void set_joint(int i, const Vec3& phi, const Vec3& w);
 
+  // The springs' pre-load b (N·m, 3 per joint, A_i's axes at rest; empty: none), see above.
+  void set_rest_load(std::span<const double> load);
+
   // The joints' state all at once, as ElasticSweep's rotational springs hold it: φ and w of joints
   // 1 .. K−1, 3 each.
   void set_state(std::span<const double> phi, std::span<const double> w);
@@ -92,10 +99,14 @@ class ChainDynamics {
   const std::vector<Quat>& rotations() const { return rotation_; }
 
   // Energies (J) relative to the body: kinetic ½ Σ m v² + ½ Ωᵀ I Ω of the sections moving relative
-  // to the body, elastic ½ Σ φᵀ K φ, and gravity's potential −Σ m g · c.
+  // to the body, elastic ½ Σ φᵀ K φ + bᵀφ (b the rest load), and gravity's potential −Σ m g · c.
   double kinetic_energy() const;
   double elastic_energy() const;
   double gravity_potential(const Vec3& gravity) const;
+
+  // How many times the Newton matrix was built and factored (it is kept across iterations and
+  // steps while the iteration contracts).
+  long long factorizations() const { return factorizations_; }
 
   // The chain's mass matrix at the current pose (for tests and contacts), 3(K−1) square.
   const Eigen::MatrixXd& mass_matrix();
@@ -111,7 +122,8 @@ class ChainDynamics {
   bool attempt(double h, const Body& body, std::span<const double> torque, int& iterations);
   void set_pose(const Eigen::VectorXd& phi);  // centres, rotations, A frames from joint angles
   void build_mass_matrix();                    // into mass_
-  void elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const;  // J⁻ᵀ K φ
+  void elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const;  // J⁻ᵀ (K φ + b)
+  void factor_newton_matrix(double h);  // S at the pose set_pose last built (phi_mid_), into llt_
 
   std::shared_ptr<const ChainModel> model_;
   int joints_ = 0;
@@ -121,6 +133,7 @@ class ChainDynamics {
   Quat root_rotation_;
   std::vector<Vec3> stiffness_;          // per joint, diagonal (N·m/rad)
   Eigen::MatrixXd damping_;              // C, dense
+  Eigen::VectorXd rest_load_;            // b
   Eigen::VectorXd phi_, w_;
   std::vector<Eigen::VectorXd> phi_saved_, w_saved_;  // the state at each depth of halving
   // The pose set_pose last built.
@@ -131,6 +144,10 @@ class ChainDynamics {
   // Scratch.
   Eigen::MatrixXd mass_, newton_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
+  double factored_step_ = 0;      // the step llt_ holds S for; 0: none
+  Eigen::VectorXd last_change_;   // w₁ − w₀ of the last converged step, the next one's first guess
+  double last_change_step_ = 0;   // its step; 0: none
+  long long factorizations_ = 0;
   Eigen::VectorXd phi_mid_, w_mid_, w_end_, wdot_, residual_, scratch_;
   std::vector<Vec3> omega_, alpha_, accel_, force_, moment_;
   std::vector<Vec3> composite_first_;

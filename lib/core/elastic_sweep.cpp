@@ -36,6 +36,7 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
   init_bank(radial_, def_.rest.radial_count, pick_radial);
   loads_.resize(k, def_.rest.radial_count);
   section_velocity_.assign(k, Vec3::Zero());
+  shift_velocity_.assign(k, Vec3::Zero());
   locator_.reset(deformed_);  // its table sized now, not in the frame that first places a force
   if (def_.material) {
     chain_ = std::make_shared<const ChainModel>(build_chain_model(def_.rest, def_.section_materials));
@@ -51,7 +52,33 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
     }
     for (auto& maps : modal_.maps) maps.resize(dim);
     joint_scratch_.assign(dim, 0.0);
+    exact_.emplace(chain_, def_.rest);
+    exact_torque_.assign(dim, 0.0);
   }
+}
+
+void ElasticSweep::sync_exact() const {
+  const std::size_t dim = exact_torque_.size();
+  exact_->set_state(std::span<const double>(rotational_.x).subspan(3, dim), std::span<const double>(rotational_.v).subspan(3, dim));
+}
+
+// One step of the exact chain from the state in rotational_: the body's motion as the chain's
+// own loads (evaluated at the mid-step pose), the forces' joint torques (split by gather_loads,
+// held over the step) and gravity's pre-load as the springs' shifted rest.
+void ElasticSweep::step_exact(double dt) {
+  const double s = chain_->metres_per_unit;
+  const std::size_t dim = exact_torque_.size();
+  for (std::size_t m = 0; m < dim; ++m) exact_torque_[m] = s * rotational_.f[3 + m];
+  sync_exact();
+  ChainDynamics::Body body;
+  body.gravity = body_.gravity;
+  body.acceleration = s * body_.acceleration;
+  body.angular_velocity = body_.angular_velocity;
+  body.angular_acceleration = body_.angular_acceleration;
+  exact_->step(dt, body, exact_torque_);
+  exact_->get_state(std::span<double>(rotational_.x).subspan(3, dim), std::span<double>(rotational_.v).subspan(3, dim));
+  // The modes follow the joints (the contacts' couplings read them).
+  modes_from_joints();
 }
 
 // Rotational loads (N·mesh unit, joint axes) to modal loads Φᵀ τ (τ in N·m).
@@ -130,7 +157,7 @@ bool ElasticSweep::body_loads() const {
 // beyond it, Σ_{i>j} (c_i − c_j) × m_i g_i, and each positional spring the force beyond it (the
 // chain's mass matrix carries those masses too); with the paper's springs each section's own
 // positional spring takes its own share.
-void ElasticSweep::add_body_loads(const BodyMotion& motion) {
+void ElasticSweep::add_body_loads(const BodyMotion& motion, bool to_joints) {
   const int k = def_.rest.section_count();
   const double s = chain_ ? chain_->metres_per_unit : 1.0;  // mesh-unit accelerations to m/s²
   const Vec3& w = motion.angular_velocity;
@@ -149,16 +176,24 @@ void ElasticSweep::add_body_loads(const BodyMotion& motion) {
       spin_moment += omega.cross(c);
       shift += axes * Vec3(positional_.v[3 * i], positional_.v[3 * i + 1], positional_.v[3 * i + 2]);
       section_velocity_[i] = spin.cross(c) - spin_moment + shift;
+      shift_velocity_[i] = shift;
     }
   }
   const Vec3 gravity = chain_ ? motion.gravity : Vec3::Zero();
-  Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // Σ F_i and Σ c_i × F_i over i ≥ j
+  // The exact chain takes the body's motion and gravity itself, at its own pose and speeds: only
+  // the positional springs (and the wind's share of the joints) are split here.
+  const bool exact = !to_joints;
+  // Σ F_i over i ≥ j, and Σ F_i, Σ c_i × F_i of the joints' share.
+  Vec3 force = Vec3::Zero(), turning_force = Vec3::Zero(), moment = Vec3::Zero();
   for (int j = k - 1; j >= 1; --j) {
     const Vec3& c = deformed_.frames[j].center;
     Vec3 frame_acceleration = motion.acceleration + motion.angular_acceleration.cross(c);
-    if (w != Vec3::Zero()) frame_acceleration += w.cross(w.cross(c)) + 2.0 * w.cross(section_velocity_[j]);
+    // (The exact chain takes the Coriolis load of the joints' speeds itself: the positional
+    // springs feel that of their own speeds only.)
+    if (w != Vec3::Zero()) frame_acceleration += w.cross(w.cross(c)) + 2.0 * w.cross(to_joints ? section_velocity_[j] : shift_velocity_[j]);
     const double mass = chain_ ? chain_->node_mass[j] : def_.springs[j].positional.mass;
     Vec3 f = mass * (gravity - s * frame_acceleration);
+    Vec3 turning = exact ? Vec3::Zero() : f;  // what the joints take (the exact chain: the wind alone)
     if (wind) {
       // The air against the section (m/s), across the part's axis: cross-flow drag on the span.
       const Vec3 air = motion.wind - s * (motion.velocity + w.cross(c) + section_velocity_[j]);
@@ -168,7 +203,9 @@ void ElasticSweep::add_body_loads(const BodyMotion& motion) {
       double radius = 0;
       for (int r = 0; r < n; ++r) radius += deformed_.radii[static_cast<std::size_t>(j) * n + r];
       const double diameter = 2 * s * radius / n;
-      f += motion.drag * diameter * chain_->section_length[j] * across.norm() * across;
+      const Vec3 drag = motion.drag * diameter * chain_->section_length[j] * across.norm() * across;
+      f += drag;
+      turning += drag;
     }
     if (!chain_) {
       // The paper's springs are independent, each with its own mass and no other: a section's
@@ -178,9 +215,10 @@ void ElasticSweep::add_body_loads(const BodyMotion& motion) {
       continue;
     }
     force += f;
-    moment += c.cross(f);
+    turning_force += turning;
+    moment += c.cross(turning);
     loads_.force[j] += force;
-    loads_.torque[j] += moment - c.cross(force);
+    loads_.torque[j] += moment - c.cross(turning_force);
   }
 }
 
@@ -188,9 +226,11 @@ void ElasticSweep::set_gravity(const Vec3& g, bool preloaded) {
   if (!chain_) return;
   body_.gravity = g;
   gravity_preload_.clear();
+  exact_->set_rest_load({});
   if (!preloaded || g == Vec3::Zero()) return;
   // The loads at the rest pose, in the springs' rest axes: subtracted from every later split.
   ElasticSweep at_rest(def_);
+  at_rest.use_exact_ = false;  // the joints' share split too, not left to the exact chain
   at_rest.body_.gravity = g;
   at_rest.gather_loads({});
   const int k = def_.rest.section_count();
@@ -199,6 +239,9 @@ void ElasticSweep::set_gravity(const Vec3& g, bool preloaded) {
     gravity_preload_[m] = at_rest.positional_.f[m];
     gravity_preload_[3 * k + m] = at_rest.rotational_.f[m];
   }
+  // The exact chain: the same pre-load as the springs' shifted rest (N·m, joints 1 .. K−1).
+  for (std::size_t m = 0; m < exact_torque_.size(); ++m) exact_torque_[m] = chain_->metres_per_unit * gravity_preload_[3 * k + 3 + m];
+  exact_->set_rest_load(exact_torque_);
 }
 
 void ElasticSweep::set_body_motion(const BodyMotion& motion) {
@@ -212,7 +255,7 @@ void ElasticSweep::apply_body_kick(const Vec3& dv, const Vec3& dw) {
   BodyMotion kick_motion;
   kick_motion.acceleration = dv;
   kick_motion.angular_acceleration = dw;
-  add_body_loads(kick_motion);
+  add_body_loads(kick_motion, true);
   loads_to_springs(false);
   if (chain_) {
     // Material mode takes the kick by bending alone (the joints, through the chain's full mass
@@ -235,7 +278,7 @@ void ElasticSweep::gather_loads(const std::vector<ActiveForce>& forces) {
   for (const ActiveForce& a : forces) {
     accumulate_force(deformed_, a.spec, a.t, a.theta, def_.rotational_scale, def_.radial_scale, loads_);
   }
-  if (body_loads()) add_body_loads(body_);
+  if (body_loads()) add_body_loads(body_, !exact_chain());
   loads_to_springs(true);
 }
 
@@ -253,7 +296,7 @@ void ElasticSweep::loads_to_springs(bool subtract_preload) {
   if (subtract_preload && !gravity_preload_.empty()) {
     for (int m = 3; m < 3 * k; ++m) {
       positional_.f[m] -= gravity_preload_[m];
-      rotational_.f[m] -= gravity_preload_[3 * k + m];
+      if (!exact_chain()) rotational_.f[m] -= gravity_preload_[3 * k + m];
     }
   }
   radial_.f = loads_.radial;
@@ -272,7 +315,16 @@ void ElasticSweep::apply_impulse(const ForceSpec& impulse) {
 }
 
 void ElasticSweep::kick() {
-  if (chain_) {
+  if (exact_chain()) {
+    // Δw = M(q)⁻¹ τ at the current pose.
+    const std::size_t dim = exact_torque_.size();
+    for (std::size_t m = 0; m < dim; ++m) exact_torque_[m] = chain_->metres_per_unit * rotational_.f[3 + m];
+    sync_exact();
+    exact_->apply_joint_impulse(exact_torque_);
+    exact_->get_state(std::span<double>(rotational_.x).subspan(3, dim), std::span<double>(rotational_.v).subspan(3, dim));
+    modes_from_joints();
+    modal_.active = rotational_.active = true;
+  } else if (chain_) {
     // Δq̇ = M⁻¹ τ, i.e. Δη̇ = Φᵀ τ.
     project_rotational_loads();
     for (std::size_t m = 0; m < modal_.v.size(); ++m) modal_.v[m] += modal_.f[m];
@@ -304,12 +356,13 @@ int ElasticSweep::map_slot(double dt) {
 }
 
 void ElasticSweep::advance_banks(int slot) {
-  if (chain_) project_rotational_loads();
-  // Section 0 is fixed: start every bank at section 1. In material mode the modes move instead
-  // of the rotational springs.
+  const bool exact = exact_chain();
+  if (chain_ && !exact) project_rotational_loads();
+  // Section 0 is fixed: start every bank at section 1. In material mode the modes (or the exact
+  // chain, stepped by the caller) move instead of the rotational springs.
   Bank* moving = chain_ ? &modal_ : &rotational_;
   for (Bank* b : {&positional_, moving, &radial_}) {
-    if (!b->active) continue;
+    if (!b->active || (exact && b == moving)) continue;
     const std::vector<StepMap>& maps = b->maps[slot];
     for (std::size_t m = static_cast<std::size_t>(b->width); m < b->x.size(); ++m) {
       maps[m].apply(b->x[m], b->v[m], b->f[m]);
@@ -318,21 +371,33 @@ void ElasticSweep::advance_banks(int slot) {
       if (std::abs(b->x[m]) < kRestFlush && std::abs(b->v[m]) < kRestFlush) b->x[m] = b->v[m] = 0.0;
     }
   }
-  if (chain_ && modal_.active) joints_from_modes();
+  if (chain_ && !exact && modal_.active) joints_from_modes();
 }
 
 void ElasticSweep::step(double dt) {
   assert(dt > 0);
+  const bool exact = exact_chain();
   gather_loads(forces_);
   if (!forces_.empty() || body_loads()) {
     // Midpoint rule for follower loads: predict the pose at dt/2 with the start-of-step loads,
     // re-split the forces there, and take the whole step from the start with those loads. A load
     // that does not depend on the pose is the same at both places, so the step stays exact for it.
+    // (The exact chain evaluates the body's loads at its own mid-step pose; for the forces its
+    // joints are predicted at their start speeds, exp(dt/2 w) exp(φ): the load's error is O(dt²),
+    // the step's O(dt³), as with the closed-form half step.)
     for (Bank* b : {&positional_, &rotational_, &radial_, &modal_}) {
       std::copy(b->x.begin(), b->x.end(), b->x0.begin());
       std::copy(b->v.begin(), b->v.end(), b->v0.begin());
     }
     advance_banks(map_slot(0.5 * dt));
+    if (exact) {
+      for (int i = 1; i < def_.rest.section_count(); ++i) {
+        const Vec3 w(rotational_.v[3 * i], rotational_.v[3 * i + 1], rotational_.v[3 * i + 2]);
+        const Vec3 phi(rotational_.x[3 * i], rotational_.x[3 * i + 1], rotational_.x[3 * i + 2]);
+        const Vec3 mid = vector_from_rotation(rotation_from_vector(0.5 * dt * w) * rotation_from_vector(phi));
+        for (int c = 0; c < 3; ++c) rotational_.x[3 * i + c] = mid[c];
+      }
+    }
     rebuild();
     gather_loads(forces_);
     for (Bank* b : {&positional_, &rotational_, &radial_, &modal_}) {
@@ -341,6 +406,11 @@ void ElasticSweep::step(double dt) {
     }
   }
   advance_banks(map_slot(dt));
+  if (exact) {
+    // The body's loads move the chain whether or not they split into rotational_.f.
+    if (body_loads()) rotational_.active = true;
+    if (rotational_.active) step_exact(dt);
+  }
   rebuild();
 }
 
@@ -359,6 +429,7 @@ void ElasticSweep::copy_state_from(const ElasticSweep& other) {
   forces_ = other.forces_;  // reuses its capacity: allocates only when the force count grows
   next_id_ = other.next_id_;
   integrator_ = other.integrator_;
+  use_exact_ = other.use_exact_;
   body_ = other.body_;
 }
 
@@ -420,10 +491,20 @@ void ElasticSweep::reset() {
 
 double ElasticSweep::energy() const {
   double e = 0;
+  if (exact_chain()) {
+    // The exact chain's kinetic energy at its pose and the springs' ½ φᵀ K φ (pre-load not counted).
+    sync_exact();
+    e += exact_->kinetic_energy();
+    for (int i = 1; i <= chain_->joints; ++i) {
+      const Vec3 p = rotation_vector(i);
+      e += 0.5 * p.dot(chain_->stiffness.block<3, 3>(3 * (i - 1), 3 * (i - 1)).diagonal().cwiseProduct(p));
+    }
+  }
   // In material mode the modes carry the rotational energy (½ η̇² + ½ ω² η², J); the positional
   // and radial springs are in mesh units (N/unit, kg·m/unit), their energy in N·unit: × metres per
   // unit makes it joules too, so that the sum means one thing.
   for (const Bank* b : {&positional_, chain_ ? &modal_ : &rotational_, &radial_}) {
+    if (exact_chain() && b == &modal_) continue;
     double bank = 0;
     for (std::size_t m = 0; m < b->x.size(); ++m) bank += oscillator_energy(b->params[m], b->x[m], b->v[m]);
     e += bank * energy_unit(*b);

@@ -13,7 +13,9 @@
 #include <vector>
 
 #include <memory>
+#include <optional>
 
+#include "core/chain_dynamics.h"
 #include "core/chain_model.h"
 #include "core/force.h"
 #include "core/locate.h"
@@ -163,6 +165,22 @@ class ElasticSweep {
 
   // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
   const ChainModel* chain() const { return chain_.get(); }
+  // Whether the joints move by the geometrically exact chain (core/chain_dynamics.h): material
+  // mode with the exact integrator, once set_exact_chain(true) (not yet the default: the contact
+  // solver's couplings are still those of the rest-pose modes). Its inertia, velocity terms and gravity are those
+  // of the current pose, so a part that turns far keeps the energy it was given; the modes
+  // (linearised at rest) then serve the contacts' couplings alone. With an explicit integrator the
+  // joints move as the rest-pose modes, stepped by it (the integrators' comparison).
+  bool exact_chain() const { return exact_.has_value() && use_exact_ && integrator_ == Integrator::exact; }
+  // On: the exact chain; off (the default): the rest-pose modes stepped in closed form, right for
+  // small motion only.
+  void set_exact_chain(bool on) { use_exact_ = on; }
+  // The exact chain at the current state (null in the paper's mode): its pose, energies, mass matrix.
+  const ChainDynamics* exact_chain_state() const {
+    if (!exact_) return nullptr;
+    sync_exact();
+    return &*exact_;
+  }
 
   // Which spring kinds have ever been driven (a kind never driven is not stepped).
   bool positional_active() const { return positional_.active; }
@@ -226,11 +244,21 @@ class ElasticSweep {
   double positional_share(std::size_t m, bool by_mass) const;  // contact: 1/mass or 1/stiffness
   double energy_unit(const Bank& bank) const;  // what turns a bank's ½ m v² + ½ k x² into energy()'s
   double rotational_share(std::size_t m, bool by_mass) const;
+  // The exact chain: the joints' state lives in rotational_ (φ and the relative angular velocity
+  // w in A_i's axes) and is loaded into it for each step, kick or energy read (allocation-free).
+  mutable std::optional<ChainDynamics> exact_;
+  bool use_exact_ = false;
+  std::vector<double> exact_torque_;  // scratch: the forces' joint torques in N·m
+  void step_exact(double dt);
+  void sync_exact() const;            // exact_'s state from rotational_
   BodyMotion body_;
   std::vector<double> gravity_preload_;  // rest-pose gravity loads in spring axes (3K pos, 3K rot)
   std::vector<Vec3> section_velocity_;   // scratch: each centre's velocity relative to the body
+  std::vector<Vec3> shift_velocity_;     // scratch: its share from the positional springs
   bool body_loads() const;               // whether body_ loads anything
-  void add_body_loads(const BodyMotion& motion);
+  // to_joints false: the positional springs' and the wind's shares alone (the exact chain takes the
+  // rest itself).
+  void add_body_loads(const BodyMotion& motion, bool to_joints);
   void loads_to_springs(bool subtract_preload);  // loads_ into each bank's f, in spring axes
   void kick();                                    // loads in the banks' f as impulses (N·s)
   SectionLoads loads_;

@@ -105,7 +105,9 @@ TEST(ChainDynamics, AReleasedSoftTubeNeverOutrunsGravitysWorkAndStaysInItsPlane)
                 "largest (KE - W)/(m g L) %.3g, off its plane %.3g L\n",
                 zeta, lowest / t.length(), fastest, worst, off_plane / t.length());
     EXPECT_LE(worst, 1e-6);
-    EXPECT_LE(off_plane, 1e-9 * t.length());
+    // Rounding (1e-16) grows out of the plane as the whipping tube amplifies it; a real asymmetry
+    // of the step moved it 0.3–0.9 L.
+    EXPECT_LE(off_plane, 1e-7 * t.length());
     EXPECT_LT(lowest, -0.5 * t.length());  // it did fall
   }
 }
@@ -128,7 +130,9 @@ TEST(ChainDynamics, AWhippedSoftTubeNeverHasMoreEnergyThanTheKickGaveIt) {
     std::printf("whipped soft tube (zeta %.2g): kick %.3g J, tip turned up to %.3g rad, largest energy over the kick's %+.3g\n",
                 zeta, kick, bend, worst);
     EXPECT_GT(bend, 0.5);  // a large motion
-    EXPECT_LE(worst, 1e-9);
+    // Undamped, implicit midpoint keeps a nearby energy (its swing about it, no drift): the
+    // issue's bar of 1 %; damped, it only loses energy.
+    EXPECT_LE(worst, zeta > 0 ? 1e-9 : 0.01);
   }
 }
 
