@@ -1,5 +1,5 @@
 # `cmake --install`: the three tools, and the runtime as a CMake package (find_package(sweep),
-# target sweep::runtime) with its headers under include/sweep, used as #include "sim/simulator.h";
+# target sweep::runtime) with its headers under include/sweep, used as #include "sweep/sim/simulator.h";
 # and libsweep, the runtime behind a C interface (target sweep::sweep, #include "sweep/sweep.h").
 # The runtime is the four layers core < bind < sim < io (README, "Layout"): Eigen, nlohmann-json
 # and OpenMP, no authoring library. tools/check-runtime.sh builds examples/runtime against it.
@@ -19,7 +19,7 @@ add_library(sweep::runtime ALIAS sweep_runtime)
 
 install(TARGETS sweep_runtime sweep_core sweep_bind sweep_sim sweep_io EXPORT sweepTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sweep)
+        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS sweep EXPORT sweepTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}

@@ -4,8 +4,8 @@
 // down to its tip; the neck rises from the front of the body at y ≈ 0.08 to where it meets the
 // head (the head lies beyond the tip section and is bound as its cap, so it follows rigidly).
 // Shared by the tests and the benchmarks; tools/run-demo.sh passes the same points.
-#include "core/frame.h"
-#include "core/material.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/material.h"
 
 namespace sweep::test {
 

@@ -26,7 +26,7 @@ for module in "${!allowed[@]}"; do
   [[ -d lib/$module ]] || { echo "check-layers: lib/$module is missing" >&2; bad=1; continue; }
   while IFS= read -r hit; do
     file=${hit%%:*}; rest=${hit#*:}; line=${rest%%:*}; text=${rest#*:}
-    target=$(sed -E 's/^#include "([a-z_]+)\/.*/\1/' <<<"$text")
+    target=$(sed -E 's/^#include "sweep\/([a-z_]+)\/.*/\1/' <<<"$text")
     [[ $target == "$text" ]] && continue  # an include without a module folder
     [[ -d lib/$target ]] || continue      # not one of ours (e.g. "tube.h" beside a tool)
     if [[ " ${allowed[$module]} " != *" $target "* ]]; then

@@ -16,12 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "io/binding_file.h"
-#include "io/rig_json.h"
-#include "io/scene_json.h"
-#include "sim/fast_deform.h"
-#include "sim/simulator.h"
+#include "sweep/core/error.h"
+#include "sweep/io/binding_file.h"
+#include "sweep/io/rig_json.h"
+#include "sweep/io/scene_json.h"
+#include "sweep/sim/fast_deform.h"
+#include "sweep/sim/simulator.h"
 
 namespace {
 
@@ -59,8 +59,8 @@ int main(int argc, char** argv) {
     const Rig rig = io::read_rig(args[0]);
     Mesh mesh;
     mesh.positions = engine_positions(args[2]);
-    const bind::Binding binding = bind::load_binding(args[1], mesh, rig);  // refuses a stale one
-    const sim::Scene scene = sim::read_scene(args.size() == 4 ? args[3] : args[0], rig);
+    const bind::Binding binding = io::load_binding(args[1], mesh, rig);  // refuses a stale one
+    const sim::Scene scene = io::read_scene(args.size() == 4 ? args[3] : args[0], rig);
     sim::Simulator simulator(rig, scene);
     std::vector<sim::Vec3f> rest(mesh.positions.size()), positions;
     for (std::size_t v = 0; v < rest.size(); ++v) rest[v] = mesh.positions[v].cast<float>();

@@ -3,18 +3,18 @@
 // file is opened here: each writer writes its own temporaries (io::TempFile, io/atomic_file.h) and
 // hands them, sealed, to an io::Publication (finish_into: the run's; finish: one of its own), which
 // renames them into place together.
-#include "assets/bake.h"
+#include "sweep/assets/bake.h"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-#include "assets/bake_detail.h"
-#include "core/error.h"
-#include "core/frame.h"
-#include "core/text.h"
+#include "sweep/assets/bake_detail.h"
+#include "sweep/core/error.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/text.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace fs = std::filesystem;
 
 bool is_bake_extension(const fs::path& out) {
@@ -246,12 +246,12 @@ std::span<const Eigen::Vector3f> BakeWriterBase::stored_positions(std::span<cons
 }
 
 void BakeWriterBase::finish() {
-  Publication outputs;
+  io::Publication outputs;
   finish_into(outputs);
   outputs.commit();
 }
 
-void BakeWriterBase::finish_into(Publication& outputs) {
+void BakeWriterBase::finish_into(io::Publication& outputs) {
   if (state_ != State::begun) {
     fail(ErrorCategory::internal,
          out_.string() + ": finish() without begin(), twice, or after an error");
@@ -280,4 +280,4 @@ void BodyKeys::add(const BodyPose& pose) {
 }
 
 }  // namespace detail
-}  // namespace sweep::io
+}  // namespace sweep::assets

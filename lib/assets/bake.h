@@ -56,9 +56,9 @@
 #include <string>
 #include <vector>
 
-#include "core/mesh.h"
+#include "sweep/core/mesh.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 
 class SkinnedClip;  // assets/skinned_clip.h
 
@@ -117,7 +117,11 @@ struct BodyPose {
 // A streaming bake: begin() once, frame() for k = 0, 1, ..., frame_count-1 in that order, then
 // finish(), which puts the files in place. Nothing keeps all frames in memory (the glTF writer
 // streams its binary chunk through an unnamed scratch file beside the output).
+}  // namespace sweep::assets
+namespace sweep::io {
 class Publication;
+}
+namespace sweep::assets {
 
 class BakeWriter {
  public:
@@ -136,7 +140,7 @@ class BakeWriter {
   virtual void finish() = 0;
   // Writes what is left into sealed temporaries and hands them to `outputs`, which puts them in
   // place with the run's other outputs (all or nothing: io/atomic_file.h).
-  virtual void finish_into(Publication& outputs) = 0;
+  virtual void finish_into(io::Publication& outputs) = 0;
   // About how many bytes the finished files will take (after begin(): from the mesh, the frame
   // count and the moving vertices), for a warning or a refusal before the bake starts.
   virtual std::uint64_t estimated_bytes() const = 0;
@@ -163,4 +167,4 @@ std::filesystem::path obj_sequence_path(const std::filesystem::path& out, int in
 // The final paths a bake to `out` writes: `out` itself, or for .obj every frame's file.
 std::vector<std::filesystem::path> bake_files(const std::filesystem::path& out, int frame_count);
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

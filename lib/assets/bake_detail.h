@@ -11,10 +11,10 @@
 #include <string_view>
 #include <vector>
 
-#include "assets/bake.h"
-#include "io/atomic_file.h"
+#include "sweep/assets/bake.h"
+#include "sweep/io/atomic_file.h"
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 
 // The largest coordinate a bake accepts, rest or baked. Beyond it a float32 delta or sum could
 // overflow; a simulated vertex this far out has run away, so frame() reports it as diverged.
@@ -40,7 +40,7 @@ class BakeWriterBase : public BakeWriter {
   using BakeWriter::frame;
   void frame(int index, std::span<const Eigen::Vector3f> positions, const BodyPose& body) final;
   void finish() final;
-  void finish_into(Publication& outputs) final;
+  void finish_into(io::Publication& outputs) final;
   std::uint64_t estimated_bytes() const final { return estimate_; }
 
  protected:
@@ -57,7 +57,7 @@ class BakeWriterBase : public BakeWriter {
   // The rest positions as stored_positions stores them (rest() when there is no local space).
   const std::vector<Eigen::Vector3f>& stored_rest() const { return local_ ? stored_rest_ : rest_; }
   // Seals what is left and hands every temporary to `outputs`.
-  virtual void complete(Publication& outputs) = 0;
+  virtual void complete(io::Publication& outputs) = 0;
   virtual void abandon() noexcept = 0;
 
   const std::filesystem::path& out() const { return out_; }
@@ -92,4 +92,4 @@ class BakeWriterBase : public BakeWriter {
   std::vector<Eigen::Vector3f> stored_rest_;  // rest in local space, from the double positions
 };
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

@@ -27,13 +27,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "assets/bake.h"
-#include "assets/bake_detail.h"
-#include "assets/smooth_normals.h"
-#include "assets/gltf_passthrough.h"
-#include "core/error.h"
+#include "sweep/assets/bake.h"
+#include "sweep/assets/bake_detail.h"
+#include "sweep/assets/smooth_normals.h"
+#include "sweep/assets/gltf_passthrough.h"
+#include "sweep/core/error.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace {
 
 static_assert(std::endian::native == std::endian::little,
@@ -54,7 +54,7 @@ class GltfWriter final : public detail::BakeWriterBase {
  protected:
   void start(const Mesh& mesh) override;
   void write_frame(int index, std::span<const Eigen::Vector3f> positions) override;
-  void complete(Publication& outputs) override;
+  void complete(io::Publication& outputs) override;
   int morph_targets() const override { return info().frame_count; }
   void abandon() noexcept override {
     if (scratch_) scratch_->discard();
@@ -72,9 +72,9 @@ class GltfWriter final : public detail::BakeWriterBase {
   }
   tinygltf::Model build_model() const;
   void start_passthrough(const Mesh& mesh);
-  void write_glb(Publication& outputs, nlohmann::json json);
+  void write_glb(io::Publication& outputs, nlohmann::json json);
 
-  std::unique_ptr<TempFile> scratch_, final_;
+  std::unique_ptr<io::TempFile> scratch_, final_;
   // A glTF source: the input document whole plus the bake (gltf_passthrough.h).
   std::unique_ptr<detail::GltfPassthrough> passthrough_;
   detail::AppendBin append_bin_ = [this](const void* data, std::size_t bytes) {
@@ -120,7 +120,7 @@ void GltfWriter::start_passthrough(const Mesh&) {
                                          std::to_string(estimate >> 20) +
                                          " MiB, over the 4 GiB a .glb can hold; bake fewer frames or to .pc2");
   }
-  scratch_ = std::make_unique<TempFile>(out(), /*scratch=*/true);
+  scratch_ = std::make_unique<io::TempFile>(out(), /*scratch=*/true);
   passthrough_->start(append_bin_);
 }
 
@@ -188,7 +188,7 @@ void GltfWriter::start(const Mesh& mesh) {
              " MiB, over the 4 GiB a .glb can hold; bake fewer frames or to .pc2");
   }
 
-  scratch_ = std::make_unique<TempFile>(out(), /*scratch=*/true);
+  scratch_ = std::make_unique<io::TempFile>(out(), /*scratch=*/true);
 
   rest_min_ = rest_max_ = rest().front();
   for (const Eigen::Vector3f& p : rest()) {
@@ -444,7 +444,7 @@ tinygltf::Model GltfWriter::build_model() const {
   return model;
 }
 
-void GltfWriter::complete(Publication& outputs) {
+void GltfWriter::complete(io::Publication& outputs) {
   if (passthrough_) {
     write_glb(outputs, passthrough_->finish(append_bin_));
     return;
@@ -465,7 +465,7 @@ void GltfWriter::complete(Publication& outputs) {
 }
 
 // The GLB: header, the JSON chunk (with "buffers": the one BIN buffer) and the scratch file's bytes.
-void GltfWriter::write_glb(Publication& outputs, nlohmann::json json) {
+void GltfWriter::write_glb(io::Publication& outputs, nlohmann::json json) {
   const std::uint64_t bin_length = scratch_->size();  // a multiple of 4: every element is 4 bytes
   json["buffers"] = nlohmann::json::array({{{"byteLength", bin_length}}});
   std::string text = json.dump();
@@ -480,7 +480,7 @@ void GltfWriter::write_glb(Publication& outputs, nlohmann::json json) {
   const std::uint32_t header[5] = {0x46546C67u /* "glTF" */, 2, u32(total), u32(text.size()),
                                    0x4E4F534Au /* "JSON" */};
   const std::uint32_t bin_header[2] = {u32(bin_length), 0x004E4942u /* "BIN\0" */};
-  final_ = std::make_unique<TempFile>(out());
+  final_ = std::make_unique<io::TempFile>(out());
   final_->write(header, sizeof header);
   final_->write(text);
   final_->write(bin_header, sizeof bin_header);
@@ -496,4 +496,4 @@ std::unique_ptr<BakeWriter> make_gltf_bake_writer(const std::filesystem::path& o
   return std::make_unique<GltfWriter>(out);
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

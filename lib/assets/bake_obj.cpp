@@ -12,13 +12,13 @@
 #include <string_view>
 #include <vector>
 
-#include "assets/bake.h"
-#include "assets/bake_detail.h"
-#include "assets/mesh_io_detail.h"
-#include "core/error.h"
-#include "io/atomic_file.h"
+#include "sweep/assets/bake.h"
+#include "sweep/assets/bake_detail.h"
+#include "sweep/assets/mesh_io_detail.h"
+#include "sweep/core/error.h"
+#include "sweep/io/atomic_file.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace {
 
 constexpr char kHeader[] = "# sweep bake 1: frame ";  // each frame's first line starts so
@@ -69,7 +69,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
                  (header_bytes + kMaxVertexLineBytes * moving + still_bytes + faces_.size()));
     // The files are made frame by frame; find out now, before any simulation, whether the folder
     // takes files at all (a nameless scratch file leaves nothing behind).
-    TempFile probe(out(), /*scratch=*/true);
+    io::TempFile probe(out(), /*scratch=*/true);
   }
 
   void write_frame(int index, std::span<const Eigen::Vector3f> body_positions) override {
@@ -94,7 +94,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     }
     text += faces_;
     auto file =
-        std::make_unique<TempFile>(obj_sequence_path(out(), index, info().frame_count));
+        std::make_unique<io::TempFile>(obj_sequence_path(out(), index, info().frame_count));
     file->write(text);
     file->seal();
     frames_.push_back(std::move(file));
@@ -102,11 +102,11 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
 
   // The frames go into place together (and with the run's other outputs): two runs publishing
   // the same sequence take turns, so frames never mix, and a frame of an earlier bake under the
-  // same name is set aside and put back if the set cannot be completed (Publication).
+  // same name is set aside and put back if the set cannot be completed (io::Publication).
   // The bake owns its sequence: frames of an earlier, longer bake under the same name (past this
   // one's end, or numbered with another width) go with the commit, so no stale frame stays beside
   // the new ones.
-  void complete(Publication& outputs) override {
+  void complete(io::Publication& outputs) override {
     std::set<std::filesystem::path> names;
     for (auto& frame : frames_) {
       names.insert(frame->target().filename());
@@ -116,7 +116,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     for (const std::filesystem::path& stale : stale_frames(names)) outputs.remove(stale);
   }
 
-  void abandon() noexcept override { frames_.clear(); }  // each TempFile removes its temporary
+  void abandon() noexcept override { frames_.clear(); }  // each io::TempFile removes its temporary
 
   // The files beside the sequence named as its frames are ("<stem>_<digits><ext>", at least four
   // digits) that this bake does not write, each an earlier bake's frame by its first line (this
@@ -153,7 +153,7 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
   std::string rest_lines_;   // `v` lines of the rest pose, when some vertices never move
   std::vector<std::size_t> rest_line_start_;
   std::string text_;  // one frame's file, reused
-  std::vector<std::unique_ptr<TempFile>> frames_;
+  std::vector<std::unique_ptr<io::TempFile>> frames_;
 };
 
 }  // namespace
@@ -162,4 +162,4 @@ std::unique_ptr<BakeWriter> make_obj_bake_writer(const std::filesystem::path& ou
   return std::make_unique<ObjSequenceWriter>(out);
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

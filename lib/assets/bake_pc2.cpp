@@ -5,11 +5,11 @@
 #include <cstring>
 #include <memory>
 
-#include "assets/bake.h"
-#include "assets/bake_detail.h"
-#include "core/error.h"
+#include "sweep/assets/bake.h"
+#include "sweep/assets/bake_detail.h"
+#include "sweep/core/error.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace {
 
 static_assert(sizeof(float) == 4 && sizeof(Eigen::Vector3f) == 12,
@@ -27,7 +27,7 @@ class Pc2Writer final : public detail::BakeWriterBase {
 
  protected:
   void start(const Mesh&) override {
-    file_ = std::make_unique<TempFile>(out());
+    file_ = std::make_unique<io::TempFile>(out());
     char header[32];
     std::memcpy(header, "POINTCACHE2\0", 12);
     put_u32(header + 12, 1);                                               // version
@@ -54,7 +54,7 @@ class Pc2Writer final : public detail::BakeWriterBase {
     }
   }
 
-  void complete(Publication& outputs) override {
+  void complete(io::Publication& outputs) override {
     file_->seal();
     outputs.add(std::move(file_));
   }
@@ -63,7 +63,7 @@ class Pc2Writer final : public detail::BakeWriterBase {
   }
 
  private:
-  std::unique_ptr<TempFile> file_;
+  std::unique_ptr<io::TempFile> file_;
   std::vector<char> scratch_;  // big-endian hosts only
 };
 
@@ -73,4 +73,4 @@ std::unique_ptr<BakeWriter> make_pc2_bake_writer(const std::filesystem::path& ou
   return std::make_unique<Pc2Writer>(out);
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

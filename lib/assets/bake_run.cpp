@@ -1,17 +1,19 @@
-#include "assets/bake_run.h"
+#include "sweep/assets/bake_run.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
 
-#include "assets/bake.h"
-#include "bind/deform.h"
-#include "core/error.h"
-#include "core/text.h"
-#include "sim/fast_deform.h"
+#include "sweep/assets/bake.h"
+#include "sweep/bind/deform.h"
+#include "sweep/core/error.h"
+#include "sweep/core/text.h"
+#include "sweep/sim/fast_deform.h"
 
-namespace sweep::sim {
+using sweep::sim::deform_sweeps;
+
+namespace sweep::assets {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -38,7 +40,7 @@ std::string megabytes(std::uint64_t bytes) {
 
 // Before the simulation: the files' estimated size against the limit, and what engines take.
 void check_output_size(const BakeOptions& options,
-                       const std::vector<std::unique_ptr<io::BakeWriter>>& writers) {
+                       const std::vector<std::unique_ptr<BakeWriter>>& writers) {
   std::uint64_t total = 0;
   std::string each;
   for (std::size_t k = 0; k < writers.size(); ++k) {
@@ -68,7 +70,7 @@ void check_output_size(const BakeOptions& options,
 }  // namespace
 
 BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                    const Scene& scene, const BakeOptions& options) {
+                    const sim::Scene& scene, const BakeOptions& options) {
   if (options.outputs.empty()) fail(ErrorCategory::usage, "no output file given");
   if (options.stations_per_span < 1)
     fail(ErrorCategory::usage, "stations per span must be at least 1");
@@ -77,15 +79,15 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     for (const auto& out : options.outputs) glb = glb || lower_extension(out) == "glb";
     if (!glb) fail(ErrorCategory::usage, "--joints: skins a .glb output, and none is given");
   }
-  std::vector<io::SkinSweep> skin_sweeps;
+  std::vector<SkinSweep> skin_sweeps;
   for (std::size_t i = 0; options.joints != 0 && i < rig.sweeps.size(); ++i)
     skin_sweeps.push_back({rig.sweeps[i].name, &rig.sweeps[i].rest, &binding.sweeps[i]});
-  const io::SkinLayout skin_layout{options.joints, options.ring_joints, options.ring_motion, options.ring_fit};
-  if (options.joints != 0) io::check_skin_joints(skin_layout, skin_sweeps, options.stations_per_span);
+  const SkinLayout skin_layout{options.joints, options.ring_joints, options.ring_motion, options.ring_fit};
+  if (options.joints != 0) check_skin_joints(skin_layout, skin_sweeps, options.stations_per_span);
   const std::size_t nv = mesh.vertex_count();
   const int sweeps = static_cast<int>(rig.sweeps.size());
 
-  std::vector<Vec3f> rest(nv), positions(nv);
+  std::vector<sim::Vec3f> rest(nv), positions(nv);
   for (std::size_t v = 0; v < nv; ++v) rest[v] = mesh.positions[v].cast<float>();
   positions = rest;
 
@@ -100,12 +102,12 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   // The simulators: one for the whole rig, or with a skinned clip one a sweep, on its root joint's
   // path (sweep i is sweep of_sweep[i].second of simulator of_sweep[i].first).
   std::vector<Rig> part_rigs;
-  std::vector<Scene> part_scenes;
-  std::vector<std::unique_ptr<Simulator>> sims;
+  std::vector<sim::Scene> part_scenes;
+  std::vector<std::unique_ptr<sim::Simulator>> sims;
   std::vector<std::pair<int, int>> of_sweep;
   int preroll_frames = 0;
   if (options.skinned == nullptr) {
-    sims.push_back(std::make_unique<Simulator>(rig, scene, options.sleep));
+    sims.push_back(std::make_unique<sim::Simulator>(rig, scene, options.sleep));
     for (int i = 0; i < sweeps; ++i) of_sweep.emplace_back(0, i);
   } else {
     preroll_frames = options.skinned->preroll_frames();
@@ -118,13 +120,13 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       Rig r = rig;
       r.sweeps = {rig.sweeps[i]};
       part_rigs.push_back(std::move(r));
-      Scene s = scene;
+      sim::Scene s = scene;
       s.duration = scene.duration + preroll;
       s.body_node.clear();
       s.body = options.skinned->sweep_path(i, s.duration);
       if (s.teleport_distance == 0) s.teleport_distance = longest;  // as for the whole rig
       s.forces.clear();
-      for (SceneForce f : scene.forces) {
+      for (sim::SceneForce f : scene.forces) {
         if (f.sweep_index != i) continue;
         f.sweep_index = 0;
         f.start += preroll;
@@ -132,15 +134,15 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
         s.forces.push_back(f);
       }
       part_scenes.push_back(std::move(s));
-      sims.push_back(std::make_unique<Simulator>(part_rigs.back(), part_scenes.back(), options.sleep));
+      sims.push_back(std::make_unique<sim::Simulator>(part_rigs.back(), part_scenes.back(), options.sleep));
       of_sweep.emplace_back(i, 0);
     }
   }
-  auto sim_of = [&](int i) -> Simulator& { return *sims[of_sweep[i].first]; };
+  auto sim_of = [&](int i) -> sim::Simulator& { return *sims[of_sweep[i].first]; };
   // Only driven sweeps' vertices can ever move: the writers are told, so glTF stores sparse
   // targets and the others skip the rest.
   std::vector<std::uint32_t> animated;
-  std::vector<std::unique_ptr<FastDeformer>> fast(sweeps);
+  std::vector<std::unique_ptr<sim::FastDeformer>> fast(sweeps);
   BakeReport report;
   for (int i = 0; i < sweeps; ++i) {
     const bind::SweepBinding& table = binding.sweeps[i];
@@ -149,7 +151,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     animated.insert(animated.end(), table.vertices.begin(), table.vertices.end());
     if (options.exact) continue;
     fast[i] =
-        std::make_unique<FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
+        std::make_unique<sim::FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
     report.sweeps[i].work_blocks = fast[i]->block_count();
     report.sweeps[i].blocks_in_place = fast[i]->direct_block_count();
   }
@@ -162,8 +164,8 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
          "binding: vertex " + std::to_string(*twice) + " is bound by more than one sweep");
   }
 
-  std::vector<std::unique_ptr<io::BakeWriter>> writers;
-  io::BakeInfo info;
+  std::vector<std::unique_ptr<BakeWriter>> writers;
+  BakeInfo info;
   info.frame_count = scene.frame_count();
   info.fps = scene.fps;
   info.animated_vertices = animated;
@@ -176,15 +178,15 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   }
   info.source = options.source;
   info.warn = options.warn;
-  std::vector<io::SkinPoser*> skins;  // the skinned writers among them
+  std::vector<SkinPoser*> skins;  // the skinned writers among them
   std::vector<char> glb_output;
   for (const auto& out : options.outputs) {
     if (options.joints != 0 && lower_extension(out) == "glb") {
-      io::SkinBakeWriter skin = io::make_skin_bake_writer(out, skin_sweeps, skin_layout);
+      SkinBakeWriter skin = make_skin_bake_writer(out, skin_sweeps, skin_layout);
       writers.push_back(std::move(skin.writer));
       skins.push_back(skin.poser);
     } else {
-      writers.push_back(io::make_bake_writer(out));
+      writers.push_back(make_bake_writer(out));
     }
     writers.back()->begin(mesh, info);
     glb_output.push_back(lower_extension(out) == "glb");
@@ -199,7 +201,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   // The exact path rebuilds the whole mesh in double from the binding (the reference).
   std::vector<Vec3> exact_out(options.exact ? nv : 0);
   std::vector<const SweepShape*> shapes(sweeps);
-  std::vector<DeformJob> jobs;  // the fast path's work this frame
+  std::vector<sim::DeformJob> jobs;  // the fast path's work this frame
   jobs.reserve(sweeps);
 
   report.frames = info.frame_count;
@@ -207,7 +209,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   report.step_seconds = scene.step_seconds();
   double max_displacement = 0;
   double edge_stretch = 1;
-  std::vector<Vec3f> world(options.skinned != nullptr ? nv : 0);
+  std::vector<sim::Vec3f> world(options.skinned != nullptr ? nv : 0);
   {
     const auto t0 = Clock::now();
     for (int k = 0; k < preroll_frames; ++k)
@@ -233,7 +235,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     bool any_moved = false;
     jobs.clear();
     for (int i = 0; i < sweeps; ++i) {
-      const Simulator& sim = sim_of(i);
+      const sim::Simulator& sim = sim_of(i);
       const int j = of_sweep[i].second;
       shapes[i] = &sim.sweep(j).deformed();
       // After a preroll frame 0 is not the rest pose: every driven sweep is deformed there.
@@ -266,13 +268,13 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     report.deform_seconds += seconds_since(t0);
 
     t0 = Clock::now();
-    io::BodyPose pose;
+    BodyPose pose;
     if (info.body_moves) {
-      const BodyState body = sims.front()->body();
+      const sim::BodyState body = sims.front()->body();
       pose.rotation = body.rotation;
       pose.translation = body.translation;
     }
-    for (io::SkinPoser* skin : skins) skin->pose(shapes);
+    for (SkinPoser* skin : skins) skin->pose(shapes);
     if (options.skinned != nullptr) options.skinned->pose(k / scene.fps, positions, world);
     // A skinned clip: world positions, or (under_skin, .pc2 and .obj) the positions the parts
     // deformed in the rest pose, which are each vertex before skinning: the clip places a bound
@@ -309,4 +311,4 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   return report;
 }
 
-}  // namespace sweep::sim
+}  // namespace sweep::assets

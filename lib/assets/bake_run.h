@@ -11,30 +11,30 @@
 #include <string>
 #include <vector>
 
-#include "assets/bake.h"
-#include "assets/bake_skin.h"
-#include "assets/edge_stretch.h"
-#include "assets/skinned_clip.h"
-#include "bind/bind.h"
-#include "core/mesh.h"
-#include "core/rig.h"
-#include "sim/scene.h"
-#include "sim/simulator.h"
+#include "sweep/assets/bake.h"
+#include "sweep/assets/bake_skin.h"
+#include "sweep/assets/edge_stretch.h"
+#include "sweep/assets/skinned_clip.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/mesh.h"
+#include "sweep/core/rig.h"
+#include "sweep/sim/scene.h"
+#include "sweep/sim/simulator.h"
 
 namespace sweep::io {
 class Publication;  // io/atomic_file.h
 }
 
-namespace sweep::sim {
+namespace sweep::assets {
 
 struct BakeOptions {
   std::vector<std::filesystem::path> outputs;  // chosen by extension: .glb, .pc2, .obj
-  // The mesh file and which mesh of it (io::BakeInfo::source): a glTF source's .glb bake is that
+  // The mesh file and which mesh of it (BakeInfo::source): a glTF source's .glb bake is that
   // document plus the bake; .pc2 and .obj frames are in the mesh's local space.
-  io::BakeSource source;
+  BakeSource source;
   bool exact = false;         // the per-vertex reference path instead of the fast station path
   int stations_per_span = 8;  // fast path: stations per span (error falls as its square)
-  SleepSettings sleep;
+  sim::SleepSettings sleep;
   // Called after each frame is written: (frames done, frames in all).
   std::function<void(int, int)> progress;
   // Where the finished files go: with one, they are handed to it (the caller adds its report and
@@ -45,17 +45,17 @@ struct BakeOptions {
   std::uint64_t max_output_bytes = 0;
   // > 0: every .glb output is a skinned glTF with this many joints a sweep (bake_skin.h) instead
   // of morph targets; the other outputs are as ever. kMinSkinJoints … kMaxSkinJoints, and at most
-  // a sweep's station count (io::check_skin_joints), else Error(usage) before anything is written.
+  // a sweep's station count (check_skin_joints), else Error(usage) before anything is written.
   int joints = 0;
   // With joints: the ring joints at each station (1: none) and how they are keyed (skin_fit.h).
   int ring_joints = 1;
-  io::RingMotion ring_motion = io::RingMotion::scale;
+  RingMotion ring_motion = RingMotion::scale;
   bool ring_fit = false;
   // A skinned mesh's clip drives the bake (assets/skinned_clip.h): each sweep is simulated on its
   // root joint's motion (a simulator of its own, the scene's forces on it kept), the preroll's
   // frames first, and the writers get world positions; a .glb is the input asset whole with the
   // parts' motion as morph targets under its skin (gltf_passthrough.h). With joints: refused.
-  const io::SkinnedClip* skinned = nullptr;
+  const SkinnedClip* skinned = nullptr;
   // With skinned: .pc2 and .obj frames hold each vertex before skinning (the mesh's bind space,
   // its POSITION where no part moves it): skinning them by the clip gives the bake. Without
   // skinned: Error(usage).
@@ -103,13 +103,13 @@ struct BakeReport {
   // With joints: the skin's joints (the body joint included) and the skinned result's error
   // against the bake's positions (the first skinned .glb's; all are the same).
   int skin_joints = 0;
-  io::SkinError skin_error;
+  SkinError skin_error;
 };
 
-// Runs the bake. `binding` must match `mesh` and `rig` (bind::check_binding). Throws Error: bad
+// Runs the bake. `binding` must match `mesh` and `rig` (io::check_binding). Throws Error: bad
 // options (usage), divergence (diverged), unwritable outputs (output). On any error no output file
 // is left under its final name.
 BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                    const Scene& scene, const BakeOptions& options);
+                    const sim::Scene& scene, const BakeOptions& options);
 
-}  // namespace sweep::sim
+}  // namespace sweep::assets

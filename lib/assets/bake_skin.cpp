@@ -7,7 +7,7 @@
 //   per animated joint, its channels: [translations (F × vec3)] | [rotations (F × vec4)] |
 //   [scales (F × vec3)] |
 //   [a moving body: its translations | rotations]
-#include "assets/bake_skin.h"
+#include "sweep/assets/bake_skin.h"
 
 #include <tiny_gltf.h>
 
@@ -20,11 +20,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "assets/bake_detail.h"
-#include "assets/smooth_normals.h"
-#include "core/error.h"
+#include "sweep/assets/bake_detail.h"
+#include "sweep/assets/smooth_normals.h"
+#include "sweep/core/error.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace {
 
 static_assert(std::endian::native == std::endian::little,
@@ -48,7 +48,7 @@ class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
  protected:
   void start(const Mesh& mesh) override;
   void write_frame(int index, std::span<const Eigen::Vector3f> positions) override;
-  void complete(Publication& outputs) override;
+  void complete(io::Publication& outputs) override;
   void abandon() noexcept override {
     if (final_) final_->discard();
   }
@@ -68,7 +68,7 @@ class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
   bool posed_ = false;
   detail::BodyKeys body_keys_;  // with a moving body
   SkinError no_error_;
-  std::unique_ptr<TempFile> final_;
+  std::unique_ptr<io::TempFile> final_;
 };
 
 void SkinWriter::start(const Mesh& mesh) {
@@ -334,7 +334,7 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
   return model;
 }
 
-void SkinWriter::complete(Publication& outputs) {
+void SkinWriter::complete(io::Publication& outputs) {
   std::vector<unsigned char> bin;
   const tinygltf::Model model = build_model(bin);
   std::ostringstream stream;
@@ -355,7 +355,7 @@ void SkinWriter::complete(Publication& outputs) {
   const std::uint32_t header[5] = {0x46546C67u /* "glTF" */, 2, u32(total), u32(text.size()),
                                    0x4E4F534Au /* "JSON" */};
   const std::uint32_t bin_header[2] = {u32(bin.size()), 0x004E4942u /* "BIN\0" */};
-  final_ = std::make_unique<TempFile>(out());
+  final_ = std::make_unique<io::TempFile>(out());
   final_->write(header, sizeof header);
   final_->write(text);
   final_->write(bin_header, sizeof bin_header);
@@ -413,4 +413,4 @@ SkinBakeWriter make_skin_bake_writer(const std::filesystem::path& out, std::vect
   return {std::move(writer), poser};
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

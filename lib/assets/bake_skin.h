@@ -33,12 +33,12 @@
 #include <string>
 #include <vector>
 
-#include "assets/bake.h"
-#include "assets/skin_fit.h"
-#include "bind/bind.h"
-#include "core/sweep_shape.h"
+#include "sweep/assets/bake.h"
+#include "sweep/assets/skin_fit.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/sweep_shape.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 
 // Station joints a sweep may have (--joints): at least its two ends; at most 255.
 inline constexpr int kMinSkinJoints = 2;
@@ -82,4 +82,4 @@ void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> swee
 SkinBakeWriter make_skin_bake_writer(const std::filesystem::path& out, std::vector<SkinSweep> sweeps,
                                      const SkinLayout& layout);
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

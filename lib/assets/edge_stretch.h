@@ -12,10 +12,10 @@
 #include <span>
 #include <vector>
 
-#include "core/mesh.h"
-#include "sim/fast_deform.h"
+#include "sweep/core/mesh.h"
+#include "sweep/sim/fast_deform.h"
 
-namespace sweep::sim {
+namespace sweep::assets {
 
 struct EdgeStretch {
   double ratio = 1;     // deformed length / rest length of the worst edge; 1 when none changed
@@ -29,9 +29,9 @@ class EdgeStretchMeter {
   // The mesh's polygon edges (each once, a < b, ascending) with an end among `animated` and a
   // rest length > 0 in `rest` (the positions frames are measured against).
   EdgeStretchMeter(const Mesh& mesh, std::span<const std::uint32_t> animated,
-                   std::span<const Vec3f> rest);
+                   std::span<const sim::Vec3f> rest);
   // The edge that stretched most in `positions` (the first in edge order among equals).
-  EdgeStretch measure(std::span<const Vec3f> positions) const;
+  EdgeStretch measure(std::span<const sim::Vec3f> positions) const;
   std::size_t edge_count() const { return a_.size(); }
 
  private:
@@ -39,4 +39,4 @@ class EdgeStretchMeter {
   std::vector<double> rest_squared_;  // rest length², mesh units²
 };
 
-}  // namespace sweep::sim
+}  // namespace sweep::assets

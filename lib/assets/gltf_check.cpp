@@ -5,11 +5,11 @@
 #include <cstring>
 #include <optional>
 
-#include "assets/gltf_document.h"
-#include "assets/mesh_checks.h"
-#include "core/error.h"
+#include "sweep/assets/gltf_document.h"
+#include "sweep/assets/mesh_checks.h"
+#include "sweep/core/error.h"
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 
 using Json = nlohmann::json;
 using Bytes = std::string;
@@ -186,4 +186,4 @@ Json check_gltf_indices(const std::filesystem::path& path) {
   return std::move(file.json);
 }
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

@@ -1,13 +1,16 @@
-#include "assets/gltf_document.h"
+#include "sweep/assets/gltf_document.h"
 
 #include <cstring>
 #include <string_view>
 
-#include "core/error.h"
-#include "io/json_reader.h"
-#include "io/read_file.h"
+#include "sweep/core/error.h"
+#include "sweep/io/json_reader.h"
+#include "sweep/io/read_file.h"
 
-namespace sweep::io::detail {
+using sweep::io::describe;
+using sweep::io::read_file;
+
+namespace sweep::assets::detail {
 namespace {
 
 using Json = nlohmann::json;
@@ -154,4 +157,4 @@ std::optional<std::vector<float>> read_float_accessor(const GltfDocument& file, 
 }
 
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

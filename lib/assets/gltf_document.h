@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 
 struct GltfDocument {
   nlohmann::json json;  // discarded (not an object) when the text is not JSON
@@ -50,4 +50,4 @@ bool gltf_fits(std::uint64_t view_offset, std::uint64_t view_length, std::uint64
 std::optional<std::vector<float>> read_float_accessor(const GltfDocument& file, const nlohmann::json& index,
                                                       int components);
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

@@ -1,4 +1,4 @@
-#include "assets/gltf_motion.h"
+#include "sweep/assets/gltf_motion.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -7,12 +7,12 @@
 #include <set>
 #include <vector>
 
-#include "assets/gltf_document.h"
-#include "core/error.h"
-#include "core/limits.h"
-#include "core/text.h"
+#include "sweep/assets/gltf_document.h"
+#include "sweep/core/error.h"
+#include "sweep/core/limits.h"
+#include "sweep/core/text.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace {
 
 using detail::GltfDocument;
@@ -232,4 +232,4 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
   return sim::BodyPath(std::move(keys), sim::BodyInterpolation::linear, (P * L0).translation());
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

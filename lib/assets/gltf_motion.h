@@ -12,13 +12,13 @@
 #include <filesystem>
 #include <string>
 
-#include "sim/body_path.h"
+#include "sweep/sim/body_path.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 
 // Throws Error(bad_input) naming the file and the node or animation: no such node, no animation
 // moves it, a channel that cannot be read, a refused interpolation.
 sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::string& node,
                                   const std::string& animation = {});
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

@@ -1,6 +1,6 @@
 // The passthrough .glb: the input glTF document plus the bake (gltf_passthrough.h says what is kept,
 // what is added and what is refused).
-#include "assets/gltf_passthrough.h"
+#include "sweep/assets/gltf_passthrough.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -14,16 +14,18 @@
 #include <sstream>
 #include <string>
 
-#include "assets/gltf_document.h"
-#include "assets/gltf_skin.h"
-#include "assets/skinned_clip.h"
-#include "assets/smooth_normals.h"
-#include "assets/obj_gltf.h"
-#include "core/error.h"
-#include "core/text.h"
-#include "io/read_file.h"
+#include "sweep/assets/gltf_document.h"
+#include "sweep/assets/gltf_skin.h"
+#include "sweep/assets/skinned_clip.h"
+#include "sweep/assets/smooth_normals.h"
+#include "sweep/assets/obj_gltf.h"
+#include "sweep/core/error.h"
+#include "sweep/core/text.h"
+#include "sweep/io/read_file.h"
 
-namespace sweep::io::detail {
+using sweep::io::read_file;
+
+namespace sweep::assets::detail {
 
 namespace {
 
@@ -1020,4 +1022,4 @@ Json GltfPassthrough::finish(const AppendBin& append) {
   return json;
 }
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

@@ -56,10 +56,10 @@
 #include <span>
 #include <vector>
 
-#include "assets/bake.h"
-#include "core/mesh.h"
+#include "sweep/assets/bake.h"
+#include "sweep/core/mesh.h"
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 
 // Whether a bake of a mesh read from `source` may write the passthrough .glb (a .gltf, .glb or
 // .obj: an OBJ's UVs, normals, colours and materials become a glTF document first, obj_gltf.h).
@@ -108,4 +108,4 @@ class GltfPassthrough {
   std::unique_ptr<State> s_;
 };
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

@@ -1,15 +1,15 @@
-#include "assets/gltf_skin.h"
+#include "sweep/assets/gltf_skin.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
 
-#include "assets/gltf_document.h"
-#include "core/error.h"
-#include "core/text.h"
+#include "sweep/assets/gltf_document.h"
+#include "sweep/core/error.h"
+#include "sweep/core/text.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace {
 
 using detail::GltfDocument;
@@ -407,4 +407,4 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
   return model;
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

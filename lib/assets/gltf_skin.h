@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 
 struct SkinNode {
   std::string name;
@@ -90,4 +90,4 @@ Vec3 skin_vertex(const SkinModel& model, const std::vector<Eigen::Matrix4d>& joi
 std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::span<const Vec3> read_positions,
                                         const Eigen::Affine3d& to_world);
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

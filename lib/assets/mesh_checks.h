@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 
 // A PLY header must be well formed ("ply", one format line, element and property lines of known
 // types, end_header: assimp hangs on some malformed headers). An ASCII PLY's body must hold exactly the element instances its header announces, one a line,
@@ -22,4 +22,4 @@ void check_ascii_ply(std::string_view text, const std::string& source);
 // an object, when the text is not JSON) for the reader's further use.
 nlohmann::json check_gltf_indices(const std::filesystem::path& path);
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

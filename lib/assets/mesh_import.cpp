@@ -23,18 +23,20 @@
 #include <unordered_set>
 #include <vector>
 
-#include "assets/gltf_document.h"
-#include "assets/mesh_checks.h"
-#include "assets/mesh_io.h"
-#include "assets/mesh_io_detail.h"
-#include "assets/mesh_surface.h"
-#include "core/error.h"
-#include "core/fp_environment.h"
-#include "core/hash.h"
-#include "core/text.h"
-#include "io/read_file.h"
+#include "sweep/assets/gltf_document.h"
+#include "sweep/assets/mesh_checks.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/assets/mesh_io_detail.h"
+#include "sweep/assets/mesh_surface.h"
+#include "sweep/core/error.h"
+#include "sweep/core/fp_environment.h"
+#include "sweep/core/hash.h"
+#include "sweep/core/text.h"
+#include "sweep/io/read_file.h"
 
-namespace sweep::io {
+using sweep::io::read_file;
+
+namespace sweep::assets {
 namespace {
 
 namespace fs = std::filesystem;
@@ -577,4 +579,4 @@ void validate_mesh(const Mesh& mesh, const std::string& source) {
   if (const std::string why = check_mesh(mesh); !why.empty()) bad(source, why);
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

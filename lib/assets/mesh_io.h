@@ -41,9 +41,9 @@
 #include <string_view>
 #include <vector>
 
-#include "core/mesh.h"
+#include "sweep/core/mesh.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 
 // Every mesh of the file, in world space, concatenated (see above).
 Mesh read_mesh(const std::filesystem::path& path);
@@ -121,4 +121,4 @@ std::string obj_bytes(const Mesh& mesh);
 std::string off_bytes(const Mesh& mesh);
 std::string ply_bytes(const Mesh& mesh);
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

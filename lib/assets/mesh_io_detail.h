@@ -4,11 +4,11 @@
 #include <string>
 #include <string_view>
 
-#include "core/error.h"
-#include "core/mesh.h"
-#include "core/text.h"
+#include "sweep/core/error.h"
+#include "sweep/core/mesh.h"
+#include "sweep/core/text.h"
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 
 // A reader's error: Error(bad_input) "<source>: <what>".
 [[noreturn]] inline void bad(const std::string& source, const std::string& what) {
@@ -35,4 +35,4 @@ void append_vertex_line(std::string& out, std::string_view prefix,
 // The mesh's polygons as OBJ `f` lines, "f i0 i1 ...", 1-based, one a face, in face order.
 void append_obj_faces(std::string& out, const Mesh& mesh);
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

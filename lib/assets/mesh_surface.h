@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace sweep::io {
+namespace sweep::assets {
 
 struct SurfaceMaterial {
   std::string name;
@@ -39,4 +39,4 @@ struct MeshSurface {
 // (mesh_io.h) takes it by name. Error(bad_input) for a texture named but not found.
 MeshSurface read_welded_surface(const std::filesystem::path& path, const std::string& mesh_name = {});
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

@@ -11,13 +11,13 @@
 #include <system_error>
 #include <vector>
 
-#include "assets/mesh_io.h"
-#include "assets/mesh_io_detail.h"
-#include "core/error.h"
-#include "core/frame.h"
-#include "core/text.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/assets/mesh_io_detail.h"
+#include "sweep/core/error.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/text.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace {
 
 using detail::bad;
@@ -294,4 +294,4 @@ Mesh parse_obj(const std::string& file_text, const std::string& source) {
   return mesh;
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

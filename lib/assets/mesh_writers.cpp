@@ -4,14 +4,16 @@
 #include <cstdint>
 #include <string>
 
-#include "assets/mesh_io.h"
-#include "assets/mesh_io_detail.h"
-#include "core/error.h"
-#include "core/frame.h"
-#include "core/text.h"
-#include "io/atomic_file.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/assets/mesh_io_detail.h"
+#include "sweep/core/error.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/text.h"
+#include "sweep/io/atomic_file.h"
 
-namespace sweep::io {
+using sweep::io::write_file_atomically;
+
+namespace sweep::assets {
 namespace fs = std::filesystem;
 namespace {
 
@@ -129,4 +131,4 @@ void write_mesh(const fs::path& path, const Mesh& mesh) {
                                        path.extension().string() + "' (write .obj, .off or .ply)");
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

@@ -1,5 +1,5 @@
 // An OBJ's surface as a glTF document (obj_gltf.h).
-#include "assets/obj_gltf.h"
+#include "sweep/assets/obj_gltf.h"
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -13,12 +13,14 @@
 #include <string>
 #include <tuple>
 
-#include "assets/smooth_normals.h"
-#include "core/error.h"
-#include "core/text.h"
-#include "io/read_file.h"
+#include "sweep/assets/smooth_normals.h"
+#include "sweep/core/error.h"
+#include "sweep/core/text.h"
+#include "sweep/io/read_file.h"
 
-namespace sweep::io::detail {
+using sweep::io::read_file;
+
+namespace sweep::assets::detail {
 namespace {
 
 namespace fs = std::filesystem;
@@ -377,4 +379,4 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
   return out;
 }
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

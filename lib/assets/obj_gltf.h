@@ -15,11 +15,11 @@
 #include <optional>
 #include <vector>
 
-#include "assets/gltf_document.h"
-#include "assets/mesh_surface.h"
-#include "core/mesh.h"
+#include "sweep/assets/gltf_document.h"
+#include "sweep/assets/mesh_surface.h"
+#include "sweep/core/mesh.h"
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 
 struct SurfaceGltf {
   GltfDocument doc;                                  // buffers[0]: the bytes, in memory
@@ -37,4 +37,4 @@ std::optional<SurfaceGltf> obj_as_gltf(const std::filesystem::path& obj, const M
 // surface primitive, its positions the mesh's (float32) at each vertex's source.
 SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const std::filesystem::path& file);
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

@@ -6,10 +6,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "assets/mesh_checks.h"
-#include "core/error.h"
+#include "sweep/assets/mesh_checks.h"
+#include "sweep/core/error.h"
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 namespace {
 
 struct PlyElement {
@@ -327,4 +327,4 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
   }
 }
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

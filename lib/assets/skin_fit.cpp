@@ -1,5 +1,5 @@
 // The skin's joints, weights and per-frame poses (skin_fit.h).
-#include "assets/skin_fit.h"
+#include "sweep/assets/skin_fit.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
@@ -8,9 +8,9 @@
 #include <cstring>
 #include <numbers>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 
 bool JointKey::operator==(const JointKey& o) const { return std::memcmp(this, &o, sizeof(JointKey)) == 0; }
 
@@ -408,4 +408,4 @@ void SkinFit::pose(std::span<const SweepShape* const> shapes, std::span<const Ei
   error_.rms_relative = error_.samples ? std::sqrt(sum_squares_ / static_cast<double>(error_.samples)) : 0.0;
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

@@ -30,10 +30,10 @@
 #include <string>
 #include <vector>
 
-#include "bind/bind.h"
-#include "core/sweep_shape.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/sweep_shape.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 
 // One sweep of the skin: its rest shape and its binding (both must outlive the writer).
 struct SkinSweep {
@@ -148,4 +148,4 @@ class SkinFit {
   double sum_squares_ = 0;
 };
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

@@ -1,14 +1,14 @@
-#include "assets/skinned_clip.h"
+#include "sweep/assets/skinned_clip.h"
 
 #include <algorithm>
 #include <cmath>
 #include <Eigen/SVD>
 #include <map>
 
-#include "core/error.h"
-#include "core/text.h"
+#include "sweep/core/error.h"
+#include "sweep/core/text.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 namespace {
 
 [[noreturn]] void refuse(const std::filesystem::path& file, const std::string& what) {
@@ -158,4 +158,4 @@ void SkinnedClip::pose(double scene_time, std::span<const Eigen::Vector3f> defor
   }
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

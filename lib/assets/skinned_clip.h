@@ -32,12 +32,12 @@
 #include <string>
 #include <vector>
 
-#include "assets/gltf_skin.h"
-#include "bind/bind.h"
-#include "core/rig.h"
-#include "sim/body_path.h"
+#include "sweep/assets/gltf_skin.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/rig.h"
+#include "sweep/sim/body_path.h"
 
-namespace sweep::io {
+namespace sweep::assets {
 
 class SkinnedClip {
  public:
@@ -81,4 +81,4 @@ class SkinnedClip {
   const bind::Binding* binding_ = nullptr;
 };
 
-}  // namespace sweep::io
+}  // namespace sweep::assets

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace sweep::io::detail {
+namespace sweep::assets::detail {
 
 // `positions`: any indexable sequence of Eigen 3-vectors (float or double) with size().
 template <typename Points>
@@ -30,4 +30,4 @@ std::vector<Eigen::Vector3f> smooth_normals(const Points& positions, const std::
   return normals;
 }
 
-}  // namespace sweep::io::detail
+}  // namespace sweep::assets::detail

@@ -1,4 +1,4 @@
-#include "bind/bind.h"
+#include "sweep/bind/bind.h"
 
 #include <algorithm>
 #include <bit>
@@ -9,14 +9,14 @@
 #include <optional>
 #include <sstream>
 
-#include "bind/deform.h"
-#include "bind/loose_pieces.h"
-#include "core/error.h"
-#include "core/frame.h"
-#include "core/hash.h"
-#include "core/locate.h"
-#include "core/text.h"
-#include "core/topology.h"
+#include "sweep/bind/deform.h"
+#include "sweep/bind/loose_pieces.h"
+#include "sweep/core/error.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/hash.h"
+#include "sweep/core/locate.h"
+#include "sweep/core/text.h"
+#include "sweep/core/topology.h"
 
 namespace sweep::bind {
 namespace {

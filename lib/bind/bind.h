@@ -33,9 +33,9 @@
 #include <string_view>
 #include <vector>
 
-#include "core/deform_point.h"
-#include "core/mesh.h"
-#include "core/rig.h"
+#include "sweep/core/deform_point.h"
+#include "sweep/core/mesh.h"
+#include "sweep/core/rig.h"
 
 namespace sweep::bind {
 

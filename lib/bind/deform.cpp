@@ -1,9 +1,9 @@
-#include "bind/deform.h"
+#include "sweep/bind/deform.h"
 
 #include <algorithm>
 #include <cassert>
 
-#include "core/deform_point.h"
+#include "sweep/core/deform_point.h"
 
 namespace sweep::bind {
 

@@ -7,7 +7,7 @@
 // on the thread count.
 #include <span>
 
-#include "bind/bind.h"
+#include "sweep/bind/bind.h"
 
 namespace sweep::bind {
 

@@ -1,12 +1,12 @@
-#include "bind/loose_pieces.h"
+#include "sweep/bind/loose_pieces.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
 
-#include "core/frame.h"
-#include "core/text.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/text.h"
 
 namespace sweep::bind {
 namespace {

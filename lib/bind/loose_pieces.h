@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "core/mesh.h"
-#include "core/rig.h"
-#include "core/topology.h"
+#include "sweep/core/mesh.h"
+#include "sweep/core/rig.h"
+#include "sweep/core/topology.h"
 
 namespace sweep::bind {
 

@@ -13,15 +13,15 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/limits.h"
-#include "core/text.h"
-#include "io/binding_file.h"
-#include "io/rig_json.h"
-#include "io/scene_json.h"
-#include "sim/fast_deform.h"
-#include "sim/simulator.h"
-#include "sim/skin_joints.h"
+#include "sweep/core/error.h"
+#include "sweep/core/limits.h"
+#include "sweep/core/text.h"
+#include "sweep/io/binding_file.h"
+#include "sweep/io/rig_json.h"
+#include "sweep/io/scene_json.h"
+#include "sweep/sim/fast_deform.h"
+#include "sweep/sim/simulator.h"
+#include "sweep/sim/skin_joints.h"
 
 struct sweep_instance {
   sweep::Rig rig;
@@ -189,11 +189,11 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
       if (!finite_floats(rest_xyz + 3 * v)) fail(ErrorCategory::usage, "rest_xyz: vertex " + std::to_string(v) + " is not finite");
       mesh.positions[v] = rest[v].cast<double>();
     }
-    sweep::bind::Binding binding = sweep::bind::read_binding(binding_path);
+    sweep::bind::Binding binding = sweep::io::read_binding(binding_path);
     const bool same_positions = binding.mesh_hash == sweep::bind::hash_positions(mesh.positions);
     if (!same_positions) binding.mesh_hash = sweep::bind::hash_positions(mesh.positions);  // checked below instead
-    sweep::bind::check_binding(binding, mesh, in->rig, binding_path);
-    if (settings_path != nullptr) in->scene = sweep::sim::read_scene(settings_path, in->rig);
+    sweep::io::check_binding(binding, mesh, in->rig, binding_path);
+    if (settings_path != nullptr) in->scene = sweep::io::read_scene(settings_path, in->rig);
     // Settings that give no step take the live one, with the exact integrator (stable at any step).
     if (in->scene.step == 0 && in->scene.substeps == 0 && in->scene.integrator == sweep::Integrator::exact)
       in->scene.step = kLiveStep;

@@ -1,4 +1,4 @@
-#include "core/chain_dynamics.h"
+#include "sweep/core/chain_dynamics.h"
 
 #include <algorithm>
 #include <cassert>

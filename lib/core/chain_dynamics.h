@@ -49,9 +49,9 @@
 
 #include <Eigen/Dense>
 
-#include "core/chain_model.h"
-#include "core/frame.h"
-#include "core/sweep_shape.h"
+#include "sweep/core/chain_model.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep {
 

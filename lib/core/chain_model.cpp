@@ -1,10 +1,10 @@
-#include "core/chain_model.h"
+#include "sweep/core/chain_model.h"
 
 #include <cassert>
 #include <cmath>
 #include <numbers>
 
-#include "core/section_properties.h"
+#include "sweep/core/section_properties.h"
 
 namespace sweep {
 namespace {

@@ -20,9 +20,9 @@
 
 #include <Eigen/Dense>
 
-#include "core/material.h"
-#include "core/oscillator.h"
-#include "core/sweep_shape.h"
+#include "sweep/core/material.h"
+#include "sweep/core/oscillator.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep {
 

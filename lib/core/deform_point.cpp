@@ -1,4 +1,4 @@
-#include "core/deform_point.h"
+#include "sweep/core/deform_point.h"
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 // twisting and radial change. deform_point is that rebuild, the exact per-vertex path in double;
 // bind/deform.h applies it to every bound vertex of a mesh, and the fast path (sim/fast_deform.h)
 // approximates it in float from stations.
-#include "core/sweep_shape.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep {
 

@@ -1,10 +1,10 @@
-#include "core/elastic_sweep.h"
+#include "sweep/core/elastic_sweep.h"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 
-#include "core/locate.h"
+#include "sweep/core/locate.h"
 
 namespace sweep {
 namespace {

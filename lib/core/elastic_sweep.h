@@ -15,12 +15,12 @@
 #include <memory>
 #include <optional>
 
-#include "core/chain_dynamics.h"
-#include "core/chain_model.h"
-#include "core/force.h"
-#include "core/locate.h"
-#include "core/oscillator.h"
-#include "core/rig.h"
+#include "sweep/core/chain_dynamics.h"
+#include "sweep/core/chain_model.h"
+#include "sweep/core/force.h"
+#include "sweep/core/locate.h"
+#include "sweep/core/oscillator.h"
+#include "sweep/core/rig.h"
 
 namespace sweep {
 

@@ -4,7 +4,7 @@
 #include <cassert>
 #include <cmath>
 
-#include "core/elastic_sweep.h"
+#include "sweep/core/elastic_sweep.h"
 
 namespace sweep {
 

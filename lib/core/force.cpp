@@ -1,4 +1,4 @@
-#include "core/force.h"
+#include "sweep/core/force.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/sweep_shape.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep {
 

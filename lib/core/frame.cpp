@@ -1,4 +1,4 @@
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "core/locate.h"
+#include "sweep/core/locate.h"
 
 #include <cmath>
 #include <limits>

@@ -6,8 +6,8 @@
 // Rebuilding with deform_point on the same shape gives the point back.
 #include <vector>
 
-#include "core/deform_point.h"
-#include "core/sweep_shape.h"
+#include "sweep/core/deform_point.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep {
 

@@ -1,9 +1,9 @@
-#include "core/mesh.h"
+#include "sweep/core/mesh.h"
 
 #include <algorithm>
 #include <sstream>
 
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
 namespace sweep {
 

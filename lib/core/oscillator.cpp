@@ -1,4 +1,4 @@
-#include "core/oscillator.h"
+#include "sweep/core/oscillator.h"
 
 #include <cmath>
 

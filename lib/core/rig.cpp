@@ -1,10 +1,10 @@
-#include "core/rig.h"
+#include "sweep/core/rig.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "core/locate.h"
+#include "sweep/core/locate.h"
 
 namespace sweep {
 

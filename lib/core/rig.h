@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "core/material.h"
-#include "core/springs.h"
-#include "core/sweep_shape.h"
-#include "core/topology.h"
+#include "sweep/core/material.h"
+#include "sweep/core/springs.h"
+#include "sweep/core/sweep_shape.h"
+#include "sweep/core/topology.h"
 
 namespace sweep {
 

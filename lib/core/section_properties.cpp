@@ -1,4 +1,4 @@
-#include "core/section_properties.h"
+#include "sweep/core/section_properties.h"
 
 #include <cassert>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/sweep_shape.h"
+#include "sweep/core/sweep_shape.h"
 
 #include <algorithm>
 #include <cmath>

@@ -18,7 +18,7 @@
 #include <span>
 #include <vector>
 
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
 namespace sweep {
 

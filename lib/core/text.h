@@ -17,8 +17,8 @@
 #include <string_view>
 #include <system_error>
 
-#include "core/error.h"
-#include "core/frame.h"
+#include "sweep/core/error.h"
+#include "sweep/core/frame.h"
 
 namespace sweep {
 

@@ -1,4 +1,4 @@
-#include "core/topology.h"
+#include "sweep/core/topology.h"
 
 #include <algorithm>
 #include <cassert>
@@ -8,7 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 
 namespace sweep {
 namespace {

@@ -8,8 +8,8 @@
 #include <span>
 #include <vector>
 
-#include "core/frame.h"
-#include "core/mesh.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/mesh.h"
 
 namespace sweep {
 

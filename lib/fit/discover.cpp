@@ -1,4 +1,4 @@
-#include "fit/discover.h"
+#include "sweep/fit/discover.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "core/text.h"
-#include "fit/geodesic.h"
+#include "sweep/core/text.h"
+#include "sweep/fit/geodesic.h"
 
 namespace sweep::fit {
 namespace {

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/topology.h"
-#include "fit/rings.h"
+#include "sweep/core/topology.h"
+#include "sweep/fit/rings.h"
 
 namespace sweep::fit {
 

@@ -1,4 +1,4 @@
-#include "fit/fit.h"
+#include "sweep/fit/fit.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,17 +8,17 @@
 #include <span>
 #include <sstream>
 
-#include "core/error.h"
-#include "core/frame.h"
-#include "core/limits.h"
-#include "core/locate.h"
-#include "core/text.h"
-#include "fit/hole_patches.h"
-#include "fit/loop.h"
-#include "fit/mid_tube.h"
-#include "fit/slicer.h"
-#include "fit/surface_distance.h"
-#include "fit/tube_end.h"
+#include "sweep/core/error.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/limits.h"
+#include "sweep/core/locate.h"
+#include "sweep/core/text.h"
+#include "sweep/fit/hole_patches.h"
+#include "sweep/fit/loop.h"
+#include "sweep/fit/mid_tube.h"
+#include "sweep/fit/slicer.h"
+#include "sweep/fit/surface_distance.h"
+#include "sweep/fit/tube_end.h"
 
 namespace sweep::fit {
 namespace {

@@ -26,11 +26,11 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
-#include "core/rig.h"
-#include "core/topology.h"
-#include "fit/rings.h"
-#include "fit/trace.h"
+#include "sweep/core/error.h"
+#include "sweep/core/rig.h"
+#include "sweep/core/topology.h"
+#include "sweep/fit/rings.h"
+#include "sweep/fit/trace.h"
 
 namespace sweep::fit {
 

@@ -1,4 +1,4 @@
-#include "fit/geodesic.h"
+#include "sweep/fit/geodesic.h"
 
 #include <algorithm>
 #include <cmath>

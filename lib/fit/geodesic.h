@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "core/topology.h"
+#include "sweep/core/topology.h"
 
 namespace sweep::fit {
 

@@ -1,7 +1,7 @@
 // One of the translation units that include CGAL (see hole_patches.h).
-#include "fit/hole_patches.h"
+#include "sweep/fit/hole_patches.h"
 
-#include "core/fp_environment.h"
+#include "sweep/core/fp_environment.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>

@@ -13,8 +13,8 @@
 #include <optional>
 #include <vector>
 
-#include "core/mesh.h"
-#include "core/topology.h"
+#include "sweep/core/mesh.h"
+#include "sweep/core/topology.h"
 
 namespace sweep::fit {
 

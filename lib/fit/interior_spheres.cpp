@@ -1,10 +1,10 @@
-#include "fit/interior_spheres.h"
+#include "sweep/fit/interior_spheres.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
-#include "fit/surface_distance.h"
+#include "sweep/fit/surface_distance.h"
 
 namespace sweep::fit {
 

@@ -1,4 +1,4 @@
-#include "fit/loop.h"
+#include "sweep/fit/loop.h"
 
 #include <algorithm>
 #include <cmath>

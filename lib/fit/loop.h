@@ -5,8 +5,8 @@
 #include <optional>
 #include <vector>
 
-#include "core/frame.h"
-#include "fit/slicer.h"
+#include "sweep/core/frame.h"
+#include "sweep/fit/slicer.h"
 
 namespace sweep::fit {
 

@@ -1,11 +1,11 @@
-#include "fit/mid_tube.h"
+#include "sweep/fit/mid_tube.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "fit/geodesic.h"
-#include "fit/loop.h"
+#include "sweep/fit/geodesic.h"
+#include "sweep/fit/loop.h"
 
 namespace sweep::fit {
 namespace {

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/topology.h"
-#include "fit/slicer.h"
+#include "sweep/core/topology.h"
+#include "sweep/fit/slicer.h"
 
 namespace sweep::fit {
 

@@ -18,8 +18,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
-#include "core/locate.h"
-#include "fit/fit.h"
+#include "sweep/core/locate.h"
+#include "sweep/fit/fit.h"
 
 namespace sweep::fit {
 namespace {

@@ -1,11 +1,11 @@
-#include "fit/rings.h"
+#include "sweep/fit/rings.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
-#include "core/text.h"
+#include "sweep/core/text.h"
 
 namespace sweep::fit {
 namespace {

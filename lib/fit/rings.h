@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/geodesic.h"
+#include "sweep/fit/geodesic.h"
 
 namespace sweep::fit {
 

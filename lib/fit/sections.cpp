@@ -23,9 +23,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/text.h"
-#include "fit/fit.h"
-#include "fit/loop.h"
+#include "sweep/core/text.h"
+#include "sweep/fit/fit.h"
+#include "sweep/fit/loop.h"
 
 namespace sweep::fit {
 namespace {

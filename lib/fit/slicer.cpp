@@ -1,8 +1,8 @@
 // One of the two translation units that include CGAL (see slicer.h).
-#include "fit/slicer.h"
+#include "sweep/fit/slicer.h"
 
-#include "core/fp_environment.h"
-#include "core/topology.h"
+#include "sweep/core/fp_environment.h"
+#include "sweep/core/topology.h"
 
 #include <CGAL/AABB_halfedge_graph_segment_primitive.h>
 #include <CGAL/AABB_traits.h>

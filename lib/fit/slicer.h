@@ -10,7 +10,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/mesh.h"
+#include "sweep/core/mesh.h"
 
 namespace sweep::fit {
 

@@ -1,4 +1,4 @@
-#include "fit/surface_distance.h"
+#include "sweep/fit/surface_distance.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/fp_environment.h"
+#include "sweep/core/fp_environment.h"
 
 namespace sweep::fit {
 namespace {

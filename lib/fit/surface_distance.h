@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
 namespace sweep::fit {
 

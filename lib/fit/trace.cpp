@@ -1,4 +1,4 @@
-#include "fit/trace.h"
+#include "sweep/fit/trace.h"
 
 #include <algorithm>
 #include <array>
@@ -10,10 +10,10 @@
 
 #include <Eigen/Dense>
 
-#include "core/error.h"
-#include "core/frame.h"
-#include "core/text.h"
-#include "fit/loop.h"
+#include "sweep/core/error.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/text.h"
+#include "sweep/fit/loop.h"
 
 namespace sweep::fit {
 namespace {

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/frame.h"
-#include "fit/slicer.h"
-#include "fit/surface_distance.h"
+#include "sweep/core/frame.h"
+#include "sweep/fit/slicer.h"
+#include "sweep/fit/surface_distance.h"
 
 namespace sweep::fit {
 

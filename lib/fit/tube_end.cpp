@@ -1,4 +1,4 @@
-#include "fit/tube_end.h"
+#include "sweep/fit/tube_end.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/sweep_shape.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep::fit {
 

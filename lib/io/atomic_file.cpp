@@ -1,4 +1,4 @@
-#include "io/atomic_file.h"
+#include "sweep/io/atomic_file.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -17,9 +17,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
-#include "core/hash.h"
-#include "io/interrupt.h"
+#include "sweep/core/error.h"
+#include "sweep/core/hash.h"
+#include "sweep/io/interrupt.h"
 
 namespace sweep::io {
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-#include "io/binding_file.h"
+#include "sweep/io/binding_file.h"
 
 #include <algorithm>
 #include <bit>
@@ -7,13 +7,16 @@
 #include <numbers>
 #include <sstream>
 
-#include "core/error.h"
-#include "core/hash.h"
-#include "core/limits.h"
-#include "io/atomic_file.h"
-#include "io/read_file.h"
+#include "sweep/core/error.h"
+#include "sweep/core/hash.h"
+#include "sweep/core/limits.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/read_file.h"
 
-namespace sweep::bind {
+using sweep::bind::hash_positions;
+using sweep::bind::hash_sweeps;
+
+namespace sweep::io {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'W', 'P', 'B', 'I', 'N', 'D', '\0'};
@@ -88,7 +91,7 @@ void read_floats(Reader& in, std::vector<float>& out, std::size_t m, const char*
 }
 
 // The tables' own consistency (a checksum only proves the bytes are the ones written).
-void check_table(const SweepBinding& sb, std::size_t index, std::uint64_t vertex_count,
+void check_table(const bind::SweepBinding& sb, std::size_t index, std::uint64_t vertex_count,
                  const std::string& source) {
   auto bad = [&](std::size_t k, const std::string& what) {
     std::ostringstream s;
@@ -110,9 +113,9 @@ void check_table(const SweepBinding& sb, std::size_t index, std::uint64_t vertex
 
 }  // namespace
 
-std::string binding_bytes(const Binding& binding) {
+std::string binding_bytes(const bind::Binding& binding) {
   Writer payload;
-  for (const SweepBinding& sb : binding.sweeps) {
+  for (const bind::SweepBinding& sb : binding.sweeps) {
     payload.u32(static_cast<std::uint32_t>(sb.name.size()));
     payload.bytes(sb.name);
     payload.u64(sb.size());
@@ -134,11 +137,11 @@ std::string binding_bytes(const Binding& binding) {
   return std::move(out.str());
 }
 
-void write_binding(const std::filesystem::path& path, const Binding& binding) {
+void write_binding(const std::filesystem::path& path, const bind::Binding& binding) {
   io::write_file_atomically(path, binding_bytes(binding));
 }
 
-Binding parse_binding(std::string_view bytes, const std::string& source) {
+bind::Binding parse_binding(std::string_view bytes, const std::string& source) {
   if (bytes.size() >= sizeof kMagic && std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
     refuse(source, "not a sweep binding file (wrong magic bytes)");
   }
@@ -161,7 +164,7 @@ Binding parse_binding(std::string_view bytes, const std::string& source) {
     fail(version > kBindingFormatVersion ? ErrorCategory::unsupported : ErrorCategory::bad_input,
          s.str());
   }
-  Binding b;
+  bind::Binding b;
   const std::uint32_t sweep_count = header.u32("sweep count");
   b.vertex_count = header.u64("vertex count");
   b.mesh_hash = header.u64("mesh hash");
@@ -194,7 +197,7 @@ Binding parse_binding(std::string_view bytes, const std::string& source) {
   }
   Reader in(bytes, kHeaderSize, end, source);
   for (std::uint32_t i = 0; i < sweep_count; ++i) {
-    SweepBinding sb;
+    bind::SweepBinding sb;
     const std::uint32_t name_length = in.u32("sweep name length");
     sb.name = std::string(in.bytes(name_length, "sweep name"));
     const std::uint64_t m = in.u64("bound vertex count");
@@ -223,7 +226,7 @@ Binding parse_binding(std::string_view bytes, const std::string& source) {
   // A vertex belongs to at most one sweep (each table is increasing; merge them all and look for
   // neighbours that repeat; memory follows the file size, not the claimed vertex count).
   std::vector<std::uint32_t> all;
-  for (const SweepBinding& sb : b.sweeps)
+  for (const bind::SweepBinding& sb : b.sweeps)
     all.insert(all.end(), sb.vertices.begin(), sb.vertices.end());
   std::sort(all.begin(), all.end());
   const auto repeat = std::adjacent_find(all.begin(), all.end());
@@ -235,11 +238,11 @@ Binding parse_binding(std::string_view bytes, const std::string& source) {
   return b;
 }
 
-Binding read_binding(const std::filesystem::path& path) {
+bind::Binding read_binding(const std::filesystem::path& path) {
   return parse_binding(io::read_file(path), path.string());
 }
 
-void check_binding(const Binding& binding, const Mesh& mesh, const Rig& rig,
+void check_binding(const bind::Binding& binding, const Mesh& mesh, const Rig& rig,
                    const std::string& source) {
   const std::string again = "; run sweep-bind again";
   if (binding.vertex_count != mesh.vertex_count()) {
@@ -262,10 +265,10 @@ void check_binding(const Binding& binding, const Mesh& mesh, const Rig& rig,
   }
 }
 
-Binding load_binding(const std::filesystem::path& path, const Mesh& mesh, const Rig& rig) {
-  Binding b = read_binding(path);
+bind::Binding load_binding(const std::filesystem::path& path, const Mesh& mesh, const Rig& rig) {
+  bind::Binding b = read_binding(path);
   check_binding(b, mesh, rig, path.string());
   return b;
 }
 
-}  // namespace sweep::bind
+}  // namespace sweep::io

@@ -27,34 +27,34 @@
 #include <string>
 #include <string_view>
 
-#include "bind/bind.h"
+#include "sweep/bind/bind.h"
 
-namespace sweep::bind {
+namespace sweep::io {
 
 // 2: the rig hash is of the sweeps' numbers (bind.h, hash_sweeps); format 1 hashed the rig's JSON
 // text and is refused with a message to bind again.
 inline constexpr std::uint32_t kBindingFormatVersion = 2;
 
-std::string binding_bytes(const Binding& binding);
+std::string binding_bytes(const bind::Binding& binding);
 
 // Where sweep-bind writes a rig's binding, and sweep-sim looks for it, when no path is given: the
 // rig's path with ".bind" ("dino.rig.json" → "dino.rig.bind").
 inline std::filesystem::path default_binding_path(const std::filesystem::path& rig_path) {
   return std::filesystem::path(rig_path).replace_extension(".bind");
 }
-void write_binding(const std::filesystem::path& path, const Binding& binding);
+void write_binding(const std::filesystem::path& path, const bind::Binding& binding);
 
 // Parses and checks the file's own integrity (not whether it matches a mesh or rig). `source`
 // names the file in messages.
-Binding parse_binding(std::string_view bytes, const std::string& source);
-Binding read_binding(const std::filesystem::path& path);
+bind::Binding parse_binding(std::string_view bytes, const std::string& source);
+bind::Binding read_binding(const std::filesystem::path& path);
 
 // Refuses (Error(bad_input), "source: what is wrong; run sweep-bind again") a binding made for
 // another mesh (vertex count, positions) or another version of the rig's sweeps.
-void check_binding(const Binding& binding, const Mesh& mesh, const Rig& rig,
+void check_binding(const bind::Binding& binding, const Mesh& mesh, const Rig& rig,
                    const std::string& source);
 
 // read_binding followed by check_binding.
-Binding load_binding(const std::filesystem::path& path, const Mesh& mesh, const Rig& rig);
+bind::Binding load_binding(const std::filesystem::path& path, const Mesh& mesh, const Rig& rig);
 
-}  // namespace sweep::bind
+}  // namespace sweep::io

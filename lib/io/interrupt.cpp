@@ -1,4 +1,4 @@
-#include "io/interrupt.h"
+#include "sweep/io/interrupt.h"
 
 #include <dirent.h>
 #include <fcntl.h>

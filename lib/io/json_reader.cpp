@@ -1,10 +1,10 @@
-#include "io/json_reader.h"
+#include "sweep/io/json_reader.h"
 
 #include <cmath>
 #include <sstream>
 
-#include "core/error.h"
-#include "core/text.h"
+#include "sweep/core/error.h"
+#include "sweep/core/text.h"
 
 namespace sweep::io {
 

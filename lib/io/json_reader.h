@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
 namespace sweep::io {
 

@@ -1,10 +1,10 @@
-#include "io/path_checks.h"
+#include "sweep/io/path_checks.h"
 
 #include <sys/stat.h>
 
 #include <map>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 
 namespace sweep::io {
 namespace fs = std::filesystem;

@@ -1,11 +1,11 @@
-#include "io/read_file.h"
+#include "sweep/io/read_file.h"
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 
 namespace sweep::io {
 namespace fs = std::filesystem;

@@ -1,15 +1,15 @@
-#include "io/rig_json.h"
+#include "sweep/io/rig_json.h"
 
 #include <cmath>
 #include <limits>
 #include <set>
 
-#include "core/error.h"
-#include "core/limits.h"
-#include "core/text.h"
-#include "io/atomic_file.h"
-#include "io/json_reader.h"
-#include "io/read_file.h"
+#include "sweep/core/error.h"
+#include "sweep/core/limits.h"
+#include "sweep/core/text.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/json_reader.h"
+#include "sweep/io/read_file.h"
 
 namespace sweep::io {
 namespace {

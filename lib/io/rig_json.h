@@ -8,7 +8,7 @@
 #include <functional>
 #include <string>
 
-#include "core/rig.h"
+#include "sweep/core/rig.h"
 
 namespace sweep::io {
 

@@ -1,16 +1,16 @@
-#include "io/scene_json.h"
+#include "sweep/io/scene_json.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "core/error.h"
-#include "core/limits.h"
-#include "core/text.h"
-#include "io/atomic_file.h"
-#include "io/read_file.h"
+#include "sweep/core/error.h"
+#include "sweep/core/limits.h"
+#include "sweep/core/text.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/read_file.h"
 
-namespace sweep::sim {
+namespace sweep::io {
 namespace {
 
 using io::element;
@@ -38,12 +38,12 @@ std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::
   return mask;
 }
 
-SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr,
+sim::SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr,
                       const Rig& rig) {
   r.object(v, ptr,
            {"sweep", "point", "t", "theta", "vector", "frame", "start", "end", "components",
             "sections", "moment"});
-  SceneForce f;
+  sim::SceneForce f;
   f.sweep = r.string(r.required(v, ptr, "sweep"), member(ptr, "sweep"));
   for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
     if (rig.sweeps[i].name == f.sweep) f.sweep_index = static_cast<int>(i);
@@ -145,13 +145,13 @@ Quat read_rotation(const io::JsonReader& r, const Json& q, const std::string& pt
 
 // The body's path: {"interpolation": "linear" | "cubic", "keys": [{"time", "translation",
 // "rotation" | "turn_degrees" (+ "turn_axis")}, ...]} (or {"node", "animation"}: parse_scene).
-BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& ptr) {
+sim::BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& ptr) {
   r.object(v, ptr, {"interpolation", "keys"});
-  BodyInterpolation interpolation = BodyInterpolation::linear;
+  sim::BodyInterpolation interpolation = sim::BodyInterpolation::linear;
   if (const Json* i = r.optional(v, "interpolation")) {
     const std::string name = r.string(*i, member(ptr, "interpolation"));
     if (name == "cubic") {
-      interpolation = BodyInterpolation::cubic;
+      interpolation = sim::BodyInterpolation::cubic;
     } else if (name != "linear") {
       r.fail_at(member(ptr, "interpolation"), "must be \"linear\" or \"cubic\", got " + io::describe(*i));
     }
@@ -160,12 +160,12 @@ BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& pt
   const Json& keys = r.required(v, ptr, "keys");
   r.array(keys, kp);
   if (keys.empty()) r.fail_at(kp, "needs at least one key");
-  std::vector<BodyKey> out;
+  std::vector<sim::BodyKey> out;
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const std::string p = element(kp, k);
     const Json& key = keys[k];
     r.object(key, p, {"time", "translation", "rotation", "turn_degrees", "turn_axis"});
-    BodyKey b;
+    sim::BodyKey b;
     b.time = r.bounded(r.required(key, p, "time"), member(p, "time"), 0, limits::kMaxDuration);
     if (!out.empty() && !(b.time > out.back().time))
       r.fail_at(member(p, "time"), "keys must come in increasing time: " + io::describe(key["time"]) +
@@ -185,7 +185,7 @@ BodyPath read_body(const io::JsonReader& r, const Json& v, const std::string& pt
     }
     out.push_back(b);
   }
-  return BodyPath(std::move(out), interpolation);
+  return sim::BodyPath(std::move(out), interpolation);
 }
 
 // A collider's "margin" (clearance the part keeps, mesh units) and "friction" (Coulomb), when given.
@@ -196,7 +196,7 @@ void read_surface(const io::JsonReader& r, const Json& v, const std::string& ptr
 
 // One collider: {"shape": "sphere" | "capsule" | "box" | "plane", its sizes, "attached":
 // "world" | "body", "margin", "friction", "name"}.
-Collider read_collider(const io::JsonReader& r, const Json& v, const std::string& ptr, std::size_t index) {
+sim::Collider read_collider(const io::JsonReader& r, const Json& v, const std::string& ptr, std::size_t index) {
   r.object(v, ptr, {"name", "shape", "center", "radius", "from", "to", "half_size", "rotation", "point",
                     "normal", "attached", "margin", "friction"});
   const std::string sp = member(ptr, "shape");
@@ -217,13 +217,13 @@ Collider read_collider(const io::JsonReader& r, const Json& v, const std::string
         r.fail_at(member(ptr, key), "is not a member of a " + shape + " collider");
     }
   };
-  Collider c;
+  sim::Collider c;
   if (shape == "sphere") {
     only({"center", "radius"});
-    c = Collider::sphere(position("center"), size("radius"));
+    c = sim::Collider::sphere(position("center"), size("radius"));
   } else if (shape == "capsule") {
     only({"from", "to", "radius"});
-    c = Collider::capsule(position("from"), position("to"), size("radius"));
+    c = sim::Collider::capsule(position("from"), position("to"), size("radius"));
   } else if (shape == "box") {
     only({"center", "half_size", "rotation"});
     const Vec3 half = r.bounded_vec3(r.required(v, ptr, "half_size"), member(ptr, "half_size"), limits::kMaxLength);
@@ -231,12 +231,12 @@ Collider read_collider(const io::JsonReader& r, const Json& v, const std::string
       r.fail_at(member(ptr, "half_size"), "every half size must be positive (a plate is a thin box, not a flat one)");
     Quat rotation = Quat::Identity();
     if (const Json* q = r.optional(v, "rotation")) rotation = read_rotation(r, *q, member(ptr, "rotation"));
-    c = Collider::box(position("center"), half, rotation);
+    c = sim::Collider::box(position("center"), half, rotation);
   } else if (shape == "plane") {
     only({"point", "normal"});
     const Vec3 normal = r.bounded_vec3(r.required(v, ptr, "normal"), member(ptr, "normal"), limits::kMaxLength);
     if (!(normal.norm() > 1e-12)) r.fail_at(member(ptr, "normal"), "must not be zero: it points out of the solid side");
-    c = Collider::plane(position("point"), normal);
+    c = sim::Collider::plane(position("point"), normal);
   } else {
     r.fail_at(sp, "must be \"sphere\", \"capsule\", \"box\" or \"plane\", got " + io::describe(v["shape"]));
   }
@@ -252,10 +252,10 @@ Collider read_collider(const io::JsonReader& r, const Json& v, const std::string
   return c;
 }
 
-// The body as a collider: {"spheres", "resolution", "margin", "friction"} (Scene::BodyCollider).
-Scene::BodyCollider read_body_collider(const io::JsonReader& r, const Json& v, const std::string& ptr) {
+// The body as a collider: {"spheres", "resolution", "margin", "friction"} (sim::Scene::BodyCollider).
+sim::Scene::BodyCollider read_body_collider(const io::JsonReader& r, const Json& v, const std::string& ptr) {
   r.object(v, ptr, {"spheres", "resolution", "margin", "friction"});
-  Scene::BodyCollider b;
+  sim::Scene::BodyCollider b;
   // More spheres than this cost every frame more than they add: the body is coarse beside its parts.
   b.spheres = static_cast<int>(r.integer(r.required(v, ptr, "spheres"), member(ptr, "spheres"), 1, 256));
   // The fit samples resolution³ points at most: 200 is already 8 million, seconds of load.
@@ -276,12 +276,12 @@ double step_length(const io::JsonReader& r, const Json& value, const std::string
 
 }  // namespace
 
-Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
+sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
                   const Rig& rig) {
   r.object(json, pointer,
            {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces",
             "body", "teleport", "wind", "colliders", "body_collider", "contact_stations", "contact_step"});
-  Scene scene;
+  sim::Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
     const std::string format = r.string(r.required(json, pointer, "format"), "/format");
@@ -291,11 +291,11 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
   if (const Json* version =
           own_file ? &r.required(json, pointer, "version") : r.optional(json, "version")) {
     const long long v = r.integer(*version, member(pointer, "version"), 1, 1 << 30);
-    if (v != Scene::kFormatVersion) {
+    if (v != sim::Scene::kFormatVersion) {
       fail(ErrorCategory::unsupported, r.source() + ": " + member(pointer, "version") +
                                            ": scene format version " + std::to_string(v) +
                                            " is not supported (this build reads version " +
-                                           std::to_string(Scene::kFormatVersion) + ")");
+                                           std::to_string(sim::Scene::kFormatVersion) + ")");
     }
   }
   scene.duration = r.positive(r.required(json, pointer, "duration"), member(pointer, "duration"));
@@ -363,7 +363,7 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
   if (const Json* w = r.optional(json, "wind")) {
     const std::string wp = member(pointer, "wind");
     r.object(*w, wp, {"velocity", "gust", "gust_period", "turbulence", "seed", "air_density", "drag_coefficient"});
-    WindSettings ws;
+    sim::WindSettings ws;
     ws.enabled = true;
     ws.velocity = r.bounded_vec3(r.required(*w, wp, "velocity"), member(wp, "velocity"), 1e3);
     if (const Json* x = r.optional(*w, "gust")) ws.gust = r.bounded(*x, member(wp, "gust"), 0, 10);
@@ -372,7 +372,7 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
     if (const Json* x = r.optional(*w, "seed")) ws.seed = static_cast<std::uint64_t>(r.integer(*x, member(wp, "seed"), 0, 1LL << 53));
     if (const Json* x = r.optional(*w, "air_density")) ws.air_density = r.bounded(*x, member(wp, "air_density"), 0, 1e4);
     if (const Json* x = r.optional(*w, "drag_coefficient")) ws.drag_coefficient = r.bounded(*x, member(wp, "drag_coefficient"), 0, 100);
-    scene.wind = Wind(ws);
+    scene.wind = sim::Wind(ws);
   }
   if (const Json* cs = r.optional(json, "colliders")) {
     const std::string cp = member(pointer, "colliders");
@@ -401,7 +401,7 @@ Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonRe
   return scene;
 }
 
-Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn) {
+sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn) {
   const Json doc = io::parse_json_text(io::read_file(path, limits::kMaxJsonBytes), path.string());
   const io::JsonReader r(path.string(), warn);
   if (!doc.is_object()) r.fail_at("", "must be a JSON object");
@@ -415,4 +415,4 @@ Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::Wa
   return parse_scene(doc, "", r, rig);
 }
 
-}  // namespace sweep::sim
+}  // namespace sweep::io

@@ -4,19 +4,19 @@
 #include <filesystem>
 #include <string>
 
-#include "core/rig.h"
-#include "io/json_reader.h"
-#include "sim/scene.h"
+#include "sweep/core/rig.h"
+#include "sweep/io/json_reader.h"
+#include "sweep/sim/scene.h"
 
-namespace sweep::sim {
+namespace sweep::io {
 
 // `json` is the scene object; `pointer` where it sits in its file ("" or "/scene"). Forces are
 // resolved against `rig` (sweep and section names, t fraction to arc length).
-Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader,
+sim::Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader,
                   const Rig& rig);
 
 // A scene file (format "sweep-scene"), or a rig file that holds one under "scene".
-Scene read_scene(const std::filesystem::path& path, const Rig& rig,
+sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig,
                  const io::WarningSink& warn = {});
 
-}  // namespace sweep::sim
+}  // namespace sweep::io

@@ -1,4 +1,4 @@
-#include "io/update_lock.h"
+#include "sweep/io/update_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -9,8 +9,8 @@
 #include <cstring>
 #include <string>
 
-#include "core/error.h"
-#include "io/interrupt.h"
+#include "sweep/core/error.h"
+#include "sweep/io/interrupt.h"
 
 namespace sweep::io {
 namespace fs = std::filesystem;

@@ -1,10 +1,10 @@
-#include "preview/png.h"
+#include "sweep/preview/png.h"
 
 #include <png.h>
 
 #include <csetjmp>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 
 namespace sweep::preview {
 namespace {

@@ -2,7 +2,7 @@
 // Images as PNG bytes (libpng), for the tools to write atomically like any other output.
 #include <string>
 
-#include "preview/render.h"
+#include "sweep/preview/render.h"
 
 namespace sweep::preview {
 

@@ -1,4 +1,4 @@
-#include "preview/render.h"
+#include "sweep/preview/render.h"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 #include <limits>
 #include <numbers>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 
 namespace sweep::preview {
 namespace {

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/mesh.h"
-#include "core/sweep_shape.h"
+#include "sweep/core/mesh.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep::preview {
 

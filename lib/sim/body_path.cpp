@@ -1,4 +1,4 @@
-#include "sim/body_path.h"
+#include "sweep/sim/body_path.h"
 
 #include <algorithm>
 #include <cmath>

@@ -15,7 +15,7 @@
 // about the node) is then exactly linear pieces (assets/gltf_motion.h). No pivot: c = 0.
 #include <vector>
 
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
 namespace sweep::sim {
 

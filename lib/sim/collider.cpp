@@ -1,4 +1,4 @@
-#include "sim/collider.h"
+#include "sweep/sim/collider.h"
 
 #include <algorithm>
 #include <cmath>

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
 namespace sweep::sim {
 

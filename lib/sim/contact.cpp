@@ -1,11 +1,11 @@
-#include "sim/contact.h"
+#include "sweep/sim/contact.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
-#include "core/sweep_shape.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep::sim {
 namespace {

@@ -42,9 +42,9 @@
 #include <string>
 #include <vector>
 
-#include "core/elastic_sweep.h"
-#include "core/rig.h"
-#include "sim/collider.h"
+#include "sweep/core/elastic_sweep.h"
+#include "sweep/core/rig.h"
+#include "sweep/sim/collider.h"
 
 namespace sweep::sim {
 

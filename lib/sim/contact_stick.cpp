@@ -22,8 +22,8 @@
 
 #include <Eigen/Dense>
 
-#include "core/sweep_shape.h"
-#include "sim/contact.h"
+#include "sweep/core/sweep_shape.h"
+#include "sweep/sim/contact.h"
 
 namespace sweep::sim {
 namespace {

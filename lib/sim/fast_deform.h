@@ -44,8 +44,8 @@
 #include <span>
 #include <vector>
 
-#include "bind/bind.h"
-#include "core/sweep_shape.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep::sim {
 

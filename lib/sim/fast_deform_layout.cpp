@@ -8,9 +8,9 @@
 #include <limits>
 #include <string>
 
-#include "core/error.h"
-#include "sim/fast_deform.h"
-#include "sim/fast_deform_detail.h"
+#include "sweep/core/error.h"
+#include "sweep/sim/fast_deform.h"
+#include "sweep/sim/fast_deform_detail.h"
 
 namespace sweep::sim {
 

@@ -9,8 +9,8 @@
 #include <cassert>
 #include <cstdint>
 
-#include "sim/fast_deform.h"
-#include "sim/fast_deform_detail.h"
+#include "sweep/sim/fast_deform.h"
+#include "sweep/sim/fast_deform_detail.h"
 
 namespace sweep::sim {
 

@@ -1,4 +1,4 @@
-#include "sim/scene.h"
+#include "sweep/sim/scene.h"
 
 #include <cmath>
 

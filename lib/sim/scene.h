@@ -5,12 +5,12 @@
 #include <string>
 #include <vector>
 
-#include "core/force.h"
-#include "core/oscillator.h"
-#include "core/rig.h"
-#include "sim/body_path.h"
-#include "sim/collider.h"
-#include "sim/wind.h"
+#include "sweep/core/force.h"
+#include "sweep/core/oscillator.h"
+#include "sweep/core/rig.h"
+#include "sweep/sim/body_path.h"
+#include "sweep/sim/collider.h"
+#include "sweep/sim/wind.h"
 
 namespace sweep::sim {
 

@@ -1,4 +1,4 @@
-#include "sim/simulator.h"
+#include "sweep/sim/simulator.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <sstream>
 #include <utility>
 
-#include "core/error.h"
-#include "core/limits.h"
-#include "core/text.h"
+#include "sweep/core/error.h"
+#include "sweep/core/limits.h"
+#include "sweep/core/text.h"
 
 namespace sweep::sim {
 
@@ -34,7 +34,7 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   if (!scene.body_node.empty() && scene.body.empty()) {
     fail(ErrorCategory::usage, "the scene's body follows node '" + scene.body_node +
                                    "' of the glTF mesh's animation, which has not been read: fill "
-                                   "Scene::body with io::read_gltf_body_path first (sweep-sim does)");
+                                   "Scene::body with assets::read_gltf_body_path first (sweep-sim does)");
   }
   for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
     const std::string wrong = scene.colliders[c].check();

@@ -21,10 +21,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/elastic_sweep.h"
-#include "core/rig.h"
-#include "sim/contact.h"
-#include "sim/scene.h"
+#include "sweep/core/elastic_sweep.h"
+#include "sweep/core/rig.h"
+#include "sweep/sim/contact.h"
+#include "sweep/sim/scene.h"
 
 namespace sweep::sim {
 

@@ -1,19 +1,19 @@
 // The skinned export's joints posed live (skin_joints.h).
-#include "sim/skin_joints.h"
+#include "sweep/sim/skin_joints.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
 
-#include "core/error.h"
-#include "core/locate.h"
+#include "sweep/core/error.h"
+#include "sweep/core/locate.h"
 
 namespace sweep::sim {
 namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
-// The export's ranges (io::kMinSkinJoints … kMaxSkinJoints, 1 … kMaxRingJoints).
+// The export's ranges (assets::kMinSkinJoints … kMaxSkinJoints, 1 … kMaxRingJoints).
 constexpr int kMinStations = 2, kMaxStations = 255, kMaxRing = 64;
 
 // A joint's world matrix [R·S | t] into 16 column-major floats.

@@ -19,8 +19,8 @@
 #include <span>
 #include <vector>
 
-#include "core/frame.h"
-#include "core/sweep_shape.h"
+#include "sweep/core/frame.h"
+#include "sweep/core/sweep_shape.h"
 
 namespace sweep::sim {
 

@@ -1,4 +1,4 @@
-#include "sim/wind.h"
+#include "sweep/sim/wind.h"
 
 #include <cmath>
 #include <numbers>

@@ -6,7 +6,7 @@
 #include <array>
 #include <cstdint>
 
-#include "core/frame.h"
+#include "sweep/core/frame.h"
 
 namespace sweep::sim {
 

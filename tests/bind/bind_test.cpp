@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "bind/deform.h"
-#include "core/elastic_sweep.h"
+#include "sweep/bind/deform.h"
+#include "sweep/core/elastic_sweep.h"
 #include "support.h"
 
 namespace sweep::test {
@@ -97,7 +97,7 @@ class BindFittedTube : public testing::TestWithParam<FittedTube> {};
 
 TEST_P(BindFittedTube, RestPoseIsRebuiltWithin1e5OfTheLength) {
   const FittedTube& c = GetParam();
-  const Mesh mesh = io::read_mesh(fs::path(SWEEP_SOURCE_DIR) / "meshes" / c.file);
+  const Mesh mesh = assets::read_mesh(fs::path(SWEEP_SOURCE_DIR) / "meshes" / c.file);
   // Each tube starts at the origin heading +z; its tip is the last listed vertex (tip cap centre).
   fit::FitOptions o;
   o.name = "tube";

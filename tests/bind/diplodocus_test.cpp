@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cstdio>
 
-#include "bind/deform.h"
-#include "core/elastic_sweep.h"
+#include "sweep/bind/deform.h"
+#include "sweep/core/elastic_sweep.h"
 #include "support.h"
 
 namespace sweep::test {

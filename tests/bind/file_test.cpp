@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/binding_file.h"
-#include "io/read_file.h"
-#include "io/rig_json.h"
+#include "sweep/io/binding_file.h"
+#include "sweep/io/read_file.h"
+#include "sweep/io/rig_json.h"
 #include "support.h"
 
 namespace sweep::test {
@@ -30,8 +30,8 @@ OnDisk write_tube_rig(const std::string& name) {
   d.mesh_path = d.dir / "tube.obj";
   d.rig_path = d.dir / "tube.json";
   d.mesh = tube::make_tube(straight_tube_params());
-  io::write_mesh(d.mesh_path, d.mesh);
-  d.mesh = io::read_mesh(d.mesh_path);  // exactly what the tool will read
+  assets::write_mesh(d.mesh_path, d.mesh);
+  d.mesh = assets::read_mesh(d.mesh_path);  // exactly what the tool will read
   d.rig = rig_of({straight_sweep("tail")}, "tube.obj");
   io::write_rig(d.rig_path, d.rig);
   d.rig = io::read_rig(d.rig_path);
@@ -44,14 +44,14 @@ TEST(BindingFile, RoundTripKeepsEveryValueAndTheLayoutIsAsDocumented) {
   bind::BindOptions o;
   o.blend = 0.05;
   const Binding b = bind::bind_rig(rig, mesh, o);
-  const std::string bytes = bind::binding_bytes(b);
+  const std::string bytes = io::binding_bytes(b);
   // 48-byte header, per sweep 4 + name + 8 + 24 per vertex, 8-byte checksum.
   std::size_t expected = 48 + 8;
   for (const auto& s : b.sweeps) expected += 4 + s.name.size() + 8 + 24 * s.size();
   EXPECT_EQ(bytes.size(), expected);
   EXPECT_EQ(bytes.substr(0, 8), std::string("SWPBIND\0", 8));
   EXPECT_EQ(bytes[8], 2);  // version 2, little-endian
-  const Binding back = bind::parse_binding(bytes, "mem.bind");
+  const Binding back = io::parse_binding(bytes, "mem.bind");
   EXPECT_EQ(back.vertex_count, b.vertex_count);
   EXPECT_EQ(back.mesh_hash, b.mesh_hash);
   EXPECT_EQ(back.rig_hash, b.rig_hash);
@@ -65,8 +65,8 @@ TEST(BindingFile, RoundTripKeepsEveryValueAndTheLayoutIsAsDocumented) {
     EXPECT_EQ(back.sweeps[i].z, b.sweeps[i].z);
     EXPECT_EQ(back.sweeps[i].weight, b.sweeps[i].weight);
   }
-  EXPECT_EQ(bind::binding_bytes(back), bytes);
-  EXPECT_NO_THROW(bind::check_binding(back, mesh, rig, "mem.bind"));
+  EXPECT_EQ(io::binding_bytes(back), bytes);
+  EXPECT_NO_THROW(io::check_binding(back, mesh, rig, "mem.bind"));
 }
 
 TEST(BindingFile, SameInputsGiveTheSameBytesWhateverTheThreadCount) {
@@ -89,10 +89,10 @@ TEST(BindingFile, SameInputsGiveTheSameBytesWhateverTheThreadCount) {
     bind::BindOptions o;
     o.blend = 0.02;
     omp_set_num_threads(1);
-    const std::string one = bind::binding_bytes(bind::bind_rig(rigs[c], *meshes[c], o));
-    const std::string again = bind::binding_bytes(bind::bind_rig(rigs[c], *meshes[c], o));
+    const std::string one = io::binding_bytes(bind::bind_rig(rigs[c], *meshes[c], o));
+    const std::string again = io::binding_bytes(bind::bind_rig(rigs[c], *meshes[c], o));
     omp_set_num_threads(2);
-    const std::string two = bind::binding_bytes(bind::bind_rig(rigs[c], *meshes[c], o));
+    const std::string two = io::binding_bytes(bind::bind_rig(rigs[c], *meshes[c], o));
     omp_set_num_threads(saved);
     EXPECT_EQ(one, again) << "case " << c;
     EXPECT_EQ(one, two) << "case " << c;
@@ -168,8 +168,8 @@ TEST(BindingFile, RigHashIsFnvOfTheDocumentedByteLayout) {
 TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
   const OnDisk d = write_tube_rig("loader");
   const fs::path path = d.dir / "tube.bind";
-  bind::write_binding(path, bind::bind_rig(d.rig, d.mesh));
-  EXPECT_NO_THROW(bind::load_binding(path, d.mesh, d.rig));
+  io::write_binding(path, bind::bind_rig(d.rig, d.mesh));
+  EXPECT_NO_THROW(io::load_binding(path, d.mesh, d.rig));
   const std::string src = path.string();
   const std::string good = io::read_file(path);
 
@@ -180,11 +180,11 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
     return p;
   }());
   expect_refused(
-      [&] { bind::load_binding(path, smaller, d.rig); }, ErrorCategory::bad_input,
+      [&] { io::load_binding(path, smaller, d.rig); }, ErrorCategory::bad_input,
       {src.c_str(), "made for a mesh with 986 vertices, this mesh has 98", "run sweep-bind again"});
   Mesh edited = d.mesh;
   edited.positions[100] += Vec3(0, 0, 1e-9);
-  expect_refused([&] { bind::load_binding(path, edited, d.rig); }, ErrorCategory::bad_input,
+  expect_refused([&] { io::load_binding(path, edited, d.rig); }, ErrorCategory::bad_input,
                  {src.c_str(), "other vertex positions", "run sweep-bind again"});
 
   // Another version of the rig: a radius changed, a sweep renamed, a sweep added.
@@ -195,7 +195,7 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
   Rig added = d.rig;
   added.sweeps.push_back(straight_sweep("neck"));
   for (const Rig* r : {&reshaped, &renamed, &added}) {
-    expect_refused([&] { bind::load_binding(path, d.mesh, *r); }, ErrorCategory::bad_input,
+    expect_refused([&] { io::load_binding(path, d.mesh, *r); }, ErrorCategory::bad_input,
                    {src.c_str(), "another version of the rig (sweeps changed since binding)",
                     "run sweep-bind again"});
   }
@@ -203,11 +203,11 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
   // Truncated: anywhere in the header, in the payload, just before the checksum; and empty.
   for (std::size_t keep : {std::size_t{0}, std::size_t{20}, std::size_t{47}, std::size_t{100},
                            good.size() / 2, good.size() - 1}) {
-    expect_refused([&] { bind::parse_binding(good.substr(0, keep), src); },
+    expect_refused([&] { io::parse_binding(good.substr(0, keep), src); },
                    ErrorCategory::bad_input, {src.c_str(), "truncated"});
   }
   // Trailing garbage.
-  expect_refused([&] { bind::parse_binding(good + "xx", src); }, ErrorCategory::bad_input,
+  expect_refused([&] { io::parse_binding(good + "xx", src); }, ErrorCategory::bad_input,
                  {src.c_str(), "corrupt"});
   // A flipped byte anywhere is refused: magic, version, counts, hashes, names, indices, floats,
   // the checksum itself.
@@ -215,7 +215,7 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
     std::string bad = good;
     bad[at] = static_cast<char>(bad[at] ^ 0x5a);
     try {
-      bind::parse_binding(bad, src);
+      io::parse_binding(bad, src);
       ADD_FAILURE() << "flipped byte " << at << " accepted";
     } catch (const Error& e) {
       const std::string what = e.what();
@@ -236,15 +236,15 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
   // A newer format version is "unsupported", not "corrupt".
   std::string newer = good;
   newer[8] = 3;
-  expect_refused([&] { bind::parse_binding(newer, src); }, ErrorCategory::unsupported,
+  expect_refused([&] { io::parse_binding(newer, src); }, ErrorCategory::unsupported,
                  {"binding format version 3 is not supported"});
   // Format 1 hashed the rig's JSON text: refused with what to do, whatever else it holds.
   std::string older = good;
   older[8] = 1;
-  expect_refused([&] { bind::parse_binding(older, src); }, ErrorCategory::bad_input,
+  expect_refused([&] { io::parse_binding(older, src); }, ErrorCategory::bad_input,
                  {src.c_str(), "binding format 1", "run sweep-bind again"});
   // A missing file.
-  expect_refused([&] { bind::read_binding(d.dir / "missing.bind"); }, ErrorCategory::bad_input,
+  expect_refused([&] { io::read_binding(d.dir / "missing.bind"); }, ErrorCategory::bad_input,
                  {"missing.bind"});
 }
 
@@ -257,15 +257,15 @@ TEST(BindingFile, TableConsistencyIsCheckedEvenWhenTheChecksumHolds) {
        {&b.sweeps[1].t, &b.sweeps[1].theta, &b.sweeps[1].s, &b.sweeps[1].z, &b.sweeps[1].weight}) {
     *c = {0.5f};
   }
-  expect_refused([&] { bind::parse_binding(bind::binding_bytes(b), "x.bind"); },
+  expect_refused([&] { io::parse_binding(io::binding_bytes(b), "x.bind"); },
                  ErrorCategory::bad_input, {"x.bind: corrupt binding: vertex 3 is bound by more"});
   Binding c = bind::bind_rig(rig, mesh);
   c.sweeps[0].vertices[10] = 5000;
-  expect_refused([&] { bind::parse_binding(bind::binding_bytes(c), "x.bind"); },
+  expect_refused([&] { io::parse_binding(io::binding_bytes(c), "x.bind"); },
                  ErrorCategory::bad_input, {"sweep 0 ('a'), entry 10", "out of range"});
   Binding w = bind::bind_rig(rig, mesh);
   w.sweeps[0].weight[7] = 1.5f;
-  expect_refused([&] { bind::parse_binding(bind::binding_bytes(w), "x.bind"); },
+  expect_refused([&] { io::parse_binding(io::binding_bytes(w), "x.bind"); },
                  ErrorCategory::bad_input, {"entry 7", "weight must be in [0, 1]"});
 }
 
@@ -279,8 +279,8 @@ TEST(BindTool, WritesTheBindingBesideTheRigAndAReport) {
   EXPECT_NE(r.out.find("tail: 986 vertices bound"), std::string::npos) << r.out;
   const fs::path bind_path = d.dir / "tube.bind";
   ASSERT_TRUE(fs::exists(bind_path));
-  const Binding b = bind::load_binding(bind_path, d.mesh, d.rig);
-  EXPECT_EQ(bind::binding_bytes(b), bind::binding_bytes(bind::bind_rig(d.rig, d.mesh)));
+  const Binding b = io::load_binding(bind_path, d.mesh, d.rig);
+  EXPECT_EQ(io::binding_bytes(b), io::binding_bytes(bind::bind_rig(d.rig, d.mesh)));
   const auto doc = nlohmann::json::parse(io::read_file(report));
   EXPECT_EQ(doc["format"], "sweep-bind-report");
   ASSERT_EQ(doc["sweeps"].size(), 1u);
@@ -327,11 +327,11 @@ TEST(BindTool, RefusesStaleAndBrokenBindingsWithExitCode2) {
   // The mesh edited: one vertex moved, then vertices removed.
   Mesh edited = d.mesh;
   edited.positions[7].x() += 0.001;
-  io::write_mesh(d.mesh_path, edited);
+  assets::write_mesh(d.mesh_path, edited);
   check(
       "made for a mesh with other vertex positions (the mesh changed since binding); run "
       "sweep-bind again");
-  io::write_mesh(d.mesh_path, tube::make_tube([] {
+  assets::write_mesh(d.mesh_path, tube::make_tube([] {
                    auto p = straight_tube_params();
                    p.rings = 4;
                    return p;

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "bind/deform.h"
-#include "core/elastic_sweep.h"
+#include "sweep/bind/deform.h"
+#include "sweep/core/elastic_sweep.h"
 #include "support.h"
 
 namespace sweep::test {

@@ -12,14 +12,14 @@
 #include <sstream>
 #include <string>
 
-#include "assets/mesh_io.h"
-#include "bind/bind.h"
-#include "core/error.h"
-#include "core/rig.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/error.h"
+#include "sweep/core/rig.h"
 #include "diplodocus_seeds.h"
-#include "fit/fit.h"
-#include "io/atomic_file.h"
-#include "io/read_file.h"
+#include "sweep/fit/fit.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/read_file.h"
 #include "tube.h"
 
 namespace sweep::test {
@@ -92,7 +92,7 @@ inline const Diplodocus* diplodocus() {
   static const std::optional<Diplodocus> d = []() -> std::optional<Diplodocus> {
     if (!fs::exists(diplodocus_path())) return std::nullopt;
     Diplodocus out;
-    out.mesh = io::read_mesh(diplodocus_path());
+    out.mesh = assets::read_mesh(diplodocus_path());
     const fit::SweepFitter fitter(out.mesh);
     for (const Seeds& s : {kDiplodocusTail, kDiplodocusNeck}) {
       fit::FitOptions o;

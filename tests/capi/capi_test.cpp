@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "io/rig_json.h"
+#include "sweep/io/rig_json.h"
 #include "sweep/sweep.h"
 
 namespace {

@@ -1,7 +1,7 @@
 // Joints out (sweep_joints): the skinned export's skeleton posed live. An engine that skins on the
 // GPU loads the export's weights and inverse bind matrices and each frame the joints' world
 // matrices; skinning the rest mesh with them must give sweep_positions back, within the skinned
-// export's own error. The export's side is computed here by the code that writes it (io::SkinFit,
+// export's own error. The export's side is computed here by the code that writes it (assets::SkinFit,
 // which bake_skin.h writes as glTF), fed by a sim::Simulator driven with the same input as the
 // instance: its joints' poses (the keys it writes) and its error against the same positions.
 #include <gtest/gtest.h>
@@ -17,12 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "assets/bake_skin.h"
-#include "assets/skin_fit.h"
-#include "io/binding_file.h"
-#include "io/rig_json.h"
-#include "io/scene_json.h"
-#include "sim/simulator.h"
+#include "sweep/assets/bake_skin.h"
+#include "sweep/assets/skin_fit.h"
+#include "sweep/io/binding_file.h"
+#include "sweep/io/rig_json.h"
+#include "sweep/io/scene_json.h"
+#include "sweep/sim/simulator.h"
 #include "sweep/sweep.h"
 
 namespace {
@@ -82,17 +82,17 @@ TEST_P(CApiJoints, SkinningWithTheJointsGivesThePositionsWithinTheExportError) {
 
   // The export's side: its skeleton, weights and inverse bind matrices, and the same simulation.
   const sweep::Rig rig = sweep::io::read_rig(dir / "tube.rig.json");
-  const sweep::bind::Binding binding = sweep::bind::read_binding(dir / "tube.bind");
-  const sweep::sim::Scene scene = sweep::sim::read_scene(dir / "push.scene.json", rig);
+  const sweep::bind::Binding binding = sweep::io::read_binding(dir / "tube.bind");
+  const sweep::sim::Scene scene = sweep::io::read_scene(dir / "push.scene.json", rig);
   fs::remove_all(dir);
-  sweep::io::SkinLayout skin;
-  skin.stations = layout.stations > 0 ? layout.stations : sweep::io::kDefaultSkinJoints;
-  skin.ring = layout.stations > 0 ? layout.ring : sweep::io::kDefaultRingJoints;
-  sweep::io::SkinFit fit({{rig.sweeps[0].name, &rig.sweeps[0].rest, &binding.sweeps[0]}}, skin, rest3, "tube");
+  sweep::assets::SkinLayout skin;
+  skin.stations = layout.stations > 0 ? layout.stations : sweep::assets::kDefaultSkinJoints;
+  skin.ring = layout.stations > 0 ? layout.ring : sweep::assets::kDefaultRingJoints;
+  sweep::assets::SkinFit fit({{rig.sweeps[0].name, &rig.sweeps[0].rest, &binding.sweeps[0]}}, skin, rest3, "tube");
   const int joints = fit.joint_count();
   ASSERT_EQ(sweep_joint_count(in), joints) << sweep_last_error();
   sweep::sim::Simulator sim(rig, scene);
-  std::vector<sweep::io::JointKey> keys(static_cast<std::size_t>(joints));
+  std::vector<sweep::assets::JointKey> keys(static_cast<std::size_t>(joints));
   std::vector<float> matrices(16 * static_cast<std::size_t>(joints)), positions(rest.size());
   std::vector<Eigen::Matrix4d> global(static_cast<std::size_t>(joints));
   std::vector<Eigen::Vector3f> in_body(rest3.size());
@@ -121,7 +121,7 @@ TEST_P(CApiJoints, SkinningWithTheJointsGivesThePositionsWithinTheExportError) {
     fit.pose(shapes, in_body, k, keys);
     for (int j = 0; j < joints; ++j) {
       const int parent = fit.joints()[j].parent;
-      global[j] = (parent < 0 ? Eigen::Matrix4d::Identity() : global[parent]) * sweep::io::key_matrix(keys[j]);
+      global[j] = (parent < 0 ? Eigen::Matrix4d::Identity() : global[parent]) * sweep::assets::key_matrix(keys[j]);
       // The instance's world matrix is the body's pose times the export's joint.
       const Eigen::Matrix4d expected = body * global[j];
       const Eigen::Matrix4d got = Eigen::Map<const Eigen::Matrix4f>(matrices.data() + 16 * j).cast<double>();

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <numbers>
 
-#include "core/elastic_sweep.h"
-#include "core/section_properties.h"
+#include "sweep/core/elastic_sweep.h"
+#include "sweep/core/section_properties.h"
 #include "beam_tubes.h"
 
 namespace sweep {

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <vector>
 
-#include "core/elastic_sweep.h"
-#include "core/section_properties.h"
+#include "sweep/core/elastic_sweep.h"
+#include "sweep/core/section_properties.h"
 #include "sample_sweeps.h"
 
 namespace sweep::test::beam {

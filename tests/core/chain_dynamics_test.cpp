@@ -9,8 +9,8 @@
 #include <memory>
 #include <numbers>
 
-#include "core/chain_dynamics.h"
-#include "core/elastic_sweep.h"
+#include "sweep/core/chain_dynamics.h"
+#include "sweep/core/elastic_sweep.h"
 #include "beam_tubes.h"
 
 namespace sweep {

@@ -1,7 +1,7 @@
 // Chain: turning X_j turns every later section rigidly about c'_j and leaves earlier ones alone.
 #include <gtest/gtest.h>
 
-#include "core/elastic_sweep.h"
+#include "sweep/core/elastic_sweep.h"
 #include "sample_sweeps.h"
 
 namespace sweep {

@@ -3,8 +3,8 @@
 
 #include <numbers>
 
-#include "core/elastic_sweep.h"
-#include "core/force.h"
+#include "sweep/core/elastic_sweep.h"
+#include "sweep/core/force.h"
 #include "sample_sweeps.h"
 
 namespace sweep {

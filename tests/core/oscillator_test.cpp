@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/oscillator.h"
+#include "sweep/core/oscillator.h"
 
 namespace sweep {
 namespace {

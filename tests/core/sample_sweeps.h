@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/rig.h"
+#include "sweep/core/rig.h"
 
 namespace sweep::test {
 

@@ -6,10 +6,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/deform_point.h"
-#include "core/elastic_sweep.h"
-#include "core/locate.h"
-#include "core/sweep_shape.h"
+#include "sweep/core/deform_point.h"
+#include "sweep/core/elastic_sweep.h"
+#include "sweep/core/locate.h"
+#include "sweep/core/sweep_shape.h"
 #include "sample_sweeps.h"
 
 namespace sweep {

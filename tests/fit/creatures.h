@@ -6,7 +6,7 @@
 #include <numbers>
 #include <vector>
 
-#include "core/mesh.h"
+#include "sweep/core/mesh.h"
 #include "fit/curve_tubes.h"
 #include "fit/fused_tubes.h"
 

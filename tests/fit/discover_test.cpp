@@ -10,11 +10,11 @@
 #include <set>
 #include <utility>
 
-#include "core/topology.h"
+#include "sweep/core/topology.h"
 #include "curve_tubes.h"
-#include "fit/discover.h"
-#include "fit/fit.h"
-#include "fit/hole_patches.h"
+#include "sweep/fit/discover.h"
+#include "sweep/fit/fit.h"
+#include "sweep/fit/hole_patches.h"
 
 namespace sweep::test {
 namespace {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "fit/creatures.h"
-#include "fit/fit.h"
+#include "sweep/fit/fit.h"
 
 namespace sweep::test {
 namespace {

@@ -1,5 +1,5 @@
 // Fitting sweeps: generated tubes with exact answers, and CGAL's sample meshes.
-#include "fit/fit.h"
+#include "sweep/fit/fit.h"
 
 #include <gtest/gtest.h>
 
@@ -10,15 +10,15 @@
 #include <numbers>
 #include <numeric>
 
-#include "assets/mesh_io.h"
-#include "core/error.h"
-#include "core/locate.h"
-#include "core/rig.h"
-#include "core/topology.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/error.h"
+#include "sweep/core/locate.h"
+#include "sweep/core/rig.h"
+#include "sweep/core/topology.h"
 #include "curve_tubes.h"
 #include "fused_tubes.h"
-#include "fit/slicer.h"
-#include "fit/trace.h"
+#include "sweep/fit/slicer.h"
+#include "sweep/fit/trace.h"
 #include "tubes.h"
 
 namespace sweep::fit {
@@ -204,7 +204,7 @@ class Diplodocus : public testing::Test {
  protected:
   static void SetUpTestSuite() {
     const auto path = kCgal / "diplodocus.off";
-    if (std::filesystem::exists(path)) mesh_ = new Mesh(io::read_mesh(path));
+    if (std::filesystem::exists(path)) mesh_ = new Mesh(assets::read_mesh(path));
   }
   static void TearDownTestSuite() {
     delete mesh_;
@@ -327,7 +327,7 @@ TEST_F(Diplodocus, NeckBendsUpAndIsFittedToo) {
 // ---- more of CGAL's meshes ----
 
 FitResult fit_cgal(const char* file, const FitOptions& o, Mesh* keep = nullptr) {
-  const Mesh mesh = io::read_mesh(kCgal / file);
+  const Mesh mesh = assets::read_mesh(kCgal / file);
   FitResult r = fit_sweep(mesh, o);
   if (keep) *keep = mesh;
   return r;
@@ -377,7 +377,7 @@ TEST(OtherMeshes, CactusArmsBentAtTheTrunkAreFollowed) {
 // refused for the surface, and says so.
 TEST(OtherMeshes, ASweepThatLeavesTheMeshBetweenItsVerticesIsRefused) {
   if (!std::filesystem::exists(kCgal / "lion.off")) GTEST_SKIP() << "run tools/setup-deps.sh";
-  Mesh mesh = io::read_mesh(kCgal / "lion.off");
+  Mesh mesh = assets::read_mesh(kCgal / "lion.off");
   FitOptions o;
   o.name = "stub";
   o.tip = mesh.positions[1033];

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "assets/mesh_io.h"
-#include "io/rig_json.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/io/rig_json.h"
 #include "tools/tool_runner.h"
 
 namespace sweep::test {
@@ -91,7 +91,7 @@ std::string point_arg(const Vec3& p) {
 TEST(Foot, LegWithAKneeAndAFootSpreadingSidewaysIsAcceptedAndHonest) {
   const fs::path dir = scratch_dir("leg-with-foot");
   const Mesh mesh = leg_with_foot();
-  io::write_obj(dir / "leg.obj", mesh);
+  assets::write_obj(dir / "leg.obj", mesh);
   // The toe: the foot's front corner, half a radius in from its side.
   const Station end = station(total_length());
   const Vec3 toe = end.centre + (end.side - 0.5 * kR) * Vec3::UnitX();

@@ -12,7 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "core/mesh.h"
+#include "sweep/core/mesh.h"
 
 namespace sweep::test {
 

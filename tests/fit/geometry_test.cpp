@@ -7,11 +7,11 @@
 #include <iterator>
 #include <numbers>
 
-#include "core/error.h"
-#include "fit/loop.h"
-#include "fit/slicer.h"
-#include "core/topology.h"
-#include "fit/trace.h"
+#include "sweep/core/error.h"
+#include "sweep/fit/loop.h"
+#include "sweep/fit/slicer.h"
+#include "sweep/core/topology.h"
+#include "sweep/fit/trace.h"
 
 namespace sweep::fit {
 namespace {

@@ -1,7 +1,7 @@
 // Spheres filling a closed mesh (fit/interior_spheres.h), on a box whose distances are known:
 // each sphere inside and no larger than its centre's distance to the faces, the room callback kept,
 // and the box covered.
-#include "fit/interior_spheres.h"
+#include "sweep/fit/interior_spheres.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-#include "fit/surface_distance.h"
+#include "sweep/fit/surface_distance.h"
 
 namespace sweep::fit {
 namespace {

@@ -9,9 +9,9 @@
 #include <numbers>
 #include <string>
 
-#include "assets/mesh_io.h"
+#include "sweep/assets/mesh_io.h"
 #include "curve_tubes.h"
-#include "io/rig_json.h"
+#include "sweep/io/rig_json.h"
 #include "tools/tool_runner.h"
 
 namespace sweep::test {
@@ -53,7 +53,7 @@ struct Checked {
 Checked fit_and_check(Shape& shape) {
   const fs::path dir = scratch_dir("shape-" + shape.name);
   const Mesh mesh = shape.tube.mesh();
-  io::write_obj(dir / "shape.obj", mesh);
+  assets::write_obj(dir / "shape.obj", mesh);
   const ToolRun r = run_tool(SWEEP_FIT_EXE,
                              quoted(dir / "shape.obj") + " -o " + quoted(dir / "rig.json") +
                                  " --name " + shape.name + " --tip " + point_arg(clicked_tip(shape.tube, shape.click_off)) +

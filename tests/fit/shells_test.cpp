@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <set>
 
-#include "core/topology.h"
+#include "sweep/core/topology.h"
 #include "fit/creatures.h"
-#include "fit/discover.h"
+#include "sweep/fit/discover.h"
 
 namespace sweep::test {
 namespace {

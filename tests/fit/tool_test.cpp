@@ -12,9 +12,9 @@
 #include <optional>
 #include <string>
 
-#include "assets/mesh_io.h"
-#include "core/text.h"
-#include "io/rig_json.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/text.h"
+#include "sweep/io/rig_json.h"
 #include "tubes.h"
 
 namespace fs = std::filesystem;
@@ -48,7 +48,7 @@ class Tool : public testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     tube_ = (dir_ / "tube.obj").string();
-    io::write_obj(tube_, test::Tube{}.mesh());
+    assets::write_obj(tube_, test::Tube{}.mesh());
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const char* name) const { return (dir_ / name).string(); }
@@ -97,7 +97,7 @@ TEST_F(Tool, SaysTheMeshsBoundingBoxAndTheSpaceOfItsPoints) {
   const std::string report = path("report.json");
   const ToolRun r = run_tool(tube_ + " -o " + path("rig.json") + " --tip 0,0,1 -v --report " + report);
   ASSERT_EQ(r.code, 0) << r.output;
-  const Mesh mesh = io::read_mesh(tube_);
+  const Mesh mesh = assets::read_mesh(tube_);
   Vec3 lo = mesh.positions[0], hi = mesh.positions[0];
   for (const Vec3& p : mesh.positions) {
     lo = lo.cwiseMin(p);
@@ -169,7 +169,7 @@ TEST_F(Tool, TipOnAnotherPieceIsNotReachable) {
     }
     two.face_offsets.push_back(static_cast<std::uint32_t>(two.face_vertices.size()));
   }
-  io::write_obj(path("two.obj"), two);
+  assets::write_obj(path("two.obj"), two);
   const ToolRun r =
       run_tool(path("two.obj") + " -o " + path("rig.json") + " --root 0,0,0.1 --tip 0.5,0,1");
   EXPECT_EQ(r.code, 2) << r.output;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/sample_sweeps.h"
-#include "fit/tube_end.h"
+#include "sweep/fit/tube_end.h"
 
 namespace sweep::fit {
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/mesh.h"
+#include "sweep/core/mesh.h"
 
 namespace sweep::test {
 

@@ -13,19 +13,19 @@
 #include <stdexcept>
 #include <string>
 
-#include "assets/gltf_document.h"
-#include "assets/gltf_motion.h"
-#include "assets/gltf_skin.h"
-#include "assets/mesh_checks.h"
-#include "assets/mesh_io.h"
-#include "core/error.h"
-#include "core/hash.h"
-#include "fit/discover.h"
-#include "fit/fit.h"
-#include "io/binding_file.h"
-#include "io/rig_json.h"
-#include "io/scene_json.h"
-#include "sim/scene.h"
+#include "sweep/assets/gltf_document.h"
+#include "sweep/assets/gltf_motion.h"
+#include "sweep/assets/gltf_skin.h"
+#include "sweep/assets/mesh_checks.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/error.h"
+#include "sweep/core/hash.h"
+#include "sweep/fit/discover.h"
+#include "sweep/fit/fit.h"
+#include "sweep/io/binding_file.h"
+#include "sweep/io/rig_json.h"
+#include "sweep/io/scene_json.h"
+#include "sweep/sim/scene.h"
 
 namespace sweep::fuzz {
 namespace {
@@ -115,8 +115,8 @@ void put_u64(std::string& s, std::size_t at, std::uint64_t v) {
 
 void parse_and_check_binding(std::string_view data) {
   try {
-    const bind::Binding b = bind::parse_binding(data, "fuzz.bind");
-    bind::check_binding(b, fixed_mesh(), fixed_rig(), "fuzz.bind");
+    const bind::Binding b = io::parse_binding(data, "fuzz.bind");
+    io::check_binding(b, fixed_mesh(), fixed_rig(), "fuzz.bind");
   } catch (const Error& e) {
     ignore(e);
   }
@@ -145,7 +145,7 @@ void scene(std::string_view data) {
   // written to a file of this process's own.
   const std::filesystem::path path = scratch_file("scene.json", data);
   try {
-    const sim::Scene s = sim::read_scene(path, fixed_rig(), [](const std::string&) {});
+    const sim::Scene s = io::read_scene(path, fixed_rig(), [](const std::string&) {});
     (void)s.frame_count();
   } catch (const Error& e) {
     ignore(e);
@@ -232,8 +232,8 @@ void expect_vertices(const Mesh& m, const std::vector<Vec3>& expected, const cha
 void off_mesh(std::string_view data) {
   Mesh m;
   try {
-    m = io::parse_off(data, "fuzz.off");
-    io::validate_mesh(m, "fuzz.off");
+    m = assets::parse_off(data, "fuzz.off");
+    assets::validate_mesh(m, "fuzz.off");
   } catch (const Error& e) {
     ignore(e);
     return;
@@ -255,8 +255,8 @@ void off_mesh(std::string_view data) {
 void obj_mesh(std::string_view data) {
   Mesh m;
   try {
-    m = io::parse_obj(std::string(data), "fuzz.obj");
-    io::validate_mesh(m, "fuzz.obj");
+    m = assets::parse_obj(std::string(data), "fuzz.obj");
+    assets::validate_mesh(m, "fuzz.obj");
   } catch (const Error& e) {
     ignore(e);
     return;
@@ -271,8 +271,8 @@ void obj_mesh(std::string_view data) {
 void ply_mesh(std::string_view data) {
   Mesh m;
   try {
-    m = io::parse_ply(data, "fuzz.ply");
-    io::validate_mesh(m, "fuzz.ply");
+    m = assets::parse_ply(data, "fuzz.ply");
+    assets::validate_mesh(m, "fuzz.ply");
   } catch (const Error& e) {
     ignore(e);
     return;
@@ -310,8 +310,8 @@ void ply_mesh(std::string_view data) {
 void fit_off(std::string_view data) {
   Mesh m;
   try {
-    m = io::parse_off(data, "fuzz.off");
-    io::validate_mesh(m, "fuzz.off");
+    m = assets::parse_off(data, "fuzz.off");
+    assets::validate_mesh(m, "fuzz.off");
   } catch (const Error& e) {
     ignore(e);
     return;
@@ -353,13 +353,13 @@ void expect(bool holds, const std::string& what) {
 // so that read_gltf_skin gets past its mesh match. Empty when they cannot be read that way.
 std::vector<Vec3> skinned_positions(const std::filesystem::path& file) {
   using Json = nlohmann::json;
-  const io::detail::GltfDocument doc = io::detail::read_gltf_document(file);
+  const assets::detail::GltfDocument doc = assets::detail::read_gltf_document(file);
   std::vector<Vec3> out;
   const auto nodes = doc.json.is_object() ? doc.json.find("nodes") : doc.json.end();
   if (!doc.json.is_object() || nodes == doc.json.end() || !nodes->is_array()) return out;
   for (const Json& node : *nodes) {
     if (!node.is_object() || !node.contains("skin") || !node.contains("mesh")) continue;
-    const Json* mesh = io::detail::gltf_element(doc.json, "meshes", node.at("mesh"));
+    const Json* mesh = assets::detail::gltf_element(doc.json, "meshes", node.at("mesh"));
     const auto prims = mesh != nullptr ? mesh->find("primitives") : Json::const_iterator();
     if (mesh == nullptr || prims == mesh->end() || !prims->is_array()) return out;
     for (const Json& prim : *prims) {
@@ -368,7 +368,7 @@ std::vector<Vec3> skinned_positions(const std::filesystem::path& file) {
           !attributes->contains("POSITION")) {
         return {};
       }
-      const auto p = io::detail::read_float_accessor(doc, attributes->at("POSITION"), 3);
+      const auto p = assets::detail::read_float_accessor(doc, attributes->at("POSITION"), 3);
       if (!p) return {};
       for (std::size_t v = 0; v + 2 < p->size(); v += 3) out.emplace_back((*p)[v], (*p)[v + 1], (*p)[v + 2]);
     }
@@ -379,7 +379,7 @@ std::vector<Vec3> skinned_positions(const std::filesystem::path& file) {
 
 // What read_gltf_skin promises of a model it returns, then its skinning at rest and at each clip's
 // start, middle and end (out-of-range indices are ASan's to see).
-void check_skin_model(const io::SkinModel& m) {
+void check_skin_model(const assets::SkinModel& m) {
   const std::size_t nodes = m.nodes.size(), joints = m.joints.size();
   expect(m.mesh_node >= 0 && static_cast<std::size_t>(m.mesh_node) < nodes, "gltf: the skinned node is not a node");
   expect(m.inverse_bind.size() == joints, "gltf: not one inverse bind matrix a joint");
@@ -398,11 +398,11 @@ void check_skin_model(const io::SkinModel& m) {
     }
     expect(std::abs(sum - 1) < 1e-9, "gltf: weights that do not sum to 1");
   }
-  for (const io::SkinClip& clip : m.clips) {
-    for (const io::ClipChannel& c : clip.channels) {
+  for (const assets::SkinClip& clip : m.clips) {
+    for (const assets::ClipChannel& c : clip.channels) {
       expect(c.node >= 0 && static_cast<std::size_t>(c.node) < nodes, "gltf: a channel of no node");
       const std::size_t per_key =
-          static_cast<std::size_t>(c.width()) * (c.interpolation == io::ChannelInterpolation::cubic ? 3 : 1);
+          static_cast<std::size_t>(c.width()) * (c.interpolation == assets::ChannelInterpolation::cubic ? 3 : 1);
       expect(!c.times.empty() && c.values.size() == c.times.size() * per_key, "gltf: keys and values do not match");
       for (std::size_t k = 0; k < c.times.size(); ++k) {
         expect(std::isfinite(c.times[k]) && (k == 0 || c.times[k] > c.times[k - 1]), "gltf: key times not increasing");
@@ -412,12 +412,12 @@ void check_skin_model(const io::SkinModel& m) {
   }
   const std::size_t skinned = std::min<std::size_t>(n, 256);  // bounded: size is not what is tested
   auto skin_at = [&](int clip, double t) {
-    const std::vector<Eigen::Matrix4d> joint = io::joint_matrices(m, io::world_transforms(m, clip, t));
-    for (std::size_t v = 0; v < skinned; ++v) (void)io::skin_vertex(m, joint, v);
+    const std::vector<Eigen::Matrix4d> joint = assets::joint_matrices(m, assets::world_transforms(m, clip, t));
+    for (std::size_t v = 0; v < skinned; ++v) (void)assets::skin_vertex(m, joint, v);
   };
   skin_at(-1, 0);
   for (std::size_t c = 0; c < std::min<std::size_t>(m.clips.size(), 8); ++c) {
-    const io::SkinClip& clip = m.clips[c];
+    const assets::SkinClip& clip = m.clips[c];
     for (const double t : {clip.start, 0.5 * (clip.start + clip.end), clip.end}) skin_at(static_cast<int>(c), t);
   }
 }
@@ -443,7 +443,7 @@ void check_body_path(const sim::BodyPath& path) {
 // The names of the file's first nodes (those that are strings), for read_gltf_body_path.
 std::vector<std::string> first_node_names(const std::filesystem::path& file) {
   std::vector<std::string> names;
-  const io::detail::GltfDocument doc = io::detail::read_gltf_document(file);
+  const assets::detail::GltfDocument doc = assets::detail::read_gltf_document(file);
   if (!doc.json.is_object()) return names;
   const auto nodes = doc.json.find("nodes");
   if (nodes == doc.json.end() || !nodes->is_array()) return names;
@@ -461,7 +461,7 @@ void gltf(std::string_view data) {
   const bool binary = data.substr(0, 4) == "glTF";
   const std::filesystem::path path = scratch_file(binary ? "fuzz.glb" : "fuzz.gltf", data);
   try {
-    (void)io::detail::check_gltf_indices(path);
+    (void)assets::detail::check_gltf_indices(path);
   } catch (const Error& e) {
     ignore(e);
   }
@@ -469,7 +469,7 @@ void gltf(std::string_view data) {
   try {
     names = first_node_names(path);
     const std::vector<Vec3> positions = skinned_positions(path);
-    if (const std::optional<io::SkinModel> model = io::read_gltf_skin(path, positions, Eigen::Affine3d::Identity())) {
+    if (const std::optional<assets::SkinModel> model = assets::read_gltf_skin(path, positions, Eigen::Affine3d::Identity())) {
       check_skin_model(*model);
     }
   } catch (const Error& e) {
@@ -477,7 +477,7 @@ void gltf(std::string_view data) {
   }
   for (const std::string& name : names) {
     try {
-      check_body_path(io::read_gltf_body_path(path, name));
+      check_body_path(assets::read_gltf_body_path(path, name));
     } catch (const Error& e) {
       ignore(e);
     }
@@ -498,7 +498,7 @@ void material(std::string_view data) {
   }
   const std::filesystem::path path = scratch_file("material-scene.json", data);
   try {
-    const sim::Scene s = sim::read_scene(path, material_rig(), [](const std::string&) {});
+    const sim::Scene s = io::read_scene(path, material_rig(), [](const std::string&) {});
     (void)s.frame_count();
   } catch (const Error& e) {
     ignore(e);

@@ -13,13 +13,13 @@
 namespace sweep::fuzz {
 
 void rig_json(std::string_view data);  // io::parse_rig
-void scene(std::string_view data);     // sim::read_scene (a file) against a fixed small rig
-void binding(std::string_view data);   // bind::parse_binding + check_binding, raw and re-summed
+void scene(std::string_view data);     // io::read_scene (a file) against a fixed small rig
+void binding(std::string_view data);   // io::parse_binding + check_binding, raw and re-summed
 // The mesh readers, each + validate_mesh; what they accept must hold the vertices of the file's
 // lines, in their order, as an independent line-by-line count reads them.
-void off_mesh(std::string_view data);  // io::parse_off
-void obj_mesh(std::string_view data);  // io::parse_obj
-void ply_mesh(std::string_view data);  // io::parse_ply (the ASCII body check, then assimp)
+void off_mesh(std::string_view data);  // assets::parse_off
+void obj_mesh(std::string_view data);  // assets::parse_obj
+void ply_mesh(std::string_view data);  // assets::parse_ply (the ASCII body check, then assimp)
 // sweep-fit's work on any mesh the OFF reader accepts (up to 2,000 vertices): find_parts, then a
 // fit from its first part's tip (or vertex 0) with the root found; a fit that returns holds only
 // finite numbers and part vertices of the mesh.
@@ -32,7 +32,7 @@ void fit_off(std::string_view data);
 // matrix a joint, finite keys; a body path of finite translations and unit rotations.
 void gltf(std::string_view data);
 // The material members and the scene members that depend on them: io::parse_material (an accepted
-// material's constants are finite and positive, its shear modulus too), then sim::read_scene on the
+// material's constants are finite and positive, its shear modulus too), then io::read_scene on the
 // same bytes against a fixed rig of two material sweeps, "neck" and "tail".
 void material(std::string_view data);
 

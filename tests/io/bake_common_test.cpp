@@ -2,7 +2,7 @@
 #include <limits>
 
 #include "bake_test_util.h"
-#include "core/error.h"
+#include "sweep/core/error.h"
 
 namespace sweep::test {
 namespace {
@@ -32,14 +32,14 @@ std::string message_of(const std::function<void()>& f) {
 
 TEST(BakeWriters, ChosenByExtension) {
   for (const char* name : {"a.glb", "a.GLB", "a.pc2", "a.obj", "dir/a.Obj"}) {
-    EXPECT_TRUE(io::is_bake_extension(name)) << name;
-    EXPECT_NE(io::make_bake_writer(name), nullptr) << name;
+    EXPECT_TRUE(assets::is_bake_extension(name)) << name;
+    EXPECT_NE(assets::make_bake_writer(name), nullptr) << name;
   }
   for (const char* name : {"a.gltf", "a.fbx", "a", "a.abc"}) {
-    EXPECT_FALSE(io::is_bake_extension(name)) << name;
-    EXPECT_EQ(category_of([&] { io::make_bake_writer(name); }), ErrorCategory::unsupported) << name;
+    EXPECT_FALSE(assets::is_bake_extension(name)) << name;
+    EXPECT_EQ(category_of([&] { assets::make_bake_writer(name); }), ErrorCategory::unsupported) << name;
   }
-  EXPECT_NE(message_of([] { io::make_bake_writer("x.fbx"); }).find("x.fbx"), std::string::npos);
+  EXPECT_NE(message_of([] { assets::make_bake_writer("x.fbx"); }).find("x.fbx"), std::string::npos);
 }
 
 TEST(BakeWriters, SameBakeTwiceGivesIdenticalBytes) {
@@ -64,10 +64,10 @@ TEST(BakeWriters, MissingDirectoryIsAnOutputErrorBeforeAnyFrame) {
   const fs::path dir = fresh_dir("");
   for (const char* ext : kFormats) {
     const fs::path out = dir / "no-such-dir" / (std::string("bake.") + ext);
-    auto writer = io::make_bake_writer(out);
+    auto writer = assets::make_bake_writer(out);
     const std::string msg = message_of([&] { writer->begin(bake.mesh, bake.info); });
     EXPECT_NE(msg.find(out.string()), std::string::npos) << msg;
-    auto again = io::make_bake_writer(out);
+    auto again = assets::make_bake_writer(out);
     EXPECT_EQ(category_of([&] { again->begin(bake.mesh, bake.info); }), ErrorCategory::output)
         << ext;
   }
@@ -82,7 +82,7 @@ TEST(BakeWriters, NonFinitePositionIsDivergedAndLeavesNothing) {
     for (const float bad :
          {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), 1e31f}) {
       const fs::path out = dir / (std::string("bake.") + ext);
-      auto writer = io::make_bake_writer(out);
+      auto writer = assets::make_bake_writer(out);
       writer->begin(bake.mesh, bake.info);
       writer->frame(0, bake.frames[0]);
       std::vector<Eigen::Vector3f> frame = bake.frames[1];
@@ -109,7 +109,7 @@ TEST(BakeWriters, DestroyedWithoutFinishLeavesNothing) {
   const TestBake bake = make_test_bake(6, 4, 3);
   const fs::path dir = fresh_dir("");
   for (const char* ext : kFormats) {
-    auto writer = io::make_bake_writer(dir / (std::string("bake.") + ext));
+    auto writer = assets::make_bake_writer(dir / (std::string("bake.") + ext));
     writer->begin(bake.mesh, bake.info);
     writer->frame(0, bake.frames[0]);
     writer->frame(1, bake.frames[1]);
@@ -124,18 +124,18 @@ TEST(BakeWriters, ProtocolErrorsAreInternalAndLeaveNothing) {
   for (const char* ext : kFormats) {
     const fs::path out = dir / (std::string("bake.") + ext);
     {  // a frame skipped
-      auto w = io::make_bake_writer(out);
+      auto w = assets::make_bake_writer(out);
       w->begin(bake.mesh, bake.info);
       EXPECT_EQ(category_of([&] { w->frame(1, bake.frames[1]); }), ErrorCategory::internal);
     }
     {  // finish before the last frame
-      auto w = io::make_bake_writer(out);
+      auto w = assets::make_bake_writer(out);
       w->begin(bake.mesh, bake.info);
       w->frame(0, bake.frames[0]);
       EXPECT_EQ(category_of([&] { w->finish(); }), ErrorCategory::internal);
     }
     {  // a vertex outside the animated list moved
-      auto w = io::make_bake_writer(out);
+      auto w = assets::make_bake_writer(out);
       w->begin(bake.mesh, bake.info);
       std::vector<Eigen::Vector3f> frame = bake.frames[0];
       frame[1].x() += 0.5f;
@@ -143,15 +143,15 @@ TEST(BakeWriters, ProtocolErrorsAreInternalAndLeaveNothing) {
       EXPECT_NE(msg.find("vertex 1 "), std::string::npos) << msg;
     }
     {  // wrong vertex count
-      auto w = io::make_bake_writer(out);
+      auto w = assets::make_bake_writer(out);
       w->begin(bake.mesh, bake.info);
       std::vector<Eigen::Vector3f> frame = bake.frames[0];
       frame.pop_back();
       EXPECT_EQ(category_of([&] { w->frame(0, frame); }), ErrorCategory::internal);
     }
     {  // no frames
-      auto w = io::make_bake_writer(out);
-      io::BakeInfo info = bake.info;
+      auto w = assets::make_bake_writer(out);
+      assets::BakeInfo info = bake.info;
       info.frame_count = 0;
       EXPECT_EQ(category_of([&] { w->begin(bake.mesh, info); }), ErrorCategory::internal);
     }
@@ -161,25 +161,25 @@ TEST(BakeWriters, ProtocolErrorsAreInternalAndLeaveNothing) {
 
 TEST(BakeWriters, BadRestMeshesAreRefused) {
   const fs::path dir = fresh_dir("");
-  io::BakeInfo info;
+  assets::BakeInfo info;
   info.frame_count = 1;
   for (const char* ext : kFormats) {
     const fs::path out = dir / (std::string("bake.") + ext);
     Mesh empty;
-    EXPECT_EQ(category_of([&] { io::make_bake_writer(out)->begin(empty, info); }),
+    EXPECT_EQ(category_of([&] { assets::make_bake_writer(out)->begin(empty, info); }),
               ErrorCategory::bad_input);
     Mesh huge = make_tube(3, 3);
     huge.positions[4].z() = 1e39;  // beyond float32
-    EXPECT_EQ(category_of([&] { io::make_bake_writer(out)->begin(huge, info); }),
+    EXPECT_EQ(category_of([&] { assets::make_bake_writer(out)->begin(huge, info); }),
               ErrorCategory::bad_input);
     Mesh broken = make_tube(3, 3);
     broken.face_vertices[2] = 99;
-    const std::string msg = message_of([&] { io::make_bake_writer(out)->begin(broken, info); });
+    const std::string msg = message_of([&] { assets::make_bake_writer(out)->begin(broken, info); });
     EXPECT_NE(msg.find("vertex 99"), std::string::npos) << msg;
   }
   Mesh points;
   points.positions = {{0, 0, 0}, {1, 0, 0}};
-  EXPECT_EQ(category_of([&] { io::make_bake_writer(dir / "p.glb")->begin(points, info); }),
+  EXPECT_EQ(category_of([&] { assets::make_bake_writer(dir / "p.glb")->begin(points, info); }),
             ErrorCategory::unsupported);
   EXPECT_TRUE(list_dir(dir).empty());
 }

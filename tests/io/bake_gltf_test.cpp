@@ -12,7 +12,7 @@
 #include <limits>
 
 #include "bake_test_util.h"
-#include "core/error.h"
+#include "sweep/core/error.h"
 
 namespace sweep::test {
 namespace {
@@ -246,7 +246,7 @@ TEST(BakeGltf, MoreFramesThanTheWeightsCanIndexAreRefusedAtTheStart) {
   TestBake bake = make_test_bake(3, 3, 1, 0.3);
   bake.info.frame_count = 65536;
   const fs::path out = fresh_dir("") / "long.glb";
-  auto writer = io::make_bake_writer(out);
+  auto writer = assets::make_bake_writer(out);
   try {
     writer->begin(bake.mesh, bake.info);
     ADD_FAILURE() << "65,536 frames were accepted";
@@ -381,7 +381,7 @@ TEST(BakeGltfSpeed, SixHundredFramesOf24000VerticesWith30PercentMoving) {
   constexpr int kFrames = 60, kRuns = 1;
 #endif
   const Mesh mesh = make_tube(kRings, kSegments);
-  io::BakeInfo info;
+  assets::BakeInfo info;
   info.frame_count = kFrames;
   info.fps = 30;
   std::vector<std::uint32_t> animated;
@@ -394,7 +394,7 @@ TEST(BakeGltfSpeed, SixHundredFramesOf24000VerticesWith30PercentMoving) {
   for (int run = 0; run < kRuns; ++run) {
     using Clock = std::chrono::steady_clock;
     Clock::duration spent{};
-    auto writer = io::make_bake_writer(out);
+    auto writer = assets::make_bake_writer(out);
     auto t0 = Clock::now();
     writer->begin(mesh, info);
     spent += Clock::now() - t0;

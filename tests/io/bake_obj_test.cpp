@@ -81,11 +81,11 @@ TEST(BakeObj, EveryVertexMovingGivesTheSameNumbers) {
 }
 
 TEST(BakeObj, NumbersWidenPastTenThousandFrames) {
-  EXPECT_EQ(io::obj_sequence_path("a/b.obj", 7, 10), fs::path("a/b_0007.obj"));
-  EXPECT_EQ(io::obj_sequence_path("b.obj", 9999, 10000), fs::path("b_9999.obj"));
-  EXPECT_EQ(io::obj_sequence_path("b.obj", 7, 10001), fs::path("b_00007.obj"));
-  EXPECT_EQ(io::obj_sequence_path("b.obj", 10000, 10001), fs::path("b_10000.obj"));
-  EXPECT_EQ(io::obj_sequence_path("x.y/b.OBJ", 3, 5), fs::path("x.y/b_0003.OBJ"));
+  EXPECT_EQ(assets::obj_sequence_path("a/b.obj", 7, 10), fs::path("a/b_0007.obj"));
+  EXPECT_EQ(assets::obj_sequence_path("b.obj", 9999, 10000), fs::path("b_9999.obj"));
+  EXPECT_EQ(assets::obj_sequence_path("b.obj", 7, 10001), fs::path("b_00007.obj"));
+  EXPECT_EQ(assets::obj_sequence_path("b.obj", 10000, 10001), fs::path("b_10000.obj"));
+  EXPECT_EQ(assets::obj_sequence_path("x.y/b.OBJ", 3, 5), fs::path("x.y/b_0003.OBJ"));
 }
 
 }  // namespace

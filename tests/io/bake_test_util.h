@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "assets/bake.h"
-#include "core/mesh.h"
+#include "sweep/assets/bake.h"
+#include "sweep/core/mesh.h"
 
 namespace sweep::test {
 
@@ -46,7 +46,7 @@ inline Mesh make_tube(int rings, int segments) {
 // else stays exactly at rest. Frame 0 is the rest pose (all deltas zero).
 struct TestBake {
   Mesh mesh;
-  io::BakeInfo info;
+  assets::BakeInfo info;
   std::vector<std::vector<Eigen::Vector3f>> frames;
 };
 
@@ -98,7 +98,7 @@ inline TestBake make_test_bake(int rings = 12, int segments = 8, int frames = 5,
 }
 
 inline void write_bake(const std::filesystem::path& out, const TestBake& bake) {
-  auto writer = io::make_bake_writer(out);
+  auto writer = assets::make_bake_writer(out);
   writer->begin(bake.mesh, bake.info);
   for (std::size_t k = 0; k < bake.frames.size(); ++k) {
     writer->frame(static_cast<int>(k), bake.frames[k]);

@@ -12,9 +12,9 @@
 #include <filesystem>
 #include <string>
 
-#include "assets/gltf_motion.h"
-#include "assets/gltf_skin.h"
-#include "core/error.h"
+#include "sweep/assets/gltf_motion.h"
+#include "sweep/assets/gltf_skin.h"
+#include "sweep/core/error.h"
 
 namespace sweep::test {
 namespace {
@@ -39,28 +39,28 @@ std::string bad_input_message(F&& f) {
 
 TEST(GltfHostile, ANodeNameThatIsNotAStringIsBadInputWithItsPointer) {
   const fs::path file = regression("type-error-node-name-not-a-string.gltf");
-  const std::string skin = bad_input_message([&] { io::read_gltf_skin(file, {}, Eigen::Affine3d::Identity()); });
+  const std::string skin = bad_input_message([&] { assets::read_gltf_skin(file, {}, Eigen::Affine3d::Identity()); });
   EXPECT_EQ(skin, file.string() + ": /nodes/0/name: must be a string, got 7");
-  const std::string body = bad_input_message([&] { io::read_gltf_body_path(file, "Body"); });
+  const std::string body = bad_input_message([&] { assets::read_gltf_body_path(file, "Body"); });
   EXPECT_EQ(body, file.string() + ": /nodes/0/name: must be a string, got 7");
 }
 
 TEST(GltfHostile, AnInterpolationThatIsNotAStringIsBadInputWithItsPointer) {
   const fs::path file = regression("type-error-interpolation-not-a-string.gltf");
-  const std::string m = bad_input_message([&] { io::read_gltf_body_path(file, "Body"); });
+  const std::string m = bad_input_message([&] { assets::read_gltf_body_path(file, "Body"); });
   EXPECT_EQ(m, file.string() + ": /animations/0/samplers/0/interpolation: must be a string, got 1");
 }
 
 TEST(GltfHostile, ABufferViewWhoseOffsetWrapsIsNotRead) {
   const fs::path file = regression("crash-view-offset-wraps.gltf");
-  const std::string m = bad_input_message([&] { io::read_gltf_body_path(file, "Body"); });
+  const std::string m = bad_input_message([&] { assets::read_gltf_body_path(file, "Body"); });
   EXPECT_EQ(m, file.string() + ": animation 'Walk': the translation keys of node 'Body' cannot be read "
                                "(float times and values of matching count expected)");
 }
 
 TEST(GltfHostile, ANegativeJointIsNoJoint) {
   const fs::path file = regression("ub-joint-negative-float.gltf");
-  const std::string m = bad_input_message([&] { io::read_gltf_skin(file, {}, Eigen::Affine3d::Identity()); });
+  const std::string m = bad_input_message([&] { assets::read_gltf_skin(file, {}, Eigen::Affine3d::Identity()); });
   EXPECT_EQ(m, file.string() + ": mesh 'Creature', vertex 3: joint -1 in JOINTS_0 is not a joint index (a whole "
                                "number from 0)");
 }

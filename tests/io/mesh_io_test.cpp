@@ -1,6 +1,6 @@
 // Mesh reading and writing: the vertex order each format keeps, exact positions per index, the
 // faces, and one clear error per kind of bad file.
-#include "assets/mesh_io.h"
+#include "sweep/assets/mesh_io.h"
 
 #include <assimp/material.h>
 #include <assimp/scene.h>
@@ -20,12 +20,14 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 #include "fp_guard.h"
-#include "io/atomic_file.h"
-#include "io/read_file.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/read_file.h"
 
-namespace sweep::io {
+using sweep::io::read_file;
+
+namespace sweep::assets {
 namespace {
 
 namespace fs = std::filesystem;
@@ -766,4 +768,4 @@ TEST(CgalMeshes, EveryOffLoadsOrFailsCleanly) {
 }
 
 }  // namespace
-}  // namespace sweep::io
+}  // namespace sweep::assets

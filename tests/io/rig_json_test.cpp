@@ -4,10 +4,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 #include "fp_guard.h"
-#include "io/atomic_file.h"
-#include "io/rig_json.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/rig_json.h"
 
 namespace sweep::io {
 namespace {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "assets/bake_skin.h"
-#include "core/error.h"
+#include "sweep/assets/bake_skin.h"
+#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
 
 namespace sweep::test {
@@ -20,10 +20,10 @@ constexpr int kSweeps = 14, kSpan = 8;
 
 std::string refusal(int stations, int ring) {
   const SweepShape rest = straight_shape(16, 8);
-  std::vector<io::SkinSweep> sweeps;
+  std::vector<assets::SkinSweep> sweeps;
   for (int i = 0; i < kSweeps; ++i) sweeps.push_back({"part" + std::to_string(i), &rest, nullptr});
   try {
-    io::check_skin_joints({.stations = stations, .ring = ring}, sweeps, kSpan);
+    assets::check_skin_joints({.stations = stations, .ring = ring}, sweeps, kSpan);
   } catch (const Error& e) {
     EXPECT_EQ(e.category(), ErrorCategory::usage);
     return e.what();

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "assets/mesh_io.h"
-#include "core/error.h"
-#include "io/atomic_file.h"
-#include "io/read_file.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/error.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/read_file.h"
 
 namespace sweep::tube {
 namespace {
@@ -42,7 +42,7 @@ TEST(Tube, VertexAndFaceCountsFollowTheFormula) {
         EXPECT_EQ(m.face_count(), quads * (tri ? 2 : 1) + (caps ? 2 * segments : 0));
         EXPECT_EQ(m.vertex_count(), tube_vertex_count(p));
         EXPECT_EQ(m.face_count(), tube_face_count(p));
-        EXPECT_NO_THROW(io::validate_mesh(m, "tube"));
+        EXPECT_NO_THROW(assets::validate_mesh(m, "tube"));
       }
     }
   }
@@ -292,7 +292,7 @@ TEST_F(TubeMeshes, CommittedMeshesAreTheDocumentedTubes) {
   for (const Example& ex : examples()) {
     const fs::path p = kSource / "meshes" / ex.name;
     EXPECT_LT(fs::file_size(p), 300u * 1024u) << ex.name;
-    const Mesh m = io::read_mesh(p);
+    const Mesh m = assets::read_mesh(p);
     const Mesh expected = make_tube(ex.params);
     ASSERT_EQ(m.vertex_count(), tube_vertex_count(ex.params)) << ex.name;
     EXPECT_EQ(m.face_vertices, expected.face_vertices) << ex.name;
@@ -321,7 +321,7 @@ TEST_F(TubeMeshes, ProgramReportsBadOptionsWithUsageExitCode) {
   EXPECT_TRUE(fs::is_empty(dir_)) << "no partial output";
   EXPECT_EQ(run_shell(exe + " --help >/dev/null"), 0);
   EXPECT_EQ(run_shell(exe + " -q -o " + out + " --rings 3 --segments 4 --no-caps"), 0);
-  const Mesh m = io::read_mesh(dir_ / "t.obj");
+  const Mesh m = assets::read_mesh(dir_ / "t.obj");
   EXPECT_EQ(m.vertex_count(), 12u);
   EXPECT_EQ(m.face_count(), 8u);
 }

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 #include "fit/tubes.h"
-#include "preview/png.h"
-#include "preview/render.h"
+#include "sweep/preview/png.h"
+#include "sweep/preview/render.h"
 
 namespace sweep::preview {
 namespace {

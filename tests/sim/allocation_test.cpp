@@ -17,8 +17,8 @@
 
 #include "allocation_counter.h"
 #include "bind/support.h"
-#include "sim/fast_deform.h"
-#include "sim/simulator.h"
+#include "sweep/sim/fast_deform.h"
+#include "sweep/sim/simulator.h"
 
 namespace sweep::sim {
 namespace {

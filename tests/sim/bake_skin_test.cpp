@@ -12,9 +12,11 @@
 #include <numbers>
 #include <tuple>
 
-#include "assets/bake_run.h"
-#include "bind/bind.h"
+#include "sweep/assets/bake_run.h"
+#include "sweep/bind/bind.h"
 #include "bind/support.h"
+
+using sweep::assets::run_bake;
 
 namespace sweep::sim {
 namespace {
@@ -194,7 +196,7 @@ struct SkinFile {
 };
 
 struct SkinBake {
-  BakeReport report;
+  sweep::assets::BakeReport report;
   Frames pc2;
   fs::path glb;
 };
@@ -217,7 +219,7 @@ const fs::path& skin_dir() {
 SkinBake bake_skinned(const Tube& tube, const Scene& scene, int joints, const std::string& name, int ring = 1,
                       bool fit = false) {
   const fs::path& dir = skin_dir();
-  BakeOptions o;
+  sweep::assets::BakeOptions o;
   o.outputs = {dir / (name + ".glb"), dir / (name + ".pc2")};
   o.joints = joints;
   o.ring_joints = ring;
@@ -526,7 +528,7 @@ TEST(BakeSkin, BadJointCountsAreRefusedBeforeAnythingIsWritten) {
   fs::create_directories(dir);
   // The tube has K = 6 sections: 41 stations at 8 a span.
   for (const int joints : {-1, 1, 42, 256}) {
-    BakeOptions o;
+    sweep::assets::BakeOptions o;
     o.outputs = {dir / "bad.glb", dir / "bad.pc2"};
     o.joints = joints;
     try {
@@ -539,7 +541,7 @@ TEST(BakeSkin, BadJointCountsAreRefusedBeforeAnythingIsWritten) {
     EXPECT_TRUE(fs::is_empty(dir)) << joints;
   }
   for (const int ring : {0, -2, 65}) {
-    BakeOptions o;
+    sweep::assets::BakeOptions o;
     o.outputs = {dir / "bad.glb"};
     o.joints = 4;
     o.ring_joints = ring;
@@ -552,7 +554,7 @@ TEST(BakeSkin, BadJointCountsAreRefusedBeforeAnythingIsWritten) {
     }
     EXPECT_TRUE(fs::is_empty(dir)) << ring;
   }
-  BakeOptions o;
+  sweep::assets::BakeOptions o;
   o.outputs = {dir / "only.pc2"};
   o.joints = 8;
   EXPECT_THROW(run_bake(tube.mesh, tube.rig, tube.binding, scene_with({}, 0.2), o), Error);

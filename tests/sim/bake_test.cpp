@@ -9,10 +9,12 @@
 #include <fstream>
 #include <numbers>
 
-#include "assets/bake_run.h"
-#include "bind/bind.h"
+#include "sweep/assets/bake_run.h"
+#include "sweep/bind/bind.h"
 #include "bind/support.h"
-#include "sim/fast_deform.h"
+#include "sweep/sim/fast_deform.h"
+
+using sweep::assets::run_bake;
 
 namespace sweep::sim {
 namespace {
@@ -53,7 +55,7 @@ Frames bake(const Tube& tube, const Scene& scene, bool exact, const fs::path& gl
   const fs::path dir =
       fs::temp_directory_path() / ("sweep_bake_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  BakeOptions o;
+  sweep::assets::BakeOptions o;
   o.outputs = {dir / "out.pc2"};
   if (!glb.empty()) o.outputs.push_back(glb);
   o.exact = exact;
@@ -223,22 +225,22 @@ TEST(Bake, ReportSaysWhichBlocksAreWrittenInPlace) {
     const fs::path dir =
         fs::temp_directory_path() / ("sweep_bake_blocks_" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    BakeOptions o;
+    sweep::assets::BakeOptions o;
     o.outputs = {dir / "out.pc2"};
     o.exact = exact;
     o.stations_per_span = 1;
     const Scene scene = scene_with({force_at(1.0, 0.0, Vec3(0, 2, 0), 0, 0.2, kRotational)}, 0.2);
-    const BakeReport r = run_bake(mesh, rig, binding, scene, o);
+    const sweep::assets::BakeReport r = run_bake(mesh, rig, binding, scene, o);
     fs::remove_all(dir);
     return r.sweeps.at(0);
   };
-  const SweepBakeStats ring = report_of(128, false);
+  const sweep::assets::SweepBakeStats ring = report_of(128, false);
   EXPECT_GT(ring.work_blocks, 2u);
   EXPECT_GE(ring.blocks_in_place, ring.work_blocks - 2);
-  const SweepBakeStats sorted = report_of(kSegments, false);
+  const sweep::assets::SweepBakeStats sorted = report_of(kSegments, false);
   EXPECT_GT(sorted.work_blocks, 0u);
   EXPECT_EQ(sorted.blocks_in_place, 0u);
-  const SweepBakeStats exact = report_of(128, true);
+  const sweep::assets::SweepBakeStats exact = report_of(128, true);
   EXPECT_EQ(exact.work_blocks, 0u);
   EXPECT_EQ(exact.blocks_in_place, 0u);
 }
@@ -271,9 +273,9 @@ TEST(Bake, DiplodocusTailAndNeckSideBySideGiveTheSameBitsOnOneOrTwoThreads) {
         fs::temp_directory_path() /
         ("sweep_bake_dino_" + std::to_string(::getpid()) + "_" + std::to_string(threads));
     fs::create_directories(dir);
-    BakeOptions o;
+    sweep::assets::BakeOptions o;
     o.outputs = {dir / "out.pc2"};
-    const BakeReport r = run_bake(dino->mesh, dino->rig, binding, scene, o);
+    const sweep::assets::BakeReport r = run_bake(dino->mesh, dino->rig, binding, scene, o);
     EXPECT_EQ(r.sweeps.at(0).frames_deformed, 30);
     EXPECT_EQ(r.sweeps.at(1).frames_deformed, 30);
     std::ifstream in(dir / "out.pc2", std::ios::binary);
@@ -299,7 +301,7 @@ TEST(Bake, ABindingThatGivesAVertexToTwoSweepsIsRefused) {
   scene.forces[1].sweep_index = 1;
   const fs::path dir =
       fs::temp_directory_path() / ("sweep_bake_twice_" + std::to_string(::getpid()));
-  BakeOptions o;
+  sweep::assets::BakeOptions o;
   o.outputs = {dir / "out.pc2"};
   try {
     run_bake(tube.mesh, rig, binding, scene, o);
@@ -326,7 +328,7 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
   std::vector<Vec3f> rest(tube.mesh.vertex_count());
   for (std::size_t v = 0; v < rest.size(); ++v) rest[v] = tube.mesh.positions[v].cast<float>();
   FastDeformer fast(tube.rig.sweeps[0].rest, tube.binding.sweeps[0], rest,
-                    BakeOptions{}.stations_per_span);
+                    sweep::assets::BakeOptions{}.stations_per_span);
   std::vector<Vec3f> positions = rest;
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;

@@ -7,10 +7,10 @@
 
 #include "bind/support.h"
 #include "fit/curve_tubes.h"
-#include "fit/fit.h"
-#include "fit/surface_distance.h"
-#include "sim/contact.h"
-#include "sim/simulator.h"
+#include "sweep/fit/fit.h"
+#include "sweep/fit/surface_distance.h"
+#include "sweep/sim/contact.h"
+#include "sweep/sim/simulator.h"
 #include "sim/surface_probes.h"
 
 namespace sweep::sim {

@@ -11,13 +11,15 @@
 #include <numbers>
 #include <string>
 
-#include "assets/bake_run.h"
-#include "bind/bind.h"
+#include "sweep/assets/bake_run.h"
+#include "sweep/bind/bind.h"
 #include "bind/support.h"
 #include "core/beam_tubes.h"
 #include "core/sample_sweeps.h"
-#include "sim/simulator.h"
+#include "sweep/sim/simulator.h"
 #include "sim/sweep_pose.h"
+
+using sweep::assets::run_bake;
 
 namespace sweep::sim {
 namespace {
@@ -343,7 +345,7 @@ TEST(Body, FilesCarryTheBodyPcTwoInTheWorldGlbAsTheNodesAnimation) {
   Scene scene = scene_of(BodyPath({key(0, Vec3::Zero()), key(1, Vec3(0.5, 0, 0.2), turn)}, BodyInterpolation::cubic), 1.5);
   const fs::path dir = fs::temp_directory_path() / ("sweep_body_files_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  BakeOptions o;
+  sweep::assets::BakeOptions o;
   o.outputs = {dir / "out.pc2", dir / "out.glb"};
   run_bake(mesh, rig, binding, scene, o);
   const auto pc2 = read_pc2(dir / "out.pc2");

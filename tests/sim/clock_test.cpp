@@ -6,7 +6,7 @@
 #include <numeric>
 
 #include "core/sample_sweeps.h"
-#include "sim/simulator.h"
+#include "sweep/sim/simulator.h"
 #include "sim/sweep_pose.h"
 
 namespace sweep::sim {

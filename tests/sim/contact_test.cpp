@@ -8,10 +8,10 @@
 #include <numbers>
 
 #include "core/beam_tubes.h"
-#include "core/error.h"
+#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
-#include "sim/contact.h"
-#include "sim/simulator.h"
+#include "sweep/sim/contact.h"
+#include "sweep/sim/simulator.h"
 #include "sim/surface_probes.h"
 
 namespace sweep::sim {

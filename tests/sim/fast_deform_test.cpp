@@ -1,5 +1,5 @@
 // The fast deformation path against the exact per-vertex path.
-#include "sim/fast_deform.h"
+#include "sweep/sim/fast_deform.h"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <random>
 
 #include "bind/support.h"
-#include "core/deform_point.h"
-#include "core/elastic_sweep.h"
+#include "sweep/core/deform_point.h"
+#include "sweep/core/elastic_sweep.h"
 #include "core/sample_sweeps.h"
-#include "sim/simulator.h"
+#include "sweep/sim/simulator.h"
 #include "sim/sweep_cloud.h"
 
 namespace sweep::sim {

@@ -8,8 +8,10 @@
 #include "bind/support.h"
 #include "diplodocus_seeds.h"
 #include "core/sample_sweeps.h"
-#include "io/scene_json.h"
-#include "sim/simulator.h"
+#include "sweep/io/scene_json.h"
+#include "sweep/sim/simulator.h"
+
+using sweep::io::read_scene;
 
 namespace sweep::sim {
 namespace {

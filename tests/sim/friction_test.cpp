@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "core/beam_tubes.h"
-#include "sim/simulator.h"
+#include "sweep/sim/simulator.h"
 
 namespace sweep::sim {
 namespace {

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "assets/gltf_motion.h"
+#include "sweep/assets/gltf_motion.h"
 #include "bind/support.h"
-#include "core/error.h"
-#include "io/rig_json.h"
+#include "sweep/core/error.h"
+#include "sweep/io/rig_json.h"
 
 namespace sweep::test {
 namespace {
@@ -134,7 +134,7 @@ TEST(GltfBody, TheNodesAnimationIsTheBodysMotionAwayFromItsRestPose) {
   const Scenario sc;
   const fs::path file = scratch("walk.gltf");
   sc.write(file);
-  const sim::BodyPath path = io::read_gltf_body_path(file, "Body");
+  const sim::BodyPath path = assets::read_gltf_body_path(file, "Body");
   ASSERT_EQ(path.keys().size(), 4u);  // the union of 0, 1, 2 and 0, 1.5
   EXPECT_EQ(path.interpolation(), sim::BodyInterpolation::linear);
   double worst = 0;
@@ -145,8 +145,8 @@ TEST(GltfBody, TheNodesAnimationIsTheBodysMotionAwayFromItsRestPose) {
   }
   EXPECT_LT(worst, 2e-6);
   // The named animation is the same one; another name is refused with the names.
-  EXPECT_EQ(io::read_gltf_body_path(file, "Body", "Walk").keys().size(), 4u);
-  expect_refused([&] { io::read_gltf_body_path(file, "Body", "Run"); }, ErrorCategory::bad_input,
+  EXPECT_EQ(assets::read_gltf_body_path(file, "Body", "Walk").keys().size(), 4u);
+  expect_refused([&] { assets::read_gltf_body_path(file, "Body", "Run"); }, ErrorCategory::bad_input,
                  {"walk.gltf", "no animation named 'Run' moves node 'Body'"});
 }
 
@@ -156,7 +156,7 @@ TEST(GltfBody, APivotedPathsOriginMovesAsItsDerivativesSay) {
   const Scenario sc;
   const fs::path file = scratch("pivot.gltf");
   sc.write(file);
-  const sim::BodyPath path = io::read_gltf_body_path(file, "Body");
+  const sim::BodyPath path = assets::read_gltf_body_path(file, "Body");
   EXPECT_LT((path.pivot() - (sc.P + sc.T0)).norm(), 1e-7);  // the node's rest origin, world
   const double h = 1e-4;
   for (double t : {0.3, 0.7, 1.2, 1.7}) {
@@ -175,20 +175,20 @@ TEST(GltfBody, WhatCannotBeABodysMotionIsRefusedWithWhatToDo) {
   const Scenario sc;
   const fs::path file = scratch("refused.gltf");
   sc.write(file);
-  expect_refused([&] { io::read_gltf_body_path(file, "Tail"); }, ErrorCategory::bad_input,
+  expect_refused([&] { assets::read_gltf_body_path(file, "Tail"); }, ErrorCategory::bad_input,
                  {"refused.gltf", "no node is named 'Tail'"});
   // The parent is not animated: "Root" is moved by nothing.
-  expect_refused([&] { io::read_gltf_body_path(file, "Root"); }, ErrorCategory::bad_input,
+  expect_refused([&] { assets::read_gltf_body_path(file, "Root"); }, ErrorCategory::bad_input,
                  {"no animation moves node 'Root'"});
   sc.write(file, "CUBICSPLINE");
-  expect_refused([&] { io::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
+  expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
                  {"CUBICSPLINE", "only LINEAR"});
   sc.write(file, "LINEAR", /*scale_channel=*/true);
-  expect_refused([&] { io::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
+  expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
                  {"scales node 'Body'"});
   const fs::path obj = scratch("not-gltf.obj");
   std::ofstream(obj) << "v 0 0 0\n";
-  expect_refused([&] { io::read_gltf_body_path(obj, "Body"); }, ErrorCategory::bad_input,
+  expect_refused([&] { assets::read_gltf_body_path(obj, "Body"); }, ErrorCategory::bad_input,
                  {"not a glTF file"});
 }
 
@@ -200,13 +200,13 @@ TEST(GltfBody, AKeyPastTheLengthLimitOrOfNoRotationIsRefusedNamingIt) {
   far.T[1] = Vec3(1e35, 0.5, 0);
   const fs::path file = scratch("far.gltf");
   far.write(file);
-  expect_refused([&] { io::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
+  expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
                  {"far.gltf: animation 'Walk': translation key 1 of node 'Body' (at 1 s) is ", " along x, past the limit of 1e9 mesh units"});
   Scenario zero;
   zero.zero_quaternion = true;
   const fs::path nothing = scratch("zero-quaternion.gltf");
   zero.write(nothing);
-  expect_refused([&] { io::read_gltf_body_path(nothing, "Body"); }, ErrorCategory::bad_input,
+  expect_refused([&] { assets::read_gltf_body_path(nothing, "Body"); }, ErrorCategory::bad_input,
                  {"zero-quaternion.gltf: animation 'Walk': rotation key 1 of node 'Body' (at 1.5 s) is a quaternion of length 0, not a rotation"});
 }
 
@@ -254,7 +254,7 @@ TEST(GltfBody, SweepSimBakesTheBodyFromTheMeshsOwnAnimation) {
   std::memcpy(&samples, bytes.data() + 28, 4);
   ASSERT_EQ(points, static_cast<std::int32_t>(tube.vertex_count()));
   ASSERT_EQ(samples, 16);
-  const sim::BodyPath path = io::read_gltf_body_path(mesh, "Body");
+  const sim::BodyPath path = assets::read_gltf_body_path(mesh, "Body");
   // The closed form of the file's keys (lerp and slerp), checked on the path first.
   for (double t : {0.25, 0.75, 1.2}) {
     const Quat want_q = t <= 0.5 ? Quat::Identity().slerp(t / 0.5, turn_y(20)) : turn_y(20).slerp(std::min(1.0, (t - 0.5) / 0.5), turn_y(45));

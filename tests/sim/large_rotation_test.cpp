@@ -10,7 +10,7 @@
 #include <numbers>
 
 #include "core/beam_tubes.h"
-#include "core/elastic_sweep.h"
+#include "sweep/core/elastic_sweep.h"
 
 namespace sweep::sim {
 namespace {

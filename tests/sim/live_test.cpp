@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
-#include "sim/simulator.h"
+#include "sweep/sim/simulator.h"
 #include "sim/sweep_pose.h"
 
 namespace sweep::sim {

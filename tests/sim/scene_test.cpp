@@ -1,11 +1,11 @@
 // Scene defaults that depend on the rig.
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
-#include "io/json_reader.h"
-#include "io/scene_json.h"
-#include "sim/scene.h"
+#include "sweep/io/json_reader.h"
+#include "sweep/io/scene_json.h"
+#include "sweep/sim/scene.h"
 
 namespace sweep::sim {
 namespace {

@@ -5,10 +5,10 @@
 #include <memory>
 #include <numbers>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
 #include "fp_guard.h"
-#include "sim/simulator.h"
+#include "sweep/sim/simulator.h"
 
 namespace sweep::sim {
 namespace {

@@ -17,15 +17,15 @@
 #include <string>
 #include <vector>
 
-#include "assets/gltf_skin.h"
-#include "assets/mesh_io.h"
-#include "assets/skinned_clip.h"
-#include "bind/bind.h"
+#include "sweep/assets/gltf_skin.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/assets/skinned_clip.h"
+#include "sweep/bind/bind.h"
 #include "bind/support.h"
-#include "core/error.h"
-#include "core/springs.h"
-#include "io/read_file.h"
-#include "io/rig_json.h"
+#include "sweep/core/error.h"
+#include "sweep/core/springs.h"
+#include "sweep/io/read_file.h"
+#include "sweep/io/rig_json.h"
 
 namespace sweep::test {
 namespace {
@@ -151,7 +151,7 @@ Creature creature(const std::string& name, double spring_hz = 0) {
     def.springs.assign(def.rest.frames.size(), def.default_springs);
   }
   io::write_rig(c.rig, c.rig_data);
-  c.mesh = io::read_mesh(scratch("skinned_tail.gltf"));
+  c.mesh = assets::read_mesh(scratch("skinned_tail.gltf"));
   EXPECT_EQ(std::system((std::string(SWEEP_BIND_EXE) + " -q '" + c.rig.string() + "' -o '" + c.binding.string() + "'").c_str()), 0);
   c.bound = bind::bind(c.rig_data, c.mesh).binding;
   return c;
@@ -176,38 +176,38 @@ TEST(SkinnedClip, TheFixtureIsItsGeneratorsOutput) {
 }
 
 TEST(SkinnedClip, ChannelsInterpolateAsGltfDefines) {
-  const Mesh mesh = io::read_mesh(fixture());
-  const auto model = io::read_gltf_skin(fixture(), mesh.positions, Eigen::Affine3d::Identity());
+  const Mesh mesh = assets::read_mesh(fixture());
+  const auto model = assets::read_gltf_skin(fixture(), mesh.positions, Eigen::Affine3d::Identity());
   ASSERT_TRUE(model);
   ASSERT_EQ(model->clips.size(), 2u);
-  const io::SkinClip& walk = model->clips[model->find_clip("Walk")];
-  auto channel = [&](const std::string& node, io::ChannelPath path) -> const io::ClipChannel& {
-    for (const io::ClipChannel& c : walk.channels)
+  const assets::SkinClip& walk = model->clips[model->find_clip("Walk")];
+  auto channel = [&](const std::string& node, assets::ChannelPath path) -> const assets::ClipChannel& {
+    for (const assets::ClipChannel& c : walk.channels)
       if (model->nodes[c.node].name == node && c.path == path) return c;
     throw std::runtime_error("no channel");
   };
   auto as_quat = [](const Eigen::Vector4d& v) { return Quat(v[3], v[0], v[1], v[2]); };
   for (double t : {-0.5, 0.0, 0.1, 0.25, 0.3, 0.49, 0.5, 0.51, 0.8, 1.0, 1.7}) {
     const double u = std::clamp(t, 0.0, 1.0);  // held before the first key and after the last
-    EXPECT_LT((io::channel_value(channel("Hip", io::ChannelPath::translation), t).head<3>() - hip_translation(u)).norm(), 1e-7) << t;
-    EXPECT_LT(as_quat(io::channel_value(channel("Hip", io::ChannelPath::rotation), t)).angularDistance(hip_rotation(u)), 1e-6) << t;
-    EXPECT_LT(as_quat(io::channel_value(channel("Tail1", io::ChannelPath::rotation), t)).angularDistance(tail1_rotation(u)), 1e-6) << t;
-    EXPECT_LT(as_quat(io::channel_value(channel("Tail2", io::ChannelPath::rotation), t)).angularDistance(tail2_rotation(u)), 1e-6) << t;
-    EXPECT_LT(as_quat(io::channel_value(channel("Tail3", io::ChannelPath::rotation), t)).angularDistance(tail3_rotation(u)), 1e-6) << t;
+    EXPECT_LT((assets::channel_value(channel("Hip", assets::ChannelPath::translation), t).head<3>() - hip_translation(u)).norm(), 1e-7) << t;
+    EXPECT_LT(as_quat(assets::channel_value(channel("Hip", assets::ChannelPath::rotation), t)).angularDistance(hip_rotation(u)), 1e-6) << t;
+    EXPECT_LT(as_quat(assets::channel_value(channel("Tail1", assets::ChannelPath::rotation), t)).angularDistance(tail1_rotation(u)), 1e-6) << t;
+    EXPECT_LT(as_quat(assets::channel_value(channel("Tail2", assets::ChannelPath::rotation), t)).angularDistance(tail2_rotation(u)), 1e-6) << t;
+    EXPECT_LT(as_quat(assets::channel_value(channel("Tail3", assets::ChannelPath::rotation), t)).angularDistance(tail3_rotation(u)), 1e-6) << t;
   }
   // The cubic's tangents are scaled by the key interval: at the middle of the first piece the
   // x component is (v0 + v1)/2 + dt·(b0 − a1)/8 before normalizing, not the tangents alone.
-  const Eigen::Vector4d mid = io::channel_value(channel("Tail1", io::ChannelPath::rotation), 0.25);
+  const Eigen::Vector4d mid = assets::channel_value(channel("Tail1", assets::ChannelPath::rotation), 0.25);
   const double x = 0.5 * (about(Vec3::UnitX(), -10).x() + about(Vec3::UnitX(), 10).x()) + 0.5 * (0.4 - -0.2) / 8;
   const double w = 0.5 * (about(Vec3::UnitX(), -10).w() + about(Vec3::UnitX(), 10).w());
   EXPECT_NEAR(mid[0], x / std::hypot(x, w), 1e-6);
   // The whole pose: the model's skinning against this file's, every vertex, at several times.
   double worst = 0;
   for (double t : {0.0, 0.13, 0.5, 0.77}) {
-    const auto joints = io::joint_matrices(*model, io::world_transforms(*model, model->find_clip("Walk"), t));
+    const auto joints = assets::joint_matrices(*model, assets::world_transforms(*model, model->find_clip("Walk"), t));
     const auto mine = joints_at(t);
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-      worst = std::max(worst, (io::skin_vertex(*model, joints, v) - skinned(mesh.positions[v], mine)).norm());
+      worst = std::max(worst, (assets::skin_vertex(*model, joints, v) - skinned(mesh.positions[v], mine)).norm());
   }
   EXPECT_LT(worst, 1e-6);
 }
@@ -298,17 +298,17 @@ TEST(SkinnedClip, ALoopingBakeAfterAPrerollMeetsItsFirstFrame) {
 // What the file holds is listed when the scene asks for what it does not.
 TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
   const Creature c = creature("bad");
-  const auto model = io::read_gltf_skin(scratch("skinned_tail.gltf"), c.mesh.positions, Eigen::Affine3d::Identity());
+  const auto model = assets::read_gltf_skin(scratch("skinned_tail.gltf"), c.mesh.positions, Eigen::Affine3d::Identity());
   ASSERT_TRUE(model);
   auto make = [&](const std::string& node, const std::string& clip) {
-    io::SkinnedClip(fixture(), *model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, node, clip, true, 0, 30);
+    assets::SkinnedClip(fixture(), *model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, node, clip, true, 0, 30);
   };
   expect_refused([&] { make("Nose", "Walk"); }, ErrorCategory::bad_input, {"'Nose'", "not a node", "'Hip', 'Tail1', 'Tail2', 'Tail3'"});
   expect_refused([&] { make("Eye", "Walk"); }, ErrorCategory::bad_input, {"neither the skinned mesh's node nor a joint", "'Creature'"});
   expect_refused([&] { make("Hip", "Run"); }, ErrorCategory::bad_input, {"no animation is named 'Run'", "'Walk', 'Blink'"});
   expect_refused([&] { make("Hip", "Blink"); }, ErrorCategory::bad_input, {"'Blink' moves none of the joints", "(it moves 'Eye')"});
   // The root joint found from the weights: Tail1 holds the whole root ring.
-  const io::SkinnedClip walk(fixture(), *model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, "Hip", "Walk", true, 0, 30);
+  const assets::SkinnedClip walk(fixture(), *model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, "Hip", "Walk", true, 0, 30);
   EXPECT_EQ(model->nodes[walk.root_joint_node(0)].name, "Tail1");
 
   // Edited copies of the file.
@@ -318,7 +318,7 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
     edit(d);
     const fs::path path = scratch("edited.gltf");
     std::ofstream(path) << d.dump();
-    expect_refused([&] { io::read_gltf_skin(path, c.mesh.positions, Eigen::Affine3d::Identity()); }, ErrorCategory::bad_input, fragments);
+    expect_refused([&] { assets::read_gltf_skin(path, c.mesh.positions, Eigen::Affine3d::Identity()); }, ErrorCategory::bad_input, fragments);
   };
   refused_file([](Json& d) { d["meshes"][0]["primitives"][0]["attributes"]["JOINTS_1"] = 1; }, {"more than 4 joint influences"});
   refused_file([](Json& d) {
@@ -334,9 +334,9 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
   // Sampler 0's VEC3 values are the hip's translations (z = -0.3): as a scale, a mirror and a squash.
   const fs::path scaled = scratch("scaled.gltf");
   std::ofstream(scaled) << d.dump();
-  const auto scaled_model = io::read_gltf_skin(scaled, c.mesh.positions, Eigen::Affine3d::Identity());
+  const auto scaled_model = assets::read_gltf_skin(scaled, c.mesh.positions, Eigen::Affine3d::Identity());
   ASSERT_TRUE(scaled_model);
-  const io::SkinnedClip clip(scaled, *scaled_model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, "Hip", "Walk", true, 0, 30);
+  const assets::SkinnedClip clip(scaled, *scaled_model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, "Hip", "Walk", true, 0, 30);
   expect_refused([&] { (void)clip.sweep_path(0, 1.0); }, ErrorCategory::bad_input, {"root joint 'Tail1'", "scaled or sheared"});
 }
 

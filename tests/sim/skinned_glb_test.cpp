@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "assets/mesh_io.h"
+#include "sweep/assets/mesh_io.h"
 #include "bind/support.h"
-#include "io/read_file.h"
-#include "io/rig_json.h"
+#include "sweep/io/read_file.h"
+#include "sweep/io/rig_json.h"
 
 namespace sweep::test {
 namespace {
@@ -56,7 +56,7 @@ void write_asset(const fs::path& gltf, const std::function<void(Json&)>& edit = 
   Json doc = Json::parse(io::read_file(fixture));
   const std::size_t count = doc["accessors"][0]["count"];
   std::vector<float> uv, normals;
-  for (const Vec3& p : io::read_mesh(fixture).positions) {  // its node is at the origin: POSITION as read
+  for (const Vec3& p : assets::read_mesh(fixture).positions) {  // its node is at the origin: POSITION as read
     uv.push_back(static_cast<float>(0.5 + p.x()));
     uv.push_back(static_cast<float>(0.6 - p.z() / 1.6));
     // The tube's radial normals, the caps' axial ones, the box's corners' diagonals.

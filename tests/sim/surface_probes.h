@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/sweep_shape.h"
-#include "sim/collider.h"
-#include "sim/scene.h"
+#include "sweep/core/sweep_shape.h"
+#include "sweep/sim/collider.h"
+#include "sweep/sim/scene.h"
 
 namespace sweep::sim::test_probes {
 

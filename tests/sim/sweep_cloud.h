@@ -6,9 +6,9 @@
 #include <numbers>
 #include <vector>
 
-#include "bind/bind.h"
-#include "core/locate.h"
-#include "sim/fast_deform.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/locate.h"
+#include "sweep/sim/fast_deform.h"
 
 namespace sweep::test {
 

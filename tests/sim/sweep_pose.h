@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/elastic_sweep.h"
+#include "sweep/core/elastic_sweep.h"
 
 namespace sweep::sim::test_pose {
 

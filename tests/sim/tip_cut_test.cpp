@@ -10,14 +10,16 @@
 #include <fstream>
 #include <numbers>
 
-#include "assets/bake_run.h"
-#include "assets/edge_stretch.h"
-#include "assets/mesh_io.h"
-#include "bind/bind.h"
+#include "sweep/assets/bake_run.h"
+#include "sweep/assets/edge_stretch.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/bind/bind.h"
 #include "bind/support.h"
 #include "fit/closed_tubes.h"
-#include "fit/fit.h"
-#include "io/rig_json.h"
+#include "sweep/fit/fit.h"
+#include "sweep/io/rig_json.h"
+
+using sweep::assets::run_bake;
 
 namespace sweep::sim {
 namespace {
@@ -53,7 +55,7 @@ Stretch fit_and_bind(Mesh mesh, const Vec3& root, const Vec3& tip, double blend)
 // A push across the tube's plane at its tip for `seconds`, then free swinging; the bake in memory
 // (.pc2 in a scratch folder), frames read back.
 struct Baked {
-  BakeReport report;
+  sweep::assets::BakeReport report;
   std::vector<std::vector<Vec3f>> frames;
 };
 Baked bake_push(const Stretch& s, const Vec3& push, const std::string& tag) {
@@ -73,7 +75,7 @@ Baked bake_push(const Stretch& s, const Vec3& push, const std::string& tag) {
   scene.forces = {f};
   const fs::path dir = fs::temp_directory_path() / ("sweep_tip_cut_" + tag + std::to_string(::getpid()));
   fs::create_directories(dir);
-  BakeOptions o;
+  sweep::assets::BakeOptions o;
   o.outputs = {dir / "out.pc2"};
   Baked b;
   b.report = run_bake(s.mesh, s.rig, s.binding, scene, o);
@@ -166,7 +168,7 @@ TEST(TipCut, TorusStretchIsCutAtTheTipAndNothingBeyondMoves) {
 TEST(TipCut, KnotStretchIsCutAtTheTipAndNothingBeyondMoves) {
   const fs::path path = fs::path(SWEEP_SOURCE_DIR) / "meshes/cgal/knot.off";
   if (!fs::exists(path)) GTEST_SKIP() << "meshes/cgal/knot.off missing: run tools/setup-deps.sh";
-  Mesh mesh = io::read_mesh(path);
+  Mesh mesh = assets::read_mesh(path);
   // Two vertices on the knot's surface (tube radius about 0.09) about 0.47 apart over the surface,
   // an eighth of its length: the root on the outside of a lobe.
   const Stretch s = fit_and_bind(std::move(mesh), Vec3(0.489903, -0.198281, 0.00624241),
@@ -224,18 +226,18 @@ TEST(EdgeStretch, ScalesGiveTheirClosedFormFactor) {
   std::vector<std::uint32_t> all(torus.vertex_count());
   for (std::uint32_t v = 0; v < all.size(); ++v) all[v] = v;
   const std::vector<Vec3f> rest = as_float(torus.positions);
-  const EdgeStretchMeter meter(torus, all, rest);
+  const sweep::assets::EdgeStretchMeter meter(torus, all, rest);
   EXPECT_EQ(meter.edge_count(), 2u * 32 * 8);  // a quad torus: two edges a vertex
   std::vector<Vec3f> scaled(rest.size());
   for (std::size_t v = 0; v < rest.size(); ++v) scaled[v] = 2.0f * rest[v];
   EXPECT_EQ(meter.measure(scaled).ratio, 2.0);
   const Vec3f centre(0.25f, -0.5f, 0.125f);
   for (std::size_t v = 0; v < rest.size(); ++v) scaled[v] = centre + 1.25f * (rest[v] - centre);
-  const EdgeStretch uniform = meter.measure(scaled);
+  const sweep::assets::EdgeStretch uniform = meter.measure(scaled);
   EXPECT_TRUE(uniform.found);
   EXPECT_NEAR(uniform.ratio, 1.25, 1e-5);
   for (std::size_t v = 0; v < rest.size(); ++v) scaled[v] = centre + 0.5f * (rest[v] - centre);
-  const EdgeStretch shrunk = meter.measure(scaled);
+  const sweep::assets::EdgeStretch shrunk = meter.measure(scaled);
   EXPECT_FALSE(shrunk.found);
   EXPECT_EQ(shrunk.ratio, 1.0);
 
@@ -244,9 +246,9 @@ TEST(EdgeStretch, ScalesGiveTheirClosedFormFactor) {
   tri.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
   tri.add_face({0, 1, 2});
   const std::vector<std::uint32_t> moving{1};  // edges 0-1 and 1-2 only
-  const EdgeStretchMeter one(tri, moving, as_float(tri.positions));
+  const sweep::assets::EdgeStretchMeter one(tri, moving, as_float(tri.positions));
   EXPECT_EQ(one.edge_count(), 2u);
-  const EdgeStretch x = one.measure(std::vector<Vec3f>{{0, 0, 0}, {1.5f, 0, 0}, {0, 1, 0}});
+  const sweep::assets::EdgeStretch x = one.measure(std::vector<Vec3f>{{0, 0, 0}, {1.5f, 0, 0}, {0, 1, 0}});
   EXPECT_DOUBLE_EQ(x.ratio, 1.5);
   EXPECT_EQ(x.a, 0u);
   EXPECT_EQ(x.b, 1u);

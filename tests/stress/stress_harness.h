@@ -16,7 +16,7 @@
 #include <random>
 #include <string>
 
-#include "core/elastic_sweep.h"
+#include "sweep/core/elastic_sweep.h"
 
 namespace sweep::stress {
 

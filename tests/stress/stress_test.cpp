@@ -9,14 +9,14 @@
 #include <filesystem>
 #include <numbers>
 
-#include "assets/mesh_io.h"
-#include "core/error.h"
-#include "core/deform_point.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/error.h"
+#include "sweep/core/deform_point.h"
 #include "core/sample_sweeps.h"
-#include "fit/fit.h"
-#include "io/rig_json.h"
-#include "sim/fast_deform.h"
-#include "sim/simulator.h"
+#include "sweep/fit/fit.h"
+#include "sweep/io/rig_json.h"
+#include "sweep/sim/fast_deform.h"
+#include "sweep/sim/simulator.h"
 #include "sim/sweep_cloud.h"
 #include "stress/stress_harness.h"
 
@@ -194,7 +194,7 @@ TEST(Stress, DiplodocusTailUnderRandomForcesWithExtremeParameters) {
       std::filesystem::path(SWEEP_SOURCE_DIR) / "meshes/cgal/diplodocus.off";
   if (!std::filesystem::exists(path))
     GTEST_SKIP() << path << " is absent (tools/setup-deps.sh unpacks it)";
-  const Mesh mesh = io::read_mesh(path);
+  const Mesh mesh = assets::read_mesh(path);
   fit::FitOptions o;
   o.name = "tail";
   o.root = Vec3(-0.29, -0.16, -0.015);

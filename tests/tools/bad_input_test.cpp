@@ -15,7 +15,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "assets/mesh_io.h"
+#include "sweep/assets/mesh_io.h"
 #include "bad_input_case.h"
 #include "pipeline.h"
 #include "tube.h"
@@ -205,7 +205,7 @@ std::vector<Case> fit_cases() {
       {"Fit_OpenTubeFits",
        fit,
        [](const Workspace& ws) {
-         io::write_obj(ws / "open.obj", tube_mesh(false));
+         assets::write_obj(ws / "open.obj", tube_mesh(false));
          return fit_args(ws, "open.obj") + " -k 6 -n 8";
        },
        0,
@@ -214,7 +214,7 @@ std::vector<Case> fit_cases() {
       {"Fit_NonManifoldTubeFits",
        fit,
        [](const Workspace& ws) {
-         io::write_obj(ws / "fin.obj", non_manifold_tube());
+         assets::write_obj(ws / "fin.obj", non_manifold_tube());
          return fit_args(ws, "fin.obj") + " -k 6 -n 8";
        },
        0,
@@ -332,7 +332,7 @@ std::vector<Case> fit_cases() {
       {"Fit_OffWithBomFits",
        fit,
        [](const Workspace& ws) {
-         spit(ws / "bom.off", kBom + io::off_bytes(io::read_mesh(ws / "tube.obj")));
+         spit(ws / "bom.off", kBom + assets::off_bytes(assets::read_mesh(ws / "tube.obj")));
          return fit_args(ws, "bom.off") + " -k 6 -n 8";
        },
        0,
@@ -781,9 +781,9 @@ std::vector<Case> sim_cases() {
       {"Sim_BindingOfAnotherMesh",
        sim,
        [](const Workspace& ws) {
-         Mesh m = io::read_mesh(ws / "tube.obj");
+         Mesh m = assets::read_mesh(ws / "tube.obj");
          m.positions[5].z() += 1e-3;
-         io::write_obj(ws / "tube.obj", m);
+         assets::write_obj(ws / "tube.obj", m);
          return sim_args(ws);
        },
        2,

@@ -15,10 +15,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "assets/mesh_io.h"
-#include "core/rig.h"
-#include "core/topology.h"
-#include "io/rig_json.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/rig.h"
+#include "sweep/core/topology.h"
+#include "sweep/io/rig_json.h"
 #include "pipeline.h"
 #include "textured_asset.h"
 
@@ -97,7 +97,7 @@ FormatFit fit_format(const fs::path& mesh, const fs::path& work, const fs::path&
   f.report = Json::parse(slurp(report));
   f.rig = io::read_rig(rig);
   // The part as sweep-bind takes it: the rig's mesh of the file, its seeds, its rest shape.
-  const Mesh m = io::read_scene_mesh(mesh, f.rig.mesh_name, io::MeshPick::whole_file).mesh;
+  const Mesh m = assets::read_scene_mesh(mesh, f.rig.mesh_name, assets::MeshPick::whole_file).mesh;
   const SweepDef& sweep = f.rig.sweeps.at(0);
   for (const std::uint32_t v : select_sweep_part(m, build_topology(m), sweep.rest, sweep.part.value()))
     f.part.push_back(m.positions[v]);
@@ -188,7 +188,7 @@ TEST(Formats, TheTailFitsFromFbxAsFromGltf) {
 TEST(Formats, ASeamSplitTubeFitsAsTheWeldedOne) {
   const fs::path dir = formats_dir(), top = scratch_dir("formats-seam"), io = top / "io";
   fs::create_directories(io);
-  const Mesh split = io::read_mesh(dir / "creature.gltf");
+  const Mesh split = assets::read_mesh(dir / "creature.gltf");
   const Topology topology = build_topology(split);
   // Each ring's seam vertex, and each cap's rim and centre against the side's rings.
   EXPECT_EQ(topology.welded_count,
@@ -202,8 +202,8 @@ TEST(Formats, ASeamSplitTubeFitsAsTheWeldedOne) {
   }
   for (const std::uint32_t v : split.face_vertices) welded.face_vertices.push_back(index[topology.weld[v]]);
   welded.face_offsets = split.face_offsets;
-  io::write_obj(top / "welded.obj", welded);
-  EXPECT_EQ(build_topology(io::read_mesh(top / "welded.obj")).welded_count, 0u);
+  assets::write_obj(top / "welded.obj", welded);
+  EXPECT_EQ(build_topology(assets::read_mesh(top / "welded.obj")).welded_count, 0u);
   const FormatFit seamed = fit_format(dir / "creature.gltf", top, io);
   ASSERT_EQ(seamed.run.code, 0);
   const FormatFit one = fit_format(top / "welded.obj", top, io);

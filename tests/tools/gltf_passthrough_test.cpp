@@ -21,7 +21,7 @@
 #include <sstream>
 #include <nlohmann/json.hpp>
 
-#include "assets/mesh_io.h"
+#include "sweep/assets/mesh_io.h"
 #include "pipeline.h"
 #include "textured_asset.h"
 
@@ -832,7 +832,7 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   const std::vector<float> colours = floats(out.json, out.bin, side["attributes"]["COLOR_0"], 4);
   // One vertex array for both primitives: the mesh's vertices in its order, then the corners that
   // differ (the seam's second copy of each ring's first vertex, the caps' rims with their flat vn).
-  const Mesh mesh = io::read_mesh(dir / "creature.obj");
+  const Mesh mesh = assets::read_mesh(dir / "creature.obj");
   EXPECT_EQ(out.json["meshes"][0]["primitives"][1]["attributes"], side["attributes"]);
   ASSERT_EQ(rest.size() / 3, mesh.vertex_count() + R + 2 * S);
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
@@ -1122,14 +1122,14 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   ASSERT_EQ(out.json["materials"][skin]["name"], "Skin");
   const std::size_t texture = out.json["materials"][skin]["pbrMetallicRoughness"]["baseColorTexture"]["index"];
   EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][out.json["textures"][texture]["source"].get<std::size_t>()]["bufferView"]), tiny_png());
-  const Mesh mesh = io::read_mesh(dir / "creature.fbx");
+  const Mesh mesh = assets::read_mesh(dir / "creature.fbx");
   std::map<std::array<float, 3>, std::uint32_t> by_position;
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
     const Eigen::Vector3f p = mesh.positions[v].cast<float>();
     by_position[{p.x(), p.y(), p.z()}] = v;
   }
   // The .pc2 holds the mesh in its own space: its node's world transform maps it to the .glb's.
-  const Eigen::Affine3d to_world = io::read_scene_mesh(dir / "creature.fbx", "", io::MeshPick::only_or_largest).to_world;
+  const Eigen::Affine3d to_world = assets::read_scene_mesh(dir / "creature.fbx", "", assets::MeshPick::only_or_largest).to_world;
   const std::string pc2 = slurp(dir / "out.pc2");
   double worst_uv = 0, worst = 0, moved = 0;
   std::size_t side_vertices = 0;

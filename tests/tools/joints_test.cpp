@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "assets/bake_skin.h"
+#include "sweep/assets/bake_skin.h"
 #include "pipeline.h"
 
 namespace sweep::test {
@@ -85,13 +85,13 @@ TEST(Joints, JointsAloneTakesTheDefaultsWhichBeatSectionJoints) {
     const ToolRun r = run_tool(SWEEP_SIM_EXE, order + " -q --report " + quoted(ws / "d.json"), ws.io);
     ASSERT_EQ(r.code, 0) << order << ": " << r.err;
     const nlohmann::json report = nlohmann::json::parse(slurp(ws / "d.json"));
-    EXPECT_EQ(report["joints_per_sweep"], io::kDefaultSkinJoints) << order;
-    EXPECT_EQ(report["ring_joints"], io::kDefaultRingJoints) << order;
-    EXPECT_EQ(report["skin_joints"], 1 + io::kDefaultSkinJoints + (io::kDefaultSkinJoints - 1) * io::kDefaultRingJoints);
+    EXPECT_EQ(report["joints_per_sweep"], assets::kDefaultSkinJoints) << order;
+    EXPECT_EQ(report["ring_joints"], assets::kDefaultRingJoints) << order;
+    EXPECT_EQ(report["skin_joints"], 1 + assets::kDefaultSkinJoints + (assets::kDefaultSkinJoints - 1) * assets::kDefaultRingJoints);
   }
   const ToolRun r = run_tool(SWEEP_SIM_EXE,
                              quoted(ws / "rig.json") + scene + " -q -o " + quoted(ws / "s.glb") + " --joints " +
-                                 std::to_string(io::kDefaultSkinJoints) + " --ring-joints 1 --report " +
+                                 std::to_string(assets::kDefaultSkinJoints) + " --ring-joints 1 --report " +
                                  quoted(ws / "s.json"),
                              ws.io);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -118,7 +118,7 @@ TEST(Joints, JointsAloneOnAShortSweepTakesAJointAStation) {
       << r.err;
   const nlohmann::json report = nlohmann::json::parse(slurp(ws / "d.json"));
   EXPECT_EQ(report["joints_per_sweep"], 6);
-  EXPECT_EQ(report["skin_joints"], 1 + 6 + 5 * io::kDefaultRingJoints);
+  EXPECT_EQ(report["skin_joints"], 1 + 6 + 5 * assets::kDefaultRingJoints);
 }
 
 TEST(Joints, TheSkinnedFileIsTheSameBytesWhateverTheThreadCount) {

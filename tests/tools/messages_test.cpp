@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 
-#include "assets/mesh_io.h"
+#include "sweep/assets/mesh_io.h"
 #include "pipeline.h"
 
 namespace sweep::test {
@@ -53,13 +53,13 @@ TEST(NewcomerMessages, ASeedOnALargeFaceIsOnTheMesh) {
 // relative to the part or the mesh.
 TEST(NewcomerMessages, APartFitsTheSameAtAnyScale) {
   const Workspace ws("messages-scale");
-  const Mesh tube = io::read_mesh(fs::path(SWEEP_SOURCE_DIR) / "meshes" / "tube_tapered.off");
+  const Mesh tube = assets::read_mesh(fs::path(SWEEP_SOURCE_DIR) / "meshes" / "tube_tapered.off");
   json reference;
   for (const double scale : {1.0, 0.35 / 1.5, 50 / 1.5, 1e-3 / 1.5, 1e3 / 1.5}) {
     Mesh scaled = tube;
     for (Vec3& p : scaled.positions) p *= scale;
     const std::string name = "tube-" + std::to_string(scale);
-    io::write_obj(ws / (name + ".obj"), scaled);
+    assets::write_obj(ws / (name + ".obj"), scaled);
     const ToolRun r = run_tool(
         SWEEP_FIT_EXE,
         quoted(ws / (name + ".obj")) + " -o " + quoted(ws / (name + ".rig.json")) + " --tip 0,0," +
@@ -99,7 +99,7 @@ TEST(NewcomerMessages, WhyTheAxisEndsIsReported) {
 // exit code, and the fit as far as it got with its numbers. No rig.
 TEST(NewcomerMessages, AFailedFitWritesItsReport) {
   const Workspace ws("messages-failure-report");
-  Mesh two = io::read_mesh(ws / "tube.obj");
+  Mesh two = assets::read_mesh(ws / "tube.obj");
   const std::size_t n = two.positions.size(), faces = two.face_count();
   for (std::size_t v = 0; v < n; ++v) two.positions.push_back(two.positions[v] + Vec3(0.5, 0, 0));
   for (std::size_t f = 0; f < faces; ++f) {
@@ -107,7 +107,7 @@ TEST(NewcomerMessages, AFailedFitWritesItsReport) {
       two.face_vertices.push_back(static_cast<std::uint32_t>(two.face_vertices[k] + n));
     two.face_offsets.push_back(static_cast<std::uint32_t>(two.face_vertices.size()));
   }
-  io::write_obj(ws / "two.obj", two);
+  assets::write_obj(ws / "two.obj", two);
   spit(ws / "flat.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   struct Case {
     std::string args;

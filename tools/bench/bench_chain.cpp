@@ -8,7 +8,7 @@
 // factorizations per step.
 #include "bench_common.h"
 #include "core/beam_tubes.h"
-#include "core/elastic_sweep.h"
+#include "sweep/core/elastic_sweep.h"
 
 namespace {
 

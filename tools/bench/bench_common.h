@@ -18,12 +18,12 @@
 #include <string>
 #include <vector>
 
-#include "assets/mesh_io.h"
-#include "bind/bind.h"
-#include "core/locate.h"
-#include "core/rig.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/locate.h"
+#include "sweep/core/rig.h"
 #include "diplodocus_seeds.h"
-#include "fit/fit.h"
+#include "sweep/fit/fit.h"
 #include "tube.h"
 
 namespace sweep::bench {
@@ -115,7 +115,7 @@ inline RealRig diplodocus_rig(int sections = 16, int radial = 16) {
     throw std::runtime_error(diplodocus_path().string() + " is absent: run tools/setup-deps.sh");
   }
   RealRig r;
-  r.mesh = io::read_mesh(diplodocus_path());
+  r.mesh = assets::read_mesh(diplodocus_path());
   const fit::SweepFitter fitter(r.mesh);
   for (const Seeds& s : {test::kDiplodocusTail, test::kDiplodocusNeck}) {
     fit::FitOptions o;

@@ -10,9 +10,9 @@
 #include <random>
 
 #include "bench_common.h"
-#include "bind/deform.h"
-#include "core/elastic_sweep.h"
-#include "sim/fast_deform.h"
+#include "sweep/bind/deform.h"
+#include "sweep/core/elastic_sweep.h"
+#include "sweep/sim/fast_deform.h"
 
 namespace sweep::bench {
 namespace {

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
                    path.string().c_str());
       continue;
     }
-    const Mesh mesh = io::read_mesh(path);
+    const Mesh mesh = assets::read_mesh(path);
     const fit::SweepFitter fitter(mesh);
     md += fmt(
         "\n**%s %s** — fit_rms / fit_max as %% of the mean radius; fit time ms (median of %d)\n\n",

@@ -14,11 +14,11 @@
 #include <random>
 
 #include "bench_common.h"
-#include "bind/deform.h"
-#include "core/oscillator.h"
-#include "io/scene_json.h"
-#include "sim/scene.h"
-#include "sim/simulator.h"
+#include "sweep/bind/deform.h"
+#include "sweep/core/oscillator.h"
+#include "sweep/io/scene_json.h"
+#include "sweep/sim/scene.h"
+#include "sweep/sim/simulator.h"
 
 namespace sweep::bench {
 namespace {
@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
   // follow the moving surface are re-split at the predicted mid-step pose (second order). Error:
   // the largest section pose difference (centres, radii, rotation angle × length) over every frame
   // against a step 64 times finer than the default, over the part's length.
-  sim::Scene fig4 = sim::read_scene(source_dir() / "rigs/diplodocus-fig4.scene.json", dino.rig);
+  sim::Scene fig4 = io::read_scene(source_dir() / "rigs/diplodocus-fig4.scene.json", dino.rig);
   fig4.substeps = 0;
   auto section_poses = [&](double step) {
     sim::Scene s = fig4;

@@ -22,10 +22,10 @@
 #include <thread>
 
 #include "bench_common.h"
-#include "io/binding_file.h"
-#include "io/rig_json.h"
-#include "sim/fast_deform.h"
-#include "sim/simulator.h"
+#include "sweep/io/binding_file.h"
+#include "sweep/io/rig_json.h"
+#include "sweep/sim/fast_deform.h"
+#include "sweep/sim/simulator.h"
 #include "sweep/sweep.h"
 
 namespace sweep::bench {
@@ -284,7 +284,7 @@ int main(int argc, char** argv) {
   fs::create_directories(dir);
   dino.rig.mesh = diplodocus_path().string();
   io::write_rig(dir / "dino.rig.json", dino.rig);
-  bind::write_binding(dir / "dino.bind", dino.binding);
+  io::write_binding(dir / "dino.bind", dino.binding);
   write_text(dir / "settings.scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "gravity": [0, -9.81, 0], "forces": []})");
   // The same with sweep-sim's internal step, 1/480 s: 8 steps a 60 fps frame instead of 1.
   write_text(dir / "fine.scene.json",

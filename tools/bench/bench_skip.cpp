@@ -8,8 +8,8 @@
 #include <thread>
 
 #include "bench_common.h"
-#include "sim/fast_deform.h"
-#include "sim/simulator.h"
+#include "sweep/sim/fast_deform.h"
+#include "sweep/sim/simulator.h"
 #include "tools/common/body_proxy.h"
 
 namespace sweep::bench {

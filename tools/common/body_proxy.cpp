@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
-#include "fit/surface_distance.h"
-#include "sim/contact.h"
+#include "sweep/fit/surface_distance.h"
+#include "sweep/sim/contact.h"
 
 namespace sweep::tools {
 

@@ -7,12 +7,12 @@
 // handed to the runtime as plain sphere colliders carried by the body.
 #include <vector>
 
-#include "bind/bind.h"
-#include "core/mesh.h"
-#include "core/rig.h"
-#include "fit/interior_spheres.h"
-#include "sim/collider.h"
-#include "sim/scene.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/mesh.h"
+#include "sweep/core/rig.h"
+#include "sweep/fit/interior_spheres.h"
+#include "sweep/sim/collider.h"
+#include "sweep/sim/scene.h"
 
 namespace sweep::tools {
 

@@ -21,8 +21,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/error.h"
-#include "io/interrupt.h"
+#include "sweep/core/error.h"
+#include "sweep/io/interrupt.h"
 
 namespace sweep::tools {
 

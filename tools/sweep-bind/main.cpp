@@ -11,14 +11,14 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "assets/mesh_io.h"
-#include "bind/bind.h"
-#include "core/text.h"
-#include "io/atomic_file.h"
-#include "io/binding_file.h"
-#include "io/interrupt.h"
-#include "io/path_checks.h"
-#include "io/rig_json.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/bind/bind.h"
+#include "sweep/core/text.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/binding_file.h"
+#include "sweep/io/interrupt.h"
+#include "sweep/io/path_checks.h"
+#include "sweep/io/rig_json.h"
 #include "tools/common/cli_checks.h"
 #include "tools/common/tool_main.h"
 
@@ -54,7 +54,7 @@ std::string report_text(const Settings& s, const fs::path& mesh_path, const std:
   doc["mesh"] = mesh_path.string();
   if (!mesh_name.empty()) doc["mesh_name"] = mesh_name;
   doc["binding"] = output.string();
-  doc["binding_format_version"] = sweep::bind::kBindingFormatVersion;
+  doc["binding_format_version"] = sweep::io::kBindingFormatVersion;
   doc["vertex_count"] = r.binding.vertex_count;
   doc["unbound_vertex_count"] = r.unbound_vertex_count;
   doc["blend"] = s.options.blend;
@@ -85,11 +85,11 @@ int run(const Settings& s) {
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
   // The rig's mesh of that file (the whole file for a rig that names none).
   const sweep::Mesh mesh =
-      sweep::io::read_scene_mesh(mesh_path, rig.mesh_name, sweep::io::MeshPick::whole_file).mesh;
+      sweep::assets::read_scene_mesh(mesh_path, rig.mesh_name, sweep::assets::MeshPick::whole_file).mesh;
   const double load_seconds = since(load_start);
 
   if (!s.check.empty()) {
-    const sweep::bind::Binding b = sweep::bind::load_binding(s.check, mesh, rig);
+    const sweep::bind::Binding b = sweep::io::load_binding(s.check, mesh, rig);
     if (!s.quiet) {
       std::cout << s.check.string() << ": matches " << s.rig.string() << " and "
                 << mesh_path.string() << " (" << b.bound_count() << " of " << b.vertex_count
@@ -98,7 +98,7 @@ int run(const Settings& s) {
     return 0;
   }
 
-  const fs::path output = s.output.empty() ? sweep::bind::default_binding_path(s.rig) : s.output;
+  const fs::path output = s.output.empty() ? sweep::io::default_binding_path(s.rig) : s.output;
   sweep::io::check_paths({{"the rig", s.rig}, {"the mesh", mesh_path}},
                          {{"the binding", output}, {"--report", s.report}});
   // Every output is checked before any work, so a report that cannot be written does not leave a
@@ -116,7 +116,7 @@ int run(const Settings& s) {
   const Clock::time_point write_start = Clock::now();
   // The binding and its report go into place together, or neither.
   sweep::io::Publication outputs;
-  outputs.add(output, sweep::bind::binding_bytes(r.binding));
+  outputs.add(output, sweep::io::binding_bytes(r.binding));
   const double write_seconds = since(write_start);
   if (!s.report.empty()) {
     outputs.add(s.report, report_text(s, mesh_path, rig.mesh_name, output, r, load_seconds, write_seconds));
@@ -183,7 +183,7 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", s.quiet, "Print nothing on success");
     app.set_version_flag("--version", std::string("sweep-bind ") + SWEEP_VERSION +
                                           " (binding format " +
-                                          std::to_string(sweep::bind::kBindingFormatVersion) + ")");
+                                          std::to_string(sweep::io::kBindingFormatVersion) + ")");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);
     return run(s);

@@ -13,23 +13,23 @@
 #include <optional>
 #include <sstream>
 
-#include "assets/mesh_io.h"
+#include "sweep/assets/mesh_io.h"
 #include "common/cli_checks.h"
 #include "common/tool_main.h"
-#include "core/error.h"
-#include "core/limits.h"
-#include "core/text.h"
-#include "fit/discover.h"
-#include "fit/fit.h"
-#include "fit/hole_patches.h"
-#include "io/atomic_file.h"
-#include "io/interrupt.h"
-#include "io/path_checks.h"
-#include "io/read_file.h"
-#include "io/rig_json.h"
-#include "io/update_lock.h"
-#include "preview/png.h"
-#include "preview/render.h"
+#include "sweep/core/error.h"
+#include "sweep/core/limits.h"
+#include "sweep/core/text.h"
+#include "sweep/fit/discover.h"
+#include "sweep/fit/fit.h"
+#include "sweep/fit/hole_patches.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/interrupt.h"
+#include "sweep/io/path_checks.h"
+#include "sweep/io/read_file.h"
+#include "sweep/io/rig_json.h"
+#include "sweep/io/update_lock.h"
+#include "sweep/preview/png.h"
+#include "sweep/preview/render.h"
 #include "sweep-fit/report.h"
 
 namespace fs = std::filesystem;
@@ -40,7 +40,7 @@ using sweep::Vec3;
 namespace {
 
 struct Settings {
-  fs::path mesh;              // input mesh (any format io::read_mesh reads)
+  fs::path mesh;              // input mesh (any format assets::read_mesh reads)
   std::string mesh_name;      // --mesh: which mesh of the file ("" = the rig's, or the only or largest)
   std::string space = "world";  // --space: what --root, --tip and --axis are in (world, local)
   fs::path rig;               // rig file to create or update
@@ -255,7 +255,7 @@ sweep::fit::FitOptions fit_options(const Settings& s) {
 
 // The mesh read, and what the report and -v say about it.
 struct ReadMesh {
-  sweep::io::SceneMesh read;
+  sweep::assets::SceneMesh read;
   sweep::fit_tool::MeshSummary summary;
   const sweep::Mesh& mesh() const { return read.mesh; }
 };
@@ -266,9 +266,9 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
   const bool rigs = updating && rig != nullptr;
   const std::string name = !s.mesh_name.empty() ? s.mesh_name : rigs ? rig->mesh_name : "";
   ReadMesh m;
-  m.read = sweep::io::read_scene_mesh(s.mesh, name,
-                                      rigs ? sweep::io::MeshPick::whole_file : sweep::io::MeshPick::only_or_largest);
-  sweep::io::validate_mesh(m.read.mesh, s.mesh.string());
+  m.read = sweep::assets::read_scene_mesh(s.mesh, name,
+                                      rigs ? sweep::assets::MeshPick::whole_file : sweep::assets::MeshPick::only_or_largest);
+  sweep::assets::validate_mesh(m.read.mesh, s.mesh.string());
   std::string taken;
   if (!s.mesh_name.empty()) taken = "named by --mesh";
   else if (rigs && !name.empty()) taken = "the rig's mesh";
@@ -416,7 +416,7 @@ int run_one(const Settings& s) {
       fail(ErrorCategory::usage,
            "--space local: " + s.rig.string() + " names no mesh, so it reads the whole of " +
                s.mesh.string() + " in world space (" +
-               sweep::io::list_scene_meshes(mesh.read.meshes) +
+               sweep::assets::list_scene_meshes(mesh.read.meshes) +
                "); give the points in world space, or fit into a new rig with --mesh NAME");
     }
     // The points are in the mesh's own space: its node's world transform takes them to the world

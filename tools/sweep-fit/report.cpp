@@ -4,10 +4,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "core/rig.h"
-#include "core/text.h"
-#include "fit/hole_patches.h"
-#include "io/atomic_file.h"
+#include "sweep/core/rig.h"
+#include "sweep/core/text.h"
+#include "sweep/fit/hole_patches.h"
+#include "sweep/io/atomic_file.h"
 
 namespace sweep::fit_tool {
 namespace {
@@ -102,7 +102,7 @@ std::string unit_plural(double cm) {
 
 }  // namespace
 
-MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMesh& read, const std::string& taken) {
+MeshSummary summarize_mesh(const std::filesystem::path& path, const assets::SceneMesh& read, const std::string& taken) {
   const Mesh& mesh = read.mesh;
   MeshSummary m;
   m.vertices = mesh.vertex_count();
@@ -154,7 +154,7 @@ void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m)
               << (m.name.empty() ? " (none here: the file's coordinates are the mesh's own)" : "") << "\n";
   }
   if (m.meshes.size() > 1) {
-    std::cout << "  the file's meshes (--mesh NAME takes one): " << io::list_scene_meshes(m.meshes) << "\n";
+    std::cout << "  the file's meshes (--mesh NAME takes one): " << assets::list_scene_meshes(m.meshes) << "\n";
   } else if (m.name.empty() && !m.taken.empty()) {
     std::cout << "  " << m.taken << "\n";
   }
@@ -162,13 +162,13 @@ void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m)
 
 std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummary& m) {
   if (m.meshes.size() < 2 || m.taken != "the largest") return "";
-  std::vector<io::SceneMeshEntry> others;
-  for (const io::SceneMeshEntry& e : m.meshes) {
+  std::vector<assets::SceneMeshEntry> others;
+  for (const assets::SceneMeshEntry& e : m.meshes) {
     if (e.name != m.name) others.push_back(e);
   }
   return path.string() + " holds " + std::to_string(m.meshes.size()) + " meshes; took '" + m.name + "' (" +
          std::to_string(m.vertices) + " vertices, the largest; --mesh NAME takes another); the others: " +
-         io::list_scene_meshes(others);
+         assets::list_scene_meshes(others);
 }
 
 std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary& summary,
@@ -187,7 +187,7 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
                          {"taken", summary.taken},
                          {"seeds_space", summary.seeds_local ? "local" : "world"}};
   Json meshes = Json::array();
-  for (const io::SceneMeshEntry& e : summary.meshes) {
+  for (const assets::SceneMeshEntry& e : summary.meshes) {
     meshes.push_back({{"name", e.name}, {"mesh_name", e.mesh_name}, {"vertices", e.vertex_count}});
   }
   rep["mesh_summary"]["meshes"] = std::move(meshes);

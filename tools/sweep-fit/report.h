@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "assets/mesh_io.h"
-#include "core/error.h"
-#include "fit/discover.h"
-#include "fit/fit.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/error.h"
+#include "sweep/fit/discover.h"
+#include "sweep/fit/fit.h"
 
 namespace sweep::fit_tool {
 
@@ -24,12 +24,12 @@ struct MeshSummary {
   std::string space;  // how the file's coordinates became the mesh's
   std::string name;   // the mesh taken ("" = the whole file, or a format of one nameless mesh)
   std::string taken;  // why: "named by --mesh", "the rig's", "the only one", "the largest", "the whole file"
-  std::vector<io::SceneMeshEntry> meshes;  // all the file's meshes (empty: a format without names)
-  io::MeshUnit unit;        // the unit the file states (FBX UnitScaleFactor), applied by nothing
+  std::vector<assets::SceneMeshEntry> meshes;  // all the file's meshes (empty: a format without names)
+  assets::MeshUnit unit;        // the unit the file states (FBX UnitScaleFactor), applied by nothing
   double metres_per_unit = 0;  // what that unit is in metres (0: the file states none)
   bool seeds_local = false;    // --space local: --root, --tip and --axis in the mesh's own space
 };
-MeshSummary summarize_mesh(const std::filesystem::path& path, const io::SceneMesh& read, const std::string& taken);
+MeshSummary summarize_mesh(const std::filesystem::path& path, const assets::SceneMesh& read, const std::string& taken);
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m);
 // "FILE holds N meshes; took 'X' (V vertices, the largest) ..." for a note on stderr, or "" when
 // the file holds one mesh or the mesh was named.

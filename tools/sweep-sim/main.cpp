@@ -15,22 +15,22 @@
 #include <string>
 #include <vector>
 
-#include "assets/bake.h"
-#include "assets/bake_run.h"
-#include "assets/gltf_motion.h"
-#include "assets/gltf_skin.h"
-#include "assets/skinned_clip.h"
-#include "assets/mesh_io.h"
-#include "core/limits.h"
-#include "core/text.h"
-#include "io/atomic_file.h"
-#include "io/binding_file.h"
-#include "io/interrupt.h"
-#include "io/path_checks.h"
-#include "io/rig_json.h"
-#include "io/scene_json.h"
-#include "sim/contact.h"
-#include "sim/scene.h"
+#include "sweep/assets/bake.h"
+#include "sweep/assets/bake_run.h"
+#include "sweep/assets/gltf_motion.h"
+#include "sweep/assets/gltf_skin.h"
+#include "sweep/assets/skinned_clip.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/limits.h"
+#include "sweep/core/text.h"
+#include "sweep/io/atomic_file.h"
+#include "sweep/io/binding_file.h"
+#include "sweep/io/interrupt.h"
+#include "sweep/io/path_checks.h"
+#include "sweep/io/rig_json.h"
+#include "sweep/io/scene_json.h"
+#include "sweep/sim/contact.h"
+#include "sweep/sim/scene.h"
 #include "tools/common/body_proxy.h"
 #include "tools/common/cli_checks.h"
 #include "tools/common/tool_main.h"
@@ -61,7 +61,7 @@ struct Settings {
   int joints = 0;                      // --joints: skinned .glb with this many joints a sweep; 0 = morph targets
   bool joints_given = false;
   std::string joints_text;             // --joints as given: "" alone (the default, see run)
-  int ring_joints = sweep::io::kDefaultRingJoints;  // --ring-joints: ring joints a station (1: none)
+  int ring_joints = sweep::assets::kDefaultRingJoints;  // --ring-joints: ring joints a station (1: none)
   bool ring_fit = false;                            // --ring-fit: least-squares ring keys
 };
 
@@ -81,7 +81,7 @@ double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, double load_seconds,
+std::string report_text(const Settings& s, const sweep::assets::BakeReport& r, double load_seconds,
                         double total_seconds) {
   nlohmann::ordered_json doc;
   doc["format"] = "sweep-sim-report";
@@ -111,7 +111,7 @@ std::string report_text(const Settings& s, const sweep::sim::BakeReport& r, doub
   }
   doc["per_frame"] = std::move(frames);
   // The bake's quality figure: the largest deformed / rest length of any edge in any frame.
-  const sweep::sim::EdgeStretch& worst = r.max_stretch;
+  const sweep::assets::EdgeStretch& worst = r.max_stretch;
   doc["max_edge_stretch"] = {
       {"ratio", worst.ratio},
       {"edge", worst.found ? nlohmann::ordered_json::array({worst.a, worst.b}) : nlohmann::ordered_json()},
@@ -147,7 +147,7 @@ int run(Settings s) {
   const Clock::time_point start = Clock::now();
   if (s.threads > 0) omp_set_num_threads(s.threads);
   if (s.joints_given) {  // the ranges, before any work
-    sweep::io::check_skin_joints({.stations = s.joints, .ring = s.ring_joints}, {}, 1);
+    sweep::assets::check_skin_joints({.stations = s.joints, .ring = s.ring_joints}, {}, 1);
   }
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   if (s.joints_given && s.joints_text.empty()) {
@@ -156,31 +156,31 @@ int run(Settings s) {
     // refused past a sweep's stations.
     const sweep::SweepDef* fewest = nullptr;
     for (const sweep::SweepDef& def : rig.sweeps) {
-      const int stations = sweep::io::skin_stations(def.rest, s.stations);
+      const int stations = sweep::assets::skin_stations(def.rest, s.stations);
       if (stations < s.joints) {
-        s.joints = std::max(sweep::io::kMinSkinJoints, stations);
+        s.joints = std::max(sweep::assets::kMinSkinJoints, stations);
         fewest = &def;
       }
     }
     if (fewest != nullptr) {
       sweep::io::note("--joints: " + std::to_string(s.joints) + " joints a sweep, not " +
-                      std::to_string(sweep::io::kDefaultSkinJoints) + ": sweep \"" + fewest->name +
+                      std::to_string(sweep::assets::kDefaultSkinJoints) + ": sweep \"" + fewest->name +
                       "\" has " + std::to_string(s.joints) + " stations");
     }
   }
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
   // The rig's mesh of that file (the whole file for a rig that names none).
-  const sweep::io::SceneMesh read = sweep::io::read_scene_mesh(mesh_path, rig.mesh_name, sweep::io::MeshPick::whole_file);
+  const sweep::assets::SceneMesh read = sweep::assets::read_scene_mesh(mesh_path, rig.mesh_name, sweep::assets::MeshPick::whole_file);
   const sweep::Mesh& mesh = read.mesh;
   const fs::path binding_path =
-      s.binding.empty() ? sweep::bind::default_binding_path(s.rig) : s.binding;
-  const sweep::bind::Binding binding = sweep::bind::load_binding(binding_path, mesh, rig);
+      s.binding.empty() ? sweep::io::default_binding_path(s.rig) : s.binding;
+  const sweep::bind::Binding binding = sweep::io::load_binding(binding_path, mesh, rig);
   sweep::sim::Scene scene =
-      sweep::sim::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
+      sweep::io::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
   // A skinned mesh plays its clip (assets/skinned_clip.h); any other follows one node rigidly.
-  std::optional<sweep::io::SkinnedClip> skinned;
+  std::optional<sweep::assets::SkinnedClip> skinned;
   if (!scene.body_node.empty()) {
-    if (auto model = sweep::io::read_gltf_skin(mesh_path, mesh.positions, read.to_world)) {
+    if (auto model = sweep::assets::read_gltf_skin(mesh_path, mesh.positions, read.to_world)) {
       skinned.emplace(mesh_path, std::move(*model), read.to_world, rig, binding, scene.body_node, scene.body_animation,
                       scene.body_loop, scene.body_preroll, scene.fps);
       for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
@@ -191,7 +191,7 @@ int run(Settings s) {
       if (scene.body_loop || scene.body_preroll > 0)
         sweep::fail(sweep::ErrorCategory::bad_input,
                     mesh_path.string() + ": the scene's body \"loop\" and \"preroll\" play a skinned mesh's clip, and this mesh is not skinned");
-      scene.body = sweep::io::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
+      scene.body = sweep::assets::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
     }
   }
   if (scene.body_collider.spheres > 0) {
@@ -227,7 +227,7 @@ int run(Settings s) {
   // No output may be an input or another output (an .obj sequence: each frame's file).
   std::vector<sweep::io::NamedPath> outputs;
   for (const fs::path& out : s.outputs) {
-    for (const fs::path& f : sweep::io::bake_files(out, scene.frame_count())) {
+    for (const fs::path& f : sweep::assets::bake_files(out, scene.frame_count())) {
       outputs.push_back({"-o", f});
     }
   }
@@ -246,7 +246,7 @@ int run(Settings s) {
   sweep::io::declare_outputs(declared);
   const double load_seconds = since(start);
 
-  sweep::sim::BakeOptions options;
+  sweep::assets::BakeOptions options;
   options.outputs = s.outputs;
   options.source = {mesh_path, read.name, read.parts, read.to_world};
   options.exact = s.exact;
@@ -264,7 +264,7 @@ int run(Settings s) {
   options.publication = &publication;
   options.max_output_bytes = s.max_output_bytes;
   options.warn = sweep::tools::warn;
-  const sweep::sim::BakeReport report = sweep::sim::run_bake(mesh, rig, binding, scene, options);
+  const sweep::assets::BakeReport report = sweep::assets::run_bake(mesh, rig, binding, scene, options);
   bar.finish();
   const double total = since(start);
   if (!s.report.empty()) publication.add(s.report, report_text(s, report, load_seconds, total));
@@ -307,7 +307,7 @@ int run(Settings s) {
     }
     // One line an output: an .obj sequence as its pattern and count, not a line a frame.
     for (const fs::path& out : s.outputs) {
-      const std::vector<fs::path> files = sweep::io::bake_files(out, report.frames);
+      const std::vector<fs::path> files = sweep::assets::bake_files(out, report.frames);
       if (files.size() == 1) {
         std::cout << "wrote " << files[0].string() << "\n";
       } else {
@@ -372,16 +372,16 @@ int main(int argc, char** argv) {
                            "Write each .glb as a skinned mesh instead of morph targets: N joints along "
                            "each sweep (2 to 255, at most the sweep's stations; --joints alone, last or "
                            "before another option: " +
-                               std::to_string(sweep::io::kDefaultSkinJoints) +
+                               std::to_string(sweep::assets::kDefaultSkinJoints) +
                                " or the fewest stations of any sweep where that is fewer, with --ring-joints " +
-                               std::to_string(sweep::io::kDefaultRingJoints) +
+                               std::to_string(sweep::assets::kDefaultRingJoints) +
                                " by default, within 1 % of the length on the demo's scene); the summary "
                                "and report give its error against the bake")
                        ->expected(0, 1);
     app.add_option("--ring-joints", s.ring_joints,
                    "With --joints: M joints around each station but the root, carrying the radial "
                    "change at their angles (1 to 64; 1: none, each station joint scales its whole "
-                   "section; default " + std::to_string(sweep::io::kDefaultRingJoints) + ")")
+                   "section; default " + std::to_string(sweep::assets::kDefaultRingJoints) + ")")
         ->needs(joints);
     app.add_flag("--ring-fit", s.ring_fit,
                  "With --joints: fit the ring joints' keys by least squares over the vertices they "
@@ -404,7 +404,7 @@ int main(int argc, char** argv) {
       s.max_output_bytes = *sweep::tools::read_byte_size(s.max_output_text, why);
     }
     s.joints_given = joints->count() > 0;
-    s.joints = sweep::io::kDefaultSkinJoints;
+    s.joints = sweep::assets::kDefaultSkinJoints;
     if (s.joints_given && !s.joints_text.empty()) s.joints = whole_number(s.joints_text, "--joints");
     return run(s);
   });

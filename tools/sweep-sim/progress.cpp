@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "io/interrupt.h"
+#include "sweep/io/interrupt.h"
 
 namespace sweep::tools {
 

@@ -5,7 +5,7 @@
 #include <iostream>
 #include <string>
 
-#include "assets/mesh_io.h"
+#include "sweep/assets/mesh_io.h"
 #include "tools/common/tool_main.h"
 #include "tube.h"
 
@@ -18,12 +18,12 @@ struct Settings {
 };
 
 int run(const Settings& settings) {
-  if (!sweep::io::is_writable_mesh_extension(settings.output)) {
+  if (!sweep::assets::is_writable_mesh_extension(settings.output)) {
     sweep::fail(sweep::ErrorCategory::usage, "--output " + settings.output.string() +
                                                  ": the extension must be .obj, .off or .ply");
   }
   const sweep::Mesh mesh = sweep::tube::make_tube(settings.tube);
-  sweep::io::write_mesh(settings.output, mesh);
+  sweep::assets::write_mesh(settings.output, mesh);
   if (!settings.quiet) {
     std::cout << settings.output.string() << ": " << mesh.vertex_count() << " vertices, "
               << mesh.face_count() << " faces\n";

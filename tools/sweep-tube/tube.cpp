@@ -5,7 +5,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/error.h"
+#include "sweep/core/error.h"
 
 namespace sweep::tube {
 namespace {

@@ -30,7 +30,7 @@
 //    with triangulate each quad (a b c d) becomes (a b c) and (a c d).
 #include <cstddef>
 
-#include "core/mesh.h"
+#include "sweep/core/mesh.h"
 
 namespace sweep::tube {
 
