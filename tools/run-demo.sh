@@ -72,7 +72,7 @@ if [ -z "${MESH:-}" ]; then
     --material rigs/diplodocus-neck.material.json --report "$walk_demo.fit-neck.json"
   "$bin/sweep-bind/sweep-bind" "$walk_demo.rig.json" --blend 0.02 -q
   "$bin/sweep-sim/sweep-sim" "$walk_demo.rig.json" --scene rigs/diplodocus-walk.scene.json \
-    -o "$walk_demo.pc2" -o "$walk_demo.obj" --report "$walk_demo.sim.json"
+    -o "$walk_demo.pc2" -o "$walk_demo.glb" --report "$walk_demo.sim.json"
   preview "$walk_demo.pc2" -o "$walk_demo.png" --report "$walk_demo.sim.json" --reference "$walk_demo.keyed.pc2" --frames 9 --dpi 90
 fi
 
@@ -90,6 +90,7 @@ if [ -n "$material_demo" ]; then
   cat <<MSG
 Material mode with gravity (the second demo): $material_demo.glb $material_demo.pc2 $material_demo.png
 The rigged diplodocus walking (the third): $out-skinned.glb (the rigged input: open it in Blender or an
-  engine) and its bake $walk_demo.pc2, ${walk_demo}_NNNN.obj, $walk_demo.png
+  engine) and its bake $walk_demo.glb (the same character whole, its parts' motion under the skin: play
+  its "sweep bake" animation), $walk_demo.pc2, $walk_demo.png
 MSG
 fi

@@ -33,8 +33,13 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 # matrix and inverse dynamics run sanitized in ChainDynamics.MassMatrixAtRest…. The fused-tube fit
 # (FusedTubes.ACurledTubeWithATusk…, 77 s) repeats fit code the other FusedTubes and Shapes tests
 # sanitize; Contact.ATubeLyingAlongASlopeOrASoftOne… (63 s) the lying-tube contact that
-# Contact.ATubeLyingAlongTheFloorFromItsRootStaysOnIt runs sanitized.
-exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody|Tool\.AllFitsEveryPartIntoOneRigUnderTheNamesGiven|Tool\.RootOnTheTailsUpperSurfaceFitsTheWholeTail|^ContactFriction\.|Contact\.ASoftTubeLyingOnAFrictionalSlopeStaysOnIt|Contact\.ATubeLyingOnAFrictionalSlope|Contact\.ACoarseStepIsCutIntoContactSteps|ChainDynamics\.(AnUndamped|AReleased|AWhipped|ASoftPart|ASwing|SettledShapes)|FusedTubes\.ACurledTubeWithATusk|Contact\.ATubeLyingAlongASlopeOrASoftOne'
+# Contact.ATubeLyingAlongTheFloorFromItsRootStaysOnIt runs sanitized. Left out for the CI budget
+# too (seconds under ASan, measured on a fresh clone): Tool.AllNames… (20 s and 17 s; --all runs
+# sanitized in Tool.AnOpenMesh…), BodyProxy.SpheresLieInsideABodyAndFillIt (22 s; the sphere fit
+# runs in BodyProxy.NoSphereCutsATailsRestSurface), Contact.AFastSwingNeverEndsAFrameThroughAThinPlate
+# (17 s; the swept contact runs in Contact.AFastBodyCannotCarryAPartThroughAWorldCollider) and
+# Shapes.TaperToAPoint (11 s; the other Shapes.* tests run the same fit).
+exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody|Tool\.AllFitsEveryPartIntoOneRigUnderTheNamesGiven|Tool\.RootOnTheTailsUpperSurfaceFitsTheWholeTail|^ContactFriction\.|Contact\.ASoftTubeLyingOnAFrictionalSlopeStaysOnIt|Contact\.ATubeLyingOnAFrictionalSlope|Contact\.ACoarseStepIsCutIntoContactSteps|ChainDynamics\.(AnUndamped|AReleased|AWhipped|ASoftPart|ASwing|SettledShapes)|FusedTubes\.ACurledTubeWithATusk|Contact\.ATubeLyingAlongASlopeOrASoftOne|Tool\.AllNames|BodyProxy\.SpheresLieInsideABodyAndFillIt|Contact\.AFastSwingNeverEndsAFrameThroughAThinPlate|Shapes\.TaperToAPoint'
 filter=(-E "$exclude")
 if [ "${1:-}" = "--all" ]; then
   filter=()

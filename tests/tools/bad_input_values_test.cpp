@@ -1,14 +1,20 @@
 // The bad-input matrix (bad_input_test.cpp's test), on what the earlier rounds let through: option
 // values that were empty, NaN, zero, negative or past 64 bits; glTF files that crashed, hung or
 // were blamed on the wrong thing; OBJ and MTL values that put NaN or an out-of-range index into a
-// .glb; outputs that are not files. Each is refused with the documented exit code and a message
+// .glb; outputs that are not files; and every numeric option of each tool's --help given values no
+// number can be (the matrix generated from the help text). Each is refused with the documented exit code and a message
 // naming the place, nothing written, the inputs untouched; what a tool should take, it takes.
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
-#include <sstream>
 #include <cstring>
+#include <functional>
+#include <regex>
+#include <sstream>
 #include <string>
+#include <utility>
 
 #include "bad_input_case.h"
 
@@ -131,6 +137,72 @@ std::vector<Case> option_cases() {
        [](const Workspace& ws) { return sim_tube(ws, " --max-output-size 18446744073709552G"); }, 1,
        {"--max-output-size", "is too large: 18446744073709552G is beyond 2^64 - 1 bytes"}},
   };
+}
+
+// Every numeric option each tool's --help lists (its value typed INT, FLOAT or SIZE), given each
+// value no number can be: generated from the help text, so a new option joins the matrix by being
+// added. Each run is otherwise valid, so the refusal can only be the value's, and it must name the
+// option.
+std::string help_text(const char* exe) {
+  std::string text;
+  FILE* pipe = popen((std::string("'") + exe + "' --help 2>/dev/null").c_str(), "r");
+  if (pipe == nullptr) return text;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) text += buffer;
+  pclose(pipe);
+  return text;
+}
+
+std::vector<std::string> numeric_options(const char* exe) {
+  std::vector<std::string> options;
+  std::istringstream lines(help_text(exe));
+  const std::regex typed(R"(^\s+(?:-\w,)?(--[a-z][a-z0-9-]*) (?:INT|FLOAT|UINT|TEXT:SIZE)\b)");
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, typed)) options.push_back(m[1]);
+  }
+  return options;
+}
+
+std::vector<Case> numeric_option_cases() {
+  struct Tool {
+    const char* exe;
+    const char* tag;
+    std::function<std::string(const Workspace&, const std::string&)> args;
+  };
+  const Tool tools[] = {
+      {SWEEP_FIT_EXE, "Fit", [](const Workspace& ws, const std::string& o) { return fit_tube(ws, " --tip 0,0,1" + o); }},
+      {SWEEP_BIND_EXE, "Bind",
+       [](const Workspace& ws, const std::string& o) { return quoted(ws / "rig.json") + " -q -o " + quoted(ws / "b.bind") + o; }},
+      {SWEEP_SIM_EXE, "Sim", [](const Workspace& ws, const std::string& o) { return sim_tube(ws, o); }},
+  };
+  const std::pair<const char*, const char*> values[] = {
+      {"Nan", "nan"}, {"Inf", "inf"}, {"MinusInf", "-inf"}, {"Word", "abc"}, {"Empty", "''"}, {"PastDouble", "1e999"}};
+  std::vector<Case> cases;
+  for (const Tool& tool : tools) {
+    for (const std::string& option : numeric_options(tool.exe)) {
+      std::string id;
+      for (const char c : option.substr(2)) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+      for (const auto& [tag, value] : values) {
+        const std::string extra = " " + option + "=" + value;
+        const auto args = tool.args;
+        cases.push_back({std::string(tool.tag) + "_Every_" + id + "_" + tag, tool.exe,
+                         [args, extra](const Workspace& ws) { return args(ws, extra); }, 1, {option}});
+      }
+    }
+  }
+  return cases;
+}
+
+// The generator itself: it must find the numeric options the tools are known to have.
+TEST(OptionMatrix, FindsTheNumericOptionsInEachToolsHelp) {
+  const auto has = [](const std::vector<std::string>& v, const char* o) { return std::find(v.begin(), v.end(), o) != v.end(); };
+  const auto fit = numeric_options(SWEEP_FIT_EXE), sim = numeric_options(SWEEP_SIM_EXE),
+             bind = numeric_options(SWEEP_BIND_EXE);
+  EXPECT_TRUE(has(fit, "--sections") && has(fit, "--radial") && has(fit, "--tolerance"));
+  EXPECT_TRUE(has(bind, "--blend"));
+  EXPECT_TRUE(has(sim, "--step") && has(sim, "--substeps") && has(sim, "--threads") && has(sim, "--stations") &&
+              has(sim, "--max-output-size"));
 }
 
 std::vector<Case> gltf_cases() {
@@ -257,6 +329,7 @@ TEST(FitSeeds, ATipFarAwayIsSaidHowFar) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Options, BadInput, testing::ValuesIn(option_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(NumericOptions, BadInput, testing::ValuesIn(numeric_option_cases()), case_name);
 INSTANTIATE_TEST_SUITE_P(Gltf, BadInput, testing::ValuesIn(gltf_cases()), case_name);
 INSTANTIATE_TEST_SUITE_P(ObjSurface, BadInput, testing::ValuesIn(obj_cases()), case_name);
 
