@@ -133,16 +133,21 @@ Pc2 read_pc2(const fs::path& path) {
 
 // The creature's rig (the tail as the binding tests' hand-made straight sweep) and its binding.
 struct Creature {
-  fs::path rig, binding;
+  fs::path rig, binding, gltf;
   Mesh mesh;
   Rig rig_data;
   bind::Binding bound;
 };
 Creature creature(const std::string& name, double spring_hz = 0) {
   Creature c;
-  c.rig = scratch(name + ".rig.json");
-  c.binding = scratch(name + ".bind");
-  fs::copy_file(fixture(), scratch("skinned_tail.gltf"), fs::copy_options::overwrite_existing);
+  // Each creature in a folder of its own: ctest runs this file's tests as parallel processes, and a
+  // fixture copied over the one another test is reading tears it.
+  const fs::path dir = scratch(name);
+  fs::create_directories(dir);
+  c.rig = dir / "rig.json";
+  c.binding = dir / "rig.bind";
+  c.gltf = dir / "skinned_tail.gltf";
+  fs::copy_file(fixture(), c.gltf, fs::copy_options::overwrite_existing);
   c.rig_data = rig_of({straight_sweep("tail", false)}, "skinned_tail.gltf");
   if (spring_hz > 0) {  // every spring of every section this stiff, critically damped
     SweepDef& def = c.rig_data.sweeps[0];
@@ -151,7 +156,7 @@ Creature creature(const std::string& name, double spring_hz = 0) {
     def.springs.assign(def.rest.frames.size(), def.default_springs);
   }
   io::write_rig(c.rig, c.rig_data);
-  c.mesh = assets::read_mesh(scratch("skinned_tail.gltf"));
+  c.mesh = assets::read_mesh(c.gltf);
   EXPECT_EQ(std::system((std::string(SWEEP_BIND_EXE) + " -q '" + c.rig.string() + "' -o '" + c.binding.string() + "'").c_str()), 0);
   c.bound = bind::bind(c.rig_data, c.mesh).binding;
   return c;
@@ -298,7 +303,7 @@ TEST(SkinnedClip, ALoopingBakeAfterAPrerollMeetsItsFirstFrame) {
 // What the file holds is listed when the scene asks for what it does not.
 TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
   const Creature c = creature("bad");
-  const auto model = assets::read_gltf_skin(scratch("skinned_tail.gltf"), c.mesh.positions, Eigen::Affine3d::Identity());
+  const auto model = assets::read_gltf_skin(c.gltf, c.mesh.positions, Eigen::Affine3d::Identity());
   ASSERT_TRUE(model);
   auto make = [&](const std::string& node, const std::string& clip) {
     assets::SkinnedClip(fixture(), *model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, node, clip, true, 0, 30);

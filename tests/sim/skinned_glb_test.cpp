@@ -31,8 +31,15 @@ namespace {
 using Json = nlohmann::json;
 using Mat4 = Eigen::Matrix4d;
 
+// A folder for the test process: ctest runs this file's tests as parallel processes, each writing
+// the same asset and bake, and one rewriting a file another reads tears it. Within a process the
+// tests share the folder (and the one bake they make).
 fs::path here(const std::string& name) {
-  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/sim/skinned_glb";
+  static const std::string process_folder = [] {
+    const testing::TestInfo* test = testing::UnitTest::GetInstance()->current_test_info();
+    return test != nullptr ? std::string(test->name()) : std::string("shared");
+  }();
+  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/sim/skinned_glb" / process_folder;
   fs::create_directories(dir);
   return dir / name;
 }
