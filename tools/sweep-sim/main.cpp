@@ -26,7 +26,7 @@
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/interrupt.h"
-#include "sweep/io/path_checks.h"
+#include "tools/common/path_checks.h"
 #include "sweep/io/rig_json.h"
 #include "sweep/io/scene_json.h"
 #include "sweep/sim/contact.h"
@@ -225,14 +225,14 @@ int run(Settings s) {
   }
   if (s.step > 0) scene.step = s.step;
   // No output may be an input or another output (an .obj sequence: each frame's file).
-  std::vector<sweep::io::NamedPath> outputs;
+  std::vector<sweep::tools::NamedPath> outputs;
   for (const fs::path& out : s.outputs) {
     for (const fs::path& f : sweep::assets::bake_files(out, scene.frame_count())) {
       outputs.push_back({"-o", f});
     }
   }
   if (!s.report.empty()) outputs.push_back({"--report", s.report});
-  sweep::io::check_paths({{"the rig", s.rig},
+  sweep::tools::check_paths({{"the rig", s.rig},
                           {"the mesh", mesh_path},
                           {"the binding", binding_path},
                           {"the scene", s.scene}},
