@@ -18,7 +18,7 @@
 #include "sweep/assets/bake.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/assets/gltf_motion.h"
-#include "sweep/assets/gltf_skin.h"
+#include "sweep/assets/assimp_skin.h"
 #include "sweep/assets/skinned_clip.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/limits.h"
@@ -180,7 +180,8 @@ int run(Settings s) {
   // A skinned mesh plays its clip (assets/skinned_clip.h); any other follows one node rigidly.
   std::optional<sweep::assets::SkinnedClip> skinned;
   if (!scene.body_node.empty()) {
-    if (auto model = sweep::assets::read_gltf_skin(mesh_path, mesh.positions, read.to_world)) {
+    if (auto model = sweep::assets::read_skin(mesh_path, mesh.positions, read.to_world)) {
+      for (const std::string& w : model->warnings) sweep::tools::warn(w);
       skinned.emplace(mesh_path, std::move(*model), read.to_world, rig, binding, scene.body_node, scene.body_animation,
                       scene.body_loop, scene.body_preroll, scene.fps);
       for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
