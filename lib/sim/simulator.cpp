@@ -542,113 +542,32 @@ bool Simulator::has_work(int i, double from, double to) const {
   return false;
 }
 
+// A span is cut into pieces at switching times; each piece is stepped in stages (simulator.h).
 void Simulator::advance_span(int i, bool on_view, double from, double to, bool grid_step) {
   SweepState& s = sweeps_[i];
   ElasticSweep& body = on_view ? s.view : s.body;
   std::vector<ForceId>& ids = on_view ? s.view_ids : s.ids;
   bool awake = s.awake;  // the view's waking is its own: the body wakes when it gets there
+  const auto wake = [&] {
+    awake = true;
+    if (!on_view) s.quiet = 0;
+  };
   if (grid_step) {
     s.touched = false;
   }
   bool stepped = false;
   double cur = from;
   while (cur < to) {
-    // The piece up to the next switching time: over it every force is either on or off.
-    double next = to;
-    for (std::size_t fi : s.forces) {
-      for (double sw : {scene_.forces[fi].start, scene_.forces[fi].end}) {
-        if (sw > cur && sw < next) next = sw;
-      }
-    }
-    // (A teleport feels no body loads: the corners inside it split nothing.)
-    for (double kink : kinks_) {
-      if (kink > cur && kink < next && !in_teleport(kink)) next = kink;
-    }
+    const double next = piece_end(s, cur, to);
     const bool teleporting = in_teleport(cur, next);
-    // The corner of a linear body path is a kick (pieces start at switching times, so a corner
-    // in [cur, next) is at cur); none inside a teleport, ends included (the part is at rest in
-    // the new place as at a scene's start, where the body's motion gives no kick either).
-    if (!teleporting) {
-      for (std::size_t k = 0; k < kinks_.size(); ++k) {
-        if (kinks_[k] >= cur && kinks_[k] < next && !in_teleport(kinks_[k])) {
-          Vec3 dv, dw;
-          scene_.body.jump_at(kink_keys_[k], dv, dw);
-          body.apply_body_kick(dv, dw);
-          awake = true;
-          if (!on_view) s.quiet = 0;
-        }
-      }
-    }
-    const double mid = cur + 0.5 * (next - cur);
-    for (std::size_t k = 0; k < s.forces.size(); ++k) {
-      const SceneForce& f = scene_.forces[s.forces[k]];
-      if (f.impulse()) {
-        // Pieces start at switching times, so an impulse in [cur, next) is at cur.
-        if (f.start >= cur && f.start < next) {
-          body.apply_impulse(f.spec);
-          awake = true;
-          if (!on_view) s.quiet = 0;
-        }
-        continue;
-      }
-      const bool active = f.start <= mid && mid < f.end;
-      if (active && ids[k] == 0) {
-        ids[k] = body.add_force(f.spec);
-        awake = true;
-        if (!on_view) s.quiet = 0;
-      } else if (!active && ids[k] != 0) {
-        body.remove_force(ids[k]);
-        ids[k] = 0;
-      }
-    }
-    if (!awake && !teleporting && (body_loads(cur, next) || collider_comes(i, cur, next))) {
-      awake = true;
-      if (!on_view) s.quiet = 0;
-    }
+    if (apply_kicks(body, cur, next, teleporting)) wake();
+    if (switch_forces(s, body, ids, cur, next)) wake();
+    if (!awake && !teleporting && (body_loads(cur, next) || collider_comes(i, cur, next))) wake();
     if (awake) {
       // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
       // bits, and a step of new length costs new step maps.
       const bool whole = grid_step && cur == from && next == to;
-      const double length = whole ? scene_.step_seconds() : next - cur;
-      const bool contacts = !scene_.colliders.empty();
-      const auto collider_time = [&](double t) { return teleporting ? std::max(t, teleport_to_) : t; };
-      // Within a collider's reach the step is cut into equal pieces no longer than contact_step,
-      // each met by the colliders (Scene::contact_step says why).
-      int pieces = 1;
-      bool placed_at_ends = false;  // s.placed at cur, s.placed_end at next
-      if (contacts && (length > scene_.contact_step * (1 + 1e-9) || scene_.body.moves())) {
-        place_colliders(collider_time(cur), s.placed);
-        place_colliders(collider_time(next), s.placed_end);
-        placed_at_ends = true;
-        if (s.contact.within_reach(body, s.placed, s.placed_end)) {
-          pieces = static_cast<int>(std::ceil(length / scene_.contact_step * (1 - 1e-9)));
-          // And a body keyed to move very fast: no collider moves farther than the part's thinnest
-          // section against it in a piece (ContactSolver::pieces_for_move).
-          const double by_move = s.contact.pieces_for_move(body, s.placed, s.placed_end);
-          if (by_move > 1) pieces = std::max(pieces, static_cast<int>(std::min(std::ceil(by_move), kMostPieces)));
-          if (by_move > kMostPieces) s.too_fast = std::max(s.too_fast, by_move);
-        }
-      }
-      const double piece = length / pieces;
-      for (int p = 0; p < pieces; ++p) {
-        const double a = cur + (next - cur) * p / pieces;
-        const bool last = p + 1 == pieces;
-        const double b = last ? next : cur + (next - cur) * (p + 1) / pieces;
-        set_body_motion(body, a + 0.5 * (b - a), teleporting);
-        if (contacts) {
-          if (p > 0 || !placed_at_ends) place_colliders(collider_time(a), s.placed);
-          s.contact.begin_step(body, s.placed);
-        }
-        body.step(piece);
-        if (contacts) {
-          if (last && placed_at_ends) {
-            std::swap(s.placed, s.placed_end);
-          } else {
-            place_colliders(collider_time(b), s.placed);
-          }
-          if (s.contact.resolve(body, s.placed, b - a) && !on_view) s.touched = true;
-        }
-      }
+      step_piece(s, body, on_view, cur, next, whole ? scene_.step_seconds() : next - cur, teleporting);
       stepped = true;
     }
     cur = next;
@@ -660,6 +579,112 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
   s.moved = true;
   if (!grid_step) return;
   ++s.steps;
+  settle(s, from, to);
+}
+
+double Simulator::piece_end(const SweepState& s, double cur, double to) const {
+  // The piece up to the next switching time: over it every force is either on or off.
+  double next = to;
+  for (std::size_t fi : s.forces) {
+    for (double sw : {scene_.forces[fi].start, scene_.forces[fi].end}) {
+      if (sw > cur && sw < next) next = sw;
+    }
+  }
+  // (A teleport feels no body loads: the corners inside it split nothing.)
+  for (double kink : kinks_) {
+    if (kink > cur && kink < next && !in_teleport(kink)) next = kink;
+  }
+  return next;
+}
+
+bool Simulator::apply_kicks(ElasticSweep& body, double cur, double next, bool teleporting) const {
+  // The corner of a linear body path is a kick (pieces start at switching times, so a corner
+  // in [cur, next) is at cur); none inside a teleport, ends included (the part is at rest in
+  // the new place as at a scene's start, where the body's motion gives no kick either).
+  if (teleporting) return false;
+  bool kicked = false;
+  for (std::size_t k = 0; k < kinks_.size(); ++k) {
+    if (kinks_[k] >= cur && kinks_[k] < next && !in_teleport(kinks_[k])) {
+      Vec3 dv, dw;
+      scene_.body.jump_at(kink_keys_[k], dv, dw);
+      body.apply_body_kick(dv, dw);
+      kicked = true;
+    }
+  }
+  return kicked;
+}
+
+bool Simulator::switch_forces(const SweepState& s, ElasticSweep& body, std::vector<ForceId>& ids, double cur,
+                              double next) const {
+  bool woke = false;
+  const double mid = cur + 0.5 * (next - cur);
+  for (std::size_t k = 0; k < s.forces.size(); ++k) {
+    const SceneForce& f = scene_.forces[s.forces[k]];
+    if (f.impulse()) {
+      // Pieces start at switching times, so an impulse in [cur, next) is at cur.
+      if (f.start >= cur && f.start < next) {
+        body.apply_impulse(f.spec);
+        woke = true;
+      }
+      continue;
+    }
+    const bool active = f.start <= mid && mid < f.end;
+    if (active && ids[k] == 0) {
+      ids[k] = body.add_force(f.spec);
+      woke = true;
+    } else if (!active && ids[k] != 0) {
+      body.remove_force(ids[k]);
+      ids[k] = 0;
+    }
+  }
+  return woke;
+}
+
+void Simulator::step_piece(SweepState& s, ElasticSweep& body, bool on_view, double cur, double next, double length,
+                           bool teleporting) {
+  const bool contacts = !scene_.colliders.empty();
+  const auto collider_time = [&](double t) { return teleporting ? std::max(t, teleport_to_) : t; };
+  // Within a collider's reach the step is cut into equal pieces no longer than contact_step,
+  // each met by the colliders (Scene::contact_step says why).
+  int pieces = 1;
+  bool placed_at_ends = false;  // s.placed at cur, s.placed_end at next
+  if (contacts && (length > scene_.contact_step * (1 + 1e-9) || scene_.body.moves())) {
+    place_colliders(collider_time(cur), s.placed);
+    place_colliders(collider_time(next), s.placed_end);
+    placed_at_ends = true;
+    if (s.contact.within_reach(body, s.placed, s.placed_end)) {
+      pieces = static_cast<int>(std::ceil(length / scene_.contact_step * (1 - 1e-9)));
+      // And a body keyed to move very fast: no collider moves farther than the part's thinnest
+      // section against it in a piece (ContactSolver::pieces_for_move).
+      const double by_move = s.contact.pieces_for_move(body, s.placed, s.placed_end);
+      if (by_move > 1) pieces = std::max(pieces, static_cast<int>(std::min(std::ceil(by_move), kMostPieces)));
+      if (by_move > kMostPieces) s.too_fast = std::max(s.too_fast, by_move);
+    }
+  }
+  const double piece = length / pieces;
+  for (int p = 0; p < pieces; ++p) {
+    const double a = cur + (next - cur) * p / pieces;
+    const bool last = p + 1 == pieces;
+    const double b = last ? next : cur + (next - cur) * (p + 1) / pieces;
+    set_body_motion(body, a + 0.5 * (b - a), teleporting);
+    if (contacts) {
+      if (p > 0 || !placed_at_ends) place_colliders(collider_time(a), s.placed);
+      s.contact.begin_step(body, s.placed);
+    }
+    body.step(piece);
+    if (contacts) {
+      if (last && placed_at_ends) {
+        std::swap(s.placed, s.placed_end);
+      } else {
+        place_colliders(collider_time(b), s.placed);
+      }
+      if (s.contact.resolve(body, s.placed, b - a) && !on_view) s.touched = true;
+    }
+  }
+}
+
+void Simulator::settle(SweepState& s, double from, double to) {
+  const ElasticSweep& body = s.body;
   if (!sleep_.enabled || body.force_count() > 0 || s.windy) return;
   if (body_loads(from, to)) return;
   bool quiet = body.max_speed() < sleep_.speed && body.max_displacement() < sleep_.displacement;

@@ -125,6 +125,19 @@ class Simulator {
   // Advances sweep i (its body, or its view) over [from, to], split at switching times; a step
   // of the internal clock when `grid_step` (sleep is decided there, and only there).
   void advance_span(int i, bool on_view, double from, double to, bool grid_step);
+  // Its stages, for one piece [cur, next) of the span:
+  // the piece's end: the next switching time (a force's start or end, a corner of the body's path);
+  double piece_end(const SweepState& s, double cur, double to) const;
+  // a corner of the body's path at the piece's start kicks the part (true: it did);
+  bool apply_kicks(ElasticSweep& body, double cur, double next, bool teleporting) const;
+  // impulses at the piece's start, forces switched on or off over it (true: one woke the part);
+  bool switch_forces(const SweepState& s, ElasticSweep& body, std::vector<ForceId>& ids, double cur,
+                     double next) const;
+  // the piece stepped (`length` long), cut where colliders are within reach, its contacts resolved;
+  void step_piece(SweepState& s, ElasticSweep& body, bool on_view, double cur, double next, double length,
+                  bool teleporting);
+  // after an internal step of the body: whether the part has fallen asleep.
+  void settle(SweepState& s, double from, double to);
   // Whether sweep i may move during [from, to): driven, and awake or with a force in that time.
   bool has_work(int i, double from, double to) const;
   // Whether a world collider, moving against the moving body, may reach sweep i over [from, to].
