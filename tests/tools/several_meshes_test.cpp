@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -247,6 +248,74 @@ TEST(SeveralMeshes, TheRigNamesItsMeshesInTheFilesOrderAndABakeMovesOnlyTheLegs)
   }
   EXPECT_GE(morphed, 1) << "the pushed leg's mesh has targets";
   EXPECT_LT(worst, 1e-6) << "morphed positions against the .pc2 (the walker is 3 units across: float precision)";
+  int code = -1;
+  const std::string report = validate(work / "baked.glb", &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+}
+
+// A moving body carries every mesh of the rig: in the .glb each of the three nodes gets the body's
+// keys (the still body no morph weights), and node transform · (POSITION + target) at each frame's
+// keys is the .pc2's frame, the body's vertices included.
+TEST(SeveralMeshes, AMovingBodyCarriesEveryMeshOfTheRigInTheGlb) {
+  const fs::path top = scratch_dir("several-meshes-body");
+  const fs::path work = top / "work", io = top / "io";
+  fs::create_directories(io);
+  fs::copy(legs_pipeline(), work, fs::copy_options::recursive);
+  const LegsAsset a = legs_asset();
+  const Json rig = Json::parse(slurp(work / "rig.json"));
+  spit(work / "scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 0.5, "fps": 10,
+    "body": {"interpolation": "linear", "keys": [{"time": 0, "translation": [0, 0, 0]},
+                                                 {"time": 0.5, "translation": [1, 0, 0.5], "turn_degrees": 40}]},
+    "forces": [{"sweep": ")" + rig["sweeps"][1]["name"].get<std::string>() +
+                                R"(", "t": 1, "theta": 0, "vector": [30, 0, 0], "start": 0, "end": 0.2}]})");
+  const ToolRun bake = run_tool(SWEEP_SIM_EXE, quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") +
+                                                   " -q -o " + quoted(work / "legs.pc2") + " -o " + quoted(work / "baked.glb"), io);
+  ASSERT_EQ(bake.code, 0) << bake.err;
+  const std::string pc2 = slurp(work / "legs.pc2");
+  const Glb out = read_glb(work / "baked.glb");
+  const Json& animation = out.json["animations"].back();
+  ASSERT_EQ(animation["name"], "sweep bake");
+  // node → path → its keys' values
+  std::map<std::size_t, std::map<std::string, std::vector<float>>> keys;
+  for (const Json& c : animation["channels"]) {
+    const std::string path = c["target"]["path"];
+    if (path == "weights") continue;
+    const Json& sampler = animation["samplers"][c["sampler"].get<std::size_t>()];
+    keys[c["target"]["node"]][path] = floats(out.json, out.bin, sampler["output"], path == "rotation" ? 4 : 3);
+  }
+  ASSERT_EQ(keys.size(), 3u) << "every mesh's node follows the body";
+  double worst = 0, carried = 0;
+  std::size_t base = 0;
+  for (std::size_t m = 0; m < 3; ++m) {
+    const Piece& piece = a.pieces[m];
+    const Json& prim = out.json["meshes"][m]["primitives"][0];
+    const std::vector<float>& t = keys[m]["translation"];
+    const std::vector<float>& r = keys[m]["rotation"];
+    for (int k = 0; k < 6; ++k) {
+      int points = 0;
+      const std::vector<float> f = pc2_frame(pc2, k, &points);
+      const std::vector<float> d = prim.contains("targets") ? floats(out.json, out.bin, prim["targets"][k]["POSITION"], 3)
+                                                            : std::vector<float>(piece.local.size(), 0.0f);
+      const Eigen::Quaterniond q(r[4 * k + 3], r[4 * k], r[4 * k + 1], r[4 * k + 2]);
+      const Vec3 shift(t[3 * k], t[3 * k + 1], t[3 * k + 2]);
+      for (std::size_t i = 0; i < piece.vertices(); ++i) {
+        const Vec3 local(piece.local[3 * i] + d[3 * i], piece.local[3 * i + 1] + d[3 * i + 1], piece.local[3 * i + 2] + d[3 * i + 2]);
+        const Vec3 want(f[3 * (base + i)], f[3 * (base + i) + 1], f[3 * (base + i) + 2]);
+        worst = std::max(worst, (q * local + shift - want).norm());
+        carried = std::max(carried, (want - piece.world(i)).norm());
+      }
+    }
+    base += piece.vertices();
+  }
+  EXPECT_GT(carried, 0.5) << "the body moved the meshes";
+  EXPECT_LT(worst, 1e-5) << "the .glb's nodes and targets against the .pc2";
+  EXPECT_FALSE(out.json["meshes"][0]["primitives"][0].contains("targets"));
+  for (const Json& c : animation["channels"]) {
+    if (c["target"]["path"] == "weights") {
+      EXPECT_NE(c["target"]["node"], 0) << "no weights on the body, which has no targets";
+    }
+  }
   int code = -1;
   const std::string report = validate(work / "baked.glb", &code);
   EXPECT_EQ(code, 0) << report;
