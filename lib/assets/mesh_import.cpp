@@ -353,18 +353,18 @@ std::optional<long long> metadata_integer(const aiScene* scene, const char* key)
 
 // A Collada file's <asset><up_axis> (X_UP, Y_UP or Z_UP), from its text; "" when it has none.
 std::string collada_up_axis(const fs::path& path) {
-  std::string head = read_file(path);
-  const std::size_t open = head.find("<up_axis>");
+  const std::string text = read_file(path);
+  const std::size_t open = text.find("<up_axis>");
   if (open == std::string::npos) return "";
-  const std::size_t begin = open + 9, close = head.find("</up_axis>", begin);
+  const std::size_t begin = open + 9, close = text.find("</up_axis>", begin);
   if (close == std::string::npos || close - begin > 64) return "";
-  std::string axis = head.substr(begin, close - begin);
+  std::string axis = text.substr(begin, close - begin);
   std::erase_if(axis, [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; });
   return axis == "X_UP" || axis == "Y_UP" || axis == "Z_UP" ? axis : "";
 }
 
-// The file's up direction in world space (mesh_io.h: FileUp). `root` is the scene's root transform,
-// which holds the reader's own axis turn (Collada's): the file's stated axis is taken through it.
+// The file's up direction in world space (mesh_io.h: FileUp). The scene's root transform holds the
+// reader's own axis turn (Collada's), so the file's stated axis is taken through it.
 FileUp file_up(const aiScene* scene, const std::string& ext, const fs::path& path) {
   FileUp up;
   if (ext == "gltf" || ext == "glb") {

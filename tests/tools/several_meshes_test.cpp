@@ -159,6 +159,10 @@ TEST(SeveralMeshes, ListFindsEachLegMeshOnceFromTheBodyToTheFoot) {
     EXPECT_LT(p["tip_vertex"].get<std::size_t>(), first + a.pieces[1 + leg].vertices());
   }
   EXPECT_EQ(legs.size(), 2u) << "each leg once";
+  // --mesh all: every mesh of the file, in its order: the same mesh, so the same parts.
+  const ToolRun all = run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --mesh all --list --report " + quoted(dir / "all.json"), dir);
+  ASSERT_EQ(all.code, 0) << all.err;
+  EXPECT_EQ(Json::parse(slurp(dir / "all.json"))["parts"], parts["parts"]);
 }
 
 TEST(SeveralMeshes, TheRigNamesItsMeshesInTheFilesOrderAndABakeMovesOnlyTheLegs) {
