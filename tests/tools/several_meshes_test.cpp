@@ -252,15 +252,13 @@ TEST(SeveralMeshes, TheRigNamesItsMeshesInTheFilesOrderAndABakeMovesOnlyTheLegs)
   }
   EXPECT_GE(morphed, 1) << "the pushed leg's mesh has targets";
   EXPECT_LT(worst, 1e-6) << "morphed positions against the .pc2 (the walker is 3 units across: float precision)";
-  int code = -1;
-  const std::string report = validate(work / "baked.glb", &code);
-  EXPECT_EQ(code, 0) << report;
-  EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+  // (The Khronos validator passes the .glb of the moving body below, which holds these targets and
+  // the nodes' keys: run once for both.)
 }
 
 // A moving body carries every mesh of the rig: in the .glb each of the three nodes gets the body's
 // keys (the still body no morph weights), and node transform · (POSITION + target) at each frame's
-// keys is the .pc2's frame, the body's vertices included.
+// keys is the .pc2's frame, the body's vertices included; the Khronos validator finds no error.
 TEST(SeveralMeshes, AMovingBodyCarriesEveryMeshOfTheRigInTheGlb) {
   const fs::path top = scratch_dir("several-meshes-body");
   const fs::path work = top / "work", io = top / "io";
