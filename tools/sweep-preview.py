@@ -2,8 +2,10 @@
 """Preview a bake as a PNG contact sheet: a few frames of a .pc2 point cache, seen from the side and
 from above, coloured by how far each point has moved from where the body's own rigid motion would
 have carried it from frame 0 (on a still body: from frame 0). With --mesh (the mesh the bake
-deforms, its vertices in the cache's order: an .off, .obj, .gltf or .glb file, or the rig the bake
-was made from, which names its mesh file and which meshes of it) the frames are shaded surfaces: each
+deforms, its vertices in the cache's order: an .off, .obj, .gltf or .glb file, any other format the
+tools read (FBX, Collada, ...: through sweep-fit --export-obj, the tools' own importer), or the rig
+the bake was made from, which names its mesh file and which meshes of it) the frames are shaded
+surfaces: each
 triangle lit from the viewer and a key light, the still body grey, the moving part in the colour of
 its displacement, drawn back to front; without it, points. With --report (sweep-sim's JSON report)
 a last panel plots the largest displacement over time; with --scene, the scene's colliders are
@@ -147,10 +149,45 @@ def gltf_faces(path, names=None):
     return faces, base
 
 
-def read_faces(path):
+def sweep_fit_binary(given=None):
+    """sweep-fit: as given, on the PATH, or built beside this script (build/*/tools/sweep-fit)."""
+    import glob
+    import shutil
+    if given:
+        return given
+    found = shutil.which("sweep-fit")
+    if found:
+        return found
+    here = os.path.dirname(os.path.abspath(__file__))
+    built = sorted(glob.glob(os.path.join(here, "..", "build", "*", "tools", "sweep-fit", "sweep-fit")))
+    return built[0] if built else None
+
+
+def imported_faces(path, names, sweep_fit):
+    """Any other format (FBX, Collada, ...) read by the tools' own importer: sweep-fit --export-obj
+    writes the mesh as the tools read it (the meshes `names` names, as one), whose faces and
+    vertex count are then the cache's."""
+    import subprocess
+    binary = sweep_fit_binary(sweep_fit)
+    if binary is None:
+        raise ValueError("reading this format takes the tools' importer: put sweep-fit on the PATH or give --sweep-fit")
+    with tempfile.TemporaryDirectory() as tmp:
+        obj = os.path.join(tmp, "mesh.obj")
+        args = [binary, path, "-q", "--export-obj", obj] + [a for n in (names or []) for a in ("--mesh", n)]
+        run = subprocess.run(args, capture_output=True, text=True)
+        if run.returncode != 0:
+            raise ValueError(run.stderr.strip().removeprefix("error: ") or f"sweep-fit exit {run.returncode}")
+        faces, _ = obj_off_faces(obj)
+        with open(obj) as f:
+            count = sum(1 for line in f if line.startswith("v "))
+    return faces, count
+
+
+def read_faces(path, sweep_fit=None):
     """The triangles of the mesh a bake deforms, numbered as the cache's points: from an .off, .obj,
-    .gltf or .glb file, or a rig (its mesh, and of a scene file the meshes its mesh_name names, in
-    order). Also the vertex count where the format gives the cache's (glTF), else None."""
+    .gltf or .glb file, any other format the tools read (through sweep-fit --export-obj), or a rig
+    (its mesh, and of a scene file the meshes its mesh_name names, in order). Also the vertex count
+    where the format gives the cache's (all but .off and .obj), else None."""
     ext = os.path.splitext(path)[1].lower()
     names = None
     if ext == ".json":
@@ -166,9 +203,7 @@ def read_faces(path):
     elif ext in (".gltf", ".glb"):
         faces, count = gltf_faces(path, names)
     else:
-        raise ValueError(f"--mesh reads .off, .obj, .gltf and .glb (and a rig of one of them), not '{ext}'; for "
-                         "another format give one frame of the bake's .obj sequence (sweep-sim -o NAME.obj), "
-                         "which holds the same vertices and faces")
+        faces, count = imported_faces(path, names, sweep_fit)
     if not faces:
         raise ValueError("no faces")
     return np.array(faces, dtype=np.int64), count
@@ -343,6 +378,8 @@ def main():
     ap.add_argument("--scene", help="scene (or rig with a scene) whose colliders to draw")
     ap.add_argument("--mesh", help="the deformed mesh (.off, .obj, .gltf, .glb, or the bake's rig): shaded "
                                    "surfaces, not points")
+    ap.add_argument("--sweep-fit", help="the sweep-fit program, which reads --mesh formats other than .off, .obj "
+                                        "and glTF (default: on the PATH, or built beside this script)")
     ap.add_argument("--reference", help="a .pc2 of the same points and frames (e.g. the pose a clip keys): "
                                         "colour by the distance from it")
     args = ap.parse_args()
@@ -366,7 +403,7 @@ def main():
         print(f"error: {args.scene}: {e}", file=sys.stderr)
         return 2
     try:
-        faces, count = read_faces(args.mesh) if args.mesh else (None, None)
+        faces, count = read_faces(args.mesh, args.sweep_fit) if args.mesh else (None, None)
         if faces is not None and (faces.min() < 0 or faces.max() >= frames.shape[1]):
             raise ValueError(f"its faces name vertices up to {faces.max()}, the cache has "
                              f"{frames.shape[1]} points: not the mesh of this bake")

@@ -7,8 +7,10 @@ another), and --mesh RIG takes the meshes the rig's mesh_name names, in its orde
 checked against the numbering computed here, independently. --frames "0,3,9" is those frames,
 "peak" frame 0 and where the largest displacement peaks; a frame the cache has not is exit 2,
 named, no picture; so are a glTF whose vertex count is not the cache's and a format it cannot read.
-Runs the script in this process (one interpreter, matplotlib imported once).
-Usage: preview_inputs.py REPO_ROOT WORK_DIR"""
+Other formats go through the tools' own importer (sweep-fit --export-obj): on this .glb it must
+give the same triangles as the script's glTF reader. Runs the script in this process (one
+interpreter, matplotlib imported once).
+Usage: preview_inputs.py REPO_ROOT WORK_DIR SWEEP_FIT"""
 import contextlib
 import importlib.util
 import io
@@ -19,7 +21,7 @@ import sys
 
 import numpy as np
 
-root, work = sys.argv[1], sys.argv[2]
+root, work, sweep_fit = sys.argv[1], sys.argv[2], sys.argv[3]
 os.makedirs(work, exist_ok=True)
 spec = importlib.util.spec_from_file_location("sweep_preview", os.path.join(root, "tools", "sweep-preview.py"))
 preview = importlib.util.module_from_spec(spec)
@@ -98,6 +100,10 @@ faces, count = preview.read_faces(rig("mesh.rig.json", "StickMesh"))  # by its m
 stick, stick_count = numbered([stick_side, stick_cap])
 assert count == stick_count == 14 and np.array_equal(faces, stick)
 
+# The tools' importer (what an FBX goes through) numbers them as the glTF reader does.
+faces, count = preview.imported_faces(glb, ["Body", "Stick"], sweep_fit)
+assert count == whole_count and np.array_equal(np.array(faces), whole), faces[:3]
+
 # --frames: a count, a list, or the peaks of the largest displacement (local maxima, highest five).
 largest = np.array([0, 1, 3, 2, 5, 4, 4, 6, 1, 0, 0.5, 0.2])
 moved = np.stack([largest, largest / 2], axis=1)
@@ -110,7 +116,7 @@ assert preview.chosen_frames("5,", moved).tolist() == [5]
 def run(*args):
     """The script's main() on these arguments: its exit code and what it printed on stderr."""
     err = io.StringIO()
-    sys.argv = ["sweep-preview.py", *args]
+    sys.argv = ["sweep-preview.py", "--sweep-fit", sweep_fit, *args]
     with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
         code = preview.main()
     return code, err.getvalue()
@@ -134,7 +140,7 @@ assert code == 0 and os.path.exists(out), (code, err)
 for args, words in ((("--frames", "0,3"), "frame 3 is not in the cache (frames 0 to 2)"),
                     (("--frames", "many"), "expected a count, a list of frames or 'peak'"),
                     (("--mesh", rig("stick.rig.json", "Stick")), "it has 14 vertices, the cache has 22 points"),
-                    (("--mesh", os.path.join(work, "two.fbx")), "not '.fbx'")):
+                    (("--mesh", os.path.join(work, "two.fbx")), "two.fbx: no such file")):
     bad = os.path.join(work, "bad.png")
     code, err = run(pc2, "-o", bad, *args)
     assert code == 2 and words in err, (args, code, err)

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -163,6 +164,25 @@ TEST(SeveralMeshes, ListFindsEachLegMeshOnceFromTheBodyToTheFoot) {
   const ToolRun all = run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --mesh all --list --report " + quoted(dir / "all.json"), dir);
   ASSERT_EQ(all.code, 0) << all.err;
   EXPECT_EQ(Json::parse(slurp(dir / "all.json"))["parts"], parts["parts"]);
+  // --export-obj: that mesh as read, every vertex where the importer puts it, in that order; it
+  // goes with no other mode.
+  const ToolRun exported = run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --mesh all -q --export-obj " + quoted(dir / "legs.obj"), dir);
+  ASSERT_EQ(exported.code, 0) << exported.err;
+  std::istringstream obj(slurp(dir / "legs.obj"));
+  std::size_t v = 0, wrong = 0;
+  for (std::string line; std::getline(obj, line);) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::istringstream xyz(line.substr(2));
+    Vec3 p;
+    xyz >> p.x() >> p.y() >> p.z();
+    const std::size_t k = v < a.pieces[0].vertices() ? 0 : v < a.pieces[0].vertices() + a.pieces[1].vertices() ? 1 : 2;
+    const std::size_t i = v - (k == 0 ? 0 : k == 1 ? a.pieces[0].vertices() : a.pieces[0].vertices() + a.pieces[1].vertices());
+    wrong += p != a.pieces[k].world(i);
+    ++v;
+  }
+  EXPECT_EQ(v, a.pieces[0].vertices() + a.pieces[1].vertices() + a.pieces[2].vertices());
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --list --export-obj " + quoted(dir / "x.obj"), dir).code, 1);
 }
 
 TEST(SeveralMeshes, TheRigNamesItsMeshesInTheFilesOrderAndABakeMovesOnlyTheLegs) {

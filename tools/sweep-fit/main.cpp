@@ -69,6 +69,7 @@ struct Settings {
   bool up_given = false;  // else the file's own (assets::FileUp)
   fs::path preview;       // optional PNG: the fit drawn over the mesh from three sides
   fs::path material;      // optional material file: the fitted sweeps move in material mode
+  fs::path export_obj;    // --export-obj: the mesh as read, to this OBJ (no fit)
 };
 
 // "X,Y,Z" → a point; our own parse so that the message names the flag and the text given.
@@ -512,6 +513,17 @@ int run_all(const Settings& s) {
   return 0;
 }
 
+// The mesh as the tools read it (world space, their vertex order, polygons as read) to an OBJ, for
+// a viewer that reads no FBX (tools/sweep-preview.py); no fit.
+int run_export(const Settings& s) {
+  sweep::io::check_paths({{"the mesh", s.mesh}}, {{"--export-obj", s.export_obj}});
+  const ReadMesh read = read_checked_mesh(s);
+  sweep::io::check_can_create(s.export_obj);
+  sweep::assets::write_obj(s.export_obj, read.mesh());
+  if (!s.quiet) std::cout << "wrote " << s.export_obj.string() << " (" << read.mesh().vertex_count() << " vertices)\n";
+  return 0;
+}
+
 // The parts found, as a table (and JSON with --report); no rig.
 int run_list(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
@@ -611,6 +623,10 @@ int main(int argc, char** argv) {
                                  "its node transforms) or local (the mesh's own, as stored)")
                       ->check(CLI::IsMember({"world", "local"}))
                       ->capture_default_str();
+    auto* export_obj = app.add_option("--export-obj", s.export_obj,
+                                      "Write the mesh as read (world space, the tools' vertex order) to this "
+                                      ".obj, and nothing else")
+                           ->check(sweep::tools::kNonEmptyName);
     app.add_flag("-v,--verbose", s.verbose, "Say more");
     app.add_flag("-q,--quiet", s.quiet, "Print nothing on success (no summary, no notes)");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
@@ -645,6 +661,17 @@ int main(int argc, char** argv) {
     if (preview->count() > 0 && s.preview.extension() != ".png") {
       fail(ErrorCategory::usage, "--preview writes a PNG: its name must end in .png, got '" +
                                      s.preview.string() + "'");
+    }
+    if (export_obj->count() > 0) {
+      for (const CLI::Option* other : {list, all, rig, tip, tip_vertex, root, axis, name, material, preview, up, space}) {
+        if (other->count() > 0) {
+          fail(ErrorCategory::usage, "--export-obj writes the mesh alone: " + other->get_name() + " does not go with it");
+        }
+      }
+      if (s.export_obj.extension() != ".obj") {
+        fail(ErrorCategory::usage, "--export-obj writes an OBJ: its name must end in .obj, got '" + s.export_obj.string() + "'");
+      }
+      return run_export(s);
     }
     if (!s.list && rig->count() == 0) fail(ErrorCategory::usage, "-o RIG is required (except with --list)");
     if (s.list && rig->count() > 0) fail(ErrorCategory::usage, "--list writes no rig: drop -o");
