@@ -2,7 +2,10 @@
 """Preview a bake as a PNG contact sheet: a few frames of a .pc2 point cache, seen from the side and
 from above, coloured by how far each point has moved from where the body's own rigid motion would
 have carried it from frame 0 (on a still body: from frame 0). With --mesh (the mesh the bake
-deforms, .off or .obj, its vertices in the cache's order) the frames are shaded surfaces: each
+deforms, its vertices in the cache's order: an .off, .obj, .gltf or .glb file, any other format the
+tools read (FBX, Collada, ...: through sweep-fit --export-obj, the tools' own importer), or the rig
+the bake was made from, which names its mesh file and which meshes of it) the frames are shaded
+surfaces: each
 triangle lit from the viewer and a key light, the still body grey, the moving part in the colour of
 its displacement, drawn back to front; without it, points. With --report (sweep-sim's JSON report)
 a last panel plots the largest displacement over time; with --scene, the scene's colliders are
@@ -10,6 +13,8 @@ drawn in grey where they are in the world (those carried by a moving body, at it
 --reference (a cache of the same points and frames: the pose a skinned character's clip keys, without
 the parts' motion) the colour is each point's distance from its place in the reference's frame, so a
 walking character's legs stay grey and its tail and neck show how far they lag the keyed pose.
+--frames gives how many frames (evenly spread), which ones ("0,12,40"), or "peak": frame 0 and the
+frames at which the largest displacement peaks (the five highest of its local maxima, in time order).
 
     tools/sweep-preview.py out/diplodocus.pc2 -o out/diplodocus.png --mesh diplodocus.off \
         --report out/report.json
@@ -45,7 +50,7 @@ def read_pc2(path):
     return data.reshape(samples, points, 3)
 
 
-def read_faces(path):
+def obj_off_faces(path):
     """The triangles of an .off or .obj mesh (polygons fanned), as vertex index triples."""
     ext = os.path.splitext(path)[1].lower()
     faces = []
@@ -64,16 +69,172 @@ def read_faces(path):
                 k = int(row[0])
                 idx = [int(x) for x in row[1:1 + k]]
                 faces += [(idx[0], idx[i], idx[i + 1]) for i in range(1, k - 1)]
-        elif ext == ".obj":
+        else:
             for line in f:
                 if line.startswith("f "):
                     idx = [int(w.split("/")[0]) - 1 for w in line.split()[1:]]
                     faces += [(idx[0], idx[i], idx[i + 1]) for i in range(1, len(idx) - 1)]
+    return faces, None
+
+
+def gltf_document(path):
+    """A .gltf's or .glb's JSON and its buffers' bytes (a .glb's BIN chunk, data URIs, files beside)."""
+    data = open(path, "rb").read()
+    binary = None
+    if data[:4] == b"glTF":
+        length, = struct.unpack("<I", data[12:16])
+        doc = json.loads(data[20:20 + length])
+        at = 20 + length
+        if at + 8 <= len(data):
+            size, = struct.unpack("<I", data[at:at + 4])
+            binary = data[at + 8:at + 8 + size]
+    else:
+        doc = json.loads(data)
+    buffers = []
+    for k, b in enumerate(doc.get("buffers", [])):
+        uri = b.get("uri")
+        if uri is None:
+            buffers.append(binary if k == 0 and binary is not None else b"")
+        elif uri.startswith("data:"):
+            import base64
+            buffers.append(base64.b64decode(uri.split(",", 1)[1]))
         else:
-            raise ValueError("--mesh reads .off and .obj (the mesh the bake deforms)")
+            from urllib.parse import unquote
+            buffers.append(open(os.path.join(os.path.dirname(path), unquote(uri)), "rb").read())
+    return doc, buffers
+
+
+def gltf_faces(path, names=None):
+    """The triangles of a glTF scene's meshes, numbered as the tools read them: the nodes `names`
+    names (by the node's or its mesh's name), in that order, or every mesh of the default scene
+    (each once, where its first node shows it, depth first); each node's primitives in order, their
+    vertices one after another. Also the vertex count, which must be the cache's."""
+    doc, buffers = gltf_document(path)
+    nodes, meshes = doc.get("nodes", []), doc.get("meshes", [])
+    order = []  # depth first through the default scene
+
+    def visit(n):
+        order.append(n)
+        for c in nodes[n].get("children", []):
+            visit(c)
+    for n in doc.get("scenes", [{}])[doc.get("scene", 0)].get("nodes", []):
+        visit(n)
+    showing = [n for n in order if "mesh" in nodes[n]]
+    if names:
+        chosen = []
+        for name in names:
+            hits = [n for n in showing if nodes[n].get("name") == name] or \
+                   [n for n in showing if meshes[nodes[n]["mesh"]].get("name") == name]
+            if len(hits) != 1:
+                raise ValueError(f"{'no' if not hits else 'more than one'} node or mesh is named '{name}'")
+            chosen.append(hits[0])
+        taken = [nodes[n]["mesh"] for n in chosen]
+    else:
+        taken = list(dict.fromkeys(nodes[n]["mesh"] for n in showing))
+
+    def indices(index):  # an index accessor (tightly packed: glTF gives index views no stride)
+        a = doc["accessors"][index]
+        view = doc["bufferViews"][a["bufferView"]]
+        dtype = {5121: "<u1", 5123: "<u2", 5125: "<u4"}[a["componentType"]]
+        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        return np.frombuffer(buffers[view["buffer"]], dtype=dtype, count=a["count"], offset=start).astype(np.int64)
+    faces, base = [], 0
+    for m in taken:
+        for prim in meshes[m]["primitives"]:
+            count = doc["accessors"][prim["attributes"]["POSITION"]]["count"]
+            if prim.get("mode", 4) == 4:  # triangles; points and lines are no surface
+                idx = indices(prim["indices"]) if "indices" in prim else np.arange(count)
+                faces += (base + idx[:len(idx) // 3 * 3].reshape(-1, 3)).tolist()
+            base += count
+    return faces, base
+
+
+def sweep_fit_binary(given=None):
+    """sweep-fit: as given, on the PATH, or built beside this script (build/*/tools/sweep-fit)."""
+    import glob
+    import shutil
+    if given:
+        return given
+    found = shutil.which("sweep-fit")
+    if found:
+        return found
+    here = os.path.dirname(os.path.abspath(__file__))
+    built = sorted(glob.glob(os.path.join(here, "..", "build", "*", "tools", "sweep-fit", "sweep-fit")))
+    return built[0] if built else None
+
+
+def imported_faces(path, names, sweep_fit):
+    """Any other format (FBX, Collada, ...) read by the tools' own importer: sweep-fit --export-obj
+    writes the mesh as the tools read it (the meshes `names` names, as one), whose faces and
+    vertex count are then the cache's."""
+    import subprocess
+    binary = sweep_fit_binary(sweep_fit)
+    if binary is None:
+        raise ValueError("reading this format takes the tools' importer: put sweep-fit on the PATH or give --sweep-fit")
+    with tempfile.TemporaryDirectory() as tmp:
+        obj = os.path.join(tmp, "mesh.obj")
+        args = [binary, path, "-q", "--export-obj", obj] + [a for n in (names or []) for a in ("--mesh", n)]
+        run = subprocess.run(args, capture_output=True, text=True)
+        if run.returncode != 0:
+            raise ValueError(run.stderr.strip().removeprefix("error: ") or f"sweep-fit exit {run.returncode}")
+        faces, _ = obj_off_faces(obj)
+        with open(obj) as f:
+            count = sum(1 for line in f if line.startswith("v "))
+    return faces, count
+
+
+def read_faces(path, sweep_fit=None):
+    """The triangles of the mesh a bake deforms, numbered as the cache's points: from an .off, .obj,
+    .gltf or .glb file, any other format the tools read (through sweep-fit --export-obj), or a rig
+    (its mesh, and of a scene file the meshes its mesh_name names, in order). Also the vertex count
+    where the format gives the cache's (all but .off and .obj), else None."""
+    ext = os.path.splitext(path)[1].lower()
+    names = None
+    if ext == ".json":
+        rig = json.load(open(path))
+        if not isinstance(rig, dict) or rig.get("format") != "sweep-rig":
+            raise ValueError("a .json --mesh must be a rig (format sweep-rig)")
+        names = rig.get("mesh_name")
+        names = [names] if isinstance(names, str) else names
+        path = os.path.join(os.path.dirname(path), rig["mesh"])
+        ext = os.path.splitext(path)[1].lower()
+    if ext in (".off", ".obj") and not names:
+        faces, count = obj_off_faces(path)
+    elif ext in (".gltf", ".glb"):
+        faces, count = gltf_faces(path, names)
+    else:
+        faces, count = imported_faces(path, names, sweep_fit)
     if not faces:
         raise ValueError("no faces")
-    return np.array(faces, dtype=np.int64)
+    return np.array(faces, dtype=np.int64), count
+
+
+def chosen_frames(spec, moved):
+    """The frames --frames asks for: a count (evenly spread), a list "0,12,40", or "peak" (frame 0
+    and the frames at which the largest displacement peaks: the five highest local maxima, in time
+    order). ValueError naming a frame the cache does not have."""
+    n = len(moved)
+    if spec == "peak":
+        largest = moved.max(axis=1)
+        peaks = [k for k in range(1, n) if largest[k] > largest[k - 1] and (k == n - 1 or largest[k] >= largest[k + 1])]
+        peaks = sorted(peaks, key=lambda k: -largest[k])[:5]
+        return np.array(sorted({0, *peaks}))
+    if "," in spec or not spec.strip().isdigit():
+        picks = []
+        for word in filter(None, spec.split(",")):  # "12," is frame 12 alone
+            if not word.strip().lstrip("-").isdigit():
+                raise ValueError(f"--frames: expected a count, a list of frames or 'peak', got '{spec}'")
+            k = int(word)
+            if not 0 <= k < n:
+                raise ValueError(f"--frames: frame {k} is not in the cache (frames 0 to {n - 1})")
+            picks.append(k)
+        if not picks:
+            raise ValueError(f"--frames: no frame in '{spec}'")
+        return np.array(picks)
+    count = int(spec)
+    if count < 1:
+        raise ValueError(f"--frames: expected at least 1 frame, got {count}")
+    return np.unique(np.linspace(0, n - 1, count).round().astype(int))
 
 
 def draw_shaded(ax, points, faces, a, b, colours):
@@ -209,12 +370,16 @@ def main():
     ap.add_argument("pc2", help="baked point cache (.pc2) from sweep-sim")
     ap.add_argument("-o", "--output", required=True, help="PNG to write")
     ap.add_argument("--report", help="sweep-sim --report JSON, for the displacement plot")
-    ap.add_argument("--frames", type=int, default=6, help="frames to show (default 6)")
+    ap.add_argument("--frames", default="6", help="how many frames to show (default 6), which ones (0,12,40), "
+                                                  "or 'peak' (frame 0 and where the motion peaks)")
     ap.add_argument("--fps", type=float, default=None, help="label frames with times at this rate")
     ap.add_argument("--views", default="xy,xz", help="axis pairs to project on (default xy,xz)")
     ap.add_argument("--dpi", type=int, default=110, help="resolution of the picture (default 110)")
     ap.add_argument("--scene", help="scene (or rig with a scene) whose colliders to draw")
-    ap.add_argument("--mesh", help="the deformed mesh (.off, .obj): shaded surfaces, not points")
+    ap.add_argument("--mesh", help="the deformed mesh (.off, .obj, .gltf, .glb, or the bake's rig): shaded "
+                                   "surfaces, not points")
+    ap.add_argument("--sweep-fit", help="the sweep-fit program, which reads --mesh formats other than .off, .obj "
+                                        "and glTF (default: on the PATH, or built beside this script)")
     ap.add_argument("--reference", help="a .pc2 of the same points and frames (e.g. the pose a clip keys): "
                                         "colour by the distance from it")
     args = ap.parse_args()
@@ -238,11 +403,13 @@ def main():
         print(f"error: {args.scene}: {e}", file=sys.stderr)
         return 2
     try:
-        faces = read_faces(args.mesh) if args.mesh else None
+        faces, count = read_faces(args.mesh, args.sweep_fit) if args.mesh else (None, None)
         if faces is not None and (faces.min() < 0 or faces.max() >= frames.shape[1]):
             raise ValueError(f"its faces name vertices up to {faces.max()}, the cache has "
                              f"{frames.shape[1]} points: not the mesh of this bake")
-    except (OSError, ValueError, IndexError) as e:
+        if count is not None and count != frames.shape[1]:
+            raise ValueError(f"it has {count} vertices, the cache has {frames.shape[1]} points: not the mesh of this bake")
+    except (OSError, ValueError, IndexError, KeyError, TypeError, struct.error) as e:
         print(f"error: {args.mesh}: {e}", file=sys.stderr)
         return 2
     fps = args.fps or (report["fps"] if report else None)
@@ -253,7 +420,11 @@ def main():
         moved = displacements(frames)
     extent = max(float(np.ptp(frames.reshape(-1, 3), axis=0).max()), 1e-30)
     moving = moved.max(axis=0) > 1e-5 * extent
-    picks = np.unique(np.linspace(0, len(frames) - 1, max(1, args.frames)).round().astype(int))
+    try:
+        picks = chosen_frames(args.frames, moved)
+    except ValueError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
     views = [("xyz".index(v[0]), "xyz".index(v[1])) for v in args.views.split(",")]
     rows = len(views) + (1 if report else 0)
     fig, axes = plt.subplots(rows, len(picks), figsize=(3.2 * len(picks), 3.0 * rows), squeeze=False)

@@ -21,6 +21,7 @@
 #include "sweep/assets/obj_gltf.h"
 #include "sweep/core/error.h"
 #include "sweep/core/text.h"
+#include "sweep/io/mesh_names.h"
 #include "sweep/io/read_file.h"
 
 using sweep::io::read_file;
@@ -178,6 +179,9 @@ struct GltfPassthrough::State {
   // order; empty = all of them.
   std::vector<unsigned> parts;
   std::vector<std::size_t> deformed_meshes;
+  // A rig of several meshes (BakeSource::mesh_name a list): its meshes that do not bend still
+  // follow a moving body, as the .pc2 shows them (their nodes keyed, no targets).
+  bool carry_still_meshes = false;
 
   // A node showing a deformed mesh: its weights are animated, and with a moving body its transform.
   struct Shown {
@@ -188,6 +192,7 @@ struct GltfPassthrough::State {
     // Below another node that shows a deformed mesh: it follows that node's body motion and gets
     // no keys of its own (else the body would move it twice).
     bool follows_parent = false;
+    bool morphs = true;  // false: a still mesh of a rig of several, carried by the body alone
     std::vector<float> translations, rotations;
     BinBlock translation_block, rotation_block;
   };
@@ -402,11 +407,17 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
   for (State::Primitive& prim : s.primitives) {
     for (std::size_t i = 0; i < prim.source.size() && !prim.deformed; ++i) prim.deformed = moving[prim.source[i]] != 0;
   }
+  const bool any_deformed = std::any_of(s.primitives.begin(), s.primitives.end(),
+                                        [](const State::Primitive& p) { return p.deformed; });
   for (std::size_t m = 0; m < meshes.size(); ++m) {
-    bool deformed = false;
-    for (const State::Primitive& prim : s.primitives) deformed = deformed || (prim.mesh == m && prim.deformed);
-    if (!deformed) continue;
-    s.deformed_meshes.push_back(m);
+    bool deformed = false, read = false;
+    for (const State::Primitive& prim : s.primitives) {
+      deformed = deformed || (prim.mesh == m && prim.deformed);
+      read = read || (prim.mesh == m && !prim.source.empty());
+    }
+    const bool carried = !deformed && read && any_deformed && s.body_moves && s.carry_still_meshes;
+    if (!deformed && !carried) continue;
+    if (deformed) s.deformed_meshes.push_back(m);
     const std::string what = s.mesh_name(m);
     if (showing[m].empty()) s.refuse(what + " moves but no node of the scene shows it");
     const Affine& world = showing[m].front()->world;
@@ -431,6 +442,7 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
                  "skin only when the scene's body plays its clip (bake to .pc2)");
       }
       State::Shown shown;
+      shown.morphs = deformed;
       shown.node = v->node;
       shown.parent = v->parent;
       shown.local = node_trs(nodes[v->node]);
@@ -454,6 +466,7 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       }
       s.shown.push_back(std::move(shown));
     }
+    if (!deformed) continue;
     const Mat3 lin = world.linear();
     if (std::abs(lin.determinant()) < 1e-300) s.refuse(what + ": its node's transform is singular");
     for (State::Primitive& prim : s.primitives) {
@@ -690,6 +703,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   } else {
     s.doc = read_gltf_document(source);
     s.parts = info.source.parts;
+    s.carry_still_meshes = io::several_mesh_names(info.source.mesh_name);
   }
   if (!s.doc.json.is_object()) s.bad("not a glTF document (its JSON is not an object)");
   check_compression(s);
@@ -980,7 +994,7 @@ Json GltfPassthrough::finish(const AppendBin& append) {
   Json animation = {{"samplers", Json::array({{{"input", times}, {"output", weights}, {"interpolation", "LINEAR"}}})},
                     {"channels", Json::array()}};
   for (const State::Shown& shown : s.shown) {
-    animation["channels"].push_back({{"sampler", 0}, {"target", {{"node", shown.node}, {"path", "weights"}}}});
+    if (shown.morphs) animation["channels"].push_back({{"sampler", 0}, {"target", {{"node", shown.node}, {"path", "weights"}}}});
     // An animated node (its weights too) may not have a matrix: given as translation, rotation
     // and scale (exact, or refused in map_primitives).
     Json& node = json["nodes"][shown.node];

@@ -24,7 +24,9 @@
 //    L(t) = P⁻¹ · B(t) · P · L (P the parent's world transform, L the node's own), so its world
 //    transform is B(t) times the rest one, as the bake's positions are. A node given by "matrix"
 //    then gets the same transform as translation, rotation and scale. Other nodes do not follow
-//    the body (the .pc2 moves every vertex; here only the deformed meshes' nodes are animated).
+//    the body (the .pc2 moves every vertex; here only the deformed meshes' nodes are animated),
+//    except in a rig of several meshes (BakeSource::mesh_name a list): its meshes that do not bend
+//    get the body's keys too (and no weights channel: they have no targets).
 //  When no mesh moves (no force reaches a part), the document is written as it was, with no
 //  animation added.
 //  A skinned character's clip (BakeInfo::skinned): the skinned mesh keeps its skin, and each frame's

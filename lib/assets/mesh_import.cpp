@@ -16,6 +16,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -32,6 +33,7 @@
 #include "sweep/core/fp_environment.h"
 #include "sweep/core/hash.h"
 #include "sweep/core/text.h"
+#include "sweep/io/mesh_names.h"
 #include "sweep/io/read_file.h"
 
 using sweep::io::read_file;
@@ -286,6 +288,41 @@ int find_named(const std::vector<NodeMeshes>& nodes, const std::string& name, co
   return -1;
 }
 
+// The nodes a list of names takes (mesh_io.h: several meshes as one), or every node for kAllMeshes:
+// each name found as find_named finds one, no node twice, each node's own name finding it again
+// (the rig records those names); in the order named, or with `file_order` in the file's.
+std::vector<int> several_nodes(const std::vector<NodeMeshes>& nodes, const std::string& joined, bool file_order,
+                               const std::string& source, const std::function<std::string()>& list) {
+  std::vector<int> chosen;
+  if (joined == kAllMeshes) {
+    for (std::size_t k = 0; k < nodes.size(); ++k) chosen.push_back(static_cast<int>(k));
+  } else {
+    const std::vector<std::string> names = io::split_mesh_names(joined);
+    for (const std::string& name : names) {
+      const int k = find_named(nodes, name, source, list);
+      if (k < 0) {
+        bad(source, "no mesh is named '" + name + "' (one of the " + std::to_string(names.size()) +
+                        " meshes asked for: " + io::quoted_mesh_names(joined) + "); its meshes: " + list());
+      }
+      for (std::size_t e = 0; e < chosen.size(); ++e) {
+        if (chosen[e] == k) {
+          bad(source, "'" + names[e] + "' and '" + name + "' name the same mesh (node '" +
+                          nodes[static_cast<std::size_t>(k)].name + "'); name each mesh once");
+        }
+      }
+      chosen.push_back(k);
+    }
+  }
+  for (const int k : chosen) {
+    if (find_named(nodes, nodes[static_cast<std::size_t>(k)].name, source, list) != k) {
+      bad(source, "the mesh taken, '" + nodes[static_cast<std::size_t>(k)].name +
+                      "', has a name that another mesh's node or mesh has; rename one");
+    }
+  }
+  if (file_order) std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
 MeshUnit unit_of(const aiScene* scene) {
   MeshUnit unit;
   const aiMetadata* meta = scene->mMetaData;
@@ -300,6 +337,68 @@ MeshUnit unit_of(const aiScene* scene) {
     if (key == "OriginalUnitScaleFactor") unit.original_unit_scale_factor = value;
   }
   return unit;
+}
+
+// The metadata entry `key` of the scene as a whole number (FBX's UpAxis is an int32), or nullopt.
+std::optional<long long> metadata_integer(const aiScene* scene, const char* key) {
+  const aiMetadata* meta = scene->mMetaData;
+  for (unsigned k = 0; meta != nullptr && k < meta->mNumProperties; ++k) {
+    if (std::string_view(meta->mKeys[k].C_Str()) != key) continue;
+    const aiMetadataEntry& e = meta->mValues[k];
+    if (e.mType == AI_INT32) return *static_cast<const std::int32_t*>(e.mData);
+    if (e.mType == AI_UINT64) return static_cast<long long>(*static_cast<const std::uint64_t*>(e.mData));
+  }
+  return std::nullopt;
+}
+
+// A Collada file's <asset><up_axis> (X_UP, Y_UP or Z_UP), from its text; "" when it has none.
+std::string collada_up_axis(const fs::path& path) {
+  const std::string text = read_file(path);
+  const std::size_t open = text.find("<up_axis>");
+  if (open == std::string::npos) return "";
+  const std::size_t begin = open + 9, close = text.find("</up_axis>", begin);
+  if (close == std::string::npos || close - begin > 64) return "";
+  std::string axis = text.substr(begin, close - begin);
+  std::erase_if(axis, [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; });
+  return axis == "X_UP" || axis == "Y_UP" || axis == "Z_UP" ? axis : "";
+}
+
+// The file's up direction in world space (mesh_io.h: FileUp). The scene's root transform holds the
+// reader's own axis turn (Collada's), so the file's stated axis is taken through it.
+FileUp file_up(const aiScene* scene, const std::string& ext, const fs::path& path) {
+  FileUp up;
+  if (ext == "gltf" || ext == "glb") {
+    up.stated = true;
+    up.why = "glTF is +Y up by its specification";
+    return up;
+  }
+  Vec3 file_axis = Vec3::Zero();
+  if (const std::optional<long long> axis = metadata_integer(scene, "UpAxis"); axis && *axis >= 0 && *axis <= 2) {
+    const long long sign = metadata_integer(scene, "UpAxisSign").value_or(1) < 0 ? -1 : 1;
+    file_axis = static_cast<double>(sign) * Vec3::Unit(static_cast<int>(*axis));
+    up.why = std::string(ext == "fbx" ? "the FBX file's GlobalSettings say" : "the file says") + " UpAxis " +
+             std::to_string(*axis) + ", UpAxisSign " + (sign > 0 ? "1" : "-1");
+  } else if (ext == "dae") {
+    const std::string stated = collada_up_axis(path);
+    file_axis = Vec3::Unit(stated.empty() ? 1 : stated[0] - 'X');
+    up.why = stated.empty() ? "the Collada file has no <up_axis>, which is then Y_UP by its specification"
+                            : "the Collada file's <up_axis> is " + stated;
+  } else {
+    return up;
+  }
+  up.stated = true;
+  const Transform root = scene->mRootNode != nullptr ? to_transform(scene->mRootNode->mTransformation) : Transform::Identity();
+  const Vec3 world = root.block<3, 3>(0, 0) * file_axis;
+  if (!(world.norm() > 0) || !world.allFinite()) {
+    up = FileUp{};
+    up.why = "the file's up axis does not survive its root transform: +Y taken";
+    return up;
+  }
+  up.direction = world.normalized();
+  if (!root.block<3, 3>(0, 0).isIdentity(1e-12)) {
+    up.why += ", which the reader turned to " + direction_name(up.direction) + " with the scene";
+  }
+  return up;
 }
 
 // assimp numbers a glTF's importer meshes (one a primitive) in the order its scene reaches the
@@ -372,22 +471,24 @@ bool names_meshes(const std::string& ext) { return ext != "ply" && ext != "stl";
 // `gltf`: a glTF's JSON, whose numbering SceneMesh::parts then follows (else assimp's).
 SceneMesh read_with_assimp(const std::string& source, bool weld, const std::string& name, MeshPick pick,
                            bool named_format, std::string_view bytes = {}, const char* hint = "",
-                           const nlohmann::json* gltf = nullptr) {
+                           const nlohmann::json* gltf = nullptr, bool file_order = false) {
+  const fs::path source_path = bytes.empty() ? fs::path(source) : fs::path();  // PLY from memory states no up
   Assimp::Importer importer;
   const aiScene* scene = import_scene(importer, source, bytes, hint);
   const std::vector<unsigned> numbers = gltf != nullptr ? gltf_primitive_numbers(scene, *gltf) : std::vector<unsigned>{};
   SceneMesh out;
   out.unit = unit_of(scene);
+  if (!source_path.empty()) out.up = file_up(scene, lower_extension(source_path), source_path);
   std::vector<NodeMeshes> nodes;
   if (named_format && scene->mRootNode != nullptr) collect_nodes(scene, scene->mRootNode, Transform::Identity(), nodes);
   if (!named_format && !name.empty()) {
-    bad(source, "holds one mesh with no name (the format has none), so there is no mesh '" + name + "' to take");
+    bad(source, "holds one mesh with no name (the format has none), so there is no " + asked_meshes(name) + " to take");
   }
   for (const NodeMeshes& n : nodes) {
     out.meshes.push_back({n.name, n.mesh_name, assembled_vertex_count(scene, placed_of(n), weld)});
   }
   if (nodes.empty() || (name.empty() && pick == MeshPick::whole_file)) {
-    if (!name.empty()) bad(source, "no node shows a mesh, so there is no mesh '" + name + "' to take");
+    if (!name.empty()) bad(source, "no node shows a mesh, so there is no " + asked_meshes(name) + " to take");
     // (The meshes are listed all the same: a tool says the whole file was read, of which meshes,
     // and refuses points in "the" mesh's own space.)
     const std::vector<Placed> placed = whole_file(scene);
@@ -398,6 +499,21 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
     return out;
   }
   const auto list = [&] { return list_scene_meshes(out.meshes); };
+  if (io::several_mesh_names(name) || (name == kAllMeshes && find_named(nodes, name, source, list) < 0)) {
+    const std::vector<int> chosen = several_nodes(nodes, name, file_order, source, list);
+    std::vector<Placed> placed;
+    std::vector<std::string> names;
+    for (const int k : chosen) {
+      const NodeMeshes& n = nodes[static_cast<std::size_t>(k)];
+      for (const unsigned m : n.parts) placed.push_back({m, n.world});
+      names.push_back(n.name);
+      const std::vector<unsigned> parts = renumbered(n.parts, numbers);
+      out.parts.insert(out.parts.end(), parts.begin(), parts.end());
+    }
+    out.mesh = assemble(scene, placed, weld, source);
+    out.name = io::join_mesh_names(names);  // world space: to_world stays the identity
+    return out;
+  }
   int chosen = 0;
   if (!name.empty()) {
     chosen = find_named(nodes, name, source, list);
@@ -431,9 +547,18 @@ MeshSurface read_welded_surface(const fs::path& path, const std::string& mesh_na
   if (!mesh_name.empty()) {
     std::vector<NodeMeshes> nodes;
     if (scene->mRootNode != nullptr) collect_nodes(scene, scene->mRootNode, Transform::Identity(), nodes);
-    const int k = find_named(nodes, mesh_name, source, [] { return std::string("(see sweep-fit -v)"); });
-    if (k < 0) bad(source, "no mesh is named '" + mesh_name + "' (the rig's mesh_name)");
-    placed = placed_of(nodes[static_cast<std::size_t>(k)]);
+    const auto list = [] { return std::string("(see sweep-fit -v)"); };
+    std::vector<int> chosen;
+    if (io::several_mesh_names(mesh_name) || (mesh_name == kAllMeshes && find_named(nodes, mesh_name, source, list) < 0)) {
+      chosen = several_nodes(nodes, mesh_name, false, source, list);
+    } else {
+      chosen.push_back(find_named(nodes, mesh_name, source, list));
+      if (chosen[0] < 0) bad(source, "no mesh is named '" + mesh_name + "' (the rig's mesh_name)");
+    }
+    placed.clear();
+    for (const int k : chosen) {
+      for (const Placed& p : placed_of(nodes[static_cast<std::size_t>(k)])) placed.push_back(p);
+    }
   }
   MeshSurface out;
   std::vector<int> slot(scene->mNumMaterials, -1);
@@ -534,7 +659,7 @@ Mesh parse_ply(std::string_view bytes, const std::string& source) {
   return read_with_assimp(source, /*weld=*/false, "", MeshPick::whole_file, /*named_format=*/false, bytes, "ply").mesh;
 }
 
-SceneMesh read_scene_mesh(const fs::path& path, const std::string& name, MeshPick pick) {
+SceneMesh read_scene_mesh(const fs::path& path, const std::string& name, MeshPick pick, bool file_order) {
   const std::string source = path.string();
   check_input_file(path);
   const std::string ext = lower_extension(path);
@@ -542,13 +667,13 @@ SceneMesh read_scene_mesh(const fs::path& path, const std::string& name, MeshPic
   if (ext == "off" || ext == "obj" || ext == "ply") {
     if (!name.empty()) {
       bad(source, "holds one mesh with no name (" + std::string(ext == "obj" ? "an OBJ's o and g groups share one vertex list" : "the format has none") +
-                      "), so there is no mesh '" + name + "' to take");
+                      "), so there is no " + asked_meshes(name) + " to take");
     }
     const std::string bytes = read_file(path);
     out.mesh = ext == "off" ? parse_off(bytes, source) : ext == "obj" ? parse_obj(bytes, source) : parse_ply(bytes, source);
   } else if (ext == "gltf" || ext == "glb") {
     const nlohmann::json doc = detail::check_gltf_indices(path);
-    out = read_with_assimp(source, /*weld=*/false, name, pick, /*named_format=*/true, {}, "", &doc);
+    out = read_with_assimp(source, /*weld=*/false, name, pick, /*named_format=*/true, {}, "", &doc, file_order);
   } else {
     if (ext.empty()) {
       fail(ErrorCategory::unsupported, source + ": no file extension, so the format is unknown");
@@ -557,13 +682,26 @@ SceneMesh read_scene_mesh(const fs::path& path, const std::string& name, MeshPic
     if (!probe.IsExtensionSupported("." + ext)) {
       fail(ErrorCategory::unsupported, source + ": unsupported mesh format '." + ext + "'");
     }
-    out = read_with_assimp(source, /*weld=*/true, name, pick, names_meshes(ext));
+    out = read_with_assimp(source, /*weld=*/true, name, pick, names_meshes(ext), {}, "", nullptr, file_order);
   }
   validate_mesh(out.mesh, source);
   return out;
 }
 
 Mesh read_mesh(const fs::path& path) { return read_scene_mesh(path, "", MeshPick::whole_file).mesh; }
+
+std::string direction_name(const Vec3& d) {
+  for (int a = 0; a < 3; ++a) {
+    for (const double sign : {1.0, -1.0}) {
+      if ((d - sign * Vec3::Unit(a)).norm() < 1e-6) return std::string(sign > 0 ? "+" : "-") + "XYZ"[a];
+    }
+  }
+  return "(" + format_number(d.x()) + ", " + format_number(d.y()) + ", " + format_number(d.z()) + ")";
+}
+
+std::string asked_meshes(const std::string& name) {
+  return (io::several_mesh_names(name) ? "meshes " : "mesh ") + io::quoted_mesh_names(name);
+}
 
 std::string list_scene_meshes(const std::vector<SceneMeshEntry>& meshes) {
   std::string out;

@@ -31,6 +31,12 @@
 // the whole file as before: every importer mesh in the scene's mesh order, each placed by the
 // first node showing it, depth first. OFF, OBJ, PLY and STL hold one mesh with no name (an OBJ's
 // o/g groups share one vertex list, so they are not meshes of their own).
+// Several meshes as one (a body and its legs modelled as separate objects): a list of names
+// (io/mesh_names.h: joined by NUL, as a rig holds it), or kAllMeshes, takes those nodes' meshes
+// as one mesh in world space, their vertices concatenated node after node (in the list's order, or
+// with `file_order` in the file's: the nodes depth first, as read_scene_mesh lists them), each
+// node's importer meshes in its order, each placed by its own node's world transform. No node may
+// be named twice; each name must find its node alone (the rig records the nodes' names).
 // Bad files raise sweep::Error (bad_input) naming the file and what is wrong, as one line
 // "<path>: <what>"; unsupported formats raise ErrorCategory::unsupported.
 // Three files, one job each: mesh_text_readers.cpp (OFF, OBJ), mesh_import.cpp (read_mesh, and
@@ -61,6 +67,20 @@ struct MeshUnit {
   double original_unit_scale_factor = 0;  // FBX OriginalUnitScaleFactor (0 = none stated)
 };
 
+// Which way is up in the mesh's world space, as the file says it (names of parts go by it: a leg
+// points down). glTF is +Y up by its specification; an FBX states it in its GlobalSettings (UpAxis,
+// UpAxisSign: assimp's scene metadata "UpAxis", "UpAxisSign"), a Collada file in <asset><up_axis>
+// (which assimp's reader applies, turning the scene so that it is +Y up; the direction is taken
+// through the scene's root transform either way). OFF, OBJ, PLY and STL state none: +Y.
+struct FileUp {
+  Vec3 direction = Vec3::UnitY();  // unit, in the mesh's world space
+  bool stated = false;             // the file (or its format) says it
+  std::string why = "the file states no up axis: +Y taken";  // for a person: where it comes from
+};
+
+// "+Z" for (0, 0, 1), "-Y" for (0, -1, 0); any other direction as its numbers.
+std::string direction_name(const Vec3& direction);
+
 // Which mesh of a file read_scene_mesh takes.
 enum class MeshPick {
   whole_file,       // `name` empty: the whole file, as read_mesh (a rig without a mesh name)
@@ -68,11 +88,16 @@ enum class MeshPick {
                     // of those that tie)
 };
 
+// A name that takes every mesh of the file as one (its nodes in the file's order), unless a mesh
+// of the file has that name.
+inline constexpr const char* kAllMeshes = "all";
+
 struct SceneMesh {
   Mesh mesh;                 // in world space: its node's world transform applied
-  std::string name;          // the mesh taken ("" = the whole file, or a format of one nameless mesh)
-  // Its local space → world: the node's world transform (identity for the whole file and for
-  // formats without nodes). A bake writes .pc2 and .obj in local space, by its inverse.
+  std::string name;          // the mesh taken ("" = the whole file, or a format of one nameless mesh);
+                             // several: their nodes' names, in order, joined (io/mesh_names.h)
+  // Its local space → world: the node's world transform (identity for the whole file, several
+  // meshes and formats without nodes). A bake writes .pc2 and .obj in local space, by its inverse.
   Eigen::Affine3d to_world = Eigen::Affine3d::Identity();
   std::vector<SceneMeshEntry> meshes;  // the file's meshes, depth first; empty: no names
   bool largest = false;      // taken as the largest of several (no name given)
@@ -81,12 +106,18 @@ struct SceneMesh {
   // passthrough's key to which primitives it deforms); empty = all of them, in order.
   std::vector<unsigned> parts;
   MeshUnit unit;
+  FileUp up;
 };
 
 // Reads one mesh of `path` by its node's or its mesh's name, or as `pick` says when `name` is
-// empty. Error(bad_input) naming the file: a name no mesh has, or several have (the message lists
-// the file's meshes and their vertex counts), or any name for a format of one nameless mesh.
-SceneMesh read_scene_mesh(const std::filesystem::path& path, const std::string& name, MeshPick pick);
+// empty; several as one for a list of names or kAllMeshes (above). Error(bad_input) naming the
+// file: a name no mesh has, or several have (the message lists the file's meshes and their vertex
+// counts), a mesh named twice in a list, or any name for a format of one nameless mesh.
+SceneMesh read_scene_mesh(const std::filesystem::path& path, const std::string& name, MeshPick pick,
+                          bool file_order = false);
+
+// "mesh 'Tail'", or "meshes 'Body', 'LegL'" for a list: what a name asks for, for messages.
+std::string asked_meshes(const std::string& name);
 
 // The file's meshes as "Tail (875 vertices), Ground (4 vertices)", for messages.
 std::string list_scene_meshes(const std::vector<SceneMeshEntry>& meshes);

@@ -35,8 +35,8 @@ struct MeshSurface {
 // FBX (and the other formats read_mesh welds through assimp): each assimp mesh a primitive, its
 // corners mapped to the welded vertices exactly as read_mesh welds them; normals in world space
 // (the node's transform); materials' diffuse or base colour and texture (embedded in the file, or a
-// file beside it). `mesh_name` ("" = the whole file) takes one mesh of the file as read_scene_mesh
-// (mesh_io.h) takes it by name. Error(bad_input) for a texture named but not found.
+// file beside it). `mesh_name` ("" = the whole file) takes one mesh of the file, or several (a
+// list, or kAllMeshes), as read_scene_mesh (mesh_io.h) takes them by name. Error(bad_input) for a texture named but not found.
 MeshSurface read_welded_surface(const std::filesystem::path& path, const std::string& mesh_name = {});
 
 }  // namespace sweep::assets

@@ -9,6 +9,7 @@
 #include "sweep/core/text.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/json_reader.h"
+#include "sweep/io/mesh_names.h"
 #include "sweep/io/read_file.h"
 
 namespace sweep::io {
@@ -256,6 +257,34 @@ OrderedJson sweep_json(const SweepDef& def) {
   return j;
 }
 
+// "mesh_name": one mesh's name (version 3), or the names of several, in the order their vertices
+// are concatenated (version 4), as Rig::mesh_name holds them (mesh_names.h).
+std::string read_mesh_names(const JsonReader& r, const Json& v, long long version) {
+  const bool list = v.is_array();
+  const int needs = list ? kMeshListFormatVersion : Rig::kMeshNameFormatVersion;
+  if (version < needs) {
+    r.fail_at("/mesh_name", std::string(list ? "a list of meshes needs" : "needs") + " rig format version " +
+                                std::to_string(needs) + " (the file says version " + std::to_string(version) + ")");
+  }
+  std::vector<std::string> names;
+  const auto one = [&](const Json& name, const std::string& ptr) {
+    names.push_back(r.string(name, ptr));
+    if (names.back().empty()) r.fail_at(ptr, "must not be empty (leave mesh_name out for the whole file)");
+    if (names.back().find(kMeshNameSeparator) != std::string::npos) r.fail_at(ptr, "must not hold a NUL character");
+    for (std::size_t k = 0; k + 1 < names.size(); ++k) {
+      if (names[k] == names.back()) r.fail_at(ptr, "names the mesh '" + names.back() + "' again (it is /mesh_name/" + std::to_string(k) + ")");
+    }
+  };
+  if (!list) {
+    one(v, "/mesh_name");
+  } else {
+    r.array(v, "/mesh_name");
+    if (v.empty()) r.fail_at("/mesh_name", "must not be empty (leave it out for the whole file)");
+    for (std::size_t i = 0; i < v.size(); ++i) one(v[i], element("/mesh_name", i));
+  }
+  return join_mesh_names(names);
+}
+
 }  // namespace
 
 Rig parse_rig(const std::string& text, const std::string& source, const WarningSink& warn) {
@@ -267,23 +296,16 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
   const std::string format = r.string(r.required(doc, "", "format"), "/format");
   if (format != kFormatName) r.fail_at("/format", std::string("must be \"") + kFormatName + "\", got " + describe(doc["format"]));
   const long long version = r.integer(r.required(doc, "", "version"), "/version", 1, 1 << 30);
-  if (version < Rig::kFormatVersion || version > Rig::kMeshNameFormatVersion) {
+  if (version < Rig::kFormatVersion || version > kMeshListFormatVersion) {
     fail(ErrorCategory::unsupported, source + ": /version: rig format version " + std::to_string(version) +
                                          " is not supported (this build reads versions " +
                                          std::to_string(Rig::kFormatVersion) + " to " +
-                                         std::to_string(Rig::kMeshNameFormatVersion) + ")");
+                                         std::to_string(kMeshListFormatVersion) + ")");
   }
   r.object(doc, "", {"format", "version", "mesh", "mesh_name", "sweeps", "scene"});
   Rig rig;
   if (const Json* m = r.optional(doc, "mesh")) rig.mesh = r.string(*m, "/mesh");
-  if (const Json* m = r.optional(doc, "mesh_name")) {
-    if (version < Rig::kMeshNameFormatVersion) {
-      r.fail_at("/mesh_name", "needs rig format version " + std::to_string(Rig::kMeshNameFormatVersion) +
-                                  " (the file says version " + std::to_string(version) + ")");
-    }
-    rig.mesh_name = r.string(*m, "/mesh_name");
-    if (rig.mesh_name.empty()) r.fail_at("/mesh_name", "must not be empty (leave it out for the whole file)");
-  }
+  if (const Json* m = r.optional(doc, "mesh_name")) rig.mesh_name = read_mesh_names(r, *m, version);
   if (const Json* s = r.optional(doc, "scene")) rig.scene_json = s->dump();
   const Json& sweeps = r.required(doc, "", "sweeps");
   r.array(sweeps, "/sweeps");
@@ -318,9 +340,14 @@ Material read_material_file(const std::filesystem::path& path, const WarningSink
 std::string format_rig(const Rig& rig) {
   OrderedJson doc;
   doc["format"] = kFormatName;
-  doc["version"] = rig.format_version();
+  // A list of meshes is version 4 (one name is Rig::format_version's 3).
+  doc["version"] = several_mesh_names(rig.mesh_name) ? kMeshListFormatVersion : rig.format_version();
   if (!rig.mesh.empty()) doc["mesh"] = rig.mesh;
-  if (!rig.mesh_name.empty()) doc["mesh_name"] = rig.mesh_name;
+  if (several_mesh_names(rig.mesh_name)) {
+    doc["mesh_name"] = split_mesh_names(rig.mesh_name);
+  } else if (!rig.mesh_name.empty()) {
+    doc["mesh_name"] = rig.mesh_name;
+  }
   OrderedJson sweeps = OrderedJson::array();
   for (const SweepDef& def : rig.sweeps) sweeps.push_back(sweep_json(def));
   doc["sweeps"] = std::move(sweeps);

@@ -7,6 +7,7 @@
 #include "sweep/core/error.h"
 #include "fp_guard.h"
 #include "sweep/io/atomic_file.h"
+#include "sweep/io/mesh_names.h"
 #include "sweep/io/rig_json.h"
 
 namespace sweep::io {
@@ -245,7 +246,7 @@ TEST(RigJson, TipCutIsVersionTwoAndOnlyWrittenWhenSet) {
   nlohmann::ordered_json wrong = nlohmann::ordered_json::parse(cut);
   wrong["sweeps"][0]["part"]["tip_cut"] = "yes";
   expect_bad(wrong.dump(), "rig.json: /sweeps/0/part/tip_cut: must be");
-  expect_bad(with("/version", 4), "/version: rig format version 4 is not supported (this build reads versions 1 to 3)",
+  expect_bad(with("/version", 5), "/version: rig format version 5 is not supported (this build reads versions 1 to 4)",
              ErrorCategory::unsupported);
 }
 
@@ -272,6 +273,47 @@ TEST(RigJson, MeshNameIsVersionThreeAndOnlyWrittenWhenSet) {
   nlohmann::ordered_json empty = doc;
   empty["mesh_name"] = "";
   expect_bad(empty.dump(), "rig.json: /mesh_name: must not be empty");
+}
+
+
+// A rig over several meshes of one file names them all, in order, as a list (version 4); in memory
+// Rig::mesh_name holds them joined by NUL. A list of one is that name; a name twice, an empty one
+// or a NUL in one is refused with its pointer.
+TEST(RigJson, SeveralMeshesAreAnOrderedListInVersionFour) {
+  Rig rig = small_rig();
+  rig.mesh_name = join_mesh_names({"Body", "LegL", "LegR"});
+  EXPECT_EQ(rig.mesh_name, std::string("Body\0LegL\0LegR", 14));
+  const std::string text = format_rig(rig);
+  const auto doc = nlohmann::ordered_json::parse(text);
+  EXPECT_EQ(doc["version"], 4);
+  EXPECT_EQ(doc["mesh_name"], nlohmann::ordered_json::array({"Body", "LegL", "LegR"}));
+  const Rig back = parse_rig(text, "rig.json");
+  EXPECT_EQ(split_mesh_names(back.mesh_name), (std::vector<std::string>{"Body", "LegL", "LegR"}));
+  EXPECT_EQ(format_rig(back), text);
+  EXPECT_EQ(shown_mesh_names(back.mesh_name), "the meshes 'Body', 'LegL', 'LegR'");
+  EXPECT_EQ(shown_mesh_names("Tail"), "'Tail'");
+
+  nlohmann::ordered_json one = doc;
+  one["mesh_name"] = nlohmann::ordered_json::array({"Tail"});
+  EXPECT_EQ(parse_rig(one.dump(), "rig.json").mesh_name, "Tail");
+  nlohmann::ordered_json old = doc;
+  old["version"] = 3;
+  expect_bad(old.dump(), "rig.json: /mesh_name: a list of meshes needs rig format version 4 (the file says version 3)");
+  nlohmann::ordered_json twice = doc;
+  twice["mesh_name"][2] = "Body";
+  expect_bad(twice.dump(), "rig.json: /mesh_name/2: names the mesh 'Body' again (it is /mesh_name/0)");
+  nlohmann::ordered_json empty = doc;
+  empty["mesh_name"] = nlohmann::ordered_json::array();
+  expect_bad(empty.dump(), "rig.json: /mesh_name: must not be empty");
+  nlohmann::ordered_json blank = doc;
+  blank["mesh_name"][1] = "";
+  expect_bad(blank.dump(), "rig.json: /mesh_name/1: must not be empty");
+  nlohmann::ordered_json nul = doc;
+  nul["mesh_name"] = std::string("Le\0gL", 6);
+  expect_bad(nul.dump(), "rig.json: /mesh_name: must not hold a NUL character");
+  nlohmann::ordered_json number = doc;
+  number["mesh_name"][0] = 3;
+  expect_bad(number.dump(), "rig.json: /mesh_name/0: must be a string");
 }
 
 }  // namespace

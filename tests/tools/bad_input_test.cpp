@@ -478,8 +478,8 @@ std::vector<Case> bind_cases() {
           "Bind_RigMissingVersion", [](json& j) { j.erase("version"); }, 2,
           "rig.json: (document): missing required member \"version\""),
       rig_case(
-          "Bind_RigNewerVersion", [](json& j) { j["version"] = 4; }, 3,
-          "rig.json: /version: rig format version 4 is not supported (this build reads versions 1 to 3)"),
+          "Bind_RigNewerVersion", [](json& j) { j["version"] = 5; }, 3,
+          "rig.json: /version: rig format version 5 is not supported (this build reads versions 1 to 4)"),
       rig_case(
           "Bind_TipCutInAVersion1Rig",
           [](json& j) { j["sweeps"][0]["part"] = {{"root", {0, 0, 0}}, {"tip", {0, 0, 1}}, {"tip_cut", true}}; }, 2,

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sweep/assets/mesh_io.h"
+#include "glb_file.h"
 #include "pipeline.h"
 #include "textured_asset.h"
 
@@ -30,75 +31,6 @@ namespace {
 
 using Json = nlohmann::json;
 using Vec3 = Eigen::Vector3d;
-
-struct Glb {
-  Json json;
-  std::string bin;
-};
-
-Glb read_glb(const fs::path& p) {
-  const std::string b = slurp(p);
-  Glb g;
-  if (b.size() < 20 || b.compare(0, 4, "glTF") != 0) return g;
-  std::uint32_t json_length = 0, bin_length = 0;
-  std::memcpy(&json_length, b.data() + 12, 4);
-  g.json = Json::parse(b.substr(20, json_length));
-  const std::size_t at = 20 + json_length;
-  if (at + 8 <= b.size()) {
-    std::memcpy(&bin_length, b.data() + at, 4);
-    g.bin = b.substr(at + 8, bin_length);
-  }
-  return g;
-}
-
-// A float accessor's values (dense or sparse, uint32 sparse indices), `width` a element.
-std::vector<float> floats(const Json& doc, const std::string& bin, std::size_t index, int width) {
-  const Json& a = doc["accessors"][index];
-  EXPECT_EQ(a["componentType"], 5126);
-  const std::size_t count = a["count"];
-  std::vector<float> out(count * width, 0.0f);
-  auto view_at = [&](std::size_t view) {
-    const Json& v = doc["bufferViews"][view];
-    return static_cast<std::size_t>(v.value("byteOffset", 0));
-  };
-  if (a.contains("bufferView")) {
-    const Json& v = doc["bufferViews"][a["bufferView"].get<std::size_t>()];
-    const std::size_t stride = v.value("byteStride", 4 * width);
-    const std::size_t begin = view_at(a["bufferView"]) + a.value("byteOffset", 0);
-    for (std::size_t i = 0; i < count; ++i) std::memcpy(&out[i * width], bin.data() + begin + i * stride, 4 * width);
-  }
-  if (a.contains("sparse")) {
-    const Json& s = a["sparse"];
-    EXPECT_EQ(s["indices"]["componentType"], 5125);
-    const std::size_t n = s["count"];
-    const std::size_t ib = view_at(s["indices"]["bufferView"]) + s["indices"].value("byteOffset", 0);
-    const std::size_t vb = view_at(s["values"]["bufferView"]) + s["values"].value("byteOffset", 0);
-    for (std::size_t k = 0; k < n; ++k) {
-      std::uint32_t i = 0;
-      std::memcpy(&i, bin.data() + ib + 4 * k, 4);
-      std::memcpy(&out[i * width], bin.data() + vb + 4 * width * k, 4 * width);
-    }
-  }
-  return out;
-}
-
-std::string view_bytes(const Json& doc, const std::string& bin, std::size_t view) {
-  const Json& v = doc["bufferViews"][view];
-  return bin.substr(v.value("byteOffset", 0), v["byteLength"].get<std::size_t>());
-}
-
-std::string validate(const fs::path& glb, int* code) {
-  const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/validate.js";
-  const std::string cmd = "node '" + script.string() + "' '" + glb.string() + "' 2>&1";
-  std::string report;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return report;
-  char buf[4096];
-  for (std::size_t got; (got = std::fread(buf, 1, sizeof buf, pipe)) > 0;) report.append(buf, got);
-  const int status = ::pclose(pipe);
-  *code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return report;
-}
 
 // A push across the tail near its tip, strong enough to bend it well (normals turn by tens of degrees).
 const char* const kTexturedScene =
@@ -143,15 +75,6 @@ struct TexturedWorkspace {
   }
 };
 
-std::vector<float> pc2_frame(const std::string& pc2, int frame, int* points) {
-  std::int32_t n = 0;
-  std::memcpy(&n, pc2.data() + 16, 4);
-  *points = n;
-  std::vector<float> out(3 * static_cast<std::size_t>(n));
-  std::memcpy(out.data(), pc2.data() + 32 + 12 * static_cast<std::size_t>(frame) * n, out.size() * 4);
-  return out;
-}
-
 // Area-weighted normals of `positions` (3 a vertex) over `triangles`, welded by position.
 std::vector<Vec3> welded_normals(const std::vector<float>& positions, const std::vector<std::uint32_t>& triangles,
                                  const std::vector<float>& rest) {
@@ -169,14 +92,6 @@ std::vector<Vec3> welded_normals(const std::vector<float>& positions, const std:
   }
   std::vector<Vec3> out(rep.size());
   for (std::size_t v = 0; v < rep.size(); ++v) out[v] = sum[rep[v]].normalized();
-  return out;
-}
-
-std::vector<std::uint32_t> uints(const Json& doc, const std::string& bin, std::size_t index) {
-  const Json& a = doc["accessors"][index];
-  std::vector<std::uint32_t> out(a["count"].get<std::size_t>());
-  const Json& v = doc["bufferViews"][a["bufferView"].get<std::size_t>()];
-  std::memcpy(out.data(), bin.data() + v.value("byteOffset", 0) + a.value("byteOffset", 0), 4 * out.size());
   return out;
 }
 

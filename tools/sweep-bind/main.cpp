@@ -17,6 +17,7 @@
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/interrupt.h"
+#include "sweep/io/mesh_names.h"
 #include "tools/common/path_checks.h"
 #include "sweep/io/rig_json.h"
 #include "tools/common/cli_checks.h"
@@ -52,7 +53,11 @@ std::string report_text(const Settings& s, const fs::path& mesh_path, const std:
   doc["version"] = 1;
   doc["rig"] = s.rig.string();
   doc["mesh"] = mesh_path.string();
-  if (!mesh_name.empty()) doc["mesh_name"] = mesh_name;
+  if (sweep::io::several_mesh_names(mesh_name)) {
+    doc["mesh_name"] = sweep::io::split_mesh_names(mesh_name);
+  } else if (!mesh_name.empty()) {
+    doc["mesh_name"] = mesh_name;
+  }
   doc["binding"] = output.string();
   doc["binding_format_version"] = sweep::io::kBindingFormatVersion;
   doc["vertex_count"] = r.binding.vertex_count;
@@ -125,7 +130,7 @@ int run(const Settings& s) {
 
   if (!s.quiet) {
     std::cout << s.rig.string() << ": " << mesh_path.string()
-              << (rig.mesh_name.empty() ? "" : " mesh '" + rig.mesh_name + "'") << ", " << mesh.vertex_count()
+              << (rig.mesh_name.empty() ? "" : " " + sweep::assets::asked_meshes(rig.mesh_name)) << ", " << mesh.vertex_count()
               << " vertices\n";
     for (const sweep::bind::SweepBindStats& st : r.sweeps) {
       std::cout << "  " << st.name << ": " << st.bound_vertex_count << " vertices bound";

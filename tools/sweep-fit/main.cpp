@@ -24,6 +24,7 @@
 #include "sweep/fit/hole_patches.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/interrupt.h"
+#include "sweep/io/mesh_names.h"
 #include "tools/common/path_checks.h"
 #include "sweep/io/read_file.h"
 #include "sweep/io/rig_json.h"
@@ -41,7 +42,10 @@ namespace {
 
 struct Settings {
   fs::path mesh;              // input mesh (any format assets::read_mesh reads)
-  std::string mesh_name;      // --mesh: which mesh of the file ("" = the rig's, or the only or largest)
+  // --mesh, once or more: which meshes of the file, as one (joined: io/mesh_names.h; "" = the rig's,
+  // or the only or largest one).
+  std::vector<std::string> mesh_names;
+  std::string mesh_name;
   std::string space = "world";  // --space: what --root, --tip and --axis are in (world, local)
   fs::path rig;               // rig file to create or update
   std::string name = "part";  // the sweep's name in the rig
@@ -62,8 +66,10 @@ struct Settings {
   std::string names;      // --names a,b,c for --all
   std::string only, skip;  // --only / --skip a,b,c for --all: parts by their suggested names
   std::string up = "Y";   // --up: the up axis the suggested names go by
+  bool up_given = false;  // else the file's own (assets::FileUp)
   fs::path preview;       // optional PNG: the fit drawn over the mesh from three sides
   fs::path material;      // optional material file: the fitted sweeps move in material mode
+  fs::path export_obj;    // --export-obj: the mesh as read, to this OBJ (no fit)
 };
 
 // "X,Y,Z" → a point; our own parse so that the message names the flag and the text given.
@@ -212,10 +218,20 @@ std::optional<sweep::Material> read_material_option(const Settings& s) {
   return sweep::io::read_material_file(s.material, sweep::tools::warn);
 }
 
-// --up as the direction the suggested names go by.
-sweep::fit::DiscoverOptions discover_options(const Settings& s) {
+// The direction the suggested names go by: --up, else the file's own up (glTF's +Y, an FBX's
+// GlobalSettings, a Collada file's up_axis; +Y when the file states none), and why.
+struct NamesUp {
+  Vec3 direction;
+  std::string why;
+};
+NamesUp names_up(const Settings& s, const sweep::assets::SceneMesh& read) {
+  if (!s.up_given) return {read.up.direction, read.up.why};
+  return {s.up == "X" ? Vec3::UnitX() : s.up == "Z" ? Vec3::UnitZ() : Vec3::UnitY(), "given by --up"};
+}
+
+sweep::fit::DiscoverOptions discover_options(const NamesUp& up) {
   sweep::fit::DiscoverOptions o;
-  o.up = s.up == "X" ? Vec3::UnitX() : s.up == "Z" ? Vec3::UnitZ() : Vec3::UnitY();
+  o.up = up.direction;
   return o;
 }
 
@@ -266,8 +282,11 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
   const bool rigs = updating && rig != nullptr;
   const std::string name = !s.mesh_name.empty() ? s.mesh_name : rigs ? rig->mesh_name : "";
   ReadMesh m;
+  // Several --mesh are taken in the file's order, whatever order they were given in; a rig's list
+  // in its own.
   m.read = sweep::assets::read_scene_mesh(s.mesh, name,
-                                      rigs ? sweep::assets::MeshPick::whole_file : sweep::assets::MeshPick::only_or_largest);
+                                          rigs ? sweep::assets::MeshPick::whole_file : sweep::assets::MeshPick::only_or_largest,
+                                          /*file_order=*/!s.mesh_name.empty());
   sweep::assets::validate_mesh(m.read.mesh, s.mesh.string());
   std::string taken;
   if (!s.mesh_name.empty()) taken = "named by --mesh";
@@ -283,8 +302,8 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
   }
   // --mesh may name the rig's mesh by its node's name (what the rig records) or by its mesh's.
   if (rigs && !s.mesh_name.empty() && m.read.name != rig->mesh_name && s.mesh_name != rig->mesh_name) {
-    fail(ErrorCategory::usage, "--mesh " + s.mesh_name + ": " + s.rig.string() + " is a rig of " +
-                                   (rig->mesh_name.empty() ? "the whole file" : "its mesh '" + rig->mesh_name + "'") +
+    fail(ErrorCategory::usage, "--mesh " + (s.mesh_names.size() > 1 ? sweep::io::quoted_mesh_names(s.mesh_name) : s.mesh_name) + ": " + s.rig.string() + " is a rig of " +
+                                   (rig->mesh_name.empty() ? "the whole file" : "its " + sweep::assets::asked_meshes(rig->mesh_name)) +
                                    "; write to another --rig file");
   }
   if (rig != nullptr) rig->mesh_name = m.read.name;
@@ -412,6 +431,11 @@ int run_one(const Settings& s) {
   const ReadMesh mesh = read_checked_mesh(s, &rig, updating);
   if (s.space == "local") {
     // A rig that names no mesh reads the whole of a scene file: many nodes, no one local space.
+    if (sweep::io::several_mesh_names(mesh.read.name)) {
+      fail(ErrorCategory::usage, "--space local: " + s.mesh.string() + "'s " + sweep::assets::asked_meshes(mesh.read.name) +
+                                     " are read as one in world space, each placed by its own node; there is no one "
+                                     "local space: give the points in world space");
+    }
     if (mesh.read.name.empty() && !mesh.read.meshes.empty()) {
       fail(ErrorCategory::usage,
            "--space local: " + s.rig.string() + " names no mesh, so it reads the whole of " +
@@ -450,7 +474,7 @@ int run_all(const Settings& s) {
   fitting(s, mesh, fits, start, [&] {
     const sweep::fit::SweepFitter fitter(mesh.mesh());
     const std::vector<sweep::fit::FoundPart> found =
-        sweep::fit::find_parts(mesh.mesh(), fitter.patched_topology(), discover_options(s));
+        sweep::fit::find_parts(mesh.mesh(), fitter.patched_topology(), discover_options(names_up(s, mesh.read)));
     if (found.empty()) {
       fail(ErrorCategory::bad_input,
            s.mesh.string() + ": " +
@@ -489,22 +513,36 @@ int run_all(const Settings& s) {
   return 0;
 }
 
+// The mesh as the tools read it (world space, their vertex order, polygons as read) to an OBJ, for
+// a viewer that reads no FBX (tools/sweep-preview.py); no fit.
+int run_export(const Settings& s) {
+  sweep::tools::check_paths({{"the mesh", s.mesh}}, {{"--export-obj", s.export_obj}});
+  const ReadMesh read = read_checked_mesh(s);
+  sweep::io::check_can_create(s.export_obj);
+  sweep::assets::write_obj(s.export_obj, read.mesh());
+  if (!s.quiet) std::cout << "wrote " << s.export_obj.string() << " (" << read.mesh().vertex_count() << " vertices)\n";
+  return 0;
+}
+
 // The parts found, as a table (and JSON with --report); no rig.
 int run_list(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
   sweep::tools::check_paths({{"the mesh", s.mesh}}, {{"--report", s.report}});
-  const sweep::Mesh mesh = read_checked_mesh(s).read.mesh;
+  const ReadMesh read = read_checked_mesh(s);
+  const sweep::Mesh& mesh = read.mesh();
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
+  const NamesUp up = names_up(s, read.read);
   const sweep::Topology topology = sweep::build_topology(mesh);
   const std::optional<sweep::Topology> patched = sweep::fit::patched_topology(mesh, topology);
   const sweep::Topology& searched = patched ? *patched : topology;
   std::vector<std::string> passed_over;
   const std::vector<sweep::fit::FoundPart> parts =
-      sweep::fit::find_parts(mesh, searched, discover_options(s), s.verbose ? &passed_over : nullptr);
+      sweep::fit::find_parts(mesh, searched, discover_options(up), s.verbose ? &passed_over : nullptr);
+  sweep::fit_tool::print_names_up(up.direction, up.why);
   sweep::fit_tool::print_parts(parts, sweep::hole_edge_count(searched));
   for (const std::string& x : passed_over) std::cout << "  passed over " << x << "\n";
   if (!s.report.empty())
-    sweep::fit_tool::write_parts_report(s.report, s.mesh, parts, seconds_since(start));
+    sweep::fit_tool::write_parts_report(s.report, s.mesh, parts, up.direction, up.why, seconds_since(start));
   return 0;
 }
 
@@ -516,9 +554,12 @@ int main(int argc, char** argv) {
     CLI::App app{"Fit a sweep (key sections and radius samples) to a tubular part of a mesh"};
     app.set_version_flag("--version", std::string("sweep-fit ") + SWEEP_VERSION);
     app.add_option("mesh", s.mesh, "Input mesh (OFF, PLY, OBJ, STL, glTF/glb, FBX)")->required();
-    app.add_option("--mesh", s.mesh_name,
-                   "Which mesh of a file of several (glTF, FBX, ...): a node's or a mesh's name "
-                   "(default: a rig being updated keeps its own, else the only or the largest one)")
+    app.add_option("--mesh", s.mesh_names,
+                   "Which mesh of a file of several (glTF, FBX, ...): a node's or a mesh's name; given "
+                   "more than once (or 'all'), those meshes as one, in the file's order (default: a rig "
+                   "being updated keeps its own, else the only or the largest one)")
+        ->expected(1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
         ->check(sweep::tools::kNonEmptyName);
     auto* rig = app.add_option("-o,--rig", s.rig,
                                "Rig file to create, or to add/replace the sweep(s) in");
@@ -538,7 +579,8 @@ int main(int argc, char** argv) {
                      ->excludes(only);
     auto* up = app.add_option("--up", s.up,
                               "With --list or --all: the mesh's up axis, which the suggested names go by "
-                              "(a leg points down, a neck rises)")
+                              "(a leg points down, a neck rises); default: the file's own (glTF: Y; FBX, "
+                              "Collada: as the file says; else Y)")
                    ->check(CLI::IsMember({"X", "Y", "Z"}))
                    ->capture_default_str();
     auto* name =
@@ -581,12 +623,19 @@ int main(int argc, char** argv) {
                                  "its node transforms) or local (the mesh's own, as stored)")
                       ->check(CLI::IsMember({"world", "local"}))
                       ->capture_default_str();
+    auto* export_obj = app.add_option("--export-obj", s.export_obj,
+                                      "Write the mesh as read (world space, the tools' vertex order) to this "
+                                      ".obj, and nothing else")
+                           ->check(sweep::tools::kNonEmptyName);
     app.add_flag("-v,--verbose", s.verbose, "Say more");
     app.add_flag("-q,--quiet", s.quiet, "Print nothing on success (no summary, no notes)");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);
+    for (const std::string& m : s.mesh_names) sweep::tools::check_utf8(m, "--mesh");
+    s.mesh_name = sweep::io::join_mesh_names(s.mesh_names);
     s.root_given = root->count() > 0;
     s.tip_given = tip->count() > 0;
+    s.up_given = up->count() > 0;
     if (tip_vertex->count() > 0) s.tip_vertex = tip_vertex_index(s.tip_vertex_text);
     // The modes: one part (named by --tip, --tip-vertex or --axis), --all, --list.
     const bool finding = list->count() > 0 || all->count() > 0;
@@ -612,6 +661,17 @@ int main(int argc, char** argv) {
     if (preview->count() > 0 && s.preview.extension() != ".png") {
       fail(ErrorCategory::usage, "--preview writes a PNG: its name must end in .png, got '" +
                                      s.preview.string() + "'");
+    }
+    if (export_obj->count() > 0) {
+      for (const CLI::Option* other : {list, all, rig, tip, tip_vertex, root, axis, name, material, preview, up, space}) {
+        if (other->count() > 0) {
+          fail(ErrorCategory::usage, "--export-obj writes the mesh alone: " + other->get_name() + " does not go with it");
+        }
+      }
+      if (s.export_obj.extension() != ".obj") {
+        fail(ErrorCategory::usage, "--export-obj writes an OBJ: its name must end in .obj, got '" + s.export_obj.string() + "'");
+      }
+      return run_export(s);
     }
     if (!s.list && rig->count() == 0) fail(ErrorCategory::usage, "-o RIG is required (except with --list)");
     if (s.list && rig->count() > 0) fail(ErrorCategory::usage, "--list writes no rig: drop -o");

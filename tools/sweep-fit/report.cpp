@@ -8,6 +8,7 @@
 #include "sweep/core/text.h"
 #include "sweep/fit/hole_patches.h"
 #include "sweep/io/atomic_file.h"
+#include "sweep/io/mesh_names.h"
 
 namespace sweep::fit_tool {
 namespace {
@@ -143,7 +144,7 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const assets::Scen
 
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m) {
   std::cout << "mesh " << path.string();
-  if (!m.name.empty()) std::cout << " '" << m.name << "' (" << m.taken << ")";
+  if (!m.name.empty()) std::cout << " " << io::shown_mesh_names(m.name) << " (" << m.taken << ")";
   std::cout << ": " << m.vertices << " vertices, " << m.faces
             << " faces, bounding box " << format_point(m.min) << " to " << format_point(m.max)
             << " (size " << format_point(m.max - m.min) << ")\n"
@@ -183,7 +184,9 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
                          {"faces", summary.faces},
                          {"bounding_box", {{"min", point(summary.min)}, {"max", point(summary.max)}}},
                          {"space", summary.space},
-                         {"mesh_name", summary.name},
+                         // several meshes: their names, in the order their vertices are concatenated
+                         {"mesh_name", io::several_mesh_names(summary.name) ? Json(io::split_mesh_names(summary.name))
+                                                                            : Json(summary.name)},
                          {"taken", summary.taken},
                          {"seeds_space", summary.seeds_local ? "local" : "world"}};
   Json meshes = Json::array();
@@ -209,12 +212,18 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
   return rep.dump(2) + "\n";
 }
 
+void print_names_up(const Vec3& up, const std::string& why) {
+  std::cout << "names go by up " << assets::direction_name(up) << " (" << why << "; --up X|Y|Z gives another)\n";
+}
+
 void write_parts_report(const std::filesystem::path& report, const std::filesystem::path& mesh,
-                        const std::vector<fit::FoundPart>& parts, double seconds) {
+                        const std::vector<fit::FoundPart>& parts, const Vec3& up, const std::string& up_why,
+                        double seconds) {
   Json rep;
   rep["format"] = "sweep-fit-parts";
   rep["version"] = 1;
   rep["mesh"] = mesh.generic_string();
+  rep["up"] = {{"direction", point(up)}, {"axis", assets::direction_name(up)}, {"why", up_why}};
   auto& list = rep["parts"] = Json::array();
   for (const fit::FoundPart& p : parts) {
     Json e;

@@ -44,9 +44,13 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
                             const std::vector<fit::FitResult>& fits, bool rig_written,
                             double seconds, const Error* failure = nullptr);
 
-// The parts found: format "sweep-fit-parts", version 1.
+// The parts found: format "sweep-fit-parts", version 1; "up" the direction the names went by and why.
 void write_parts_report(const std::filesystem::path& report, const std::filesystem::path& mesh,
-                        const std::vector<fit::FoundPart>& parts, double seconds);
+                        const std::vector<fit::FoundPart>& parts, const Vec3& up, const std::string& up_why,
+                        double seconds);
+
+// "names go by up +Z (why)": the line --list prints above the parts.
+void print_names_up(const Vec3& up, const std::string& why);
 
 // A fit's summary for a person: sections, root, part, error (and the axis with `verbose`).
 void print_fit(const fit::FitResult& r, bool verbose);
