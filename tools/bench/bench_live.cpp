@@ -6,7 +6,10 @@
 //    on a path keyed every 1/60 s — what sweep-sim does per output frame;
 //  - "scene player, 60 fps": the same at 60 fps (8 steps a frame);
 //  - "live (C++)": Simulator::advance_to(t + 1/60) after set_body_pose, then the fast path, timed
-//    apart (step, deform);
+//    apart (step, deform); and at the live step on one thread, with the world-space copy an engine
+//    uploads made two ways, timed apart (step, deform, copy): the parts deformed into a mesh-order
+//    copy and that transformed (deform_sweeps + transform_positions, libsweep's read before), and
+//    sim::LivePositions (libsweep's read now: the same bits);
 //  - "libsweep": sweep_set_body + sweep_advance (the step) and the read through the C interface:
 //    sweep_positions (the moved parts deformed, the world-space copy an engine uploads) or
 //    sweep_joints (the skinned export's joints, for an engine that skins on the GPU), timed apart;
@@ -15,7 +18,8 @@
 //  - a crowd: 1 and 100 instances, their frames shared among 1 or 2 threads;
 //  - the accuracy a coarser step costs: the same run at steps from 1/480 to 1/30 s against 1/3840 s.
 // Time: median over the frames after the first 10, per frame, µs; rounds alternate the cases and
-// thread counts, median over rounds.
+// thread counts, median over rounds. libsweep runs an instance on the calling thread: its rows at
+// "2 threads" differ from those at 1 only by OMP_NUM_THREADS, which it no longer uses.
 #include <unistd.h>
 
 #include <barrier>
