@@ -20,6 +20,7 @@
 #include "sweep/io/rig_json.h"
 #include "sweep/io/scene_json.h"
 #include "sweep/sim/fast_deform.h"
+#include "sweep/sim/live_positions.h"
 #include "sweep/sim/simulator.h"
 #include "sweep/sim/skin_joints.h"
 
@@ -28,8 +29,7 @@ struct sweep_instance {
   sweep::sim::Scene scene;
   std::unique_ptr<sweep::sim::Simulator> simulator;
   std::vector<std::unique_ptr<sweep::sim::FastDeformer>> deformers;
-  std::vector<sweep::sim::DeformJob> jobs;
-  std::vector<sweep::sim::Vec3f> positions;  // mesh space, as of the last deform
+  std::unique_ptr<sweep::sim::LivePositions> positions;  // the parts' vertices as of their last deform
   std::unique_ptr<sweep::sim::SkinJoints> joints;  // the skinned export's skeleton, posed on demand
   // Per sweep: moved since its vertices were last deformed / its joints last posed. What a frame
   // reads is computed when it is read (sweep_positions, sweep_joints), for the parts that moved.
@@ -42,13 +42,11 @@ struct sweep_instance {
 };
 
 void sweep_instance::deform_moved() {
-  jobs.clear();
   for (int i = 0; i < simulator->sweep_count(); ++i) {
     if (!deform_due[i]) continue;
-    jobs.push_back({deformers[i].get(), &simulator->sweep(i).deformed()});
+    positions->deform(i, *deformers[i], simulator->sweep(i).deformed());
     deform_due[i] = 0;
   }
-  if (!jobs.empty()) sweep::sim::deform_sweeps(jobs, positions);
 }
 
 void sweep_instance::pose_moved() {
@@ -206,8 +204,14 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     }
     if (!same_positions) check_rest(*in, rest);
     in->simulator = std::make_unique<sweep::sim::Simulator>(in->rig, in->scene);
-    in->positions = std::move(rest);
-    in->jobs.reserve(in->deformers.size());
+    // An instance's frame runs on the calling thread: its parts are a few microseconds of work each,
+    // less than waking OpenMP's threads costs after a frame's sleep (on this 2-core machine a paced
+    // frame on 2 threads took 20-40 ms against 0.2 ms on one: sweep-bench-live); a game spreads its
+    // creatures over its own threads instead.
+    in->simulator->set_parallel(false);
+    std::vector<const sweep::sim::FastDeformer*> parts;
+    for (const auto& d : in->deformers) parts.push_back(d.get());
+    in->positions = std::make_unique<sweep::sim::LivePositions>(rest, parts);
     in->deform_due.assign(in->deformers.size(), 0);
     in->joints_due.assign(in->deformers.size(), 0);
     in->joints = std::make_unique<sweep::sim::SkinJoints>(rest_shapes(in->rig), default_skin(in->rig));
@@ -311,7 +315,7 @@ int sweep_positions(const sweep_instance* instance, float* out_xyz) {
     const sweep::sim::BodyState body = instance->simulator->body();
     const Eigen::Matrix3f r = body.rotation.toRotationMatrix().cast<float>();
     const sweep::sim::Vec3f t = body.translation.cast<float>();
-    sweep::sim::transform_positions(instance->positions, r, t, out_xyz);
+    instance->positions->world(r, t, out_xyz);
   });
 }
 

@@ -108,6 +108,13 @@ class FastDeformer {
   void deform_vertices(std::span<Vec3f> out) const { deform_vertices(out, parallel_); }
   void deform_vertices(std::span<Vec3f> out, bool split) const;
 
+  // The live runtime's form (sim/live_positions.h): tabulate(deformed) on this thread, then this
+  // sweep's vertices into `out` in the grouped order — out[i] is mesh vertex grouped_vertices()[i],
+  // vertex_count() of them — each by the same operations as deform() (the same bits), its stores
+  // contiguous whatever the mesh's vertex order.
+  void deform_grouped(const SweepShape& deformed, std::span<Vec3f> out);
+  std::span<const std::uint32_t> grouped_vertices() const { return vertex_; }
+
   std::size_t vertex_count() const { return vertex_.size(); }
   // Whether deform_vertices splits its blocks across the threads (kParallelVertexThreshold).
   bool is_parallel() const { return parallel_; }
@@ -131,6 +138,9 @@ class FastDeformer {
     std::uint32_t runs = kNoRuns;      // first of the block's runs in runs_, or kNoRuns
   };
   static constexpr std::uint32_t kNoRuns = 0xffffffffu;
+  // The kernel over every block into `out` (flat floats): in mesh order, or (grouped) in the
+  // grouped order; the blend fix-up is the caller's.
+  void run_blocks(float* out, bool grouped, bool split) const;
   // Blocks whose mesh indices come in runs at least this long on average write back run by run.
   static constexpr std::uint32_t kMinMeanRunLength = 8;
 

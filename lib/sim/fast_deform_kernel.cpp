@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cstdint>
 
 #include "sweep/core/error.h"
@@ -24,6 +25,7 @@ struct Kernel {
   const float *u, *w, *a, *b, *z;
   const std::uint32_t* vertex;
   float* out;
+  bool grouped;  // out in the grouped order (vertex i of the arrays at out + 3i), not the mesh's
 };
 
 // One block of one station span (stations A and B): vertices [begin, end) of the grouped arrays,
@@ -94,9 +96,10 @@ template <bool kAxial>
       store(i, px, py, pz);
     }
   };
-  // A block whose mesh indices are one contiguous run is written straight to the mesh.
-  if (runs != nullptr && runs->length == m) {
-    float* o = k.out + 3 * static_cast<std::size_t>(k.vertex[begin]);
+  // A block whose mesh indices are one contiguous run is written straight to the mesh, and every
+  // block straight to an output in the grouped order.
+  if (k.grouped || (runs != nullptr && runs->length == m)) {
+    float* o = k.out + 3 * static_cast<std::size_t>(k.grouped ? begin : k.vertex[begin]);
     positions([o](std::ptrdiff_t i, float x, float y, float z) {
       o[3 * i] = x;
       o[3 * i + 1] = y;
@@ -226,6 +229,24 @@ void FastDeformer::deform(const SweepShape& deformed, std::span<Vec3f> out, bool
 }
 
 void FastDeformer::deform_vertices(std::span<Vec3f> out, bool split) const {
+  run_blocks(out.data()->data(), false, split);
+  for (std::size_t b = 0; b < blend_index_.size(); ++b) {
+    Vec3f& o = out[vertex_[blend_index_[b]]];
+    o = blend_rest_[b] + blend_weight_[b] * (o - blend_rest_[b]);
+  }
+}
+
+void FastDeformer::deform_grouped(const SweepShape& deformed, std::span<Vec3f> out) {
+  assert(out.size() == vertex_.size());
+  tabulate(deformed, false);
+  run_blocks(out.data()->data(), true, false);
+  for (std::size_t b = 0; b < blend_index_.size(); ++b) {
+    Vec3f& o = out[blend_index_[b]];
+    o = blend_rest_[b] + blend_weight_[b] * (o - blend_rest_[b]);
+  }
+}
+
+void FastDeformer::run_blocks(float* out, bool grouped, bool split) const {
   const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>(blocks_.size());
   Kernel k;
   k.floor = radius_floor_;
@@ -235,7 +256,8 @@ void FastDeformer::deform_vertices(std::span<Vec3f> out, bool split) const {
   k.b = b_.data();
   k.z = z_.data();
   k.vertex = vertex_.data();
-  k.out = out.data()->data();
+  k.out = out;
+  k.grouped = grouped;
   const float* const tab = stations_.data();
   const auto run_block = [&](std::ptrdiff_t bi) {
     const Block& blk = blocks_[bi];
@@ -261,10 +283,6 @@ void FastDeformer::deform_vertices(std::span<Vec3f> out, bool split) const {
     for (std::ptrdiff_t bi = 0; bi < blocks; ++bi) run_block(bi);
   } else {
     for (std::ptrdiff_t bi = 0; bi < blocks; ++bi) run_block(bi);
-  }
-  for (std::size_t b = 0; b < blend_index_.size(); ++b) {
-    Vec3f& o = out[vertex_[blend_index_[b]]];
-    o = blend_rest_[b] + blend_weight_[b] * (o - blend_rest_[b]);
   }
 }
 

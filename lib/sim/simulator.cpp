@@ -275,7 +275,7 @@ void Simulator::advance_between(double start, double target) {
   };
   const int count = sweep_count();
   // Serial unless it pays: entering a parallel region costs a microsecond even on one thread.
-  if (busy >= 2) {
+  if (busy >= 2 && parallel_) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (int i = 0; i < count; ++i) run(i);
   } else {

@@ -75,6 +75,9 @@ class Simulator {
   void set_gravity(const Vec3& gravity);
   void set_wind(const WindSettings& wind);
   const Scene& scene() const { return scene_; }
+  // Whether a frame steps its sweeps side by side on OpenMP's threads (the default) or all on the
+  // calling thread; the results are the same bits either way.
+  void set_parallel(bool on) { parallel_ = on; }
 
   int sweep_count() const { return static_cast<int>(sweeps_.size()); }
   // Sweep i at the current frame's time.
@@ -171,6 +174,7 @@ class Simulator {
   int frame_ = 0;
   double time_ = 0;
   bool live_loads_ = false;  // gravity or wind changed live: the parts' loads are set every step
+  bool parallel_ = true;
   bool pose_pending_ = false;
   BodyKey pending_pose_{};
   std::vector<BodyKey> pose_keys_;  // scratch of take_body_pose: the live path's next keys

@@ -99,4 +99,85 @@ TEST(CApiAllocation, FrameCallsAllocateNothingAfterTheFirstFrame) {
   sweep_close(in);
 }
 
+// The live frame as a game reads it, one kind of read an instance: the tube in material mode under
+// gravity, a settings file giving no step (libsweep's live step, one a 60 fps frame), the body
+// moving every frame; one instance reads only the positions, another only the joints. After the
+// first frame neither allocates, and their last reads are, bit for bit, those of a third instance
+// given the same frames that reads nothing until the end (a read depends on the frames alone).
+TEST(CApiAllocation, MaterialModeFramesAllocateNothingWithPositionsOrJointsOut) {
+  if (!sweep::test::kCounts)
+    GTEST_SKIP() << "AddressSanitizer replaces operator new and malloc: allocations are not counted in this build";
+  const fs::path dir = fs::temp_directory_path() / ("sweep-capi-allocation-material-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string obj = read_text(fs::path(SWEEP_SOURCE_DIR) / "meshes/tube_bent.obj");
+  std::ofstream(dir / "mesh.obj") << obj;
+  std::string rig = read_text(fs::path(SWEEP_SOURCE_DIR) / "rigs/tube-bent.rig.json");
+  const std::string from = "\"../meshes/tube_bent.obj\"";
+  rig.replace(rig.find(from), from.size(), "\"mesh.obj\"");
+  // A soft rubber tube, 1 mesh unit a metre.
+  const std::string samples = "\"radial_samples\": 12,";
+  ASSERT_NE(rig.find(samples), std::string::npos);
+  rig.insert(rig.find(samples) + samples.size(),
+             R"( "material": {"youngs_modulus_pa": 2e6, "density_kg_m3": 1100, "damping_ratio": 0.1},)");
+  std::ofstream(dir / "tube.rig.json") << rig;
+  std::ofstream(dir / "settings.scene.json")
+      << R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "gravity": [0, -9.81, 0], "forces": []})";
+  const std::string bind =
+      std::string(SWEEP_BIND_EXE) + " -q " + (dir / "tube.rig.json").string() + " -o " + (dir / "tube.bind").string();
+  ASSERT_EQ(std::system(bind.c_str()), 0) << bind;
+  std::vector<float> rest;
+  std::istringstream lines(obj);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::istringstream s(line.substr(2));
+    float x, y, z;
+    s >> x >> y >> z;
+    rest.insert(rest.end(), {x, y, z});
+  }
+  const auto open = [&] {
+    return sweep_open((dir / "tube.rig.json").c_str(), (dir / "tube.bind").c_str(), (dir / "settings.scene.json").c_str(),
+                      rest.data(), static_cast<int>(rest.size() / 3));
+  };
+  sweep_instance* by_positions = open();
+  sweep_instance* by_joints = open();
+  sweep_instance* both = open();  // reads both, once, after the last frame
+  fs::remove_all(dir);
+  ASSERT_TRUE(by_positions && by_joints && both) << sweep_last_error();
+  const int joint_count = sweep_joint_count(by_joints);
+  ASSERT_GT(joint_count, 0) << sweep_last_error();
+  std::vector<float> positions(rest.size()), joints(16 * static_cast<std::size_t>(joint_count));
+  std::vector<float> positions_both(positions.size()), joints_both(joints.size());
+  int failures = 0, positions_differ = 0, joints_differ = 0;
+  double moved = 0;  // largest distance of a coordinate from its rest
+  const auto frame = [&](int k) {
+    const double t = k / 60.0;
+    const double angle = 0.3 * std::sin(3 * t), c = std::cos(angle), s = std::sin(angle);
+    const double m[16] = {c, 0, -s, 0, 0, 1, 0, 0, s, 0, c, 0, 0.4 * std::sin(2 * t), 0.1 * t, 0, 1};
+    for (sweep_instance* in : {by_positions, by_joints, both}) {
+      failures += sweep_set_body(in, m) != SWEEP_OK;
+      failures += sweep_advance(in, 1.0 / 60) != SWEEP_OK;
+    }
+    failures += sweep_positions(by_positions, positions.data()) != SWEEP_OK;
+    failures += sweep_joints(by_joints, joints.data()) != SWEEP_OK;
+  };
+  frame(1);  // the first frame
+  sweep::test::open_allocation_window();
+  for (int k = 2; k <= 150; ++k) frame(k);
+  const sweep::test::AllocationCounts counts = sweep::test::close_allocation_window();
+  failures += sweep_positions(both, positions_both.data()) != SWEEP_OK;
+  failures += sweep_joints(both, joints_both.data()) != SWEEP_OK;
+  for (std::size_t c = 0; c < positions.size(); ++c) {
+    positions_differ += positions[c] != positions_both[c];
+    moved = std::max(moved, double(std::abs(positions[c] - rest[c])));
+  }
+  for (std::size_t c = 0; c < joints.size(); ++c) joints_differ += joints[c] != joints_both[c];
+  EXPECT_EQ(failures, 0) << sweep_last_error();
+  EXPECT_EQ(counts.news, 0);
+  EXPECT_EQ(counts.mallocs, 0);
+  EXPECT_EQ(positions_differ, 0);
+  EXPECT_EQ(joints_differ, 0);
+  EXPECT_GT(moved, 0.1);  // the body carried the mesh away from its rest
+  for (sweep_instance* in : {by_positions, by_joints, both}) sweep_close(in);
+}
+
 }  // namespace

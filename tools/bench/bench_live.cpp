@@ -6,7 +6,10 @@
 //    on a path keyed every 1/60 s — what sweep-sim does per output frame;
 //  - "scene player, 60 fps": the same at 60 fps (8 steps a frame);
 //  - "live (C++)": Simulator::advance_to(t + 1/60) after set_body_pose, then the fast path, timed
-//    apart (step, deform);
+//    apart (step, deform); and at the live step on one thread, with the world-space copy an engine
+//    uploads made two ways, timed apart (step, deform, copy): the parts deformed into a mesh-order
+//    copy and that transformed (deform_sweeps + transform_positions, libsweep's read before), and
+//    sim::LivePositions (libsweep's read now: the same bits);
 //  - "libsweep": sweep_set_body + sweep_advance (the step) and the read through the C interface:
 //    sweep_positions (the moved parts deformed, the world-space copy an engine uploads) or
 //    sweep_joints (the skinned export's joints, for an engine that skins on the GPU), timed apart;
@@ -15,7 +18,8 @@
 //  - a crowd: 1 and 100 instances, their frames shared among 1 or 2 threads;
 //  - the accuracy a coarser step costs: the same run at steps from 1/480 to 1/30 s against 1/3840 s.
 // Time: median over the frames after the first 10, per frame, µs; rounds alternate the cases and
-// thread counts, median over rounds.
+// thread counts, median over rounds. libsweep runs an instance on the calling thread: its rows at
+// "2 threads" differ from those at 1 only by OMP_NUM_THREADS, which it no longer uses.
 #include <unistd.h>
 
 #include <barrier>
@@ -25,6 +29,7 @@
 #include "sweep/io/binding_file.h"
 #include "sweep/io/rig_json.h"
 #include "sweep/sim/fast_deform.h"
+#include "sweep/sim/live_positions.h"
 #include "sweep/sim/simulator.h"
 #include "sweep/sweep.h"
 
@@ -86,15 +91,27 @@ Cost scene_player(const RealRig& dino, const sim::Scene& scene, int frames) {
   return {median(total), median(step), median(deform), 0};
 }
 
-// The live simulator in C++: a pose, advance_to, the fast path.
-Cost live_cpp(const RealRig& dino, const sim::Scene& settings, int frames) {
+// How a live frame reads its vertices back in world space: the parts deformed into a mesh-order
+// copy and the whole copy transformed (deform_sweeps + transform_positions: libsweep's read until
+// it took LivePositions), or LivePositions (each part into its own grouped array, one streamed
+// pass over the mesh).
+enum class WorldRead { none, mesh_order, live_positions };
+
+// The live simulator in C++: a pose, advance_to, the fast path; with `world`, the world-space copy
+// too, on the calling thread (Simulator::set_parallel(false)) as libsweep does.
+Cost live_cpp(const RealRig& dino, const sim::Scene& settings, int frames, WorldRead world = WorldRead::none) {
   std::vector<sim::Vec3f> positions(dino.mesh.vertex_count());
   for (std::size_t v = 0; v < positions.size(); ++v) positions[v] = dino.mesh.positions[v].cast<float>();
   sim::Simulator sim(dino.rig, settings);
+  if (world != WorldRead::none) sim.set_parallel(false);
   std::vector<std::unique_ptr<sim::FastDeformer>> fast;
   for (int i = 0; i < sim.sweep_count(); ++i)
     fast.push_back(std::make_unique<sim::FastDeformer>(dino.rig.sweeps[i].rest, dino.binding.sweeps[i], positions));
-  std::vector<double> total, step, deform;
+  std::vector<const sim::FastDeformer*> parts;
+  for (const auto& f : fast) parts.push_back(f.get());
+  sim::LivePositions live(positions, parts);
+  std::vector<float> out(3 * positions.size());
+  std::vector<double> total, step, deform, copy;
   std::vector<sim::DeformJob> jobs;
   for (int k = 0; k < frames; ++k) {
     pace();
@@ -104,17 +121,33 @@ Cost live_cpp(const RealRig& dino, const sim::Scene& settings, int frames) {
     sim.set_body_pose(b.rotation, b.translation);
     sim.advance_to(t);
     const auto t1 = Clock::now();
-    jobs.clear();
-    for (int i = 0; i < sim.sweep_count(); ++i)
-      if (sim.moved_last_frame(i)) jobs.push_back({fast[i].get(), &sim.sweep(i).deformed()});
-    sim::deform_sweeps(jobs, positions);
+    if (world == WorldRead::live_positions) {
+      for (int i = 0; i < sim.sweep_count(); ++i)
+        if (sim.moved_last_frame(i)) live.deform(i, *fast[i], sim.sweep(i).deformed());
+    } else {
+      jobs.clear();
+      for (int i = 0; i < sim.sweep_count(); ++i)
+        if (sim.moved_last_frame(i)) jobs.push_back({fast[i].get(), &sim.sweep(i).deformed()});
+      if (world == WorldRead::none) {
+        sim::deform_sweeps(jobs, positions);
+      } else {
+        for (const sim::DeformJob& j : jobs) j.fast->deform(*j.shape, positions, false);
+      }
+    }
     const auto t2 = Clock::now();
+    const sim::BodyState now = sim.body();
+    const Eigen::Matrix3f r = now.rotation.toRotationMatrix().cast<float>();
+    const sim::Vec3f tr = now.translation.cast<float>();
+    if (world == WorldRead::live_positions) live.world(r, tr, out.data());
+    if (world == WorldRead::mesh_order) sim::transform_positions(positions, r, tr, out.data());
+    const auto t3 = Clock::now();
     if (k < kSkip) continue;
-    total.push_back(us(t0, t2));
+    total.push_back(us(t0, t3));
     step.push_back(us(t0, t1));
     deform.push_back(us(t1, t2));
+    copy.push_back(us(t2, t3));
   }
-  return {median(total), median(step), median(deform), 0};
+  return {median(total), median(step), median(deform), median(copy)};
 }
 
 void check(int code) {
@@ -294,6 +327,8 @@ int main(int argc, char** argv) {
 
   sim::Scene settings;
   settings.gravity = Vec3(0, -9.81, 0);
+  sim::Scene live_settings = settings;  // libsweep's default step
+  live_settings.step = kFrame;
   sim::Scene player30 = settings, player60 = settings;
   std::vector<sim::BodyKey> keys;
   for (int k = 0; k <= frames + 1; ++k) {
@@ -309,12 +344,14 @@ int main(int argc, char** argv) {
   const char* names[] = {"scene player, 30 fps (sweep-sim's frame)",
                          "scene player, 60 fps",
                          "live (C++): set_body_pose + advance_to, step 1/480 s",
+                         "live (C++), live step 1/60 s, one thread: mesh-order deform + transform_positions (libsweep's read before)",
+                         "live (C++), live step 1/60 s, one thread: LivePositions (libsweep's read now)",
                          "libsweep, step 1/480 s (8 a frame): positions",
                          "libsweep, live step 1/60 s: positions",
                          "libsweep, live step, frames back to back: positions",
                          "libsweep, live step: joints out (24 + 23×24 ring a part)",
                          "libsweep, live step: joints out (24 a part, no ring)"};
-  constexpr int kCases = 8;
+  constexpr int kCases = 10;
   std::vector<std::vector<std::vector<Cost>>> runs(kCases, std::vector<std::vector<Cost>>(max_threads));
   // A crowd of 1 and 100, on 1 and 2 threads, positions and joints out.
   const int herd_sizes[] = {1, 100};
@@ -325,11 +362,13 @@ int main(int argc, char** argv) {
       runs[0][th - 1].push_back(scene_player(dino, player30, frames / 2 + kSkip));
       runs[1][th - 1].push_back(scene_player(dino, player60, frames));
       runs[2][th - 1].push_back(live_cpp(dino, settings, frames));
-      runs[3][th - 1].push_back(live_c(dir, "fine.scene.json", rest, frames, true, Read::positions));
-      runs[4][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::positions));
-      runs[5][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, false, Read::positions));
-      runs[6][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints));
-      runs[7][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 1));
+      runs[3][th - 1].push_back(live_cpp(dino, live_settings, frames, WorldRead::mesh_order));
+      runs[4][th - 1].push_back(live_cpp(dino, live_settings, frames, WorldRead::live_positions));
+      runs[5][th - 1].push_back(live_c(dir, "fine.scene.json", rest, frames, true, Read::positions));
+      runs[6][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::positions));
+      runs[7][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, false, Read::positions));
+      runs[8][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints));
+      runs[9][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 1));
       for (int h = 0; h < 2; ++h) {
         for (int read = 0; read < 2; ++read) {
           herd_runs[h][th - 1][read].push_back(crowd(dir, rest, herd_sizes[h], th, h == 0 ? frames : frames / 2 + kSkip,
@@ -342,14 +381,15 @@ int main(int argc, char** argv) {
   std::string md = fmt("Diplodocus tail + neck (%zu bound vertices of %zu), material mode, gravity, a new body pose every "
                        "frame, frames 1/60 s apart (a %s build):\n\n",
                        bound, dino.mesh.vertex_count(), SWEEP_BUILD_TYPE);
-  md += "| case | threads | frame µs (median) | step µs | deform µs | read µs (sweep_positions or sweep_joints) |\n"
+  md += "| case | threads | frame µs (median) | step µs | deform µs | read µs (world copy; libsweep: sweep_positions or sweep_joints) |\n"
         "|---|---|---|---|---|---|\n";
   for (int c = 0; c < kCases; ++c) {
     for (int th = 1; th <= max_threads; ++th) {
       const Cost m = median_of(runs[c][th - 1]);
       csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g\n", names[c], th, m.frame_us, m.step_us, m.deform_us, m.copy_us);
-      md += c >= 3 ? fmt("| %s | %d | %.1f | %.1f | — | %.1f |\n", names[c], th, m.frame_us, m.step_us, m.copy_us)
-                   : fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", names[c], th, m.frame_us, m.step_us, m.deform_us);
+      const std::string deform = c >= 5 ? "—" : fmt("%.1f", m.deform_us);
+      const std::string read = c >= 3 ? fmt("%.1f", m.copy_us) : "—";
+      md += fmt("| %s | %d | %.1f | %.1f | %s | %s |\n", names[c], th, m.frame_us, m.step_us, deform.c_str(), read.c_str());
     }
   }
   md += "\nA crowd: N instances through libsweep, the live step, each frame every creature's pose, advance and read, "

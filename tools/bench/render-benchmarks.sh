@@ -135,10 +135,15 @@ deformed and the world-space copy of all vertices an engine uploads; or \`sweep_
 skinned export's joints, for an engine that skins on the GPU) timed apart. Against it, in the same
 run, the scene player's frame (\`advance_frame\` and the fast path, what \`sweep-sim\` does per
 output frame) at 30 fps (16 internal steps a frame) and at 60 fps (8), and the live simulator in C++
-at \`sweep-sim\`'s step, 1/480 s. What each change bought, row against row: libsweep at 1/480 s (8
-steps a frame, as before) against its live default, 1/60 s (one step a frame: settings that give no
-step); positions against joints out (no deformation, no copy of the mesh); the crowd's 100
-creatures against one. Median over frames after the first 10, median over rounds (5; 3 in quick
+at \`sweep-sim\`'s step, 1/480 s, and at the live step on one thread with the world-space copy made
+both ways: the parts deformed into a mesh-order copy that is then transformed (libsweep's read
+before) and \`sim::LivePositions\` (its read now, the same bits: each part deformed into its own
+array, contiguous, then two streamed passes over the mesh). What each change bought, row against
+row: libsweep at 1/480 s (8 steps a frame, as before) against its live default, 1/60 s (one step a
+frame: settings that give no step); the two reads; positions against joints out (no deformation,
+no copy of the mesh); the crowd's 100 creatures against one. libsweep runs an instance on the
+calling thread, so its 2-thread rows differ from its 1-thread rows only by noise (the scene player's
+2-thread rows still wake OpenMP's threads each paced frame, here 16-31 ms on a loaded machine). Median over frames after the first 10, median over rounds (5; 3 in quick
 mode) alternating cases and thread counts. The last table is what the coarser step costs in
 accuracy, measured against a step 64 times finer than \`sweep-sim\`'s.
 

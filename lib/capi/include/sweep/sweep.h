@@ -16,7 +16,8 @@
  * simulation diverged (SWEEP_ERROR_DIVERGED) the instance refuses to advance: close it.
  *
  * Threads: an instance is used by one thread at a time; different instances run on any threads.
- * Within an advance, parts step side by side on OpenMP's threads (OMP_NUM_THREADS). */
+ * An instance's calls run on the calling thread alone (a creature's frame is too little work to
+ * share): spread the creatures over the game's threads. */
 #ifndef SWEEP_SWEEP_H
 #define SWEEP_SWEEP_H
 

@@ -1,0 +1,43 @@
+#pragma once
+// The world-space vertices a live frame hands an engine (libsweep's sweep_positions): every vertex
+// of the mesh, the parts' deformed by the fast path, the rest carried rigidly by the body.
+//
+// Laid out for a frame whose caches went cold since the last one (a game's frame, 1/60 s apart):
+// each part's deformed vertices are kept in its fast path's grouped order (FastDeformer::
+// deform_grouped: contiguous stores, where deforming into a mesh-order copy stores at scattered
+// places of a mesh-sized array that has gone cold), and the world copy is two passes: every vertex
+// from its rest position, streamed (the bound ones too: a mesh's parts' vertices lie scattered, the
+// diplodocus's in ~6000 runs of its 24k vertices, and skipping them costs more than it saves), then
+// the parts' vertices from their small arrays over them, into lines the first pass just brought
+// into cache. (One pass reading each vertex through an index was slower still.) The result is the
+// same bits as deforming into a mesh-order copy and transforming that (sim::deform_sweeps,
+// sim::transform_positions).
+//
+// A part not deformed yet holds its vertices' rest positions. Allocation-free after construction.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "sweep/sim/fast_deform.h"
+
+namespace sweep::sim {
+
+class LivePositions {
+ public:
+  // `rest`: the whole mesh; `parts`: each part's fast path (their vertices disjoint).
+  LivePositions(std::span<const Vec3f> rest, std::span<const FastDeformer* const> parts);
+
+  // Part p's vertices deformed by `shape` (mesh space), with `fast`, the part's fast path.
+  void deform(int part, FastDeformer& fast, const SweepShape& shape);
+  // Every vertex, world = rotation · mesh + translation, as flat x y z floats (3 × rest.size()).
+  void world(const Eigen::Matrix3f& rotation, const Vec3f& translation, float* out) const;
+
+ private:
+  // The rest positions of every vertex, then each part's deformed vertices in its grouped order.
+  std::vector<Vec3f> points_;
+  std::size_t rest_count_ = 0;
+  std::vector<std::size_t> offset_;     // part p's first in points_
+  std::vector<std::uint32_t> target_;   // the mesh index of each part's vertex in points_ (after the rest)
+};
+
+}  // namespace sweep::sim
