@@ -93,6 +93,11 @@ ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const Swee
   inertia_.assign(k, Mat3::Zero());
   for (std::vector<Vec3>* v : {&omega_, &alpha_, &accel_, &force_, &moment_, &composite_first_}) v->assign(k + 1, Vec3::Zero());
   composite_inertia_.assign(k + 1, Mat3::Zero());
+  u_.assign(k, Mat63::Zero());
+  d_inverse_.assign(k, Mat3::Zero());
+  y_.assign(k, Vec3::Zero());
+  factored_axes_.assign(k, Mat3::Identity());
+  factored_lever_.assign(k + 1, Vec3::Zero());
   set_pose(phi_);
 }
 
@@ -203,6 +208,67 @@ const Eigen::MatrixXd& ChainDynamics::mass_matrix() {
   return mass_;
 }
 
+// The articulated-body recursion (Featherstone's ABA at zero speed) for M(q) x = r. Spatial quantities are taken about each joint's centre c_i in body
+// axes: an inertia [[A, B], [Bᵀ, m·1]] maps (angular, linear acceleration of c_i) to (moment about
+// c_i, force). Out of the tip: IA_i = section i's own inertia plus what lies beyond, articulated;
+// joint i turns about c_i (motion subspace S_i = [P_i; 0], P_i = R_{A_i}), so U_i = IA_i S_i,
+// D_i = S_iᵀ IA_i S_i, and the parent sees IA_i − U_i D_i⁻¹ U_iᵀ moved to c_{i−1}.
+void ChainDynamics::factor_recursive() {
+  Mat3 a = Mat3::Zero(), b = Mat3::Zero(), m = Mat3::Zero();  // the articulated inertia beyond, about c_i
+  for (int i = joints_; i >= 1; --i) {
+    if (i < joints_) {
+      // Moved from c_{i+1} to c_i (r = c_{i+1} − c_i): A += R Bᵀ − B R − R m R, B += R m.
+      const Mat3 r = skew(centre_[i + 1] - centre_[i]);
+      const Mat3 rm = r * m;
+      a += r * b.transpose() - b * r - rm * r;
+      b += rm;
+    }
+    a += inertia_[i];
+    m.diagonal().array() += model_->node_mass[i];
+    const Mat3& p = pre_[i];
+    factored_axes_[i] = p;
+    if (i < joints_) factored_lever_[i] = centre_[i + 1] - centre_[i];
+    Mat63& u = u_[i];
+    u.topRows<3>().noalias() = a * p;
+    u.bottomRows<3>().noalias() = b.transpose() * p;
+    const Mat3 d = p.transpose() * u.topRows<3>();
+    d_inverse_[i] = d.llt().solve(Mat3::Identity());
+    // IA − U D⁻¹ Uᵀ.
+    const Mat63 ud = u * d_inverse_[i];
+    a.noalias() -= ud.topRows<3>() * u.topRows<3>().transpose();
+    b.noalias() -= ud.topRows<3>() * u.bottomRows<3>().transpose();
+    m.noalias() -= ud.bottomRows<3>() * u.bottomRows<3>().transpose();
+  }
+}
+
+// Out of the tip, the bias forces (what the joints beyond pass on); back out from the root, the
+// accelerations: x_i = D_i⁻¹ (r_i − P_iᵀ n_i − U_iᵀ a'_i).
+void ChainDynamics::solve_recursive(Eigen::VectorXd& x) {
+  Vec3 n = Vec3::Zero(), f = Vec3::Zero();  // the bias force beyond, about c_i
+  for (int i = joints_; i >= 1; --i) {
+    if (i < joints_) n += factored_lever_[i].cross(f);
+    y_[i] = d_inverse_[i] * (x.segment<3>(3 * (i - 1)) - factored_axes_[i].transpose() * n);
+    n.noalias() += u_[i].topRows<3>() * y_[i];
+    f.noalias() += u_[i].bottomRows<3>() * y_[i];
+  }
+  Vec3 alpha = Vec3::Zero(), acc = Vec3::Zero();  // of c_i
+  for (int i = 1; i <= joints_; ++i) {
+    if (i > 1) acc += alpha.cross(factored_lever_[i - 1]);
+    const Vec3 xi = y_[i] - d_inverse_[i] * (u_[i].topRows<3>().transpose() * alpha + u_[i].bottomRows<3>().transpose() * acc);
+    x.segment<3>(3 * (i - 1)) = xi;
+    alpha.noalias() += factored_axes_[i] * xi;
+  }
+}
+
+void ChainDynamics::solve_mass(Eigen::VectorXd& x) {
+  factor_recursive();
+  solve_recursive(x);
+}
+
+// The damping is left out of the recursive S: mode by mode (at rest) it is (h/2)·2ζω of the
+// Newton matrix's 1 + (hω/2)², at most ζ of it, and the iteration contracts by that. (Its
+// diagonal blocks alone are worse than none: they hold the stiff modes' damping, which a smooth
+// motion's joints cancel between them; kept in S they slowed a soft tube's iteration to 0.65.)
 void ChainDynamics::elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const {
   for (int i = 1; i <= joints_; ++i) {
     const Vec3 p = phi.segment<3>(3 * (i - 1));
@@ -261,6 +327,7 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
   double last = std::numeric_limits<double>::infinity();
   while (iterations < kMaxNewtonIterations) {
     ++iterations;
+    ++iterations_;
     w_mid_ = 0.5 * (w_ + w_end_);
     for (int i = 1; i <= joints_; ++i) {
       phi_mid_.segment<3>(3 * (i - 1)) = turned(0.5 * h * w_mid_.segment<3>(3 * (i - 1)), phi_.segment<3>(3 * (i - 1)));
@@ -323,20 +390,14 @@ void ChainDynamics::apply_impulse(int section, const Vec3& point, const Vec3& im
   for (int j = 1; j <= section; ++j) {
     residual_.segment<3>(3 * (j - 1)) = pre_[j].transpose() * (point - centre_[j]).cross(impulse);
   }
-  build_mass_matrix();
-  llt_.compute(mass_);
-  factored_step_ = 0;  // llt_ now holds M, not S
-  llt_.solveInPlace(residual_);
+  solve_mass(residual_);  // (the Newton matrix's factorization is kept)
   w_ += residual_;
 }
 
 void ChainDynamics::apply_joint_impulse(std::span<const double> impulse) {
   assert(static_cast<int>(impulse.size()) == 3 * joints_);
   residual_ = Eigen::Map<const Eigen::VectorXd>(impulse.data(), 3 * joints_);
-  build_mass_matrix();
-  llt_.compute(mass_);
-  factored_step_ = 0;  // llt_ now holds M, not S
-  llt_.solveInPlace(residual_);
+  solve_mass(residual_);  // (the Newton matrix's factorization is kept)
   w_ += residual_;
 }
 

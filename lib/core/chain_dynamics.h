@@ -38,8 +38,10 @@
 // the joint's axes is not one, and feeds a twisting part energy).
 // Cost: an iteration is O(K) (Newton–Euler) plus two dense O(K²) products (the damping, the solve
 // with the kept factorization); S is dense (O(K²) to build, O(K³) to factor) but rebuilt only when
-// the pose has moved far since. An articulated-body solve would make the whole step O(K) but for
-// the modal damping's coupling of the joints.
+// the pose has moved far since. An articulated-body solve (used for impulses: O(K)) would make the
+// Newton solve O(K) but for the modal damping's coupling of the joints: left out of the Newton
+// matrix, the iteration slowed (a soft tube at K = 32: 6.5 iterations a step became 9 to 17, with
+// dense fall-backs), and the residual's C w stays a dense product.
 //
 // Units: metres, kilograms, seconds (the model's); the pose starts from the rest shape scaled by
 // the model's metres per unit. Allocation-free after construction.
@@ -107,6 +109,10 @@ class ChainDynamics {
   // How many times the Newton matrix was built and factored (it is kept across iterations and
   // steps while the iteration contracts).
   long long factorizations() const { return factorizations_; }
+  long long iterations() const { return iterations_; }  // the Newton iterations taken in all
+
+  // x ← M(q)⁻¹ x at the current pose by the articulated-body recursion (O(K), no matrix formed).
+  void solve_mass(Eigen::VectorXd& x);
 
   // The chain's mass matrix at the current pose (for tests and contacts), 3(K−1) square.
   const Eigen::MatrixXd& mass_matrix();
@@ -124,6 +130,9 @@ class ChainDynamics {
   void build_mass_matrix();                    // into mass_
   void elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const;  // J⁻ᵀ (K φ + b)
   void factor_newton_matrix(double h);  // S at the pose set_pose last built (phi_mid_), into llt_
+  // The articulated-body recursion for M at the pose set_pose last built, and its solve.
+  void factor_recursive();
+  void solve_recursive(Eigen::VectorXd& x);
 
   std::shared_ptr<const ChainModel> model_;
   int joints_ = 0;
@@ -147,7 +156,13 @@ class ChainDynamics {
   double factored_step_ = 0;      // the step llt_ holds S for; 0: none
   Eigen::VectorXd last_change_;   // w₁ − w₀ of the last converged step, the next one's first guess
   double last_change_step_ = 0;   // its step; 0: none
-  long long factorizations_ = 0;
+  long long factorizations_ = 0, iterations_ = 0;
+  // The recursion: per joint, U_i = IA_i S_i (6×3, IA_i the articulated inertia about c_i) and
+  // D_i⁻¹ (3×3), the pose it was set up at (axes P_i, lever c_{i+1} − c_i), and its scratch.
+  using Mat63 = Eigen::Matrix<double, 6, 3>;
+  std::vector<Mat63, Eigen::aligned_allocator<Mat63>> u_;
+  std::vector<Mat3> d_inverse_, factored_axes_;
+  std::vector<Vec3> y_, factored_lever_;
   Eigen::VectorXd phi_mid_, w_mid_, w_end_, wdot_, residual_, scratch_;
   std::vector<Vec3> omega_, alpha_, accel_, force_, moment_;
   std::vector<Vec3> composite_first_;

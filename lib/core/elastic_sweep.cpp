@@ -239,8 +239,16 @@ void ElasticSweep::set_gravity(const Vec3& g, bool preloaded) {
     gravity_preload_[m] = at_rest.positional_.f[m];
     gravity_preload_[3 * k + m] = at_rest.rotational_.f[m];
   }
-  // The exact chain: the same pre-load as the springs' shifted rest (N·m, joints 1 .. K−1).
-  for (std::size_t m = 0; m < exact_torque_.size(); ++m) exact_torque_[m] = chain_->metres_per_unit * gravity_preload_[3 * k + 3 + m];
+  // The exact chain: the springs' rest shifted by its own gravity torques at the rest pose (N·m,
+  // joints 1 .. K−1), computed as its step computes them, so that they cancel to the last bit and
+  // the rest pose stays exactly still (the split above differs from them by rounding: 2e-16).
+  ChainDynamics at_rest_chain(chain_, def_.rest);
+  ChainDynamics::Body weight;
+  weight.gravity = g;
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(exact_torque_.size()));
+  Eigen::VectorXd held(still.size());
+  at_rest_chain.inverse_dynamics(still, still, weight, held);
+  for (std::size_t m = 0; m < exact_torque_.size(); ++m) exact_torque_[m] = -held[static_cast<Eigen::Index>(m)];
   exact_->set_rest_load(exact_torque_);
 }
 

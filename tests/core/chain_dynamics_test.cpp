@@ -62,6 +62,22 @@ TEST(ChainDynamics, MassMatrixAtRestIsTheModalModelsAndEverywhereTheInverseDynam
   }
 }
 
+// The articulated-body recursion solves M(q) x = r at a bent, twisted pose as the dense Cholesky
+// factorization of the composite-rigid-body M does (two independent algorithms).
+TEST(ChainDynamics, TheRecursiveSolveOfTheMassMatrixIsTheDenseOne) {
+  const Tube t(kYoung, 0.05);
+  ChainDynamics chain(t.model, t.def.rest);
+  for (int i = 1; i <= chain.joints(); ++i) chain.set_joint(i, Vec3(0.3 * std::sin(i), 0.2, -0.4 * std::cos(2 * i)), Vec3::Zero());
+  const int dim = 3 * chain.joints();
+  Eigen::VectorXd r(dim);
+  for (int c = 0; c < dim; ++c) r[c] = std::cos(0.7 * c) + 0.1 * c;
+  const Eigen::VectorXd dense = chain.mass_matrix().llt().solve(r);
+  Eigen::VectorXd x = r;
+  chain.solve_mass(x);
+  EXPECT_LE((x - dense).cwiseAbs().maxCoeff(), 1e-9 * dense.cwiseAbs().maxCoeff());
+  EXPECT_LE((chain.mass_matrix() * x - r).cwiseAbs().maxCoeff(), 1e-9 * r.cwiseAbs().maxCoeff());
+}
+
 // Undamped, weightless, bent in three dimensions and let go: ½ wᵀ M(q) w + ½ φᵀ K φ stays put.
 TEST(ChainDynamics, AnUndampedFreePartKeepsItsEnergyWithinOnePercentOverTenSeconds) {
   for (const double h : {1.0 / 480, 1.0 / 24}) {

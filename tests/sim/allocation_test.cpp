@@ -144,6 +144,49 @@ TEST(Allocation, MaterialModeLoopWithGravityAllocatesNothingAfterTheFirstFrame) 
   EXPECT_GT(r.largest_bend, 0.01);
 }
 
+// The geometrically exact chain's steps (ElasticSweep::set_exact_chain): Newton iterations, its
+// factorizations, the halved steps of a fast turn, impulses (the articulated-body solve) and the
+// body's kicks — none allocates after the first step.
+TEST(Allocation, TheExactChainsStepsAndKicksAllocateNothingAfterTheFirstStep) {
+  if (!test::kCounts) GTEST_SKIP() << kSanitizerSkip;
+  SweepDef def = test::straight_sweep();
+  Material m;
+  m.youngs_modulus = 2e5;
+  m.metres_per_unit = 0.1;
+  def.material = m;
+  def.section_materials.assign(def.rest.section_count(), m);
+  ElasticSweep sweep(def);
+  sweep.set_exact_chain(true);
+  sweep.set_gravity(Vec3(0, -9.81, 0), false);
+  ForceSpec f;
+  f.t = 0.9 * sweep.rest().length();
+  f.vector = Vec3(0.2, 0.1, 0.05);
+  f.components = kRotational | kRadial | kPositional;
+  f.target = RotationTarget::chain;
+  sweep.add_force(f);
+  ForceSpec kick = f;
+  kick.vector = Vec3(0, 0.05, 0.02);
+  ElasticSweep::BodyMotion body;
+  body.gravity = Vec3(0, -9.81, 0);
+  sweep.set_body_motion(body);
+  sweep.step(1.0 / 480);  // the warm-up step
+  ASSERT_TRUE(sweep.exact_chain());
+  test::open_allocation_window();
+  for (int k = 0; k < 240; ++k) {
+    body.angular_velocity = Vec3(0, 6 * std::sin(0.05 * k), 0);
+    body.angular_acceleration = Vec3(0, 144 * std::cos(0.05 * k), 0);  // d/dt of the above at 480 steps/s
+    sweep.set_body_motion(body);
+    if (k == 100) sweep.apply_impulse(kick);
+    if (k == 150) sweep.apply_body_kick(Vec3(0.1, 0, 0), Vec3(0, 0.5, 0));
+    sweep.step(k % 3 ? 1.0 / 480 : 1.0 / 120);
+  }
+  const test::AllocationCounts counts = test::close_allocation_window();
+  EXPECT_EQ(counts.news, 0);
+  EXPECT_EQ(counts.mallocs, 0);
+  EXPECT_TRUE(sweep.is_finite());
+  EXPECT_GT(sweep.exact_chain_state()->iterations(), 240);  // it did step
+}
+
 // The counter counts: an allocation inside the window is seen, one outside it is not.
 TEST(Allocation, TheCounterSeesAnAllocation) {
   if (!test::kCounts) GTEST_SKIP() << kSanitizerSkip;
