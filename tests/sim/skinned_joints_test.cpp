@@ -14,8 +14,9 @@ namespace {
 
 using namespace skinned_glb;
 
-// The creature with "Wag": Tail1 (node 2) turned by the keys of Walk's Tail3 channel (about y: 0,
-// 20, 0 degrees over a second) and Hip (node 1) by Walk's translation keys.
+// The creature with "Wag": Tail1 and Tail2 (nodes 2, 3) turned by the keys of Walk's Tail3 channel
+// (about y: 0, 20, 0 degrees over a second), so that the tail bends, and Hip (node 1) moved by
+// Walk's translation keys.
 void add_wag(Json& doc) {
   Json wag = {{"name", "Wag"}, {"samplers", Json::array()}, {"channels", Json::array()}};
   const Json& walk = doc["animations"][0];
@@ -26,7 +27,8 @@ void add_wag(Json& doc) {
     const bool tail3_turn = node == 4 && path == "rotation", hip_bob = node == 1 && path == "translation";
     if (!tail3_turn && !hip_bob) continue;
     wag["samplers"].push_back(sampler);
-    wag["channels"].push_back({{"sampler", wag["samplers"].size() - 1}, {"target", {{"node", tail3_turn ? 2 : 1}, {"path", path}}}});
+    for (const int target : tail3_turn ? std::vector<int>{2, 3} : std::vector<int>{1})
+      wag["channels"].push_back({{"sampler", wag["samplers"].size() - 1}, {"target", {{"node", target}, {"path", path}}}});
   }
   doc["animations"].push_back(std::move(wag));
 }
