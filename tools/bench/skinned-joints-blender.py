@@ -27,9 +27,9 @@ def to_blender(a):  # glTF's y up to Blender's z up, as the importer turns the m
 
 bake = read_pc2(pc2_path)
 bpy.ops.wm.read_factory_settings(use_empty=True)
-bpy.ops.import_scene.gltf(filepath=glb)
 scene = bpy.context.scene
-scene.render.fps, scene.render.fps_base = int(round(fps)), 1.0
+scene.render.fps, scene.render.fps_base = int(round(fps)), 1.0  # before importing: the importer keys at it
+bpy.ops.import_scene.gltf(filepath=glb)
 obj = [o for o in scene.objects if o.type == "MESH"][0]
 armature = [o for o in scene.objects if o.type == "ARMATURE"][0]
 actions = [a.name for a in bpy.data.actions]
