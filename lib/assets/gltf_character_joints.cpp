@@ -217,11 +217,14 @@ void add_character_joints(Json& json, const CharacterJoints& cj, std::span<const
   key_joints(w, animation, times, cj, cj.keys(), first, keyed);
 
   // Every other clip: the parts' original skinned motion.
-  const std::size_t clips = std::min(json["animations"].size(), model.clips.size());
-  for (std::size_t c = 0; c < clips; ++c) {
-    Json& other = json["animations"][c];
-    if (!other.is_object() || !other.contains("channels") || !other.contains("samplers")) continue;
-    const CharacterJoints::ClipKeys keys = cj.clip_keys(static_cast<int>(c), baked.fps);
+  // The model's clips are the file's animations that are objects, in order.
+  const std::size_t animations = json["animations"].size();
+  for (std::size_t a = 0, c = 0; a < animations && c < model.clips.size(); ++a) {
+    Json& other = json["animations"][a];
+    if (!other.is_object()) continue;
+    const int clip = static_cast<int>(c++);
+    if (!other.contains("channels") || !other.contains("samplers")) continue;
+    const CharacterJoints::ClipKeys keys = cj.clip_keys(clip, baked.fps);
     const std::size_t input = w.times(keys.times);
     std::vector<char> stations(cj.joints().size(), 0), rings(cj.joints().size(), 0);
     for (std::size_t k = 0; k < stations.size(); ++k) {
