@@ -62,6 +62,9 @@ struct SkinModel {
   std::vector<std::array<std::uint16_t, 4>> vertex_joints;
   std::vector<std::array<double, 4>> vertex_weights;
 
+  // What the reader changed to play the file, for the user (e.g. influences past 4 dropped).
+  std::vector<std::string> warnings;
+
   int find_node(const std::string& name) const;  // -1 when none
   int find_clip(const std::string& name) const;  // -1 when none
   // The index of node `node` in `joints`, or -1.

@@ -8,7 +8,7 @@
 //    face indices, negative ones relative). Faces stay polygons; a face of fewer than 3 vertices
 //    or an index out of range is refused with its line; `l`, `p`, `vt`, `vn`, groups are ignored.
 //  - PLY, glTF/glb: assimp with no post-processing, which keeps the stored vertices, their order
-//    and count, and the polygons (checked by tests/io). Single precision (assimp stores floats).
+//    and count, and the polygons (checked by tests/assets). Single precision (assimp stores floats).
 //    Checked first (assets/mesh_checks.h), since assimp silently shifts or drops data otherwise: an
 //    ASCII PLY must hold exactly the elements its header announces, one a line; a glTF index
 //    past its primitive's vertices is refused.

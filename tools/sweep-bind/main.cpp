@@ -17,7 +17,7 @@
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/interrupt.h"
-#include "sweep/io/path_checks.h"
+#include "tools/common/path_checks.h"
 #include "sweep/io/rig_json.h"
 #include "tools/common/cli_checks.h"
 #include "tools/common/tool_main.h"
@@ -99,7 +99,7 @@ int run(const Settings& s) {
   }
 
   const fs::path output = s.output.empty() ? sweep::io::default_binding_path(s.rig) : s.output;
-  sweep::io::check_paths({{"the rig", s.rig}, {"the mesh", mesh_path}},
+  sweep::tools::check_paths({{"the rig", s.rig}, {"the mesh", mesh_path}},
                          {{"the binding", output}, {"--report", s.report}});
   // Every output is checked before any work, so a report that cannot be written does not leave a
   // binding behind (nor a binding that cannot be written cost a bind).

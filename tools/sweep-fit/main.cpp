@@ -24,10 +24,10 @@
 #include "sweep/fit/hole_patches.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/interrupt.h"
-#include "sweep/io/path_checks.h"
+#include "tools/common/path_checks.h"
 #include "sweep/io/read_file.h"
 #include "sweep/io/rig_json.h"
-#include "sweep/io/update_lock.h"
+#include "tools/common/update_lock.h"
 #include "sweep/preview/png.h"
 #include "sweep/preview/render.h"
 #include "sweep-fit/report.h"
@@ -117,7 +117,7 @@ std::vector<std::string> split_names(const std::string& text, const std::string&
     const std::size_t comma = text.find(',', at);
     names.push_back(text.substr(at, comma == std::string::npos ? comma : comma - at));
     if (names.back().empty()) fail(ErrorCategory::usage, flag + ": an empty name in '" + text + "'");
-    sweep::io::check_utf8(names.back(), flag);
+    sweep::tools::check_utf8(names.back(), flag);
     // Two parts of one name would be one sweep in the rig: the second would replace the first.
     for (std::size_t k = 0; k + 1 < names.size(); ++k) {
       if (names[k] == names.back()) {
@@ -179,7 +179,7 @@ sweep::Rig open_rig(const Settings& s, bool& updating) {
 // every output gives when it cannot be written there.
 struct RigUpdate {
   explicit RigUpdate(const Settings& s) : lock((sweep::io::check_can_create(s.rig), s.rig)) {}
-  sweep::io::UpdateLock lock;
+  sweep::tools::UpdateLock lock;
 };
 
 // Gives every section of `def` the sweep's material `m` (or none).
@@ -397,8 +397,8 @@ void check_outputs(const Settings& s) {
 // One part, named by its tip (and root, or an axis).
 int run_one(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
-  sweep::io::check_utf8(s.name, "--name");
-  sweep::io::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}, {"--material", s.material}},
+  sweep::tools::check_utf8(s.name, "--name");
+  sweep::tools::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}, {"--material", s.material}},
                          {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
   const std::optional<sweep::Material> material = read_material_option(s);
   sweep::fit::FitOptions o = fit_options(s);
@@ -437,7 +437,7 @@ int run_one(const Settings& s) {
 // Every part find_parts finds, into one rig.
 int run_all(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
-  sweep::io::check_paths({{"the mesh", s.mesh}, {"--material", s.material}},
+  sweep::tools::check_paths({{"the mesh", s.mesh}, {"--material", s.material}},
                          {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
   const std::optional<sweep::Material> material = read_material_option(s);
   const std::vector<std::string> names = split_names(s.names);
@@ -492,7 +492,7 @@ int run_all(const Settings& s) {
 // The parts found, as a table (and JSON with --report); no rig.
 int run_list(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
-  sweep::io::check_paths({{"the mesh", s.mesh}}, {{"--report", s.report}});
+  sweep::tools::check_paths({{"the mesh", s.mesh}}, {{"--report", s.report}});
   const sweep::Mesh mesh = read_checked_mesh(s).read.mesh;
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   const sweep::Topology topology = sweep::build_topology(mesh);

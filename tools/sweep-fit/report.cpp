@@ -236,15 +236,15 @@ void print_fit(const fit::FitResult& r, bool verbose) {
   const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
   std::cout << r.sweep.name << ": " << r.sweep.rest.section_count() << " sections x "
             << r.sweep.rest.radial_count << " radii, length " << format_number(r.length)
-            << ", mean radius " << format_number(r.mean_radius) << "\n"
+            << " (along its axis, root section to last), mean radius " << format_number(r.mean_radius) << "\n"
             << "  root " << format_point(r.root) << (r.root_found ? " (found: " : " (")
             << r.root_reason << ")\n"
             << (r.tip_cut ? "  tip-side cut at the last section (" + r.tip_cut_reason + ")\n" : "")
             << (r.end_cut ? "  the sweep ends before the part does (" + r.end_cut_reason + ")\n" : "")
             << "  part: " << r.part_vertices.size() << " vertices, "
-            << format_percent(r.in_range_share()) << " between the end sections; axis "
-            << format_number(r.traced_length) << " over a surface distance of "
-            << format_number(r.surface_length) << "\n"
+            << format_percent(r.in_range_share()) << " between the end sections; the axis traced "
+            << format_number(r.traced_length) << " (root to the end's cap), the surface distance "
+            << format_number(r.surface_length) << " (root ring to tip)\n"
             << "  fit: rms " << format_percent(r.error.rms / mr) << ", 90% within "
             << format_percent(r.error.p90 / mr) << ", max " << format_percent(r.error.max / mr)
             << " of the mean radius (part to surface); surface to part rms "

@@ -18,7 +18,7 @@
 #include "sweep/assets/bake.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/assets/gltf_motion.h"
-#include "sweep/assets/gltf_skin.h"
+#include "sweep/assets/assimp_skin.h"
 #include "sweep/assets/skinned_clip.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/limits.h"
@@ -26,7 +26,7 @@
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/interrupt.h"
-#include "sweep/io/path_checks.h"
+#include "tools/common/path_checks.h"
 #include "sweep/io/rig_json.h"
 #include "sweep/io/scene_json.h"
 #include "sweep/sim/contact.h"
@@ -165,7 +165,8 @@ int run(Settings s) {
   // A skinned mesh plays its clip (assets/skinned_clip.h); any other follows one node rigidly.
   std::optional<sweep::assets::SkinnedClip> skinned;
   if (!scene.body_node.empty()) {
-    if (auto model = sweep::assets::read_gltf_skin(mesh_path, mesh.positions, read.to_world)) {
+    if (auto model = sweep::assets::read_skin(mesh_path, mesh.positions, read.to_world)) {
+      for (const std::string& w : model->warnings) sweep::tools::warn(w);
       skinned.emplace(mesh_path, std::move(*model), read.to_world, rig, binding, scene.body_node, scene.body_animation,
                       scene.body_loop, scene.body_preroll, scene.fps);
       for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
@@ -238,14 +239,14 @@ int run(Settings s) {
   }
   if (s.step > 0) scene.step = s.step;
   // No output may be an input or another output (an .obj sequence: each frame's file).
-  std::vector<sweep::io::NamedPath> outputs;
+  std::vector<sweep::tools::NamedPath> outputs;
   for (const fs::path& out : s.outputs) {
     for (const fs::path& f : sweep::assets::bake_files(out, scene.frame_count())) {
       outputs.push_back({"-o", f});
     }
   }
   if (!s.report.empty()) outputs.push_back({"--report", s.report});
-  sweep::io::check_paths({{"the rig", s.rig},
+  sweep::tools::check_paths({{"the rig", s.rig},
                           {"the mesh", mesh_path},
                           {"the binding", binding_path},
                           {"the scene", s.scene}},

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by tests/io/bake_*_test.cpp: a tube-like mesh, a made-up bake over it, and file helpers.
+// Shared by tests/assets/bake_*_test.cpp: a tube-like mesh, a made-up bake over it, and file helpers.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>

@@ -125,7 +125,7 @@ struct Scenario {
 };
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/sim/gltf_body";
+  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/assets/gltf_body";
   fs::create_directories(dir);
   return dir / name;
 }

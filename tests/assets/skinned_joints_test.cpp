@@ -6,7 +6,7 @@
 // joints' key times against the input file's own skinning.
 #include <iostream>
 
-#include "sim/skinned_glb_support.h"
+#include "assets/skinned_glb_support.h"
 #include "sweep/io/binding_file.h"
 
 namespace sweep::test {

@@ -1,4 +1,4 @@
-#include "sweep/io/path_checks.h"
+#include "tools/common/path_checks.h"
 
 #include <sys/stat.h>
 
@@ -6,7 +6,7 @@
 
 #include "sweep/core/error.h"
 
-namespace sweep::io {
+namespace sweep::tools {
 namespace fs = std::filesystem;
 
 namespace {
@@ -82,4 +82,4 @@ void check_paths(const std::vector<NamedPath>& inputs, const std::vector<NamedPa
   }
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::tools

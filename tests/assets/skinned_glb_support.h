@@ -35,7 +35,7 @@ inline fs::path here(const std::string& name) {
     const testing::TestInfo* test = testing::UnitTest::GetInstance()->current_test_info();
     return test != nullptr ? std::string(test->name()) : std::string("shared");
   }();
-  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/sim/skinned_glb" / process_folder;
+  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/assets/skinned_glb" / process_folder;
   fs::create_directories(dir);
   return dir / name;
 }

@@ -1,4 +1,4 @@
-#include "sweep/io/update_lock.h"
+#include "tools/common/update_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -12,7 +12,7 @@
 #include "sweep/core/error.h"
 #include "sweep/io/interrupt.h"
 
-namespace sweep::io {
+namespace sweep::tools {
 namespace fs = std::filesystem;
 
 UpdateLock::UpdateLock(const fs::path& target) {
@@ -41,14 +41,14 @@ UpdateLock::UpdateLock(const fs::path& target) {
     }
     ::close(fd_);
   }
-  slot_ = track_temporary(lock_.string(), target.string());
+  slot_ = io::track_temporary(lock_.string(), target.string());
 }
 
 UpdateLock::~UpdateLock() {
   // Unlink before unlocking: a waiter that then gets the lock finds the name gone and starts over.
   ::unlink(lock_.c_str());
-  untrack_temporary(slot_);
+  io::untrack_temporary(slot_);
   ::close(fd_);
 }
 
-}  // namespace sweep::io
+}  // namespace sweep::tools

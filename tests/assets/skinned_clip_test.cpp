@@ -37,7 +37,7 @@ namespace fs = std::filesystem;
 fs::path fixture() { return fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf"; }
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/sim/skinned_clip";
+  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/assets/skinned_clip";
   fs::create_directories(dir);
   return dir / name;
 }

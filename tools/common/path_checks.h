@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace sweep::io {
+namespace sweep::tools {
 
 struct NamedPath {
   std::string role;             // for messages: "--report", "the rig", "the mesh", ...
@@ -26,4 +26,4 @@ void check_paths(const std::vector<NamedPath>& inputs, const std::vector<NamedPa
 // Throws Error(usage) "<what> is not valid UTF-8" unless `text` is.
 void check_utf8(const std::string& text, const std::string& what);
 
-}  // namespace sweep::io
+}  // namespace sweep::tools

@@ -5,7 +5,7 @@
 // skinned here, as an engine plays its new animation: morph weights first, then linear blend
 // skinning with the animation's keys, against the .pc2 of the same run. Then what it refuses, and
 // --under-skin's cache (the bake before skinning).
-#include "sim/skinned_glb_support.h"
+#include "assets/skinned_glb_support.h"
 
 #include <iostream>
 #include <numbers>

@@ -7,7 +7,7 @@
 // after taking the lock takes the new one, so two runs never hold locks on different files.
 #include <filesystem>
 
-namespace sweep::io {
+namespace sweep::tools {
 
 class UpdateLock {
  public:
@@ -26,4 +26,4 @@ class UpdateLock {
   int slot_ = -1;  // its slot among the files a signal removes (io/interrupt.h)
 };
 
-}  // namespace sweep::io
+}  // namespace sweep::tools
