@@ -90,7 +90,7 @@ if [ -n "$material_demo" ]; then
   cat <<MSG
 Material mode with gravity (the second demo): $material_demo.glb $material_demo.pc2 $material_demo.png
 The rigged diplodocus walking (the third): $out-skinned.glb (the rigged input: open it in Blender or an
-  engine) and its bake $walk_demo.glb (the same character whole, its parts' motion under the skin: play
-  its "sweep bake" animation), $walk_demo.pc2, $walk_demo.png
+  engine) and its bake $walk_demo.glb (the same character whole, its parts' motion as joints added to its
+  skeleton: play its "sweep bake" animation), $walk_demo.pc2, $walk_demo.png
 MSG
 fi

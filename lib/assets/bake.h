@@ -60,7 +60,8 @@
 
 namespace sweep::assets {
 
-class SkinnedClip;  // assets/skinned_clip.h
+class SkinnedClip;      // assets/skinned_clip.h
+class CharacterJoints;  // assets/character_joints.h
 
 // The mesh a bake deforms, as read from its file (assets/mesh_io.h: read_scene_mesh).
 struct BakeSource {
@@ -106,6 +107,10 @@ struct BakeInfo {
   // `part_vertices` (ascending) are the vertices the parts move off their skinned pose.
   const SkinnedClip* skinned = nullptr;
   std::vector<std::uint32_t> part_vertices;
+  // With skinned: the parts' motion as joints added to the character's skeleton, posed by the
+  // bake driver before each frame (its keys read when the .glb is finished), instead of morph
+  // targets under the skin.
+  const CharacterJoints* character_joints = nullptr;
 };
 
 // The body's pose for one frame: world = rotation · position + translation.

@@ -139,8 +139,10 @@ void GltfWriter::start(const Mesh& mesh) {
   }
   if (detail::is_passthrough_source(info().source.path)) {
     // A skinned clip moves every vertex; the parts' vertices are those that leave their skinned pose.
-    passthrough_ = detail::GltfPassthrough::open(info().source.path, out(), mesh,
-                                                 info().skinned ? info().part_vertices : animated(), info());
+    // With joints in the character's skeleton no vertex gets a target.
+    passthrough_ = detail::GltfPassthrough::open(
+        info().source.path, out(), mesh,
+        info().character_joints ? std::vector<std::uint32_t>{} : info().skinned ? info().part_vertices : animated(), info());
     if (passthrough_) {
       start_passthrough(mesh);
       return;

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "sweep/assets/bake.h"
+#include "sweep/assets/character_joints.h"
 #include "sweep/bind/deform.h"
 #include "sweep/core/error.h"
 #include "sweep/core/text.h"
@@ -95,10 +96,18 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     fail(ErrorCategory::usage, "--under-skin: the scene's body plays no skinned mesh's clip, so there is no skin to "
                                "write the frames under");
   }
-  if (options.skinned != nullptr && options.joints != 0) {
-    fail(ErrorCategory::unsupported, "--joints: a skinned character's clip keeps its own skeleton in the .glb (the "
-                                     "parts' motion as morph targets under the skin); leave out --joints");
+  if (options.morph && options.skinned == nullptr) {
+    fail(ErrorCategory::usage, "--morph: the scene's body plays no skinned mesh's clip; a .glb bake of any other "
+                               "mesh is morph targets already");
   }
+  if (options.morph && options.joints != 0) {
+    fail(ErrorCategory::usage, "--morph and --joints ask for two different .glb bakes of a skinned clip (morph "
+                               "targets under the skin, or joints in its skeleton); give one");
+  }
+  // A skinned clip with joints: they join the character's own skeleton (character_joints.h).
+  std::unique_ptr<CharacterJoints> character;
+  if (options.skinned != nullptr && options.joints != 0)
+    character = std::make_unique<CharacterJoints>(*options.skinned, skin_sweeps, skin_layout, rest);
   // The simulators: one for the whole rig, or with a skinned clip one a sweep, on its root joint's
   // path (sweep i is sweep of_sweep[i].second of simulator of_sweep[i].first).
   std::vector<Rig> part_rigs;
@@ -175,13 +184,14 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     info.body_moves = false;         // the positions are the world's
     info.skinned = options.skinned;
     info.part_vertices = animated;
+    info.character_joints = character.get();
   }
   info.source = options.source;
   info.warn = options.warn;
   std::vector<SkinPoser*> skins;  // the skinned writers among them
   std::vector<char> glb_output;
   for (const auto& out : options.outputs) {
-    if (options.joints != 0 && lower_extension(out) == "glb") {
+    if (options.joints != 0 && character == nullptr && lower_extension(out) == "glb") {
       SkinBakeWriter skin = make_skin_bake_writer(out, skin_sweeps, skin_layout);
       writers.push_back(std::move(skin.writer));
       skins.push_back(skin.poser);
@@ -276,6 +286,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     }
     for (SkinPoser* skin : skins) skin->pose(shapes);
     if (options.skinned != nullptr) options.skinned->pose(k / scene.fps, positions, world);
+    if (character != nullptr) character->pose(shapes, positions, world, k);
     // A skinned clip: world positions, or (under_skin, .pc2 and .obj) the positions the parts
     // deformed in the rest pose, which are each vertex before skinning: the clip places a bound
     // vertex by its skinning matrix applied to them (SkinnedClip::pose).
@@ -301,6 +312,11 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   if (!skins.empty()) {
     report.skin_joints = skins.front()->joint_count();
     report.skin_error = skins.front()->skin_error();
+  }
+  if (character != nullptr) {
+    report.skin_joints = static_cast<int>(character->joints().size());
+    report.skin_in_character = true;
+    report.skin_error = character->error();
   }
   for (const auto& sim : sims) {
     for (const int frame : sim->teleports())

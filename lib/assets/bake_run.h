@@ -43,8 +43,8 @@ struct BakeOptions {
   // Refuse (Error(output)) before simulating when the files would take more bytes than this
   // (estimated by the writers); 0: no limit.
   std::uint64_t max_output_bytes = 0;
-  // > 0: every .glb output is a skinned glTF with this many joints a sweep (bake_skin.h) instead
-  // of morph targets; the other outputs are as ever. kMinSkinJoints … kMaxSkinJoints, and at most
+  // > 0: every .glb output is a skinned glTF with this many joints a sweep (bake_skin.h; with
+  // skinned, joints added to the character's skeleton) instead of morph targets; the other outputs are as ever. kMinSkinJoints … kMaxSkinJoints, and at most
   // a sweep's station count (check_skin_joints), else Error(usage) before anything is written.
   int joints = 0;
   // With joints: the ring joints at each station (1: none) and how they are keyed (skin_fit.h).
@@ -54,8 +54,12 @@ struct BakeOptions {
   // A skinned mesh's clip drives the bake (assets/skinned_clip.h): each sweep is simulated on its
   // root joint's motion (a simulator of its own, the scene's forces on it kept), the preroll's
   // frames first, and the writers get world positions; a .glb is the input asset whole with the
-  // parts' motion as morph targets under its skin (gltf_passthrough.h). With joints: refused.
+  // parts' motion as joints added to its skeleton (with joints: their layout; character_joints.h)
+  // or, with morph, as morph targets under its skin (gltf_passthrough.h).
   const SkinnedClip* skinned = nullptr;
+  // With skinned: the .glb's parts' motion as morph targets under the skin (joints must be 0).
+  // Without skinned: Error(usage).
+  bool morph = false;
   // With skinned: .pc2 and .obj frames hold each vertex before skinning (the mesh's bind space,
   // its POSITION where no part moves it): skinning them by the clip gives the bake. Without
   // skinned: Error(usage).
@@ -104,6 +108,8 @@ struct BakeReport {
   // against the bake's positions (the first skinned .glb's; all are the same).
   int skin_joints = 0;
   SkinError skin_error;
+  // The joints were added to a skinned character's own skeleton (skin_joints counts the new ones).
+  bool skin_in_character = false;
 };
 
 // Runs the bake. `binding` must match `mesh` and `rig` (io::check_binding). Throws Error: bad

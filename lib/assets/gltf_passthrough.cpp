@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "sweep/assets/gltf_character_joints.h"
 #include "sweep/assets/gltf_document.h"
 #include "sweep/assets/gltf_skin.h"
 #include "sweep/assets/skinned_clip.h"
@@ -201,6 +202,8 @@ struct GltfPassthrough::State {
   // A skinned character's clip drove the bake (BakeInfo::skinned): the targets go under its skin,
   // and the clip's channels are resampled at the frame times into the new animation.
   const SkinnedClip* skin = nullptr;
+  // ... and with the parts' joints added to its skeleton (no targets then).
+  const CharacterJoints* joints = nullptr;
   int next_frame = 0;
   struct Resampled {
     int node = 0;
@@ -604,6 +607,8 @@ void resample_clip(State& s) {
 // part's motion taken back through the vertex's own skinning matrix. Normals and tangents are
 // skinned by A too: the input's, as the clip alone shows them (A n), are turned by the rotation
 // that takes the clip's pose's smooth normal to the bake's, and taken back by A⁻¹.
+void resample_frame(State& s);
+
 void frame_under_skin(State& s, std::span<const Eigen::Vector3f> positions, const AppendBin& append) {
   const SkinModel& model = s.skin->model();
   const double time = s.next_frame / s.fps;
@@ -665,8 +670,12 @@ void frame_under_skin(State& s, std::span<const Eigen::Vector3f> positions, cons
     if (!n.empty()) p.normals_blocks.push_back(s.put(append, n.data(), n.size() * sizeof(Eigen::Vector3f)));
     if (!t.empty()) p.tangents_blocks.push_back(s.put(append, t.data(), t.size() * sizeof(Eigen::Vector3f)));
   }
-  // The clip's channels at this frame's clip time (looped or held as the bake played it).
-  const double clip_time = s.skin->clip_time(time);
+  resample_frame(s);
+}
+
+// The clip's channels at this frame's clip time (looped or held as the bake played it).
+void resample_frame(State& s) {
+  const double clip_time = s.skin->clip_time(s.next_frame / s.fps);
   for (State::Resampled& r : s.resampled) {
     Eigen::Vector4d value = channel_value(*r.channel, clip_time);
     const int width = r.channel->width();
@@ -693,6 +702,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.fps = info.fps;
   s.body_moves = info.body_moves;
   s.skin = info.skinned;
+  s.joints = info.skinned != nullptr ? info.character_joints : nullptr;
   if (const std::string ext = lower_extension(source); ext == "obj" || ext == "fbx") {
     std::optional<SurfaceGltf> converted =
         ext == "obj" ? obj_as_gltf(source, rest, info.warn)
@@ -777,6 +787,7 @@ std::uint64_t GltfPassthrough::fixed_bytes() const {
   for (const State::Primitive& p : s_->primitives) bytes += 4 * p.listed.size() + (p.normals_repaired ? 4 * p.normals.size() : 0);
   const std::uint64_t f = static_cast<std::uint64_t>(s_->frames);
   for (const State::Resampled& r : s_->resampled) bytes += 4 * r.channel->width() * f;
+  if (s_->joints != nullptr) bytes += 40 * f * s_->joints->joints().size();  // their keys, at most
   return bytes + 12 * f + 28 * f * s_->shown.size();
 }
 
@@ -819,6 +830,11 @@ void GltfPassthrough::start(const AppendBin& append) {
 
 void GltfPassthrough::frame(std::span<const Eigen::Vector3f> positions, const BodyPose& body, const AppendBin& append) {
   State& s = *s_;
+  if (s.joints != nullptr) {
+    resample_frame(s);
+    ++s.next_frame;
+    return;
+  }
   if (s.skin != nullptr) {
     frame_under_skin(s, positions, append);
     ++s.next_frame;
@@ -941,6 +957,16 @@ Json GltfPassthrough::finish(const AppendBin& append) {
       accessor["min"] = vec3_json(lo);
       accessor["max"] = vec3_json(hi);
     }
+  }
+  if (s.joints != nullptr) {
+    std::vector<ResampledChannel> resampled;
+    for (const State::Resampled& r : s.resampled) resampled.push_back({r.node, r.path, r.block});
+    std::vector<PrimitiveSource> primitives;
+    for (const State::Primitive& p : s.primitives)
+      if (p.source.size() == p.count) primitives.push_back({p.mesh, p.index, &p.source});
+    const AppendBin put = [&](const void* data, std::size_t bytes) { return s.put(append, data, bytes); };
+    add_character_joints(json, *s.joints, resampled, {s.frames, s.fps, s.times, s.last_time}, primitives, put, s.where);
+    return json;
   }
   if (s.shown.empty()) return json;  // nothing moves: the input as it was
   const std::size_t frames = static_cast<std::size_t>(s.frames);

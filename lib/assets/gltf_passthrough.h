@@ -39,6 +39,9 @@
 //  the frame times (the clip time each frame played: looped or held, after any preroll), LINEAR,
 //  so an engine playing it alone shows the bake; the file's clips are kept as they were.
 //  A vertex whose skinning matrix is singular at some frame is refused then (Error(unsupported)).
+//  With BakeInfo::character_joints (sweep-sim's default for a skinned clip) no target is added:
+//  the parts' joints join the character's skeleton instead (gltf_character_joints.h), and the new
+//  animation holds the resampled channels and their keys.
 //  Another skinned mesh that moves, with no clip of its skin driving the bake, is refused.
 // Refused, before anything is simulated (Error(unsupported), exit 3, naming the file and what):
 // compressed geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression), a deformed

@@ -98,7 +98,11 @@ double SkinnedClip::clip_time(double scene_time) const {
 }
 
 std::vector<Eigen::Matrix4d> SkinnedClip::joint_matrices_at(double scene_time) const {
-  return joint_matrices(model_, world_transforms(model_, clip_, clip_time(scene_time)));
+  return joint_matrices(model_, world_at(scene_time));
+}
+
+std::vector<Eigen::Matrix4d> SkinnedClip::world_at(double scene_time) const {
+  return world_transforms(model_, clip_, clip_time(scene_time));
 }
 
 Eigen::Affine3d SkinnedClip::part_transform(const std::vector<Eigen::Matrix4d>& joints, int sweep) const {

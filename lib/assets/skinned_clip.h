@@ -50,6 +50,7 @@ class SkinnedClip {
               double preroll_seconds, double fps);
 
   int preroll_frames() const { return preroll_frames_; }
+  double fps() const { return fps_; }
   double clip_time(double scene_time) const;
   const std::string& clip_name() const { return model_.clips[clip_].name; }
   int clip() const { return clip_; }  // into model().clips
@@ -59,6 +60,10 @@ class SkinnedClip {
 
   // The joint matrices at scene time τ.
   std::vector<Eigen::Matrix4d> joint_matrices_at(double scene_time) const;
+  // Every node's world transform at scene time τ (the clip at clip_time(τ)).
+  std::vector<Eigen::Matrix4d> world_at(double scene_time) const;
+  // M, the skinned mesh node's world transform (the mesh as read is M · POSITION).
+  Eigen::Matrix4d mesh_transform() const { return from_mesh_.inverse().matrix(); }
   // B_i from the joint matrices.
   Eigen::Affine3d part_transform(const std::vector<Eigen::Matrix4d>& joints, int sweep) const;
   // Sweep i's root motion from scene time −preroll to `duration`, on the simulator's clock

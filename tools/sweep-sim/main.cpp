@@ -53,6 +53,7 @@ struct Settings {
   int threads = 0;                // OpenMP threads; 0 = OpenMP's default
   bool exact = false;             // per-vertex reference deformation instead of the fast path
   bool under_skin = false;        // --under-skin: a skinned clip's .pc2/.obj before skinning
+  bool morph = false;             // --morph: a skinned clip's .glb as morph targets under the skin
   int stations = 8;               // fast path: stations per span
   bool sleep = true;
   bool quiet = false;
@@ -63,6 +64,7 @@ struct Settings {
   std::string joints_text;             // --joints as given: "" alone (the default, see run)
   int ring_joints = sweep::assets::kDefaultRingJoints;  // --ring-joints: ring joints a station (1: none)
   bool ring_fit = false;                            // --ring-fit: least-squares ring keys
+  bool ring_given = false;
 };
 
 // `text` as a whole number (an option's value CLI11 was given as text), or a usage error naming
@@ -135,6 +137,7 @@ std::string report_text(const Settings& s, const sweep::assets::BakeReport& r, d
     doc["ring_joints"] = s.ring_joints;
     doc["ring_fit"] = s.ring_fit;
     doc["skin_joints"] = r.skin_joints;
+    if (r.skin_in_character) doc["skin_joints_in_character"] = true;  // added to the character's skeleton
     doc["skin_error_max_relative"] = r.skin_error.max_relative;
     doc["skin_error_rms_relative"] = r.skin_error.rms_relative;
     doc["skin_error_max_frame"] = r.skin_error.max_frame;
@@ -150,24 +153,6 @@ int run(Settings s) {
     sweep::assets::check_skin_joints({.stations = s.joints, .ring = s.ring_joints}, {}, 1);
   }
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
-  if (s.joints_given && s.joints_text.empty()) {
-    // --joints alone: the default, or, where a sweep has fewer stations, as many as the fewest any
-    // sweep has (one N serves every sweep), said in a note. A number given is taken as asked, and
-    // refused past a sweep's stations.
-    const sweep::SweepDef* fewest = nullptr;
-    for (const sweep::SweepDef& def : rig.sweeps) {
-      const int stations = sweep::assets::skin_stations(def.rest, s.stations);
-      if (stations < s.joints) {
-        s.joints = std::max(sweep::assets::kMinSkinJoints, stations);
-        fewest = &def;
-      }
-    }
-    if (fewest != nullptr) {
-      sweep::io::note("--joints: " + std::to_string(s.joints) + " joints a sweep, not " +
-                      std::to_string(sweep::assets::kDefaultSkinJoints) + ": sweep \"" + fewest->name +
-                      "\" has " + std::to_string(s.joints) + " stations");
-    }
-  }
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
   // The rig's mesh of that file (the whole file for a rig that names none).
   const sweep::assets::SceneMesh read = sweep::assets::read_scene_mesh(mesh_path, rig.mesh_name, sweep::assets::MeshPick::whole_file);
@@ -193,6 +178,34 @@ int run(Settings s) {
         sweep::fail(sweep::ErrorCategory::bad_input,
                     mesh_path.string() + ": the scene's body \"loop\" and \"preroll\" play a skinned mesh's clip, and this mesh is not skinned");
       scene.body = sweep::assets::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
+    }
+  }
+  if (s.ring_given && !s.joints_given && !(skinned && !s.morph)) {
+    sweep::fail(sweep::ErrorCategory::usage, "--ring-joints: lays out the joints of --joints or of a skinned clip's .glb, and neither is asked for");
+  }
+  // A skinned clip's .glb is by default its character with the parts' joints added to its
+  // skeleton, laid out as --joints alone lays them out; --morph keeps the morph targets.
+  if (skinned && !s.morph && !s.joints_given &&
+      std::any_of(s.outputs.begin(), s.outputs.end(), [](const fs::path& o) { return sweep::lower_extension(o) == "glb"; })) {
+    s.joints_given = true;
+    s.joints_text.clear();
+  }
+  if (s.joints_given && s.joints_text.empty()) {
+    // --joints alone: the default, or, where a sweep has fewer stations, as many as the fewest any
+    // sweep has (one N serves every sweep), said in a note. A number given is taken as asked, and
+    // refused past a sweep's stations.
+    const sweep::SweepDef* fewest = nullptr;
+    for (const sweep::SweepDef& def : rig.sweeps) {
+      const int stations = sweep::assets::skin_stations(def.rest, s.stations);
+      if (stations < s.joints) {
+        s.joints = std::max(sweep::assets::kMinSkinJoints, stations);
+        fewest = &def;
+      }
+    }
+    if (fewest != nullptr) {
+      sweep::io::note("--joints: " + std::to_string(s.joints) + " joints a sweep, not " +
+                      std::to_string(sweep::assets::kDefaultSkinJoints) + ": sweep \"" + fewest->name +
+                      "\" has " + std::to_string(s.joints) + " stations");
     }
   }
   if (scene.body_collider.spheres > 0) {
@@ -257,6 +270,7 @@ int run(Settings s) {
   options.ring_fit = s.ring_fit;
   options.sleep.enabled = s.sleep;
   options.under_skin = s.under_skin;
+  options.morph = s.morph;
   if (skinned) options.skinned = &*skinned;
   sweep::tools::ProgressBar bar("baking");
   if (!s.quiet) options.progress = [&](int done, int total) { bar.update(done, total); };
@@ -294,7 +308,15 @@ int run(Settings s) {
     }
     std::cout << " over " << report.stretch_edge_count << " edges, measured in "
               << format_number(report.stretch_seconds * 1e3, 3) << " ms\n";
-    if (report.skin_joints > 0) {
+    if (report.skin_joints > 0 && report.skin_in_character) {
+      std::cout << "skinned .glb: " << report.skin_joints << " joints added to the character's skeleton ("
+                << s.joints << " a part";
+      if (s.ring_joints > 1) std::cout << ", " << s.ring_joints << " around each station but the root";
+      std::cout << "); against the bake: max " << format_number(report.skin_error.max_relative * 100, 3)
+                << " % of the part's length (frame " << report.skin_error.max_frame << ", vertex "
+                << report.skin_error.max_vertex << "), RMS " << format_number(report.skin_error.rms_relative * 100, 3)
+                << " %\n";
+    } else if (report.skin_joints > 0) {
       std::cout << "skinned .glb: " << report.skin_joints << " joints (" << s.joints << " a sweep";
       if (s.ring_joints > 1) std::cout << ", " << s.ring_joints << " around each but the root";
       std::cout << ", and the body); against the bake: max "
@@ -336,7 +358,8 @@ int main(int argc, char** argv) {
                    "Output: .glb, .pc2 or .obj (a numbered sequence); repeatable. When the scene's "
                    "body plays a skinned glTF mesh's clip, .pc2 and .obj hold world positions and the "
                    ".glb is the asset whole (skeleton, clips, materials) with the parts' motion as "
-                   "morph targets under its skin and a \"sweep bake\" animation playing both")
+                   "joints added to its skeleton (--morph: morph targets under its skin) and a "
+                   "\"sweep bake\" animation playing both")
         ->required()
         ->check(sweep::tools::kNonEmptyName);
     app.add_option("-b,--binding", s.binding, "Binding file (default: the rig's path with .bind)")
@@ -379,15 +402,19 @@ int main(int argc, char** argv) {
                                " by default, within 1 % of the length on the demo's scene); the summary "
                                "and report give its error against the bake")
                        ->expected(0, 1);
-    app.add_option("--ring-joints", s.ring_joints,
+    auto* ring = app.add_option("--ring-joints", s.ring_joints,
                    "With --joints: M joints around each station but the root, carrying the radial "
                    "change at their angles (1 to 64; 1: none, each station joint scales its whole "
-                   "section; default " + std::to_string(sweep::assets::kDefaultRingJoints) + ")")
-        ->needs(joints);
+                   "section; default " + std::to_string(sweep::assets::kDefaultRingJoints) +
+                   "); also for a skinned clip's .glb");
     app.add_flag("--ring-fit", s.ring_fit,
                  "With --joints: fit the ring joints' keys by least squares over the vertices they "
                  "weigh (less error; every ring joint is keyed, a larger file)")
         ->needs(joints);
+    app.add_flag("--morph", s.morph,
+                 "When the scene's body plays a skinned glTF mesh's clip: write the .glb's parts' "
+                 "motion as one morph target a frame under the skin instead of joints added to its "
+                 "skeleton (the default)");
     app.add_flag("--under-skin", s.under_skin,
                  "When the scene's body plays a skinned glTF mesh's clip: .pc2 and .obj frames hold "
                  "each vertex before skinning, in the mesh's bind space (the parts' motion alone), "
@@ -405,6 +432,7 @@ int main(int argc, char** argv) {
       s.max_output_bytes = *sweep::tools::read_byte_size(s.max_output_text, why);
     }
     s.joints_given = joints->count() > 0;
+    s.ring_given = ring->count() > 0;
     s.joints = sweep::assets::kDefaultSkinJoints;
     if (s.joints_given && !s.joints_text.empty()) s.joints = whole_number(s.joints_text, "--joints");
     return run(s);
