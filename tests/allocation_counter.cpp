@@ -38,30 +38,66 @@ void* allocate(std::size_t size, std::size_t alignment, bool nothrow) {
 
 }  // namespace
 
-void* operator new(std::size_t size) { return allocate(size, 0, false); }
-void* operator new[](std::size_t size) { return allocate(size, 0, false); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return allocate(size, 0, true); }
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return allocate(size, 0, true); }
-void* operator new(std::size_t size, std::align_val_t a) { return allocate(size, std::size_t(a), false); }
-void* operator new[](std::size_t size, std::align_val_t a) { return allocate(size, std::size_t(a), false); }
+void* operator new(std::size_t size) {
+  return allocate(size, 0, false);
+}
+void* operator new[](std::size_t size) {
+  return allocate(size, 0, false);
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  return allocate(size, 0, true);
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  return allocate(size, 0, true);
+}
+void* operator new(std::size_t size, std::align_val_t a) {
+  return allocate(size, std::size_t(a), false);
+}
+void* operator new[](std::size_t size, std::align_val_t a) {
+  return allocate(size, std::size_t(a), false);
+}
 void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
   return allocate(size, std::size_t(a), true);
 }
 void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
   return allocate(size, std::size_t(a), true);
 }
-void operator delete(void* p) noexcept { __libc_free(p); }
-void operator delete[](void* p) noexcept { __libc_free(p); }
-void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::size_t) noexcept { __libc_free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { __libc_free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { __libc_free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { __libc_free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { __libc_free(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { __libc_free(p); }
+void operator delete(void* p) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p) noexcept {
+  __libc_free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  __libc_free(p);
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p, std::align_val_t) noexcept {
+  __libc_free(p);
+}
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
+  __libc_free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  __libc_free(p);
+}
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept {
+  __libc_free(p);
+}
 
 extern "C" {
 void* malloc(std::size_t size) {
@@ -92,7 +128,9 @@ int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
   *out = p;
   return 0;
 }
-void free(void* p) { __libc_free(p); }
+void free(void* p) {
+  __libc_free(p);
+}
 }
 
 namespace sweep::test {
@@ -114,7 +152,9 @@ AllocationCounts close_allocation_window() {
 
 namespace sweep::test {
 void open_allocation_window() {}
-AllocationCounts close_allocation_window() { return {}; }
+AllocationCounts close_allocation_window() {
+  return {};
+}
 }  // namespace sweep::test
 
 #endif

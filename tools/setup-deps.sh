@@ -15,6 +15,7 @@ packages=(
   python3 python3-jsonschema python3-matplotlib python3-numpy  # schema checks, preview pictures
   libcgal-demo   # CGAL's sample meshes (diplodocus.off, ...) for the demo and real-mesh tests
   gnuplot-nox    # the plots of tools/bench/run-benchmarks.sh
+  clang-format   # the sources' format, checked by the tests (tools/check-format.sh)
 )
 case "${1:-}" in
   --tests) packages+=(blender) ;;

@@ -1,10 +1,10 @@
 #include "sweep/assets/assimp_skin.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
 #include <algorithm>
 #include <array>
+#include <assimp/Importer.hpp>
 #include <bit>
 #include <cmath>
 #include <map>
@@ -128,18 +128,21 @@ std::vector<SkinClip> read_clips(const std::filesystem::path& file, const aiScen
         clip.end = clip.channels.empty() ? c.times.back() : std::max(clip.end, c.times.back());
         clip.channels.push_back(std::move(c));
       };
-      add(ChannelPath::translation, ch->mNumPositionKeys, [&](unsigned k) { return ch->mPositionKeys[k].mTime; },
+      add(
+          ChannelPath::translation, ch->mNumPositionKeys, [&](unsigned k) { return ch->mPositionKeys[k].mTime; },
           [&](unsigned k) {
             const aiVector3D& v = ch->mPositionKeys[k].mValue;
             return std::array<double, 3>{v.x, v.y, v.z};
           });
-      add(ChannelPath::rotation, ch->mNumRotationKeys, [&](unsigned k) { return ch->mRotationKeys[k].mTime; },
+      add(
+          ChannelPath::rotation, ch->mNumRotationKeys, [&](unsigned k) { return ch->mRotationKeys[k].mTime; },
           [&](unsigned k) {
             const aiQuaternion& q = ch->mRotationKeys[k].mValue;
             const Quat u = Quat(q.w, q.x, q.y, q.z).normalized();
             return std::array<double, 4>{u.x(), u.y(), u.z(), u.w()};
           });
-      add(ChannelPath::scale, ch->mNumScalingKeys, [&](unsigned k) { return ch->mScalingKeys[k].mTime; },
+      add(
+          ChannelPath::scale, ch->mNumScalingKeys, [&](unsigned k) { return ch->mScalingKeys[k].mTime; },
           [&](unsigned k) {
             const aiVector3D& v = ch->mScalingKeys[k].mValue;
             return std::array<double, 3>{v.x, v.y, v.z};
@@ -191,7 +194,8 @@ std::optional<SkinModel> read_assimp_skin(const std::filesystem::path& file, std
     for (unsigned b = 0; b < am->mNumBones; ++b) {
       const aiBone* bone = am->mBones[b];
       const int node = find_node(tree, bone->mName.C_Str());
-      if (node < 0) refuse(file, "mesh '" + std::string(am->mName.C_Str()) + "': bone '" + bone->mName.C_Str() + "' names no node");
+      if (node < 0)
+        refuse(file, "mesh '" + std::string(am->mName.C_Str()) + "': bone '" + bone->mName.C_Str() + "' names no node");
       const Mat4 offset = to_mat(bone->mOffsetMatrix);
       const double det = offset.topLeftCorner<3, 3>().determinant();
       if (!offset.allFinite() || !(std::abs(det) > 1e-12) ||
@@ -234,9 +238,11 @@ std::optional<SkinModel> read_assimp_skin(const std::filesystem::path& file, std
   for (std::size_t v = 0; v < read_positions.size(); ++v) {
     const auto it = corners.find(key_of(read_positions[v]));
     if (it == corners.end()) {
-      refuse(file, "vertex " + std::to_string(v) + " of the mesh read, at " + format_point(read_positions[v]) +
-                       ", is not a vertex of a skinned mesh (the skinned character must be the mesh read: name it with --mesh)",
-             ErrorCategory::unsupported);
+      refuse(
+          file,
+          "vertex " + std::to_string(v) + " of the mesh read, at " + format_point(read_positions[v]) +
+              ", is not a vertex of a skinned mesh (the skinned character must be the mesh read: name it with --mesh)",
+          ErrorCategory::unsupported);
     }
     const Corner& first = it->second.front();
     for (const Corner& c : it->second) {
@@ -252,7 +258,8 @@ std::optional<SkinModel> read_assimp_skin(const std::filesystem::path& file, std
       refuse(file, "the skinned meshes are shown by several nodes (vertex " + std::to_string(v) + ")",
              ErrorCategory::unsupported);
     Influences in = first.influences;
-    if (in.empty()) refuse(file, "vertex " + std::to_string(v) + " at " + format_point(read_positions[v]) + " has no bone weight");
+    if (in.empty())
+      refuse(file, "vertex " + std::to_string(v) + " at " + format_point(read_positions[v]) + " has no bone weight");
     if (in.size() > 4) {
       // Played as engines and glTF's JOINTS_0 play a skin: the 4 largest, renormalised.
       std::stable_sort(in.begin(), in.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
@@ -275,7 +282,8 @@ std::optional<SkinModel> read_assimp_skin(const std::filesystem::path& file, std
   if (reduced > 0) {
     model.warnings.push_back(file.string() + ": " + std::to_string(reduced) +
                              " vertices have more than 4 bone influences; each plays its 4 largest, renormalised "
-                             "(at most " + format_percent(most_dropped) + " of a vertex's weight left out)");
+                             "(at most " +
+                             format_percent(most_dropped) + " of a vertex's weight left out)");
   }
   // The mesh was read in the space `to_world` maps to world; the bones' offsets take the mesh node's
   // own space. Where the two differ (the whole file read, its skinned node placed by a transform),
@@ -296,7 +304,8 @@ std::optional<SkinModel> read_assimp_skin(const std::filesystem::path& file, std
 std::optional<SkinModel> read_skin(const std::filesystem::path& file, std::span<const Vec3> read_positions,
                                    const Eigen::Affine3d& to_world) {
   std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".gltf" || ext == ".glb") return read_gltf_skin(file, read_positions, to_world);
   return read_assimp_skin(file, read_positions, to_world);
 }

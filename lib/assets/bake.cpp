@@ -34,8 +34,7 @@ std::unique_ptr<BakeWriter> make_bake_writer(const fs::path& out) {
 }
 
 fs::path obj_sequence_path(const fs::path& out, int index, int frame_count) {
-  const std::size_t width =
-      std::max<std::size_t>(4, std::to_string(std::max(frame_count - 1, 0)).size());
+  const std::size_t width = std::max<std::size_t>(4, std::to_string(std::max(frame_count - 1, 0)).size());
   std::string digits = std::to_string(index);
   if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
   fs::path name = out.stem();
@@ -75,8 +74,7 @@ void BakeWriterBase::begin(const Mesh& rest, const BakeInfo& info) {
   }
   guarded([&] {
     if (info.frame_count < 1) {
-      fail(ErrorCategory::internal,
-           where + "a bake needs at least one frame, got " + std::to_string(info.frame_count));
+      fail(ErrorCategory::internal, where + "a bake needs at least one frame, got " + std::to_string(info.frame_count));
     }
     if (!std::isfinite(info.fps) || info.fps <= 0) {
       fail(ErrorCategory::internal, where + "frames per second must be positive and finite");
@@ -93,12 +91,12 @@ void BakeWriterBase::begin(const Mesh& rest, const BakeInfo& info) {
     }
     for (std::size_t k = 0; k < rest.face_vertices.size(); ++k) {
       if (rest.face_vertices[k] >= n) {
-        const auto face = std::upper_bound(rest.face_offsets.begin(), rest.face_offsets.end(),
-                                           static_cast<std::uint32_t>(k)) -
-                          rest.face_offsets.begin() - 1;
+        const auto face =
+            std::upper_bound(rest.face_offsets.begin(), rest.face_offsets.end(), static_cast<std::uint32_t>(k)) -
+            rest.face_offsets.begin() - 1;
         fail(ErrorCategory::bad_input, where + "face " + std::to_string(face) + " uses vertex " +
-                                           std::to_string(rest.face_vertices[k]) +
-                                           " but the mesh has " + std::to_string(n) + " vertices");
+                                           std::to_string(rest.face_vertices[k]) + " but the mesh has " +
+                                           std::to_string(n) + " vertices");
       }
     }
     info_ = info;
@@ -107,8 +105,7 @@ void BakeWriterBase::begin(const Mesh& rest, const BakeInfo& info) {
       const Vec3& p = rest.positions[v];
       for (int c = 0; c < 3; ++c) {
         if (!std::islessequal(std::abs(p[c]), double{kMaxBakeCoordinate})) {  // quiet on NaN
-          fail(ErrorCategory::bad_input, where + "rest vertex " + std::to_string(v) +
-                                             ": coordinate " +
+          fail(ErrorCategory::bad_input, where + "rest vertex " + std::to_string(v) + ": coordinate " +
                                              (std::isfinite(p[c]) ? "beyond ±1e30" : "not finite") +
                                              "; a bake stores float32 positions");
         }
@@ -120,9 +117,8 @@ void BakeWriterBase::begin(const Mesh& rest, const BakeInfo& info) {
       std::sort(animated_.begin(), animated_.end());
       animated_.erase(std::unique(animated_.begin(), animated_.end()), animated_.end());
       if (!animated_.empty() && animated_.back() >= n) {
-        fail(ErrorCategory::internal,
-             where + "animated vertex " + std::to_string(animated_.back()) +
-                 " is not in the mesh (" + std::to_string(n) + " vertices)");
+        fail(ErrorCategory::internal, where + "animated vertex " + std::to_string(animated_.back()) +
+                                          " is not in the mesh (" + std::to_string(n) + " vertices)");
       }
     } else {
       animated_.resize(n);
@@ -133,8 +129,9 @@ void BakeWriterBase::begin(const Mesh& rest, const BakeInfo& info) {
     local_ = !to_world.matrix().isIdentity(0.0);
     if (local_) {
       if (!(std::abs(to_world.linear().determinant()) > 0) || !is_finite(to_world.matrix())) {
-        fail(ErrorCategory::bad_input, where + "the mesh's node transform is singular or not finite, so its "
-                                               "local space cannot be had");
+        fail(ErrorCategory::bad_input, where +
+                                           "the mesh's node transform is singular or not finite, so its "
+                                           "local space cannot be had");
       }
       to_local_ = to_world.inverse();
       stored_rest_.resize(n);
@@ -149,15 +146,14 @@ void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> pos
   const std::string where = out_.string() + ": ";
   if (index != next_frame_ || index >= info_.frame_count) {
     fail(ErrorCategory::internal, where + "frame " + std::to_string(index) + " given, but frame " +
-                                      std::to_string(next_frame_) + " of " +
-                                      std::to_string(info_.frame_count) +
+                                      std::to_string(next_frame_) + " of " + std::to_string(info_.frame_count) +
                                       " was expected (frames come in order, from 0)");
   }
   const std::size_t n = rest_.size();
   if (positions.size() != n) {
     fail(ErrorCategory::internal, where + "frame " + std::to_string(index) + " has " +
-                                      std::to_string(positions.size()) + " positions, the mesh " +
-                                      std::to_string(n) + " vertices");
+                                      std::to_string(positions.size()) + " positions, the mesh " + std::to_string(n) +
+                                      " vertices");
   }
   // One pass with no branch per vertex, find the culprit only on failure. islessequal is false
   // for NaN without raising FE_INVALID (callers may run with floating-point traps on).
@@ -174,11 +170,11 @@ void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> pos
       const Eigen::Vector3f& p = positions[v];
       if (!in_range(p)) {
         const bool finite = is_finite(p);
-        fail(ErrorCategory::diverged, where + "frame " + std::to_string(index) + ", vertex " +
-                                          std::to_string(v) + ": position " + format_exact_point(p) +
-                                          (finite ? " is beyond ±1e30: the simulation ran away"
-                                                  : " is not finite: the simulation diverged") +
-                                          "; nothing was written");
+        fail(ErrorCategory::diverged,
+             where + "frame " + std::to_string(index) + ", vertex " + std::to_string(v) + ": position " +
+                 format_exact_point(p) +
+                 (finite ? " is beyond ±1e30: the simulation ran away" : " is not finite: the simulation diverged") +
+                 "; nothing was written");
       }
     }
   }
@@ -190,10 +186,9 @@ void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> pos
         continue;
       }
       if (positions[v] != rest_[v]) {
-        fail(ErrorCategory::internal,
-             where + "frame " + std::to_string(index) + ": vertex " + std::to_string(v) +
-                 " moved to " + format_exact_point(positions[v]) + " from " + format_exact_point(rest_[v]) +
-                 " but is not in the animated-vertex list");
+        fail(ErrorCategory::internal, where + "frame " + std::to_string(index) + ": vertex " + std::to_string(v) +
+                                          " moved to " + format_exact_point(positions[v]) + " from " +
+                                          format_exact_point(rest_[v]) + " but is not in the animated-vertex list");
       }
     }
   }
@@ -201,8 +196,7 @@ void BakeWriterBase::check_frame(int index, std::span<const Eigen::Vector3f> pos
 
 void BakeWriterBase::frame(int index, std::span<const Eigen::Vector3f> positions, const BodyPose& body) {
   if (state_ != State::begun) {
-    fail(ErrorCategory::internal,
-         out_.string() + ": frame() outside begin() .. finish(), or after an error");
+    fail(ErrorCategory::internal, out_.string() + ": frame() outside begin() .. finish(), or after an error");
   }
   guarded([&] {
     check_frame(index, positions);
@@ -213,7 +207,8 @@ void BakeWriterBase::frame(int index, std::span<const Eigen::Vector3f> positions
     }
     if (!is_finite(body.rotation.coeffs()) || !is_finite(body.translation) ||
         body.translation.cwiseAbs().maxCoeff() > kMaxBakeCoordinate) {
-      fail(ErrorCategory::diverged, out_.string() + ": frame " + std::to_string(index) + ": the body's pose is not finite");
+      fail(ErrorCategory::diverged,
+           out_.string() + ": frame " + std::to_string(index) + ": the body's pose is not finite");
     }
     body_ = body;
     write_frame(index, positions);
@@ -253,13 +248,11 @@ void BakeWriterBase::finish() {
 
 void BakeWriterBase::finish_into(io::Publication& outputs) {
   if (state_ != State::begun) {
-    fail(ErrorCategory::internal,
-         out_.string() + ": finish() without begin(), twice, or after an error");
+    fail(ErrorCategory::internal, out_.string() + ": finish() without begin(), twice, or after an error");
   }
   guarded([&] {
     if (next_frame_ != info_.frame_count) {
-      fail(ErrorCategory::internal, out_.string() + ": finish() after " +
-                                        std::to_string(next_frame_) + " of " +
+      fail(ErrorCategory::internal, out_.string() + ": finish() after " + std::to_string(next_frame_) + " of " +
                                         std::to_string(info_.frame_count) + " frames");
     }
     complete(outputs);
@@ -271,8 +264,8 @@ void BodyKeys::add(const BodyPose& pose) {
   Eigen::Quaterniond q = pose.rotation.normalized();
   if (!rotations.empty()) {
     const std::size_t at = rotations.size() - 4;
-    const double dot = q.x() * rotations[at] + q.y() * rotations[at + 1] + q.z() * rotations[at + 2] +
-                       q.w() * rotations[at + 3];
+    const double dot =
+        q.x() * rotations[at] + q.y() * rotations[at + 1] + q.z() * rotations[at + 2] + q.w() * rotations[at + 3];
     if (dot < 0) q.coeffs() *= -1;
   }
   for (int c = 0; c < 3; ++c) translations.push_back(static_cast<float>(pose.translation[c]));

@@ -49,10 +49,10 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -92,9 +92,9 @@ struct BakeInfo {
   // Name of the glTF node and mesh (Blender's object name). Not used by the other formats.
   std::string name = "sweep_bake";
   // Whether the body moves: each frame then comes with the body's pose. The .pc2 and
-  // .obj writers write world positions (pose applied; then in the mesh's local space); the .glb writer keeps the deformation in
-  // the body's frame (morph targets) and animates its node's translation and rotation (LINEAR:
-  // slerp), so engines play both. Without it every pose must be the identity.
+  // .obj writers write world positions (pose applied; then in the mesh's local space); the .glb writer keeps the
+  // deformation in the body's frame (morph targets) and animates its node's translation and rotation (LINEAR: slerp),
+  // so engines play both. Without it every pose must be the identity.
   bool body_moves = false;
   // The mesh file the bake deforms and which mesh of it (BakeSource).
   BakeSource source;
@@ -167,8 +167,7 @@ std::unique_ptr<BakeWriter> make_obj_bake_writer(const std::filesystem::path& ou
 
 // The file name of frame `index` in an OBJ sequence of `frame_count` frames for `out`
 // ("dir/out.obj", 3, 120 → "dir/out_0003.obj").
-std::filesystem::path obj_sequence_path(const std::filesystem::path& out, int index,
-                                        int frame_count);
+std::filesystem::path obj_sequence_path(const std::filesystem::path& out, int index, int frame_count);
 // The final paths a bake to `out` writes: `out` itself, or for .obj every frame's file.
 std::vector<std::filesystem::path> bake_files(const std::filesystem::path& out, int frame_count);
 

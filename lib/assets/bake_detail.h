@@ -87,7 +87,7 @@ class BakeWriterBase : public BakeWriter {
   std::uint64_t estimate_ = 0;
   BodyPose body_;
   std::vector<Eigen::Vector3f> world_;
-  bool local_ = false;                   // the mesh has a local space other than world
+  bool local_ = false;  // the mesh has a local space other than world
   Eigen::Affine3d to_local_ = Eigen::Affine3d::Identity();
   std::vector<Eigen::Vector3f> stored_rest_;  // rest in local space, from the double positions
 };

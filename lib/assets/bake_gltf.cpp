@@ -29,8 +29,8 @@
 
 #include "sweep/assets/bake.h"
 #include "sweep/assets/bake_detail.h"
-#include "sweep/assets/smooth_normals.h"
 #include "sweep/assets/gltf_passthrough.h"
+#include "sweep/assets/smooth_normals.h"
 #include "sweep/core/error.h"
 
 namespace sweep::assets {
@@ -88,8 +88,7 @@ class GltfWriter final : public detail::BakeWriterBase {
   std::vector<std::uint32_t> triangles_;
   std::vector<Eigen::Vector3f> rest_normals_;
   std::size_t triangle_index_count_ = 0;
-  Block positions_, normals_, indices_, sparse_indices_, sparse_normal_indices_, times_,
-      weight_indices_, weights_;
+  Block positions_, normals_, indices_, sparse_indices_, sparse_normal_indices_, times_, weight_indices_, weights_;
   Eigen::Vector3f rest_min_, rest_max_;
   float last_time_ = 0;
   std::vector<Eigen::Vector3f> delta_, normal_delta_;  // one frame's deltas, reused
@@ -110,10 +109,9 @@ void GltfWriter::start_passthrough(const Mesh&) {
   }
   // The input's JSON and its buffers and images (fixed_bytes; a .glb's file size would count them
   // twice), then the bake's additions.
-  const std::uint64_t estimate = 28 + kJsonBytesFixed + passthrough_->json_bytes() +
-                                 passthrough_->fixed_bytes() + 8 * frames +
-                                 (kJsonBytesPerFrame * passthrough_->deformed_primitives() +
-                                  passthrough_->bytes_per_frame()) * frames;
+  const std::uint64_t estimate =
+      28 + kJsonBytesFixed + passthrough_->json_bytes() + passthrough_->fixed_bytes() + 8 * frames +
+      (kJsonBytesPerFrame * passthrough_->deformed_primitives() + passthrough_->bytes_per_frame()) * frames;
   set_estimate(estimate);
   if (estimate > kGlbMaxBytes) {
     fail(ErrorCategory::unsupported, out().string() + ": " + std::to_string(frames) + " frames need about " +
@@ -129,20 +127,25 @@ void GltfWriter::start(const Mesh& mesh) {
     // The .glb of a skinned clip is the character's own document with its skeleton and clips;
     // a character read through assimp (FBX, Collada, ...) has none here to keep.
     std::string ext = info().source.path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext != ".gltf" && ext != ".glb") {
       fail(ErrorCategory::unsupported,
-           out().string() + ": the .glb of a skinned character's clip is the character's glTF with its skeleton and clips, and " +
-               info().source.path.string() + " is not glTF: bake it to .pc2 or .obj (world positions), or export the "
+           out().string() +
+               ": the .glb of a skinned character's clip is the character's glTF with its skeleton and clips, and " +
+               info().source.path.string() +
+               " is not glTF: bake it to .pc2 or .obj (world positions), or export the "
                "character to glTF first");
     }
   }
   if (detail::is_passthrough_source(info().source.path)) {
     // A skinned clip moves every vertex; the parts' vertices are those that leave their skinned pose.
     // With joints in the character's skeleton no vertex gets a target.
-    passthrough_ = detail::GltfPassthrough::open(
-        info().source.path, out(), mesh,
-        info().character_joints ? std::vector<std::uint32_t>{} : info().skinned ? info().part_vertices : animated(), info());
+    passthrough_ = detail::GltfPassthrough::open(info().source.path, out(), mesh,
+                                                 info().character_joints ? std::vector<std::uint32_t>{}
+                                                 : info().skinned        ? info().part_vertices
+                                                                         : animated(),
+                                                 info());
     if (passthrough_) {
       start_passthrough(mesh);
       return;
@@ -190,16 +193,15 @@ void GltfWriter::start(const Mesh& mesh) {
              "bake to .pc2 or an .obj sequence");
   }
   const std::uint64_t bin = 24 * std::uint64_t{n} + 4 * std::uint64_t{triangles.size()} +
-                            (sparse_ ? 4 * s + 4 * sn : 0) + 4 * frames + 8 * frames +
-                            12 * (s + sn) * frames +
+                            (sparse_ ? 4 * s + 4 * sn : 0) + 4 * frames + 8 * frames + 12 * (s + sn) * frames +
                             (info().body_moves ? 28 * frames : 0);
   const std::uint64_t estimate = 28 + kJsonBytesFixed + kJsonBytesPerFrame * frames + bin;
   set_estimate(estimate);
   if (estimate > kGlbMaxBytes) {
-    fail(ErrorCategory::unsupported,
-         out().string() + ": " + std::to_string(frames) + " frames of " + std::to_string(s) +
-             " moving vertices need about " + std::to_string(estimate >> 20) +
-             " MiB, over the 4 GiB a .glb can hold; bake fewer frames or to .pc2");
+    fail(ErrorCategory::unsupported, out().string() + ": " + std::to_string(frames) + " frames of " +
+                                         std::to_string(s) + " moving vertices need about " +
+                                         std::to_string(estimate >> 20) +
+                                         " MiB, over the 4 GiB a .glb can hold; bake fewer frames or to .pc2");
   }
 
   scratch_ = std::make_unique<io::TempFile>(out(), /*scratch=*/true);
@@ -225,9 +227,9 @@ void GltfWriter::start(const Mesh& mesh) {
     for (std::uint64_t k = 0; k < frames; ++k) {
       times[k] = static_cast<float>(static_cast<double>(k) / info().fps);
       if (k > 0 && !(times[k] > times[k - 1])) {
-        fail(ErrorCategory::unsupported,
-             out().string() + ": frame " + std::to_string(k) + " at " + std::to_string(info().fps) +
-                 " frames/s has the same float32 time as the frame before it");
+        fail(ErrorCategory::unsupported, out().string() + ": frame " + std::to_string(k) + " at " +
+                                             std::to_string(info().fps) +
+                                             " frames/s has the same float32 time as the frame before it");
       }
     }
     last_time_ = times.back();
@@ -284,16 +286,14 @@ void GltfWriter::write_frame(int, std::span<const Eigen::Vector3f> positions) {
   frame_min_.push_back(lo);
   frame_max_.push_back(hi);
   // The frame's normals, as the rest's were made, less the rest's.
-  const std::vector<Eigen::Vector3f> normals =
-      detail::smooth_normals(positions, triangles_);
+  const std::vector<Eigen::Vector3f> normals = detail::smooth_normals(positions, triangles_);
   if (sparse_) {
     for (std::size_t i = 0; i < normal_targets_.size(); ++i)
       normal_delta_[i] = normals[normal_targets_[i]] - rest_normals_[normal_targets_[i]];
   } else {
     for (std::size_t v = 0; v < normals.size(); ++v) normal_delta_[v] = normals[v] - rest_normals_[v];
   }
-  normal_blocks_.push_back(
-      append_block(normal_delta_.data(), normal_delta_.size() * sizeof(Eigen::Vector3f)));
+  normal_blocks_.push_back(append_block(normal_delta_.data(), normal_delta_.size() * sizeof(Eigen::Vector3f)));
 }
 
 std::vector<double> to_doubles(const Eigen::Vector3f& v) {
@@ -328,18 +328,15 @@ tinygltf::Model GltfWriter::build_model() const {
   constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
   constexpr int kUint = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
 
-  const int position = add_accessor(add_view(positions_, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat,
-                                    TINYGLTF_TYPE_VEC3, n);
+  const int position = add_accessor(add_view(positions_, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat, TINYGLTF_TYPE_VEC3, n);
   model.accessors[position].minValues = to_doubles(rest_min_);
   model.accessors[position].maxValues = to_doubles(rest_max_);
-  const int normal =
-      add_accessor(add_view(normals_, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat, TINYGLTF_TYPE_VEC3, n);
+  const int normal = add_accessor(add_view(normals_, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat, TINYGLTF_TYPE_VEC3, n);
   const int indices = add_accessor(add_view(indices_, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER), kUint,
                                    TINYGLTF_TYPE_SCALAR, triangle_index_count_);
   const int sparse_view = sparse_ ? add_view(sparse_indices_, 0) : -1;
   const int sparse_normal_view = sparse_ ? add_view(sparse_normal_indices_, 0) : -1;
-  const int times = add_accessor(add_view(times_, 0), kFloat, TINYGLTF_TYPE_SCALAR,
-                                 static_cast<std::size_t>(frames));
+  const int times = add_accessor(add_view(times_, 0), kFloat, TINYGLTF_TYPE_SCALAR, static_cast<std::size_t>(frames));
   model.accessors[times].minValues = {0.0};
   model.accessors[times].maxValues = {double{last_time_}};
   const int weights = add_accessor(-1, kFloat, TINYGLTF_TYPE_SCALAR,
@@ -375,8 +372,7 @@ tinygltf::Model GltfWriter::build_model() const {
       sparse.values.bufferView = add_view(block, 0);
       sparse.values.byteOffset = 0;
     } else {
-      accessor = add_accessor(add_view(block, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat,
-                              TINYGLTF_TYPE_VEC3, n);
+      accessor = add_accessor(add_view(block, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat, TINYGLTF_TYPE_VEC3, n);
     }
     model.accessors[accessor].minValues = to_doubles(frame_min_[static_cast<std::size_t>(k)]);
     model.accessors[accessor].maxValues = to_doubles(frame_max_[static_cast<std::size_t>(k)]);
@@ -393,8 +389,8 @@ tinygltf::Model GltfWriter::build_model() const {
       sparse.values.bufferView = add_view(normal_block, 0);
       sparse.values.byteOffset = 0;
     } else {
-      normal_accessor = add_accessor(add_view(normal_block, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat,
-                                     TINYGLTF_TYPE_VEC3, n);
+      normal_accessor =
+          add_accessor(add_view(normal_block, TINYGLTF_TARGET_ARRAY_BUFFER), kFloat, TINYGLTF_TYPE_VEC3, n);
     }
     primitive.targets.push_back({{"POSITION", accessor}, {"NORMAL", normal_accessor}});
     std::string name = obj_sequence_path("frame", k, frames).stem().string();  // "frame_0000"
@@ -415,7 +411,8 @@ tinygltf::Model GltfWriter::build_model() const {
   node.mesh = 0;
   if (info().body_moves) {  // frame 0's pose, for a viewer that does not play the animation
     node.translation = {body_keys_.translations[0], body_keys_.translations[1], body_keys_.translations[2]};
-    node.rotation = {body_keys_.rotations[0], body_keys_.rotations[1], body_keys_.rotations[2], body_keys_.rotations[3]};
+    node.rotation = {body_keys_.rotations[0], body_keys_.rotations[1], body_keys_.rotations[2],
+                     body_keys_.rotations[3]};
   }
   model.nodes.push_back(std::move(node));
   tinygltf::Scene scene;
@@ -439,8 +436,8 @@ tinygltf::Model GltfWriter::build_model() const {
     // The body: translation and rotation of the same node, keyed at the same times.
     const int translations = add_accessor(add_view(body_translation_block_, 0), kFloat, TINYGLTF_TYPE_VEC3,
                                           static_cast<std::size_t>(frames));
-    const int rotations = add_accessor(add_view(body_rotation_block_, 0), kFloat, TINYGLTF_TYPE_VEC4,
-                                       static_cast<std::size_t>(frames));
+    const int rotations =
+        add_accessor(add_view(body_rotation_block_, 0), kFloat, TINYGLTF_TYPE_VEC4, static_cast<std::size_t>(frames));
     for (const auto& [accessor, path] : {std::pair{translations, "translation"}, std::pair{rotations, "rotation"}}) {
       tinygltf::AnimationSampler body_sampler;
       body_sampler.input = times;
@@ -466,7 +463,8 @@ void GltfWriter::complete(io::Publication& outputs) {
   // tinygltf serializes everything but the buffer (it would want the bytes in memory); the one
   // buffer, the GLB's BIN chunk, is added here with its length.
   if (info().body_moves) {
-    body_translation_block_ = append_block(body_keys_.translations.data(), body_keys_.translations.size() * sizeof(float));
+    body_translation_block_ =
+        append_block(body_keys_.translations.data(), body_keys_.translations.size() * sizeof(float));
     body_rotation_block_ = append_block(body_keys_.rotations.data(), body_keys_.rotations.size() * sizeof(float));
   }
   const tinygltf::Model model = build_model();
@@ -487,12 +485,11 @@ void GltfWriter::write_glb(io::Publication& outputs, nlohmann::json json) {
 
   const std::uint64_t total = 12 + 8 + text.size() + 8 + bin_length;
   if (total > kGlbMaxBytes) {
-    fail(ErrorCategory::unsupported, out().string() + ": the bake needs " + std::to_string(total) +
-                                         " bytes, over the 4 GiB a .glb can hold");
+    fail(ErrorCategory::unsupported,
+         out().string() + ": the bake needs " + std::to_string(total) + " bytes, over the 4 GiB a .glb can hold");
   }
   auto u32 = [](std::uint64_t v) { return static_cast<std::uint32_t>(v); };
-  const std::uint32_t header[5] = {0x46546C67u /* "glTF" */, 2, u32(total), u32(text.size()),
-                                   0x4E4F534Au /* "JSON" */};
+  const std::uint32_t header[5] = {0x46546C67u /* "glTF" */, 2, u32(total), u32(text.size()), 0x4E4F534Au /* "JSON" */};
   const std::uint32_t bin_header[2] = {u32(bin_length), 0x004E4942u /* "BIN\0" */};
   final_ = std::make_unique<io::TempFile>(out());
   final_->write(header, sizeof header);

@@ -40,8 +40,8 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     const std::size_t n = rest().size();
     faces_.clear();
     detail::append_obj_faces(faces_, mesh);
-    header_tail_ = " of " + std::to_string(info().frame_count) + ", " + std::to_string(n) +
-                   " vertices, " + std::to_string(mesh.face_count()) + " faces\n";
+    header_tail_ = " of " + std::to_string(info().frame_count) + ", " + std::to_string(n) + " vertices, " +
+                   std::to_string(mesh.face_count()) + " faces\n";
     // Vertices that never move are formatted once: their lines are copied from here each frame.
     if (!all_animated() && !info().body_moves) {
       rest_lines_.clear();
@@ -63,8 +63,8 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
       for (const std::uint32_t a : animated()) b += rest_line_start_[a + 1] - rest_line_start_[a];
       return b;
     }();
-    const std::uint64_t header_bytes = sizeof kHeader - 1 + std::to_string(info().frame_count).size() +
-                                       header_tail_.size();
+    const std::uint64_t header_bytes =
+        sizeof kHeader - 1 + std::to_string(info().frame_count).size() + header_tail_.size();
     set_estimate(static_cast<std::uint64_t>(info().frame_count) *
                  (header_bytes + kMaxVertexLineBytes * moving + still_bytes + faces_.size()));
     // The files are made frame by frame; find out now, before any simulation, whether the folder
@@ -85,16 +85,14 @@ class ObjSequenceWriter final : public detail::BakeWriterBase {
     } else {
       std::size_t next = 0;  // first vertex not yet written
       for (const std::uint32_t a : animated()) {
-        text.append(rest_lines_, rest_line_start_[next],
-                    rest_line_start_[a] - rest_line_start_[next]);
+        text.append(rest_lines_, rest_line_start_[next], rest_line_start_[a] - rest_line_start_[next]);
         detail::append_vertex_line(text, "v ", positions[a]);
         next = std::size_t{a} + 1;
       }
       text.append(rest_lines_, rest_line_start_[next], std::string::npos);
     }
     text += faces_;
-    auto file =
-        std::make_unique<io::TempFile>(obj_sequence_path(out(), index, info().frame_count));
+    auto file = std::make_unique<io::TempFile>(obj_sequence_path(out(), index, info().frame_count));
     file->write(text);
     file->seal();
     frames_.push_back(std::move(file));

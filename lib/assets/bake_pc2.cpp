@@ -36,8 +36,7 @@ class Pc2Writer final : public detail::BakeWriterBase {
     put_u32(header + 24, std::bit_cast<std::uint32_t>(1.0f));              // sample rate
     put_u32(header + 28, static_cast<std::uint32_t>(info().frame_count));  // samples
     file_->write(header, sizeof header);
-    set_estimate(sizeof header + 12 * std::uint64_t{rest().size()} *
-                                     static_cast<std::uint64_t>(info().frame_count));
+    set_estimate(sizeof header + 12 * std::uint64_t{rest().size()} * static_cast<std::uint64_t>(info().frame_count));
     if constexpr (std::endian::native != std::endian::little) scratch_.resize(rest().size() * 12);
   }
 

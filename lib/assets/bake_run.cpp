@@ -40,8 +40,7 @@ std::string megabytes(std::uint64_t bytes) {
 }
 
 // Before the simulation: the files' estimated size against the limit, and what engines take.
-void check_output_size(const BakeOptions& options,
-                       const std::vector<std::unique_ptr<BakeWriter>>& writers) {
+void check_output_size(const BakeOptions& options, const std::vector<std::unique_ptr<BakeWriter>>& writers) {
   std::uint64_t total = 0;
   std::string each;
   for (std::size_t k = 0; k < writers.size(); ++k) {
@@ -51,7 +50,8 @@ void check_output_size(const BakeOptions& options,
     if (targets > kPortableMorphTargets && options.warn) {
       options.warn(options.outputs[k].string() + ": " + std::to_string(targets) +
                    " morph targets (one a frame); engines keep them all on the GPU, and three.js "
-                   "on WebGL 2 is only sure of " + std::to_string(kPortableMorphTargets) +
+                   "on WebGL 2 is only sure of " +
+                   std::to_string(kPortableMorphTargets) +
                    " (texture array layers): it may not play. For Blender, Houdini or 3ds Max "
                    "bake to .pc2; for engines, fewer frames (a lower fps in the scene)");
     }
@@ -70,11 +70,10 @@ void check_output_size(const BakeOptions& options,
 
 }  // namespace
 
-BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                    const sim::Scene& scene, const BakeOptions& options) {
+BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding, const sim::Scene& scene,
+                    const BakeOptions& options) {
   if (options.outputs.empty()) fail(ErrorCategory::usage, "no output file given");
-  if (options.stations_per_span < 1)
-    fail(ErrorCategory::usage, "stations per span must be at least 1");
+  if (options.stations_per_span < 1) fail(ErrorCategory::usage, "stations per span must be at least 1");
   if (options.joints != 0) {
     bool glb = false;
     for (const auto& out : options.outputs) glb = glb || lower_extension(out) == "glb";
@@ -93,16 +92,19 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   positions = rest;
 
   if (options.under_skin && options.skinned == nullptr) {
-    fail(ErrorCategory::usage, "--under-skin: the scene's body plays no skinned mesh's clip, so there is no skin to "
-                               "write the frames under");
+    fail(ErrorCategory::usage,
+         "--under-skin: the scene's body plays no skinned mesh's clip, so there is no skin to "
+         "write the frames under");
   }
   if (options.morph && options.skinned == nullptr) {
-    fail(ErrorCategory::usage, "--morph: the scene's body plays no skinned mesh's clip; a .glb bake of any other "
-                               "mesh is morph targets already");
+    fail(ErrorCategory::usage,
+         "--morph: the scene's body plays no skinned mesh's clip; a .glb bake of any other "
+         "mesh is morph targets already");
   }
   if (options.morph && options.joints != 0) {
-    fail(ErrorCategory::usage, "--morph and --joints ask for two different .glb bakes of a skinned clip (morph "
-                               "targets under the skin, or joints in its skeleton); give one");
+    fail(ErrorCategory::usage,
+         "--morph and --joints ask for two different .glb bakes of a skinned clip (morph "
+         "targets under the skin, or joints in its skeleton); give one");
   }
   // A skinned clip with joints: they join the character's own skeleton (character_joints.h).
   std::unique_ptr<CharacterJoints> character;
@@ -159,18 +161,15 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     if (!report.sweeps[i].driven) continue;
     animated.insert(animated.end(), table.vertices.begin(), table.vertices.end());
     if (options.exact) continue;
-    fast[i] =
-        std::make_unique<sim::FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
+    fast[i] = std::make_unique<sim::FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
     report.sweeps[i].work_blocks = fast[i]->block_count();
     report.sweeps[i].blocks_in_place = fast[i]->direct_block_count();
   }
   std::sort(animated.begin(), animated.end());
   // Sweeps are deformed side by side (deform_sweeps): each vertex must belong to one sweep, as
   // bind() and the binding file guarantee; a binding built otherwise is refused, not raced on.
-  if (const auto twice = std::adjacent_find(animated.begin(), animated.end());
-      twice != animated.end()) {
-    fail(ErrorCategory::bad_input,
-         "binding: vertex " + std::to_string(*twice) + " is bound by more than one sweep");
+  if (const auto twice = std::adjacent_find(animated.begin(), animated.end()); twice != animated.end()) {
+    fail(ErrorCategory::bad_input, "binding: vertex " + std::to_string(*twice) + " is bound by more than one sweep");
   }
 
   std::vector<std::unique_ptr<BakeWriter>> writers;
@@ -323,7 +322,8 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       if (frame >= preroll_frames) report.teleport_times.push_back((frame - preroll_frames) / scene.fps);
   }
   std::sort(report.teleport_times.begin(), report.teleport_times.end());
-  report.teleport_times.erase(std::unique(report.teleport_times.begin(), report.teleport_times.end()), report.teleport_times.end());
+  report.teleport_times.erase(std::unique(report.teleport_times.begin(), report.teleport_times.end()),
+                              report.teleport_times.end());
   return report;
 }
 

@@ -44,8 +44,9 @@ struct BakeOptions {
   // (estimated by the writers); 0: no limit.
   std::uint64_t max_output_bytes = 0;
   // > 0: every .glb output is a skinned glTF with this many joints a sweep (bake_skin.h; with
-  // skinned, joints added to the character's skeleton) instead of morph targets; the other outputs are as ever. kMinSkinJoints … kMaxSkinJoints, and at most
-  // a sweep's station count (check_skin_joints), else Error(usage) before anything is written.
+  // skinned, joints added to the character's skeleton) instead of morph targets; the other outputs are as ever.
+  // kMinSkinJoints … kMaxSkinJoints, and at most a sweep's station count (check_skin_joints), else Error(usage) before
+  // anything is written.
   int joints = 0;
   // With joints: the ring joints at each station (1: none) and how they are keyed (skin_fit.h).
   int ring_joints = 1;
@@ -115,7 +116,7 @@ struct BakeReport {
 // Runs the bake. `binding` must match `mesh` and `rig` (io::check_binding). Throws Error: bad
 // options (usage), divergence (diverged), unwritable outputs (output). On any error no output file
 // is left under its final name.
-BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                    const sim::Scene& scene, const BakeOptions& options);
+BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& binding, const sim::Scene& scene,
+                    const BakeOptions& options);
 
 }  // namespace sweep::assets

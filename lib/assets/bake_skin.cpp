@@ -58,7 +58,7 @@ class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
 
   std::vector<SkinSweep> sweeps_;
   SkinLayout layout_;
-  std::unique_ptr<SkinFit> fit_;  // made in start(), with the rest mesh
+  std::unique_ptr<SkinFit> fit_;             // made in start(), with the rest mesh
   std::vector<JointKey> frame_keys_;         // per joint, this frame (scratch)
   std::vector<std::vector<JointKey>> keys_;  // per joint but the body, per frame
   std::vector<std::uint32_t> triangles_;
@@ -80,8 +80,8 @@ void SkinWriter::start(const Mesh& mesh) {
   }
   const int m = joint_count();
   if (m > 65536) {
-    fail(ErrorCategory::unsupported, out().string() + ": " + std::to_string(m) +
-                                         " joints are more than a skin's 16-bit joint indices reach");
+    fail(ErrorCategory::unsupported,
+         out().string() + ": " + std::to_string(m) + " joints are more than a skin's 16-bit joint indices reach");
   }
   normals_ = detail::smooth_normals(mesh.positions, triangles_);
   rest_min_ = rest_max_ = rest().front();
@@ -102,22 +102,21 @@ void SkinWriter::start(const Mesh& mesh) {
   std::uint64_t key_bytes = 0;
   for (const SkinJoint& j : fit_->joints())
     if (j.sweep >= 0) key_bytes += j.ring >= 0 ? 12 : (layout_.ring > 1 ? 28 : 40);
-  const std::uint64_t estimate = 28 + 8192 + 600 * std::uint64_t(m) + 24 * std::uint64_t{n} +
-                                 4 * triangles_.size() + (joint_bytes + 16) * n + 64 * std::uint64_t(m) +
-                                 4 * frames + key_bytes * frames +
+  const std::uint64_t estimate = 28 + 8192 + 600 * std::uint64_t(m) + 24 * std::uint64_t{n} + 4 * triangles_.size() +
+                                 (joint_bytes + 16) * n + 64 * std::uint64_t(m) + 4 * frames + key_bytes * frames +
                                  (info().body_moves ? 28 * frames : 0);
   set_estimate(estimate);
   if (estimate > kGlbMaxBytes) {
-    fail(ErrorCategory::unsupported, out().string() + ": about " + std::to_string(estimate >> 20) +
-                                         " MiB, over the 4 GiB a .glb can hold");
+    fail(ErrorCategory::unsupported,
+         out().string() + ": about " + std::to_string(estimate >> 20) + " MiB, over the 4 GiB a .glb can hold");
   }
 }
 
 void SkinWriter::pose(std::span<const SweepShape* const> shapes) {
   if (shapes.size() != sweeps_.size()) {
     fail(ErrorCategory::internal, out().string() + ": " + std::to_string(shapes.size()) +
-                                      " sweep shapes given for a skin of " +
-                                      std::to_string(sweeps_.size()) + " sweeps");
+                                      " sweep shapes given for a skin of " + std::to_string(sweeps_.size()) +
+                                      " sweeps");
   }
   shapes_.assign(shapes.begin(), shapes.end());
   posed_ = true;
@@ -137,8 +136,7 @@ void SkinWriter::write_frame(int index, std::span<const Eigen::Vector3f> positio
     JointKey key = frame_keys_[j + 1];
     std::vector<JointKey>& track = keys_[j];
     const JointKey& before = track.empty() ? fit_->rest_keys()[j + 1] : track.back();
-    const float dot = key.r[0] * before.r[0] + key.r[1] * before.r[1] + key.r[2] * before.r[2] +
-                      key.r[3] * before.r[3];
+    const float dot = key.r[0] * before.r[0] + key.r[1] * before.r[1] + key.r[2] * before.r[2] + key.r[3] * before.r[3];
     if (dot < 0) {
       for (float& c : key.r) c = -c;
     }
@@ -172,8 +170,8 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
     return static_cast<int>(model.bufferViews.size() - 1);
   };
   // Appends `count` elements and an accessor over them.
-  auto add_data = [&](const auto* data, std::size_t elements, std::size_t per_element, int component,
-                      int type, int target) {
+  auto add_data = [&](const auto* data, std::size_t elements, std::size_t per_element, int component, int type,
+                      int target) {
     const std::size_t offset = bin.size();
     append(bin, data, elements * per_element);
     tinygltf::Accessor a;
@@ -191,9 +189,8 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
   model.accessors[position].minValues = {rest_min_.x(), rest_min_.y(), rest_min_.z()};
   model.accessors[position].maxValues = {rest_max_.x(), rest_max_.y(), rest_max_.z()};
   const int normal = add_data(normals_[0].data(), n, 3, kFloat, TINYGLTF_TYPE_VEC3, kArray);
-  const int indices = add_data(triangles_.data(), triangles_.size(), 1,
-                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
-                               TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  const int indices = add_data(triangles_.data(), triangles_.size(), 1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                               TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
   const auto& joints_ = fit_->vertex_joints();
   const auto& weights_ = fit_->vertex_weights();
   const auto& inverse_bind_ = fit_->inverse_bind();
@@ -205,20 +202,18 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
       for (std::size_t k = 0; k < 4; ++k) small[4 * v + k] = static_cast<std::uint8_t>(joints_[v][k]);
     joints = add_data(small.data(), n, 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4, kArray);
   } else {
-    joints = add_data(joints_[0].data(), n, 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                      TINYGLTF_TYPE_VEC4, kArray);
+    joints = add_data(joints_[0].data(), n, 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, kArray);
   }
   const int weights = add_data(weights_[0].data(), n, 4, kFloat, TINYGLTF_TYPE_VEC4, kArray);
-  const int inverse_bind =
-      add_data(inverse_bind_[0].data(), inverse_bind_.size(), 16, kFloat, TINYGLTF_TYPE_MAT4, 0);
+  const int inverse_bind = add_data(inverse_bind_[0].data(), inverse_bind_.size(), 16, kFloat, TINYGLTF_TYPE_MAT4, 0);
 
   std::vector<float> times(frames);
   for (std::size_t k = 0; k < frames; ++k) {
     times[k] = static_cast<float>(static_cast<double>(k) / info().fps);
     if (k > 0 && !(times[k] > times[k - 1])) {
-      fail(ErrorCategory::unsupported,
-           out().string() + ": frame " + std::to_string(k) + " at " + std::to_string(info().fps) +
-               " frames/s has the same float32 time as the frame before it");
+      fail(ErrorCategory::unsupported, out().string() + ": frame " + std::to_string(k) + " at " +
+                                           std::to_string(info().fps) +
+                                           " frames/s has the same float32 time as the frame before it");
     }
   }
   const int time = add_data(times.data(), frames, 1, kFloat, TINYGLTF_TYPE_SCALAR, 0);
@@ -230,7 +225,8 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
   root.name = info().name + "_root";
   if (info().body_moves) {  // frame 0's pose, for a viewer that does not play the animation
     root.translation = {body_keys_.translations[0], body_keys_.translations[1], body_keys_.translations[2]};
-    root.rotation = {body_keys_.rotations[0], body_keys_.rotations[1], body_keys_.rotations[2], body_keys_.rotations[3]};
+    root.rotation = {body_keys_.rotations[0], body_keys_.rotations[1], body_keys_.rotations[2],
+                     body_keys_.rotations[3]};
   }
   model.nodes.push_back(root);
   for (std::size_t k = 1; k < fit_->joints().size(); ++k) {
@@ -326,8 +322,7 @@ tinygltf::Model SkinWriter::build_model(std::vector<unsigned char>& bin) const {
     }
   }
   if (info().body_moves) {
-    channel(0, "translation",
-            add_data(body_keys_.translations.data(), frames, 3, kFloat, TINYGLTF_TYPE_VEC3, 0));
+    channel(0, "translation", add_data(body_keys_.translations.data(), frames, 3, kFloat, TINYGLTF_TYPE_VEC3, 0));
     channel(0, "rotation", add_data(body_keys_.rotations.data(), frames, 4, kFloat, TINYGLTF_TYPE_VEC4, 0));
   }
   model.animations.push_back(std::move(animation));
@@ -348,12 +343,11 @@ void SkinWriter::complete(io::Publication& outputs) {
   text.append((4 - text.size() % 4) % 4, ' ');
   const std::uint64_t total = 12 + 8 + text.size() + 8 + bin.size();
   if (total > kGlbMaxBytes) {
-    fail(ErrorCategory::unsupported, out().string() + ": the bake needs " + std::to_string(total) +
-                                         " bytes, over the 4 GiB a .glb can hold");
+    fail(ErrorCategory::unsupported,
+         out().string() + ": the bake needs " + std::to_string(total) + " bytes, over the 4 GiB a .glb can hold");
   }
   auto u32 = [](std::uint64_t v) { return static_cast<std::uint32_t>(v); };
-  const std::uint32_t header[5] = {0x46546C67u /* "glTF" */, 2, u32(total), u32(text.size()),
-                                   0x4E4F534Au /* "JSON" */};
+  const std::uint32_t header[5] = {0x46546C67u /* "glTF" */, 2, u32(total), u32(text.size()), 0x4E4F534Au /* "JSON" */};
   const std::uint32_t bin_header[2] = {u32(bin.size()), 0x004E4942u /* "BIN\0" */};
   final_ = std::make_unique<io::TempFile>(out());
   final_->write(header, sizeof header);
@@ -374,8 +368,7 @@ void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> swee
   const int joints = layout.stations;
   if (joints < kMinSkinJoints || joints > kMaxSkinJoints) {
     fail(ErrorCategory::usage, "--joints: expected " + std::to_string(kMinSkinJoints) + " to " +
-                                   std::to_string(kMaxSkinJoints) + " joints a sweep, got " +
-                                   std::to_string(joints));
+                                   std::to_string(kMaxSkinJoints) + " joints a sweep, got " + std::to_string(joints));
   }
   if (layout.ring < 1 || layout.ring > kMaxRingJoints) {
     fail(ErrorCategory::usage, "--ring-joints: expected 1 to " + std::to_string(kMaxRingJoints) +
@@ -386,15 +379,15 @@ void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> swee
     if (joints > stations) {
       fail(ErrorCategory::usage,
            "--joints: " + std::to_string(joints) + " joints on sweep \"" + sw.name + "\", which has " +
-               std::to_string(stations) + " stations (" + std::to_string(sw.rest->section_count()) +
-               " key sections, " + std::to_string(stations_per_span) +
-               " stations a span): at most one joint a station");
+               std::to_string(stations) + " stations (" + std::to_string(sw.rest->section_count()) + " key sections, " +
+               std::to_string(stations_per_span) + " stations a span): at most one joint a station");
     }
   }
   // JOINTS_0 is unsigned short: a skeleton of more joints would wrap its indices.
   if (!sweeps.empty()) {
-    const std::uint64_t per_sweep = static_cast<std::uint64_t>(joints) +
-                                    static_cast<std::uint64_t>(joints - 1) * static_cast<std::uint64_t>(layout.ring > 1 ? layout.ring : 0);
+    const std::uint64_t per_sweep =
+        static_cast<std::uint64_t>(joints) +
+        static_cast<std::uint64_t>(joints - 1) * static_cast<std::uint64_t>(layout.ring > 1 ? layout.ring : 0);
     const std::uint64_t total = 1 + per_sweep * sweeps.size();
     if (total > 65535) {
       fail(ErrorCategory::usage, "--joints " + std::to_string(joints) + " --ring-joints " +

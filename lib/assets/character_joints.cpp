@@ -75,8 +75,9 @@ CharacterJoints::CharacterJoints(const SkinnedClip& clip, std::vector<SkinSweep>
   const std::vector<SkinJoint>& fit_joints = fit_->joints();
   const int added = fit_->joint_count() - 1;  // skin_fit's body joint is the character's own skin
   if (original_joints() + added > 65536) {
-    fail(ErrorCategory::unsupported, "the skin has " + std::to_string(original_joints()) + " joints and the parts add " +
-                                         std::to_string(added) + ", more than a skin's 16-bit joint indices reach; "
+    fail(ErrorCategory::unsupported, "the skin has " + std::to_string(original_joints()) +
+                                         " joints and the parts add " + std::to_string(added) +
+                                         ", more than a skin's 16-bit joint indices reach; "
                                          "fewer --joints or --ring-joints");
   }
   // Names: skin_fit's, with " 2", " 3", ... where the file has a node of that name.
@@ -98,7 +99,8 @@ CharacterJoints::CharacterJoints(const SkinnedClip& clip, std::vector<SkinSweep>
     joints_.push_back(std::move(j));
     // IBM' = G_k(rest)⁻¹ · M.
     inverse_bind_.push_back((fit_->inverse_bind()[static_cast<std::size_t>(k)].cast<double>() * mesh_).cast<float>());
-    station_centre_.push_back(key_matrix(fit_->rest_keys()[static_cast<std::size_t>(sj.ring >= 0 ? sj.parent : k)]).col(3).head<3>());
+    station_centre_.push_back(
+        key_matrix(fit_->rest_keys()[static_cast<std::size_t>(sj.ring >= 0 ? sj.parent : k)]).col(3).head<3>());
   }
 
   // Weights, and each station's average of the skin weights it takes over.
@@ -191,11 +193,12 @@ void CharacterJoints::local_keys(const std::vector<Mat4>& j, const std::vector<M
     carry.topRightCorner<3, 1>() = (b * c.homogeneous()).head<3>() - r * c;
     const Mat4 local = world[static_cast<std::size_t>(root_node_[k])].inverse() * carry * key_matrix(fit_key);
     if (!to_key(local, out[k])) {
-      fail(ErrorCategory::unsupported,
-           "joint '" + clip_.model().nodes[static_cast<std::size_t>(root_node_[k])].name + "', the root joint of part '" +
-               sweeps_[static_cast<std::size_t>(joints_[k].sweep)].name + "', is scaled unevenly at " +
-               format_number(clip_time) + " s of its clip: the part's joints under it would be sheared, which a "
-               "joint's translation, rotation and scale cannot hold; bake with --morph");
+      fail(ErrorCategory::unsupported, "joint '" + clip_.model().nodes[static_cast<std::size_t>(root_node_[k])].name +
+                                           "', the root joint of part '" +
+                                           sweeps_[static_cast<std::size_t>(joints_[k].sweep)].name +
+                                           "', is scaled unevenly at " + format_number(clip_time) +
+                                           " s of its clip: the part's joints under it would be sheared, which a "
+                                           "joint's translation, rotation and scale cannot hold; bake with --morph");
     }
   }
 }

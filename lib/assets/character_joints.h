@@ -99,17 +99,17 @@ class CharacterJoints {
   std::unique_ptr<SkinFit> fit_;
   Eigen::Matrix4d mesh_ = Eigen::Matrix4d::Identity(), from_mesh_ = Eigen::Matrix4d::Identity();
   std::vector<CharacterJoint> joints_;
-  std::vector<int> root_node_;          // per new joint: the root joint node of its part
+  std::vector<int> root_node_;                                        // per new joint: the root joint node of its part
   std::vector<std::vector<std::pair<int, double>>> station_weights_;  // per new joint (stations): w̄
-  std::vector<Vec3> station_centre_;    // per new joint (stations): the rest axis point
+  std::vector<Vec3> station_centre_;                                  // per new joint (stations): the rest axis point
   std::vector<JointKey> rest_keys_;
   std::vector<Eigen::Matrix4f> inverse_bind_;
   std::vector<std::array<std::uint16_t, 4>> vertex_joints_;
   std::vector<std::array<float, 4>> vertex_weights_;
   std::vector<char> reweighted_;
-  std::vector<double> part_length_;     // per vertex of a part: its part's length
+  std::vector<double> part_length_;  // per vertex of a part: its part's length
   std::vector<std::vector<JointKey>> keys_;
-  std::vector<JointKey> fit_keys_;      // scratch
+  std::vector<JointKey> fit_keys_;  // scratch
   SkinError error_;
   double sum_squares_ = 0;
 };

@@ -21,15 +21,14 @@ struct EdgeStretch {
   double ratio = 1;     // deformed length / rest length of the worst edge; 1 when none changed
   std::uint32_t a = 0;  // that edge's vertices (file indices, a < b); meaningful when found
   std::uint32_t b = 0;
-  bool found = false;   // some edge stretched (ratio > 1)
+  bool found = false;  // some edge stretched (ratio > 1)
 };
 
 class EdgeStretchMeter {
  public:
   // The mesh's polygon edges (each once, a < b, ascending) with an end among `animated` and a
   // rest length > 0 in `rest` (the positions frames are measured against).
-  EdgeStretchMeter(const Mesh& mesh, std::span<const std::uint32_t> animated,
-                   std::span<const sim::Vec3f> rest);
+  EdgeStretchMeter(const Mesh& mesh, std::span<const std::uint32_t> animated, std::span<const sim::Vec3f> rest);
   // The edge that stretched most in `positions` (the first in edge order among equals).
   EdgeStretch measure(std::span<const sim::Vec3f> positions) const;
   std::size_t edge_count() const { return a_.size(); }

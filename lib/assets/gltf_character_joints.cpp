@@ -35,7 +35,9 @@ struct Writer {
   template <typename T>
   std::size_t data(const std::vector<T>& values, std::size_t count, const char* type, int component, int target = 0) {
     return accessor({{"bufferView", view(put(values.data(), values.size() * sizeof(T)), target)},
-                     {"componentType", component}, {"count", count}, {"type", type}});
+                     {"componentType", component},
+                     {"count", count},
+                     {"type", type}});
   }
   std::size_t times(const std::vector<float>& t) {
     const std::size_t a = data(t, t.size(), "SCALAR", kFloat);
@@ -62,7 +64,8 @@ struct Track {
 };
 
 void key_joints(Writer& w, Json& animation, std::size_t input, const CharacterJoints& cj,
-                const std::vector<std::vector<JointKey>>& keys, std::size_t first_node, const std::vector<char>& keyed) {
+                const std::vector<std::vector<JointKey>>& keys, std::size_t first_node,
+                const std::vector<char>& keyed) {
   const std::size_t count = keys.size();
   for (std::size_t k = 0; k < cj.joints().size(); ++k) {
     if (!keyed[k]) continue;
@@ -73,7 +76,8 @@ void key_joints(Writer& w, Json& animation, std::size_t input, const CharacterJo
       add_channel(animation, input, w.data(track.t, count, "VEC3", kFloat), first_node + k, "translation");
       add_channel(animation, input, w.data(track.r, count, "VEC4", kFloat), first_node + k, "rotation");
     }
-    if (cj.has_scale(joint)) add_channel(animation, input, w.data(track.s, count, "VEC3", kFloat), first_node + k, "scale");
+    if (cj.has_scale(joint))
+      add_channel(animation, input, w.data(track.s, count, "VEC3", kFloat), first_node + k, "scale");
   }
 }
 
@@ -109,7 +113,8 @@ void reweight(Writer& w, const CharacterJoints& cj, std::span<const PrimitiveSou
     if (component_of("JOINTS_0") == kUnsignedByte && joint_count <= 256) {
       std::vector<std::uint8_t> joints(4 * n);
       for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t e = 0; e < 4; ++e) joints[4 * i + e] = static_cast<std::uint8_t>(cj.vertex_joints()[source[i]][e]);
+        for (std::size_t e = 0; e < 4; ++e)
+          joints[4 * i + e] = static_cast<std::uint8_t>(cj.vertex_joints()[source[i]][e]);
       attributes["JOINTS_0"] = w.data(joints, n, "VEC4", kUnsignedByte, kArrayBuffer);
     } else {
       std::vector<std::uint16_t> joints(4 * n);
@@ -136,7 +141,8 @@ void reweight(Writer& w, const CharacterJoints& cj, std::span<const PrimitiveSou
         q[4 * i + e] = static_cast<std::uint32_t>(std::lround(cj.vertex_weights()[v][e] * full));
         sum += q[4 * i + e];
       }
-      if (cj.reweighted()[v]) q[4 * i] = static_cast<std::uint32_t>(std::max(0LL, q[4 * i] + static_cast<long long>(full) - sum));
+      if (cj.reweighted()[v])
+        q[4 * i] = static_cast<std::uint32_t>(std::max(0LL, q[4 * i] + static_cast<long long>(full) - sum));
     }
     std::size_t accessor = 0;
     if (weight_type == kUnsignedByte) {
@@ -197,16 +203,23 @@ void add_character_joints(Json& json, const CharacterJoints& cj, std::span<const
 
   // The baked clip.
   const std::size_t frames = static_cast<std::size_t>(baked.frames);
-  const std::size_t times = w.accessor({{"bufferView", w.view(baked.times)}, {"componentType", kFloat},
-                                        {"count", frames}, {"type", "SCALAR"}, {"min", Json::array({0.0})},
+  const std::size_t times = w.accessor({{"bufferView", w.view(baked.times)},
+                                        {"componentType", kFloat},
+                                        {"count", frames},
+                                        {"type", "SCALAR"},
+                                        {"min", Json::array({0.0})},
                                         {"max", Json::array({double{baked.last_time}})}});
   Json animation = {{"samplers", Json::array()}, {"channels", Json::array()}};
   for (const ResampledChannel& r : resampled) {
     const bool rotation = r.path == ChannelPath::rotation;
-    const std::size_t values = w.accessor({{"bufferView", w.view(r.block)}, {"componentType", kFloat},
-                                           {"count", frames}, {"type", rotation ? "VEC4" : "VEC3"}});
+    const std::size_t values = w.accessor({{"bufferView", w.view(r.block)},
+                                           {"componentType", kFloat},
+                                           {"count", frames},
+                                           {"type", rotation ? "VEC4" : "VEC3"}});
     add_channel(animation, times, values, static_cast<std::size_t>(r.node),
-                rotation ? "rotation" : r.path == ChannelPath::scale ? "scale" : "translation");
+                rotation                       ? "rotation"
+                : r.path == ChannelPath::scale ? "scale"
+                                               : "translation");
   }
   // Station joints always; a ring joint when it leaves its rest.
   std::vector<char> keyed(cj.joints().size(), 0);

@@ -48,7 +48,6 @@ struct BakedFrames {
 // skinned mesh primitive whose JOINTS_0 or WEIGHTS_0 is missing.
 void add_character_joints(nlohmann::json& json, const CharacterJoints& joints,
                           std::span<const ResampledChannel> resampled, const BakedFrames& baked,
-                          std::span<const PrimitiveSource> primitives, const AppendBin& put,
-                          const std::string& where);
+                          std::span<const PrimitiveSource> primitives, const AppendBin& put, const std::string& where);
 
 }  // namespace sweep::assets::detail

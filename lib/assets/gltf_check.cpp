@@ -1,7 +1,7 @@
 // The glTF checks of mesh_checks.h, on the document as gltf_document.h reads it: what assimp would
 // crash on, drop silently or blame on something else is refused first, with the JSON pointer.
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 
@@ -24,14 +24,21 @@ std::size_t array_size(const Json& doc, const char* key) {
 // Bytes of one element of an accessor (0: a type or component this check does not know).
 std::uint64_t element_bytes(const Json& accessor) {
   const std::uint64_t type = gltf_unsigned(accessor, "componentType", 0);
-  const std::uint64_t component = type == 5120 || type == 5121 ? 1 : type == 5122 || type == 5123 ? 2
-                                  : type == 5125 || type == 5126                                  ? 4
-                                                                                                  : 0;
+  const std::uint64_t component = type == 5120 || type == 5121   ? 1
+                                  : type == 5122 || type == 5123 ? 2
+                                  : type == 5125 || type == 5126 ? 4
+                                                                 : 0;
   const auto t = accessor.find("type");
   if (t == accessor.end() || !t->is_string()) return 0;
   const std::string name = t->get<std::string>();
-  const std::uint64_t n = name == "SCALAR" ? 1 : name == "VEC2" ? 2 : name == "VEC3" ? 3 : name == "VEC4" ? 4
-                          : name == "MAT2" ? 4 : name == "MAT3" ? 9 : name == "MAT4" ? 16 : 0;
+  const std::uint64_t n = name == "SCALAR" ? 1
+                          : name == "VEC2" ? 2
+                          : name == "VEC3" ? 3
+                          : name == "VEC4" ? 4
+                          : name == "MAT2" ? 4
+                          : name == "MAT3" ? 9
+                          : name == "MAT4" ? 16
+                                           : 0;
   return component * n;
 }
 
@@ -48,14 +55,16 @@ void check_accessors(const std::string& where, const Json& doc, const std::vecto
     const std::uint64_t v = accessor["bufferView"].get<std::uint64_t>();
     const std::uint64_t stride = gltf_unsigned(*view, "byteStride", element);
     if (stride < element) {
-      fail(ErrorCategory::bad_input, at + "its elements are " + std::to_string(element) + " bytes, but its bufferView " +
-                                         std::to_string(v) + " has a byteStride of " + std::to_string(stride) +
-                                         " (/bufferViews/" + std::to_string(v) + "/byteStride)");
+      fail(ErrorCategory::bad_input, at + "its elements are " + std::to_string(element) +
+                                         " bytes, but its bufferView " + std::to_string(v) + " has a byteStride of " +
+                                         std::to_string(stride) + " (/bufferViews/" + std::to_string(v) +
+                                         "/byteStride)");
     }
     const std::uint64_t count = gltf_unsigned(accessor, "count", 0);
     const std::uint64_t offset = gltf_unsigned(accessor, "byteOffset", 0);
     const std::uint64_t length = gltf_unsigned(*view, "byteLength", 0);
-    if (count > 0 && (offset > length || element > length - offset || count - 1 > (length - offset - element) / stride)) {
+    if (count > 0 &&
+        (offset > length || element > length - offset || count - 1 > (length - offset - element) / stride)) {
       fail(ErrorCategory::bad_input, at + std::to_string(count) + " elements of " + std::to_string(element) +
                                          " bytes (stride " + std::to_string(stride) + ") from byte " +
                                          std::to_string(offset) + " do not fit in bufferView " + std::to_string(v) +
@@ -83,9 +92,9 @@ void check_skins(const std::string& where, const Json& doc) {
     for (std::size_t j = 0; j < skin["joints"].size(); ++j) {
       const Json& joint = skin["joints"][j];
       if (!joint.is_number_unsigned() || joint.get<std::uint64_t>() >= nodes) {
-        fail(ErrorCategory::bad_input, where + "/skins/" + std::to_string(s) + "/joints/" + std::to_string(j) +
-                                           ": " + joint.dump() + " is not a node (the file has " +
-                                           std::to_string(nodes) + ")");
+        fail(ErrorCategory::bad_input, where + "/skins/" + std::to_string(s) + "/joints/" + std::to_string(j) + ": " +
+                                           joint.dump() + " is not a node (the file has " + std::to_string(nodes) +
+                                           ")");
       }
     }
   }
@@ -108,7 +117,8 @@ void check_skins(const std::string& where, const Json& doc) {
         fail(ErrorCategory::bad_input, at + "node " + std::to_string(n) + " is skinned by skin " + skin.dump() +
                                            ", but its mesh " + node["mesh"].dump() + " primitive " + std::to_string(p) +
                                            " has no " + needed + " (/meshes/" + node["mesh"].dump() + "/primitives/" +
-                                           std::to_string(p) + "/attributes): a skinned mesh needs JOINTS_0 and WEIGHTS_0");
+                                           std::to_string(p) +
+                                           "/attributes): a skinned mesh needs JOINTS_0 and WEIGHTS_0");
       }
     }
   }
@@ -139,21 +149,19 @@ Json check_gltf_indices(const std::filesystem::path& path) {
       if (gltf_unsigned(p, "mode", 4) == 4 && counted != nullptr && gltf_unsigned(*counted, "count", 0) % 3 != 0) {
         fail(ErrorCategory::bad_input,
              path.string() + ": mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) + ": " +
-                 std::to_string(gltf_unsigned(*counted, "count", 0)) + (p.contains("indices") ? " indices" : " vertices") +
-                 " (/meshes/" + std::to_string(mi) + "/primitives/" + std::to_string(pi) +
-                 (p.contains("indices") ? "/indices" : "/attributes/POSITION") +
+                 std::to_string(gltf_unsigned(*counted, "count", 0)) +
+                 (p.contains("indices") ? " indices" : " vertices") + " (/meshes/" + std::to_string(mi) +
+                 "/primitives/" + std::to_string(pi) + (p.contains("indices") ? "/indices" : "/attributes/POSITION") +
                  "), not a multiple of 3: its triangles would end with a face cut short");
       }
       if (!p.contains("indices")) continue;
       const Json* indices = gltf_element(doc, "accessors", p["indices"]);
       if (positions == nullptr || indices == nullptr || indices->contains("sparse")) continue;
-      const Json* view = indices->contains("bufferView")
-                             ? gltf_element(doc, "bufferViews", (*indices)["bufferView"])
-                             : nullptr;
+      const Json* view =
+          indices->contains("bufferView") ? gltf_element(doc, "bufferViews", (*indices)["bufferView"]) : nullptr;
       if (view == nullptr || !view->contains("buffer")) continue;
       const Json& buffer_index = (*view)["buffer"];
-      if (!buffer_index.is_number_unsigned() || buffer_index.get<std::uint64_t>() >= buffers.size())
-        continue;
+      if (!buffer_index.is_number_unsigned() || buffer_index.get<std::uint64_t>() >= buffers.size()) continue;
       const std::optional<Bytes>& data = buffers[buffer_index.get<std::uint64_t>()];
       if (!data) continue;
       const std::uint64_t type = gltf_unsigned(*indices, "componentType", 0);
@@ -175,10 +183,10 @@ Json check_gltf_indices(const std::filesystem::path& path) {
         if (size == 1) v &= 0xffu;
         if (size == 2) v &= 0xffffu;
         if (v >= vertices) {
-          fail(ErrorCategory::bad_input,
-               path.string() + ": mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) +
-                   ": index " + std::to_string(i) + " is " + std::to_string(v) + ", past its " +
-                   std::to_string(vertices) + " vertices");
+          fail(ErrorCategory::bad_input, path.string() + ": mesh " + std::to_string(mi) + " primitive " +
+                                             std::to_string(pi) + ": index " + std::to_string(i) + " is " +
+                                             std::to_string(v) + ", past its " + std::to_string(vertices) +
+                                             " vertices");
         }
       }
     }

@@ -22,7 +22,6 @@ std::uint32_t u32_at(const Bytes& b, std::size_t at) {
   return v;
 }
 
-
 // A buffer's bytes: the .glb's binary chunk, a base64 data URI, or a file beside the glTF.
 std::optional<Bytes> buffer_bytes(const Json& buffer, const Bytes& bin, const std::filesystem::path& gltf,
                                   std::size_t index) {
@@ -41,8 +40,9 @@ std::optional<Bytes> buffer_bytes(const Json& buffer, const Bytes& bin, const st
   std::error_code ec;
   // A FIFO or a device would block the importer forever (or never end): said here, by name.
   if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec)) {
-    fail(ErrorCategory::bad_input, gltf.string() + ": /buffers/" + std::to_string(index) + "/uri: '" + u +
-                                       "' is not a regular file (a FIFO, a device or a folder); a buffer must be a file");
+    fail(ErrorCategory::bad_input,
+         gltf.string() + ": /buffers/" + std::to_string(index) + "/uri: '" + u +
+             "' is not a regular file (a FIFO, a device or a folder); a buffer must be a file");
   }
   try {
     return read_file(file);
@@ -59,13 +59,20 @@ std::optional<std::string> decode_base64(std::string_view text) {
   int bits = 0;
   for (char c : text) {
     int v = -1;
-    if (c >= 'A' && c <= 'Z') v = c - 'A';
-    else if (c >= 'a' && c <= 'z') v = c - 'a' + 26;
-    else if (c >= '0' && c <= '9') v = c - '0' + 52;
-    else if (c == '+') v = 62;
-    else if (c == '/') v = 63;
-    else if (c == '=') break;
-    else return std::nullopt;
+    if (c >= 'A' && c <= 'Z')
+      v = c - 'A';
+    else if (c >= 'a' && c <= 'z')
+      v = c - 'a' + 26;
+    else if (c >= '0' && c <= '9')
+      v = c - '0' + 52;
+    else if (c == '+')
+      v = 62;
+    else if (c == '/')
+      v = 63;
+    else if (c == '=')
+      break;
+    else
+      return std::nullopt;
     acc = (acc << 6) | static_cast<std::uint32_t>(v);
     bits += 6;
     if (bits >= 8) {
@@ -128,14 +135,14 @@ GltfDocument read_gltf_document(const std::filesystem::path& path) {
   return out;
 }
 
-std::optional<std::vector<float>> read_float_accessor(const GltfDocument& file, const Json& index,
-                                                      int components) {
+std::optional<std::vector<float>> read_float_accessor(const GltfDocument& file, const Json& index, int components) {
   const Json* accessor = gltf_element(file.json, "accessors", index);
   if (accessor == nullptr || accessor->contains("sparse")) return std::nullopt;
   const char* type = components == 1 ? "SCALAR" : components == 3 ? "VEC3" : components == 4 ? "VEC4" : "";
   const auto t = accessor->find("type");
   if (gltf_unsigned(*accessor, "componentType", 0) != 5126 || t == accessor->end() || *t != type) return std::nullopt;
-  const Json* view = accessor->contains("bufferView") ? gltf_element(file.json, "bufferViews", (*accessor)["bufferView"]) : nullptr;
+  const Json* view =
+      accessor->contains("bufferView") ? gltf_element(file.json, "bufferViews", (*accessor)["bufferView"]) : nullptr;
   if (view == nullptr || !view->contains("buffer")) return std::nullopt;
   const std::uint64_t b = gltf_unsigned(*view, "buffer", file.buffers.size());
   if (b >= file.buffers.size() || !file.buffers[b]) return std::nullopt;
@@ -155,6 +162,5 @@ std::optional<std::vector<float>> read_float_accessor(const GltfDocument& file, 
   }
   return out;
 }
-
 
 }  // namespace sweep::assets::detail

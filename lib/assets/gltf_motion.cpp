@@ -28,7 +28,8 @@ Affine rest_transform(const Json& node) {
   Affine a = Affine::Identity();
   if (const auto m = node.find("matrix"); m != node.end() && m->is_array() && m->size() == 16) {
     Eigen::Matrix4d matrix;
-    for (int k = 0; k < 16; ++k) matrix(k % 4, k / 4) = (*m)[k].is_number() ? (*m)[k].get<double>() : 0.0;  // column-major
+    for (int k = 0; k < 16; ++k)
+      matrix(k % 4, k / 4) = (*m)[k].is_number() ? (*m)[k].get<double>() : 0.0;  // column-major
     a.matrix() = matrix;
     return a;
   }
@@ -91,7 +92,9 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
   std::vector<std::optional<std::size_t>> parent(nodes.is_array() ? nodes.size() : 0);
   for (std::size_t i = 0; i < parent.size(); ++i) {
     if (!nodes[i].is_object()) continue;
-    if (detail::gltf_string(nodes[i], "name", "", gltf.string() + ": /nodes/" + std::to_string(i)) == node_name && !node) node = i;
+    if (detail::gltf_string(nodes[i], "name", "", gltf.string() + ": /nodes/" + std::to_string(i)) == node_name &&
+        !node)
+      node = i;
     for (const Json& c : nodes[i].value("children", Json::array())) {
       if (c.is_number_unsigned() && c.get<std::size_t>() < parent.size()) parent[c.get<std::size_t>()] = i;
     }
@@ -118,22 +121,30 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
     for (std::size_t ci = 0; anim_channels.is_array() && ci < anim_channels.size(); ++ci) {
       const Json& ch = anim_channels[ci];
       // value() throws on anything but an object: a target that is not one targets nothing.
-      const Json target = ch.is_object() && ch.contains("target") && ch["target"].is_object() ? ch["target"] : Json::object();
+      const Json target =
+          ch.is_object() && ch.contains("target") && ch["target"].is_object() ? ch["target"] : Json::object();
       const Json target_node = target.value("node", Json());
       if (!target_node.is_number_unsigned()) continue;
       const std::size_t n = target_node.get<std::size_t>();
-      const std::string path = detail::gltf_string(target, "path", "", at + "/channels/" + std::to_string(ci) + "/target");
+      const std::string path =
+          detail::gltf_string(target, "path", "", at + "/channels/" + std::to_string(ci) + "/target");
       if (ancestors.count(n) && path != "weights") {
         refuse(gltf, "animation '" + name + "' moves node '" +
-                         detail::gltf_string(nodes[n], "name", std::to_string(n), gltf.string() + ": /nodes/" + std::to_string(n)) +
-                         "', above '" + node_name + "': only the body node's own animation is read; "
-                         "animate '" + node_name + "' itself");
+                         detail::gltf_string(nodes[n], "name", std::to_string(n),
+                                             gltf.string() + ": /nodes/" + std::to_string(n)) +
+                         "', above '" + node_name +
+                         "': only the body node's own animation is read; "
+                         "animate '" +
+                         node_name + "' itself");
       }
       if (n != *node || path == "weights") continue;
-      if (path == "scale") refuse(gltf, "animation '" + name + "' scales node '" + node_name + "': a body moves and turns, it does not change size");
+      if (path == "scale")
+        refuse(gltf, "animation '" + name + "' scales node '" + node_name +
+                         "': a body moves and turns, it does not change size");
       if (path != "translation" && path != "rotation") continue;
       const Json* sampler = ch.contains("sampler") ? detail::gltf_element(anim, "samplers", ch["sampler"]) : nullptr;
-      if (sampler == nullptr) refuse(gltf, "animation '" + name + "': a channel of node '" + node_name + "' has no sampler");
+      if (sampler == nullptr)
+        refuse(gltf, "animation '" + name + "': a channel of node '" + node_name + "' has no sampler");
       const std::string interpolation =
           detail::gltf_string(*sampler, "interpolation", "LINEAR", at + "/samplers/" + ch["sampler"].dump());
       if (interpolation != "LINEAR") {
@@ -158,30 +169,31 @@ sim::BodyPath read_gltf_body_path(const std::filesystem::path& gltf, const std::
         }
       }
       for (float v : c.values) {
-        if (!std::isfinite(v)) refuse(gltf, "animation '" + name + "': a " + path + " value of node '" + node_name + "' is not finite");
+        if (!std::isfinite(v))
+          refuse(gltf, "animation '" + name + "': a " + path + " value of node '" + node_name + "' is not finite");
       }
       // A translation past the limit of any length (core/limits.h) is no body's path: a key of
       // 1e35 is finite, but the motion it asks for is not, and the run would stop halfway.
       for (std::size_t k = 0; width == 3 && k < c.times.size(); ++k) {
         for (int i = 0; i < 3; ++i) {
           if (std::abs(c.values[3 * k + i]) > limits::kMaxLength) {
-            fail(ErrorCategory::bad_input, gltf.string() + ": animation '" + name + "': translation key " +
-                                               std::to_string(k) + " of node '" + node_name + "' (at " +
-                                               format_number(c.times[k]) + " s) is " + format_number(c.values[3 * k + i]) +
-                                               " along " + "xyz"[i] + ", past the limit of 1e9 mesh units");
+            fail(ErrorCategory::bad_input,
+                 gltf.string() + ": animation '" + name + "': translation key " + std::to_string(k) + " of node '" +
+                     node_name + "' (at " + format_number(c.times[k]) + " s) is " + format_number(c.values[3 * k + i]) +
+                     " along " + "xyz"[i] + ", past the limit of 1e9 mesh units");
           }
         }
       }
       // A rotation key of no length (a zero quaternion) names no rotation: normalizing it gives
       // NaN, and taking it as "no rotation" would be a guess.
       for (std::size_t k = 0; width == 4 && k < c.times.size(); ++k) {
-        const double length = Eigen::Vector4d(c.values[4 * k], c.values[4 * k + 1], c.values[4 * k + 2],
-                                              c.values[4 * k + 3]).norm();
+        const double length =
+            Eigen::Vector4d(c.values[4 * k], c.values[4 * k + 1], c.values[4 * k + 2], c.values[4 * k + 3]).norm();
         if (!(length > 1e-6)) {
-          fail(ErrorCategory::bad_input, gltf.string() + ": animation '" + name + "': rotation key " + std::to_string(k) +
-                                             " of node '" + node_name + "' (at " + format_number(c.times[k]) +
-                                             " s) is a quaternion of length " + format_number(length) +
-                                             ", not a rotation (a unit quaternion [x, y, z, w])");
+          fail(ErrorCategory::bad_input,
+               gltf.string() + ": animation '" + name + "': rotation key " + std::to_string(k) + " of node '" +
+                   node_name + "' (at " + format_number(c.times[k]) + " s) is a quaternion of length " +
+                   format_number(length) + ", not a rotation (a unit quaternion [x, y, z, w])");
         }
       }
       moves = true;

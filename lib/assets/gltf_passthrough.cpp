@@ -17,9 +17,9 @@
 #include "sweep/assets/gltf_character_joints.h"
 #include "sweep/assets/gltf_document.h"
 #include "sweep/assets/gltf_skin.h"
+#include "sweep/assets/obj_gltf.h"
 #include "sweep/assets/skinned_clip.h"
 #include "sweep/assets/smooth_normals.h"
-#include "sweep/assets/obj_gltf.h"
 #include "sweep/core/error.h"
 #include "sweep/core/text.h"
 #include "sweep/io/mesh_names.h"
@@ -166,7 +166,7 @@ struct GltfPassthrough::State {
     int same_as = -1;
     bool deformed = false;
     std::vector<float> normals, tangents;  // the input's (3 and 4 a vertex), when present
-    bool normals_repaired = false;  // some were not finite or zero: written anew (repair_normals)
+    bool normals_repaired = false;         // some were not finite or zero: written anew (repair_normals)
     Mat3 to_local = Mat3::Identity(), normal_to_world = Mat3::Identity(), to_world = Mat3::Identity();
     std::vector<std::uint32_t> listed;  // local vertices whose position or normal can change
     BinBlock listed_block;
@@ -241,13 +241,13 @@ struct GltfPassthrough::State {
 
   std::string mesh_name(std::size_t m) const {
     const Json& mesh = doc.json["meshes"][m];
-    return "mesh " + std::to_string(m) + (mesh.contains("name") && mesh["name"].is_string()
-                                               ? " ('" + mesh["name"].get<std::string>() + "')" : "");
+    return "mesh " + std::to_string(m) +
+           (mesh.contains("name") && mesh["name"].is_string() ? " ('" + mesh["name"].get<std::string>() + "')" : "");
   }
   std::string node_name(std::size_t n) const {
     const Json& node = doc.json["nodes"][n];
-    return "node " + std::to_string(n) + (node.contains("name") && node["name"].is_string()
-                                               ? " ('" + node["name"].get<std::string>() + "')" : "");
+    return "node " + std::to_string(n) +
+           (node.contains("name") && node["name"].is_string() ? " ('" + node["name"].get<std::string>() + "')" : "");
   }
 
   BinBlock put(const AppendBin& append, const void* data, std::size_t bytes, std::uint64_t align = 4) {
@@ -298,7 +298,8 @@ void check_compression(const State& s) {
       const std::string name = e.get<std::string>();
       if (name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" ||
           name == "KHR_meshopt_compression") {
-        s.refuse("uses " + name + ": the .glb bake copies the file and adds morph targets to its "
+        s.refuse("uses " + name +
+                 ": the .glb bake copies the file and adds morph targets to its "
                  "primitives, which it cannot do to compressed geometry; save the file without "
                  "compression, or bake to .pc2");
       }
@@ -318,8 +319,10 @@ void read_bytes(State& s) {
     }
     const std::uint64_t length = gltf_unsigned(buffers[b], "byteLength", 0);
     if (!bytes || bytes->size() < length) {
-      s.bad("buffer " + std::to_string(b) + (buffers[b].contains("uri") && buffers[b]["uri"].is_string()
-                                                 ? " ('" + buffers[b]["uri"].get<std::string>().substr(0, 80) + "')" : "") +
+      s.bad("buffer " + std::to_string(b) +
+            (buffers[b].contains("uri") && buffers[b]["uri"].is_string()
+                 ? " ('" + buffers[b]["uri"].get<std::string>().substr(0, 80) + "')"
+                 : "") +
             ": cannot read its " + std::to_string(length) + " bytes, which the .glb bake copies");
     }
     bytes->resize(length);
@@ -331,9 +334,12 @@ void read_bytes(State& s) {
     const std::string uri = images[i]["uri"].get<std::string>();
     const UriBytes got = uri_bytes(uri, dir);
     const std::string shown = uri.rfind("data:", 0) == 0 ? "a data URI" : "'" + uri + "'";
-    if (!got.bytes) s.bad("image " + std::to_string(i) + " (" + shown + "): cannot read it, and the .glb bake embeds it");
+    if (!got.bytes)
+      s.bad("image " + std::to_string(i) + " (" + shown + "): cannot read it, and the .glb bake embeds it");
     const std::string type = image_media_type(*got.bytes, got.media_type, uri);
-    if (type.empty()) s.refuse("image " + std::to_string(i) + " (" + shown + "): not PNG, JPEG, WebP or KTX2, so it cannot be embedded in the .glb");
+    if (type.empty())
+      s.refuse("image " + std::to_string(i) + " (" + shown +
+               "): not PNG, JPEG, WebP or KTX2, so it cannot be embedded in the .glb");
     s.images.push_back({i, *got.bytes, type, {}});
   }
 }
@@ -366,7 +372,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       prim.mesh = m;
       prim.index = p;
       const Json* position = prims[p].contains("attributes") && prims[p]["attributes"].contains("POSITION")
-                                 ? gltf_element(json, "accessors", prims[p]["attributes"]["POSITION"]) : nullptr;
+                                 ? gltf_element(json, "accessors", prims[p]["attributes"]["POSITION"])
+                                 : nullptr;
       const std::uint64_t count = position ? gltf_unsigned(*position, "count", 0) : 0;
       prim.count = static_cast<std::uint32_t>(count);
       const std::size_t k = s.primitives.size();
@@ -376,7 +383,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
         const Json& a = prims[earlier.index].value("attributes", Json::object());
         const Json& b = prims[p].value("attributes", Json::object());
         bool same = a.is_object() && b.is_object();
-        for (const char* key : {"POSITION", "NORMAL", "TANGENT"}) same = same && a.value(key, Json()) == b.value(key, Json());
+        for (const char* key : {"POSITION", "NORMAL", "TANGENT"})
+          same = same && a.value(key, Json()) == b.value(key, Json());
         if (same) prim.same_as = static_cast<int>(e);
       }
       if (k < s.given_sources.size()) prim.source = s.given_sources[k];
@@ -391,7 +399,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
     if (!s.parts.empty()) taken.assign(s.parts.begin(), s.parts.end());
     for (const std::size_t k : taken) {
       if (k >= s.primitives.size() || !s.primitives[k].source.empty()) {
-        s.refuse("the mesh was read from primitive " + std::to_string(k) + " (counted over its meshes), which "
+        s.refuse("the mesh was read from primitive " + std::to_string(k) +
+                 " (counted over its meshes), which "
                  "the file does not have once; the .glb bake cannot tell which primitive a vertex belongs to "
                  "(bake to .pc2)");
       }
@@ -401,7 +410,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
     }
     if (base != rest.vertex_count()) {
       s.refuse("its primitives hold " + std::to_string(base) + " vertices but the mesh was read with " +
-               std::to_string(rest.vertex_count()) + "; the .glb bake cannot tell which primitive a vertex "
+               std::to_string(rest.vertex_count()) +
+               "; the .glb bake cannot tell which primitive a vertex "
                "belongs to (bake to .pc2)");
     }
   }
@@ -410,8 +420,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
   for (State::Primitive& prim : s.primitives) {
     for (std::size_t i = 0; i < prim.source.size() && !prim.deformed; ++i) prim.deformed = moving[prim.source[i]] != 0;
   }
-  const bool any_deformed = std::any_of(s.primitives.begin(), s.primitives.end(),
-                                        [](const State::Primitive& p) { return p.deformed; });
+  const bool any_deformed =
+      std::any_of(s.primitives.begin(), s.primitives.end(), [](const State::Primitive& p) { return p.deformed; });
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     bool deformed = false, read = false;
     for (const State::Primitive& prim : s.primitives) {
@@ -431,9 +441,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
                  " show it with different transforms; morph targets would move both copies alike. "
                  "Give each node its own mesh");
       }
-      if (const Json& node = nodes[v->node];
-          node.contains("extensions") && node["extensions"].is_object() &&
-          node["extensions"].contains("EXT_mesh_gpu_instancing")) {
+      if (const Json& node = nodes[v->node]; node.contains("extensions") && node["extensions"].is_object() &&
+                                             node["extensions"].contains("EXT_mesh_gpu_instancing")) {
         s.refuse(what + " moves and " + s.node_name(v->node) +
                  " draws it many times (EXT_mesh_gpu_instancing); morph targets would move every "
                  "copy alike (bake to .pc2)");
@@ -451,7 +460,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       shown.local = node_trs(nodes[v->node]);
       shown.ancestors = v->ancestors;
       if (!shown.local.exact) {
-        s.refuse(what + " moves, and " + s.node_name(v->node) + " shows it by a matrix that is not a "
+        s.refuse(what + " moves, and " + s.node_name(v->node) +
+                 " shows it by a matrix that is not a "
                  "translation, rotation and scale; glTF animates (even the morph weights of) a node "
                  "only by those; bake to .pc2");
       }
@@ -477,13 +487,15 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       const Json& pj = meshes[m]["primitives"][prim.index];
       const std::string where = what + " primitive " + std::to_string(prim.index);
       if (pj.contains("targets")) {
-        s.refuse(where + " already has morph targets; the .glb bake adds one a frame and cannot "
+        s.refuse(where +
+                 " already has morph targets; the .glb bake adds one a frame and cannot "
                  "combine them with the file's own (bake to .pc2)");
       }
       const Json& attributes = pj["attributes"];
       const auto positions = read_float_accessor(s.doc, attributes["POSITION"], 3);
       if (!positions || positions->size() != 3u * prim.count) {
-        s.refuse(where + ": its POSITION is not a plain float accessor (sparse or quantized), "
+        s.refuse(where +
+                 ": its POSITION is not a plain float accessor (sparse or quantized), "
                  "which the .glb bake cannot map its targets onto");
       }
       for (const auto& [name, width, out] :
@@ -491,7 +503,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
         if (!attributes.contains(name)) continue;
         auto values = read_float_accessor(s.doc, attributes[name], width);
         if (!values || values->size() != static_cast<std::size_t>(width) * prim.count) {
-          s.refuse(where + ": its " + name + " is not a plain float accessor (sparse or quantized), "
+          s.refuse(where + ": its " + name +
+                   " is not a plain float accessor (sparse or quantized), "
                    "which the .glb bake cannot turn with the bend");
         }
         *out = std::move(*values);
@@ -502,7 +515,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
       // A primitive of a deformed mesh that the mesh as read does not hold (assimp numbers a glTF's
       // meshes in the order its scene reaches them, not the file's): refused, never indexed.
       if (prim.source.size() != prim.count) {
-        s.refuse(where + ": the mesh was read without this primitive's vertices (assimp's mesh order "
+        s.refuse(where +
+                 ": the mesh was read without this primitive's vertices (assimp's mesh order "
                  "differs from the file's); the .glb bake cannot tell which primitive a vertex belongs "
                  "to (bake to .pc2)");
       }
@@ -513,8 +527,11 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
         const Vec3& got = rest.positions[prim.source[i]];
         if ((expected - got).norm() > 1e-5 * (1 + expected.norm() + got.norm())) {
           s.refuse(where + " vertex " + std::to_string(i) + " is at (" + format_number(expected.x()) + ", " +
-                   format_number(expected.y()) + ", " + format_number(expected.z()) + ") in world space, "
-                   "but the mesh as read has vertex " + std::to_string(prim.source[i]) + " elsewhere; the "
+                   format_number(expected.y()) + ", " + format_number(expected.z()) +
+                   ") in world space, "
+                   "but the mesh as read has vertex " +
+                   std::to_string(prim.source[i]) +
+                   " elsewhere; the "
                    ".glb bake cannot map its targets (bake to .pc2)");
         }
       }
@@ -522,8 +539,8 @@ void map_primitives(State& s, const Mesh& rest, const std::vector<std::uint32_t>
   }
   for (State::Shown& shown : s.shown) {
     for (const State::Shown& other : s.shown) {
-      shown.follows_parent = shown.follows_parent ||
-                             std::find(shown.ancestors.begin(), shown.ancestors.end(), other.node) != shown.ancestors.end();
+      shown.follows_parent = shown.follows_parent || std::find(shown.ancestors.begin(), shown.ancestors.end(),
+                                                               other.node) != shown.ancestors.end();
     }
   }
 }
@@ -638,7 +655,8 @@ void frame_under_skin(State& s, std::span<const Eigen::Vector3f> positions, cons
       if (!(std::abs(det) > 1e-12 * std::pow(a.cwiseAbs().maxCoeff(), 3))) {
         s.refuse("mesh " + std::to_string(p.mesh) + " primitive " + std::to_string(p.index) + " vertex " +
                  std::to_string(i) + ": its skinning matrix at " + format_number(time) + " s (frame " +
-                 std::to_string(s.next_frame) + ") is singular (its joints' weighted rotations cancel), "
+                 std::to_string(s.next_frame) +
+                 ") is singular (its joints' weighted rotations cancel), "
                  "so no morph target under the skin can move it; bake to .pc2");
       }
       const Mat3 a_inv = a.inverse();
@@ -734,7 +752,8 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   for (const std::uint32_t v : animated) moving_rep[s.rep[v]] = 1;
   const auto& t = s.welded_triangles;
   for (std::size_t k = 0; k + 2 < t.size(); k += 3) {
-    if (moving_rep[t[k]] || moving_rep[t[k + 1]] || moving_rep[t[k + 2]]) near[t[k]] = near[t[k + 1]] = near[t[k + 2]] = 1;
+    if (moving_rep[t[k]] || moving_rep[t[k + 1]] || moving_rep[t[k + 2]])
+      near[t[k]] = near[t[k + 1]] = near[t[k + 2]] = 1;
   }
   // Every primitive of a deformed mesh gets targets (glTF: the same count on each); those of a
   // primitive where nothing moves are zeros.
@@ -784,14 +803,17 @@ std::uint64_t GltfPassthrough::fixed_bytes() const {
   std::uint64_t bytes = 0;
   for (const std::string& b : s_->buffer_bytes) bytes += b.size() + 16;
   for (const State::Image& i : s_->images) bytes += i.bytes.size() + 4;
-  for (const State::Primitive& p : s_->primitives) bytes += 4 * p.listed.size() + (p.normals_repaired ? 4 * p.normals.size() : 0);
+  for (const State::Primitive& p : s_->primitives)
+    bytes += 4 * p.listed.size() + (p.normals_repaired ? 4 * p.normals.size() : 0);
   const std::uint64_t f = static_cast<std::uint64_t>(s_->frames);
   for (const State::Resampled& r : s_->resampled) bytes += 4 * r.channel->width() * f;
   if (s_->joints != nullptr) bytes += 40 * f * s_->joints->joints().size();  // their keys, at most
   return bytes + 12 * f + 28 * f * s_->shown.size();
 }
 
-std::uint64_t GltfPassthrough::json_bytes() const { return s_->doc.json.dump().size(); }
+std::uint64_t GltfPassthrough::json_bytes() const {
+  return s_->doc.json.dump().size();
+}
 
 std::uint64_t GltfPassthrough::bytes_per_frame() const {
   std::uint64_t bytes = 0;
@@ -824,7 +846,8 @@ void GltfPassthrough::start(const AppendBin& append) {
   const std::vector<float> ones(frames, 1.0f);
   s.weight_values = s.put(append, ones.data(), frames * 4);
   for (State::Primitive& p : s.primitives) {
-    if (p.deformed && p.same_as < 0 && !p.listed.empty()) p.listed_block = s.put(append, p.listed.data(), 4 * p.listed.size());
+    if (p.deformed && p.same_as < 0 && !p.listed.empty())
+      p.listed_block = s.put(append, p.listed.data(), 4 * p.listed.size());
   }
 }
 
@@ -970,22 +993,30 @@ Json GltfPassthrough::finish(const AppendBin& append) {
   }
   if (s.shown.empty()) return json;  // nothing moves: the input as it was
   const std::size_t frames = static_cast<std::size_t>(s.frames);
-  const std::size_t times = add_accessor({{"bufferView", add_view(s.times)}, {"componentType", kFloat},
-                                          {"count", frames}, {"type", "SCALAR"}, {"min", Json::array({0.0})},
+  const std::size_t times = add_accessor({{"bufferView", add_view(s.times)},
+                                          {"componentType", kFloat},
+                                          {"count", frames},
+                                          {"type", "SCALAR"},
+                                          {"min", Json::array({0.0})},
                                           {"max", Json::array({double{s.last_time}})}});
-  const std::size_t weights = add_accessor(
-      {{"componentType", kFloat}, {"count", frames * frames}, {"type", "SCALAR"},
-       {"sparse", {{"count", frames},
-                   {"indices", {{"bufferView", add_view(s.weight_indices)}, {"componentType", kUint}}},
-                   {"values", {{"bufferView", add_view(s.weight_values)}}}}}});
+  const std::size_t weights =
+      add_accessor({{"componentType", kFloat},
+                    {"count", frames * frames},
+                    {"type", "SCALAR"},
+                    {"sparse",
+                     {{"count", frames},
+                      {"indices", {{"bufferView", add_view(s.weight_indices)}, {"componentType", kUint}}},
+                      {"values", {{"bufferView", add_view(s.weight_values)}}}}}});
 
   Json names = Json::array();
-  for (std::size_t k = 0; k < frames; ++k) names.push_back(obj_sequence_path("frame", static_cast<int>(k), s.frames).stem().string());
+  for (std::size_t k = 0; k < frames; ++k)
+    names.push_back(obj_sequence_path("frame", static_cast<int>(k), s.frames).stem().string());
   for (State::Primitive& p : s.primitives) {
     if (!p.deformed) continue;
     if (p.same_as >= 0) {
       const State::Primitive& e = s.primitives[static_cast<std::size_t>(p.same_as)];
-      json["meshes"][p.mesh]["primitives"][p.index]["targets"] = json["meshes"][e.mesh]["primitives"][e.index]["targets"];
+      json["meshes"][p.mesh]["primitives"][p.index]["targets"] =
+          json["meshes"][e.mesh]["primitives"][e.index]["targets"];
       continue;
     }
     const std::size_t listed_view = p.listed.empty() ? 0 : add_view(p.listed_block);
@@ -1020,7 +1051,8 @@ Json GltfPassthrough::finish(const AppendBin& append) {
   Json animation = {{"samplers", Json::array({{{"input", times}, {"output", weights}, {"interpolation", "LINEAR"}}})},
                     {"channels", Json::array()}};
   for (const State::Shown& shown : s.shown) {
-    if (shown.morphs) animation["channels"].push_back({{"sampler", 0}, {"target", {{"node", shown.node}, {"path", "weights"}}}});
+    if (shown.morphs)
+      animation["channels"].push_back({{"sampler", 0}, {"target", {{"node", shown.node}, {"path", "weights"}}}});
     // An animated node (its weights too) may not have a matrix: given as translation, rotation
     // and scale (exact, or refused in map_primitives).
     Json& node = json["nodes"][shown.node];
@@ -1031,10 +1063,14 @@ Json GltfPassthrough::finish(const AppendBin& append) {
       node["scale"] = {shown.local.s.x(), shown.local.s.y(), shown.local.s.z()};
     }
     if (!s.body_moves || shown.follows_parent) continue;
-    const std::size_t tr = add_accessor({{"bufferView", add_view(shown.translation_block)}, {"componentType", kFloat},
-                                         {"count", frames}, {"type", "VEC3"}});
-    const std::size_t rot = add_accessor({{"bufferView", add_view(shown.rotation_block)}, {"componentType", kFloat},
-                                          {"count", frames}, {"type", "VEC4"}});
+    const std::size_t tr = add_accessor({{"bufferView", add_view(shown.translation_block)},
+                                         {"componentType", kFloat},
+                                         {"count", frames},
+                                         {"type", "VEC3"}});
+    const std::size_t rot = add_accessor({{"bufferView", add_view(shown.rotation_block)},
+                                          {"componentType", kFloat},
+                                          {"count", frames},
+                                          {"type", "VEC4"}});
     for (const auto& [accessor, path] : {std::pair{tr, "translation"}, std::pair{rot, "rotation"}}) {
       animation["samplers"].push_back({{"input", times}, {"output", accessor}, {"interpolation", "LINEAR"}});
       animation["channels"].push_back(
@@ -1043,8 +1079,10 @@ Json GltfPassthrough::finish(const AppendBin& append) {
   }
   for (const State::Resampled& r : s.resampled) {
     const bool rotation = r.path == ChannelPath::rotation;
-    const std::size_t values = add_accessor({{"bufferView", add_view(r.block)}, {"componentType", kFloat},
-                                             {"count", frames}, {"type", rotation ? "VEC4" : "VEC3"}});
+    const std::size_t values = add_accessor({{"bufferView", add_view(r.block)},
+                                             {"componentType", kFloat},
+                                             {"count", frames},
+                                             {"type", rotation ? "VEC4" : "VEC3"}});
     animation["samplers"].push_back({{"input", times}, {"output", values}, {"interpolation", "LINEAR"}});
     const char* path = rotation ? "rotation" : r.path == ChannelPath::scale ? "scale" : "translation";
     animation["channels"].push_back(

@@ -47,11 +47,10 @@
 // compressed geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression), a deformed
 // primitive that already has morph targets or whose POSITION, NORMAL or TANGENT is not a plain
 // float accessor (sparse, quantized), a deformed mesh shown by several nodes with different world
-// transforms, or by a skinned node whose clip does not drive the bake, and a moving body under a parent that is not a similarity
-// (rotation, uniform scale, translation). A buffer or image that cannot be read is Error(bad_input).
-// An OBJ source with UVs, normals, colours or materials is first made a glTF document (obj_gltf.h);
-// its vertices are split per corner, so each primitive vertex names its source vertex in the mesh
-// as read, and the targets follow that vertex.
+// transforms, or by a skinned node whose clip does not drive the bake, and a moving body under a parent that is not a
+// similarity (rotation, uniform scale, translation). A buffer or image that cannot be read is Error(bad_input). An OBJ
+// source with UVs, normals, colours or materials is first made a glTF document (obj_gltf.h); its vertices are split per
+// corner, so each primitive vertex names its source vertex in the mesh as read, and the targets follow that vertex.
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>

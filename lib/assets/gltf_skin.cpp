@@ -26,15 +26,24 @@ std::optional<std::vector<double>> read_numbers(const GltfDocument& file, const 
   const Json* accessor = detail::gltf_element(file.json, "accessors", index);
   if (accessor == nullptr || accessor->contains("sparse")) return std::nullopt;
   const auto type_member = accessor->find("type");
-  const std::string type = type_member != accessor->end() && type_member->is_string() ? type_member->get<std::string>() : "";
-  const int want = type == "SCALAR" ? 1 : type == "VEC2" ? 2 : type == "VEC3" ? 3 : type == "VEC4" ? 4 : type == "MAT4" ? 16 : 0;
+  const std::string type =
+      type_member != accessor->end() && type_member->is_string() ? type_member->get<std::string>() : "";
+  const int want = type == "SCALAR" ? 1
+                   : type == "VEC2" ? 2
+                   : type == "VEC3" ? 3
+                   : type == "VEC4" ? 4
+                   : type == "MAT4" ? 16
+                                    : 0;
   if (want != components) return std::nullopt;
   const std::uint64_t ct = detail::gltf_unsigned(*accessor, "componentType", 0);
   const int size = ct == 5120 || ct == 5121 ? 1 : ct == 5122 || ct == 5123 ? 2 : ct == 5125 || ct == 5126 ? 4 : 0;
   if (size == 0) return std::nullopt;
   const auto normalized_member = accessor->find("normalized");
-  const bool normalized = normalized_member != accessor->end() && normalized_member->is_boolean() && normalized_member->get<bool>();
-  const Json* view = accessor->contains("bufferView") ? detail::gltf_element(file.json, "bufferViews", (*accessor)["bufferView"]) : nullptr;
+  const bool normalized =
+      normalized_member != accessor->end() && normalized_member->is_boolean() && normalized_member->get<bool>();
+  const Json* view = accessor->contains("bufferView")
+                         ? detail::gltf_element(file.json, "bufferViews", (*accessor)["bufferView"])
+                         : nullptr;
   if (view == nullptr) return std::nullopt;
   const std::uint64_t b = detail::gltf_unsigned(*view, "buffer", file.buffers.size());
   if (b >= file.buffers.size() || !file.buffers[b]) return std::nullopt;
@@ -55,12 +64,42 @@ std::optional<std::vector<double>> read_numbers(const GltfDocument& file, const 
     for (int c = 0; c < components; ++c, at += size) {
       double v = 0;
       switch (ct) {
-        case 5120: { std::int8_t x; std::memcpy(&x, at, 1); v = normalized ? std::max(x / 127.0, -1.0) : x; break; }
-        case 5121: { std::uint8_t x; std::memcpy(&x, at, 1); v = normalized ? x / 255.0 : x; break; }
-        case 5122: { std::int16_t x; std::memcpy(&x, at, 2); v = normalized ? std::max(x / 32767.0, -1.0) : x; break; }
-        case 5123: { std::uint16_t x; std::memcpy(&x, at, 2); v = normalized ? x / 65535.0 : x; break; }
-        case 5125: { std::uint32_t x; std::memcpy(&x, at, 4); v = x; break; }
-        default: { float x; std::memcpy(&x, at, 4); v = x; break; }  // little-endian, as glTF is
+        case 5120: {
+          std::int8_t x;
+          std::memcpy(&x, at, 1);
+          v = normalized ? std::max(x / 127.0, -1.0) : x;
+          break;
+        }
+        case 5121: {
+          std::uint8_t x;
+          std::memcpy(&x, at, 1);
+          v = normalized ? x / 255.0 : x;
+          break;
+        }
+        case 5122: {
+          std::int16_t x;
+          std::memcpy(&x, at, 2);
+          v = normalized ? std::max(x / 32767.0, -1.0) : x;
+          break;
+        }
+        case 5123: {
+          std::uint16_t x;
+          std::memcpy(&x, at, 2);
+          v = normalized ? x / 65535.0 : x;
+          break;
+        }
+        case 5125: {
+          std::uint32_t x;
+          std::memcpy(&x, at, 4);
+          v = x;
+          break;
+        }
+        default: {
+          float x;
+          std::memcpy(&x, at, 4);
+          v = x;
+          break;
+        }  // little-endian, as glTF is
       }
       out[i * components + c] = v;
     }
@@ -217,14 +256,17 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
     const Json& node = nodes[i];
     SkinNode& out = model.nodes[i];
     if (!node.is_object()) continue;
-    out.name = detail::gltf_string(node, "name", "node " + std::to_string(i), gltf.string() + ": /nodes/" + std::to_string(i));
+    out.name =
+        detail::gltf_string(node, "name", "node " + std::to_string(i), gltf.string() + ": /nodes/" + std::to_string(i));
     auto numbers = [&](const char* key, std::size_t n) -> std::optional<std::vector<double>> {
       const auto it = node.find(key);
       if (it == node.end()) return std::nullopt;
-      if (!it->is_array() || it->size() != n) refuse(gltf, "node '" + out.name + "': \"" + key + "\" must be " + std::to_string(n) + " numbers");
+      if (!it->is_array() || it->size() != n)
+        refuse(gltf, "node '" + out.name + "': \"" + key + "\" must be " + std::to_string(n) + " numbers");
       std::vector<double> v;
       for (const Json& x : *it) {
-        if (!x.is_number() || !std::isfinite(x.get<double>())) refuse(gltf, "node '" + out.name + "': \"" + key + "\" must be finite numbers");
+        if (!x.is_number() || !std::isfinite(x.get<double>()))
+          refuse(gltf, "node '" + out.name + "': \"" + key + "\" must be finite numbers");
         v.push_back(x.get<double>());
       }
       return v;
@@ -238,7 +280,8 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
     if (const auto r = numbers("rotation", 4)) out.rotation = Quat((*r)[3], (*r)[0], (*r)[1], (*r)[2]).normalized();
     if (const auto s = numbers("scale", 3)) out.scale = Vec3((*s)[0], (*s)[1], (*s)[2]);
     for (const Json& c : node.value("children", Json::array())) {
-      if (c.is_number_unsigned() && c.get<std::size_t>() < nodes.size()) model.nodes[c.get<std::size_t>()].parent = static_cast<int>(i);
+      if (c.is_number_unsigned() && c.get<std::size_t>() < nodes.size())
+        model.nodes[c.get<std::size_t>()].parent = static_cast<int>(i);
     }
   }
   for (std::size_t i = 0; i < nodes.size(); ++i) {  // a cycle would make world_transforms recurse forever
@@ -251,7 +294,8 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
   const Json meshes = doc.value("meshes", Json::array());
   std::vector<int> skinned;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    if (nodes[i].is_object() && nodes[i].contains("skin") && nodes[i].contains("mesh")) skinned.push_back(static_cast<int>(i));
+    if (nodes[i].is_object() && nodes[i].contains("skin") && nodes[i].contains("mesh"))
+      skinned.push_back(static_cast<int>(i));
   }
   if (skinned.empty()) return std::nullopt;
   for (const int node : skinned) {
@@ -263,7 +307,8 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
     bool readable = true;
     for (const Json& prim : mesh->value("primitives", Json::array())) {
       const Json attributes = prim.is_object() && prim.contains("attributes") && prim["attributes"].is_object()
-                                  ? prim["attributes"] : Json::object();
+                                  ? prim["attributes"]
+                                  : Json::object();
       const auto p = read_numbers(file, attributes.value("POSITION", Json()), 3);
       if (!p) {
         readable = false;
@@ -274,13 +319,15 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
       const std::string mesh_name = detail::gltf_string(*mesh, "name", "mesh " + nodes[node]["mesh"].dump(),
                                                         gltf.string() + ": /meshes/" + nodes[node]["mesh"].dump());
       if (attributes.contains("JOINTS_1") || attributes.contains("WEIGHTS_1")) {
-        refuse(gltf, "mesh '" + mesh_name + "' has more than 4 joint influences a vertex (JOINTS_1/WEIGHTS_1); "
-                     "limit the influences to 4 in the exporter (Blender: \"Limit to 4\" under skinning)");
+        refuse(gltf, "mesh '" + mesh_name +
+                         "' has more than 4 joint influences a vertex (JOINTS_1/WEIGHTS_1); "
+                         "limit the influences to 4 in the exporter (Blender: \"Limit to 4\" under skinning)");
       }
       const auto j = read_numbers(file, attributes.value("JOINTS_0", Json()), 4);
       const auto w = read_numbers(file, attributes.value("WEIGHTS_0", Json()), 4);
       if (!j || !w || j->size() != 4 * count || w->size() != 4 * count) {
-        refuse(gltf, "mesh '" + mesh_name + "' is skinned but its JOINTS_0 and WEIGHTS_0 cannot be read as 4 numbers a vertex");
+        refuse(gltf, "mesh '" + mesh_name +
+                         "' is skinned but its JOINTS_0 and WEIGHTS_0 cannot be read as 4 numbers a vertex");
       }
       for (std::size_t v = 0; v < count; ++v) {
         std::array<std::uint16_t, 4> joints{};
@@ -288,18 +335,23 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
         double sum = 0;
         for (int k = 0; k < 4; ++k) {
           const double jv = (*j)[4 * v + k], wv = (*w)[4 * v + k];
-          if (!(wv >= 0) || !std::isfinite(wv)) refuse(gltf, "mesh '" + mesh_name + "', vertex " + std::to_string(positions.size() - count + v) + ": a negative or non-finite skin weight");
+          if (!(wv >= 0) || !std::isfinite(wv))
+            refuse(gltf, "mesh '" + mesh_name + "', vertex " + std::to_string(positions.size() - count + v) +
+                             ": a negative or non-finite skin weight");
           // A joint is an index (glTF stores it as an unsigned byte or short): a float or signed
           // accessor's negative, fractional or non-finite value names no joint.
           if (!(jv >= 0 && jv <= 65535 && jv == std::floor(jv))) {
             refuse(gltf, "mesh '" + mesh_name + "', vertex " + std::to_string(positions.size() - count + v) +
-                             ": joint " + format_number(jv) + " in JOINTS_0 is not a joint index (a whole number from 0)");
+                             ": joint " + format_number(jv) +
+                             " in JOINTS_0 is not a joint index (a whole number from 0)");
           }
           joints[k] = static_cast<std::uint16_t>(jv);
           weights[k] = wv;
           sum += wv;
         }
-        if (!(sum > 0)) refuse(gltf, "mesh '" + mesh_name + "', vertex " + std::to_string(positions.size() - count + v) + ": its skin weights are all 0");
+        if (!(sum > 0))
+          refuse(gltf, "mesh '" + mesh_name + "', vertex " + std::to_string(positions.size() - count + v) +
+                           ": its skin weights are all 0");
         // glTF asks for weights summing to 1; exporters store them quantized: normalize.
         for (double& x : weights) x /= sum;
         vj.push_back(joints);
@@ -327,19 +379,23 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
   }
   const std::string where = "skin of node '" + model.nodes[model.mesh_node].name + "'";
   const Json* skin = detail::gltf_element(doc, "skins", nodes[model.mesh_node]["skin"]);
-  if (skin == nullptr || !skin->contains("joints") || !(*skin)["joints"].is_array()) refuse(gltf, where + ": no joints");
+  if (skin == nullptr || !skin->contains("joints") || !(*skin)["joints"].is_array())
+    refuse(gltf, where + ": no joints");
   for (const Json& j : (*skin)["joints"]) {
-    if (!j.is_number_unsigned() || j.get<std::size_t>() >= nodes.size()) refuse(gltf, where + ": a joint is not a node");
+    if (!j.is_number_unsigned() || j.get<std::size_t>() >= nodes.size())
+      refuse(gltf, where + ": a joint is not a node");
     model.joints.push_back(j.get<int>());
   }
   if (skin->contains("inverseBindMatrices")) {
     const auto m = read_numbers(file, (*skin)["inverseBindMatrices"], 16);
-    if (!m || m->size() != 16 * model.joints.size()) refuse(gltf, where + ": its inverseBindMatrices cannot be read as one MAT4 a joint");
+    if (!m || m->size() != 16 * model.joints.size())
+      refuse(gltf, where + ": its inverseBindMatrices cannot be read as one MAT4 a joint");
     for (std::size_t k = 0; k < model.joints.size(); ++k) {
       Mat4 ibm;
       for (int e = 0; e < 16; ++e) ibm(e % 4, e / 4) = (*m)[16 * k + e];
       const double det = ibm.topLeftCorner<3, 3>().determinant();
-      if (!ibm.allFinite() || !(std::abs(det) > 1e-12) || (ibm.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6) {
+      if (!ibm.allFinite() || !(std::abs(det) > 1e-12) ||
+          (ibm.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6) {
         refuse(gltf, where + ": the inverse bind matrix of joint '" + model.nodes[model.joints[k]].name +
                          "' is not an invertible affine transform (determinant " + format_number(det) + ")");
       }
@@ -351,8 +407,9 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
   for (std::size_t v = 0; v < model.vertex_joints.size(); ++v) {
     for (int k = 0; k < 4; ++k) {
       if (model.vertex_weights[v][k] > 0 && model.vertex_joints[v][k] >= model.joints.size()) {
-        refuse(gltf, where + ": vertex " + std::to_string(v) + " names joint " + std::to_string(model.vertex_joints[v][k]) +
-                         ", but the skin has " + std::to_string(model.joints.size()));
+        refuse(gltf, where + ": vertex " + std::to_string(v) + " names joint " +
+                         std::to_string(model.vertex_joints[v][k]) + ", but the skin has " +
+                         std::to_string(model.joints.size()));
       }
     }
   }
@@ -368,25 +425,34 @@ std::optional<SkinModel> read_gltf_skin(const std::filesystem::path& gltf, std::
     for (std::size_t ci = 0; channels.is_array() && ci < channels.size(); ++ci) {
       const Json& ch = channels[ci];
       // value() throws on anything but an object: a target that is not one targets nothing.
-      const Json target = ch.is_object() && ch.contains("target") && ch["target"].is_object() ? ch["target"] : Json::object();
-      const std::string path = detail::gltf_string(target, "path", "", at + "/channels/" + std::to_string(ci) + "/target");
+      const Json target =
+          ch.is_object() && ch.contains("target") && ch["target"].is_object() ? ch["target"] : Json::object();
+      const std::string path =
+          detail::gltf_string(target, "path", "", at + "/channels/" + std::to_string(ci) + "/target");
       if (path != "translation" && path != "rotation" && path != "scale") continue;  // morph weights, pointers
       const Json tn = target.value("node", Json());
       if (!tn.is_number_unsigned() || tn.get<std::size_t>() >= nodes.size()) continue;
       ClipChannel c;
       c.node = tn.get<int>();
-      c.path = path == "translation" ? ChannelPath::translation : path == "rotation" ? ChannelPath::rotation : ChannelPath::scale;
-      const std::string what = "animation '" + clip.name + "': the " + path + " of node '" + model.nodes[c.node].name + "'";
+      c.path = path == "translation" ? ChannelPath::translation
+               : path == "rotation"  ? ChannelPath::rotation
+                                     : ChannelPath::scale;
+      const std::string what =
+          "animation '" + clip.name + "': the " + path + " of node '" + model.nodes[c.node].name + "'";
       const Json* sampler = ch.contains("sampler") ? detail::gltf_element(anim, "samplers", ch["sampler"]) : nullptr;
       if (sampler == nullptr) refuse(gltf, what + " has no sampler");
-      const std::string interpolation = detail::gltf_string(*sampler, "interpolation", "LINEAR",
-                                                            at + "/samplers/" + ch["sampler"].dump());
-      if (interpolation == "STEP") c.interpolation = ChannelInterpolation::step;
-      else if (interpolation == "CUBICSPLINE") c.interpolation = ChannelInterpolation::cubic;
-      else if (interpolation != "LINEAR") refuse(gltf, what + ": unknown interpolation '" + interpolation + "'");
+      const std::string interpolation =
+          detail::gltf_string(*sampler, "interpolation", "LINEAR", at + "/samplers/" + ch["sampler"].dump());
+      if (interpolation == "STEP")
+        c.interpolation = ChannelInterpolation::step;
+      else if (interpolation == "CUBICSPLINE")
+        c.interpolation = ChannelInterpolation::cubic;
+      else if (interpolation != "LINEAR")
+        refuse(gltf, what + ": unknown interpolation '" + interpolation + "'");
       const auto input = read_numbers(file, sampler->value("input", Json()), 1);
       const auto output = read_numbers(file, sampler->value("output", Json()), c.width());
-      const std::size_t per_key = static_cast<std::size_t>(c.width()) * (c.interpolation == ChannelInterpolation::cubic ? 3 : 1);
+      const std::size_t per_key =
+          static_cast<std::size_t>(c.width()) * (c.interpolation == ChannelInterpolation::cubic ? 3 : 1);
       if (!input || !output || input->empty() || output->size() != input->size() * per_key) {
         refuse(gltf, what + ": its keys cannot be read (times and values of matching count expected)");
       }

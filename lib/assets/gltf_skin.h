@@ -53,8 +53,8 @@ struct SkinClip {
 struct SkinModel {
   std::vector<SkinNode> nodes;
   std::vector<SkinClip> clips;
-  int mesh_node = -1;            // the node showing the skinned mesh
-  std::vector<int> joints;       // the skin's joints (node indices)
+  int mesh_node = -1;                         // the node showing the skinned mesh
+  std::vector<int> joints;                    // the skin's joints (node indices)
   std::vector<Eigen::Matrix4d> inverse_bind;  // one per joint
   // Per vertex of the mesh, in the order the importer reads it (its primitives in order): its bind
   // position (POSITION, mesh-local), up to 4 joints (indices into `joints`) and their weights.

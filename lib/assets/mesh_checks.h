@@ -10,9 +10,9 @@
 namespace sweep::assets::detail {
 
 // A PLY header must be well formed ("ply", one format line, element and property lines of known
-// types, end_header: assimp hangs on some malformed headers). An ASCII PLY's body must hold exactly the element instances its header announces, one a line,
-// each with the values its properties call for: a header announcing more vertices than there are
-// would have assimp read face lines as vertices. Any PLY's vertex element must have x, y and z.
+// types, end_header: assimp hangs on some malformed headers). An ASCII PLY's body must hold exactly the element
+// instances its header announces, one a line, each with the values its properties call for: a header announcing more
+// vertices than there are would have assimp read face lines as vertices. Any PLY's vertex element must have x, y and z.
 // The body of a binary PLY, and text that is not PLY, pass unchecked.
 void check_ascii_ply(std::string_view text, const std::string& source);
 

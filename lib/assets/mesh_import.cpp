@@ -10,8 +10,8 @@
 #include <bit>
 #include <cerrno>
 #include <climits>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -78,15 +78,14 @@ using Transform = Eigen::Matrix4d;
 
 Transform to_transform(const aiMatrix4x4& m) {
   Transform t;
-  t << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3,
-      m.d4;
+  t << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
   return t;
 }
 
 // World transform of each mesh: that of the first node referring to it in depth-first order
 // (identity when no node does). Instances (one mesh under several nodes) are not duplicated.
-void collect_transforms(const aiNode* node, const Transform& parent,
-                        std::vector<Transform>& transforms, std::vector<bool>& seen) {
+void collect_transforms(const aiNode* node, const Transform& parent, std::vector<Transform>& transforms,
+                        std::vector<bool>& seen) {
   const Transform world = parent * to_transform(node->mTransformation);
   for (unsigned i = 0; i < node->mNumMeshes; ++i) {
     const unsigned m = node->mMeshes[i];
@@ -128,8 +127,7 @@ std::string common_mesh_name(const aiScene* scene, const std::vector<unsigned>& 
   return "";
 }
 
-void collect_nodes(const aiScene* scene, const aiNode* node, const Transform& parent,
-                   std::vector<NodeMeshes>& out) {
+void collect_nodes(const aiScene* scene, const aiNode* node, const Transform& parent, std::vector<NodeMeshes>& out) {
   const Transform world = parent * to_transform(node->mTransformation);
   NodeMeshes here{node->mName.C_Str(), "", world, {}};
   for (unsigned i = 0; i < node->mNumMeshes; ++i) {
@@ -193,14 +191,14 @@ PositionKey key_of(const Vec3& p) {
 // `bytes` given: the file's content already in memory (PLY, read from there so that a byte order
 // mark can be skipped and the body checked first), with `hint` its extension; else the file
 // `source` is read by assimp itself (glTF may refer to other files beside it).
-const aiScene* import_scene(Assimp::Importer& importer, const std::string& source,
-                            std::string_view bytes = {}, const char* hint = "") {
+const aiScene* import_scene(Assimp::Importer& importer, const std::string& source, std::string_view bytes = {},
+                            const char* hint = "") {
   // No post-processing: it keeps the stored vertices, their order and count, and the polygons.
   const aiScene* scene = nullptr;
   {
     const QuietFpEnvironment quiet;
-    scene = bytes.empty() ? importer.ReadFile(source, 0)
-                          : importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
+    scene =
+        bytes.empty() ? importer.ReadFile(source, 0) : importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint);
   }
   if (scene == nullptr) bad(source, "cannot parse: " + one_line(importer.GetErrorString()));
   if (scene->mNumMeshes == 0 || scene->mMeshes == nullptr) bad(source, "no vertices");
@@ -216,8 +214,7 @@ Mesh assemble(const aiScene* scene, const std::vector<Placed>& placed, bool weld
     const aiMesh* am = scene->mMeshes[m];
     const std::size_t base = mesh.positions.size();
     if (!weld) {
-      for (unsigned i = 0; i < am->mNumVertices; ++i)
-        mesh.positions.push_back(apply(t, am->mVertices[i]));
+      for (unsigned i = 0; i < am->mNumVertices; ++i) mesh.positions.push_back(apply(t, am->mVertices[i]));
     }
     std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> welded;
     for (unsigned f = 0; f < am->mNumFaces; ++f) {
@@ -226,17 +223,16 @@ Mesh assemble(const aiScene* scene, const std::vector<Placed>& placed, bool weld
       for (unsigned k = 0; k < af.mNumIndices; ++k) {
         const unsigned v = af.mIndices[k];
         if (v >= am->mNumVertices) {
-          bad(source, "face " + std::to_string(face) + " uses vertex " + std::to_string(v) +
-                          " of mesh " + std::to_string(m) + ", out of range (that mesh has " +
-                          std::to_string(am->mNumVertices) + " vertices)");
+          bad(source, "face " + std::to_string(face) + " uses vertex " + std::to_string(v) + " of mesh " +
+                          std::to_string(m) + ", out of range (that mesh has " + std::to_string(am->mNumVertices) +
+                          " vertices)");
         }
         if (!weld) {
           mesh.face_vertices.push_back(static_cast<std::uint32_t>(base + v));
           continue;
         }
         const Vec3 p = apply(t, am->mVertices[v]);
-        const auto [it, inserted] =
-            welded.try_emplace(key_of(p), static_cast<std::uint32_t>(mesh.positions.size()));
+        const auto [it, inserted] = welded.try_emplace(key_of(p), static_cast<std::uint32_t>(mesh.positions.size()));
         if (inserted) mesh.positions.push_back(p);
         mesh.face_vertices.push_back(it->second);
       }
@@ -330,9 +326,12 @@ MeshUnit unit_of(const aiScene* scene) {
     const std::string key = meta->mKeys[k].C_Str();
     const aiMetadataEntry& e = meta->mValues[k];
     double value = 0;
-    if (e.mType == AI_DOUBLE) value = *static_cast<const double*>(e.mData);
-    else if (e.mType == AI_FLOAT) value = *static_cast<const float*>(e.mData);
-    else continue;
+    if (e.mType == AI_DOUBLE)
+      value = *static_cast<const double*>(e.mData);
+    else if (e.mType == AI_FLOAT)
+      value = *static_cast<const float*>(e.mData);
+    else
+      continue;
     if (key == "UnitScaleFactor") unit.unit_scale_factor = value;
     if (key == "OriginalUnitScaleFactor") unit.original_unit_scale_factor = value;
   }
@@ -387,7 +386,8 @@ FileUp file_up(const aiScene* scene, const std::string& ext, const fs::path& pat
     return up;
   }
   up.stated = true;
-  const Transform root = scene->mRootNode != nullptr ? to_transform(scene->mRootNode->mTransformation) : Transform::Identity();
+  const Transform root =
+      scene->mRootNode != nullptr ? to_transform(scene->mRootNode->mTransformation) : Transform::Identity();
   const Vec3 world = root.block<3, 3>(0, 0) * file_axis;
   if (!(world.norm() > 0) || !world.allFinite()) {
     up = FileUp{};
@@ -432,7 +432,8 @@ std::vector<unsigned> gltf_primitive_numbers(const aiScene* scene, const nlohman
   bool lined_up = true;
   std::function<void(const Json&, const aiNode*)> pair = [&](const Json& index, const aiNode* ai) {
     const Json* node = detail::gltf_element(doc, "nodes", index);
-    const Json* mesh = node != nullptr && node->contains("mesh") ? detail::gltf_element(doc, "meshes", (*node)["mesh"]) : nullptr;
+    const Json* mesh =
+        node != nullptr && node->contains("mesh") ? detail::gltf_element(doc, "meshes", (*node)["mesh"]) : nullptr;
     const Json* primitives = mesh != nullptr ? array(*mesh, "primitives") : nullptr;
     const Json* children = node != nullptr ? array(*node, "children") : nullptr;
     lined_up = lined_up && node != nullptr && ai->mNumMeshes == (primitives != nullptr ? primitives->size() : 0) &&
@@ -466,7 +467,9 @@ std::vector<unsigned> renumbered(std::vector<unsigned> parts, const std::vector<
 }
 
 // The formats read through assimp whose meshes have no names of their own: one mesh.
-bool names_meshes(const std::string& ext) { return ext != "ply" && ext != "stl"; }
+bool names_meshes(const std::string& ext) {
+  return ext != "ply" && ext != "stl";
+}
 
 // `gltf`: a glTF's JSON, whose numbering SceneMesh::parts then follows (else assimp's).
 SceneMesh read_with_assimp(const std::string& source, bool weld, const std::string& name, MeshPick pick,
@@ -475,7 +478,8 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
   const fs::path source_path = bytes.empty() ? fs::path(source) : fs::path();  // PLY from memory states no up
   Assimp::Importer importer;
   const aiScene* scene = import_scene(importer, source, bytes, hint);
-  const std::vector<unsigned> numbers = gltf != nullptr ? gltf_primitive_numbers(scene, *gltf) : std::vector<unsigned>{};
+  const std::vector<unsigned> numbers =
+      gltf != nullptr ? gltf_primitive_numbers(scene, *gltf) : std::vector<unsigned>{};
   SceneMesh out;
   out.unit = unit_of(scene);
   if (!source_path.empty()) out.up = file_up(scene, lower_extension(source_path), source_path);
@@ -520,7 +524,8 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
     if (chosen < 0) bad(source, "no mesh is named '" + name + "'; its meshes: " + list());
   } else {
     for (std::size_t k = 1; k < out.meshes.size(); ++k) {
-      if (out.meshes[k].vertex_count > out.meshes[static_cast<std::size_t>(chosen)].vertex_count) chosen = static_cast<int>(k);
+      if (out.meshes[k].vertex_count > out.meshes[static_cast<std::size_t>(chosen)].vertex_count)
+        chosen = static_cast<int>(k);
     }
     out.largest = out.meshes.size() > 1;
     // The name must find this mesh again (a rig records it).
@@ -549,7 +554,8 @@ MeshSurface read_welded_surface(const fs::path& path, const std::string& mesh_na
     if (scene->mRootNode != nullptr) collect_nodes(scene, scene->mRootNode, Transform::Identity(), nodes);
     const auto list = [] { return std::string("(see sweep-fit -v)"); };
     std::vector<int> chosen;
-    if (io::several_mesh_names(mesh_name) || (mesh_name == kAllMeshes && find_named(nodes, mesh_name, source, list) < 0)) {
+    if (io::several_mesh_names(mesh_name) ||
+        (mesh_name == kAllMeshes && find_named(nodes, mesh_name, source, list) < 0)) {
       chosen = several_nodes(nodes, mesh_name, false, source, list);
     } else {
       chosen.push_back(find_named(nodes, mesh_name, source, list));
@@ -579,7 +585,8 @@ MeshSurface read_welded_surface(const fs::path& path, const std::string& mesh_na
       std::replace(file.begin(), file.end(), '\\', '/');
       sm.texture_name = file;
       if (const aiTexture* embedded = scene->GetEmbeddedTexture(texture.C_Str()); embedded != nullptr) {
-        if (embedded->mHeight == 0) sm.texture.assign(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth);
+        if (embedded->mHeight == 0)
+          sm.texture.assign(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth);
       } else {
         for (const fs::path& p : {path.parent_path() / file, path.parent_path() / fs::path(file).filename()}) {
           std::error_code ec;
@@ -619,17 +626,20 @@ MeshSurface read_welded_surface(const fs::path& path, const std::string& mesh_na
         // One glTF vertex a distinct (vertex, UV, colour, normal); normals within 0.01° are one
         // (exporters write a normal per corner, rounded apart).
         std::array<float, 6> attributes{};  // u, v, r, g, b, a
-        if (am->mTextureCoords[0]) attributes[0] = am->mTextureCoords[0][v].x, attributes[1] = 1 - am->mTextureCoords[0][v].y;
+        if (am->mTextureCoords[0])
+          attributes[0] = am->mTextureCoords[0][v].x, attributes[1] = 1 - am->mTextureCoords[0][v].y;
         if (am->mColors[0]) {
           const aiColor4D& col = am->mColors[0][v];
           attributes[2] = col.r, attributes[3] = col.g, attributes[4] = col.b, attributes[5] = col.a;
         }
         Vec3 n = Vec3::UnitZ();
-        if (am->mNormals) n = (normal_matrix * Vec3(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z)).normalized();
+        if (am->mNormals)
+          n = (normal_matrix * Vec3(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z)).normalized();
         std::vector<std::uint32_t>& same = corners[it->second];
         std::uint32_t found = UINT32_MAX;
         for (const std::uint32_t o : same) {
-          if (corner_attributes[o] == attributes && corner_normals[o].dot(n) > std::cos(1e-2 * 3.14159265358979 / 180)) found = o;
+          if (corner_attributes[o] == attributes && corner_normals[o].dot(n) > std::cos(1e-2 * 3.14159265358979 / 180))
+            found = o;
         }
         if (found == UINT32_MAX) {
           found = static_cast<std::uint32_t>(prim.source.size());
@@ -639,11 +649,14 @@ MeshSurface read_welded_surface(const fs::path& path, const std::string& mesh_na
           prim.source.push_back(it->second);
           if (am->mTextureCoords[0]) prim.uv.insert(prim.uv.end(), {attributes[0], attributes[1]});
           if (am->mColors[0]) prim.colour.insert(prim.colour.end(), attributes.begin() + 2, attributes.end());
-          if (am->mNormals) prim.normal.insert(prim.normal.end(), {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())});
+          if (am->mNormals)
+            prim.normal.insert(prim.normal.end(),
+                               {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())});
         }
         ids.push_back(found);
       }
-      for (std::size_t k = 1; k + 1 < ids.size(); ++k) prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
+      for (std::size_t k = 1; k + 1 < ids.size(); ++k)
+        prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
     }
     if (prim.source.empty()) continue;
     prim.material = material(am->mMaterialIndex);
@@ -666,11 +679,15 @@ SceneMesh read_scene_mesh(const fs::path& path, const std::string& name, MeshPic
   SceneMesh out;
   if (ext == "off" || ext == "obj" || ext == "ply") {
     if (!name.empty()) {
-      bad(source, "holds one mesh with no name (" + std::string(ext == "obj" ? "an OBJ's o and g groups share one vertex list" : "the format has none") +
-                      "), so there is no " + asked_meshes(name) + " to take");
+      bad(source,
+          "holds one mesh with no name (" +
+              std::string(ext == "obj" ? "an OBJ's o and g groups share one vertex list" : "the format has none") +
+              "), so there is no " + asked_meshes(name) + " to take");
     }
     const std::string bytes = read_file(path);
-    out.mesh = ext == "off" ? parse_off(bytes, source) : ext == "obj" ? parse_obj(bytes, source) : parse_ply(bytes, source);
+    out.mesh = ext == "off"   ? parse_off(bytes, source)
+               : ext == "obj" ? parse_obj(bytes, source)
+                              : parse_ply(bytes, source);
   } else if (ext == "gltf" || ext == "glb") {
     const nlohmann::json doc = detail::check_gltf_indices(path);
     out = read_with_assimp(source, /*weld=*/false, name, pick, /*named_format=*/true, {}, "", &doc, file_order);
@@ -688,7 +705,9 @@ SceneMesh read_scene_mesh(const fs::path& path, const std::string& name, MeshPic
   return out;
 }
 
-Mesh read_mesh(const fs::path& path) { return read_scene_mesh(path, "", MeshPick::whole_file).mesh; }
+Mesh read_mesh(const fs::path& path) {
+  return read_scene_mesh(path, "", MeshPick::whole_file).mesh;
+}
 
 std::string direction_name(const Vec3& d) {
   for (int a = 0; a < 3; ++a) {

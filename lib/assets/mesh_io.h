@@ -56,14 +56,14 @@ Mesh read_mesh(const std::filesystem::path& path);
 
 // One mesh a scene file holds (see above), for choosing and for messages.
 struct SceneMeshEntry {
-  std::string name;         // its node's name: what --mesh and a rig's mesh_name give
-  std::string mesh_name;    // its mesh's name ("" when its parts are named unlike each other)
+  std::string name;              // its node's name: what --mesh and a rig's mesh_name give
+  std::string mesh_name;         // its mesh's name ("" when its parts are named unlike each other)
   std::size_t vertex_count = 0;  // as read (welded where the format welds)
 };
 
 // How the file's length unit was taken (assimp's scene metadata): FBX states one.
 struct MeshUnit {
-  double unit_scale_factor = 0;  // FBX UnitScaleFactor: centimetres per file unit; 0 = none stated
+  double unit_scale_factor = 0;           // FBX UnitScaleFactor: centimetres per file unit; 0 = none stated
   double original_unit_scale_factor = 0;  // FBX OriginalUnitScaleFactor (0 = none stated)
 };
 
@@ -73,8 +73,8 @@ struct MeshUnit {
 // (which assimp's reader applies, turning the scene so that it is +Y up; the direction is taken
 // through the scene's root transform either way). OFF, OBJ, PLY and STL state none: +Y.
 struct FileUp {
-  Vec3 direction = Vec3::UnitY();  // unit, in the mesh's world space
-  bool stated = false;             // the file (or its format) says it
+  Vec3 direction = Vec3::UnitY();                            // unit, in the mesh's world space
+  bool stated = false;                                       // the file (or its format) says it
   std::string why = "the file states no up axis: +Y taken";  // for a person: where it comes from
 };
 
@@ -93,14 +93,14 @@ enum class MeshPick {
 inline constexpr const char* kAllMeshes = "all";
 
 struct SceneMesh {
-  Mesh mesh;                 // in world space: its node's world transform applied
-  std::string name;          // the mesh taken ("" = the whole file, or a format of one nameless mesh);
-                             // several: their nodes' names, in order, joined (io/mesh_names.h)
+  Mesh mesh;         // in world space: its node's world transform applied
+  std::string name;  // the mesh taken ("" = the whole file, or a format of one nameless mesh);
+                     // several: their nodes' names, in order, joined (io/mesh_names.h)
   // Its local space → world: the node's world transform (identity for the whole file, several
   // meshes and formats without nodes). A bake writes .pc2 and .obj in local space, by its inverse.
   Eigen::Affine3d to_world = Eigen::Affine3d::Identity();
   std::vector<SceneMeshEntry> meshes;  // the file's meshes, depth first; empty: no names
-  bool largest = false;      // taken as the largest of several (no name given)
+  bool largest = false;                // taken as the largest of several (no name given)
   // The importer meshes it is made of, in order; for a glTF, by the file's numbers (its primitives
   // counted over its meshes in the file's order, whatever order assimp reads them in: the .glb
   // passthrough's key to which primitives it deforms); empty = all of them, in order.

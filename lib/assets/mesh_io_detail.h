@@ -25,8 +25,7 @@ inline std::string_view skip_bom(std::string_view text) {
 // One vertex line: `prefix`, then the coordinates blank-separated, shortest round-trippable
 // ("v 1 2.5 -0\n" in OBJ; no prefix in OFF and PLY).
 template <typename Scalar>
-void append_vertex_line(std::string& out, std::string_view prefix,
-                        const Eigen::Matrix<Scalar, 3, 1>& p) {
+void append_vertex_line(std::string& out, std::string_view prefix, const Eigen::Matrix<Scalar, 3, 1>& p) {
   out += prefix;
   append_numbers(out, p, " ");
   out += '\n';

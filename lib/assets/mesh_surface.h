@@ -21,8 +21,8 @@ struct SurfaceMaterial {
 };
 
 struct SurfacePrimitive {
-  int material = -1;                   // into MeshSurface::materials, or -1
-  std::vector<std::uint32_t> source;   // per vertex
+  int material = -1;                      // into MeshSurface::materials, or -1
+  std::vector<std::uint32_t> source;      // per vertex
   std::vector<float> uv, normal, colour;  // 2, 3, 4 floats a vertex (uv as glTF's (u, 1 - v)), or empty
   std::vector<std::uint32_t> triangles;   // into this primitive's vertices
 };
@@ -36,7 +36,8 @@ struct MeshSurface {
 // corners mapped to the welded vertices exactly as read_mesh welds them; normals in world space
 // (the node's transform); materials' diffuse or base colour and texture (embedded in the file, or a
 // file beside it). `mesh_name` ("" = the whole file) takes one mesh of the file, or several (a
-// list, or kAllMeshes), as read_scene_mesh (mesh_io.h) takes them by name. Error(bad_input) for a texture named but not found.
+// list, or kAllMeshes), as read_scene_mesh (mesh_io.h) takes them by name. Error(bad_input) for a texture named but not
+// found.
 MeshSurface read_welded_surface(const std::filesystem::path& path, const std::string& mesh_name = {});
 
 }  // namespace sweep::assets

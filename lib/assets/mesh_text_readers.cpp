@@ -119,13 +119,11 @@ Mesh parse_off(std::string_view text, const std::string& source) {
   std::vector<std::string_view> tok;
   if (!lines.next(tok)) bad(source, "no OFF header");
   const std::string_view keyword = tok[0];
-  static constexpr std::array<std::string_view, 5> kKeywords = {"OFF", "COFF", "NOFF", "CNOFF",
-                                                                "NCOFF"};
+  static constexpr std::array<std::string_view, 5> kKeywords = {"OFF", "COFF", "NOFF", "CNOFF", "NCOFF"};
   if (std::find(kKeywords.begin(), kKeywords.end(), keyword) == kKeywords.end()) {
     if (keyword.size() >= 3 && keyword.substr(keyword.size() - 3) == "OFF") {
-      fail(ErrorCategory::unsupported,
-           source + ": " + at_line(lines.line()) + "OFF variant '" + std::string(keyword) +
-               "' is not supported (only OFF, COFF, NOFF, CNOFF, NCOFF)");
+      fail(ErrorCategory::unsupported, source + ": " + at_line(lines.line()) + "OFF variant '" + std::string(keyword) +
+                                           "' is not supported (only OFF, COFF, NOFF, CNOFF, NCOFF)");
     }
     bad(source, at_line(lines.line()) + "not an OFF file: expected the keyword OFF, found '" +
                     std::string(keyword.substr(0, 40)) + "'");
@@ -149,57 +147,53 @@ Mesh parse_off(std::string_view text, const std::string& source) {
   mesh.positions.reserve(std::min<std::uint64_t>(nv, text.size() / 6));
   for (std::uint64_t i = 0; i < nv; ++i) {
     if (!lines.next(tok)) {
-      bad(source, "unexpected end of file: the header announces " + std::to_string(nv) +
-                      " vertices, the file has " + std::to_string(i));
+      bad(source, "unexpected end of file: the header announces " + std::to_string(nv) + " vertices, the file has " +
+                      std::to_string(i));
     }
     Vec3 p;
     if (tok.size() < 3) {
-      bad(source,
-          at_line(lines.line()) + "vertex " + std::to_string(i) + ": expected 3 coordinates");
+      bad(source, at_line(lines.line()) + "vertex " + std::to_string(i) + ": expected 3 coordinates");
     }
     for (int k = 0; k < 3; ++k) {
       if (!parse_real(tok[k], p[k])) {
-        bad(source, at_line(lines.line()) + "vertex " + std::to_string(i) + ": '" +
-                        std::string(tok[k].substr(0, 40)) + "' is not a number");
+        bad(source, at_line(lines.line()) + "vertex " + std::to_string(i) + ": '" + std::string(tok[k].substr(0, 40)) +
+                        "' is not a number");
       }
     }
     if (!is_finite(p)) {
-      bad(source, at_line(lines.line()) + "vertex " + std::to_string(i) +
-                      " has a non-finite coordinate " + format_exact_point(p));
+      bad(source, at_line(lines.line()) + "vertex " + std::to_string(i) + " has a non-finite coordinate " +
+                      format_exact_point(p));
     }
     mesh.positions.push_back(p);
   }
   mesh.face_offsets.reserve(std::min<std::uint64_t>(nf, text.size() / 6) + 1);
   for (std::uint64_t f = 0; f < nf; ++f) {
     if (!lines.next(tok)) {
-      bad(source, "unexpected end of file: the header announces " + std::to_string(nf) +
-                      " faces, the file has " + std::to_string(f));
+      bad(source, "unexpected end of file: the header announces " + std::to_string(nf) + " faces, the file has " +
+                      std::to_string(f));
     }
     std::uint64_t n = 0;
     if (!parse_index(tok[0], n)) {
-      bad(source, at_line(lines.line()) + "face " + std::to_string(f) +
-                      ": expected its vertex count, found '" + std::string(tok[0].substr(0, 40)) +
-                      "'");
+      bad(source, at_line(lines.line()) + "face " + std::to_string(f) + ": expected its vertex count, found '" +
+                      std::string(tok[0].substr(0, 40)) + "'");
     }
     if (n < 3) {
-      bad(source, at_line(lines.line()) + "face " + std::to_string(f) + " has " +
-                      std::to_string(n) + " vertices (a face needs at least 3)");
+      bad(source, at_line(lines.line()) + "face " + std::to_string(f) + " has " + std::to_string(n) +
+                      " vertices (a face needs at least 3)");
     }
     if (n > tok.size() - 1) {  // not tok.size() < n + 1: n may be 2^64 - 1
-      bad(source, at_line(lines.line()) + "face " + std::to_string(f) + ": expected " +
-                      std::to_string(n) + " vertex indices, found " +
-                      std::to_string(tok.size() - 1));
+      bad(source, at_line(lines.line()) + "face " + std::to_string(f) + ": expected " + std::to_string(n) +
+                      " vertex indices, found " + std::to_string(tok.size() - 1));
     }
     for (std::uint64_t k = 1; k <= n; ++k) {
       std::uint64_t v = 0;
       if (!parse_index(tok[k], v)) {
-        bad(source, at_line(lines.line()) + "face " + std::to_string(f) + ": '" +
-                        std::string(tok[k].substr(0, 40)) + "' is not a vertex index");
+        bad(source, at_line(lines.line()) + "face " + std::to_string(f) + ": '" + std::string(tok[k].substr(0, 40)) +
+                        "' is not a vertex index");
       }
       if (v >= nv) {
-        bad(source, at_line(lines.line()) + "face " + std::to_string(f) + " uses vertex " +
-                        std::to_string(v) + ", out of range (the mesh has " + std::to_string(nv) +
-                        " vertices)");
+        bad(source, at_line(lines.line()) + "face " + std::to_string(f) + " uses vertex " + std::to_string(v) +
+                        ", out of range (the mesh has " + std::to_string(nv) + " vertices)");
       }
       mesh.face_vertices.push_back(static_cast<std::uint32_t>(v));
     }
@@ -236,8 +230,7 @@ Mesh parse_obj(const std::string& file_text, const std::string& source) {
     if (tok[0] == "v") {
       const std::size_t index = mesh.positions.size();
       if (tok.size() < 4) {
-        bad(source,
-            at_line(line_no) + "vertex " + std::to_string(index) + ": expected 3 coordinates");
+        bad(source, at_line(line_no) + "vertex " + std::to_string(index) + ": expected 3 coordinates");
       }
       Vec3 p;
       for (int k = 0; k < 3; ++k) {
@@ -247,15 +240,15 @@ Mesh parse_obj(const std::string& file_text, const std::string& source) {
         }
       }
       if (!is_finite(p)) {
-        bad(source, at_line(line_no) + "vertex " + std::to_string(index) +
-                        " has a non-finite coordinate " + format_exact_point(p));
+        bad(source, at_line(line_no) + "vertex " + std::to_string(index) + " has a non-finite coordinate " +
+                        format_exact_point(p));
       }
       mesh.positions.push_back(p);
     } else if (tok[0] == "f") {
       const std::size_t face = faces.size();
       if (tok.size() < 4) {
-        bad(source, at_line(line_no) + "face " + std::to_string(face) + " has " +
-                        std::to_string(tok.size() - 1) + " vertices (a face needs at least 3)");
+        bad(source, at_line(line_no) + "face " + std::to_string(face) + " has " + std::to_string(tok.size() - 1) +
+                        " vertices (a face needs at least 3)");
       }
       faces.push_back({line_no, corners.size(), tok.size() - 1});
       for (std::size_t k = 1; k < tok.size(); ++k) {
@@ -263,13 +256,11 @@ Mesh parse_obj(const std::string& file_text, const std::string& source) {
         long long index = 0;
         const auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), index);
         if (ec != std::errc() || ptr != v.data() + v.size() || index == 0) {
-          bad(source, at_line(line_no) + "face " + std::to_string(face) + ": '" +
-                          std::string(tok[k].substr(0, 40)) +
+          bad(source, at_line(line_no) + "face " + std::to_string(face) + ": '" + std::string(tok[k].substr(0, 40)) +
                           "' is not a vertex index (1-based, or negative for relative)");
         }
         // Relative: -1 is the last vertex read so far.
-        corners.push_back(index > 0 ? index - 1
-                                    : static_cast<long long>(mesh.positions.size()) + index);
+        corners.push_back(index > 0 ? index - 1 : static_cast<long long>(mesh.positions.size()) + index);
       }
     }
   }
@@ -281,10 +272,8 @@ Mesh parse_obj(const std::string& file_text, const std::string& source) {
     for (std::size_t k = 0; k < faces[f].count; ++k) {
       const long long v = corners[faces[f].first + k];
       if (v < 0 || v >= nv) {
-        bad(source, at_line(faces[f].line) + "face " + std::to_string(f) + " uses vertex " +
-                        std::to_string(v + 1) +
-                        " (1-based, as in the file), out of range (the mesh has " +
-                        std::to_string(nv) + " vertices)");
+        bad(source, at_line(faces[f].line) + "face " + std::to_string(f) + " uses vertex " + std::to_string(v + 1) +
+                        " (1-based, as in the file), out of range (the mesh has " + std::to_string(nv) + " vertices)");
       }
       mesh.face_vertices.push_back(static_cast<std::uint32_t>(v));
     }

@@ -25,15 +25,13 @@ void check_writable(const fs::path& path, const Mesh& mesh) {
   }
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     if (!is_finite(mesh.positions[i])) {
-      fail(ErrorCategory::output, path.string() + ": refusing to write vertex " +
-                                      std::to_string(i) + ": non-finite coordinate " +
-                                      format_exact_point(mesh.positions[i]));
+      fail(ErrorCategory::output, path.string() + ": refusing to write vertex " + std::to_string(i) +
+                                      ": non-finite coordinate " + format_exact_point(mesh.positions[i]));
     }
   }
   for (std::uint32_t v : mesh.face_vertices) {
     if (v >= mesh.positions.size()) {
-      fail(ErrorCategory::internal,
-           path.string() + ": refusing to write a face index out of range");
+      fail(ErrorCategory::internal, path.string() + ": refusing to write a face index out of range");
     }
   }
 }
@@ -92,11 +90,10 @@ std::string ply_bytes(const Mesh& mesh) {
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
     widest = std::max(widest, mesh.face_offsets[f + 1] - mesh.face_offsets[f]);
   }
-  std::string out = "ply\nformat ascii 1.0\ncomment sweep mesh 1\nelement vertex " +
-                    std::to_string(mesh.vertex_count()) +
-                    "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
-                    std::to_string(mesh.face_count()) + "\nproperty list " +
-                    (widest <= 255 ? "uchar" : "uint") + " uint vertex_indices\nend_header\n";
+  std::string out =
+      "ply\nformat ascii 1.0\ncomment sweep mesh 1\nelement vertex " + std::to_string(mesh.vertex_count()) +
+      "\nproperty double x\nproperty double y\nproperty double z\nelement face " + std::to_string(mesh.face_count()) +
+      "\nproperty list " + (widest <= 255 ? "uchar" : "uint") + " uint vertex_indices\nend_header\n";
   for (const Vec3& p : mesh.positions) detail::append_vertex_line(out, "", p);
   append_counted_faces(out, mesh);
   return out;
@@ -127,8 +124,8 @@ void write_mesh(const fs::path& path, const Mesh& mesh) {
   if (ext == "obj") return write_obj(path, mesh);
   if (ext == "off") return write_off(path, mesh);
   if (ext == "ply") return write_ply(path, mesh);
-  fail(ErrorCategory::unsupported, path.string() + ": cannot write mesh format '" +
-                                       path.extension().string() + "' (write .obj, .off or .ply)");
+  fail(ErrorCategory::unsupported,
+       path.string() + ": cannot write mesh format '" + path.extension().string() + "' (write .obj, .off or .ply)");
 }
 
 }  // namespace sweep::assets

@@ -4,9 +4,9 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <cmath>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -55,8 +55,9 @@ std::map<std::string, Material> read_mtl(const fs::path& mtl) {
   try {
     text = read_file(mtl);
   } catch (const Error&) {
-    fail(ErrorCategory::bad_input, mtl.string() + ": cannot read this material library, which the "
-                                                  "OBJ names and the .glb bake carries");
+    fail(ErrorCategory::bad_input, mtl.string() +
+                                       ": cannot read this material library, which the "
+                                       "OBJ names and the .glb bake carries");
   }
   std::istringstream in(text);
   Material* m = nullptr;
@@ -75,8 +76,8 @@ std::map<std::string, Material> read_mtl(const fs::path& mtl) {
       for (int c = 0; c < 3; ++c) {
         if (!std::isfinite(number(t[c + 1]))) {
           fail(ErrorCategory::bad_input, place(mtl, number_of_line) + "material '" + m->name +
-                                             "': Kd must be three finite numbers, got '" + t[1] + " " + t[2] +
-                                             " " + t[3] + "'");
+                                             "': Kd must be three finite numbers, got '" + t[1] + " " + t[2] + " " +
+                                             t[3] + "'");
         }
         m->colour[c] = std::clamp(number(t[c + 1]), 0.0, 1.0);
       }
@@ -122,7 +123,7 @@ std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest,
   std::vector<std::array<float, 2>> uvs;
   std::vector<std::array<float, 3>> normals, colours;
   std::map<std::string, Material> library;
-  std::vector<std::string> material_order;             // in first use
+  std::vector<std::string> material_order;                        // in first use
   std::map<std::string, std::vector<std::vector<Corner>>> faces;  // per material
   std::size_t positions = 0, face_count = 0;
   std::string current;
@@ -141,8 +142,8 @@ std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest,
                                      static_cast<float>(number(t[6]))};
         if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) {
           fail(ErrorCategory::bad_input, place(obj, line_number) + "vertex " + std::to_string(positions - 1) +
-                                             " has a colour that is not finite (" + t[4] + ", " + t[5] + ", " +
-                                             t[6] + ")");
+                                             " has a colour that is not finite (" + t[4] + ", " + t[5] + ", " + t[6] +
+                                             ")");
         }
         colours.push_back(c);
         any_surface = true;
@@ -150,9 +151,8 @@ std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest,
     } else if (t[0] == "vt" && t.size() >= 3) {
       uvs.push_back({static_cast<float>(number(t[1])), static_cast<float>(1 - number(t[2]))});
       if (!std::isfinite(uvs.back()[0]) || !std::isfinite(uvs.back()[1])) {
-        fail(ErrorCategory::bad_input, place(obj, line_number) + "texture coordinate " +
-                                           std::to_string(uvs.size()) + " (1-based) is not finite (" + t[1] +
-                                           ", " + t[2] + ")");
+        fail(ErrorCategory::bad_input, place(obj, line_number) + "texture coordinate " + std::to_string(uvs.size()) +
+                                           " (1-based) is not finite (" + t[1] + ", " + t[2] + ")");
       }
       any_surface = true;
     } else if (t[0] == "vn" && t.size() >= 4) {
@@ -175,14 +175,15 @@ std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest,
           parts[p] = t[k].substr(at, slash == std::string::npos ? std::string::npos : slash - at);
           at = slash == std::string::npos ? slash : slash + 1;
         }
-        face.push_back({index_of(parts[0], positions), index_of(parts[1], uvs.size()), index_of(parts[2], normals.size())});
+        face.push_back(
+            {index_of(parts[0], positions), index_of(parts[1], uvs.size()), index_of(parts[2], normals.size())});
         // A vt or vn named but not there would drop the face's UVs or normals, or index past them.
         const Corner& c = face.back();
-        for (const auto& [given, index, count, what] :
-             {std::tuple{parts[1], c.vt, uvs.size(), "texture coordinate"}, std::tuple{parts[2], c.vn, normals.size(), "normal"}}) {
+        for (const auto& [given, index, count, what] : {std::tuple{parts[1], c.vt, uvs.size(), "texture coordinate"},
+                                                        std::tuple{parts[2], c.vn, normals.size(), "normal"}}) {
           if (!given.empty() && (index < 0 || index >= static_cast<long long>(count))) {
-            fail(ErrorCategory::bad_input, place(obj, line_number) + "face " + std::to_string(face_count) +
-                                               " uses " + what + " " + given + " (as in the file), out of range (the file has " +
+            fail(ErrorCategory::bad_input, place(obj, line_number) + "face " + std::to_string(face_count) + " uses " +
+                                               what + " " + given + " (as in the file), out of range (the file has " +
                                                std::to_string(count) + " before this line)");
           }
         }
@@ -212,14 +213,16 @@ std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest,
         if (inserted) corners.push_back(c);
         ids.push_back(it->second);
       }
-      for (std::size_t k = 1; k + 1 < ids.size(); ++k) prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
+      for (std::size_t k = 1; k + 1 < ids.size(); ++k)
+        prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
     }
     if (corners.empty()) continue;
     for (const Corner& c : corners) {
       prim.source.push_back(static_cast<std::uint32_t>(c.v));
       if (has_uv) prim.uv.insert(prim.uv.end(), uvs[c.vt].begin(), uvs[c.vt].end());
       if (has_normal) prim.normal.insert(prim.normal.end(), normals[c.vn].begin(), normals[c.vn].end());
-      if (!colours.empty()) prim.colour.insert(prim.colour.end(), {colours[c.v][0], colours[c.v][1], colours[c.v][2], 1.0f});
+      if (!colours.empty())
+        prim.colour.insert(prim.colour.end(), {colours[c.v][0], colours[c.v][1], colours[c.v][2], 1.0f});
     }
     if (!name.empty()) {
       const auto found = library.find(name);
@@ -259,7 +262,8 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
     bin.append(static_cast<const char*>(data), bytes);
     views.push_back(view);
     if (!type) return views.size() - 1;
-    accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
+    accessors.push_back(
+        {{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
     return accessors.size() - 1;
   };
   Json primitives = Json::array(), materials = Json::array(), textures = Json::array(), images = Json::array();
@@ -268,10 +272,11 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
     if (!m.texture.empty()) {
       const std::string type = media_type(m.texture);
       if (type.empty()) {
-        fail(ErrorCategory::unsupported, m.texture_name + ": material '" + m.name +
-                                             "''s texture is not PNG or JPEG, so a .glb cannot hold it");
+        fail(ErrorCategory::unsupported,
+             m.texture_name + ": material '" + m.name + "''s texture is not PNG or JPEG, so a .glb cannot hold it");
       }
-      images.push_back({{"name", fs::path(m.texture_name).stem().string()}, {"mimeType", type},
+      images.push_back({{"name", fs::path(m.texture_name).stem().string()},
+                        {"mimeType", type},
                         {"bufferView", add(m.texture.data(), m.texture.size(), 0, nullptr, 0, 0)}});
       textures.push_back({{"source", images.size() - 1}});
       pbr["baseColorTexture"] = {{"index", textures.size() - 1}};
@@ -354,8 +359,9 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
   if (any_uv) shared["TEXCOORD_0"] = add(uv.data(), 4 * uv.size(), 5126, "VEC2", count, 34962);
   if (any_colour) shared["COLOR_0"] = add(col.data(), 4 * col.size(), 5126, "VEC4", count, 34962);
   for (std::size_t k = 0; k < surface.primitives.size(); ++k) {
-    Json primitive = {{"attributes", shared},
-                      {"indices", add(indices[k].data(), 4 * indices[k].size(), 5125, "SCALAR", indices[k].size(), 34963)}};
+    Json primitive = {
+        {"attributes", shared},
+        {"indices", add(indices[k].data(), 4 * indices[k].size(), 5125, "SCALAR", indices[k].size(), 34963)}};
     if (surface.primitives[k].material >= 0) primitive["material"] = surface.primitives[k].material;
     primitives.push_back(std::move(primitive));
     out.sources.push_back(source);

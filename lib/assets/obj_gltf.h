@@ -7,9 +7,9 @@
 // into triangles as Mesh::triangles() does. glTF gives a vertex one UV and one normal, so a vertex
 // is split where its corners differ (a UV seam, a hard edge): the primitives share one vertex
 // array, the mesh's vertices first in its order (each with its first corner's attributes), then a
-// copy for each differing corner; `sources` says which mesh vertex (the `v`, 0-based) each is. Positions are the mesh's as float32; UVs become (u, 1 - v) (glTF's origin is the
-// top left); normals are normalized; a texture is embedded (PNG or JPEG, by its bytes). An
-// attribute is written on a primitive only when all its corners have it.
+// copy for each differing corner; `sources` says which mesh vertex (the `v`, 0-based) each is. Positions are the mesh's
+// as float32; UVs become (u, 1 - v) (glTF's origin is the top left); normals are normalized; a texture is embedded (PNG
+// or JPEG, by its bytes). An attribute is written on a primitive only when all its corners have it.
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -22,7 +22,7 @@
 namespace sweep::assets::detail {
 
 struct SurfaceGltf {
-  GltfDocument doc;                                  // buffers[0]: the bytes, in memory
+  GltfDocument doc;                                 // buffers[0]: the bytes, in memory
   std::vector<std::vector<std::uint32_t>> sources;  // per primitive, per vertex: the mesh vertex
 };
 

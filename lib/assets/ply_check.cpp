@@ -1,9 +1,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
-#include <cstdint>
 #include <vector>
 
 #include "sweep/assets/mesh_checks.h"
@@ -15,7 +15,7 @@ namespace {
 struct PlyElement {
   std::string name;
   std::uint64_t count = 0;
-  std::vector<bool> is_list;  // per property, in order
+  std::vector<bool> is_list;             // per property, in order
   std::vector<std::string> value_types;  // per property: its type (a list's: its items' type)
   std::vector<std::string> scalar_names;
   std::vector<std::string> list_names;
@@ -45,9 +45,8 @@ std::vector<std::string_view> tokens_of(std::string_view line) {
 bool plain_name(std::string_view t) {
   const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
   if (t.empty() || !letter(t[0])) return false;
-  return std::all_of(t.begin(), t.end(), [&](char c) {
-    return letter(c) || (c >= '0' && c <= '9') || c == '-' || c == '.';
-  });
+  return std::all_of(t.begin(), t.end(),
+                     [&](char c) { return letter(c) || (c >= '0' && c <= '9') || c == '-' || c == '.'; });
 }
 
 bool whole_number(std::string_view t, std::uint64_t& v) {
@@ -94,8 +93,8 @@ bool is_number(std::string_view t) {
 // The PLY scalar types. assimp reads a property of another type as nothing at all, so the values
 // of a line shift (found by the ply_mesh fuzz target: "property doub\x17e y").
 bool known_type(std::string_view t) {
-  for (const char* k : {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8",
-                        "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"}) {
+  for (const char* k : {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8", "int16",
+                        "uint16", "int32", "uint32", "float32", "float64"}) {
     if (t == k) return true;
   }
   return false;
@@ -175,8 +174,7 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
     if (tok[0] == "comment" || tok[0] == "obj_info") continue;
     if (tok[0] == "format") {
       if (has_format || tok.size() != 3 || tok[2] != "1.0" ||
-          (tok[1] != "ascii" && tok[1] != "binary_little_endian" &&
-           tok[1] != "binary_big_endian")) {
+          (tok[1] != "ascii" && tok[1] != "binary_little_endian" && tok[1] != "binary_big_endian")) {
         bad_ply(source, line_no, "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
       }
       has_format = true;
@@ -187,8 +185,9 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
         bad_ply(source, line_no, "expected 'element NAME COUNT'");
       }
       if (!plain_name(tok[1])) {
-        bad_ply(source, line_no, "element name '" + std::string(tok[1].substr(0, 40)) +
-                                     "' is not a plain name (a letter or '_', then letters, digits, '_', '-' or '.')");
+        bad_ply(source, line_no,
+                "element name '" + std::string(tok[1].substr(0, 40)) +
+                    "' is not a plain name (a letter or '_', then letters, digits, '_', '-' or '.')");
       }
       e.name = std::string(tok[1]);
       e.line = line_no;
@@ -196,8 +195,8 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
       // of 0 gave 4 vertices that no line-by-line reading finds: a ply_mesh fuzz find from CI, kept).
       for (const PlyElement& earlier : elements) {
         if (earlier.name == e.name) {
-          bad_ply(source, line_no, "a second element '" + e.name + "' (the first is on line " +
-                                       std::to_string(earlier.line) + ")");
+          bad_ply(source, line_no,
+                  "a second element '" + e.name + "' (the first is on line " + std::to_string(earlier.line) + ")");
         }
       }
       elements.push_back(std::move(e));
@@ -207,23 +206,23 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
       // "property TYPE NAME" or "property list COUNT_TYPE ITEM_TYPE NAME".
       for (std::size_t k = list ? 2 : 1; k < (list ? 4 : 2); ++k) {
         if (k >= tok.size() || !known_type(tok[k])) {
-          bad_ply(source, line_no, "property: unknown type '" +
-                                       std::string(k < tok.size() ? tok[k].substr(0, 40) : "") +
-                                       "'");
+          bad_ply(source, line_no,
+                  "property: unknown type '" + std::string(k < tok.size() ? tok[k].substr(0, 40) : "") + "'");
         }
       }
       elements.back().is_list.push_back(list);
       elements.back().value_types.emplace_back(tok[list ? 3 : 1]);
       if (tok.size() != (list ? 5u : 3u)) bad_ply(source, line_no, "expected 'property TYPE NAME'");
       if (!plain_name(tok.back())) {
-        bad_ply(source, line_no, "property name '" + std::string(tok.back().substr(0, 40)) +
-                                     "' is not a plain name (a letter or '_', then letters, digits, '_', '-' or '.')");
+        bad_ply(source, line_no,
+                "property name '" + std::string(tok.back().substr(0, 40)) +
+                    "' is not a plain name (a letter or '_', then letters, digits, '_', '-' or '.')");
       }
       // Likewise a property named twice: which of the two a reader keeps is its own choice.
       for (const auto* names : {&elements.back().scalar_names, &elements.back().list_names}) {
         if (std::find(names->begin(), names->end(), tok.back()) != names->end()) {
-          bad_ply(source, line_no, "a second property '" + std::string(tok.back()) + "' in element '" +
-                                       elements.back().name + "'");
+          bad_ply(source, line_no,
+                  "a second property '" + std::string(tok.back()) + "' in element '" + elements.back().name + "'");
         }
       }
       (list ? elements.back().list_names : elements.back().scalar_names).emplace_back(tok.back());
@@ -258,8 +257,8 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
       do {
         if (!next_line(line)) {
           bad_ply(source, line_no,
-                  "unexpected end of file: the header announces " + std::to_string(e.count) +
-                      " " + e.name + " elements, the file holds " + std::to_string(i));
+                  "unexpected end of file: the header announces " + std::to_string(e.count) + " " + e.name +
+                      " elements, the file holds " + std::to_string(i));
         }
         // A lone CR: assimp ends a line there, a line-based reading does not, so the values
         // would shift (found by the ply_mesh fuzz target's vertex check).
@@ -271,8 +270,9 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
         for (const char c : line) {
           const auto byte = static_cast<unsigned char>(c);
           if ((byte < 0x20 && c != '\t' && c != '\r') || byte == 0x7f) {
-            bad_ply(source, line_no, "a control character (byte " + std::to_string(byte) +
-                                         ") where only numbers, spaces and tabs belong");
+            bad_ply(
+                source, line_no,
+                "a control character (byte " + std::to_string(byte) + ") where only numbers, spaces and tabs belong");
           }
         }
         tok = tokens_of(line);
@@ -299,30 +299,28 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
       }
       for (std::size_t k = 0; k < tok.size(); ++k) {
         if (!is_number(tok[k])) {
-          bad_ply(source, line_no, e.name + " " + std::to_string(i) + ": '" +
-                                       std::string(tok[k].substr(0, 40)) +
-                                       "' is not a number within the range of a 32-bit float (with at most 18 digits before the point)");
+          bad_ply(source, line_no,
+                  e.name + " " + std::to_string(i) + ": '" + std::string(tok[k].substr(0, 40)) +
+                      "' is not a number within the range of a 32-bit float (with at most 18 digits before the point)");
         }
         if (k < property_of.size() && property_of[k] < e.is_list.size() &&
             !fits_integer_type(tok[k], e.value_types[property_of[k]])) {
           bad_ply(source, line_no,
                   e.name + " " + std::to_string(i) + ": '" + std::string(tok[k].substr(0, 40)) +
-                      "' is not a whole number in the range of its type " +
-                      e.value_types[property_of[k]]);
+                      "' is not a whole number in the range of its type " + e.value_types[property_of[k]]);
         }
       }
       if (used != tok.size()) {
         bad_ply(source, line_no,
-                e.name + " " + std::to_string(i) + ": expected " + std::to_string(used) +
-                    " values, found " + std::to_string(tok.size()) +
+                e.name + " " + std::to_string(i) + ": expected " + std::to_string(used) + " values, found " +
+                    std::to_string(tok.size()) +
                     " (does the header announce more or fewer elements than the file holds?)");
       }
     }
   }
   while (next_line(line)) {
     if (!tokens_of(line).empty()) {
-      bad_ply(source, line_no,
-              "data after the last element the header announces (does it announce too few?)");
+      bad_ply(source, line_no, "data after the last element the header announces (does it announce too few?)");
     }
   }
 }

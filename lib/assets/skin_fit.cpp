@@ -12,7 +12,9 @@
 
 namespace sweep::assets {
 
-bool JointKey::operator==(const JointKey& o) const { return std::memcmp(this, &o, sizeof(JointKey)) == 0; }
+bool JointKey::operator==(const JointKey& o) const {
+  return std::memcmp(this, &o, sizeof(JointKey)) == 0;
+}
 
 Eigen::Matrix4d key_matrix(const JointKey& k) {
   Eigen::Quaterniond q(k.r[3], k.r[0], k.r[1], k.r[2]);
@@ -89,10 +91,10 @@ std::string padded(int value, int largest) {
 
 // One vertex's influence as the fit sees it.
 struct Slot {
-  int joint = 0;       // skin joint
-  float weight = 0;    // as written
-  int station = -1;    // -1: the body
-  int unknown = -1;    // the ring joint's index among the sweep's ring unknowns; -1: none
+  int joint = 0;              // skin joint
+  float weight = 0;           // as written
+  int station = -1;           // -1: the body
+  int unknown = -1;           // the ring joint's index among the sweep's ring unknowns; -1: none
   Vec3 local = Vec3::Zero();  // the rest vertex in the station's rest frame
 };
 
@@ -206,13 +208,14 @@ SkinFit::SkinFit(std::vector<SkinSweep> sweeps, const SkinLayout& layout, std::s
       station_share(j + 1, u * blend, !five || u >= 0.5);
       add(0, 1 - blend, -1, -1);
       if (count == 0 || count > 4) {
-        fail(ErrorCategory::internal, "skin: vertex " + std::to_string(v) + " has " + std::to_string(count) +
-                                          " influences");
+        fail(ErrorCategory::internal,
+             "skin: vertex " + std::to_string(v) + " has " + std::to_string(count) + " influences");
       }
       // Heaviest first; in float the heaviest takes what rounding left over, so they sum to 1.
       std::array<int, 5> order{0, 1, 2, 3, 4};
-      std::stable_sort(order.begin(), order.begin() + count,
-                       [&](int a, int bb) { return cw[static_cast<std::size_t>(a)] > cw[static_cast<std::size_t>(bb)]; });
+      std::stable_sort(order.begin(), order.begin() + count, [&](int a, int bb) {
+        return cw[static_cast<std::size_t>(a)] > cw[static_cast<std::size_t>(bb)];
+      });
       std::array<Slot, 4> slots{};
       float rest_sum = 0;
       for (int k = 0; k < count; ++k) {

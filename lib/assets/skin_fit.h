@@ -96,13 +96,13 @@ inline constexpr JointKey kIdentityKey{{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
 Eigen::Matrix4d key_matrix(const JointKey& k);
 
 struct SkinJoint {
-  std::string name;    // "<sweep>.03" (station 3), "<sweep>.03.r05" (its ring joint 5)
-  int parent = -1;     // skin joint index; -1 for the body
-  int sweep = -1;      // -1 for the body
+  std::string name;  // "<sweep>.03" (station 3), "<sweep>.03.r05" (its ring joint 5)
+  int parent = -1;   // skin joint index; -1 for the body
+  int sweep = -1;    // -1 for the body
   int station = -1;
-  int ring = -1;       // -1 for a station joint
-  double t = 0;        // the station's parameter, mesh units
-  double angle = 0;    // a ring joint's φ, radians
+  int ring = -1;     // -1 for a station joint
+  double t = 0;      // the station's parameter, mesh units
+  double angle = 0;  // a ring joint's φ, radians
 };
 
 class SkinFit {
@@ -127,8 +127,8 @@ class SkinFit {
   // One frame: `shapes`, the deformed sweeps in the body's frame (one per SkinSweep, same order),
   // and `positions`, the bake's vertices in the body's frame. Writes every joint's key into `keys`
   // (joint_count() of them; the body's stays the identity) and adds the frame to error().
-  void pose(std::span<const SweepShape* const> shapes, std::span<const Eigen::Vector3f> positions,
-            int frame, std::span<JointKey> keys);
+  void pose(std::span<const SweepShape* const> shapes, std::span<const Eigen::Vector3f> positions, int frame,
+            std::span<JointKey> keys);
   const SkinError& error() const { return error_; }
 
  private:

@@ -1,8 +1,8 @@
 #include "sweep/assets/skinned_clip.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <Eigen/SVD>
 #include <map>
 
 #include "sweep/core/error.h"
@@ -42,14 +42,17 @@ SkinnedClip::SkinnedClip(const std::filesystem::path& file, SkinModel model, con
   if (n < 0 || (n != model_.mesh_node && model_.joint_of_node(n) < 0)) {
     refuse(file, "the scene's body follows node '" + node + "', which is " +
                      (n < 0 ? "not a node of the file" : "neither the skinned mesh's node nor a joint of its skin") +
-                     ": name the skinned mesh's node '" + mesh_node + "' or one of its joints (" + joined(joint_names) + ")");
+                     ": name the skinned mesh's node '" + mesh_node + "' or one of its joints (" + joined(joint_names) +
+                     ")");
   }
-  if (model_.clips.empty()) refuse(file, "the scene's body plays a clip of node '" + node + "', but the file has no animations");
+  if (model_.clips.empty())
+    refuse(file, "the scene's body plays a clip of node '" + node + "', but the file has no animations");
   if (animation.empty()) {
     clip_ = 0;
   } else {
     clip_ = model_.find_clip(animation);
-    if (clip_ < 0) refuse(file, "no animation is named '" + animation + "'; the file's clips are " + model_.clip_names());
+    if (clip_ < 0)
+      refuse(file, "no animation is named '" + animation + "'; the file's clips are " + model_.clip_names());
   }
   bool moves = false;
   for (const ClipChannel& c : model_.clips[clip_].channels) {
@@ -60,9 +63,11 @@ SkinnedClip::SkinnedClip(const std::filesystem::path& file, SkinModel model, con
   }
   if (!moves) {
     refuse(file, "animation '" + clip_name() + "' moves none of the joints of the skin of '" + mesh_node +
-                     "' (it moves " + joined(model_.moved_nodes(clip_)) + "); the file's clips are " + model_.clip_names());
+                     "' (it moves " + joined(model_.moved_nodes(clip_)) + "); the file's clips are " +
+                     model_.clip_names());
   }
-  if (!(preroll_seconds >= 0) || !std::isfinite(preroll_seconds)) refuse(file, "the body's preroll must be a finite number of seconds, at least 0");
+  if (!(preroll_seconds >= 0) || !std::isfinite(preroll_seconds))
+    refuse(file, "the body's preroll must be a finite number of seconds, at least 0");
   preroll_frames_ = static_cast<int>(std::lround(preroll_seconds * fps));
   // Each part's root joint: the most weight over its root ring.
   for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
@@ -81,8 +86,10 @@ SkinnedClip::SkinnedClip(const std::filesystem::path& file, SkinModel model, con
         ++ring;
       }
     }
-    if (ring == 0) refuse(file, "part '" + rig.sweeps[i].name + "' binds no vertex near its root: its root joint cannot be found");
-    const auto best = std::max_element(weight.begin(), weight.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (ring == 0)
+      refuse(file, "part '" + rig.sweeps[i].name + "' binds no vertex near its root: its root joint cannot be found");
+    const auto best = std::max_element(weight.begin(), weight.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
     root_joint_.push_back(best->first);
     pivot_.push_back(centre / ring);
   }
@@ -124,18 +131,21 @@ sim::BodyPath SkinnedClip::sweep_path(int sweep, double duration) const {
       const Eigen::Matrix3d r = b.linear();
       // Exporters write scales of 1 as 0.9999999 and so on (float32 round trips): a scale within
       // kRigidTolerance of 1 is that noise, not a scale channel.
-      if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < kRigidTolerance) || !(r.determinant() > 0)) {
-        fail(ErrorCategory::bad_input,
-             "animation '" + clip_name() + "': the root joint '" + model_.nodes[root_joint_node(sweep)].name +
-                 "' of part " + std::to_string(sweep) + " is scaled or sheared at " + format_number(clip_time(scene_time)) +
-                 " s (a scale channel on it or above it, or a scaled inverse bind matrix): a part's root moves and turns rigidly");
+      if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < kRigidTolerance) ||
+          !(r.determinant() > 0)) {
+        fail(ErrorCategory::bad_input, "animation '" + clip_name() + "': the root joint '" +
+                                           model_.nodes[root_joint_node(sweep)].name + "' of part " +
+                                           std::to_string(sweep) + " is scaled or sheared at " +
+                                           format_number(clip_time(scene_time)) +
+                                           " s (a scale channel on it or above it, or a scaled inverse bind matrix): a "
+                                           "part's root moves and turns rigidly");
       }
       sim::BodyKey key;
       key.time = t;
       key.translation = b * pivot_[sweep];
       const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
       Quat q(Eigen::Matrix3d(svd.matrixU() * svd.matrixV().transpose()));
-      q.normalize();  // the nearest rotation (polar decomposition)
+      q.normalize();                          // the nearest rotation (polar decomposition)
       if (q.dot(last) < 0) q.coeffs() *= -1;  // continuous, so that slerp takes the short way
       last = q;
       key.rotation = q;
@@ -145,7 +155,8 @@ sim::BodyPath SkinnedClip::sweep_path(int sweep, double duration) const {
   return sim::BodyPath(std::move(keys), sim::BodyInterpolation::linear, pivot_[sweep]);
 }
 
-void SkinnedClip::pose(double scene_time, std::span<const Eigen::Vector3f> deformed, std::span<Eigen::Vector3f> out) const {
+void SkinnedClip::pose(double scene_time, std::span<const Eigen::Vector3f> deformed,
+                       std::span<Eigen::Vector3f> out) const {
   const std::vector<Eigen::Matrix4d> joints = joint_matrices_at(scene_time);
   for (std::size_t v = 0; v < out.size(); ++v) out[v] = skin_vertex(model_, joints, v).cast<float>();
   for (const bind::SweepBinding& table : binding_->sweeps) {

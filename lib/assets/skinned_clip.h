@@ -81,8 +81,8 @@ class SkinnedClip {
   int preroll_frames_ = 0;
   double fps_ = 30;
   Eigen::Affine3d from_mesh_ = Eigen::Affine3d::Identity();  // M⁻¹
-  std::vector<int> root_joint_;  // per sweep, into model_.joints
-  std::vector<Vec3> pivot_;      // per sweep: the root ring's centre at rest
+  std::vector<int> root_joint_;                              // per sweep, into model_.joints
+  std::vector<Vec3> pivot_;                                  // per sweep: the root ring's centre at rest
   const bind::Binding* binding_ = nullptr;
 };
 

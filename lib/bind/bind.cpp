@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
-#include <iterator>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -52,10 +52,12 @@ void check_inputs(const Rig& rig, const Mesh& mesh, const BindOptions& o) {
     fail(ErrorCategory::usage, "BindOptions::blend must be a finite distance >= 0, got " + format_exact(o.blend));
   }
   if (!(o.seedless_radius_factor >= 1) || !std::isfinite(o.seedless_radius_factor)) {
-    fail(ErrorCategory::usage, "BindOptions::seedless_radius_factor must be finite and >= 1, got " +
-                                   format_exact(o.seedless_radius_factor));
+    fail(ErrorCategory::usage,
+         "BindOptions::seedless_radius_factor must be finite and >= 1, got " + format_exact(o.seedless_radius_factor));
   }
-  if (o.stations_per_span < 1) fail(ErrorCategory::usage, "BindOptions::stations_per_span must be >= 1, got " + std::to_string(o.stations_per_span));
+  if (o.stations_per_span < 1)
+    fail(ErrorCategory::usage,
+         "BindOptions::stations_per_span must be >= 1, got " + std::to_string(o.stations_per_span));
   if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
   if (mesh.vertex_count() > std::numeric_limits<std::uint32_t>::max()) {
     fail(ErrorCategory::unsupported, "meshes of more than 2^32 - 1 vertices are not supported");
@@ -168,8 +170,7 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
   b.mesh_hash = hash_positions(mesh.positions);
   b.rig_hash = hash_sweeps(rig);
 
-  const bool any_seeds =
-      std::any_of(rig.sweeps.begin(), rig.sweeps.end(), [](const SweepDef& d) { return d.part; });
+  const bool any_seeds = std::any_of(rig.sweeps.begin(), rig.sweeps.end(), [](const SweepDef& d) { return d.part; });
   std::optional<Topology> topology;
   if (any_seeds) topology = build_topology(mesh);
 
@@ -197,10 +198,9 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
   if (any_seeds) {
     for (const LoosePiece& piece : find_loose_pieces(rig, mesh, *topology, selected)) {
       if (piece.sweep < 0) {
-        result.warnings.push_back(describe_piece(piece, mesh) + " lies " + format_number(piece.gap) +
-                                  " from part '" + rig.sweeps[static_cast<std::size_t>(piece.near)].name +
-                                  "' but is not bound (" + piece.why_unbound +
-                                  "): it will not move with the part");
+        result.warnings.push_back(describe_piece(piece, mesh) + " lies " + format_number(piece.gap) + " from part '" +
+                                  rig.sweeps[static_cast<std::size_t>(piece.near)].name + "' but is not bound (" +
+                                  piece.why_unbound + "): it will not move with the part");
         continue;
       }
       const auto i = static_cast<std::size_t>(piece.sweep);
@@ -269,8 +269,8 @@ BindResult bind(const Rig& rig, const Mesh& mesh, const BindOptions& options) {
     }
     SweepBindStats& st = result.sweeps[i];
     st.bound_vertex_count = sb.size();
-    st.blended_vertex_count = static_cast<std::size_t>(
-        std::count_if(sb.weight.begin(), sb.weight.end(), [](float w) { return w < 1; }));
+    st.blended_vertex_count =
+        static_cast<std::size_t>(std::count_if(sb.weight.begin(), sb.weight.end(), [](float w) { return w < 1; }));
     // The rest pose rebuilt from exactly what the file will hold.
     st.rest_max_error = max_rebuild_error(sb, def.rest, mesh.positions);
     st.seconds += seconds_since(sweep_start);

@@ -66,9 +66,9 @@ struct SweepBinding {
   std::vector<std::uint32_t> vertices;  // bound mesh-vertex indices, strictly increasing
   std::vector<float> t;                 // arc-length parameter, [0, L] (mesh units)
   std::vector<float> theta;             // angle in the cross-section plane, [0, 2π) radians
-  std::vector<float> s;       // distance from the axis / surface radius (1 on the surface)
-  std::vector<float> z;       // axial offset beyond an end section, mesh units (0 inside)
-  std::vector<float> weight;  // blend weight w ∈ [0, 1] (1 outside the blend zone)
+  std::vector<float> s;                 // distance from the axis / surface radius (1 on the surface)
+  std::vector<float> z;                 // axial offset beyond an end section, mesh units (0 inside)
+  std::vector<float> weight;            // blend weight w ∈ [0, 1] (1 outside the blend zone)
 
   std::size_t size() const { return vertices.size(); }
   SweepCoords coords(std::size_t k) const { return {t[k], theta[k], s[k], z[k]}; }

@@ -34,8 +34,7 @@ void deform_exact(const Binding& binding, std::span<const SweepShape> deformed_p
   deform_exact(binding, std::span<const SweepShape* const>(shapes), rest_positions, out);
 }
 
-double max_rebuild_error(const SweepBinding& table, const SweepShape& shape,
-                         std::span<const Vec3> positions) {
+double max_rebuild_error(const SweepBinding& table, const SweepShape& shape, std::span<const Vec3> positions) {
   double worst = 0;
   const auto count = static_cast<std::ptrdiff_t>(table.size());
 #pragma omp parallel for reduction(max : worst) schedule(static) if (count >= kMinParallelVertices)

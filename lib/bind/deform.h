@@ -25,7 +25,6 @@ void deform_exact(const Binding& binding, std::span<const SweepShape* const> def
 // Largest distance, over one sweep's bound vertices, between the vertex and its position rebuilt
 // from the stored coordinates on `shape` (no blend), mesh units. On the rest shape it measures how
 // exactly the binding reproduces the mesh.
-double max_rebuild_error(const SweepBinding& table, const SweepShape& shape,
-                         std::span<const Vec3> positions);
+double max_rebuild_error(const SweepBinding& table, const SweepShape& shape, std::span<const Vec3> positions);
 
 }  // namespace sweep::bind

@@ -44,8 +44,7 @@ std::vector<std::uint32_t> pieces_of(const Topology& topology, std::uint32_t& co
 // Points in cubic cells of one size: the nearest within a cell's width, by the 27 cells around.
 class PointGrid {
  public:
-  PointGrid(const Mesh& mesh, const std::vector<std::uint32_t>& points, double cell)
-      : mesh_(mesh), cell_(cell) {
+  PointGrid(const Mesh& mesh, const std::vector<std::uint32_t>& points, double cell) : mesh_(mesh), cell_(cell) {
     for (const std::uint32_t v : points) cells_[key(cell_of(mesh.positions[v]))].push_back(v);
   }
   // The distance from p to the nearest point, if one lies within a cell's width; else infinity.

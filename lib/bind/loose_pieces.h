@@ -27,10 +27,10 @@ inline constexpr double kLooseNearRadii = 3;
 
 struct LoosePiece {
   std::vector<std::uint32_t> vertices;  // ascending
-  int sweep = -1;  // the rig sweep it goes with; -1: left unbound (it is only next to `near`)
-  int near = -1;   // the sweep it lies nearest to
-  double gap = 0;  // from its nearest vertex to that part's nearest vertex, mesh units
-  std::string why_unbound;  // for a piece left unbound
+  int sweep = -1;                       // the rig sweep it goes with; -1: left unbound (it is only next to `near`)
+  int near = -1;                        // the sweep it lies nearest to
+  double gap = 0;                       // from its nearest vertex to that part's nearest vertex, mesh units
+  std::string why_unbound;              // for a piece left unbound
 };
 
 // The loose pieces next to the seeded sweeps' parts. `parts[i]` is sweep i's selected part

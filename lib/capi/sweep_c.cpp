@@ -2,12 +2,10 @@
 // sim::Simulator fed live (sim/simulator.h, "Live input") and the fast deformers. Every entry
 // point catches everything: a C host sees an error code and a thread-local message, never an
 // exception.
-#include "sweep/sweep.h"
-
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <new>
 #include <string>
@@ -23,6 +21,7 @@
 #include "sweep/sim/live_positions.h"
 #include "sweep/sim/simulator.h"
 #include "sweep/sim/skin_joints.h"
+#include "sweep/sweep.h"
 
 struct sweep_instance {
   sweep::Rig rig;
@@ -30,7 +29,7 @@ struct sweep_instance {
   std::unique_ptr<sweep::sim::Simulator> simulator;
   std::vector<std::unique_ptr<sweep::sim::FastDeformer>> deformers;
   std::unique_ptr<sweep::sim::LivePositions> positions;  // the parts' vertices as of their last deform
-  std::unique_ptr<sweep::sim::SkinJoints> joints;  // the skinned export's skeleton, posed on demand
+  std::unique_ptr<sweep::sim::SkinJoints> joints;        // the skinned export's skeleton, posed on demand
   // Per sweep: moved since its vertices were last deformed / its joints last posed. What a frame
   // reads is computed when it is read (sweep_positions, sweep_joints), for the parts that moved.
   std::vector<char> deform_due, joints_due;
@@ -141,13 +140,18 @@ std::vector<const sweep::SweepShape*> rest_shapes(const sweep::Rig& rig) {
 sweep::sim::SkinJointLayout default_skin(const sweep::Rig& rig) {
   sweep::sim::SkinJointLayout layout;
   for (const sweep::SweepDef& def : rig.sweeps)
-    layout.stations = std::min(layout.stations, std::max(2, (def.rest.section_count() - 1) * kExportStationsPerSpan + 1));
+    layout.stations =
+        std::min(layout.stations, std::max(2, (def.rest.section_count() - 1) * kExportStationsPerSpan + 1));
   return layout;
 }
 
-sweep::Vec3 vec3(const double xyz[3]) { return {xyz[0], xyz[1], xyz[2]}; }
+sweep::Vec3 vec3(const double xyz[3]) {
+  return {xyz[0], xyz[1], xyz[2]};
+}
 
-bool finite_floats(const float* xyz) { return std::isfinite(xyz[0]) && std::isfinite(xyz[1]) && std::isfinite(xyz[2]); }
+bool finite_floats(const float* xyz) {
+  return std::isfinite(xyz[0]) && std::isfinite(xyz[1]) && std::isfinite(xyz[2]);
+}
 
 // By classification, not arithmetic (Eigen's allFinite subtracts, which traps on an infinity when
 // the host enables floating-point exceptions).
@@ -176,7 +180,8 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     need(rig_path, "rig_path");
     need(binding_path, "binding_path");
     need(rest_xyz, "rest_xyz");
-    if (vertex_count <= 0) fail(ErrorCategory::usage, "vertex_count must be positive, got " + std::to_string(vertex_count));
+    if (vertex_count <= 0)
+      fail(ErrorCategory::usage, "vertex_count must be positive, got " + std::to_string(vertex_count));
     in = std::make_unique<sweep_instance>();
     in->rig = sweep::io::read_rig(rig_path);
     sweep::Mesh mesh;
@@ -184,7 +189,8 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     mesh.positions.resize(rest.size());
     for (std::size_t v = 0; v < rest.size(); ++v) {
       rest[v] = {rest_xyz[3 * v], rest_xyz[3 * v + 1], rest_xyz[3 * v + 2]};
-      if (!finite_floats(rest_xyz + 3 * v)) fail(ErrorCategory::usage, "rest_xyz: vertex " + std::to_string(v) + " is not finite");
+      if (!finite_floats(rest_xyz + 3 * v))
+        fail(ErrorCategory::usage, "rest_xyz: vertex " + std::to_string(v) + " is not finite");
       mesh.positions[v] = rest[v].cast<double>();
     }
     sweep::bind::Binding binding = sweep::io::read_binding(binding_path);
@@ -196,11 +202,16 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     if (in->scene.step == 0 && in->scene.substeps == 0 && in->scene.integrator == sweep::Integrator::exact)
       in->scene.step = kLiveStep;
     if (!in->scene.body_node.empty())
-      fail(ErrorCategory::unsupported, std::string(settings_path) + ": a body that follows a glTF node's animation needs the mesh file, which libsweep does not read; give the body's pose with sweep_set_body");
+      fail(ErrorCategory::unsupported, std::string(settings_path) +
+                                           ": a body that follows a glTF node's animation needs the mesh file, which "
+                                           "libsweep does not read; give the body's pose with sweep_set_body");
     if (in->scene.body_collider.spheres > 0)
-      fail(ErrorCategory::unsupported, std::string(settings_path) + ": \"body_collider\" is fitted to the mesh by the tools; libsweep does not fit it");
+      fail(ErrorCategory::unsupported,
+           std::string(settings_path) +
+               ": \"body_collider\" is fitted to the mesh by the tools; libsweep does not fit it");
     for (std::size_t i = 0; i < in->rig.sweeps.size(); ++i) {
-      in->deformers.push_back(std::make_unique<sweep::sim::FastDeformer>(in->rig.sweeps[i].rest, binding.sweeps[i], rest));
+      in->deformers.push_back(
+          std::make_unique<sweep::sim::FastDeformer>(in->rig.sweeps[i].rest, binding.sweeps[i], rest));
     }
     if (!same_positions) check_rest(*in, rest);
     in->simulator = std::make_unique<sweep::sim::Simulator>(in->rig, in->scene);
@@ -219,9 +230,13 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
   return code == SWEEP_OK ? in.release() : nullptr;
 }
 
-void sweep_close(sweep_instance* instance) { delete instance; }
+void sweep_close(sweep_instance* instance) {
+  delete instance;
+}
 
-const char* sweep_last_error(void) { return last_error.c_str(); }
+const char* sweep_last_error(void) {
+  return last_error.c_str();
+}
 
 int sweep_set_body(sweep_instance* instance, const double m[16]) {
   return guarded("sweep_set_body", [&] {
@@ -239,8 +254,9 @@ int sweep_set_body(sweep_instance* instance, const double m[16]) {
     // Rigid: a rotation, to float precision (an engine's matrices are often floats).
     const double off = (r.transpose() * r - sweep::Mat3::Identity()).cwiseAbs().maxCoeff();
     if (off > 1e-5 || r.determinant() < 0)
-      fail(ErrorCategory::usage, "world_from_mesh is not rigid (a rotation and a translation): RᵀR is off the identity by " +
-                                     sweep::format_number(off) + (r.determinant() < 0 ? ", and it mirrors" : ""));
+      fail(ErrorCategory::usage,
+           "world_from_mesh is not rigid (a rotation and a translation): RᵀR is off the identity by " +
+               sweep::format_number(off) + (r.determinant() < 0 ? ", and it mirrors" : ""));
     instance->simulator->set_body_pose(sweep::Quat(r).normalized(), {m[12], m[13], m[14]});
   });
 }
@@ -255,18 +271,19 @@ int sweep_add_force(sweep_instance* instance, const char* part, const double poi
     const sweep::Vec3 p = vec3(point), f = vec3(force);
     if (!finite(point, 3) || !finite(force, 3)) fail(ErrorCategory::usage, "the point and the force must be finite");
     if (f.norm() > sweep::limits::kMaxForce)
-      fail(ErrorCategory::usage, "a force of at most " + sweep::format_number(sweep::limits::kMaxForce) + " N, got one of " +
-                                     sweep::format_number(f.norm()));
+      fail(ErrorCategory::usage, "a force of at most " + sweep::format_number(sweep::limits::kMaxForce) +
+                                     " N, got one of " + sweep::format_number(f.norm()));
     if (!std::isfinite(seconds) || seconds < 0 || seconds > sweep::limits::kMaxTime)
-      fail(ErrorCategory::usage, "seconds must be between 0 (an impulse) and " + sweep::format_number(sweep::limits::kMaxTime) +
-                                     ", got " + describe(seconds));
+      fail(ErrorCategory::usage, "seconds must be between 0 (an impulse) and " +
+                                     sweep::format_number(sweep::limits::kMaxTime) + ", got " + describe(seconds));
     sweep::sim::SceneForce live;
     for (std::size_t i = 0; i < instance->rig.sweeps.size(); ++i) {
       if (instance->rig.sweeps[i].name == part) live.sweep_index = static_cast<int>(i);
     }
     if (live.sweep_index < 0) {
       std::string names;
-      for (const sweep::SweepDef& def : instance->rig.sweeps) names += (names.empty() ? "\"" : ", \"") + def.name + "\"";
+      for (const sweep::SweepDef& def : instance->rig.sweeps)
+        names += (names.empty() ? "\"" : ", \"") + def.name + "\"";
       fail(ErrorCategory::usage, "the rig has no part \"" + std::string(part) + "\" (its parts: " + names + ")");
     }
     live.sweep = part;
@@ -288,8 +305,8 @@ int sweep_advance(sweep_instance* instance, double dt) {
   return guarded("sweep_advance", [&] {
     usable(instance);
     if (!std::isfinite(dt) || dt < 0 || dt > sweep::limits::kMaxTime)
-      fail(ErrorCategory::usage, "dt must be a number of seconds from 0 to " + sweep::format_number(sweep::limits::kMaxTime) +
-                                     ", got " + describe(dt));
+      fail(ErrorCategory::usage, "dt must be a number of seconds from 0 to " +
+                                     sweep::format_number(sweep::limits::kMaxTime) + ", got " + describe(dt));
     sweep::sim::Simulator& sim = *instance->simulator;
     const int before = sim.frame();
     try {
@@ -347,7 +364,8 @@ int sweep_set_skin(sweep_instance* instance, int joints_per_sweep, int ring_join
       const int stations = (def.rest.section_count() - 1) * kExportStationsPerSpan + 1;
       if (joints_per_sweep > stations)
         fail(ErrorCategory::usage, "joints_per_sweep " + std::to_string(joints_per_sweep) + " on sweep \"" + def.name +
-                                       "\", which has " + std::to_string(stations) + " stations: at most one joint a station");
+                                       "\", which has " + std::to_string(stations) +
+                                       " stations: at most one joint a station");
     }
     auto joints = std::make_unique<sweep::sim::SkinJoints>(rest_shapes(instance->rig),
                                                            sweep::sim::SkinJointLayout{joints_per_sweep, ring_joints});

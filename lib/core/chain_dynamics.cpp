@@ -82,7 +82,8 @@ ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const Swee
   phi_ = w_ = rest_load_ = last_change_ = Eigen::VectorXd::Zero(dim);
   phi_saved_.assign(kMaxHalvings + 1, phi_);
   w_saved_.assign(kMaxHalvings + 1, w_);
-  for (Eigen::VectorXd* v : {&phi_mid_, &w_mid_, &w_end_, &wdot_, &residual_, &scratch_}) *v = Eigen::VectorXd::Zero(dim);
+  for (Eigen::VectorXd* v : {&phi_mid_, &w_mid_, &w_end_, &wdot_, &residual_, &scratch_})
+    *v = Eigen::VectorXd::Zero(dim);
   mass_ = newton_ = Eigen::MatrixXd::Zero(dim, dim);
   // Sized by a first factorisation (later ones reuse its storage): Eigen's LLT(size) leaves its
   // status unset, and moving such an object reads it (undefined behaviour, caught by UBSan).
@@ -91,7 +92,8 @@ ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const Swee
   rotation_.assign(k, Quat::Identity());
   pre_.assign(k, Mat3::Identity());
   inertia_.assign(k, Mat3::Zero());
-  for (std::vector<Vec3>* v : {&omega_, &alpha_, &accel_, &force_, &moment_, &composite_first_}) v->assign(k + 1, Vec3::Zero());
+  for (std::vector<Vec3>* v : {&omega_, &alpha_, &accel_, &force_, &moment_, &composite_first_})
+    v->assign(k + 1, Vec3::Zero());
   composite_inertia_.assign(k + 1, Mat3::Zero());
   u_.assign(k, Mat63::Zero());
   d_inverse_.assign(k, Mat3::Zero());
@@ -208,11 +210,11 @@ const Eigen::MatrixXd& ChainDynamics::mass_matrix() {
   return mass_;
 }
 
-// The articulated-body recursion (Featherstone's ABA at zero speed) for M(q) x = r. Spatial quantities are taken about each joint's centre c_i in body
-// axes: an inertia [[A, B], [Bᵀ, m·1]] maps (angular, linear acceleration of c_i) to (moment about
-// c_i, force). Out of the tip: IA_i = section i's own inertia plus what lies beyond, articulated;
-// joint i turns about c_i (motion subspace S_i = [P_i; 0], P_i = R_{A_i}), so U_i = IA_i S_i,
-// D_i = S_iᵀ IA_i S_i, and the parent sees IA_i − U_i D_i⁻¹ U_iᵀ moved to c_{i−1}.
+// The articulated-body recursion (Featherstone's ABA at zero speed) for M(q) x = r. Spatial quantities are taken about
+// each joint's centre c_i in body axes: an inertia [[A, B], [Bᵀ, m·1]] maps (angular, linear acceleration of c_i) to
+// (moment about c_i, force). Out of the tip: IA_i = section i's own inertia plus what lies beyond, articulated; joint i
+// turns about c_i (motion subspace S_i = [P_i; 0], P_i = R_{A_i}), so U_i = IA_i S_i, D_i = S_iᵀ IA_i S_i, and the
+// parent sees IA_i − U_i D_i⁻¹ U_iᵀ moved to c_{i−1}.
 void ChainDynamics::factor_recursive() {
   Mat3 a = Mat3::Zero(), b = Mat3::Zero(), m = Mat3::Zero();  // the articulated inertia beyond, about c_i
   for (int i = joints_; i >= 1; --i) {
@@ -254,7 +256,8 @@ void ChainDynamics::solve_recursive(Eigen::VectorXd& x) {
   Vec3 alpha = Vec3::Zero(), acc = Vec3::Zero();  // of c_i
   for (int i = 1; i <= joints_; ++i) {
     if (i > 1) acc += alpha.cross(factored_lever_[i - 1]);
-    const Vec3 xi = y_[i] - d_inverse_[i] * (u_[i].topRows<3>().transpose() * alpha + u_[i].bottomRows<3>().transpose() * acc);
+    const Vec3 xi =
+        y_[i] - d_inverse_[i] * (u_[i].topRows<3>().transpose() * alpha + u_[i].bottomRows<3>().transpose() * acc);
     x.segment<3>(3 * (i - 1)) = xi;
     alpha.noalias() += factored_axes_[i] * xi;
   }
@@ -305,7 +308,8 @@ void ChainDynamics::factor_newton_matrix(double h) {
   newton_.noalias() += (0.5 * h) * damping_;
   for (int i = 1; i <= joints_; ++i) {
     const Mat3 jt = inverse_jacobian_transpose(phi_mid_.segment<3>(3 * (i - 1)));
-    newton_.block<3, 3>(3 * (i - 1), 3 * (i - 1)).noalias() += (0.25 * h * h) * (jt * stiffness_[i].asDiagonal() * jt.transpose());
+    newton_.block<3, 3>(3 * (i - 1), 3 * (i - 1)).noalias() +=
+        (0.25 * h * h) * (jt * stiffness_[i].asDiagonal() * jt.transpose());
   }
   llt_.compute(newton_);
   factored_step_ = h;

@@ -45,11 +45,10 @@
 //
 // Units: metres, kilograms, seconds (the model's); the pose starts from the rest shape scaled by
 // the model's metres per unit. Allocation-free after construction.
+#include <Eigen/Dense>
 #include <memory>
 #include <span>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "sweep/core/chain_model.h"
 #include "sweep/core/frame.h"
@@ -127,7 +126,7 @@ class ChainDynamics {
   // not converge.
   bool attempt(double h, const Body& body, std::span<const double> torque, int& iterations);
   void set_pose(const Eigen::VectorXd& phi);  // centres, rotations, A frames from joint angles
-  void build_mass_matrix();                    // into mass_
+  void build_mass_matrix();                   // into mass_
   void elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const;  // J⁻ᵀ (K φ + b)
   void factor_newton_matrix(double h);  // S at the pose set_pose last built (phi_mid_), into llt_
   // The articulated-body recursion for M at the pose set_pose last built, and its solve.
@@ -140,9 +139,9 @@ class ChainDynamics {
   std::vector<Vec3> relative_offset_;    // metres, in section i−1's axes
   Vec3 root_centre_;
   Quat root_rotation_;
-  std::vector<Vec3> stiffness_;          // per joint, diagonal (N·m/rad)
-  Eigen::MatrixXd damping_;              // C, dense
-  Eigen::VectorXd rest_load_;            // b
+  std::vector<Vec3> stiffness_;  // per joint, diagonal (N·m/rad)
+  Eigen::MatrixXd damping_;      // C, dense
+  Eigen::VectorXd rest_load_;    // b
   Eigen::VectorXd phi_, w_;
   std::vector<Eigen::VectorXd> phi_saved_, w_saved_;  // the state at each depth of halving
   // The pose set_pose last built.
@@ -153,9 +152,9 @@ class ChainDynamics {
   // Scratch.
   Eigen::MatrixXd mass_, newton_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  double factored_step_ = 0;      // the step llt_ holds S for; 0: none
-  Eigen::VectorXd last_change_;   // w₁ − w₀ of the last converged step, the next one's first guess
-  double last_change_step_ = 0;   // its step; 0: none
+  double factored_step_ = 0;     // the step llt_ holds S for; 0: none
+  Eigen::VectorXd last_change_;  // w₁ − w₀ of the last converged step, the next one's first guess
+  double last_change_step_ = 0;  // its step; 0: none
   long long factorizations_ = 0, iterations_ = 0;
   // The recursion: per joint, U_i = IA_i S_i (6×3, IA_i the articulated inertia about c_i) and
   // D_i⁻¹ (3×3), the pose it was set up at (axes P_i, lever c_{i+1} − c_i), and its scratch.

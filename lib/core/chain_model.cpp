@@ -78,7 +78,8 @@ ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>
     // section i is the sum of the twists of the spans before it, so joint i stands for its span.
     const double l = stiff_len[i], span = s * (rest.t[i] - rest.t[i - 1]);
     m.stiffness.block<3, 3>(3 * (i - 1), 3 * (i - 1)) =
-        Eigen::Vector3d(mat.youngs_modulus * p.i_xx / l, mat.youngs_modulus * p.i_yy / l, mat.shear() * p.torsion / span)
+        Eigen::Vector3d(mat.youngs_modulus * p.i_xx / l, mat.youngs_modulus * p.i_yy / l,
+                        mat.shear() * p.torsion / span)
             .asDiagonal();
   }
 

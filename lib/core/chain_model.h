@@ -16,9 +16,8 @@
 // in closed form. Positional springs stay independent: stretch E A / ℓ and shear κ G A / ℓ on the
 // mass beyond the joint. Radial handles: each moves the wedge of its section around it (k = E π h / n,
 // moving mass ρ π r² h / 2n; chain_model.cpp says why).
-#include <vector>
-
 #include <Eigen/Dense>
+#include <vector>
 
 #include "sweep/core/material.h"
 #include "sweep/core/oscillator.h"
@@ -30,12 +29,12 @@ namespace sweep {
 inline constexpr double kShearCoefficient = 0.9;
 
 struct ChainModel {
-  int joints = 0;            // K − 1 (sections 1 .. K−1)
+  int joints = 0;  // K − 1 (sections 1 .. K−1)
   double metres_per_unit = 1;
-  Eigen::MatrixXd mass;      // 3·joints square: kg·m²
-  Eigen::MatrixXd stiffness; // 3·joints square, block diagonal: N·m/rad
-  Eigen::MatrixXd modes;     // Φ: columns M-orthonormal (Φᵀ M Φ = I), by growing frequency
-  Eigen::VectorXd omega2;    // ω² of each mode, rad²/s²
+  Eigen::MatrixXd mass;               // 3·joints square: kg·m²
+  Eigen::MatrixXd stiffness;          // 3·joints square, block diagonal: N·m/rad
+  Eigen::MatrixXd modes;              // Φ: columns M-orthonormal (Φᵀ M Φ = I), by growing frequency
+  Eigen::VectorXd omega2;             // ω² of each mode, rad²/s²
   std::vector<double> damping_ratio;  // ζ of each mode
   std::vector<double> node_mass;      // kg, K entries (0 for the root)
   std::vector<Vec3> node_inertia;     // kg·m², K entries: rotary inertia about the section's own axes

@@ -12,11 +12,19 @@ namespace {
 // Spring displacements (mesh units or radians) and speeds below this are set to exactly zero.
 constexpr double kRestFlush = 1e-200;
 
-OscillatorParams to_params(const SpringSettings& s) { return {s.mass, s.damping(), s.stiffness()}; }
+OscillatorParams to_params(const SpringSettings& s) {
+  return {s.mass, s.damping(), s.stiffness()};
+}
 
-const SpringSettings& pick_positional(const SectionSprings& s, int) { return s.positional; }
-const SpringSettings& pick_rotational(const SectionSprings& s, int c) { return c == 2 ? s.twist : s.bend; }
-const SpringSettings& pick_radial(const SectionSprings& s, int) { return s.radial; }
+const SpringSettings& pick_positional(const SectionSprings& s, int) {
+  return s.positional;
+}
+const SpringSettings& pick_rotational(const SectionSprings& s, int c) {
+  return c == 2 ? s.twist : s.bend;
+}
+const SpringSettings& pick_radial(const SectionSprings& s, int) {
+  return s.radial;
+}
 
 bool all_finite(const std::vector<double>& a) {
   return std::all_of(a.begin(), a.end(), [](double x) { return std::isfinite(x); });
@@ -59,7 +67,8 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
 
 void ElasticSweep::sync_exact() const {
   const std::size_t dim = exact_torque_.size();
-  exact_->set_state(std::span<const double>(rotational_.x).subspan(3, dim), std::span<const double>(rotational_.v).subspan(3, dim));
+  exact_->set_state(std::span<const double>(rotational_.x).subspan(3, dim),
+                    std::span<const double>(rotational_.v).subspan(3, dim));
 }
 
 // One step of the exact chain from the state in rotational_: the body's motion as the chain's
@@ -85,14 +94,17 @@ void ElasticSweep::step_exact(double dt) {
 void ElasticSweep::project_rotational_loads() {
   const Eigen::Index dim = static_cast<Eigen::Index>(modal_.f.size());
   const Eigen::Map<const Eigen::VectorXd> tau(rotational_.f.data() + 3, dim);
-  Eigen::Map<Eigen::VectorXd>(modal_.f.data(), dim).noalias() = chain_->metres_per_unit * (chain_->modes.transpose() * tau);
+  Eigen::Map<Eigen::VectorXd>(modal_.f.data(), dim).noalias() =
+      chain_->metres_per_unit * (chain_->modes.transpose() * tau);
   modal_.active = modal_.active || rotational_.active;
 }
 
 void ElasticSweep::joints_from_modes() {
   const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
-  Eigen::Map<Eigen::VectorXd>(rotational_.x.data() + 3, dim).noalias() = chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.x.data(), dim);
-  Eigen::Map<Eigen::VectorXd>(rotational_.v.data() + 3, dim).noalias() = chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.v.data(), dim);
+  Eigen::Map<Eigen::VectorXd>(rotational_.x.data() + 3, dim).noalias() =
+      chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.x.data(), dim);
+  Eigen::Map<Eigen::VectorXd>(rotational_.v.data() + 3, dim).noalias() =
+      chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.v.data(), dim);
 }
 
 // η = Φᵀ M q (Φ is M-orthonormal), and the same for the speeds.
@@ -117,7 +129,8 @@ void ElasticSweep::init_bank(Bank& bank, int width, const SpringSettings& (*pick
   bank.params.resize(size);
   for (auto& maps : bank.maps) maps.resize(size);
   for (int i = 0; i < k; ++i) {
-    for (int c = 0; c < width; ++c) bank.params[static_cast<std::size_t>(i) * width + c] = to_params(pick(def_.springs[i], c));
+    for (int c = 0; c < width; ++c)
+      bank.params[static_cast<std::size_t>(i) * width + c] = to_params(pick(def_.springs[i], c));
   }
 }
 
@@ -145,7 +158,9 @@ bool ElasticSweep::remove_force(ForceId id) {
   return true;
 }
 
-void ElasticSweep::clear_forces() { forces_.clear(); }
+void ElasticSweep::clear_forces() {
+  forces_.clear();
+}
 
 bool ElasticSweep::body_loads() const {
   return (chain_ && (body_.gravity != Vec3::Zero() || body_.drag > 0)) || body_.acceleration != Vec3::Zero() ||
@@ -190,7 +205,8 @@ void ElasticSweep::add_body_loads(const BodyMotion& motion, bool to_joints) {
     Vec3 frame_acceleration = motion.acceleration + motion.angular_acceleration.cross(c);
     // (The exact chain takes the Coriolis load of the joints' speeds itself: the positional
     // springs feel that of their own speeds only.)
-    if (w != Vec3::Zero()) frame_acceleration += w.cross(w.cross(c)) + 2.0 * w.cross(to_joints ? section_velocity_[j] : shift_velocity_[j]);
+    if (w != Vec3::Zero())
+      frame_acceleration += w.cross(w.cross(c)) + 2.0 * w.cross(to_joints ? section_velocity_[j] : shift_velocity_[j]);
     const double mass = chain_ ? chain_->node_mass[j] : def_.springs[j].positional.mass;
     Vec3 f = mass * (gravity - s * frame_acceleration);
     Vec3 turning = exact ? Vec3::Zero() : f;  // what the joints take (the exact chain: the wind alone)
@@ -329,7 +345,8 @@ void ElasticSweep::kick() {
     for (std::size_t m = 0; m < dim; ++m) exact_torque_[m] = chain_->metres_per_unit * rotational_.f[3 + m];
     sync_exact();
     exact_->apply_joint_impulse(exact_torque_);
-    exact_->get_state(std::span<double>(rotational_.x).subspan(3, dim), std::span<double>(rotational_.v).subspan(3, dim));
+    exact_->get_state(std::span<double>(rotational_.x).subspan(3, dim),
+                      std::span<double>(rotational_.v).subspan(3, dim));
     modes_from_joints();
     modal_.active = rotational_.active = true;
   } else if (chain_) {
@@ -342,7 +359,8 @@ void ElasticSweep::kick() {
   // decays, counted as energy and as motion forever.
   for (Bank* b : {&positional_, &rotational_, &radial_}) {
     if (chain_ && b == &rotational_) continue;
-    for (std::size_t m = static_cast<std::size_t>(b->width); m < b->v.size(); ++m) b->v[m] += b->f[m] / b->params[m].mass;
+    for (std::size_t m = static_cast<std::size_t>(b->width); m < b->v.size(); ++m)
+      b->v[m] += b->f[m] / b->params[m].mass;
   }
 }
 
@@ -357,7 +375,8 @@ int ElasticSweep::map_slot(double dt) {
     if (slots_[s].used < slots_[oldest].used) oldest = s;
   }
   for (Bank* b : {&positional_, &rotational_, &radial_, &modal_}) {
-    for (std::size_t m = 0; m < b->params.size(); ++m) b->maps[oldest][m] = make_step_map(b->params[m], dt, integrator_);
+    for (std::size_t m = 0; m < b->params.size(); ++m)
+      b->maps[oldest][m] = make_step_map(b->params[m], dt, integrator_);
   }
   slots_[oldest] = {dt, integrator_, map_clock_};
   return oldest;

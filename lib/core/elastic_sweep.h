@@ -9,11 +9,10 @@
 // local z) and n radial (δ_i[j]: the deformed radius is r_i[j] + δ_i[j], floored at
 // kMinRadiusFraction·r_i[j] so a handle can never invert its section).
 #include <array>
-#include <span>
-#include <vector>
-
 #include <memory>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "sweep/core/chain_dynamics.h"
 #include "sweep/core/chain_model.h"
@@ -70,9 +69,9 @@ class ElasticSweep {
 
   // Σ ½ m v² + ½ k x² over every spring (force potential not counted); joules in material mode.
   double energy() const;
-  double max_speed() const;  // largest |v| over every spring coordinate
+  double max_speed() const;         // largest |v| over every spring coordinate
   double max_displacement() const;  // largest |x| over every spring coordinate
-  bool is_finite() const;    // false once any state is NaN or Inf (a diverged integrator)
+  bool is_finite() const;           // false once any state is NaN or Inf (a diverged integrator)
 
   // Gravity (m/s², world axes; material mode only — the paper's springs have no physical mass):
   // every section's weight loads the chain. Pre-loaded (the default): the rest pose is the pose
@@ -120,7 +119,7 @@ class ElasticSweep {
   // for the move) and kicks it as an impulse there would (each spring by its mass, the chain's mass
   // matrix in material mode).
   struct ContactRow {
-    int first = 1, last = 0;                    // sections first..last take part
+    int first = 1, last = 0;                     // sections first..last take part
     std::vector<double> positional, rotational;  // J, index 3·(i − first) + c
     std::vector<double> modal;                   // material mode: Φᵀ Jᵀ over the joints (per metre)
   };
@@ -224,11 +223,11 @@ class ElasticSweep {
 
   void init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int));
   void gather_loads(const std::vector<ActiveForce>& forces);
-  int map_slot(double dt);                 // the cached maps for dt, computed if missing
+  int map_slot(double dt);  // the cached maps for dt, computed if missing
   // The contact moves' change of the speeds since v0, cut to the part that leaves the least
   // kinetic energy.
   void keep_least_energy_speeds();
-  void advance_banks(int slot);            // every active oscillator, loads held
+  void advance_banks(int slot);  // every active oscillator, loads held
   void rebuild();
   // Material mode: rotational loads to modal loads, and modal state back to joint coordinates.
   void project_rotational_loads();
@@ -245,7 +244,7 @@ class ElasticSweep {
   std::shared_ptr<const ChainModel> chain_;  // shared: built once per rig, copies of a sweep share it
   Bank modal_;
   std::vector<double> joint_scratch_;
-  std::vector<double> modal_scratch_;  // contact: the modal sum of apply_rows
+  std::vector<double> modal_scratch_;                          // contact: the modal sum of apply_rows
   double positional_share(std::size_t m, bool by_mass) const;  // contact: 1/mass or 1/stiffness
   double energy_unit(const Bank& bank) const;  // what turns a bank's ½ m v² + ½ k x² into energy()'s
   double rotational_share(std::size_t m, bool by_mass) const;
@@ -255,7 +254,7 @@ class ElasticSweep {
   bool use_exact_ = false;
   std::vector<double> exact_torque_;  // scratch: the forces' joint torques in N·m
   void step_exact(double dt);
-  void sync_exact() const;            // exact_'s state from rotational_
+  void sync_exact() const;  // exact_'s state from rotational_
   BodyMotion body_;
   std::vector<double> gravity_preload_;  // rest-pose gravity loads in spring axes (3K pos, 3K rot)
   std::vector<Vec3> section_velocity_;   // scratch: each centre's velocity relative to the body
@@ -265,7 +264,7 @@ class ElasticSweep {
   // rest itself).
   void add_body_loads(const BodyMotion& motion, bool to_joints);
   void loads_to_springs(bool subtract_preload);  // loads_ into each bank's f, in spring axes
-  void kick();                                    // loads in the banks' f as impulses (N·s)
+  void kick();                                   // loads in the banks' f as impulses (N·s)
   SectionLoads loads_;
   std::vector<ActiveForce> forces_;
   // Scratch of placed(): the locator of a force or impulse given at a world point, reset on the

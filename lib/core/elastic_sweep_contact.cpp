@@ -76,7 +76,8 @@ void ElasticSweep::scaled_rows(std::span<const ContactRow> rows, Eigen::MatrixXd
 }
 
 void ElasticSweep::row_couplings(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr,
-                                 Eigen::MatrixXd& modal, Eigen::MatrixXd& by_mass, Eigen::MatrixXd& by_compliance) const {
+                                 Eigen::MatrixXd& modal, Eigen::MatrixXd& by_mass,
+                                 Eigen::MatrixXd& by_compliance) const {
   const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
   const auto fill = [&](Eigen::MatrixXd& m, bool positional, bool kick) { scaled_rows(rows, m, positional, kick); };
   row_compliances(rows, jp, jr, by_compliance);
@@ -176,7 +177,8 @@ void ElasticSweep::apply_rows(std::span<const ContactRow> rows, std::span<const 
     modal_.active = true;
     if (modal) {
       // Δη̇ = Φᵀ Jᵀ s (per metre × metres per unit), then the joints follow the modes.
-      Eigen::Map<Eigen::VectorXd>(modal_.v.data(), dim) += Eigen::Map<const Eigen::VectorXd>(modal_scratch_.data(), dim);
+      Eigen::Map<Eigen::VectorXd>(modal_.v.data(), dim) +=
+          Eigen::Map<const Eigen::VectorXd>(modal_scratch_.data(), dim);
       joints_from_modes();
     } else {
       modes_from_joints();  // the joints moved: the modes follow them

@@ -18,8 +18,7 @@ enum class ErrorCategory {
 
 class Error : public std::runtime_error {
  public:
-  Error(ErrorCategory category, const std::string& message)
-      : std::runtime_error(message), category_(category) {}
+  Error(ErrorCategory category, const std::string& message) : std::runtime_error(message), category_(category) {}
   ErrorCategory category() const { return category_; }
 
  private:
@@ -29,16 +28,24 @@ class Error : public std::runtime_error {
 // Exit codes, as listed in docs/tools.md ("Exit codes").
 constexpr int exit_code(ErrorCategory c) {
   switch (c) {
-    case ErrorCategory::usage: return 1;
-    case ErrorCategory::bad_input: return 2;
-    case ErrorCategory::unsupported: return 3;
-    case ErrorCategory::output: return 4;
-    case ErrorCategory::diverged: return 5;
-    case ErrorCategory::internal: return 6;
+    case ErrorCategory::usage:
+      return 1;
+    case ErrorCategory::bad_input:
+      return 2;
+    case ErrorCategory::unsupported:
+      return 3;
+    case ErrorCategory::output:
+      return 4;
+    case ErrorCategory::diverged:
+      return 5;
+    case ErrorCategory::internal:
+      return 6;
   }
   return 6;
 }
 
-[[noreturn]] inline void fail(ErrorCategory c, const std::string& message) { throw Error(c, message); }
+[[noreturn]] inline void fail(ErrorCategory c, const std::string& message) {
+  throw Error(c, message);
+}
 
 }  // namespace sweep

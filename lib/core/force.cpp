@@ -50,8 +50,8 @@ int nearest_movable_section(const SweepShape& shape, double t) {
 
 }  // namespace
 
-void accumulate_force(const SweepShape& shape, const ForceSpec& force, double t, double theta,
-                      double c_rot, double c_rad, SectionLoads& loads) {
+void accumulate_force(const SweepShape& shape, const ForceSpec& force, double t, double theta, double c_rot,
+                      double c_rad, SectionLoads& loads) {
   const Frame plane = frame_at(shape, t);
   const double r = radius_at(shape, theta, t);
   const double cos_t = std::cos(theta), sin_t = std::sin(theta);
@@ -69,7 +69,9 @@ void accumulate_force(const SweepShape& shape, const ForceSpec& force, double t,
       loads.torque[i] += rotational_torque(p, shape.frames[i].center, f, c_rot, force.moment);
     };
     switch (force.target) {
-      case RotationTarget::nearest: add_torque(nearest_movable_section(shape, t)); break;
+      case RotationTarget::nearest:
+        add_torque(nearest_movable_section(shape, t));
+        break;
       case RotationTarget::section:
         if (force.target_section >= 1 && force.target_section < k) add_torque(force.target_section);
         break;

@@ -81,7 +81,7 @@ std::array<double, 4> bilinear_weights(double u, double w);
 
 // Adds the loads of one force, acting at parameters (t, θ) of the current shape, to `loads`.
 // Section 0 is the root, fixed to the body: it takes no load.
-void accumulate_force(const SweepShape& shape, const ForceSpec& force, double t, double theta,
-                      double c_rot, double c_rad, SectionLoads& loads);
+void accumulate_force(const SweepShape& shape, const ForceSpec& force, double t, double theta, double c_rot,
+                      double c_rad, SectionLoads& loads);
 
 }  // namespace sweep

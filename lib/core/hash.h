@@ -19,7 +19,9 @@ inline std::uint64_t fnv1a(std::uint64_t h, std::string_view bytes) {
   }
   return h;
 }
-inline std::uint64_t fnv1a(std::string_view bytes) { return fnv1a(kFnvOffset, bytes); }
+inline std::uint64_t fnv1a(std::string_view bytes) {
+  return fnv1a(kFnvOffset, bytes);
+}
 
 // Feeds the low `bytes` bytes of `word`, least significant first (little-endian, whatever the host).
 inline std::uint64_t fnv1a_le(std::uint64_t h, std::uint64_t word, int bytes) {

@@ -15,7 +15,9 @@ constexpr int kMaxRefineSteps = 100;
 
 }  // namespace
 
-SweepLocator::SweepLocator(const SweepShape& shape, int stations_per_span) { reset(shape, stations_per_span); }
+SweepLocator::SweepLocator(const SweepShape& shape, int stations_per_span) {
+  reset(shape, stations_per_span);
+}
 
 void SweepLocator::reset(const SweepShape& shape, int stations_per_span) {
   shape_ = &shape;

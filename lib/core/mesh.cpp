@@ -31,8 +31,7 @@ std::string check_mesh(const Mesh& mesh) {
     const Vec3& p = mesh.positions[i];
     if (!is_finite(p)) {
       std::ostringstream s;
-      s << "vertex " << i << " has a non-finite coordinate (" << p.x() << ", " << p.y() << ", "
-        << p.z() << ")";
+      s << "vertex " << i << " has a non-finite coordinate (" << p.x() << ", " << p.y() << ", " << p.z() << ")";
       return s.str();
     }
   }
@@ -45,9 +44,8 @@ std::string check_mesh(const Mesh& mesh) {
     }
     for (std::uint32_t k = begin; k < end; ++k) {
       if (mesh.face_vertices[k] >= nv) {
-        return "face " + std::to_string(f) + " uses vertex " +
-               std::to_string(mesh.face_vertices[k]) + ", out of range (the mesh has " +
-               std::to_string(nv) + " vertices)";
+        return "face " + std::to_string(f) + " uses vertex " + std::to_string(mesh.face_vertices[k]) +
+               ", out of range (the mesh has " + std::to_string(nv) + " vertices)";
       }
     }
   }

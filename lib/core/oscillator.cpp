@@ -6,9 +6,12 @@ namespace sweep {
 
 std::string_view integrator_name(Integrator integrator) {
   switch (integrator) {
-    case Integrator::exact: return "exact";
-    case Integrator::semi_implicit_euler: return "semi-implicit-euler";
-    case Integrator::rk4: return "rk4";
+    case Integrator::exact:
+      return "exact";
+    case Integrator::semi_implicit_euler:
+      return "semi-implicit-euler";
+    case Integrator::rk4:
+      return "rk4";
   }
   return "exact";
 }
@@ -105,9 +108,12 @@ StepMap rk4_map(const OscillatorParams& p, double dt) {
 
 StepMap make_step_map(const OscillatorParams& p, double dt, Integrator integrator) {
   switch (integrator) {
-    case Integrator::exact: return exact_map(p, dt);
-    case Integrator::semi_implicit_euler: return semi_implicit_euler_map(p, dt);
-    case Integrator::rk4: return rk4_map(p, dt);
+    case Integrator::exact:
+      return exact_map(p, dt);
+    case Integrator::semi_implicit_euler:
+      return semi_implicit_euler_map(p, dt);
+    case Integrator::rk4:
+      return rk4_map(p, dt);
   }
   return exact_map(p, dt);
 }

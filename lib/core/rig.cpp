@@ -65,7 +65,8 @@ SweepShape without_narrow_lobes(const SweepShape& rest) {
       bool pinched = false;
       for (int d = 1; d <= half; ++d) pinched = pinched || reflex[at(j - d)] || reflex[at(j + d)];
       if (!pinched) continue;
-      for (int d = -half; d <= half; ++d) window[static_cast<std::size_t>(d + half)] = rest.radius_sample(i, static_cast<int>(at(j + d)));
+      for (int d = -half; d <= half; ++d)
+        window[static_cast<std::size_t>(d + half)] = rest.radius_sample(i, static_cast<int>(at(j + d)));
       std::nth_element(window.begin(), window.begin() + half, window.end());
       out.radii[static_cast<std::size_t>(i) * n + static_cast<std::size_t>(j)] =
           std::min(window[static_cast<std::size_t>(half)], rest.radius_sample(i, j));
@@ -74,11 +75,15 @@ SweepShape without_narrow_lobes(const SweepShape& rest) {
   return out;
 }
 
-double root_disc_radius(const SweepShape& rest) { return disc_radius(rest, 0); }
-double tip_disc_radius(const SweepShape& rest) { return disc_radius(rest, rest.section_count() - 1); }
+double root_disc_radius(const SweepShape& rest) {
+  return disc_radius(rest, 0);
+}
+double tip_disc_radius(const SweepShape& rest) {
+  return disc_radius(rest, rest.section_count() - 1);
+}
 
-std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
-                                             const SweepShape& rest, const PartSeeds& seeds) {
+std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology, const SweepShape& rest,
+                                             const PartSeeds& seeds) {
   const SweepLocator locator(rest);
   PartBound near_sweep;
   near_sweep.within = [&](const Vec3& p) {
@@ -97,13 +102,12 @@ std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& t
   near_sweep.on_surface = [&](const Vec3& p) {
     const SweepCoords c = locator.locate(p);
     if (c.z != 0) return true;
-    if (c.s * radius_at(rest, c.theta, c.t) > (1 + kBridgeFootRadii) * radius_at(lobeless, c.theta, c.t))
-      return false;
+    if (c.s * radius_at(rest, c.theta, c.t) > (1 + kBridgeFootRadii) * radius_at(lobeless, c.theta, c.t)) return false;
     return std::abs(c.s - 1) <= kBridgeFootRadii;
   };
   if (seeds.tip_cut) {
-    return select_part_between(mesh, topology, rest.frames.front(), root_disc_radius(rest),
-                               rest.frames.back(), tip_disc_radius(rest), near_sweep);
+    return select_part_between(mesh, topology, rest.frames.front(), root_disc_radius(rest), rest.frames.back(),
+                               tip_disc_radius(rest), near_sweep);
   }
   // A tip before the root section (no section's plane passes by it) is refused by the walk
   // itself, which must then reach the root disc from behind: not bounded near the sweep.

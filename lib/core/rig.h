@@ -24,16 +24,16 @@ struct PartSeeds {
 };
 
 struct SweepDef {
-  std::string name;                         // unique within the rig, e.g. "tail"
-  SweepShape rest;                          // key sections in the rest pose (world space)
-  std::vector<std::string> section_names;   // K entries; "" where a section has no name
-  SectionSprings default_springs;           // the sweep's springs ...
-  std::vector<SectionSprings> springs;      // ... resolved per section (K entries, overrides applied)
+  std::string name;                        // unique within the rig, e.g. "tail"
+  SweepShape rest;                         // key sections in the rest pose (world space)
+  std::vector<std::string> section_names;  // K entries; "" where a section has no name
+  SectionSprings default_springs;          // the sweep's springs ...
+  std::vector<SectionSprings> springs;     // ... resolved per section (K entries, overrides applied)
   // Force scale factors of the paper (§2.3): torque = rotational_scale · |f| (N·m per N, i.e. a
   // lever arm in mesh units); radial handle force = radial_scale · (inward part of f).
   double rotational_scale = 1.0;
   double radial_scale = 1.0;
-  std::optional<PartSeeds> part;            // absent for rigs written by hand with no mesh part
+  std::optional<PartSeeds> part;  // absent for rigs written by hand with no mesh part
   // Material mode: when set, the sections are one coupled chain whose bending and
   // twisting stiffness, masses and inertias follow from this material and each section's polygon
   // (core/chain_model.h); `springs` then only sets the radial handles. Empty = the paper's
@@ -52,7 +52,7 @@ struct Rig {
   static constexpr int kTipCutFormatVersion = 2;
   static constexpr int kMeshNameFormatVersion = 3;
   int format_version() const;  // the version format_rig writes for this rig
-  std::string mesh;              // mesh path as written in the file (relative to the rig file)
+  std::string mesh;            // mesh path as written in the file (relative to the rig file)
   // The mesh of that file the rig belongs to: its node's name (assets/mesh_io.h, read_scene_mesh);
   // "" = the whole file, every mesh in it (rigs before version 3, and files of one nameless mesh).
   std::string mesh_name;
@@ -108,7 +108,7 @@ inline constexpr double kBridgeFootRadii = 0.25;
 inline constexpr double kLobeWindowDegrees = 30;
 inline constexpr double kLobeBaseTurn = 0.05;
 SweepShape without_narrow_lobes(const SweepShape& rest);
-std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology,
-                                             const SweepShape& rest, const PartSeeds& seeds);
+std::vector<std::uint32_t> select_sweep_part(const Mesh& mesh, const Topology& topology, const SweepShape& rest,
+                                             const PartSeeds& seeds);
 
 }  // namespace sweep

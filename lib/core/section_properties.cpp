@@ -37,8 +37,7 @@ SectionProperties section_properties(std::span<const double> radii) {
   // of equal radii gets J = I_p so that a sampled circle twists like the circle it samples.
   bool round = true;
   for (std::size_t j = 1; j < n; ++j) round = round && radii[j] == radii[0];
-  p.torsion = round ? p.polar
-                    : p.area * p.area * p.area * p.area / (4 * std::numbers::pi * std::numbers::pi * p.polar);
+  p.torsion = round ? p.polar : p.area * p.area * p.area * p.area / (4 * std::numbers::pi * std::numbers::pi * p.polar);
   return p;
 }
 

@@ -36,8 +36,7 @@ Quat Slerp::at(double u) const {
   if (linear_) {
     q.coeffs() = (1.0 - u) * a_ + u * b_;
   } else {
-    q.coeffs() = (std::sin((1.0 - u) * theta_) / sin_theta_) * a_ +
-                 (std::sin(u * theta_) / sin_theta_) * b_;
+    q.coeffs() = (std::sin((1.0 - u) * theta_) / sin_theta_) * a_ + (std::sin(u * theta_) / sin_theta_) * b_;
   }
   return q;
 }
@@ -68,7 +67,9 @@ void Slerp::at_steps(std::span<Quat> out) const {
   }
 }
 
-double SweepShape::sample_angle(int j) const { return kTwoPi * j / radial_count; }
+double SweepShape::sample_angle(int j) const {
+  return kTwoPi * j / radial_count;
+}
 
 SpanCoord locate_span(const SweepShape& shape, double t) {
   const int k = shape.section_count();
@@ -110,7 +111,9 @@ Quat rotation_at(const SweepShape& shape, double t) {
   return arc.at(sc.u).normalized();
 }
 
-Frame frame_at(const SweepShape& shape, double t) { return {rotation_at(shape, t), center_at(shape, t)}; }
+Frame frame_at(const SweepShape& shape, double t) {
+  return {rotation_at(shape, t), center_at(shape, t)};
+}
 
 double radius_at(const SweepShape& shape, double theta, double t) {
   const SpanCoord sc = locate_span(shape, t);

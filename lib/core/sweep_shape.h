@@ -26,10 +26,10 @@ namespace sweep {
 inline constexpr double kMinRadiusFraction = 0.05;
 
 struct SweepShape {
-  std::vector<double> t;        // K section parameters (arc length), t[0] = 0, strictly increasing
-  std::vector<Frame> frames;    // K section frames in world space
-  int radial_count = 0;         // n radius samples per section, at θ_j = 2πj/n
-  std::vector<double> radii;    // K*n samples; section i's sample j at radii[i*n + j]
+  std::vector<double> t;      // K section parameters (arc length), t[0] = 0, strictly increasing
+  std::vector<Frame> frames;  // K section frames in world space
+  int radial_count = 0;       // n radius samples per section, at θ_j = 2πj/n
+  std::vector<double> radii;  // K*n samples; section i's sample j at radii[i*n + j]
 
   int section_count() const { return static_cast<int>(t.size()); }
   double length() const { return t.back(); }
@@ -72,8 +72,7 @@ struct CatmullRomCell {
   // Horner). The same polynomial as at(), rounded differently: each form is kept for the bits of
   // the outputs made with it.
   std::array<double, 4> cubic() const {
-    return {p1, 0.5 * (p2 - p0), p0 - 2.5 * p1 + 2 * p2 - 0.5 * p3,
-            0.5 * (p3 - p0) + 1.5 * (p1 - p2)};
+    return {p1, 0.5 * (p2 - p0), p0 - 2.5 * p1 + 2 * p2 - 0.5 * p3, 0.5 * (p3 - p0) + 1.5 * (p1 - p2)};
   }
   double min_sample() const { return std::min(std::min(std::min(p1, p0), p2), p3); }
 };
@@ -112,10 +111,10 @@ struct AngleCoord {
 };
 AngleCoord locate_angle(int radial_count, double theta);
 
-Vec3 center_at(const SweepShape& shape, double t);       // C(t)
-Quat rotation_at(const SweepShape& shape, double t);     // R(t)
-Frame frame_at(const SweepShape& shape, double t);       // [R(t) | C(t)]
-double radius_at(const SweepShape& shape, double theta, double t);  // r(θ,t)
+Vec3 center_at(const SweepShape& shape, double t);                    // C(t)
+Quat rotation_at(const SweepShape& shape, double t);                  // R(t)
+Frame frame_at(const SweepShape& shape, double t);                    // [R(t) | C(t)]
+double radius_at(const SweepShape& shape, double theta, double t);    // r(θ,t)
 Vec3 surface_point(const SweepShape& shape, double theta, double t);  // S(θ,t)
 
 // The parameters of `stations_per_span` evenly spaced stations a span, t_s + (t_{s+1} − t_s)·q/S,

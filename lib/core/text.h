@@ -44,7 +44,7 @@ inline std::string format_percent(double share) {
 // float's own shortest text ("0.1", not the double's "0.10000000149011612"). Only these three
 // types, so that no argument is converted on the way.
 template <typename T>
-  requires std::same_as<T, double> || std::same_as<T, float> || std::same_as<T, std::uint64_t>
+requires std::same_as<T, double> || std::same_as<T, float> || std::same_as<T, std::uint64_t>
 void append_number(std::string& out, T value) {
   char buf[32];
   const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
@@ -61,8 +61,7 @@ inline std::string format_exact(double x) {
 
 // The three coordinates of `p` by append_number, with `separator` between them: "1 2.5 -0".
 template <typename Scalar>
-void append_numbers(std::string& out, const Eigen::Matrix<Scalar, 3, 1>& p,
-                    std::string_view separator) {
+void append_numbers(std::string& out, const Eigen::Matrix<Scalar, 3, 1>& p, std::string_view separator) {
   for (int k = 0; k < 3; ++k) {
     if (k) out += separator;
     append_number(out, p[k]);

@@ -121,8 +121,7 @@ Topology build_topology(const Mesh& mesh) {
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
     const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
     for (std::uint32_t k = begin + 1; k + 1 < end; ++k) {
-      const std::uint32_t ids[3] = {mesh.face_vertices[begin], mesh.face_vertices[k],
-                                    mesh.face_vertices[k + 1]};
+      const std::uint32_t ids[3] = {mesh.face_vertices[begin], mesh.face_vertices[k], mesh.face_vertices[k + 1]};
       if (ids[0] >= nv || ids[1] >= nv || ids[2] >= nv) continue;
       const std::uint32_t a = rep(ids[0]), b = rep(ids[1]), c = rep(ids[2]);
       if (a == b || b == c || a == c) continue;
@@ -260,9 +259,8 @@ struct Disc {
 // protrusion_reach there (a root plane tilted across the body leaves some of it in front: the body
 // is far bigger than any protrusion) or meets a bridge found before; otherwise it joins the part,
 // carried along as the feet past the tip section are.
-void keep_protrusions(const Topology& topology, const Disc& root, const Disc* tip,
-                      const PartBound& within, const std::vector<std::uint32_t>& bounded,
-                      std::vector<char>& seen) {
+void keep_protrusions(const Topology& topology, const Disc& root, const Disc* tip, const PartBound& within,
+                      const std::vector<std::uint32_t>& bounded, std::vector<char>& seen) {
   constexpr char kPart = 1, kBridge = 2, kRegion = 3;
   const std::vector<Vec3>& positions = root.mesh.positions;
   std::vector<std::uint32_t> region, stack;
@@ -314,9 +312,8 @@ void keep_protrusions(const Topology& topology, const Disc& root, const Disc* ti
 
 // The flood over representatives from `stack`, never over an edge through the root disc nor
 // (when given) the tip disc; the sorted file vertices whose representative it reached.
-std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology, const Disc& root,
-                                      const Disc* tip, const PartBound& within,
-                                      std::vector<std::uint32_t> stack,
+std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology, const Disc& root, const Disc* tip,
+                                      const PartBound& within, std::vector<std::uint32_t> stack,
                                       const std::string& seed_label) {
   std::vector<char> seen(mesh.vertex_count(), 0);
   for (const std::uint32_t v : stack) seen[v] = 1;
@@ -346,9 +343,9 @@ std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology
   }
   if (!bounded.empty()) keep_protrusions(topology, root, tip, within, bounded, seen);
   if (meets_disc_from_behind && !meets_disc_from_front) {
-    fail(ErrorCategory::bad_input,
-         seed_label + " lies behind the root section (on the body's side): the surface reached from "
-                      "it meets the root section from behind");
+    fail(ErrorCategory::bad_input, seed_label +
+                                       " lies behind the root section (on the body's side): the surface reached from "
+                                       "it meets the root section from behind");
   }
   std::vector<std::uint32_t> part;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -359,18 +356,16 @@ std::vector<std::uint32_t> flood_part(const Mesh& mesh, const Topology& topology
 
 }  // namespace
 
-std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
-                                       const Frame& root_plane, double root_radius,
-                                       const Vec3& tip, const PartBound& within) {
+std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology, const Frame& root_plane,
+                                       double root_radius, const Vec3& tip, const PartBound& within) {
   if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
   const std::uint32_t start = topology.weld[nearest_vertex(mesh, tip)];
   return flood_part(mesh, topology, Disc{mesh, root_plane, root_radius}, nullptr, within, {start},
                     "the tip's nearest vertex " + std::to_string(start));
 }
 
-std::vector<std::uint32_t> select_part_between(const Mesh& mesh, const Topology& topology,
-                                               const Frame& root_plane, double root_radius,
-                                               const Frame& tip_plane, double tip_radius,
+std::vector<std::uint32_t> select_part_between(const Mesh& mesh, const Topology& topology, const Frame& root_plane,
+                                               double root_radius, const Frame& tip_plane, double tip_radius,
                                                const PartBound& within) {
   if (mesh.vertex_count() == 0) fail(ErrorCategory::bad_input, "the mesh has no vertices");
   const Disc root{mesh, root_plane, root_radius}, tip{mesh, tip_plane, tip_radius};

@@ -83,9 +83,8 @@ struct PartBound {
   std::function<bool(const Vec3&)> on_surface;
   explicit operator bool() const { return static_cast<bool>(within); }
 };
-std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology,
-                                       const Frame& root_plane, double root_radius,
-                                       const Vec3& tip, const PartBound& within = {});
+std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topology, const Frame& root_plane,
+                                       double root_radius, const Vec3& tip, const PartBound& within = {});
 
 // The part of a stretch of a tube that goes on past its last key section (PartSeeds::tip_cut),
 // sorted: the vertices reached from the tip-side cut — the disc of radius `tip_radius` in
@@ -93,9 +92,8 @@ std::vector<std::uint32_t> select_part(const Mesh& mesh, const Topology& topolog
 // starts at the root-side ends of the edges through the tip disc, so the tip point itself may lie
 // on the surface beyond. Throws Error(bad_input) when no edge passes through the tip disc or the
 // region meets the root disc only from behind.
-std::vector<std::uint32_t> select_part_between(const Mesh& mesh, const Topology& topology,
-                                               const Frame& root_plane, double root_radius,
-                                               const Frame& tip_plane, double tip_radius,
+std::vector<std::uint32_t> select_part_between(const Mesh& mesh, const Topology& topology, const Frame& root_plane,
+                                               double root_radius, const Frame& tip_plane, double tip_radius,
                                                const PartBound& within = {});
 
 }  // namespace sweep

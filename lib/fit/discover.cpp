@@ -1,13 +1,12 @@
 #include "sweep/fit/discover.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <numbers>
 #include <optional>
-
-#include <Eigen/Eigenvalues>
 
 #include "sweep/core/text.h"
 #include "sweep/fit/geodesic.h"
@@ -77,8 +76,7 @@ std::vector<double> average_distance(const Mesh& mesh, const Topology& topology,
     // each would take a source of its own, and a cut of 23 such left the part one source only.
     std::uint32_t next = source;
     for (std::uint32_t v = 0; v < n; ++v) {
-      if (topology.weld[v] == v && nearest[v] > nearest[next] && !topology.adjacency.of(v).empty())
-        next = v;
+      if (topology.weld[v] == v && nearest[v] > nearest[next] && !topology.adjacency.of(v).empty()) next = v;
     }
     if (!(nearest[next] > 0)) break;
     source = next;
@@ -105,15 +103,13 @@ std::vector<std::uint32_t> local_maxima(const Topology& topology, const std::vec
     }
     if (top) out.push_back(v);
   }
-  std::sort(out.begin(), out.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return field[a] != field[b] ? field[a] > field[b] : a < b;
-  });
+  std::sort(out.begin(), out.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return field[a] != field[b] ? field[a] > field[b] : a < b; });
   return out;
 }
 
 // Suggested names from where each part points (see find_parts).
-void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& up_in,
-                std::vector<FoundPart>& parts) {
+void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& up_in, std::vector<FoundPart>& parts) {
   const Vec3 up = up_in.normalized();
   double low = kInf, high = -kInf;
   for (const Vec3& p : mesh.positions) {
@@ -160,8 +156,7 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
     const double rise = dir.dot(up);
     const bool along_body = std::abs(dir.dot(along)) >= std::abs(dir.dot(side));
     const double above_ground = (p.bottom - low) / std::max(high - low, 1e-300);
-    if ((rise < -kDownCos && above_ground <= kGroundShare) ||
-        (rise < -kSteepCos && above_ground <= kLiftedShare)) {
+    if ((rise < -kDownCos && above_ground <= kGroundShare) || (rise < -kSteepCos && above_ground <= kLiftedShare)) {
       p.name = "leg";
     } else if (p.length < kSmallPartShare * longest && rise > -kHangingCos &&
                (p.root.dot(up) - low) / std::max(high - low, 1e-300) >= kHeadHeightShare) {
@@ -225,13 +220,13 @@ constexpr double kCoreRadiusShare = 0.5;
 constexpr double kWholeShellShare = 0.9;
 
 struct Shells {
-  std::vector<int> of;             // shell of each vertex, -1 for none
-  std::vector<char> body;          // per shell: one of the body's
-  std::vector<std::uint32_t> end;  // per shell: its end away from the body (body shells: unused)
-  std::vector<double> reach;       // per shell: surface distance from its attachment to its end
-  std::vector<double> area;        // per shell
+  std::vector<int> of;                  // shell of each vertex, -1 for none
+  std::vector<char> body;               // per shell: one of the body's
+  std::vector<std::uint32_t> end;       // per shell: its end away from the body (body shells: unused)
+  std::vector<double> reach;            // per shell: surface distance from its attachment to its end
+  std::vector<double> area;             // per shell
   std::vector<double> from_attachment;  // per vertex of a non-body shell: that distance
-  double body_radius = 0;          // √(area / 4π) of the largest shell
+  double body_radius = 0;               // √(area / 4π) of the largest shell
   int largest = -1;
   int count = 0;
   bool several() const { return count > 1; }
@@ -257,8 +252,7 @@ Shells find_shells(const Mesh& mesh, const Topology& topology, const std::vector
   for (std::size_t c = 0; c < area.size(); ++c) s.body[c] = area[c] >= kBodyShellShare * largest;
   std::vector<std::uint32_t> body_points;
   for (std::uint32_t v = 0; v < n; ++v) {
-    if (topology.weld[v] == v && s.of[v] >= 0 && s.body[static_cast<std::size_t>(s.of[v])])
-      body_points.push_back(v);
+    if (topology.weld[v] == v && s.of[v] >= 0 && s.body[static_cast<std::size_t>(s.of[v])]) body_points.push_back(v);
   }
   const std::size_t stride = std::max<std::size_t>(1, body_points.size() / kBodySamples);
   std::vector<double> gap(area.size(), kInf);
@@ -318,8 +312,8 @@ std::vector<std::uint32_t> candidates(const Topology& topology, const std::vecto
 
 }  // namespace
 
-std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
-                                  const DiscoverOptions& o, std::vector<std::string>* passed_over) {
+std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, const DiscoverOptions& o,
+                                  std::vector<std::string>* passed_over) {
   std::vector<FoundPart> parts;
   const std::size_t n = mesh.vertex_count();
   if (n == 0) return parts;
@@ -331,8 +325,7 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
     const std::vector<std::uint32_t> tris = mesh.triangles();
     for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
       const Vec3& a = mesh.positions[tris[t]];
-      const double third =
-          (mesh.positions[tris[t + 1]] - a).cross(mesh.positions[tris[t + 2]] - a).norm() / 6;
+      const double third = (mesh.positions[tris[t + 1]] - a).cross(mesh.positions[tris[t + 2]] - a).norm() / 6;
       for (int k = 0; k < 3; ++k) vertex_area[tris[t + static_cast<std::size_t>(k)]] += third;
       total_area += 3 * third;
     }
@@ -356,8 +349,7 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
     const Ring& junction = rings.rings[static_cast<std::size_t>(rings.junction)];
     // The tube between the tip's cap and the junction: its median ring radius.
     int cap = 0;
-    while (cap < rings.junction && rings.rings[static_cast<std::size_t>(cap)].growth >=
-                                       o.rings.settled_growth) {
+    while (cap < rings.junction && rings.rings[static_cast<std::size_t>(cap)].growth >= o.rings.settled_growth) {
       ++cap;
     }
     std::vector<double> radii;
@@ -369,19 +361,16 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
     }
     if (static_cast<int>(radii.size()) < kMinTubeRings) {
       if (passed_over) {
-        passed_over->push_back("vertex " + std::to_string(tip) + " at " +
-                               format_point(mesh.positions[tip]) + ": " +
-                               std::to_string(radii.size()) + " closed ring" +
-                               (radii.size() == 1 ? "" : "s") + " before " +
-                               rings.junction_reason + "; a tube has at least " +
+        passed_over->push_back("vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": " +
+                               std::to_string(radii.size()) + " closed ring" + (radii.size() == 1 ? "" : "s") +
+                               " before " + rings.junction_reason + "; a tube has at least " +
                                std::to_string(kMinTubeRings) +
                                (open_ring ? " (an open ring runs into a hole of the mesh)" : ""));
       }
       cover(junction.distance);
       continue;
     }
-    std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2),
-                     radii.end());
+    std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2), radii.end());
     const double radius = radii[radii.size() / 2];
     std::size_t count = 0;
     double area = 0;
@@ -397,14 +386,12 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
       const Ring& ring = rings.rings[static_cast<std::size_t>(i)];
       if (ring.closed) widest = std::max(widest, ring.radius);
     }
-    const bool whole_mesh = rings.junction + 1 == static_cast<int>(rings.rings.size()) &&
-                            widest <= kWholeTubeWidening * radius;
+    const bool whole_mesh =
+        rings.junction + 1 == static_cast<int>(rings.rings.size()) && widest <= kWholeTubeWidening * radius;
     // (A flat piece, a lone triangle or an open sheet, has rings that enclose nothing: no tube.)
     const bool long_enough = radius > 0 && junction.distance >= o.min_aspect * radius;
-    const bool not_the_body =
-        area <= o.max_area_share * total_area;
-    if (whole_mesh && radius > 0 && junction.distance >= kLoneTubeAspect * radius && !not_the_body &&
-        !lone_tube) {
+    const bool not_the_body = area <= o.max_area_share * total_area;
+    if (whole_mesh && radius > 0 && junction.distance >= kLoneTubeAspect * radius && !not_the_body && !lone_tube) {
       // Perhaps the mesh is one tube; only if no part is found (else these rings crossed a body).
       lone_tube = FoundPart{};
       lone_tube->tip_vertex = tip;
@@ -416,19 +403,17 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
       lone_tube->junction_reason = rings.junction_reason;
     }
     if ((!long_enough || !not_the_body) && passed_over) {
-      passed_over->push_back(
-          "vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": " +
-          (long_enough ? "its rings hold " + format_percent(area / total_area) +
-                             " of the surface (the body)"
-                       : !(radius > 0) ? std::string("flat: its rings enclose no area")
-                                       : "a bump, " + format_number(junction.distance / radius) +
-                                             " radii long (" + rings.junction_reason + ")"));
+      passed_over->push_back("vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": " +
+                             (long_enough
+                                  ? "its rings hold " + format_percent(area / total_area) + " of the surface (the body)"
+                              : !(radius > 0) ? std::string("flat: its rings enclose no area")
+                                              : "a bump, " + format_number(junction.distance / radius) +
+                                                    " radii long (" + rings.junction_reason + ")"));
     }
     if (!long_enough || !not_the_body) {
       // A bump (cover it) or the body itself (cover only the tip's cap, so that the parts
       // around it are still found).
-      cover(long_enough ? 2 * rings.rings[static_cast<std::size_t>(cap)].radius
-                        : junction.distance);
+      cover(long_enough ? 2 * rings.rings[static_cast<std::size_t>(cap)].radius : junction.distance);
       continue;
     }
     // On a body with separate parts: a part of a separate shell found twice (from two tips of

@@ -20,7 +20,7 @@
 namespace sweep::fit {
 
 struct DiscoverOptions {
-  int samples = 24;        // farthest-point sources for the average distance
+  int samples = 24;         // farthest-point sources for the average distance
   int max_candidates = 48;  // extremities traced at most (highest average distance first)
   // A part is at least this many of its median radii long (tip to junction): a bump or a
   // nose is shorter.
@@ -50,8 +50,7 @@ struct FoundPart {
 // sixth), "leg"; rising, "neck"; across the body's long axis,
 // "arm"; along it, "tail"; otherwise "part"; numbered when a name repeats (leg1 … leg4).
 // Candidates traced and passed over are described in `passed_over` when given.
-std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology,
-                                  const DiscoverOptions& options = {},
+std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, const DiscoverOptions& options = {},
                                   std::vector<std::string>* passed_over = nullptr);
 
 }  // namespace sweep::fit

@@ -30,10 +30,8 @@ constexpr int kErrorAnglesPerSample = 2;
 
 }  // namespace
 
-FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
-                           const std::vector<std::uint32_t>& vertices,
-                           std::span<const std::uint32_t> patches,
-                           std::span<const std::uint32_t> weld,
+FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32_t>& vertices,
+                           std::span<const std::uint32_t> patches, std::span<const std::uint32_t> weld,
                            std::vector<std::pair<double, double>>* along) {
   FitError e;
   // The sweep's tube, tessellated: stations along t, 2n angles around.
@@ -51,11 +49,8 @@ FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
   std::vector<std::uint32_t> grid;
   for (int i = 0; i + 1 < stations; ++i) {
     for (int j = 0; j < angles; ++j) {
-      const auto id = [&](int a, int b) {
-        return static_cast<std::uint32_t>(a * angles + b % angles);
-      };
-      grid.insert(grid.end(), {id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1),
-                               id(i + 1, j)});
+      const auto id = [&](int a, int b) { return static_cast<std::uint32_t>(a * angles + b % angles); };
+      grid.insert(grid.end(), {id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i + 1, j)});
     }
   }
   const TriangleDistance to_sweep(points, grid);
@@ -136,7 +131,7 @@ struct SweepFitter::Impl {
         surface(mesh.positions, traced().triangles) {}
   // What the distances, rings and slices run over: patched where the mesh has holes.
   const Topology& traced() const { return patched ? *patched : topology; }
-  Topology topology;  // the mesh's own: the part is walked over it (select_sweep_part)
+  Topology topology;                // the mesh's own: the part is walked over it (select_sweep_part)
   std::optional<Topology> patched;  // before the slicer and the surface, which are over its triangles
   MeshSlicer slicer;
   TriangleDistance surface;  // the whole mesh: seeds off the surface, the axis' end inside it
@@ -180,13 +175,11 @@ void validate(const FitOptions& o) {
   }
   if (o.radial < 3) bad("radial must be at least 3, got " + std::to_string(o.radial));
   // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
-  if (o.sections > limits::kMaxSections || o.max_sections > limits::kMaxSections ||
-      o.radial > limits::kMaxRadial) {
-    bad("sections must be at most " + std::to_string(limits::kMaxSections) +
-        " and radial at most " + std::to_string(limits::kMaxRadial));
+  if (o.sections > limits::kMaxSections || o.max_sections > limits::kMaxSections || o.radial > limits::kMaxRadial) {
+    bad("sections must be at most " + std::to_string(limits::kMaxSections) + " and radial at most " +
+        std::to_string(limits::kMaxRadial));
   }
-  if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance))
-    bad("tolerance must be a finite number >= 0");
+  if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance)) bad("tolerance must be a finite number >= 0");
   if (o.tolerance > 0 && o.max_sections < 2) bad("max_sections must be at least 2");
   if (!is_finite(o.tip) || (o.root && !is_finite(*o.root))) bad("root and tip must be finite");
   if (o.name.empty()) bad("name must not be empty");
@@ -201,8 +194,8 @@ void validate(const FitOptions& o) {
 FitResult SweepFitter::fit(const FitOptions& o) const {
   const auto start = std::chrono::steady_clock::now();
   validate(o);
-  const detail::FitInputs inputs{mesh_, impl_->topology, impl_->traced(), impl_->slicer, impl_->surface,
-                                 impl_->diagonal};
+  const detail::FitInputs inputs{mesh_,         impl_->topology, impl_->traced(),
+                                 impl_->slicer, impl_->surface,  impl_->diagonal};
   detail::FitRun run(inputs, o);
   const detail::Seeds seeds = run.resolve_seeds();
   detail::TipSearch tip = run.find_tip(seeds);

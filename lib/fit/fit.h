@@ -39,8 +39,8 @@ struct FitOptions {
   // Where the part leaves the body: on its axis, on its surface, or inside the body near the
   // junction (mesh units). Absent: found where the ring size jumps (fit/rings.h).
   std::optional<Vec3> root;
-  Vec3 tip = Vec3::Zero();          // at or near the part's end, a few radii off is fine
-  std::int64_t tip_vertex = -1;     // >= 0: the part's end as a vertex index (no climb), not `tip`
+  Vec3 tip = Vec3::Zero();       // at or near the part's end, a few radii off is fine
+  std::int64_t tip_vertex = -1;  // >= 0: the part's end as a vertex index (no climb), not `tip`
   // An explicit axis polyline from root to tip (mesh units). When given it replaces the rings;
   // its first and last points are the root and the tip.
   std::vector<Vec3> axis;
@@ -107,7 +107,7 @@ struct FitError {
   // The 90th percentile of the surface samples' distances: a sweep that wanders off the part
   // (radii fitted to the vertices cannot show it) has a tenth of its surface far from every face.
   double surface_p90 = 0;
-  double radial_rms = 0;  // RMS of |ρ − r(θ,t)|: the distance along the section's ray
+  double radial_rms = 0;              // RMS of |ρ − r(θ,t)|: the distance along the section's ray
   std::size_t measured_count = 0;     // part vertices whose section plane lies in [0, L]
   std::size_t beyond_ends_count = 0;  // part vertices past the end sections (caps), not measured
   std::size_t beyond_root_count = 0;  // ... of them, before section 0
@@ -118,13 +118,13 @@ struct FitError {
 };
 
 struct FitResult {
-  SweepDef sweep;  // name, rest shape (K sections, n radii), default springs, part seeds
+  SweepDef sweep;                            // name, rest shape (K sections, n radii), default springs, part seeds
   std::vector<std::uint32_t> part_vertices;  // the part's vertex indices, sorted
   AxisTrace axis;                            // the refined axis, root to tip end
-  std::uint32_t tip_vertex = 0;  // the part's end: where the rings start
-  Vec3 root = Vec3::Zero();      // centre of section 0
-  bool root_found = false;       // true: no root was given; found where the rings meet the body
-  std::string root_reason;       // how the root was placed, for messages
+  std::uint32_t tip_vertex = 0;              // the part's end: where the rings start
+  Vec3 root = Vec3::Zero();                  // centre of section 0
+  bool root_found = false;                   // true: no root was given; found where the rings meet the body
+  std::string root_reason;                   // how the root was placed, for messages
   // The tube goes on past the tip (a hose, a knot, a torus): the tip was given mid-tube, so the
   // part is cut at the last key section too (PartSeeds::tip_cut) and the tip stays where it was
   // given; tip_cut_reason says how that was seen ("" when there is no tip-side cut).
@@ -137,33 +137,33 @@ struct FitResult {
   // where and with what numbers ("" when the sweep runs to the tip).
   bool end_cut = false;
   std::string end_cut_reason;
-  double length = 0;       // arc length of the axis from section 0 to K-1, mesh units
-  double traced_length = 0;    // the axis from the root to the tip vertex, mesh units
-  double surface_length = 0;   // surface distance from the tip vertex to the root ring
-  double tip_gap = 0;          // from the axis' end to the tip vertex, mesh units
+  double length = 0;          // arc length of the axis from section 0 to K-1, mesh units
+  double traced_length = 0;   // the axis from the root to the tip vertex, mesh units
+  double surface_length = 0;  // surface distance from the tip vertex to the root ring
+  double tip_gap = 0;         // from the axis' end to the tip vertex, mesh units
   // How far the given tip and root lie from the mesh's surface (its triangles), mesh units: 0
   // for a point on it (and for a tip given as a vertex, or no root); seeds farther than
   // seed_limit (FitOptions::seed_distance of the bounding box diagonal) are refused.
   double tip_off_surface = 0;
   double root_off_surface = 0;
   double seed_limit = 0;
-  double mean_radius = 0;  // mean of the K·n radius samples, mesh units
-  std::size_t leaked_count = 0;  // part vertices far past the root ring (see max_leak_share)
-  FitError error;          // distances between the part's vertices and the fitted surface
+  double mean_radius = 0;                      // mean of the K·n radius samples, mesh units
+  std::size_t leaked_count = 0;                // part vertices far past the root ring (see max_leak_share)
+  FitError error;                              // distances between the part's vertices and the fitted surface
   std::vector<StarViolation> star_violations;  // sections that are not star-shaped
   std::vector<std::string> warnings;           // things a user should know; the fit still holds
   // Limits of FitOptions that the fit breaks, with the numbers and what to try. Empty: a good fit.
   std::vector<std::string> problems;
   double seconds = 0;  // wall time of the fit (tracing, sections, selection, error), seconds
   double in_range_share() const {
-    return part_vertices.empty() ? 0.0
-                                 : static_cast<double>(error.measured_count) /
-                                       static_cast<double>(part_vertices.size());
+    return part_vertices.empty()
+               ? 0.0
+               : static_cast<double>(error.measured_count) / static_cast<double>(part_vertices.size());
   }
   double beyond_root_share() const {
-    return part_vertices.empty() ? 0.0
-                                 : static_cast<double>(error.beyond_root_count) /
-                                       static_cast<double>(part_vertices.size());
+    return part_vertices.empty()
+               ? 0.0
+               : static_cast<double>(error.beyond_root_count) / static_cast<double>(part_vertices.size());
   }
 };
 
@@ -183,7 +183,7 @@ class SweepFitter {
   FitResult fit(const FitOptions& options) const;
 
   const MeshSlicer& slicer() const;  // over the patched surface
-  const Topology& topology() const;   // the mesh's own: parts are walked over it, as sweep-bind does
+  const Topology& topology() const;  // the mesh's own: parts are walked over it, as sweep-bind does
   // The topology with the mesh's holes patched (fit/hole_patches.h): what the surface distances,
   // their rings and the slices run over, and what find_parts searches.
   const Topology& patched_topology() const;
@@ -204,8 +204,7 @@ FitResult fit_sweep(const Mesh& mesh, const FitOptions& options);
 class FitFailure : public Error {
  public:
   FitFailure(ErrorCategory category, const std::string& message, FitResult partial)
-      : Error(category, message),
-        partial_(std::make_shared<const FitResult>(std::move(partial))) {}
+      : Error(category, message), partial_(std::make_shared<const FitResult>(std::move(partial))) {}
   const FitResult& partial() const { return *partial_; }
 
  private:
@@ -235,10 +234,8 @@ int fit_radii(SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32
 // fit/hole_patches.h, `weld` the topology's) touching the part: over a hole, the patch is the
 // surface's best stand-in, and without it a sample there is the hole's radius from any face.
 // With `along`, each measured vertex's section parameter t and distance are appended to it.
-FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh,
-                           const std::vector<std::uint32_t>& vertices,
-                           std::span<const std::uint32_t> patches = {},
-                           std::span<const std::uint32_t> weld = {},
+FitError measure_fit_error(const SweepShape& shape, const Mesh& mesh, const std::vector<std::uint32_t>& vertices,
+                           std::span<const std::uint32_t> patches = {}, std::span<const std::uint32_t> weld = {},
                            std::vector<std::pair<double, double>>* along = nullptr);
 
 }  // namespace sweep::fit

@@ -56,12 +56,11 @@ int first_tube_ring(const RingTrace& rings, int last, const RingOptions& o) {
 // How far a cap reaches past an end of the axis along the axis' direction there: the farthest
 // projection of the surface nearer to the tip than `level` (the tip's cap: `tip_side`) or farther
 // (a far end without a body).
-double cap_reach(const Mesh& mesh, const std::vector<double>& d, double level, bool tip_side,
-                 const Vec3& end, const Vec3& outwards) {
+double cap_reach(const Mesh& mesh, const std::vector<double>& d, double level, bool tip_side, const Vec3& end,
+                 const Vec3& outwards) {
   double reach = 0;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    if (tip_side ? d[v] <= level : d[v] >= level)
-      reach = std::max(reach, (mesh.positions[v] - end).dot(outwards));
+    if (tip_side ? d[v] <= level : d[v] >= level) reach = std::max(reach, (mesh.positions[v] - end).dot(outwards));
   }
   return reach;
 }
@@ -102,11 +101,10 @@ std::uint32_t FitRun::seed_vertex(const Vec3& p, const char* what, double& off_s
     off_surface = (p - p.cwiseMax(lo).cwiseMin(hi)).stableNorm();
   }
   if (off_surface > r_.seed_limit) {
-    refuse(ErrorCategory::bad_input,
-           std::string(what) + " " + format_point(p) + " is far from the mesh: " +
-               format_number(off_surface) + " from its surface, more than " +
-               format_number(o_.seed_distance) + " of its bounding box diagonal (" +
-               format_number(r_.seed_limit) + ")");
+    refuse(ErrorCategory::bad_input, std::string(what) + " " + format_point(p) +
+                                         " is far from the mesh: " + format_number(off_surface) +
+                                         " from its surface, more than " + format_number(o_.seed_distance) +
+                                         " of its bounding box diagonal (" + format_number(r_.seed_limit) + ")");
   }
   return nearest_vertex(mesh, p);
 }
@@ -125,8 +123,8 @@ Seeds FitRun::resolve_seeds() {
   if (o_.tip_vertex >= 0) {
     if (static_cast<std::uint64_t>(o_.tip_vertex) >= mesh.vertex_count()) {
       refuse(ErrorCategory::usage, "tip_vertex " + std::to_string(o_.tip_vertex) +
-                                       " is not a vertex of the mesh (it has " +
-                                       std::to_string(mesh.vertex_count()) + ")");
+                                       " is not a vertex of the mesh (it has " + std::to_string(mesh.vertex_count()) +
+                                       ")");
     }
     tip = static_cast<std::uint32_t>(o_.tip_vertex);
   } else {
@@ -165,24 +163,21 @@ TipSearch FitRun::find_tip(const Seeds& seeds) {
   // part is the stretch from the root to the tip, cut at its last section too.
   if (seeds.root && o_.axis.empty()) {
     t.from_tip = surface_distances(mesh, topo, std::span(&tip0, 1));
-    t.mid_tube =
-        rings_run_both_ways(mesh, topo, t.from_tip, kBothWaysLevel * t.from_tip[t.root_vertex]);
+    t.mid_tube = rings_run_both_ways(mesh, topo, t.from_tip, kBothWaysLevel * t.from_tip[t.root_vertex]);
   }
   // A tip given as a vertex is the end itself (what --list and --all name: the extremity whose
   // rings found the part); climbing from it may reach another end (the camel's muzzle climbed
   // to an ear and fitted a stub 0.009 long).
-  r_.tip_vertex =
-      o_.axis.empty() && !t.mid_tube && o_.tip_vertex < 0 ? climb(topo, t.field, tip0) : tip0;
+  r_.tip_vertex = o_.axis.empty() && !t.mid_tube && o_.tip_vertex < 0 ? climb(topo, t.field, tip0) : tip0;
   if (t.mid_tube) {
     r_.tip_cut = true;
-    r_.tip_cut_reason = "the rings of surface distance from the tip run both ways along the tube (it "
-                        "goes on past the tip at least as far as the root lies before it): the part "
-                        "is cut at its last section too";
+    r_.tip_cut_reason =
+        "the rings of surface distance from the tip run both ways along the tube (it "
+        "goes on past the tip at least as far as the root lies before it): the part "
+        "is cut at its last section too";
   }
   // How far the part's end lies from the tip asked for: worth a warning past a radius (finish).
-  t.tip_moved = (mesh.positions[r_.tip_vertex] -
-                 (o_.tip_vertex >= 0 ? mesh.positions[tip0] : seeds.tip_point))
-                    .norm();
+  t.tip_moved = (mesh.positions[r_.tip_vertex] - (o_.tip_vertex >= 0 ? mesh.positions[tip0] : seeds.tip_point)).norm();
   return t;
 }
 
@@ -194,8 +189,7 @@ RootChoice FitRun::find_root(const Seeds& seeds, TipSearch& tip) {
   c.d = r_.tip_vertex == seeds.tip && !tip.from_tip.empty()
             ? std::move(tip.from_tip)
             : surface_distances(mesh, topo, std::span(&r_.tip_vertex, 1));
-  c.rings = trace_rings(mesh, topo, c.d, r_.tip_vertex, std::numeric_limits<double>::infinity(),
-                        true, o_.rings);
+  c.rings = trace_rings(mesh, topo, c.d, r_.tip_vertex, std::numeric_limits<double>::infinity(), true, o_.rings);
   if (c.rings.rings.size() < 2) {
     refuse(ErrorCategory::bad_input, "no rings of surface distance around the tip (vertex " +
                                          std::to_string(r_.tip_vertex) +
@@ -210,16 +204,14 @@ RootChoice FitRun::find_root(const Seeds& seeds, TipSearch& tip) {
     while (last + 1 < n && ring(last + 1).distance <= c.d[tip.root_vertex]) ++last;
     c.root_ring = 0;
     for (int i = 1; i <= last; ++i) {
-      if ((ring(i).centroid - root).norm() < (ring(c.root_ring).centroid - root).norm())
-        c.root_ring = i;
+      if ((ring(i).centroid - root).norm() < (ring(c.root_ring).centroid - root).norm()) c.root_ring = i;
     }
     r_.root_reason = "section 0 is cut through the ring nearest to the given root, at distance " +
                      format_number(ring(c.root_ring).distance) + " from the tip";
     // A root a little past the junction only adds a short flare; warn when it has widened.
     if (c.root_ring > c.rings.junction &&
         ring(c.root_ring).radius > (1 + kWidenedRootShare) * ring(c.rings.junction).radius) {
-      r_.warnings.push_back("the root lies past where the part meets the body (" +
-                            c.rings.junction_reason +
+      r_.warnings.push_back("the root lies past where the part meets the body (" + c.rings.junction_reason +
                             "); section 0 is cut where the part has widened");
     }
   } else {
@@ -255,8 +247,9 @@ void FitRun::trace_axis(const Seeds& seeds, const TipSearch& tip, RootChoice& ro
       root.root_radius = radii.front();
     }
     r_.surface_length = root.root_distance = root.d[tip.root_vertex];
-    r_.root_reason = "section 0 is cut where the given root projects onto the axis (the tip was "
-                     "given mid-tube)";
+    r_.root_reason =
+        "section 0 is cut where the given root projects onto the axis (the tip was "
+        "given mid-tube)";
   } else if (o_.axis.empty()) {
     std::vector<Vec3> points;
     std::vector<double> radii;
@@ -275,15 +268,14 @@ void FitRun::trace_axis(const Seeds& seeds, const TipSearch& tip, RootChoice& ro
     r_.axis = refine_axis(slicer, points, radii);
     if (!r_.axis.points.empty()) {
       extend_axis(slicer, in_.surface, r_.axis,
-                  cap_reach(mesh, root.d, ring(cap).distance, true, r_.axis.points.back(),
-                            r_.axis.tangents.back()));
+                  cap_reach(mesh, root.d, ring(cap).distance, true, r_.axis.points.back(), r_.axis.tangents.back()));
     }
     if (root.far_end && !r_.axis.points.empty()) {
       const std::string tip_end = r_.axis.end_reason;  // (the root side's is not the one asked)
       reverse_axis(r_.axis);
       extend_axis(slicer, in_.surface, r_.axis,
-                  cap_reach(mesh, root.d, ring(root.root_ring).distance, false,
-                            r_.axis.points.back(), r_.axis.tangents.back()));
+                  cap_reach(mesh, root.d, ring(root.root_ring).distance, false, r_.axis.points.back(),
+                            r_.axis.tangents.back()));
       reverse_axis(r_.axis);
       r_.axis.end_reason = tip_end;
     } else {
@@ -296,8 +288,8 @@ void FitRun::trace_axis(const Seeds& seeds, const TipSearch& tip, RootChoice& ro
     r_.axis = axis_from_polyline(slicer, o_.axis);
   }
   if (r_.axis.points.size() < 2) {
-    refuse(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r_.tip_vertex) +
-                                         " has no length to fit (" + r_.root_reason + ")");
+    refuse(ErrorCategory::bad_input,
+           "the part from vertex " + std::to_string(r_.tip_vertex) + " has no length to fit (" + r_.root_reason + ")");
   }
   if (o_.axis.empty()) limit_axis_curvature(r_.axis, kMaxCurvatureRadii);
   r_.traced_length = arc_lengths(r_.axis.points).back();
@@ -309,8 +301,7 @@ void FitRun::trace_axis(const Seeds& seeds, const TipSearch& tip, RootChoice& ro
 AxisTrace FitRun::key_section_span(const RootChoice& root) {
   const std::vector<double> s = arc_lengths(r_.axis.points);
   std::size_t end = r_.axis.points.size() - 1;
-  while (end > 1 &&
-         !(r_.axis.radii[end] > 0 && s.back() - s[end] >= kCapRadii * r_.axis.radii[end])) {
+  while (end > 1 && !(r_.axis.radii[end] > 0 && s.back() - s[end] >= kCapRadii * r_.axis.radii[end])) {
     --end;
   }
   std::size_t begin = 0;
@@ -328,8 +319,8 @@ AxisTrace FitRun::key_section_span(const RootChoice& root) {
   if (std::none_of(span.radii.begin(), span.radii.end(), [](double x) { return x > 0; }))
     std::fill(span.radii.begin(), span.radii.end(), root.rings.rings[0].radius);
   if (!(arc_lengths(span.points).back() > 0)) {
-    refuse(ErrorCategory::bad_input, "the part from vertex " + std::to_string(r_.tip_vertex) +
-                                         " is too short to cut two key sections");
+    refuse(ErrorCategory::bad_input,
+           "the part from vertex " + std::to_string(r_.tip_vertex) + " is too short to cut two key sections");
   }
   return span;
 }
@@ -361,10 +352,9 @@ void FitRun::build_sections(int k, const AxisTrace& span, SectionFit& sections) 
   r.mean_radius /= static_cast<double>(radii.size());
   sections.along.clear();
   if (o_.measure_error || o_.tolerance > 0) {
-    r.error = measure_fit_error(
-        r.sweep.rest, mesh, r.part_vertices,
-        std::span(in_.traced.triangles).subspan(in_.own.triangles.size()), in_.own.weld,
-        &sections.along);
+    r.error = measure_fit_error(r.sweep.rest, mesh, r.part_vertices,
+                                std::span(in_.traced.triangles).subspan(in_.own.triangles.size()), in_.own.weld,
+                                &sections.along);
   }
 }
 
@@ -385,8 +375,7 @@ SectionFit FitRun::fit_sections(const AxisTrace& span) {
     }
     if (!met) {
       r_.warnings.push_back("tolerance " + format_number(o_.tolerance) + " not met with " +
-                            std::to_string(r_.sweep.rest.section_count()) +
-                            " sections: the fit RMS is " +
+                            std::to_string(r_.sweep.rest.section_count()) + " sections: the fit RMS is " +
                             format_percent(r_.error.rms / r_.mean_radius) + " of the mean radius");
     }
   } else {
@@ -395,8 +384,8 @@ SectionFit FitRun::fit_sections(const AxisTrace& span) {
   return sections;
 }
 
-bool FitRun::cut_end(const TubeEnd& tube_end, const char* kind, const RootChoice& root,
-                     AxisTrace& span, SectionFit& sections) {
+bool FitRun::cut_end(const TubeEnd& tube_end, const char* kind, const RootChoice& root, AxisTrace& span,
+                     SectionFit& sections) {
   const Mesh& mesh = in_.mesh;
   FitResult& r = r_;
   const SweepShape& shape = r.sweep.rest;
@@ -446,34 +435,31 @@ bool FitRun::cut_end(const TubeEnd& tube_end, const char* kind, const RootChoice
   std::size_t gained = 0;
   for (const std::uint32_t v : r.part_vertices)
     gained += !std::binary_search(uncut.part_vertices.begin(), uncut.part_vertices.end(), v);
-  const bool fits =
-      r.error.measured_count > 0 && r.error.p90 <= o_.max_error * r.mean_radius &&
-      r.error.rms < uncut.error.rms / old_mean_radius * r.mean_radius &&
-      r.error.surface_p90 <= o_.max_surface_error * r.mean_radius &&
-      r.beyond_root_share() <= o_.max_beyond_root_share &&
-      static_cast<double>(gained) <= o_.max_leak_share * static_cast<double>(old_count) &&
-      !(ended_length < o_.min_length_ratio * tube_surface &&
-        ended_gap > o_.max_tip_gap * r.mean_radius);
+  const bool fits = r.error.measured_count > 0 && r.error.p90 <= o_.max_error * r.mean_radius &&
+                    r.error.rms < uncut.error.rms / old_mean_radius * r.mean_radius &&
+                    r.error.surface_p90 <= o_.max_surface_error * r.mean_radius &&
+                    r.beyond_root_share() <= o_.max_beyond_root_share &&
+                    static_cast<double>(gained) <= o_.max_leak_share * static_cast<double>(old_count) &&
+                    !(ended_length < o_.min_length_ratio * tube_surface && ended_gap > o_.max_tip_gap * r.mean_radius);
   if (fits) {
     r.axis = std::move(ended);
     r.traced_length = ended_length;
     r.surface_length = tube_surface;
     const std::size_t carried = r.error.beyond_ends_count - r.error.beyond_root_count;
     r.end_cut = true;
-    r.end_cut_reason =
-        "the part's end is not a tube (" + std::string(kind) + "): the sweep fitted through it "
-        "was " + format_percent(end_rms / old_mean_radius) + " of the mean radius off its " +
-        std::to_string(end_count) + " vertices (RMS) over the last " + format_percent(share) +
-        " of its length, against " + format_percent(before_rms / old_mean_radius) +
-        " before; the axis and the sweep end at " + format_point(end_point, 4) + ", and the " +
-        std::to_string(carried) +
-        " vertices past the sweep's last section are carried rigidly by it (the axis is "
-        "measured against the surface distance from the root ring to there, " +
-        format_number(tube_surface) + "; on to the tip it is " + format_number(end_distance) +
-        " more)";
-    r.axis.end_reason = "the part's end is not a tube past " + format_point(end_point, 4) +
-                        " (the sweep was " + format_percent(end_rms / old_mean_radius) +
-                        " of the mean radius off it, RMS)";
+    r.end_cut_reason = "the part's end is not a tube (" + std::string(kind) +
+                       "): the sweep fitted through it "
+                       "was " +
+                       format_percent(end_rms / old_mean_radius) + " of the mean radius off its " +
+                       std::to_string(end_count) + " vertices (RMS) over the last " + format_percent(share) +
+                       " of its length, against " + format_percent(before_rms / old_mean_radius) +
+                       " before; the axis and the sweep end at " + format_point(end_point, 4) + ", and the " +
+                       std::to_string(carried) +
+                       " vertices past the sweep's last section are carried rigidly by it (the axis is "
+                       "measured against the surface distance from the root ring to there, " +
+                       format_number(tube_surface) + "; on to the tip it is " + format_number(end_distance) + " more)";
+    r.axis.end_reason = "the part's end is not a tube past " + format_point(end_point, 4) + " (the sweep was " +
+                        format_percent(end_rms / old_mean_radius) + " of the mean radius off it, RMS)";
     return true;
   }
   r = uncut;
@@ -483,22 +469,19 @@ bool FitRun::cut_end(const TubeEnd& tube_end, const char* kind, const RootChoice
 
 bool FitRun::too_far() const {
   return r_.error.measured_count > 0 &&
-         (r_.error.p90 > o_.max_error * r_.mean_radius ||
-          r_.error.surface_p90 > o_.max_surface_error * r_.mean_radius);
+         (r_.error.p90 > o_.max_error * r_.mean_radius || r_.error.surface_p90 > o_.max_surface_error * r_.mean_radius);
 }
 
-void FitRun::cut_ends(const TipSearch& tip, const RootChoice& root, AxisTrace& span,
-                      SectionFit& sections) {
+void FitRun::cut_ends(const TipSearch& tip, const RootChoice& root, AxisTrace& span, SectionFit& sections) {
   // An end that is not a tube: the sweep ends where the tube does (fit/tube_end.h). At a fixed
   // section count only: a foot spoils every rung of the tolerance search, which would climb to
   // max_sections before the end is cut (camel's hind leg: K = 256, 1.6 % RMS, the axis still in
   // the foot); and only when the error is measured, which tells where the end is.
   const bool fixed_count = o_.tolerance == 0;
-  const bool may_cut = o_.axis.empty() && !tip.mid_tube && !root.far_end && fixed_count &&
-                       o_.measure_error;
+  const bool may_cut = o_.axis.empty() && !tip.mid_tube && !root.far_end && fixed_count && o_.measure_error;
   if (may_cut && r_.error.measured_count > 0) {
-    if (const std::optional<TubeEnd> tube_end = find_tube_end(
-            r_.sweep.rest, sections.along, o_.max_error * r_.mean_radius, r_.mean_radius)) {
+    if (const std::optional<TubeEnd> tube_end =
+            find_tube_end(r_.sweep.rest, sections.along, o_.max_error * r_.mean_radius, r_.mean_radius)) {
       cut_end(*tube_end, "a foot, a hoof, a tuft", root, span, sections);
     }
   }
@@ -507,10 +490,8 @@ void FitRun::cut_ends(const TipSearch& tip, const RootChoice& root, AxisTrace& s
   // fit breaks the error limits, the sweep is cut where the spans first go off the tube from the
   // root on, or up to kMaxWideEndSteps sections before, the first cut that meets every limit kept.
   if (may_cut && !r_.end_cut && too_far()) {
-    for (const TubeEnd& wide :
-         wide_end_cuts(r_.sweep.rest, sections.along, o_.max_error * r_.mean_radius)) {
-      if (cut_end(wide, "a head, a hand: an end the sweep cannot follow", root, span, sections))
-        break;
+    for (const TubeEnd& wide : wide_end_cuts(r_.sweep.rest, sections.along, o_.max_error * r_.mean_radius)) {
+      if (cut_end(wide, "a head, a hand: an end the sweep cannot follow", root, span, sections)) break;
     }
   }
 }
@@ -535,8 +516,8 @@ FitResult FitRun::finish(const TipSearch& tip, const RootChoice& root) {
     int rays = 0;
     for (const StarViolation& v : r.star_violations) rays += v.multi_crossing_rays + v.missed_rays;
     r.warnings.push_back(std::to_string(r.star_violations.size()) +
-                         " sections are not star-shaped about their centre (" +
-                         std::to_string(rays) + " rays; the outermost crossing was used)");
+                         " sections are not star-shaped about their centre (" + std::to_string(rays) +
+                         " rays; the outermost crossing was used)");
   }
   const double leak_level = root.root_distance + kLeakRadii * root.root_radius;
   for (const std::uint32_t v : r.part_vertices) r.leaked_count += root.d[v] > leak_level;
@@ -544,24 +525,19 @@ FitResult FitRun::finish(const TipSearch& tip, const RootChoice& root) {
   // Short against the surface and far from the tip: stopped early. (A foot or a head at the end
   // lengthens the surface path without leaving the axis short of the tip.)
   r.tip_gap = (mesh.positions[r.tip_vertex] - r.axis.points.back()).norm();
-  if (r.traced_length < o_.min_length_ratio * r.surface_length &&
-      r.tip_gap > o_.max_tip_gap * r.mean_radius) {
-    r.problems.push_back("the axis (" + format_number(r.traced_length) + " long) covers only " +
-                         format_percent(r.traced_length / r.surface_length) +
-                         " of the surface distance from the tip to the root (" +
-                         format_number(r.surface_length) + ") and ends " +
-                         format_number(r.tip_gap / r.mean_radius) +
-                         " mean radii from the tip: the trace stopped short of the tip (" +
-                         (r.axis.end_reason.empty() ? std::string("the axis given ends there")
-                                                    : r.axis.end_reason) +
-                         ")");
+  if (r.traced_length < o_.min_length_ratio * r.surface_length && r.tip_gap > o_.max_tip_gap * r.mean_radius) {
+    r.problems.push_back(
+        "the axis (" + format_number(r.traced_length) + " long) covers only " +
+        format_percent(r.traced_length / r.surface_length) + " of the surface distance from the tip to the root (" +
+        format_number(r.surface_length) + ") and ends " + format_number(r.tip_gap / r.mean_radius) +
+        " mean radii from the tip: the trace stopped short of the tip (" +
+        (r.axis.end_reason.empty() ? std::string("the axis given ends there") : r.axis.end_reason) + ")");
   }
   if (static_cast<double>(r.leaked_count) > o_.max_leak_share * part_count) {
-    r.problems.push_back(
-        "the part leaks past its root into the body: " + std::to_string(r.leaked_count) +
-        " of its " + std::to_string(r.part_vertices.size()) +
-        " vertices lie farther from the tip than the root section; give --root where the part "
-        "is still a tube");
+    r.problems.push_back("the part leaks past its root into the body: " + std::to_string(r.leaked_count) + " of its " +
+                         std::to_string(r.part_vertices.size()) +
+                         " vertices lie farther from the tip than the root section; give --root where the part "
+                         "is still a tube");
   }
   if (o_.measure_error || o_.tolerance > 0) {
     if (r.error.measured_count == 0) {
@@ -576,20 +552,17 @@ FitResult FitRun::finish(const TipSearch& tip, const RootChoice& root) {
     if (r.error.measured_count > 0 && r.error.p90 > o_.max_error * r.mean_radius) {
       r.problems.push_back("a tenth of the part's vertices are farther than " +
                            format_percent(r.error.p90 / r.mean_radius) +
-                           " of the mean radius from the fit, above the limit of " +
-                           format_percent(o_.max_error) +
+                           " of the mean radius from the fit, above the limit of " + format_percent(o_.max_error) +
                            ": the part is not a tube where it is cut, or the axis strayed; try "
                            "--root nearer the tip, or more sections");
     }
-    if (r.error.surface_samples > 0 &&
-        r.error.surface_p90 > o_.max_surface_error * r.mean_radius) {
-      r.problems.push_back("a tenth of the fitted surface is farther than " +
-                           format_percent(r.error.surface_p90 / r.mean_radius) +
-                           " of the mean radius from the part's faces, above the limit of " +
-                           format_percent(o_.max_surface_error) +
-                           ": the sweep leaves the mesh between the part's vertices (the part "
-                           "is not one tube, or the axis strayed); try --tip and --root on the "
-                           "part, or more sections");
+    if (r.error.surface_samples > 0 && r.error.surface_p90 > o_.max_surface_error * r.mean_radius) {
+      r.problems.push_back(
+          "a tenth of the fitted surface is farther than " + format_percent(r.error.surface_p90 / r.mean_radius) +
+          " of the mean radius from the part's faces, above the limit of " + format_percent(o_.max_surface_error) +
+          ": the sweep leaves the mesh between the part's vertices (the part "
+          "is not one tube, or the axis strayed); try --tip and --root on the "
+          "part, or more sections");
     }
   }
   if (r.length < kStubRadii * r.mean_radius) {
@@ -598,10 +571,9 @@ FitResult FitRun::finish(const TipSearch& tip, const RootChoice& root) {
                          "); give --root farther from the tip if the part goes on");
   }
   if (tip.tip_moved > r.mean_radius) {
-    r.warnings.push_back("tip moved to the part's end, vertex " + std::to_string(r.tip_vertex) +
-                         " at " + format_point(mesh.positions[r.tip_vertex]) + ", " +
-                         format_number(tip.tip_moved / r.mean_radius) +
-                         " mean radii from the tip given");
+    r.warnings.push_back("tip moved to the part's end, vertex " + std::to_string(r.tip_vertex) + " at " +
+                         format_point(mesh.positions[r.tip_vertex]) + ", " +
+                         format_number(tip.tip_moved / r.mean_radius) + " mean radii from the tip given");
   }
   return std::move(r_);
 }

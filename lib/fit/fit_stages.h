@@ -47,11 +47,11 @@ struct Seeds {
 
 // 1. The part's end.
 struct TipSearch {
-  std::uint32_t root_vertex = 0;   // with a root: its vertex (welded)
-  std::vector<double> field;       // surface distance from the body (the root, or the far point)
-  std::vector<double> from_tip;    // with a root and no axis: the distance from the seed tip
-  bool mid_tube = false;           // the tube goes on past the tip given
-  double tip_moved = 0;            // how far the end lies from the tip asked for
+  std::uint32_t root_vertex = 0;  // with a root: its vertex (welded)
+  std::vector<double> field;      // surface distance from the body (the root, or the far point)
+  std::vector<double> from_tip;   // with a root and no axis: the distance from the seed tip
+  bool mid_tube = false;          // the tube goes on past the tip given
+  double tip_moved = 0;           // how far the end lies from the tip asked for
 };
 
 // 2. The rings from the end, and the root ring among them.

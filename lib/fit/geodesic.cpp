@@ -75,8 +75,8 @@ double LevelLoop::radius() const {
   return std::sqrt(vector_area.norm() / std::numbers::pi);
 }
 
-LevelSets::LevelSets(const Mesh& mesh, const Topology& topology,
-                     const std::vector<double>& distance, double spacing, double max_level)
+LevelSets::LevelSets(const Mesh& mesh, const Topology& topology, const std::vector<double>& distance, double spacing,
+                     double max_level)
     : mesh_(mesh), topology_(topology), distance_(distance), spacing_(spacing) {
   const auto levels = static_cast<std::int64_t>(std::floor(max_level / spacing));
   const std::size_t nt = topology.triangles.size() / 3;
@@ -97,8 +97,7 @@ LevelSets::LevelSets(const Mesh& mesh, const Topology& topology,
   // Rows of (level, triangle): a counting sort like the adjacency's, rows already sorted.
   buckets_.offsets.assign(static_cast<std::size_t>(std::max<std::int64_t>(levels, 0)) + 1, 0);
   for_each_pair([&](std::uint32_t k, std::uint32_t) { ++buckets_.offsets[k + 1]; });
-  for (std::size_t k = 1; k < buckets_.offsets.size(); ++k)
-    buckets_.offsets[k] += buckets_.offsets[k - 1];
+  for (std::size_t k = 1; k < buckets_.offsets.size(); ++k) buckets_.offsets[k] += buckets_.offsets[k - 1];
   buckets_.neighbours.resize(buckets_.offsets.back());
   std::vector<std::uint32_t> fill(buckets_.offsets.begin(), buckets_.offsets.end() - 1);
   for_each_pair([&](std::uint32_t k, std::uint32_t f) { buckets_.neighbours[fill[k]++] = f; });
@@ -133,16 +132,14 @@ std::vector<LevelLoop> LevelSets::loops(int k) const {
     }
   }
   // Nodes: the distinct edge keys, sorted; segments between them in compressed rows.
-  std::sort(points.begin(), points.end(),
-            [](const auto& x, const auto& y) { return x.first < y.first; });
-  points.erase(std::unique(points.begin(), points.end(),
-                           [](const auto& x, const auto& y) { return x.first == y.first; }),
-               points.end());
+  std::sort(points.begin(), points.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  points.erase(
+      std::unique(points.begin(), points.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
+      points.end());
   const auto node = [&](std::uint64_t key) {
-    return static_cast<std::uint32_t>(
-        std::lower_bound(points.begin(), points.end(), key,
-                         [](const auto& x, std::uint64_t k2) { return x.first < k2; }) -
-        points.begin());
+    return static_cast<std::uint32_t>(std::lower_bound(points.begin(), points.end(), key,
+                                                       [](const auto& x, std::uint64_t k2) { return x.first < k2; }) -
+                                      points.begin());
   };
   const std::size_t nn = points.size(), ns = segments.size();
   std::vector<std::uint32_t> ends(2 * ns);
@@ -154,8 +151,7 @@ std::vector<LevelLoop> LevelSets::loops(int k) const {
   for (const std::uint32_t n : ends) ++start[n + 1];
   for (std::size_t n = 0; n < nn; ++n) start[n + 1] += start[n];
   std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for (std::size_t e = 0; e < 2 * ns; ++e)
-    incident[fill[ends[e]]++] = static_cast<std::uint32_t>(e / 2);
+  for (std::size_t e = 0; e < 2 * ns; ++e) incident[fill[ends[e]]++] = static_cast<std::uint32_t>(e / 2);
 
   std::vector<char> used(ns, 0);
   std::vector<LevelLoop> out;
@@ -193,8 +189,7 @@ std::vector<LevelLoop> LevelSets::loops(int k) const {
     }
     loop.centroid = loop.length > 0 ? Vec3(weighted / loop.length) : loop.points[0];
     for (std::size_t i = 0; i < m; ++i) {
-      loop.vector_area +=
-          0.5 * (loop.points[i] - loop.centroid).cross(loop.points[(i + 1) % m] - loop.centroid);
+      loop.vector_area += 0.5 * (loop.points[i] - loop.centroid).cross(loop.points[(i + 1) % m] - loop.centroid);
     }
     out.push_back(std::move(loop));
   };
@@ -207,8 +202,7 @@ std::vector<LevelLoop> LevelSets::loops(int k) const {
       if (!used[incident[i]]) walk(n);
     }
   }
-  std::stable_sort(out.begin(), out.end(),
-                   [](const LevelLoop& a, const LevelLoop& b) { return a.length > b.length; });
+  std::stable_sort(out.begin(), out.end(), [](const LevelLoop& a, const LevelLoop& b) { return a.length > b.length; });
   return out;
 }
 

@@ -33,8 +33,8 @@ struct LevelLoop {
 class LevelSets {
  public:
   // Levels spacing·1, spacing·2, ... up to `max_level`.
-  LevelSets(const Mesh& mesh, const Topology& topology, const std::vector<double>& distance,
-            double spacing, double max_level);
+  LevelSets(const Mesh& mesh, const Topology& topology, const std::vector<double>& distance, double spacing,
+            double max_level);
   int level_count() const { return static_cast<int>(buckets_.offsets.size()) - 1; }
   double level(int k) const { return spacing_ * (k + 1); }
   // The loops of level k, longest first.

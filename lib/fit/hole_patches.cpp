@@ -1,8 +1,6 @@
 // One of the translation units that include CGAL (see hole_patches.h).
 #include "sweep/fit/hole_patches.h"
 
-#include "sweep/core/fp_environment.h"
-
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/utility.h>
@@ -11,6 +9,8 @@
 #include <array>
 #include <iterator>
 #include <unordered_map>
+
+#include "sweep/core/fp_environment.h"
 
 namespace sweep::fit {
 namespace {
@@ -75,16 +75,14 @@ std::vector<std::uint32_t> hole_patches(const Mesh& mesh, const Topology& topolo
       // do: reversed, the patch meets each rim edge the other way, as a closed surface does.
       std::array<int, 3> k{tri.first, tri.second, tri.third};
       std::sort(k.begin(), k.end());
-      const std::array<std::uint32_t, 3> t{rim[static_cast<std::size_t>(k[2])],
-                                           rim[static_cast<std::size_t>(k[1])],
+      const std::array<std::uint32_t, 3> t{rim[static_cast<std::size_t>(k[2])], rim[static_cast<std::size_t>(k[1])],
                                            rim[static_cast<std::size_t>(k[0])]};
       triangles.insert(triangles.end(), t.begin(), t.end());
       edges.insert(edges.end(), {edge(t[0], t[1]), edge(t[1], t[2]), edge(t[2], t[0])});
     }
     std::unordered_map<std::uint64_t, int> uses;  // this patch's
     for (const std::uint64_t e : edges) ++uses[e];
-    const bool fits = patch.size() == rim.size() - 2 &&
-                      std::all_of(edges.begin(), edges.end(), [&](std::uint64_t e) {
+    const bool fits = patch.size() == rim.size() - 2 && std::all_of(edges.begin(), edges.end(), [&](std::uint64_t e) {
                         const auto before = edge_uses.find(e);
                         return (before == edge_uses.end() ? 0 : before->second) + uses[e] <= 2;
                       });

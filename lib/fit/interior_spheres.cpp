@@ -8,13 +8,11 @@
 
 namespace sweep::fit {
 
-InteriorSpheres fit_interior_spheres(const std::vector<Vec3>& points,
-                                     const std::vector<std::uint32_t>& triangles,
+InteriorSpheres fit_interior_spheres(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& triangles,
                                      const InteriorSpheresOptions& options,
                                      const std::function<double(const Vec3&)>& room) {
   InteriorSpheres out;
-  if (points.empty() || triangles.empty() || options.max_spheres < 1 || options.cells < 1)
-    return out;
+  if (points.empty() || triangles.empty() || options.max_spheres < 1 || options.cells < 1) return out;
   Vec3 lo = points[0], hi = points[0];
   for (const Vec3& p : points) {
     lo = lo.cwiseMin(p);
@@ -49,9 +47,8 @@ InteriorSpheres fit_interior_spheres(const std::vector<Vec3>& points,
   // Largest first; stable, so the grid order breaks ties and the result never depends on the sort.
   std::vector<std::size_t> order(candidates.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return candidates[a].radius > candidates[b].radius;
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return candidates[a].radius > candidates[b].radius; });
   std::vector<char> covered(candidates.size(), 0);
   for (const std::size_t c : order) {
     if (covered[c]) continue;

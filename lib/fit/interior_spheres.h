@@ -37,8 +37,7 @@ struct InteriorSpheres {
 // `room(p)`: how far p is from whatever else the spheres must keep clear of (the parts' rest
 // surfaces), ≤ 0 where p must not be covered at all; return infinity for nothing. `points` and
 // `triangles` (3 indices each) make a closed surface.
-InteriorSpheres fit_interior_spheres(const std::vector<Vec3>& points,
-                                     const std::vector<std::uint32_t>& triangles,
+InteriorSpheres fit_interior_spheres(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& triangles,
                                      const InteriorSpheresOptions& options,
                                      const std::function<double(const Vec3&)>& room);
 

@@ -93,8 +93,7 @@ std::optional<Neck> find_neck(const std::vector<Vec2>& q, const Vec2& point) {
   const double max_chord = kMaxNeckOfThickness * std::sqrt(total / 2 / std::numbers::pi);
   std::vector<std::size_t> by_x(m);
   for (std::size_t i = 0; i < m; ++i) by_x[i] = i;
-  std::sort(by_x.begin(), by_x.end(),
-            [&](std::size_t i, std::size_t j) { return q[i].x() < q[j].x(); });
+  std::sort(by_x.begin(), by_x.end(), [&](std::size_t i, std::size_t j) { return q[i].x() < q[j].x(); });
   struct Candidate {
     double score;
     std::size_t a, b;
@@ -108,8 +107,7 @@ std::optional<Neck> find_neck(const std::vector<Vec2>& q, const Vec2& point) {
       if (!(chord < max_chord)) continue;
       const Vec2 qa = q[a] - point, qb = q[b] - point;
       const double inner = std::abs(twice_area[b] - twice_area[a] + cross(qb, qa));
-      const double outer =
-          std::abs(twice_area[m] - (twice_area[b] - twice_area[a]) + cross(qa, qb));
+      const double outer = std::abs(twice_area[m] - (twice_area[b] - twice_area[a]) + cross(qa, qb));
       if (inner < kMinNeckPieceShare * total || outer < kMinNeckPieceShare * total) continue;
       const double inner_thickness = inner / (length[b] - length[a] + chord);
       const double outer_thickness = outer / (length[m] - (length[b] - length[a]) + chord);
@@ -146,8 +144,7 @@ template <class T>
 void keep_piece(std::vector<T>& v, const Neck& n) {
   std::vector<T> out;
   if (n.keep_inner) {
-    out.assign(v.begin() + static_cast<std::ptrdiff_t>(n.a),
-               v.begin() + static_cast<std::ptrdiff_t>(n.b) + 1);
+    out.assign(v.begin() + static_cast<std::ptrdiff_t>(n.a), v.begin() + static_cast<std::ptrdiff_t>(n.b) + 1);
   } else {
     out.assign(v.begin() + static_cast<std::ptrdiff_t>(n.b), v.end());
     out.insert(out.end(), v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n.a) + 1);
@@ -215,8 +212,8 @@ void measure_loop(const PlaneBasis& basis, Loop& loop) {
   loop.centroid = basis.to_world(c) + offset * basis.n;
 }
 
-std::optional<Loop> loop_around(const std::vector<SlicePolyline>& slice, const Vec3& point,
-                                const Vec3& normal, double max_distance, Necks necks) {
+std::optional<Loop> loop_around(const std::vector<SlicePolyline>& slice, const Vec3& point, const Vec3& normal,
+                                double max_distance, Necks necks) {
   const PlaneBasis basis = plane_basis(point, normal);
   const Vec2 p = Vec2::Zero();
   std::optional<std::size_t> best_inside, best_near;
@@ -291,7 +288,7 @@ RaySamples sample_radii(const Frame& frame, const std::vector<Vec3>& loop, int n
       const Vec2 a = q[k], b = q[i];
       if (side(a) == side(b)) continue;
       const double ha = dir.x() * a.y() - dir.y() * a.x(), hb = dir.x() * b.y() - dir.y() * b.x();
-      const double u = ha / (ha - hb);  // along the segment, where its height above the line is 0
+      const double u = ha / (ha - hb);              // along the segment, where its height above the line is 0
       const double s = (a + u * (b - a)).dot(dir);  // along the ray
       if (!(s > 0)) continue;
       ++crossings;
@@ -316,8 +313,7 @@ RaySamples sample_radii(const Frame& frame, const std::vector<Vec3>& loop, int n
       fill = q.empty() ? 0 : fill / static_cast<double>(q.size());
     }
     for (int j = 0; j < n; ++j) {
-      if (missed[static_cast<std::size_t>(j)])
-        out.radii[static_cast<std::size_t>(j)] = std::max(fill, floor);
+      if (missed[static_cast<std::size_t>(j)]) out.radii[static_cast<std::size_t>(j)] = std::max(fill, floor);
     }
   }
   return out;

@@ -49,8 +49,8 @@ enum class Necks { keep, cut };
 // slices as well made four fits of the fit-evidence table worse than with the sections' cuts
 // alone (elephant's trunk, where the tusk lies against it: 11.1 % RMS against 3.2 %;
 // refined_elephant's trunk, armadillo's leg, man's finger) and fixed none.
-std::optional<Loop> loop_around(const std::vector<SlicePolyline>& slice, const Vec3& point,
-                                const Vec3& normal, double max_distance, Necks necks = Necks::keep);
+std::optional<Loop> loop_around(const std::vector<SlicePolyline>& slice, const Vec3& point, const Vec3& normal,
+                                double max_distance, Necks necks = Necks::keep);
 
 // A loop in its plane (`loop`, closed) that pinches between two tubes, two stretches of it close
 // in space while far apart along it (a figure 8, a dumbbell), is cut across the neck, and only the

@@ -15,8 +15,8 @@ constexpr std::size_t kChordHalfWidth = 3;
 
 }  // namespace
 
-bool rings_run_both_ways(const Mesh& mesh, const Topology& topology,
-                         const std::vector<double>& from_tip, double level) {
+bool rings_run_both_ways(const Mesh& mesh, const Topology& topology, const std::vector<double>& from_tip,
+                         double level) {
   if (!(level > 0) || !std::isfinite(level)) return false;
   const LevelSets levels(mesh, topology, from_tip, level, level);
   if (levels.level_count() < 1) return false;
@@ -25,8 +25,8 @@ bool rings_run_both_ways(const Mesh& mesh, const Topology& topology,
 }
 
 void path_axis_points(const Mesh& mesh, const Topology& topology, const MeshSlicer& slicer,
-                      const std::vector<double>& from_root, std::uint32_t tip_vertex,
-                      std::vector<Vec3>& points, std::vector<double>& radii) {
+                      const std::vector<double>& from_root, std::uint32_t tip_vertex, std::vector<Vec3>& points,
+                      std::vector<double>& radii) {
   points.clear();
   radii.clear();
   // Steepest descent over the edges: every vertex but the source has a nearer neighbour (its
@@ -50,8 +50,7 @@ void path_axis_points(const Mesh& mesh, const Topology& topology, const MeshSlic
     if (!(direction.norm() > 0)) continue;
     const Vec3& p = mesh.positions[path[i]];
     const std::optional<Loop> loop =
-        loop_around(slicer.slice(p, direction), p, direction.normalized(),
-                    std::numeric_limits<double>::infinity());
+        loop_around(slicer.slice(p, direction), p, direction.normalized(), std::numeric_limits<double>::infinity());
     if (!loop || !(loop->radius > 0)) continue;
     points.push_back(loop->centroid);
     radii.push_back(loop->radius);

@@ -11,12 +11,11 @@
 // where the small pull to the slice radii r⁰ keeps samples no vertex reaches where the slices put
 // them. Two passes: the second down-weights vertices far off the first fit (a toe or a tuft that
 // no tube follows), so they do not drag the rest of the section out.
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <vector>
-
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 
 #include "sweep/core/locate.h"
 #include "sweep/fit/fit.h"
@@ -37,7 +36,7 @@ constexpr double kMaxChange = 2;
 
 struct Row {
   std::vector<std::pair<int, double>> weights;  // (sample index q = i·n + j, coefficient)
-  double rho = 0;                                // the vertex's distance from the axis
+  double rho = 0;                               // the vertex's distance from the axis
 };
 
 }  // namespace

@@ -22,8 +22,7 @@ constexpr double kTubeWindowRadii = 3;
 
 // The loop of this level that continues the previous ring: the one with the nearest centroid among
 // loops that are not specks; the longest one on the first level.
-const LevelLoop* continuing(const std::vector<LevelLoop>& loops, const Ring* previous,
-                            double previous_length) {
+const LevelLoop* continuing(const std::vector<LevelLoop>& loops, const Ring* previous, double previous_length) {
   if (loops.empty()) return nullptr;
   if (!previous) return &loops[0];
   const LevelLoop* best = nullptr;
@@ -46,7 +45,6 @@ const LevelLoop* continuing(const std::vector<LevelLoop>& loops, const Ring* pre
   return best;
 }
 
-
 }  // namespace
 
 double median_edge_length(const Mesh& mesh, const Topology& topology) {
@@ -63,8 +61,7 @@ double median_edge_length(const Mesh& mesh, const Topology& topology) {
   return *mid;
 }
 
-std::uint32_t climb(const Topology& topology, const std::vector<double>& field,
-                    std::uint32_t start) {
+std::uint32_t climb(const Topology& topology, const std::vector<double>& field, std::uint32_t start) {
   std::uint32_t v = topology.weld[start];
   for (;;) {
     std::uint32_t best = v;
@@ -76,9 +73,8 @@ std::uint32_t climb(const Topology& topology, const std::vector<double>& field,
   }
 }
 
-RingTrace trace_rings(const Mesh& mesh, const Topology& topology,
-                      const std::vector<double>& distance, std::uint32_t tip_vertex,
-                      double stop_distance, bool find_junction, const RingOptions& o) {
+RingTrace trace_rings(const Mesh& mesh, const Topology& topology, const std::vector<double>& distance,
+                      std::uint32_t tip_vertex, double stop_distance, bool find_junction, const RingOptions& o) {
   RingTrace trace;
   trace.tip_vertex = topology.weld[tip_vertex];
   double farthest = 0;
@@ -88,8 +84,7 @@ RingTrace trace_rings(const Mesh& mesh, const Topology& topology,
   const double reach = std::min(farthest, stop_distance);
   // At most kMaxLevels rings: a stray vertex far from the rest (bad data) would otherwise ask
   // for millions of levels at the edges' spacing (fit_off fuzz find, kept).
-  const double spacing =
-      std::max(o.spacing_edges * median_edge_length(mesh, topology), reach / kMaxLevels);
+  const double spacing = std::max(o.spacing_edges * median_edge_length(mesh, topology), reach / kMaxLevels);
   if (!(spacing > 0) || !(farthest > 0)) return trace;
   const LevelSets levels(mesh, topology, distance, spacing, reach);
 
@@ -147,8 +142,7 @@ void locate_junction(RingTrace& trace, const RingOptions& o) {
     // body does not: look for rings back near the knee's size within a few peak radii.
     bool narrows = false;
     if (at(knee).distance <= o.blob_reach * at(knee).radius)
-      for (int i = peak + 1;
-           i < n && at(i).distance - at(peak).distance <= o.blob_radii * at(peak).radius; ++i) {
+      for (int i = peak + 1; i < n && at(i).distance - at(peak).distance <= o.blob_radii * at(peak).radius; ++i) {
         if (at(i).split) break;  // branching into other parts: the body
         if (at(i).radius <= o.blob_narrowing * at(peak).radius) {
           narrows = true;
@@ -163,8 +157,7 @@ void locate_junction(RingTrace& trace, const RingOptions& o) {
         if (at(knee).distance - at(i).distance >= at(knee).radius) before.push_back(at(i).radius);
       }
       if (!before.empty()) {
-        std::nth_element(before.begin(), before.begin() + static_cast<std::ptrdiff_t>(before.size() / 2),
-                         before.end());
+        std::nth_element(before.begin(), before.begin() + static_cast<std::ptrdiff_t>(before.size() / 2), before.end());
         const double tube = before[before.size() / 2];
         while (knee > 0 && at(knee).radius > (1 + kFlareShare) * tube) --knee;
       }

@@ -53,9 +53,9 @@ struct RingTrace {
 
 // Rings from `tip_vertex` up to `stop_distance` (mesh units) or the end of the surface; with
 // `find_junction`, `junction` is then placed by locate_junction.
-RingTrace trace_rings(const Mesh& mesh, const Topology& topology,
-                      const std::vector<double>& distance_from_tip, std::uint32_t tip_vertex,
-                      double stop_distance, bool find_junction, const RingOptions& options = {});
+RingTrace trace_rings(const Mesh& mesh, const Topology& topology, const std::vector<double>& distance_from_tip,
+                      std::uint32_t tip_vertex, double stop_distance, bool find_junction,
+                      const RingOptions& options = {});
 
 // Where the part meets the body along rings from its tip: the first rise of the ring size past
 // the tip's cap (growth above junction_growth) that does not narrow again; the junction is the
@@ -65,8 +65,7 @@ void locate_junction(RingTrace& trace, const RingOptions& options = {});
 // The vertex where `field` is locally largest, reached from `start` by steepest ascent over the
 // mesh's edges (representatives of the weld). Used to move a tip clicked near a part's end to
 // the end itself: the surface distance from the body is largest there.
-std::uint32_t climb(const Topology& topology, const std::vector<double>& field,
-                    std::uint32_t start);
+std::uint32_t climb(const Topology& topology, const std::vector<double>& field, std::uint32_t start);
 
 // Median edge length of the mesh (over welded edges), mesh units; 0 for a mesh without edges.
 double median_edge_length(const Mesh& mesh, const Topology& topology);

@@ -52,16 +52,15 @@ struct AxisSample {
   double radius;
 };
 
-AxisSample sample_axis(const AxisTrace& axis, const std::vector<double>& radii,
-                       const std::vector<double>& s, double t) {
+AxisSample sample_axis(const AxisTrace& axis, const std::vector<double>& radii, const std::vector<double>& s,
+                       double t) {
   const std::size_t m = axis.points.size();
   std::size_t k = static_cast<std::size_t>(std::upper_bound(s.begin(), s.end(), t) - s.begin());
   k = std::clamp<std::size_t>(k, 1, m - 1) - 1;  // segment k → k+1
   const double span = s[k + 1] - s[k];
   const double u = span > 0 ? std::clamp((t - s[k]) / span, 0.0, 1.0) : 0.0;
   return {(1 - u) * axis.points[k] + u * axis.points[k + 1],
-          ((1 - u) * axis.tangents[k] + u * axis.tangents[k + 1]).normalized(),
-          (1 - u) * radii[k] + u * radii[k + 1]};
+          ((1 - u) * axis.tangents[k] + u * axis.tangents[k + 1]).normalized(), (1 - u) * radii[k] + u * radii[k + 1]};
 }
 
 // The axis' local radii with the gaps (0: no slice there) filled from the nearest measured
@@ -92,7 +91,7 @@ struct Cut {
   Frame frame;
   std::optional<Loop> loop;
   RaySamples rays;
-  double reach = 0;  // the local radius of the axis
+  double reach = 0;    // the local radius of the axis
   bool good = false;   // the loop is a section of the part (around the axis, not too wide)
   bool alone = false;  // ... and the plane cuts the part alone (no neck was cut: an end may go)
   bool star_shaped() const { return rays.multi_crossing_rays == 0 && rays.missed_rays == 0; }
@@ -118,14 +117,12 @@ class SectionCutter {
     const std::size_t k = static_cast<std::size_t>(
         std::max<std::ptrdiff_t>(0, std::upper_bound(s_.begin(), s_.end(), t) - s_.begin() - 1));
     const Vec3 x_k = rmf_[k] * Vec3::UnitX();
-    c.frame = Frame{rotation_minimizing_frames({axis_.points[k], a.point},
-                                               {axis_.tangents[k], a.tangent}, x_k)[1],
-                    a.point};
+    c.frame =
+        Frame{rotation_minimizing_frames({axis_.points[k], a.point}, {axis_.tangents[k], a.tangent}, x_k)[1], a.point};
     c.reach = std::max(a.radius, 1e-9 * length());
     const auto slice = [&](double offset) {
       const Vec3 plane = a.point + offset * a.tangent;  // the rays still start at the centre
-      std::optional<Loop> loop =
-          loop_around(slicer_.slice(plane, a.tangent), plane, a.tangent, c.reach, Necks::cut);
+      std::optional<Loop> loop = loop_around(slicer_.slice(plane, a.tangent), plane, a.tangent, c.reach, Necks::cut);
       RaySamples rays;
       if (loop) rays = sample_radii(c.frame, loop->points, radial_);
       return std::make_pair(std::move(loop), std::move(rays));
@@ -171,8 +168,7 @@ class SectionCutter {
 }  // namespace
 
 SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int sections, int radial,
-                          std::vector<StarViolation>* violations,
-                          std::vector<std::string>* warnings) {
+                          std::vector<StarViolation>* violations, std::vector<std::string>* warnings) {
   const SectionCutter cutter(slicer, axis, radial);
   const double length = cutter.length();
   const auto note = [&](const std::string& what) {
@@ -183,17 +179,15 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
   const double quarter = length / (sections - 1) / 4;
   double start = 0, end = length;
   if (const Cut c0 = cutter.at(0); !c0.alone) {
-    if (const std::optional<Cut> c =
-            cutter.first_alone(quarter, kMaxEndShiftShare * length, quarter)) {
+    if (const std::optional<Cut> c = cutter.first_alone(quarter, kMaxEndShiftShare * length, quarter)) {
       start = c->t;
-      note("section 0 moved " + format_number(start) +
-           " along the axis from the root: the plane there also cut " +
+      note("section 0 moved " + format_number(start) + " along the axis from the root: the plane there also cut " +
            (c0.good ? "another tube fused to the part" : "the body"));
     }
   }
   if (const Cut c1 = cutter.at(length); !c1.alone) {
-    if (const std::optional<Cut> c = cutter.first_alone(
-            length - quarter, std::max(start, (1 - kMaxEndShiftShare) * length), quarter)) {
+    if (const std::optional<Cut> c =
+            cutter.first_alone(length - quarter, std::max(start, (1 - kMaxEndShiftShare) * length), quarter)) {
       if (c->t > start) {
         end = c->t;
         note("the last section moved " + format_number(length - end) +
@@ -226,8 +220,7 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
     cuts[static_cast<std::size_t>(i)] = std::move(c);
   }
   if (moved > 0) {
-    note(std::to_string(moved) + " sections moved along the axis (by at most " +
-         format_number(kMaxShiftEighths / 8.0) +
+    note(std::to_string(moved) + " sections moved along the axis (by at most " + format_number(kMaxShiftEighths / 8.0) +
          " of the spacing) where their planes also cut another surface");
   }
 
@@ -254,8 +247,7 @@ SweepShape sections_along(const MeshSlicer& slicer, const AxisTrace& axis, int s
       violations->push_back({i, rays.multi_crossing_rays, rays.missed_rays});
     }
     if (c.loop->was_open) {
-      note("section " + std::to_string(i) +
-           ": the slice is an open polyline (a hole in the mesh), closed by its gap");
+      note("section " + std::to_string(i) + ": the slice is an open polyline (a hole in the mesh), closed by its gap");
     }
   }
 

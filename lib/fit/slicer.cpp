@@ -1,9 +1,6 @@
 // One of the two translation units that include CGAL (see slicer.h).
 #include "sweep/fit/slicer.h"
 
-#include "sweep/core/fp_environment.h"
-#include "sweep/core/topology.h"
-
 #include <CGAL/AABB_halfedge_graph_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -14,6 +11,9 @@
 
 #include <array>
 #include <cassert>
+
+#include "sweep/core/fp_environment.h"
+#include "sweep/core/topology.h"
 
 namespace sweep::fit {
 namespace {
@@ -53,8 +53,8 @@ MeshSlicer::MeshSlicer(const std::vector<Vec3>& positions, const std::vector<std
   for (std::size_t f = 0; f + 2 < tris.size(); f += 3) {
     const std::array<std::uint32_t, 3> v{tris[f], tris[f + 1], tris[f + 2]};
     if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;  // degenerate: cuts nothing
-    const auto face = sm.add_face(SurfaceMesh::Vertex_index(v[0]), SurfaceMesh::Vertex_index(v[1]),
-                                  SurfaceMesh::Vertex_index(v[2]));
+    const auto face =
+        sm.add_face(SurfaceMesh::Vertex_index(v[0]), SurfaceMesh::Vertex_index(v[1]), SurfaceMesh::Vertex_index(v[2]));
     if (face == SurfaceMesh::null_face()) rejected.push_back({v[0], v[1], v[2]});
   }
   // Each face add_face refused (it would leave an edge with three faces or a vertex with two fans,

@@ -29,13 +29,10 @@ struct TriangleDistance::Impl {
   Tree tree;
 };
 
-TriangleDistance::TriangleDistance(const std::vector<Vec3>& points,
-                                   const std::vector<std::uint32_t>& triangles)
+TriangleDistance::TriangleDistance(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& triangles)
     : impl_(std::make_unique<Impl>()) {
   const QuietFpEnvironment quiet;
-  const auto point = [&](std::uint32_t i) {
-    return Point(points[i].x(), points[i].y(), points[i].z());
-  };
+  const auto point = [&](std::uint32_t i) { return Point(points[i].x(), points[i].y(), points[i].z()); };
   for (std::size_t k = 0; k + 2 < triangles.size(); k += 3) {
     Triangle t(point(triangles[k]), point(triangles[k + 1]), point(triangles[k + 2]));
     if (!t.is_degenerate()) impl_->triangles.push_back(t);
@@ -63,8 +60,7 @@ double TriangleDistance::ray_distance(const Vec3& origin, const Vec3& direction)
   // With inexact predicates a ray grazing a sliver triangle can meet a case CGAL asserts cannot
   // happen (fit_off fuzz find, kept): no hit is known then.
   const auto query = [&] {
-    return impl_->tree.first_intersection(
-        Ray(o, Kernel::Vector_3(direction.x(), direction.y(), direction.z())));
+    return impl_->tree.first_intersection(Ray(o, Kernel::Vector_3(direction.x(), direction.y(), direction.z())));
   };
   decltype(query()) hit;
   try {
@@ -75,8 +71,7 @@ double TriangleDistance::ray_distance(const Vec3& origin, const Vec3& direction)
   if (!hit) return std::numeric_limits<double>::infinity();
   if (const Point* p = boost::get<Point>(&hit->first)) return std::sqrt(CGAL::squared_distance(o, *p));
   if (const Segment* g = boost::get<Segment>(&hit->first)) {  // the ray runs inside a triangle
-    return std::sqrt(std::min(CGAL::squared_distance(o, g->source()),
-                              CGAL::squared_distance(o, g->target())));
+    return std::sqrt(std::min(CGAL::squared_distance(o, g->source()), CGAL::squared_distance(o, g->target())));
   }
   return std::numeric_limits<double>::infinity();
 }

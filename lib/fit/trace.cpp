@@ -1,5 +1,6 @@
 #include "sweep/fit/trace.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -7,8 +8,6 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
-
-#include <Eigen/Dense>
 
 #include "sweep/core/error.h"
 #include "sweep/core/frame.h"
@@ -47,8 +46,7 @@ constexpr int kMaxCurvatureRounds = 50;
 
 std::vector<double> arc_lengths(const std::vector<Vec3>& points) {
   std::vector<double> s(points.size(), 0.0);
-  for (std::size_t i = 1; i < points.size(); ++i)
-    s[i] = s[i - 1] + (points[i] - points[i - 1]).norm();
+  for (std::size_t i = 1; i < points.size(); ++i) s[i] = s[i - 1] + (points[i] - points[i - 1]).norm();
   return s;
 }
 
@@ -132,8 +130,7 @@ void drop_kinked_ends(AxisTrace& trace) {
   const auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
     const Vec3 u = trace.points[b] - trace.points[a], v = trace.points[c] - trace.points[b];
     if (!(u.norm() > 0) || !(v.norm() > 0)) return 0.0;
-    return std::acos(std::clamp(u.normalized().dot(v.normalized()), -1.0, 1.0)) * 180 /
-           std::numbers::pi;
+    return std::acos(std::clamp(u.normalized().dot(v.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
   };
   const auto kinked = [&](double last, double before) {
     return last > kMaxEndTurnDegrees || (last > kMinKinkDegrees && last > kKinkRatio * before);
@@ -156,8 +153,7 @@ void drop_kinked_ends(AxisTrace& trace) {
   }
   for (int k = 0; k < kMaxKinkedEndPoints && trace.points.size() > 6; ++k) {
     const std::size_t m = trace.points.size();
-    const double before =
-        inner(turn(m - 4, m - 3, m - 2), turn(m - 5, m - 4, m - 3), turn(m - 6, m - 5, m - 4));
+    const double before = inner(turn(m - 4, m - 3, m - 2), turn(m - 5, m - 4, m - 3), turn(m - 6, m - 5, m - 4));
     if (!kinked(turn(m - 3, m - 2, m - 1), before)) break;
     erase(m - 1);
     dropped = true;
@@ -167,8 +163,7 @@ void drop_kinked_ends(AxisTrace& trace) {
 
 }  // namespace
 
-AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
-                      const std::vector<double>& radii) {
+AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points, const std::vector<double>& radii) {
   AxisTrace trace;
   if (points.size() < 2) return trace;
   std::vector<double> half(radii.size());
@@ -178,13 +173,12 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
   const double length = s.back();
   if (!(length > 0)) return trace;
   std::vector<double> sorted = radii;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
-                   sorted.end());
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
   const double median = sorted[sorted.size() / 2];
   // Clamped as a double: a needle-thin ring over a long axis would overflow an int.
-  const int stations = static_cast<int>(
-      std::clamp(std::ceil(length / std::max(kStationRadii * median, 1e-12)),
-                 static_cast<double>(kMinStations), static_cast<double>(kMaxStations)));
+  const int stations =
+      static_cast<int>(std::clamp(std::ceil(length / std::max(kStationRadii * median, 1e-12)),
+                                  static_cast<double>(kMinStations), static_cast<double>(kMaxStations)));
   for (int i = 0; i <= stations; ++i) {
     const double x = length * i / stations;
     trace.points.push_back(point_at(s, smoothed, x));
@@ -235,8 +229,7 @@ AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
   return trace;
 }
 
-void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis,
-                 double length) {
+void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis, double length) {
   const std::size_t m = axis.points.size();
   if (m < 2 || !(length > 0)) return;
   const Vec3 start = axis.points.back();
@@ -260,24 +253,21 @@ void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, Axis
       break;
     }
     if (!(loop->radius <= kMaxSliceRadii * reach)) {
-      why = "the slice" + at + " is " + format_number(loop->radius / reach) +
-            " radii wide: it cuts more than the part";
+      why = "the slice" + at + " is " + format_number(loop->radius / reach) + " radii wide: it cuts more than the part";
       break;
     }
     if ((loop->centroid - ahead).norm() > reach) {
-      why = "the slice" + at + " is pulled aside by " +
-            format_number((loop->centroid - ahead).norm() / reach) + " radii";
+      why =
+          "the slice" + at + " is pulled aside by " + format_number((loop->centroid - ahead).norm() / reach) + " radii";
       break;
     }
     if (loop->radius < kMinCapSliceShare * radius) {
-      why = "the slice" + at + " shrank to " + format_percent(loop->radius / radius) +
-            " of the last (the end's cap)";
+      why = "the slice" + at + " shrank to " + format_percent(loop->radius / radius) + " of the last (the end's cap)";
       break;
     }
     const Vec3 chord = loop->centroid - p;
     if (!(chord.norm() > 0) || chord.normalized().dot(t) < min_turn_cos) {
-      why = "the axis" + at + " would turn by more than " + format_number(kMaxCapTurnDegrees) +
-            " degrees in a step";
+      why = "the axis" + at + " would turn by more than " + format_number(kMaxCapTurnDegrees) + " degrees in a step";
       break;
     }
     t = chord.normalized();
@@ -352,17 +342,16 @@ AxisTrace axis_from_polyline(const MeshSlicer& slicer, const std::vector<Vec3>& 
   trace.tangents.resize(m);
   trace.radii.assign(m, 0.0);
   for (std::size_t i = 0; i < m; ++i) {
-    trace.tangents[i] =
-        (trace.points[std::min(i + 1, m - 1)] - trace.points[i == 0 ? 0 : i - 1]).normalized();
-    const std::optional<Loop> l = loop_around(slicer.slice(trace.points[i], trace.tangents[i]),
-                                              trace.points[i], trace.tangents[i], 0);
+    trace.tangents[i] = (trace.points[std::min(i + 1, m - 1)] - trace.points[i == 0 ? 0 : i - 1]).normalized();
+    const std::optional<Loop> l =
+        loop_around(slicer.slice(trace.points[i], trace.tangents[i]), trace.points[i], trace.tangents[i], 0);
     if (l) trace.radii[i] = l->radius;
   }
   return trace;
 }
 
-std::vector<Quat> rotation_minimizing_frames(const std::vector<Vec3>& points,
-                                             const std::vector<Vec3>& tangents, const Vec3& x0) {
+std::vector<Quat> rotation_minimizing_frames(const std::vector<Vec3>& points, const std::vector<Vec3>& tangents,
+                                             const Vec3& x0) {
   std::vector<Quat> out(points.size());
   if (points.empty()) return out;
   Vec3 t = tangents[0].normalized();
@@ -409,8 +398,10 @@ int limit_axis_curvature(AxisTrace& axis, double max_curvature_radii) {
     while (lo > 0 && !(axis.radii[lo] > 0)) --lo;
     while (hi + 1 < m && !(axis.radii[hi] > 0)) ++hi;
     const bool below = axis.radii[lo] > 0, above = axis.radii[hi] > 0;
-    if (below && above) r[i] = i - lo <= hi - i ? axis.radii[lo] : axis.radii[hi];
-    else r[i] = below ? axis.radii[lo] : above ? axis.radii[hi] : largest;
+    if (below && above)
+      r[i] = i - lo <= hi - i ? axis.radii[lo] : axis.radii[hi];
+    else
+      r[i] = below ? axis.radii[lo] : above ? axis.radii[hi] : largest;
   }
   int moves = 0;
   for (int round = 0; round < kMaxCurvatureRounds; ++round) {

@@ -29,16 +29,14 @@ struct AxisTrace {
 // than 1.5 local radii: elsewhere the plane also cuts the body or another part), twice: the second
 // pass slices along the tangents of the first. Ends whose slice fails are dropped (a ring over a
 // cap is not on the axis). Smoothing is by local parabolas, which keep bends where they are.
-AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points,
-                      const std::vector<double>& radii);
+AxisTrace refine_axis(const MeshSlicer& slicer, const std::vector<Vec3>& points, const std::vector<double>& radii);
 
 // Continues the axis into the tip's cap until it has gone `length` (mesh units) along its last
 // tangent: first by slices as closely spaced as its own last points, centred in their loops,
 // while each loop keeps most of the last one's size and the axis turns gently; then straight on,
 // stopping short of the surface (`surface`) if the cap ends sooner. Each point carries its slice
 // loop's radius; the last point, the part's end, radius 0. Sets axis.end_reason.
-void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis,
-                 double length);
+void extend_axis(const MeshSlicer& slicer, const TriangleDistance& surface, AxisTrace& axis, double length);
 
 // Makes the axis start where `point` projects onto it: cut there (the nearest point of the
 // polyline; tangent and radius interpolated), or, when the point lies before the start (within
@@ -64,8 +62,7 @@ std::vector<double> arc_lengths(const std::vector<Vec3>& points);
 // Rotation-minimizing frames along a polyline with unit tangents, by the double reflection method
 // (Wang, Jüttler, Zheng & Liu 2008). The frame's third column is the tangent; the first frame's x
 // axis is `x0` made perpendicular to the first tangent (or a deterministic choice when x0 is 0).
-std::vector<Quat> rotation_minimizing_frames(const std::vector<Vec3>& points,
-                                             const std::vector<Vec3>& tangents,
+std::vector<Quat> rotation_minimizing_frames(const std::vector<Vec3>& points, const std::vector<Vec3>& tangents,
                                              const Vec3& x0 = Vec3::Zero());
 
 }  // namespace sweep::fit

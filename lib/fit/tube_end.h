@@ -31,10 +31,10 @@ inline constexpr double kMaxEndCutSpacingRadii = 2;
 inline constexpr double kMaxEndGapRadii = kMaxEndCutSpacingRadii;
 
 struct TubeEnd {
-  int first_section = 0;   // the first key section of the end's run of spans off the tube
-  double t = 0;            // its axis parameter: the sweep ends there
-  double share = 0;        // the share of the sweep's length past it
-  double end_rms = 0;      // the measured vertices' RMS distance past it, and before it
+  int first_section = 0;  // the first key section of the end's run of spans off the tube
+  double t = 0;           // its axis parameter: the sweep ends there
+  double share = 0;       // the share of the sweep's length past it
+  double end_rms = 0;     // the measured vertices' RMS distance past it, and before it
   double before_rms = 0;
   std::size_t end_count = 0;  // vertices measured past it
 };

@@ -6,10 +6,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -140,8 +140,8 @@ void remove_stale_temporaries(const fs::path& folder) {
     if (earlier) {
       settle_set_aside(it->path(), folder / name, " (process " + std::to_string(pid) + " is gone)");
     } else if (::unlink(it->path().c_str()) == 0) {
-      note("removed " + it->path().string() + ", left by a run that was killed (process " +
-           std::to_string(pid) + " is gone)");
+      note("removed " + it->path().string() + ", left by a run that was killed (process " + std::to_string(pid) +
+           " is gone)");
     }
   }
   // Earlier versions named a set-aside file without its process. A run sets files aside and
@@ -195,24 +195,23 @@ TempFile::TempFile(fs::path target, bool scratch) : target_(std::move(target)) {
   const fs::path dir = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
   struct stat st {};
   if (::lstat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-    const char* what = S_ISLNK(st.st_mode)    ? "a symbolic link"
-                       : S_ISFIFO(st.st_mode) ? "a FIFO"
-                       : S_ISDIR(st.st_mode)  ? "a folder"
+    const char* what = S_ISLNK(st.st_mode)                            ? "a symbolic link"
+                       : S_ISFIFO(st.st_mode)                         ? "a FIFO"
+                       : S_ISDIR(st.st_mode)                          ? "a folder"
                        : (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) ? "a device"
                                                                       : "not a regular file";
-    fail(ErrorCategory::output, target_.string() + ": is " + what +
-                                    "; outputs replace regular files only (give another name)");
+    fail(ErrorCategory::output,
+         target_.string() + ": is " + what + "; outputs replace regular files only (give another name)");
   }
   if (!scratch) remove_stale_temporaries(dir);
-  std::string name =
-      (dir / ("." + temp_base(target_.filename().string()) +
-              (scratch ? std::string(".scratch-XXXXXX")
-                       : "." + tool_name() + "-" + std::to_string(::getpid()) + ".tmp-XXXXXX")))
-          .string();
+  std::string name = (dir / ("." + temp_base(target_.filename().string()) +
+                             (scratch ? std::string(".scratch-XXXXXX")
+                                      : "." + tool_name() + "-" + std::to_string(::getpid()) + ".tmp-XXXXXX")))
+                         .string();
   fd_ = ::mkostemp(name.data(), O_CLOEXEC);
   if (fd_ < 0) {
-    fail(ErrorCategory::output, target_.string() + ": cannot create a file in " + dir.string() +
-                                    ": " + std::strerror(errno));
+    fail(ErrorCategory::output,
+         target_.string() + ": cannot create a file in " + dir.string() + ": " + std::strerror(errno));
   }
   if (scratch) {
     ::unlink(name.c_str());  // nameless from now on: nothing to clean up, ever
@@ -330,7 +329,9 @@ void TempFile::publish() {
   untrack_temporary(std::exchange(slot_, -1));
 }
 
-void Publication::add(std::unique_ptr<TempFile> sealed) { files_.push_back(std::move(sealed)); }
+void Publication::add(std::unique_ptr<TempFile> sealed) {
+  files_.push_back(std::move(sealed));
+}
 
 void Publication::add(const fs::path& path, std::string_view bytes) {
   auto file = std::make_unique<TempFile>(path);
@@ -339,7 +340,9 @@ void Publication::add(const fs::path& path, std::string_view bytes) {
   add(std::move(file));
 }
 
-void Publication::remove(const fs::path& path) { removals_.push_back(path); }
+void Publication::remove(const fs::path& path) {
+  removals_.push_back(path);
+}
 
 std::vector<fs::path> Publication::targets() const {
   std::vector<fs::path> out;

@@ -54,7 +54,6 @@ class TempFile {
   std::uint64_t size_ = 0;
 };
 
-
 // Sealed temporaries that go into place together: a run with several outputs (a bake to .glb and
 // .pc2 with its report, a rig with its report and preview) publishes none of them unless it can
 // publish all. commit(): with SIGINT, SIGTERM and SIGHUP held off (they wait until it returns) and

@@ -62,8 +62,7 @@ class Reader {
   void need(std::size_t n, const char* what) const {
     if (n > end_ - pos_) {
       std::ostringstream s;
-      s << source_ << ": corrupt binding: " << what << " at byte " << pos_
-        << " runs past the end of the payload";
+      s << source_ << ": corrupt binding: " << what << " at byte " << pos_ << " runs past the end of the payload";
       fail(ErrorCategory::bad_input, s.str());
     }
   }
@@ -95,8 +94,8 @@ void check_table(const bind::SweepBinding& sb, std::size_t index, std::uint64_t 
                  const std::string& source) {
   auto bad = [&](std::size_t k, const std::string& what) {
     std::ostringstream s;
-    s << "corrupt binding: sweep " << index << " ('" << sb.name << "'), entry " << k << " (vertex "
-      << sb.vertices[k] << "): " << what;
+    s << "corrupt binding: sweep " << index << " ('" << sb.name << "'), entry " << k << " (vertex " << sb.vertices[k]
+      << "): " << what;
     refuse(source, s.str());
   };
   for (std::size_t k = 0; k < sb.size(); ++k) {
@@ -147,8 +146,8 @@ bind::Binding parse_binding(std::string_view bytes, const std::string& source) {
   }
   if (bytes.size() < kHeaderSize + kTrailerSize) {
     std::ostringstream s;
-    s << "truncated binding: " << bytes.size() << " bytes, less than the "
-      << kHeaderSize + kTrailerSize << "-byte header and checksum";
+    s << "truncated binding: " << bytes.size() << " bytes, less than the " << kHeaderSize + kTrailerSize
+      << "-byte header and checksum";
     refuse(source, s.str());
   }
   Reader header(bytes, sizeof kMagic, kHeaderSize, source);
@@ -159,10 +158,9 @@ bind::Binding parse_binding(std::string_view bytes, const std::string& source) {
   }
   if (version != kBindingFormatVersion) {
     std::ostringstream s;
-    s << source << ": binding format version " << version
-      << " is not supported (this program reads " << kBindingFormatVersion << ")";
-    fail(version > kBindingFormatVersion ? ErrorCategory::unsupported : ErrorCategory::bad_input,
-         s.str());
+    s << source << ": binding format version " << version << " is not supported (this program reads "
+      << kBindingFormatVersion << ")";
+    fail(version > kBindingFormatVersion ? ErrorCategory::unsupported : ErrorCategory::bad_input, s.str());
   }
   bind::Binding b;
   const std::uint32_t sweep_count = header.u32("sweep count");
@@ -187,13 +185,12 @@ bind::Binding parse_binding(std::string_view bytes, const std::string& source) {
   const std::uint64_t stored = trailer.u64("checksum");
   const std::uint64_t actual = fnv1a(bytes.substr(0, end));
   if (stored != actual) {
-    refuse(source,
-           "corrupt binding: checksum mismatch (the file was damaged or edited after writing)");
+    refuse(source, "corrupt binding: checksum mismatch (the file was damaged or edited after writing)");
   }
   // After the checksum: a damaged count is reported as the damage it is.
   if (b.vertex_count > limits::kMaxVertices) {
-    refuse(source, "corrupt binding: a vertex count of " + std::to_string(b.vertex_count) +
-                       " is beyond the limit of " + std::to_string(limits::kMaxVertices));
+    refuse(source, "corrupt binding: a vertex count of " + std::to_string(b.vertex_count) + " is beyond the limit of " +
+                       std::to_string(limits::kMaxVertices));
   }
   Reader in(bytes, kHeaderSize, end, source);
   for (std::uint32_t i = 0; i < sweep_count; ++i) {
@@ -226,8 +223,7 @@ bind::Binding parse_binding(std::string_view bytes, const std::string& source) {
   // A vertex belongs to at most one sweep (each table is increasing; merge them all and look for
   // neighbours that repeat; memory follows the file size, not the claimed vertex count).
   std::vector<std::uint32_t> all;
-  for (const bind::SweepBinding& sb : b.sweeps)
-    all.insert(all.end(), sb.vertices.begin(), sb.vertices.end());
+  for (const bind::SweepBinding& sb : b.sweeps) all.insert(all.end(), sb.vertices.begin(), sb.vertices.end());
   std::sort(all.begin(), all.end());
   const auto repeat = std::adjacent_find(all.begin(), all.end());
   if (repeat != all.end()) {
@@ -242,26 +238,22 @@ bind::Binding read_binding(const std::filesystem::path& path) {
   return parse_binding(io::read_file(path), path.string());
 }
 
-void check_binding(const bind::Binding& binding, const Mesh& mesh, const Rig& rig,
-                   const std::string& source) {
+void check_binding(const bind::Binding& binding, const Mesh& mesh, const Rig& rig, const std::string& source) {
   const std::string again = "; run sweep-bind again";
   if (binding.vertex_count != mesh.vertex_count()) {
     std::ostringstream s;
-    s << "made for a mesh with " << binding.vertex_count << " vertices, this mesh has "
-      << mesh.vertex_count() << again;
+    s << "made for a mesh with " << binding.vertex_count << " vertices, this mesh has " << mesh.vertex_count() << again;
     refuse(source, s.str());
   }
   if (binding.mesh_hash != hash_positions(mesh.positions)) {
-    refuse(source,
-           "made for a mesh with other vertex positions (the mesh changed since binding)" + again);
+    refuse(source, "made for a mesh with other vertex positions (the mesh changed since binding)" + again);
   }
   bool same_sweeps = binding.sweeps.size() == rig.sweeps.size();
   for (std::size_t i = 0; same_sweeps && i < rig.sweeps.size(); ++i) {
     same_sweeps = binding.sweeps[i].name == rig.sweeps[i].name;
   }
   if (!same_sweeps || binding.rig_hash != hash_sweeps(rig)) {
-    refuse(source,
-           "was made for another version of the rig (sweeps changed since binding)" + again);
+    refuse(source, "was made for another version of the rig (sweeps changed since binding)" + again);
   }
 }
 

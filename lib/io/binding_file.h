@@ -51,8 +51,7 @@ bind::Binding read_binding(const std::filesystem::path& path);
 
 // Refuses (Error(bad_input), "source: what is wrong; run sweep-bind again") a binding made for
 // another mesh (vertex count, positions) or another version of the rig's sweeps.
-void check_binding(const bind::Binding& binding, const Mesh& mesh, const Rig& rig,
-                   const std::string& source);
+void check_binding(const bind::Binding& binding, const Mesh& mesh, const Rig& rig, const std::string& source);
 
 // read_binding followed by check_binding.
 bind::Binding load_binding(const std::filesystem::path& path, const Mesh& mesh, const Rig& rig);

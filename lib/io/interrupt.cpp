@@ -5,10 +5,9 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
-#include <csignal>
-
 #include <algorithm>
 #include <atomic>
+#include <csignal>
 #include <cstdint>
 #include <cstring>
 #include <string_view>
@@ -168,7 +167,9 @@ void install_interrupt_handlers(const char* tool_name_in) {
   for (const int s : kSignals) sigaction(s, &action, nullptr);
 }
 
-const std::string& tool_name() { return tool; }
+const std::string& tool_name() {
+  return tool;
+}
 
 namespace {
 
@@ -225,15 +226,21 @@ void declare_outputs(const std::vector<std::filesystem::path>& outputs) {
   declared[0] = text.empty() ? '\0' : text[0];
 }
 
-void set_progress_line_open(bool open) noexcept { progress_open.store(open); }
+void set_progress_line_open(bool open) noexcept {
+  progress_open.store(open);
+}
 
-void set_note_sink(std::function<void(const std::string&)> sink) { note_sink = std::move(sink); }
+void set_note_sink(std::function<void(const std::string&)> sink) {
+  note_sink = std::move(sink);
+}
 
 void note(const std::string& text) {
   if (note_sink) note_sink(text);
 }
 
-SignalsHeld::SignalsHeld() { holding.fetch_add(1); }
+SignalsHeld::SignalsHeld() {
+  holding.fetch_add(1);
+}
 
 SignalsHeld::~SignalsHeld() {
   if (holding.fetch_sub(1) == 1) {

@@ -26,7 +26,8 @@ Json parse_json_text(const std::string& text, const std::string& source) {
     std::string what = e.what();
     // nlohmann's text is "[json.exception.parse_error.101] parse error at line 1, column 2: ...";
     // keep only what follows its own position.
-    if (const auto colon = what.find(": "); colon != std::string::npos && what.find("parse error") != std::string::npos) {
+    if (const auto colon = what.find(": ");
+        colon != std::string::npos && what.find("parse error") != std::string::npos) {
       what = what.substr(colon + 2);
     }
     if (text.empty()) what = "empty file, expected JSON";
@@ -53,13 +54,18 @@ std::string member(const std::string& pointer, const std::string& key) {
   return pointer + "/" + escaped;
 }
 
-std::string element(const std::string& pointer, std::size_t index) { return pointer + "/" + std::to_string(index); }
+std::string element(const std::string& pointer, std::size_t index) {
+  return pointer + "/" + std::to_string(index);
+}
 
 std::string describe(const Json& value) {
   switch (value.type()) {
-    case Json::value_t::object: return "an object";
-    case Json::value_t::array: return "an array";
-    case Json::value_t::null: return "null";
+    case Json::value_t::object:
+      return "an object";
+    case Json::value_t::array:
+      return "an array";
+    case Json::value_t::null:
+      return "null";
     default: {
       std::string s = value.dump();
       if (s.size() > 40) s = s.substr(0, 37) + "...";
@@ -142,7 +148,8 @@ long long JsonReader::integer(const Json& value, const std::string& pointer, lon
   if (!value.is_number_integer()) fail_at(pointer, "must be a whole number, got " + describe(value));
   const long long x = value.get<long long>();
   if (x < lo || x > hi) {
-    fail_at(pointer, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + describe(value));
+    fail_at(pointer,
+            "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " + describe(value));
   }
   return x;
 }
@@ -159,7 +166,8 @@ bool JsonReader::boolean(const Json& value, const std::string& pointer) const {
 
 Vec3 JsonReader::vec3(const Json& value, const std::string& pointer) const {
   if (!value.is_array() || value.size() != 3) fail_at(pointer, "must be an array of 3 numbers, got " + describe(value));
-  return {number(value[0], element(pointer, 0)), number(value[1], element(pointer, 1)), number(value[2], element(pointer, 2))};
+  return {number(value[0], element(pointer, 0)), number(value[1], element(pointer, 1)),
+          number(value[2], element(pointer, 2))};
 }
 
 }  // namespace sweep::io

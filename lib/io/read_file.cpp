@@ -19,9 +19,8 @@ std::string read_file(const fs::path& path, std::uint64_t max_bytes) {
     fail(ErrorCategory::bad_input, path.string() + ": is not a regular file (a FIFO, a device or a socket)");
   }
   if (const std::uintmax_t size = fs::file_size(path, ec); !ec && size > max_bytes) {
-    fail(ErrorCategory::bad_input, path.string() + ": " + std::to_string(size) +
-                                       " bytes, more than the limit of " + std::to_string(max_bytes) +
-                                       " for this kind of file");
+    fail(ErrorCategory::bad_input, path.string() + ": " + std::to_string(size) + " bytes, more than the limit of " +
+                                       std::to_string(max_bytes) + " for this kind of file");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(ErrorCategory::bad_input, path.string() + ": cannot open: " + std::strerror(errno));

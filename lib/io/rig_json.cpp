@@ -36,7 +36,8 @@ void read_spring(const JsonReader& r, const Json& v, const std::string& ptr, Spr
   if (const Json* m = r.optional(v, "mass"))
     s.mass = positive_at_most(r, *m, member(ptr, "mass"), limits::kMinMass, limits::kMaxMass);
   if (const Json* f = r.optional(v, "frequency_hz"))
-    s.frequency_hz = positive_at_most(r, *f, member(ptr, "frequency_hz"), limits::kMinFrequencyHz, limits::kMaxFrequencyHz);
+    s.frequency_hz =
+        positive_at_most(r, *f, member(ptr, "frequency_hz"), limits::kMinFrequencyHz, limits::kMaxFrequencyHz);
   if (const Json* z = r.optional(v, "damping_ratio")) {
     r.non_negative(*z, member(ptr, "damping_ratio"));
     s.damping_ratio = r.bounded(*z, member(ptr, "damping_ratio"), 0, limits::kMaxDampingRatio);
@@ -54,27 +55,34 @@ void read_springs(const JsonReader& r, const Json& v, const std::string& ptr, Se
 
 // A material given in a file overrides `m` field by field (core/material.h).
 void read_material(const JsonReader& r, const Json& v, const std::string& ptr, Material& m) {
-  r.object(v, ptr, {"youngs_modulus_pa", "poisson_ratio", "shear_modulus_pa", "density_kg_m3", "metres_per_unit", "damping_ratio"});
+  r.object(
+      v, ptr,
+      {"youngs_modulus_pa", "poisson_ratio", "shear_modulus_pa", "density_kg_m3", "metres_per_unit", "damping_ratio"});
   if (r.optional(v, "poisson_ratio") && r.optional(v, "shear_modulus_pa"))
     r.fail_at(ptr, "give either \"poisson_ratio\" or \"shear_modulus_pa\", not both");
-  if (const Json* x = r.optional(v, "youngs_modulus_pa")) m.youngs_modulus = r.positive(*x, member(ptr, "youngs_modulus_pa"));
+  if (const Json* x = r.optional(v, "youngs_modulus_pa"))
+    m.youngs_modulus = r.positive(*x, member(ptr, "youngs_modulus_pa"));
   if (const Json* x = r.optional(v, "poisson_ratio")) {
     m.poisson_ratio = r.number(*x, member(ptr, "poisson_ratio"));
     m.shear_modulus = 0;
     if (!(m.poisson_ratio > -1 && m.poisson_ratio < 0.5))
       r.fail_at(member(ptr, "poisson_ratio"), "must be between -1 and 0.5 (exclusive), got " + describe(*x));
   }
-  if (const Json* x = r.optional(v, "shear_modulus_pa")) m.shear_modulus = r.positive(*x, member(ptr, "shear_modulus_pa"));
+  if (const Json* x = r.optional(v, "shear_modulus_pa"))
+    m.shear_modulus = r.positive(*x, member(ptr, "shear_modulus_pa"));
   if (const Json* x = r.optional(v, "density_kg_m3")) m.density = r.positive(*x, member(ptr, "density_kg_m3"));
-  if (const Json* x = r.optional(v, "metres_per_unit")) m.metres_per_unit = r.positive(*x, member(ptr, "metres_per_unit"));
-  if (const Json* x = r.optional(v, "damping_ratio")) m.damping_ratio = r.non_negative(*x, member(ptr, "damping_ratio"));
+  if (const Json* x = r.optional(v, "metres_per_unit"))
+    m.metres_per_unit = r.positive(*x, member(ptr, "metres_per_unit"));
+  if (const Json* x = r.optional(v, "damping_ratio"))
+    m.damping_ratio = r.non_negative(*x, member(ptr, "damping_ratio"));
   // Each constant finite is not enough: G = E / (2 (1 + ν)) overflows for a large E and ν near -1
   // (compared without computing it, which would overflow).
   const bool shear_finite = m.shear_modulus > 0 || 1 + m.poisson_ratio >= 1 ||
                             m.youngs_modulus / 2 <= std::numeric_limits<double>::max() * (1 + m.poisson_ratio);
   if (!shear_finite) {
     r.fail_at(ptr, "its shear modulus E / (2 (1 + poisson_ratio)) is not finite (E " + format_number(m.youngs_modulus) +
-                       ", poisson_ratio " + format_number(m.poisson_ratio, 10) + "): lower youngs_modulus_pa or raise poisson_ratio");
+                       ", poisson_ratio " + format_number(m.poisson_ratio, 10) +
+                       "): lower youngs_modulus_pa or raise poisson_ratio");
   }
 }
 
@@ -132,7 +140,8 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr, 
   const std::string sp = member(ptr, "sections");
   const Json& sections = r.required(v, ptr, "sections");
   r.array(sections, sp);
-  if (sections.size() < 2) r.fail_at(sp, "a sweep needs at least 2 key sections, got " + std::to_string(sections.size()));
+  if (sections.size() < 2)
+    r.fail_at(sp, "a sweep needs at least 2 key sections, got " + std::to_string(sections.size()));
   if (sections.size() > static_cast<std::size_t>(limits::kMaxSections)) {
     r.fail_at(sp, "too many key sections: " + std::to_string(sections.size()) + ", at most " +
                       std::to_string(limits::kMaxSections));
@@ -146,12 +155,14 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr, 
     std::string name;
     if (const Json* nm = r.optional(s, "name")) {
       name = r.string(*nm, member(p, "name"));
-      if (!name.empty() && !names.insert(name).second) r.fail_at(member(p, "name"), "duplicate section name \"" + name + "\"");
+      if (!name.empty() && !names.insert(name).second)
+        r.fail_at(member(p, "name"), "duplicate section name \"" + name + "\"");
     }
     const double t = r.bounded(r.required(s, p, "t"), member(p, "t"), -limits::kMaxLength, limits::kMaxLength);
     if (i == 0 && t != 0.0) r.fail_at(member(p, "t"), "the first section's t must be 0, got " + describe(s["t"]));
     if (i > 0 && !(t > def.rest.t.back())) {
-      r.fail_at(member(p, "t"), "must be greater than the previous section's t (" + format_exact(def.rest.t.back()) + ")");
+      r.fail_at(member(p, "t"),
+                "must be greater than the previous section's t (" + format_exact(def.rest.t.back()) + ")");
     }
     const Vec3 c = r.bounded_vec3(r.required(s, p, "center"), member(p, "center"), limits::kMaxLength);
     const Quat q = read_rotation(r, r.required(s, p, "rotation"), member(p, "rotation"));
@@ -171,11 +182,13 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr, 
     def.section_names.push_back(name);
     def.springs.push_back(springs);
     if (const Json* m = r.optional(s, "material")) {
-      if (!def.material) r.fail_at(member(p, "material"), "a section's material overrides the sweep's; the sweep has no \"material\"");
+      if (!def.material)
+        r.fail_at(member(p, "material"), "a section's material overrides the sweep's; the sweep has no \"material\"");
       Material mat = *def.material;
       read_material(r, *m, member(p, "material"), mat);
       if (mat.metres_per_unit != def.material->metres_per_unit)
-        r.fail_at(member(p, "material") + "/metres_per_unit", "the mesh's scale is the sweep's: set it on the sweep's material");
+        r.fail_at(member(p, "material") + "/metres_per_unit",
+                  "the mesh's scale is the sweep's: set it on the sweep's material");
       def.section_materials.push_back(mat);
     } else if (def.material) {
       def.section_materials.push_back(*def.material);
@@ -222,7 +235,9 @@ OrderedJson material_json(const Material& m, const Material* base) {
   return j;
 }
 
-OrderedJson vec_json(const Vec3& v) { return OrderedJson::array({v.x(), v.y(), v.z()}); }
+OrderedJson vec_json(const Vec3& v) {
+  return OrderedJson::array({v.x(), v.y(), v.z()});
+}
 
 OrderedJson sweep_json(const SweepDef& def) {
   OrderedJson j;
@@ -272,7 +287,8 @@ std::string read_mesh_names(const JsonReader& r, const Json& v, long long versio
     if (names.back().empty()) r.fail_at(ptr, "must not be empty (leave mesh_name out for the whole file)");
     if (names.back().find(kMeshNameSeparator) != std::string::npos) r.fail_at(ptr, "must not hold a NUL character");
     for (std::size_t k = 0; k + 1 < names.size(); ++k) {
-      if (names[k] == names.back()) r.fail_at(ptr, "names the mesh '" + names.back() + "' again (it is /mesh_name/" + std::to_string(k) + ")");
+      if (names[k] == names.back())
+        r.fail_at(ptr, "names the mesh '" + names.back() + "' again (it is /mesh_name/" + std::to_string(k) + ")");
     }
   };
   if (!list) {
@@ -294,7 +310,8 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
   // warning for each of its members before it.
   if (!doc.is_object()) r.fail_at("", "must be an object, got " + describe(doc));
   const std::string format = r.string(r.required(doc, "", "format"), "/format");
-  if (format != kFormatName) r.fail_at("/format", std::string("must be \"") + kFormatName + "\", got " + describe(doc["format"]));
+  if (format != kFormatName)
+    r.fail_at("/format", std::string("must be \"") + kFormatName + "\", got " + describe(doc["format"]));
   const long long version = r.integer(r.required(doc, "", "version"), "/version", 1, 1 << 30);
   if (version < Rig::kFormatVersion || version > kMeshListFormatVersion) {
     fail(ErrorCategory::unsupported, source + ": /version: rig format version " + std::to_string(version) +
@@ -312,7 +329,8 @@ Rig parse_rig(const std::string& text, const std::string& source, const WarningS
   std::set<std::string> names;
   for (std::size_t i = 0; i < sweeps.size(); ++i) {
     SweepDef def = read_sweep(r, sweeps[i], element("/sweeps", i), version);
-    if (!names.insert(def.name).second) r.fail_at(element("/sweeps", i) + "/name", "duplicate sweep name \"" + def.name + "\"");
+    if (!names.insert(def.name).second)
+      r.fail_at(element("/sweeps", i) + "/name", "duplicate sweep name \"" + def.name + "\"");
     // Whatever the reader let through must satisfy the evaluator's invariants.
     if (const std::string why = check_shape(def.rest); !why.empty()) r.fail_at(element("/sweeps", i), why);
     rig.sweeps.push_back(std::move(def));
@@ -357,8 +375,9 @@ std::string format_rig(const Rig& rig) {
   try {
     return doc.dump(2) + "\n";
   } catch (const nlohmann::json::type_error&) {
-    fail(ErrorCategory::usage, "a sweep name or the mesh path is not valid UTF-8; a rig file is "
-                               "JSON text and can only hold UTF-8 names");
+    fail(ErrorCategory::usage,
+         "a sweep name or the mesh path is not valid UTF-8; a rig file is "
+         "JSON text and can only hold UTF-8 names");
   }
 }
 
@@ -374,6 +393,8 @@ std::string mesh_path_for_rig(const std::filesystem::path& rig_path, const std::
   return fs::absolute(mesh_path).lexically_normal().lexically_relative(base.lexically_normal()).generic_string();
 }
 
-void write_rig(const std::filesystem::path& path, const Rig& rig) { write_file_atomically(path, format_rig(rig)); }
+void write_rig(const std::filesystem::path& path, const Rig& rig) {
+  write_file_atomically(path, format_rig(rig));
+}
 
 }  // namespace sweep::io

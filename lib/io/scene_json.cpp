@@ -17,7 +17,6 @@ using io::element;
 using io::Json;
 using io::member;
 
-
 std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::string& ptr) {
   r.array(v, ptr);
   std::uint8_t mask = 0;
@@ -30,33 +29,28 @@ std::uint8_t read_components(const io::JsonReader& r, const Json& v, const std::
     } else if (name == "positional") {
       mask |= kPositional;
     } else {
-      r.fail_at(element(ptr, i),
-                "unknown component \"" + name + "\" (expected rotational, radial or positional)");
+      r.fail_at(element(ptr, i), "unknown component \"" + name + "\" (expected rotational, radial or positional)");
     }
   }
   if (mask == 0) r.fail_at(ptr, "must name at least one component");
   return mask;
 }
 
-sim::SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr,
-                      const Rig& rig) {
+sim::SceneForce read_force(const io::JsonReader& r, const Json& v, const std::string& ptr, const Rig& rig) {
   r.object(v, ptr,
-           {"sweep", "point", "t", "theta", "vector", "frame", "start", "end", "components",
-            "sections", "moment"});
+           {"sweep", "point", "t", "theta", "vector", "frame", "start", "end", "components", "sections", "moment"});
   sim::SceneForce f;
   f.sweep = r.string(r.required(v, ptr, "sweep"), member(ptr, "sweep"));
   for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
     if (rig.sweeps[i].name == f.sweep) f.sweep_index = static_cast<int>(i);
   }
-  if (f.sweep_index < 0)
-    r.fail_at(member(ptr, "sweep"), "the rig has no sweep named \"" + f.sweep + "\"");
+  if (f.sweep_index < 0) r.fail_at(member(ptr, "sweep"), "the rig has no sweep named \"" + f.sweep + "\"");
   const SweepDef& def = rig.sweeps[f.sweep_index];
 
   const Json* point = r.optional(v, "point");
   const Json* t = r.optional(v, "t");
   const Json* theta = r.optional(v, "theta");
-  if (point && (t || theta))
-    r.fail_at(ptr, "give either \"point\" or \"t\" and \"theta\", not both");
+  if (point && (t || theta)) r.fail_at(ptr, "give either \"point\" or \"t\" and \"theta\", not both");
   if (point) {
     f.spec.at_world_point = true;
     f.spec.point = r.bounded_vec3(*point, member(ptr, "point"), limits::kMaxLength);
@@ -71,8 +65,7 @@ sim::SceneForce read_force(const io::JsonReader& r, const Json& v, const std::st
   f.spec.vector = r.vec3(r.required(v, ptr, "vector"), member(ptr, "vector"));
   if (!(f.spec.vector.norm() <= limits::kMaxForce)) {
     r.fail_at(member(ptr, "vector"), "a force of at most " + format_number(limits::kMaxForce) +
-                                         " N, got one of length " +
-                                         format_number(f.spec.vector.norm()));
+                                         " N, got one of length " + format_number(f.spec.vector.norm()));
   }
   if (const Json* fr = r.optional(v, "frame")) {
     const std::string name = r.string(*fr, member(ptr, "frame"));
@@ -107,8 +100,7 @@ sim::SceneForce read_force(const io::JsonReader& r, const Json& v, const std::st
         if (i < 0)
           r.fail_at(sp, "expected \"nearest\", \"chain\", or a section of sweep \"" + def.name +
                             "\"; it has no section \"" + name + "\"");
-        if (i == 0)
-          r.fail_at(sp, "section \"" + name + "\" is the root, which is fixed to the body");
+        if (i == 0) r.fail_at(sp, "section \"" + name + "\" is the root, which is fixed to the body");
         f.spec.target = RotationTarget::section;
         f.spec.target_section = i;
       }
@@ -124,8 +116,7 @@ sim::SceneForce read_force(const io::JsonReader& r, const Json& v, const std::st
     } else if (name == "physical") {
       f.spec.moment = MomentModel::physical;
     } else {
-      r.fail_at(member(ptr, "moment"),
-                "must be \"scaled\" or \"physical\", got " + io::describe(*m));
+      r.fail_at(member(ptr, "moment"), "must be \"scaled\" or \"physical\", got " + io::describe(*m));
     }
   }
   return f;
@@ -168,9 +159,10 @@ sim::BodyPath read_body(const io::JsonReader& r, const Json& v, const std::strin
     sim::BodyKey b;
     b.time = r.bounded(r.required(key, p, "time"), member(p, "time"), 0, limits::kMaxDuration);
     if (!out.empty() && !(b.time > out.back().time))
-      r.fail_at(member(p, "time"), "keys must come in increasing time: " + io::describe(key["time"]) +
-                                       " is not after the key before");
-    if (const Json* t = r.optional(key, "translation")) b.translation = r.bounded_vec3(*t, member(p, "translation"), limits::kMaxLength);
+      r.fail_at(member(p, "time"),
+                "keys must come in increasing time: " + io::describe(key["time"]) + " is not after the key before");
+    if (const Json* t = r.optional(key, "translation"))
+      b.translation = r.bounded_vec3(*t, member(p, "translation"), limits::kMaxLength);
     const Json* q = r.optional(key, "rotation");
     const Json* turn = r.optional(key, "turn_degrees");
     if (q && turn) r.fail_at(p, "give either \"rotation\" or \"turn_degrees\", not both");
@@ -179,7 +171,8 @@ sim::BodyPath read_body(const io::JsonReader& r, const Json& v, const std::strin
     if (turn) {
       const double degrees = r.bounded(*turn, member(p, "turn_degrees"), -1e6, 1e6);
       Vec3 axis = Vec3::UnitY();
-      if (const Json* a = r.optional(key, "turn_axis")) axis = r.bounded_vec3(*a, member(p, "turn_axis"), limits::kMaxLength);
+      if (const Json* a = r.optional(key, "turn_axis"))
+        axis = r.bounded_vec3(*a, member(p, "turn_axis"), limits::kMaxLength);
       if (!(axis.norm() > 0)) r.fail_at(member(p, "turn_axis"), "must not be zero");
       b.rotation = Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180, axis.normalized()));
     }
@@ -197,8 +190,9 @@ void read_surface(const io::JsonReader& r, const Json& v, const std::string& ptr
 // One collider: {"shape": "sphere" | "capsule" | "box" | "plane", its sizes, "attached":
 // "world" | "body", "margin", "friction", "name"}.
 sim::Collider read_collider(const io::JsonReader& r, const Json& v, const std::string& ptr, std::size_t index) {
-  r.object(v, ptr, {"name", "shape", "center", "radius", "from", "to", "half_size", "rotation", "point",
-                    "normal", "attached", "margin", "friction"});
+  r.object(v, ptr,
+           {"name", "shape", "center", "radius", "from", "to", "half_size", "rotation", "point", "normal", "attached",
+            "margin", "friction"});
   const std::string sp = member(ptr, "shape");
   const std::string shape = r.string(r.required(v, ptr, "shape"), sp);
   const auto position = [&](const char* key) {
@@ -245,7 +239,8 @@ sim::Collider read_collider(const io::JsonReader& r, const Json& v, const std::s
   if (const Json* a = r.optional(v, "attached")) {
     const std::string where = r.string(*a, member(ptr, "attached"));
     if (where != "world" && where != "body")
-      r.fail_at(member(ptr, "attached"), "must be \"world\" (stays put) or \"body\" (moves with it), got " + io::describe(*a));
+      r.fail_at(member(ptr, "attached"),
+                "must be \"world\" (stays put) or \"body\" (moves with it), got " + io::describe(*a));
     c.carried = where == "body";
   }
   read_surface(r, v, ptr, c.margin, c.friction);
@@ -269,49 +264,43 @@ sim::Scene::BodyCollider read_body_collider(const io::JsonReader& r, const Json&
 double step_length(const io::JsonReader& r, const Json& value, const std::string& where) {
   const double step = r.positive(value, where);
   if (step < limits::kMinStep || step > limits::kMaxStep)
-    r.fail_at(where, "must be between " + format_number(limits::kMinStep) + " and " +
-                         format_number(limits::kMaxStep) + " s, got " + io::describe(value));
+    r.fail_at(where, "must be between " + format_number(limits::kMinStep) + " and " + format_number(limits::kMaxStep) +
+                         " s, got " + io::describe(value));
   return step;
 }
 
 }  // namespace
 
-sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r,
-                  const Rig& rig) {
+sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r, const Rig& rig) {
   r.object(json, pointer,
-           {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "forces",
-            "body", "teleport", "wind", "colliders", "body_collider", "contact_stations", "contact_step"});
+           {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator",
+            "forces", "body", "teleport", "wind", "colliders", "body_collider", "contact_stations", "contact_step"});
   sim::Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
     const std::string format = r.string(r.required(json, pointer, "format"), "/format");
-    if (format != "sweep-scene")
-      r.fail_at("/format", "must be \"sweep-scene\", got " + io::describe(json["format"]));
+    if (format != "sweep-scene") r.fail_at("/format", "must be \"sweep-scene\", got " + io::describe(json["format"]));
   }
-  if (const Json* version =
-          own_file ? &r.required(json, pointer, "version") : r.optional(json, "version")) {
+  if (const Json* version = own_file ? &r.required(json, pointer, "version") : r.optional(json, "version")) {
     const long long v = r.integer(*version, member(pointer, "version"), 1, 1 << 30);
     if (v != sim::Scene::kFormatVersion) {
-      fail(ErrorCategory::unsupported, r.source() + ": " + member(pointer, "version") +
-                                           ": scene format version " + std::to_string(v) +
-                                           " is not supported (this build reads version " +
+      fail(ErrorCategory::unsupported, r.source() + ": " + member(pointer, "version") + ": scene format version " +
+                                           std::to_string(v) + " is not supported (this build reads version " +
                                            std::to_string(sim::Scene::kFormatVersion) + ")");
     }
   }
   scene.duration = r.positive(r.required(json, pointer, "duration"), member(pointer, "duration"));
   if (scene.duration > limits::kMaxDuration)
-    r.fail_at(member(pointer, "duration"),
-              "must be at most " + format_number(limits::kMaxDuration, 6) + " s");
+    r.fail_at(member(pointer, "duration"), "must be at most " + format_number(limits::kMaxDuration, 6) + " s");
   const Json& fps = r.required(json, pointer, "fps");
   r.positive(fps, member(pointer, "fps"));  // the sign first, with its own message
   scene.fps = r.bounded(fps, member(pointer, "fps"), limits::kMinFps, limits::kMaxFps);
   if (scene.duration * scene.fps + 1 > limits::kMaxFrames) {
-    r.fail_at(member(pointer, "fps"), "duration × fps makes more than " +
-                                          std::to_string(limits::kMaxFrames) + " frames");
+    r.fail_at(member(pointer, "fps"),
+              "duration × fps makes more than " + std::to_string(limits::kMaxFrames) + " frames");
   }
   if (const Json* s = r.optional(json, "substeps")) {
-    scene.substeps =
-        static_cast<int>(r.integer(*s, member(pointer, "substeps"), 1, limits::kMaxSubsteps));
+    scene.substeps = static_cast<int>(r.integer(*s, member(pointer, "substeps"), 1, limits::kMaxSubsteps));
   }
   if (const Json* st = r.optional(json, "step")) {
     if (r.optional(json, "substeps"))
@@ -367,24 +356,30 @@ sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::J
     ws.enabled = true;
     ws.velocity = r.bounded_vec3(r.required(*w, wp, "velocity"), member(wp, "velocity"), 1e3);
     if (const Json* x = r.optional(*w, "gust")) ws.gust = r.bounded(*x, member(wp, "gust"), 0, 10);
-    if (const Json* x = r.optional(*w, "gust_period")) ws.gust_period = r.bounded(*x, member(wp, "gust_period"), 0.01, 1e4);
+    if (const Json* x = r.optional(*w, "gust_period"))
+      ws.gust_period = r.bounded(*x, member(wp, "gust_period"), 0.01, 1e4);
     if (const Json* x = r.optional(*w, "turbulence")) ws.turbulence = r.bounded(*x, member(wp, "turbulence"), 0, 10);
-    if (const Json* x = r.optional(*w, "seed")) ws.seed = static_cast<std::uint64_t>(r.integer(*x, member(wp, "seed"), 0, 1LL << 53));
-    if (const Json* x = r.optional(*w, "air_density")) ws.air_density = r.bounded(*x, member(wp, "air_density"), 0, 1e4);
-    if (const Json* x = r.optional(*w, "drag_coefficient")) ws.drag_coefficient = r.bounded(*x, member(wp, "drag_coefficient"), 0, 100);
+    if (const Json* x = r.optional(*w, "seed"))
+      ws.seed = static_cast<std::uint64_t>(r.integer(*x, member(wp, "seed"), 0, 1LL << 53));
+    if (const Json* x = r.optional(*w, "air_density"))
+      ws.air_density = r.bounded(*x, member(wp, "air_density"), 0, 1e4);
+    if (const Json* x = r.optional(*w, "drag_coefficient"))
+      ws.drag_coefficient = r.bounded(*x, member(wp, "drag_coefficient"), 0, 100);
     scene.wind = sim::Wind(ws);
   }
   if (const Json* cs = r.optional(json, "colliders")) {
     const std::string cp = member(pointer, "colliders");
     r.array(*cs, cp);
-    for (std::size_t i = 0; i < cs->size(); ++i) scene.colliders.push_back(read_collider(r, (*cs)[i], element(cp, i), i));
+    for (std::size_t i = 0; i < cs->size(); ++i)
+      scene.colliders.push_back(read_collider(r, (*cs)[i], element(cp, i), i));
   }
   if (const Json* b = r.optional(json, "body_collider"))
     scene.body_collider = read_body_collider(r, *b, member(pointer, "body_collider"));
   if (const Json* st = r.optional(json, "contact_stations")) {
     scene.contact_stations = static_cast<int>(r.integer(*st, member(pointer, "contact_stations"), 1, 64));
   }
-  if (const Json* st = r.optional(json, "contact_step")) scene.contact_step = step_length(r, *st, member(pointer, "contact_step"));
+  if (const Json* st = r.optional(json, "contact_step"))
+    scene.contact_step = step_length(r, *st, member(pointer, "contact_step"));
 
   const std::string fp = member(pointer, "forces");
   const Json& forces = r.required(json, pointer, "forces");
@@ -393,9 +388,8 @@ sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::J
     scene.forces.push_back(read_force(r, forces[i], element(fp, i), rig));
     // Legal, but surely not meant: the bake ends before the force begins.
     if (scene.forces.back().start > scene.duration) {
-      r.warn_at(member(element(fp, i), "start"),
-                "the force starts after the scene ends (duration " + io::describe(json["duration"]) +
-                    " s): it never acts");
+      r.warn_at(member(element(fp, i), "start"), "the force starts after the scene ends (duration " +
+                                                     io::describe(json["duration"]) + " s): it never acts");
     }
   }
   return scene;
@@ -408,8 +402,7 @@ sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig, const i
   // A rig file that carries its scene. (A "format" that is not a string is reported by
   // parse_scene, with its pointer.)
   const auto format = doc.find("format");
-  const bool is_rig =
-      format != doc.end() && format->is_string() && format->get<std::string>() == "sweep-rig";
+  const bool is_rig = format != doc.end() && format->is_string() && format->get<std::string>() == "sweep-rig";
   if (is_rig && doc.contains("scene")) return parse_scene(doc["scene"], "/scene", r, rig);
   if (is_rig) r.fail_at("", "this rig file has no \"scene\"; give a scene file");
   return parse_scene(doc, "", r, rig);

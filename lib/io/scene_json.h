@@ -12,11 +12,9 @@ namespace sweep::io {
 
 // `json` is the scene object; `pointer` where it sits in its file ("" or "/scene"). Forces are
 // resolved against `rig` (sweep and section names, t fraction to arc length).
-sim::Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader,
-                  const Rig& rig);
+sim::Scene parse_scene(const io::Json& json, const std::string& pointer, const io::JsonReader& reader, const Rig& rig);
 
 // A scene file (format "sweep-scene"), or a rig file that holds one under "scene".
-sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig,
-                 const io::WarningSink& warn = {});
+sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn = {});
 
 }  // namespace sweep::io

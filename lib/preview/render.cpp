@@ -40,7 +40,8 @@ const std::array<View, 3> kViews{{{Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()},
 class Canvas {
  public:
   Canvas(int width, int height)
-      : width_(width), height_(height),
+      : width_(width),
+        height_(height),
         rgb_(3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height)),
         depth_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height),
                -std::numeric_limits<double>::infinity()) {
@@ -53,7 +54,8 @@ class Canvas {
   }
   void set(int x, int y, const Rgb& c) {
     for (int k = 0; k < 3; ++k)
-      rgb_[3 * at(x, y) + static_cast<std::size_t>(k)] = static_cast<float>(std::clamp(c[static_cast<std::size_t>(k)], 0.0f, 1.0f));
+      rgb_[3 * at(x, y) + static_cast<std::size_t>(k)] =
+          static_cast<float>(std::clamp(c[static_cast<std::size_t>(k)], 0.0f, 1.0f));
   }
   void blend(int x, int y, const Rgb& c, float share) {
     for (std::size_t k = 0; k < 3; ++k) {
@@ -64,8 +66,7 @@ class Canvas {
   double& depth(int x, int y) { return depth_[at(x, y)]; }
   Image image() const {
     Image out{width_, height_, std::vector<std::uint8_t>(rgb_.size())};
-    for (std::size_t i = 0; i < rgb_.size(); ++i)
-      out.rgb[i] = static_cast<std::uint8_t>(std::lround(255.0f * rgb_[i]));
+    for (std::size_t i = 0; i < rgb_.size(); ++i) out.rgb[i] = static_cast<std::uint8_t>(std::lround(255.0f * rgb_[i]));
     return out;
   }
 
@@ -88,18 +89,17 @@ struct Projection {
   double size;
   Projected operator()(const Vec3& p) const {
     const Vec3 d = p - center;
-    return {left + size / 2 + scale * d.dot(view.right), size / 2 - scale * d.dot(view.up),
-            d.dot(view.toward)};
+    return {left + size / 2 + scale * d.dot(view.right), size / 2 - scale * d.dot(view.up), d.dot(view.toward)};
   }
 };
 
-void fill_triangle(Canvas& canvas, const Projection& proj, const Projected& a, const Projected& b,
-                   const Projected& c, const Rgb& color) {
+void fill_triangle(Canvas& canvas, const Projection& proj, const Projected& a, const Projected& b, const Projected& c,
+                   const Rgb& color) {
   const double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   if (!(std::abs(area) > 1e-12)) return;
   const int x0 = std::max(static_cast<int>(std::floor(std::min({a.x, b.x, c.x}))), static_cast<int>(proj.left));
-  const int x1 = std::min(static_cast<int>(std::ceil(std::max({a.x, b.x, c.x}))),
-                          static_cast<int>(proj.left + proj.size) - 1);
+  const int x1 =
+      std::min(static_cast<int>(std::ceil(std::max({a.x, b.x, c.x}))), static_cast<int>(proj.left + proj.size) - 1);
   const int y0 = std::max(static_cast<int>(std::floor(std::min({a.y, b.y, c.y}))), 0);
   const int y1 = std::min(static_cast<int>(std::ceil(std::max({a.y, b.y, c.y}))), static_cast<int>(proj.size) - 1);
   for (int y = y0; y <= y1; ++y) {
@@ -120,8 +120,8 @@ void fill_triangle(Canvas& canvas, const Projection& proj, const Projected& a, c
 
 // A segment; where the surface hides it (by more than `tolerance` of depth), blended faintly, or
 // drawn whole when `on_top`. `thick` doubles it a pixel to the right and below.
-void draw_segment(Canvas& canvas, const Projected& a, const Projected& b, const Rgb& color,
-                  double tolerance, bool on_top, bool thick) {
+void draw_segment(Canvas& canvas, const Projected& a, const Projected& b, const Rgb& color, double tolerance,
+                  bool on_top, bool thick) {
   // Overlays come from fits, which may reach far past the mesh: such a segment is not drawn.
   constexpr double kFar = 1e5;  // pixels
   for (const Projected* p : {&a, &b}) {
@@ -202,14 +202,12 @@ Image render_views(const Mesh& mesh, const std::vector<Overlay>& parts, int view
       for (float& x : ring_color) x *= kRingDarkening;
       for (const std::vector<Vec3>& ring : parts[i].rings) {
         for (std::size_t k = 0; k < ring.size(); ++k) {
-          draw_segment(canvas, proj(ring[k]), proj(ring[(k + 1) % ring.size()]), ring_color, tolerance,
-                       false, false);
+          draw_segment(canvas, proj(ring[k]), proj(ring[(k + 1) % ring.size()]), ring_color, tolerance, false, false);
         }
       }
       // The axis runs inside the part: drawn over it.
       for (std::size_t k = 0; k + 1 < parts[i].axis.size(); ++k) {
-        draw_segment(canvas, proj(parts[i].axis[k]), proj(parts[i].axis[k + 1]), kAxis, tolerance, true,
-                     true);
+        draw_segment(canvas, proj(parts[i].axis[k]), proj(parts[i].axis[k + 1]), kAxis, tolerance, true, true);
       }
     }
     if (v > 0) {

@@ -96,7 +96,8 @@ void BodyPath::prepare() {
 }
 
 std::size_t BodyPath::piece(double t) const {
-  const auto it = std::upper_bound(keys_.begin(), keys_.end(), t, [](double x, const BodyKey& k) { return x < k.time; });
+  const auto it =
+      std::upper_bound(keys_.begin(), keys_.end(), t, [](double x, const BodyKey& k) { return x < k.time; });
   return static_cast<std::size_t>(it - keys_.begin()) - 1;
 }
 
@@ -139,7 +140,8 @@ BodyState BodyPath::about_pivot(double t) const {
     return s;
   }
   Vec3 dp, ddp;
-  hermite(u, a.translation, b.translation, Vec3(span * tangent_[p]), Vec3(span * tangent_[p + 1]), s.translation, dp, ddp);
+  hermite(u, a.translation, b.translation, Vec3(span * tangent_[p]), Vec3(span * tangent_[p + 1]), s.translation, dp,
+          ddp);
   s.velocity = dp / span;
   Vec3 rho, drho, ddrho;
   hermite(u, rho_[p], rho_[p + 1], Vec3(span * rho_tangent_[p]), Vec3(span * rho_tangent_[p + 1]), rho, drho, ddrho);

@@ -67,7 +67,7 @@ class BodyPath {
   bool loads_between(double from, double to) const;
 
  private:
-  void prepare();  // from keys_, interpolation_ and pivot_: moves_, and the cubic's splines
+  void prepare();                     // from keys_, interpolation_ and pivot_: moves_, and the cubic's splines
   std::size_t piece(double t) const;  // keys_[p] ≤ t < keys_[p+1]
   BodyState about_pivot(double t) const;
   std::vector<BodyKey> keys_;

@@ -18,10 +18,14 @@ Vec3 direction_or(const Vec3& v, const Vec3& fallback) {
 
 const char* shape_name(ColliderShape shape) {
   switch (shape) {
-    case ColliderShape::sphere: return "sphere";
-    case ColliderShape::capsule: return "capsule";
-    case ColliderShape::box: return "box";
-    case ColliderShape::plane: return "plane";
+    case ColliderShape::sphere:
+      return "sphere";
+    case ColliderShape::capsule:
+      return "capsule";
+    case ColliderShape::box:
+      return "box";
+    case ColliderShape::plane:
+      return "plane";
   }
   return "?";
 }
@@ -99,10 +103,14 @@ double Collider::local_distance(const Vec3& x, Vec3* outward) const {
 
 double Collider::bounding_radius() const {
   switch (shape) {
-    case ColliderShape::sphere: return radius;
-    case ColliderShape::capsule: return half_length + radius;
-    case ColliderShape::box: return half_size.norm();
-    case ColliderShape::plane: return std::numeric_limits<double>::infinity();
+    case ColliderShape::sphere:
+      return radius;
+    case ColliderShape::capsule:
+      return half_length + radius;
+    case ColliderShape::box:
+      return half_size.norm();
+    case ColliderShape::plane:
+      return std::numeric_limits<double>::infinity();
   }
   return 0;
 }
@@ -122,7 +130,8 @@ std::string Collider::check() const {
       if (!(half_size.minCoeff() > 0) || !is_finite(half_size))
         return "every half size must be a positive number (a plate is a thin box, not a flat one)";
       break;
-    case ColliderShape::plane: break;
+    case ColliderShape::plane:
+      break;
   }
   return "";
 }

@@ -22,13 +22,13 @@ enum class ColliderShape { sphere, capsule, box, plane };
 struct Collider {
   std::string name;  // for messages: the scene's "name", or "collider N"
   ColliderShape shape = ColliderShape::sphere;
-  Frame pose;                          // local → world (or → mesh, when carried by the body)
-  bool carried = false;                // moves with the body (a leg), rather than fixed in the world
-  double radius = 0;                   // sphere, capsule
-  double half_length = 0;              // capsule: half the length of its segment
-  Vec3 half_size = Vec3::Zero();       // box
-  double margin = 0;                   // extra clearance the part keeps (mesh units)
-  double friction = 0.5;               // Coulomb coefficient against the part's surface
+  Frame pose;                     // local → world (or → mesh, when carried by the body)
+  bool carried = false;           // moves with the body (a leg), rather than fixed in the world
+  double radius = 0;              // sphere, capsule
+  double half_length = 0;         // capsule: half the length of its segment
+  Vec3 half_size = Vec3::Zero();  // box
+  double margin = 0;              // extra clearance the part keeps (mesh units)
+  double friction = 0.5;          // Coulomb coefficient against the part's surface
 
   // A sphere (mesh units), a capsule from `a` to `b`, a box with its rotation, a plane through
   // `point` whose solid side is opposite `normal`.

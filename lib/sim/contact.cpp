@@ -49,7 +49,8 @@ Vec3 nearest_on_segment(const Collider& c, const Vec3& a, const Vec3& b) {
   }
   const double s = 0.5 * (lo + hi);
   // The ends too: a minimum at an end is reached only to the bracket's width otherwise.
-  const double fa = c.local_distance(a, &out), fb = c.local_distance(b, &out), fs = c.local_distance(a + s * (b - a), &out);
+  const double fa = c.local_distance(a, &out), fb = c.local_distance(b, &out),
+               fs = c.local_distance(a + s * (b - a), &out);
   if (fa <= fs && fa <= fb) return a;
   if (fb <= fs) return b;
   return a + s * (b - a);
@@ -141,7 +142,8 @@ double rest_room(const Rig& rig, const Vec3& point, double margin, int stations_
   probe.margin = margin;
   const PlacedCollider placed{&probe, probe.pose};
   double room = std::numeric_limits<double>::infinity();
-  for (const SweepDef& def : rig.sweeps) room = std::min(room, 1.0 + clearance(def.rest, placed, stations_per_span).gap);
+  for (const SweepDef& def : rig.sweeps)
+    room = std::min(room, 1.0 + clearance(def.rest, placed, stations_per_span).gap);
   return room;
 }
 
@@ -265,7 +267,8 @@ Vec3 ContactSolver::collider_velocity(std::size_t c, const PlacedCollider& place
   // body carries, a body at rest) are exactly still; and over a sliver of a step (a switching time
   // a hair off the step grid) a rounding of `here` over dt would be a speed of nothing real.
   const Frame& before = start_pose_[c];
-  if (dt < kShortestPiece || (before.center == placed.to_mesh.center && before.rotation.coeffs() == placed.to_mesh.rotation.coeffs()))
+  if (dt < kShortestPiece ||
+      (before.center == placed.to_mesh.center && before.rotation.coeffs() == placed.to_mesh.rotation.coeffs()))
     return Vec3::Zero();
   return (here - before.to_world(placed.to_mesh.to_local(here))) / dt;
 }
@@ -298,7 +301,8 @@ void ContactSolver::solve(const Eigen::MatrixXd& w, const std::vector<double>& r
       const double delta = next - a[p];
       if (delta == 0) continue;
       a[p] = next;
-      for (std::size_t q = 0; q < n; ++q) w_a[q] += w(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(p)) * delta;
+      for (std::size_t q = 0; q < n; ++q)
+        w_a[q] += w(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(p)) * delta;
       change = std::max(change, std::abs(delta) * wpp);
     }
     if (change <= kSolveTolerance * scale) break;
@@ -367,7 +371,7 @@ void ContactSolver::move_out(ElasticSweep& sweep, std::span<const PlacedCollider
       const Eigen::Index i = static_cast<Eigen::Index>(p);
       if (by_move_(i, i) > 0) worst = std::min(worst, residual_[p]);
     }
-      if (worst >= -kGapTolerance * length) break;
+    if (worst >= -kGapTolerance * length) break;
     // The move is the step's own answer to a force held over it (ElasticSweep::move_rows): through
     // the springs' inertia over the step as much as their compliance, and the speeds by the same
     // move over dt (as in position-based dynamics: else a part lying on the ground keeps its fall
@@ -466,7 +470,8 @@ void ContactSolver::collect_planes(const SweepShape& shape, std::span<const Plac
         station_points(s);
         station_points(s + 1);
         const Vec3 a0 = start_pose_[c].to_local(start_[s]), b0 = start_pose_[c].to_local(start_[s + 1]);
-        const Vec3 chord[4] = {a0, b0, colliders[c].to_mesh.to_local(end_[s]), colliders[c].to_mesh.to_local(end_[s + 1])};
+        const Vec3 chord[4] = {a0, b0, colliders[c].to_mesh.to_local(end_[s]),
+                               colliders[c].to_mesh.to_local(end_[s + 1])};
         if (clear_of(col, chord, grow)) continue;
         const Vec3 x = nearest_on_segment(col, a0, b0);
         Vec3 outward;

@@ -160,12 +160,12 @@ class ContactSolver {
                     bool moved_only);
 
   int per_span_ = 1;
-  std::vector<double> stations_;      // axis parameters of the chords' ends
-  SweepShape start_shape_;            // the part at the step's start
-  double longest_span_ = 0;           // between two key sections
-  double smallest_reach_ = 0;         // the thinnest rest section's largest radius
-  std::vector<Vec3> start_, end_;     // their points at the step's start and end (mesh coordinates)
-  std::vector<Frame> start_pose_;     // each collider's local → mesh at the step's start
+  std::vector<double> stations_;   // axis parameters of the chords' ends
+  SweepShape start_shape_;         // the part at the step's start
+  double longest_span_ = 0;        // between two key sections
+  double smallest_reach_ = 0;      // the thinnest rest section's largest radius
+  std::vector<Vec3> start_, end_;  // their points at the step's start and end (mesh coordinates)
+  std::vector<Frame> start_pose_;  // each collider's local → mesh at the step's start
   std::vector<Plane> planes_;
   std::vector<ElasticSweep::ContactRow> rows_;  // one per plane, along its normal
   Eigen::MatrixXd by_mass_, by_compliance_;     // J M⁻¹ Jᵀ and J C Jᵀ over the rows
@@ -175,8 +175,8 @@ class ContactSolver {
   std::vector<double> pressed_, held_, none_;  // normal impulses; forces; zeros
   SupportScratch support_;
   Eigen::MatrixXd jp_, jr_, modal_;  // the rows' J (positional, rotational) and Φᵀ Jᵀ, one column each
-  std::vector<char> evaluated_;       // whether start_/end_ hold station s this step
-  std::vector<double> span_reach_;    // each span's largest radius over the step
+  std::vector<char> evaluated_;      // whether start_/end_ hold station s this step
+  std::vector<double> span_reach_;   // each span's largest radius over the step
   // Friction: two rows across each pressed contact's normal (the first along its slip), their
   // slip speeds, each contact's cone radius μN, the impulses, and J M⁻¹ Jᵀ over the rows.
   ElasticSweep::ContactRow probe_row_;
@@ -212,7 +212,7 @@ class ContactSolver {
   struct Held {
     std::size_t plane = 0;  // the first pressed plane of the station and collider
     std::size_t anchor = 0;
-    double cone = 0;        // μN, N summed over the pair's pressed planes, N
+    double cone = 0;  // μN, N summed over the pair's pressed planes, N
   };
   long step_ = 0;
   std::vector<Anchor> anchors_;  // collider · stations + station

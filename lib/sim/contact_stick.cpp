@@ -16,11 +16,10 @@
 // where the springs are, not on the step: the drag of a steady slide is μN at any step and frame
 // rate. Nor may its move stop more of the station's momentum than the cone gives over the step
 // (μN·dt; see below). What of the cone the hold spends, the speeds' friction may not.
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
-
-#include <Eigen/Dense>
 
 #include "sweep/core/sweep_shape.h"
 #include "sweep/sim/contact.h"

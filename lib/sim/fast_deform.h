@@ -92,8 +92,8 @@ class FastDeformer {
   };
 
   // `rest_positions` is the whole mesh in float (blend-zone vertices need their rest position).
-  FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound,
-               std::span<const Vec3f> rest_positions, int stations_per_span = 8);
+  FastDeformer(const SweepShape& rest, const bind::SweepBinding& bound, std::span<const Vec3f> rest_positions,
+               int stations_per_span = 8);
 
   // Writes the deformed positions of this sweep's vertices into `out` (the whole mesh, mesh order):
   // tabulate(deformed), then deform_vertices(out). `split`: the blocks across the threads
@@ -144,12 +144,12 @@ class FastDeformer {
   // Blocks whose mesh indices come in runs at least this long on average write back run by run.
   static constexpr std::uint32_t kMinMeanRunLength = 8;
 
-  int n_ = 0;                    // radial samples = angle cells
-  int stations_per_span_ = 0;    // S
-  int station_count_ = 0;        // (K − 1)·S + 1
-  int row_ = 0;                  // floats per station: 12 (C, X, Y, Z) + 4 per angle cell
+  int n_ = 0;                        // radial samples = angle cells
+  int stations_per_span_ = 0;        // S
+  int station_count_ = 0;            // (K − 1)·S + 1
+  int row_ = 0;                      // floats per station: 12 (C, X, Y, Z) + 4 per angle cell
   std::vector<HermiteBasis> basis_;  // at u = q/S, q = 0..S
-  std::vector<float> stations_;  // row_ floats a station, rewritten each frame
+  std::vector<float> stations_;      // row_ floats a station, rewritten each frame
   // Per-frame scratch of tabulate: each section's cell cubics (K·4n); and, one set for each
   // thread working on a span, its cubics' slopes in t at both ends (2·4n) and the slerped
   // rotations of its stations (S + 1).

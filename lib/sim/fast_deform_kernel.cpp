@@ -37,9 +37,8 @@ struct Kernel {
 // enables FMA, and the vectorized and scalar forms do the same IEEE operations in the same order,
 // so both give the same bits.
 template <bool kAxial>
-[[gnu::always_inline]] inline void deform_block_impl(const Kernel& k, const float* A,
-                                                     const float* B, const Segment* seg,
-                                                     std::uint32_t begin, std::uint32_t end,
+[[gnu::always_inline]] inline void deform_block_impl(const Kernel& k, const float* A, const float* B,
+                                                     const Segment* seg, std::uint32_t begin, std::uint32_t end,
                                                      const Run* runs) {
   const std::uint32_t m = end - begin;
   float r[kBlockVertices + kPad], ox[kBlockVertices], oy[kBlockVertices], oz[kBlockVertices];
@@ -58,8 +57,7 @@ template <bool kAxial>
     float* cr = r + (lo - begin);
     // Rounded up to whole vectors: the extra radii are overwritten by the next segment's or lie
     // past the block (the arrays are padded for the reads).
-    const std::ptrdiff_t len =
-        (static_cast<std::ptrdiff_t>(hi) - static_cast<std::ptrdiff_t>(lo) + kPad - 1) & -kPad;
+    const std::ptrdiff_t len = (static_cast<std::ptrdiff_t>(hi) - static_cast<std::ptrdiff_t>(lo) + kPad - 1) & -kPad;
     for (std::ptrdiff_t i = 0; i < len; ++i) {
       const float w = cw[i], u = cu[i];
       const float ra = a0 + w * (a1 + w * (a2 + w * a3));
@@ -141,45 +139,43 @@ template <bool kAxial>
   }
 }
 
-__attribute__((target_clones("avx2", "default"))) void deform_block(
-    const Kernel& k, const float* A, const float* B, const Segment* seg, std::uint32_t begin,
-    std::uint32_t end, const Run* runs) {
+__attribute__((target_clones("avx2", "default"))) void deform_block(const Kernel& k, const float* A, const float* B,
+                                                                    const Segment* seg, std::uint32_t begin,
+                                                                    std::uint32_t end, const Run* runs) {
   deform_block_impl<false>(k, A, B, seg, begin, end, runs);
 }
 
-__attribute__((target_clones("avx2", "default"))) void deform_block_axial(
-    const Kernel& k, const float* A, const float* B, const Segment* seg, std::uint32_t begin,
-    std::uint32_t end, const Run* runs) {
+__attribute__((target_clones("avx2", "default"))) void deform_block_axial(const Kernel& k, const float* A,
+                                                                          const float* B, const Segment* seg,
+                                                                          std::uint32_t begin, std::uint32_t end,
+                                                                          const Run* runs) {
   deform_block_impl<true>(k, A, B, seg, begin, end, runs);
 }
 
 // The same kernels compiled for one target only, for tests that compare the forms
 // (FastDeformer::force_kernel_form); production calls the target_clones above.
-using BlockFunction = void (*)(const Kernel&, const float*, const float*, const Segment*,
-                               std::uint32_t, std::uint32_t, const Run*);
+using BlockFunction = void (*)(const Kernel&, const float*, const float*, const Segment*, std::uint32_t, std::uint32_t,
+                               const Run*);
 
-void deform_block_baseline(const Kernel& k, const float* A, const float* B, const Segment* seg,
-                           std::uint32_t begin, std::uint32_t end, const Run* runs) {
+void deform_block_baseline(const Kernel& k, const float* A, const float* B, const Segment* seg, std::uint32_t begin,
+                           std::uint32_t end, const Run* runs) {
   deform_block_impl<false>(k, A, B, seg, begin, end, runs);
 }
 
-void deform_block_axial_baseline(const Kernel& k, const float* A, const float* B,
-                                 const Segment* seg, std::uint32_t begin, std::uint32_t end,
-                                 const Run* runs) {
+void deform_block_axial_baseline(const Kernel& k, const float* A, const float* B, const Segment* seg,
+                                 std::uint32_t begin, std::uint32_t end, const Run* runs) {
   deform_block_impl<true>(k, A, B, seg, begin, end, runs);
 }
 
-__attribute__((target("avx2"))) void deform_block_avx2(const Kernel& k, const float* A,
-                                                       const float* B, const Segment* seg,
-                                                       std::uint32_t begin, std::uint32_t end,
+__attribute__((target("avx2"))) void deform_block_avx2(const Kernel& k, const float* A, const float* B,
+                                                       const Segment* seg, std::uint32_t begin, std::uint32_t end,
                                                        const Run* runs) {
   deform_block_impl<false>(k, A, B, seg, begin, end, runs);
 }
 
-__attribute__((target("avx2"))) void deform_block_axial_avx2(const Kernel& k, const float* A,
-                                                             const float* B, const Segment* seg,
-                                                             std::uint32_t begin,
-                                                             std::uint32_t end, const Run* runs) {
+__attribute__((target("avx2"))) void deform_block_axial_avx2(const Kernel& k, const float* A, const float* B,
+                                                             const Segment* seg, std::uint32_t begin, std::uint32_t end,
+                                                             const Run* runs) {
   deform_block_impl<true>(k, A, B, seg, begin, end, runs);
 }
 
@@ -266,9 +262,8 @@ void FastDeformer::run_blocks(float* out, bool grouped, bool split) const {
     const Run* runs = blk.runs == kNoRuns ? nullptr : runs_.data() + blk.runs;
     if (form_ != KernelForm::automatic) {
       const bool avx2 = form_ == KernelForm::avx2;
-      const BlockFunction forced =
-          blk.axial ? (avx2 ? deform_block_axial_avx2 : deform_block_axial_baseline)
-                    : (avx2 ? deform_block_avx2 : deform_block_baseline);
+      const BlockFunction forced = blk.axial ? (avx2 ? deform_block_axial_avx2 : deform_block_axial_baseline)
+                                             : (avx2 ? deform_block_avx2 : deform_block_baseline);
       forced(k, A, A + row_, seg, blk.begin, blk.end, runs);
     } else if (blk.axial) {
       deform_block_axial(k, A, A + row_, seg, blk.begin, blk.end, runs);
@@ -287,9 +282,8 @@ void FastDeformer::run_blocks(float* out, bool grouped, bool split) const {
 }
 
 void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out) {
-  const bool side_by_side =
-      jobs.size() > 1 && std::none_of(jobs.begin(), jobs.end(),
-                                      [](const DeformJob& j) { return j.fast->is_parallel(); });
+  const bool side_by_side = jobs.size() > 1 && std::none_of(jobs.begin(), jobs.end(),
+                                                            [](const DeformJob& j) { return j.fast->is_parallel(); });
   const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(jobs.size());
   if (side_by_side) {
 #pragma omp parallel for schedule(dynamic, 1)

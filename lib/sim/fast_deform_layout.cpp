@@ -43,8 +43,7 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
       std::numeric_limits<std::uint32_t>::max() - kBlockVertices - static_cast<std::size_t>(kPad);
   if (count > kMaxVertices) {
     fail(ErrorCategory::unsupported, "a sweep binds " + std::to_string(count) +
-                                         " vertices; the fast path takes at most " +
-                                         std::to_string(kMaxVertices));
+                                         " vertices; the fast path takes at most " + std::to_string(kMaxVertices));
   }
   const std::size_t spans = station_t.size() - 1;
   std::vector<std::uint32_t> span_of(count), cell_of(count);
@@ -52,13 +51,11 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
   for (std::size_t v = 0; v < count; ++v) {
     const double t = bound.t[v];
     const auto it = std::upper_bound(station_t.begin(), station_t.end(), t);
-    const std::size_t p =
-        std::min<std::size_t>(std::max<std::ptrdiff_t>(it - station_t.begin() - 1, 0), spans - 1);
+    const std::size_t p = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - station_t.begin() - 1, 0), spans - 1);
     const AngleCoord ac = locate_angle(n_, bound.theta[v]);
     span_of[v] = static_cast<std::uint32_t>(p);
     cell_of[v] = static_cast<std::uint32_t>(ac.j);
-    u[v] = static_cast<float>(
-        std::clamp((t - station_t[p]) / (station_t[p + 1] - station_t[p]), 0.0, 1.0));
+    u[v] = static_cast<float>(std::clamp((t - station_t[p]) / (station_t[p + 1] - station_t[p]), 0.0, 1.0));
     w[v] = static_cast<float>(ac.w);
   }
 
@@ -71,8 +68,7 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
   const std::size_t tiles = (count + kTileVertices - 1) / kTileVertices;
   const std::size_t pieces = std::max<std::size_t>(tiles, 1) * spans;
   const auto piece_of = [&](std::size_t v) { return (v / kTileVertices) * spans + span_of[v]; };
-  std::vector<std::uint32_t> piece_size(pieces, 0), piece_segments(pieces, 0),
-      last_cell(pieces, n_);
+  std::vector<std::uint32_t> piece_size(pieces, 0), piece_segments(pieces, 0), last_cell(pieces, n_);
   for (std::size_t v = 0; v < count; ++v) {
     const std::size_t q = piece_of(v);
     ++piece_size[q];
@@ -87,8 +83,7 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
   std::vector<std::uint32_t> order(count);
   {
     std::vector<std::uint32_t> fill(piece_begin.begin(), piece_begin.end() - 1);
-    for (std::size_t v = 0; v < count; ++v)
-      order[fill[piece_of(v)]++] = static_cast<std::uint32_t>(v);
+    for (std::size_t v = 0; v < count; ++v) order[fill[piece_of(v)]++] = static_cast<std::uint32_t>(v);
   }
   std::vector<std::uint32_t> cell_fill(n_ + 1), sorted;
   for (std::size_t q = 0; q < pieces; ++q) {
@@ -136,11 +131,9 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
       blk.span = static_cast<std::uint32_t>(p);
       blk.segments = static_cast<std::uint32_t>(segments_.size());
       for (std::uint32_t i = blk.begin; i < blk.end; ++i) {
-        if (i + 1 == blk.end || grouped_cell[i + 1] != grouped_cell[i])
-          segments_.push_back({i + 1, grouped_cell[i]});
+        if (i + 1 == blk.end || grouped_cell[i + 1] != grouped_cell[i]) segments_.push_back({i + 1, grouped_cell[i]});
       }
-      blk.axial = std::any_of(z_.begin() + blk.begin, z_.begin() + blk.end,
-                              [](float z) { return z != 0.0f; });
+      blk.axial = std::any_of(z_.begin() + blk.begin, z_.begin() + blk.end, [](float z) { return z != 0.0f; });
       // Contiguous runs of mesh indices; kept (terminated by a zero-length run) when they are long
       // enough on average for the run-by-run copy to beat the vertex-by-vertex one.
       const std::size_t first_run = runs_.size();
@@ -164,10 +157,9 @@ FastDeformer::FastDeformer(const SweepShape& rest, const bind::SweepBinding& bou
 }
 
 std::size_t FastDeformer::direct_block_count() const {
-  return static_cast<std::size_t>(
-      std::count_if(blocks_.begin(), blocks_.end(), [&](const Block& b) {
-        return b.runs != kNoRuns && runs_[b.runs].length == b.end - b.begin;
-      }));
+  return static_cast<std::size_t>(std::count_if(blocks_.begin(), blocks_.end(), [&](const Block& b) {
+    return b.runs != kNoRuns && runs_[b.runs].length == b.end - b.begin;
+  }));
 }
 
 }  // namespace sweep::sim

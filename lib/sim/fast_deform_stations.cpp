@@ -28,15 +28,13 @@ void FastDeformer::tabulate(const SweepShape& shape, bool split) {
   assert(shape.section_count() * stations_per_span_ - stations_per_span_ + 1 == station_count_);
   assert(shape.radial_count == n_);
   const int k = shape.section_count(), n = n_, per = stations_per_span_;
-  double lowest =
-      shape.radii.empty() ? 0.0 : *std::min_element(shape.radii.begin(), shape.radii.end());
+  double lowest = shape.radii.empty() ? 0.0 : *std::min_element(shape.radii.begin(), shape.radii.end());
   radius_floor_ = static_cast<float>(kMinRadiusFraction * lowest);
   // Scratch for one span at a time: slopes (8n floats) and rotations (S + 1), one set a thread.
   const std::size_t w4 = 4 * static_cast<std::size_t>(n);
   const int slots = split ? omp_get_max_threads() : 1;
   if (slopes_.size() < slots * 2 * w4) slopes_.resize(slots * 2 * w4);
-  if (rotations_.size() < static_cast<std::size_t>(slots * (per + 1)))
-    rotations_.resize(slots * (per + 1));
+  if (rotations_.size() < static_cast<std::size_t>(slots * (per + 1))) rotations_.resize(slots * (per + 1));
   // Each section's periodic Catmull-Rom, cell by cell, as the cubic c0 + w·c1 + w²·c2 + w³·c3
   // in the cell's coordinate w.
   for (int i = 0; i < k; ++i) {
@@ -49,8 +47,7 @@ void FastDeformer::tabulate(const SweepShape& shape, bool split) {
 
   // Each span's stations, from its two sections and their neighbours: spans are independent.
   const auto span = [&](int s, int slot) {
-    const std::span<Quat> rotations(rotations_.data() + static_cast<std::size_t>(slot) * (per + 1),
-                                    per + 1);
+    const std::span<Quat> rotations(rotations_.data() + static_cast<std::size_t>(slot) * (per + 1), per + 1);
     const Frame& fa = shape.frames[s];
     const Frame& fb = shape.frames[s + 1];
     const double h = shape.t[s + 1] - shape.t[s];
@@ -92,8 +89,7 @@ void FastDeformer::tabulate(const SweepShape& shape, bool split) {
       const float b0 = static_cast<float>(hb.h00), b1 = static_cast<float>(hb.h10);
       const float b2 = static_cast<float>(hb.h01), b3 = static_cast<float>(hb.h11);
       float* cell = row + kCells;
-      for (std::size_t e = 0; e < w4; ++e)
-        cell[e] = b0 * k0[e] + b1 * m0[e] + b2 * k1[e] + b3 * m1[e];
+      for (std::size_t e = 0; e < w4; ++e) cell[e] = b0 * k0[e] + b1 * m0[e] + b2 * k1[e] + b3 * m1[e];
     }
   };
   if (split && k > 2) {

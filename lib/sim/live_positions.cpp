@@ -50,8 +50,8 @@ LivePositions::LivePositions(std::span<const Vec3f> rest, std::span<const FastDe
     offset_.push_back(points_.size());
     for (const std::uint32_t v : part->grouped_vertices()) {
       if (v >= rest.size() || bound[v])
-        fail(ErrorCategory::usage, "the parts' vertices must be mesh vertices, each bound by one part (vertex " +
-                                       std::to_string(v) + ")");
+        fail(ErrorCategory::usage,
+             "the parts' vertices must be mesh vertices, each bound by one part (vertex " + std::to_string(v) + ")");
       bound[v] = 1;
       target_.push_back(v);
       points_.push_back(rest[v]);

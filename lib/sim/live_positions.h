@@ -36,8 +36,8 @@ class LivePositions {
   // The rest positions of every vertex, then each part's deformed vertices in its grouped order.
   std::vector<Vec3f> points_;
   std::size_t rest_count_ = 0;
-  std::vector<std::size_t> offset_;     // part p's first in points_
-  std::vector<std::uint32_t> target_;   // the mesh index of each part's vertex in points_ (after the rest)
+  std::vector<std::size_t> offset_;    // part p's first in points_
+  std::vector<std::uint32_t> target_;  // the mesh index of each part's vertex in points_ (after the rest)
 };
 
 }  // namespace sweep::sim

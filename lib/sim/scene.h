@@ -34,7 +34,7 @@ struct Scene {
   // given: then `substeps`, if given, keeps its old meaning (step = 1 / (fps · substeps)) so scenes
   // written for it give their old frames; else kDefaultStep.
   double step = 0;
-  int substeps = 0;       // internal steps per output frame, the old way to set the step; 0 = not given
+  int substeps = 0;  // internal steps per output frame, the old way to set the step; 0 = not given
   Integrator integrator = Integrator::exact;
   // Gravity, m/s² in world axes: every span of a material-mode sweep weighs on the chain. With
   // gravity_preloaded the modelled mesh is the pose under it (no sag on frame 0); otherwise the

@@ -29,8 +29,7 @@ constexpr std::size_t kLiveKeys = 8;
 
 }  // namespace
 
-Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
-    : scene_(scene), sleep_(sleep) {
+Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep) : scene_(scene), sleep_(sleep) {
   if (!scene.body_node.empty() && scene.body.empty()) {
     fail(ErrorCategory::usage, "the scene's body follows node '" + scene.body_node +
                                    "' of the glTF mesh's animation, which has not been read: fill "
@@ -45,7 +44,8 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   }
   if (scene.contact_stations < 1 || scene.contact_stations > 64)
     fail(ErrorCategory::usage, "Scene::contact_stations must be between 1 and 64");
-  if (!std::isfinite(scene.contact_step) || scene.contact_step < limits::kMinStep || scene.contact_step > limits::kMaxStep)
+  if (!std::isfinite(scene.contact_step) || scene.contact_step < limits::kMinStep ||
+      scene.contact_step > limits::kMaxStep)
     fail(ErrorCategory::usage, "Scene::contact_step must be between " + format_number(limits::kMinStep) + " and " +
                                    format_number(limits::kMaxStep) + " s");
   pose_keys_.reserve(kLiveKeys);
@@ -53,7 +53,8 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   kinks_.reserve(kLiveKeys);
   sweeps_.reserve(rig.sweeps.size());
   for (const SweepDef& def : rig.sweeps) {
-    sweeps_.push_back(SweepState{.body = ElasticSweep(def), .view = ElasticSweep(def),
+    sweeps_.push_back(SweepState{.body = ElasticSweep(def),
+                                 .view = ElasticSweep(def),
                                  .contact = ContactSolver(def.rest, scene.contact_stations),
                                  .anchors = {}});
     sweeps_.back().body.set_integrator(scene.integrator);
@@ -83,7 +84,8 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep)
   // A moving body reaches every part (a part it never loads sleeps all the same: path_changed), and
   // wind every part with a material.
   for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
-    if (rig.sweeps[i].material && scene.wind.settings().any()) sweeps_[i].driven = sweeps_[i].awake = sweeps_[i].windy = true;
+    if (rig.sweeps[i].material && scene.wind.settings().any())
+      sweeps_[i].driven = sweeps_[i].awake = sweeps_[i].windy = true;
   }
   double longest = 0;
   for (const SweepDef& def : rig.sweeps) longest = std::max(longest, def.rest.length());
@@ -175,9 +177,10 @@ long long Simulator::grid_steps_by(double t) const {
 
 void Simulator::advance_to(double t) {
   if (!std::isfinite(t) || t < time_ || t > limits::kMaxTime)
-    fail(ErrorCategory::usage, "advance to t = " + (std::isfinite(t) ? format_number(t) : std::string("a non-finite time")) +
-                                   " s: must be a time from the current one (" + format_number(time_) + " s) to " +
-                                   format_number(limits::kMaxTime) + " s");
+    fail(ErrorCategory::usage,
+         "advance to t = " + (std::isfinite(t) ? format_number(t) : std::string("a non-finite time")) +
+             " s: must be a time from the current one (" + format_number(time_) + " s) to " +
+             format_number(limits::kMaxTime) + " s");
   // A time within rounding of an internal time is that time: a body key or force switch there then
   // falls on the step boundary, not an ulp before it inside the step just taken.
   const double q = t / scene_.step_seconds();
@@ -253,8 +256,7 @@ void Simulator::advance_between(double start, double target) {
     if (!st.driven) return;
     try {
       for (; st.grid < n; ++st.grid) {
-        advance_span(i, false, static_cast<double>(st.grid) * h,
-                     static_cast<double>(st.grid + 1) * h, true);
+        advance_span(i, false, static_cast<double>(st.grid) * h, static_cast<double>(st.grid + 1) * h, true);
       }
       // Leaving last frame's view changes the shape even when the body did not move.
       if (st.show_view) st.moved = true;
@@ -360,7 +362,8 @@ void Simulator::take_body_pose(double target) {
       for (std::size_t k = first; k < old.size() && old[k].time < time_; ++k) keys.push_back(old[k]);
     }
     const BodyState now = path.at(time_);
-    keys.push_back(BodyKey{.time = time_, .translation = now.translation + now.rotation * pivot, .rotation = now.rotation});
+    keys.push_back(
+        BodyKey{.time = time_, .translation = now.translation + now.rotation * pivot, .rotation = now.rotation});
     key.time = target;
     keys.push_back(key);
   }
@@ -375,7 +378,8 @@ void Simulator::add_force(const SceneForce& force) {
                                    std::to_string(sweep_count()) + " sweeps");
   if (!std::isfinite(force.start) || !std::isfinite(force.end) || force.start < time_ || force.end < force.start)
     fail(ErrorCategory::usage, "a force from " + format_number(force.start) + " s to " + format_number(force.end) +
-                                   " s: it must start now (" + format_number(time_) + " s) or later, and not end before it starts");
+                                   " s: it must start now (" + format_number(time_) +
+                                   " s) or later, and not end before it starts");
   if (!force.spec.vector.allFinite() || !force.spec.point.allFinite())
     fail(ErrorCategory::usage, "a force's point and vector must be finite");
   drop_finished_forces();
@@ -437,10 +441,11 @@ void Simulator::set_wind(const WindSettings& wind) {
   const bool finite = wind.velocity.allFinite() && std::isfinite(wind.gust) && std::isfinite(wind.gust_period) &&
                       std::isfinite(wind.turbulence) && std::isfinite(wind.air_density) &&
                       std::isfinite(wind.drag_coefficient);
-  if (!finite || wind.gust < 0 || wind.gust > 1 || wind.gust_period <= 0 || wind.turbulence < 0 || wind.air_density < 0 ||
-      wind.drag_coefficient < 0)
-    fail(ErrorCategory::usage, "wind: finite numbers, gust from 0 to 1, a positive gust period, and no negative "
-                               "turbulence, air density or drag coefficient");
+  if (!finite || wind.gust < 0 || wind.gust > 1 || wind.gust_period <= 0 || wind.turbulence < 0 ||
+      wind.air_density < 0 || wind.drag_coefficient < 0)
+    fail(ErrorCategory::usage,
+         "wind: finite numbers, gust from 0 to 1, a positive gust period, and no negative "
+         "turbulence, air density or drag coefficient");
   scene_.wind = Wind(wind);
   // Set every step from now on, so that wind that stops stops loading the parts too.
   live_loads_ = true;
@@ -484,7 +489,8 @@ void Simulator::note_skipped_colliders(double from, double to, int frame) {
         const double gap = clearance(rest, {&col, world_to_mesh * col.pose}, scene_.contact_stations).gap;
         into = gap < 0;
         double dt = to - t;
-        while (dt > kOnGridTolerance * (to - from) && moved(here, scene_.body.at(t + dt)) > std::max(gap, least)) dt *= 0.5;
+        while (dt > kOnGridTolerance * (to - from) && moved(here, scene_.body.at(t + dt)) > std::max(gap, least))
+          dt *= 0.5;
         t += dt;
       }
       if (!into) continue;
@@ -517,8 +523,8 @@ void Simulator::place_colliders(double t, std::vector<PlacedCollider>& out) cons
 
 bool Simulator::collider_comes(int i, double from, double to) const {
   if (!scene_.body.moves()) return false;
-  const bool any_world = std::any_of(scene_.colliders.begin(), scene_.colliders.end(),
-                                     [](const Collider& c) { return !c.carried; });
+  const bool any_world =
+      std::any_of(scene_.colliders.begin(), scene_.colliders.end(), [](const Collider& c) { return !c.carried; });
   if (!any_world) return false;  // carried ones never come nearer
   std::vector<PlacedCollider> a, b;
   place_colliders(from, a);
@@ -718,15 +724,13 @@ void Simulator::check_finite(const ElasticSweep& body, double t) const {
     // for the springs, within the limits each has on its own), so it is bad input, not exit 5,
     // which docs/tools.md reserves for the explicit integrators.
     msg << "sweep \"" << body.definition().name << "\" moved more than " << kRunawayFactor
-        << " times its length by t = " << t
-        << " s: the scene's forces are far too large for "
+        << " times its length by t = " << t << " s: the scene's forces are far too large for "
         << (body.chain() ? "its material (raise youngs_modulus_pa or damping_ratio, or lower the forces)"
                          : "its springs (raise mass or frequency_hz, or lower the forces)");
     fail(ErrorCategory::bad_input, msg.str());
   }
-  msg << "the simulation diverged: sweep \"" << body.definition().name << "\" at t = " << t
-      << " s (" << integrator_name(scene_.integrator) << " integrator, step "
-      << scene_.step_seconds()
+  msg << "the simulation diverged: sweep \"" << body.definition().name << "\" at t = " << t << " s ("
+      << integrator_name(scene_.integrator) << " integrator, step " << scene_.step_seconds()
       << " s); the exact integrator is stable at every step, or use a smaller step";
   fail(ErrorCategory::diverged, msg.str());
 }

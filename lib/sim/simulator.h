@@ -107,20 +107,20 @@ class Simulator {
     bool awake = false;
     bool moved = false;
     bool windy = false;  // a material part in a wind: always loaded, never asleep
-    double quiet = 0;  // s spent under the sleep tolerances
+    double quiet = 0;    // s spent under the sleep tolerances
     long long steps = 0;
-    long long grid = 0;                 // internal steps done
-    std::vector<std::size_t> forces{};  // indices of the scene forces acting on it, in scene order
+    long long grid = 0;                      // internal steps done
+    std::vector<std::size_t> forces{};       // indices of the scene forces acting on it, in scene order
     std::vector<ForceId> ids{}, view_ids{};  // per entry of `forces`: its id in body / view, 0 = off
-    std::exception_ptr failure{};       // divergence during the current frame, at failure_step
+    std::exception_ptr failure{};            // divergence during the current frame, at failure_step
     long long failure_step = 0;
-    ContactSolver contact;              // its contacts with the scene's colliders
-    ContactSolver::AnchorMemo anchors;  // contact's stick anchors across the view's partial step
-    std::vector<PlacedCollider> placed{};  // scratch: the colliders in mesh coordinates at one time
+    ContactSolver contact;                     // its contacts with the scene's colliders
+    ContactSolver::AnchorMemo anchors;         // contact's stick anchors across the view's partial step
+    std::vector<PlacedCollider> placed{};      // scratch: the colliders in mesh coordinates at one time
     std::vector<PlacedCollider> placed_end{};  // scratch: the same at a step's end
-    bool touched = false;               // touched a collider during the current internal step
-    double too_fast = 0;                // this frame: the most pieces a step needed past the cap
-    std::vector<Vec3> held_at{};        // its section centres when it last moved, while it touches
+    bool touched = false;                      // touched a collider during the current internal step
+    double too_fast = 0;                       // this frame: the most pieces a step needed past the cap
+    std::vector<Vec3> held_at{};               // its section centres when it last moved, while it touches
   };
   // The scene's colliders in mesh coordinates at time t (world ones moved by the body's inverse).
   void place_colliders(double t, std::vector<PlacedCollider>& out) const;
@@ -134,8 +134,7 @@ class Simulator {
   // a corner of the body's path at the piece's start kicks the part (true: it did);
   bool apply_kicks(ElasticSweep& body, double cur, double next, bool teleporting) const;
   // impulses at the piece's start, forces switched on or off over it (true: one woke the part);
-  bool switch_forces(const SweepState& s, ElasticSweep& body, std::vector<ForceId>& ids, double cur,
-                     double next) const;
+  bool switch_forces(const SweepState& s, ElasticSweep& body, std::vector<ForceId>& ids, double cur, double next) const;
   // the piece stepped (`length` long), cut where colliders are within reach, its contacts resolved;
   void step_piece(SweepState& s, ElasticSweep& body, bool on_view, double cur, double next, double length,
                   bool teleporting);
@@ -192,15 +191,13 @@ class Simulator {
   // found wherever the frames fall (a cut split over two frames, each half under the distance).
   std::vector<std::pair<double, double>> cuts_;
   // Whether [from, to] overlaps the teleport's span (not just touches it).
-  bool in_teleport(double from, double to) const {
-    return teleported_ && from < teleport_to_ && to > teleport_from_;
-  }
+  bool in_teleport(double from, double to) const { return teleported_ && from < teleport_to_ && to > teleport_from_; }
   // Whether time t lies in the teleport's span, ends included.
   bool in_teleport(double t) const { return teleported_ && t >= teleport_from_ && t <= teleport_to_; }
   // Whether the body loads the parts during [from, to] outside the teleport's span (its keys,
   // both ends of the cut included, are not loads: the part is at rest in the new place).
   bool body_loads(double from, double to) const;
-  std::vector<double> kinks_;  // times where a linear path's velocity jumps
+  std::vector<double> kinks_;           // times where a linear path's velocity jumps
   std::vector<std::size_t> kink_keys_;  // and their keys
   double teleport_distance_ = 0, teleport_angle_ = 0;
   std::vector<int> teleports_;

@@ -35,8 +35,8 @@ SkinJoints::SkinJoints(std::span<const SweepShape* const> rests, const SkinJoint
     fail(ErrorCategory::usage, "joints a sweep: expected " + std::to_string(kMinStations) + " to " +
                                    std::to_string(kMaxStations) + ", got " + std::to_string(N));
   if (M < 1 || M > kMaxRing)
-    fail(ErrorCategory::usage, "ring joints a station: expected 1 to " + std::to_string(kMaxRing) + ", got " +
-                                   std::to_string(M));
+    fail(ErrorCategory::usage,
+         "ring joints a station: expected 1 to " + std::to_string(kMaxRing) + ", got " + std::to_string(M));
   const bool ring = M > 1;
   for (const SweepShape* rest : rests_) {
     Sweep s;
@@ -71,7 +71,8 @@ SkinJoints::SkinJoints(std::span<const SweepShape* const> rests, const SkinJoint
     } else {
       s.rest_radii.resize(static_cast<std::size_t>(N) * n);
       for (int j = 0; j < N; ++j)
-        radii_at_samples(*rest, s.stations[j].t, std::span<double>(s.rest_radii.data() + static_cast<std::size_t>(j) * n, n));
+        radii_at_samples(*rest, s.stations[j].t,
+                         std::span<double>(s.rest_radii.data() + static_cast<std::size_t>(j) * n, n));
       s.in_plane.assign(static_cast<std::size_t>(N) * 4, 0.0);
       for (int j = 0; j < N; ++j) s.in_plane[4 * j] = s.in_plane[4 * j + 1] = 1.0;
     }
@@ -122,7 +123,7 @@ void SkinJoints::pose(int sweep, const SweepShape& shape, bool radii_moved) {
           const double slope1 = (value(hi1, m) - value(lo1, m)) / d1;
           r = st.h00 * r0 + st.h10 * h * slope0 + st.h01 * r1 + st.h11 * h * slope1;
           const double floor = kMinRadiusFraction * std::min(s.cell_floor[static_cast<std::size_t>(i0) * M + m],
-                                                               s.cell_floor[static_cast<std::size_t>(i1) * M + m]);
+                                                             s.cell_floor[static_cast<std::size_t>(i1) * M + m]);
           r = std::max(r, floor);
         }
         const std::size_t at = static_cast<std::size_t>(j - 1) * M + m;

@@ -49,7 +49,7 @@ class SkinJoints {
  private:
   struct Station {
     double t = 0;
-    int span = 0;         // of the rest shape's key sections (as radius_at locates it)
+    int span = 0;  // of the rest shape's key sections (as radius_at locates it)
     double u = 0;
     double h00 = 0, h10 = 0, h01 = 0, h11 = 0;  // HermiteBasis(u)
   };
@@ -60,14 +60,14 @@ class SkinJoints {
   struct Sweep {
     double length = 0;
     std::vector<Station> stations;
-    std::vector<Ring> rings;             // M
-    std::vector<double> rest_ring;       // (N − 1)·M: radius at (φ_m, t_j) at rest
-    std::vector<double> rest_radii;      // N·n: without a ring, the rest radii at each station
-    std::vector<Frame> frames;           // N: this frame's station frames
-    std::vector<double> in_plane;        // N·4: without a ring, a, b, c_x, c_y
-    std::vector<double> ring_scale;      // (N − 1)·M: this frame's ρ
+    std::vector<Ring> rings;                     // M
+    std::vector<double> rest_ring;               // (N − 1)·M: radius at (φ_m, t_j) at rest
+    std::vector<double> rest_radii;              // N·n: without a ring, the rest radii at each station
+    std::vector<Frame> frames;                   // N: this frame's station frames
+    std::vector<double> in_plane;                // N·4: without a ring, a, b, c_x, c_y
+    std::vector<double> ring_scale;              // (N − 1)·M: this frame's ρ
     std::vector<double> cell_value, cell_floor;  // scratch: K·M cell values at each φ_m, their floors
-    std::vector<double> radii;           // scratch: n
+    std::vector<double> radii;                   // scratch: n
     std::vector<double> cos_sample, sin_sample;  // n: of the sample angles θ_j
   };
   SkinJointLayout layout_;

@@ -14,7 +14,9 @@ std::uint64_t next(std::uint64_t& state) {
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
   return z ^ (z >> 31);
 }
-double uniform(std::uint64_t& state) { return static_cast<double>(next(state) >> 11) * 0x1.0p-53; }
+double uniform(std::uint64_t& state) {
+  return static_cast<double>(next(state) >> 11) * 0x1.0p-53;
+}
 
 }  // namespace
 

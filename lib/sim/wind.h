@@ -16,9 +16,9 @@ struct WindSettings {
   double gust_period = 4;        // s: the typical time between gusts
   double turbulence = 0;         // the direction wanders by up to this fraction of the mean speed
   std::uint64_t seed = 1;
-  double air_density = 1.225;    // kg/m³ (sea level)
-  double drag_coefficient = 1.2; // a cylinder across the flow
-  bool enabled = false;          // a scene with "wind": the air is there (still air drags too)
+  double air_density = 1.225;     // kg/m³ (sea level)
+  double drag_coefficient = 1.2;  // a cylinder across the flow
+  bool enabled = false;           // a scene with "wind": the air is there (still air drags too)
   bool any() const { return enabled; }
 };
 

@@ -4,6 +4,8 @@
 // about z over one second (two matrix keys). Linear blend skinning then has a closed form: a vertex
 // (x, 0, z) on Tip alone turns about the z axis by θ(t) = 90° · t, to (x cos θ, x sin θ, z); one
 // on the root stays; the middle row goes halfway between the two.
+#include "sweep/assets/assimp_skin.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,7 +16,6 @@
 #include <sstream>
 #include <string>
 
-#include "sweep/assets/assimp_skin.h"
 #include "sweep/assets/gltf_skin.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/error.h"
@@ -25,7 +26,9 @@ using namespace sweep;
 namespace {
 
 constexpr int kRows = 5;  // z = 0, 0.25, 0.5, 0.75, 1; two vertices a row, x = ±0.1
-double row_z(int r) { return 0.25 * r; }
+double row_z(int r) {
+  return 0.25 * r;
+}
 
 // `weightless_row` ≥ 0: that row's vertices get no weight (a malformed skin).
 fs::path write_collada(const std::string& name, int weightless_row = -1) {
@@ -63,11 +66,15 @@ fs::path write_collada(const std::string& name, int weightless_row = -1) {
   <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
   <library_geometries>
     <geometry id="strip-mesh" name="strip"><mesh>
-      <source id="strip-positions"><float_array id="strip-positions-array" count=")" << 6 * kRows << R"(">)" << pos.str() << R"(</float_array>
-        <technique_common><accessor source="#strip-positions-array" count=")" << 2 * kRows << R"(" stride="3">
+      <source id="strip-positions"><float_array id="strip-positions-array" count=")"
+      << 6 * kRows << R"(">)" << pos.str() << R"(</float_array>
+        <technique_common><accessor source="#strip-positions-array" count=")"
+      << 2 * kRows << R"(" stride="3">
           <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
       <vertices id="strip-vertices"><input semantic="POSITION" source="#strip-positions"/></vertices>
-      <triangles count=")" << 2 * (kRows - 1) << R"("><input semantic="VERTEX" source="#strip-vertices" offset="0"/><p>)" << tris.str() << R"(</p></triangles>
+      <triangles count=")"
+      << 2 * (kRows - 1) << R"("><input semantic="VERTEX" source="#strip-vertices" offset="0"/><p>)" << tris.str()
+      << R"(</p></triangles>
     </mesh></geometry>
   </library_geometries>
   <library_controllers>
@@ -77,18 +84,24 @@ fs::path write_collada(const std::string& name, int weightless_row = -1) {
         <technique_common><accessor source="#skin-joints-array" count="2" stride="1"><param name="JOINT" type="name"/></accessor></technique_common></source>
       <source id="skin-poses"><float_array id="skin-poses-array" count="32">1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 1 0 0 0 0 1 0 0 0 0 1 -0.5 0 0 0 1</float_array>
         <technique_common><accessor source="#skin-poses-array" count="2" stride="16"><param name="TRANSFORM" type="float4x4"/></accessor></technique_common></source>
-      <source id="skin-weights"><float_array id="skin-weights-array" count=")" << weight_count << R"(">)" << weights.str() << R"(</float_array>
-        <technique_common><accessor source="#skin-weights-array" count=")" << weight_count << R"(" stride="1"><param name="WEIGHT" type="float"/></accessor></technique_common></source>
+      <source id="skin-weights"><float_array id="skin-weights-array" count=")"
+      << weight_count << R"(">)" << weights.str() << R"(</float_array>
+        <technique_common><accessor source="#skin-weights-array" count=")"
+      << weight_count << R"(" stride="1"><param name="WEIGHT" type="float"/></accessor></technique_common></source>
       <joints><input semantic="JOINT" source="#skin-joints"/><input semantic="INV_BIND_MATRIX" source="#skin-poses"/></joints>
-      <vertex_weights count=")" << 2 * kRows << R"("><input semantic="JOINT" source="#skin-joints" offset="0"/><input semantic="WEIGHT" source="#skin-weights" offset="1"/>
-        <vcount>)" << vcount.str() << "</vcount><v>" << v.str() << R"(</v></vertex_weights>
+      <vertex_weights count=")"
+      << 2 * kRows
+      << R"("><input semantic="JOINT" source="#skin-joints" offset="0"/><input semantic="WEIGHT" source="#skin-weights" offset="1"/>
+        <vcount>)"
+      << vcount.str() << "</vcount><v>" << v.str() << R"(</v></vertex_weights>
     </skin></controller>
   </library_controllers>
   <library_animations>
     <animation id="turn" name="Turn">
       <source id="turn-time"><float_array id="turn-time-array" count="2">0 1</float_array>
         <technique_common><accessor source="#turn-time-array" count="2" stride="1"><param name="TIME" type="float"/></accessor></technique_common></source>
-      <source id="turn-matrix"><float_array id="turn-matrix-array" count="32">1 0 0 0 0 1 0 0 0 0 1 0.5 0 0 0 1 )" << turned.str() << R"(</float_array>
+      <source id="turn-matrix"><float_array id="turn-matrix-array" count="32">1 0 0 0 0 1 0 0 0 0 1 0.5 0 0 0 1 )"
+      << turned.str() << R"(</float_array>
         <technique_common><accessor source="#turn-matrix-array" count="2" stride="16"><param name="TRANSFORM" type="float4x4"/></accessor></technique_common></source>
       <sampler id="turn-sampler"><input semantic="INPUT" source="#turn-time"/><input semantic="OUTPUT" source="#turn-matrix"/></sampler>
       <channel source="#turn-sampler" target="Tip/transform"/>

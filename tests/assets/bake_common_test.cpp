@@ -68,8 +68,7 @@ TEST(BakeWriters, MissingDirectoryIsAnOutputErrorBeforeAnyFrame) {
     const std::string msg = message_of([&] { writer->begin(bake.mesh, bake.info); });
     EXPECT_NE(msg.find(out.string()), std::string::npos) << msg;
     auto again = assets::make_bake_writer(out);
-    EXPECT_EQ(category_of([&] { again->begin(bake.mesh, bake.info); }), ErrorCategory::output)
-        << ext;
+    EXPECT_EQ(category_of([&] { again->begin(bake.mesh, bake.info); }), ErrorCategory::output) << ext;
   }
   EXPECT_TRUE(list_dir(dir).empty());
 }
@@ -79,8 +78,7 @@ TEST(BakeWriters, NonFinitePositionIsDivergedAndLeavesNothing) {
   const fs::path dir = fresh_dir("");
   const std::uint32_t bad_vertex = 21;  // a moving one
   for (const char* ext : kFormats) {
-    for (const float bad :
-         {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), 1e31f}) {
+    for (const float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), 1e31f}) {
       const fs::path out = dir / (std::string("bake.") + ext);
       auto writer = assets::make_bake_writer(out);
       writer->begin(bake.mesh, bake.info);
@@ -166,12 +164,10 @@ TEST(BakeWriters, BadRestMeshesAreRefused) {
   for (const char* ext : kFormats) {
     const fs::path out = dir / (std::string("bake.") + ext);
     Mesh empty;
-    EXPECT_EQ(category_of([&] { assets::make_bake_writer(out)->begin(empty, info); }),
-              ErrorCategory::bad_input);
+    EXPECT_EQ(category_of([&] { assets::make_bake_writer(out)->begin(empty, info); }), ErrorCategory::bad_input);
     Mesh huge = make_tube(3, 3);
     huge.positions[4].z() = 1e39;  // beyond float32
-    EXPECT_EQ(category_of([&] { assets::make_bake_writer(out)->begin(huge, info); }),
-              ErrorCategory::bad_input);
+    EXPECT_EQ(category_of([&] { assets::make_bake_writer(out)->begin(huge, info); }), ErrorCategory::bad_input);
     Mesh broken = make_tube(3, 3);
     broken.face_vertices[2] = 99;
     const std::string msg = message_of([&] { assets::make_bake_writer(out)->begin(broken, info); });

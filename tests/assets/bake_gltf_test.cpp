@@ -39,8 +39,7 @@ std::vector<std::array<T, N>> read_dense(const tinygltf::Model& m, const tinyglt
   const unsigned char* base =
       m.buffers[static_cast<std::size_t>(view.buffer)].data.data() + view.byteOffset + a.byteOffset;
   EXPECT_LE(a.byteOffset + stride * (a.count - 1) + sizeof(T) * N, view.byteLength);
-  for (std::size_t i = 0; i < a.count; ++i)
-    std::memcpy(out[i].data(), base + i * stride, sizeof(T) * N);
+  for (std::size_t i = 0; i < a.count; ++i) std::memcpy(out[i].data(), base + i * stride, sizeof(T) * N);
   return out;
 }
 
@@ -189,8 +188,7 @@ bool check_glb_matches(const fs::path& path, const TestBake& bake) {
   EXPECT_EQ(anim.channels.size(), 1u);
   EXPECT_EQ(anim.channels[0].target_node, 0);
   EXPECT_EQ(anim.channels[0].target_path, "weights");
-  const tinygltf::AnimationSampler& sampler =
-      anim.samplers.at(static_cast<std::size_t>(anim.channels[0].sampler));
+  const tinygltf::AnimationSampler& sampler = anim.samplers.at(static_cast<std::size_t>(anim.channels[0].sampler));
   EXPECT_EQ(sampler.interpolation, "LINEAR");
   const std::vector<float> times = read_floats(m, sampler.input);
   if (times.size() != static_cast<std::size_t>(frames)) {
@@ -252,8 +250,7 @@ TEST(BakeGltf, MoreFramesThanTheWeightsCanIndexAreRefusedAtTheStart) {
     ADD_FAILURE() << "65,536 frames were accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.category(), ErrorCategory::unsupported);
-    EXPECT_NE(std::string(e.what()).find("more morph targets than a .glb's weights can index"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("more morph targets than a .glb's weights can index"), std::string::npos)
         << e.what();
   }
   writer.reset();
@@ -284,9 +281,7 @@ TEST(BakeGltf, DeltaPrecisionWhenAVertexMovesFarRelativeToItsCoordinates) {
   const auto& prim = m.meshes.at(0).primitives.at(0);
   const auto rest = read_vec3(m, prim.attributes.at("POSITION"));
   const auto delta = read_vec3(m, prim.targets.at(1).at("POSITION"));
-  auto ulp = [](float x) {
-    return std::nextafter(std::abs(x), std::numeric_limits<float>::infinity()) - std::abs(x);
-  };
+  auto ulp = [](float x) { return std::nextafter(std::abs(x), std::numeric_limits<float>::infinity()) - std::abs(x); };
   int inexact = 0;
   for (std::size_t v = 0; v < 4; ++v) {
     for (int c = 0; c < 3; ++c) {
@@ -324,13 +319,11 @@ Validation run_validator(const fs::path& glb) {
 }
 
 void require_validator() {
-  const fs::path package =
-      fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/node_modules/gltf-validator";
+  const fs::path package = fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/node_modules/gltf-validator";
   ASSERT_EQ(std::system("node --version > /dev/null 2>&1"), 0)
       << "node is not installed: run tools/setup-deps.sh (Debian packages nodejs and npm)";
   ASSERT_TRUE(fs::exists(package / "package.json"))
-      << "the Khronos glTF validator is not installed in " << package.parent_path()
-      << ": run tools/setup-deps.sh";
+      << "the Khronos glTF validator is not installed in " << package.parent_path() << ": run tools/setup-deps.sh";
 }
 
 void expect_valid(const fs::path& glb) {
@@ -385,8 +378,7 @@ TEST(BakeGltfSpeed, SixHundredFramesOf24000VerticesWith30PercentMoving) {
   info.frame_count = kFrames;
   info.fps = 30;
   std::vector<std::uint32_t> animated;
-  for (std::uint32_t v = kFirstMoving * kSegments; v < kRings * kSegments; ++v)
-    animated.push_back(v);
+  for (std::uint32_t v = kFirstMoving * kSegments; v < kRings * kSegments; ++v) animated.push_back(v);
   info.animated_vertices = animated;
   const fs::path out = fresh_dir("") / "big.glb";
   std::vector<Eigen::Vector3f> positions;
@@ -412,8 +404,8 @@ TEST(BakeGltfSpeed, SixHundredFramesOf24000VerticesWith30PercentMoving) {
   std::sort(seconds.begin(), seconds.end());
   const double median = seconds[seconds.size() / 2];
   std::cout << "[ timing   ] " << kFrames << " frames, 24,000 vertices (7,200 moving) to .glb ("
-            << fs::file_size(out) / 1e6 << " MB): median " << median << " s of " << kRuns << " ("
-            << seconds.front() << " .. " << seconds.back() << ")\n";
+            << fs::file_size(out) / 1e6 << " MB): median " << median << " s of " << kRuns << " (" << seconds.front()
+            << " .. " << seconds.back() << ")\n";
   RecordProperty("median_seconds", std::to_string(median));
 #if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
   EXPECT_LT(median, 3.0);

@@ -58,8 +58,8 @@ TEST(BakeObj, SequenceNamesVerticesAndFacesReadBackExactly) {
   const TestBake bake = make_test_bake(9, 6, 4, 0.3);
   const fs::path dir = fresh_dir("");
   write_bake(dir / "tube.obj", bake);
-  EXPECT_EQ(list_dir(dir), (std::vector<std::string>{"tube_0000.obj", "tube_0001.obj",
-                                                     "tube_0002.obj", "tube_0003.obj"}));
+  EXPECT_EQ(list_dir(dir),
+            (std::vector<std::string>{"tube_0000.obj", "tube_0001.obj", "tube_0002.obj", "tube_0003.obj"}));
   const auto faces = faces_of(bake.mesh);
   ASSERT_EQ(faces.front().size(), 6u) << "the cap polygon stays one face";
   for (std::size_t k = 0; k < bake.frames.size(); ++k) {

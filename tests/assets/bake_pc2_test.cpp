@@ -12,8 +12,7 @@ namespace fs = std::filesystem;
 std::uint32_t u32_at(const std::string& bytes, std::size_t at) {
   std::uint32_t v = 0;
   for (int b = 0; b < 4; ++b) {
-    v |= std::uint32_t{static_cast<unsigned char>(bytes[at + static_cast<std::size_t>(b)])}
-         << (8 * b);
+    v |= std::uint32_t{static_cast<unsigned char>(bytes[at + static_cast<std::size_t>(b)])} << (8 * b);
   }
   return v;
 }
@@ -39,8 +38,7 @@ TEST(BakePc2, HeaderAndEverySampleReadBackExactly) {
     for (std::size_t v = 0; v < n; ++v) {
       for (int c = 0; c < 3; ++c, at += 4) {
         const float got = std::bit_cast<float>(u32_at(bytes, at));
-        ASSERT_EQ(std::bit_cast<std::uint32_t>(got),
-                  std::bit_cast<std::uint32_t>(bake.frames[k][v][c]))
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(got), std::bit_cast<std::uint32_t>(bake.frames[k][v][c]))
             << "frame " << k << " vertex " << v << " component " << c;
       }
     }
@@ -54,8 +52,7 @@ TEST(BakePc2, SingleFrameWithoutAnimatedListIsTheRestPose) {
   const std::string bytes = slurp(out);
   ASSERT_EQ(bytes.size(), 32 + 12 * bake.mesh.vertex_count());
   EXPECT_EQ(u32_at(bytes, 28), 1u);
-  EXPECT_EQ(std::memcmp(bytes.data() + 32, bake.frames[0].data(), 12 * bake.mesh.vertex_count()),
-            0);
+  EXPECT_EQ(std::memcmp(bytes.data() + 32, bake.frames[0].data(), 12 * bake.mesh.vertex_count()), 0);
 }
 
 }  // namespace

@@ -12,9 +12,9 @@
 #include <numbers>
 #include <tuple>
 
+#include "bind/support.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/bind/bind.h"
-#include "bind/support.h"
 
 using sweep::assets::run_bake;
 
@@ -42,8 +42,7 @@ Frames read_pc2(const fs::path& path) {
   in.read(reinterpret_cast<char*>(&rate), 4);
   in.read(reinterpret_cast<char*>(&samples), 4);
   Frames f(samples, std::vector<Vec3f>(points));
-  for (auto& frame : f)
-    in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
+  for (auto& frame : f) in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
   EXPECT_TRUE(in.good());
   return f;
 }
@@ -90,14 +89,17 @@ std::vector<double> read_numbers(const tinygltf::Model& m, int index) {
         out[i] = f;
         break;
       }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out[i] = base[i]; break;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        out[i] = base[i];
+        break;
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
         std::uint16_t s;
         std::memcpy(&s, base + 2 * i, 2);
         out[i] = s;
         break;
       }
-      default: ADD_FAILURE() << "unexpected component type " << a.componentType;
+      default:
+        ADD_FAILURE() << "unexpected component type " << a.componentType;
     }
   }
   return out;
@@ -249,8 +251,7 @@ std::pair<int, std::string> validate(const fs::path& glb) {
 double file_error(const SkinFile& file, const Frames& pc2, std::size_t k) {
   const std::vector<Eigen::Vector3d> got = file.skinned(k);
   double worst = 0;
-  for (std::size_t v = 0; v < got.size(); ++v)
-    worst = std::max(worst, (got[v] - pc2[k][v].cast<double>()).norm());
+  for (std::size_t v = 0; v < got.size(); ++v) worst = std::max(worst, (got[v] - pc2[k][v].cast<double>()).norm());
   return worst;
 }
 
@@ -296,7 +297,8 @@ struct JointPlace {
   int ring = -1;
 };
 JointPlace place_of(const SkinFile& file, int joint) {
-  const std::string& name = file.model.nodes[static_cast<std::size_t>(file.skin_joints[static_cast<std::size_t>(joint)])].name;
+  const std::string& name =
+      file.model.nodes[static_cast<std::size_t>(file.skin_joints[static_cast<std::size_t>(joint)])].name;
   JointPlace p;
   const std::size_t dot = name.find('.');
   if (dot == std::string::npos) return p;
@@ -480,16 +482,15 @@ TEST(BakeSkin, AStraightTubeAtRestHasIdentityJointMotionAndNoError) {
     }
   }
   const std::vector<Eigen::Vector3d> last = file.skinned(file.times.size() - 1);
-  for (std::size_t v = 0; v < last.size(); ++v)
-    EXPECT_LE((last[v] - tube.mesh.positions[v]).norm(), 1e-6) << v;
+  for (std::size_t v = 0; v < last.size(); ++v) EXPECT_LE((last[v] - tube.mesh.positions[v]).norm(), 1e-6) << v;
 }
 
 TEST(BakeSkin, AMovingBodyAnimatesTheRootJointAndTheWorldPositionsFollow) {
   const Tube tube;
   Scene scene = scene_with({tip_push()}, 1.0);
-  scene.body = BodyPath({{0.0, Vec3::Zero(), Quat::Identity()},
-                         {1.0, Vec3(0.3, 0.1, 0), Quat(Eigen::AngleAxisd(0.4, Vec3::UnitY()))}},
-                        BodyInterpolation::cubic);
+  scene.body = BodyPath(
+      {{0.0, Vec3::Zero(), Quat::Identity()}, {1.0, Vec3(0.3, 0.1, 0), Quat(Eigen::AngleAxisd(0.4, Vec3::UnitY()))}},
+      BodyInterpolation::cubic);
   for (const int ring : {1, 8}) {
     const SkinBake b = bake_skinned(tube, scene, 8, "body" + std::to_string(ring), ring);
     const SkinFile file(b.glb);

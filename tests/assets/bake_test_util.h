@@ -57,8 +57,7 @@ inline std::vector<Eigen::Vector3f> rest_floats(const Mesh& mesh) {
 }
 
 // Positions of frame k: vertices of rings >= first_moving move, the others stay at rest.
-inline void bend_frame(const Mesh& mesh, int segments, int first_moving, int k,
-                       std::vector<Eigen::Vector3f>& out) {
+inline void bend_frame(const Mesh& mesh, int segments, int first_moving, int k, std::vector<Eigen::Vector3f>& out) {
   out.resize(mesh.vertex_count());
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     const Vec3& p = mesh.positions[v];
@@ -75,8 +74,8 @@ inline void bend_frame(const Mesh& mesh, int segments, int first_moving, int k,
   }
 }
 
-inline TestBake make_test_bake(int rings = 12, int segments = 8, int frames = 5,
-                               double moving_fraction = 0.3, bool list_animated = true) {
+inline TestBake make_test_bake(int rings = 12, int segments = 8, int frames = 5, double moving_fraction = 0.3,
+                               bool list_animated = true) {
   TestBake bake;
   bake.mesh = make_tube(rings, segments);
   const int first_moving = rings - static_cast<int>(std::lround(rings * moving_fraction));
@@ -114,10 +113,9 @@ inline std::string slurp(const std::filesystem::path& path) {
 // A fresh, empty directory for one test, under the build tree.
 inline std::filesystem::path fresh_dir(const std::string& name) {
   const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  const std::filesystem::path dir = std::filesystem::path(SWEEP_BINARY_DIR) / "test-output" /
-                                    "bake" /
-                                    (std::string(info->test_suite_name()) + "." + info->name() +
-                                     (name.empty() ? "" : "." + name));
+  const std::filesystem::path dir =
+      std::filesystem::path(SWEEP_BINARY_DIR) / "test-output" / "bake" /
+      (std::string(info->test_suite_name()) + "." + info->name() + (name.empty() ? "" : "." + name));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

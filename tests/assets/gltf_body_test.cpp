@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "sweep/assets/gltf_motion.h"
 #include "bind/support.h"
+#include "sweep/assets/gltf_motion.h"
 #include "sweep/core/error.h"
 #include "sweep/io/rig_json.h"
 
@@ -47,7 +47,9 @@ std::string base64(const std::string& bytes) {
 
 // A glTF document under construction: one buffer, accessors appended.
 struct GltfBuilder {
-  Json doc = {{"asset", {{"version", "2.0"}}}, {"nodes", Json::array()}, {"accessors", Json::array()},
+  Json doc = {{"asset", {{"version", "2.0"}}},
+              {"nodes", Json::array()},
+              {"accessors", Json::array()},
               {"bufferViews", Json::array()}};
   std::string bytes;
   int add(const std::vector<float>& values, const char* type, int count) {
@@ -62,12 +64,15 @@ struct GltfBuilder {
     const std::size_t offset = bytes.size();
     bytes.append(reinterpret_cast<const char*>(values.data()), values.size() * 4);
     doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * 4}});
-    doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", 5125},
-                                {"count", values.size()}, {"type", "SCALAR"}});
+    doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1},
+                                {"componentType", 5125},
+                                {"count", values.size()},
+                                {"type", "SCALAR"}});
     return static_cast<int>(doc["accessors"].size()) - 1;
   }
   void write(const fs::path& path) {
-    doc["buffers"] = Json::array({{{"byteLength", bytes.size()}, {"uri", "data:application/octet-stream;base64," + base64(bytes)}}});
+    doc["buffers"] =
+        Json::array({{{"byteLength", bytes.size()}, {"uri", "data:application/octet-stream;base64," + base64(bytes)}}});
     std::ofstream(path) << doc.dump();
   }
 };
@@ -75,7 +80,9 @@ struct GltfBuilder {
 std::vector<float> quat_xyzw(const Quat& q) {
   return {float(q.x()), float(q.y()), float(q.z()), float(q.w())};
 }
-Quat turn_y(double degrees) { return Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180, Vec3::UnitY())); }
+Quat turn_y(double degrees) {
+  return Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180, Vec3::UnitY()));
+}
 
 // Root (translation P) → Body (rest translation T0, rotation R0 = 30° about y): translation keys
 // at 0, 1, 2 s, rotation keys (turns about y on top of R0) at 0 and 1.5 s.
@@ -99,8 +106,9 @@ struct Scenario {
 
   void write(const fs::path& path, const std::string& interpolation = "LINEAR", bool scale_channel = false) const {
     GltfBuilder g;
-    g.doc["nodes"] = Json::array({{{"name", "Root"}, {"translation", {P.x(), P.y(), P.z()}}, {"children", {1}}},
-                                  {{"name", "Body"}, {"translation", {T0.x(), T0.y(), T0.z()}}, {"rotation", quat_xyzw(R0)}}});
+    g.doc["nodes"] =
+        Json::array({{{"name", "Root"}, {"translation", {P.x(), P.y(), P.z()}}, {"children", {1}}},
+                     {{"name", "Body"}, {"translation", {T0.x(), T0.y(), T0.z()}}, {"rotation", quat_xyzw(R0)}}});
     const int tt = g.add({0, 1, 2}, "SCALAR", 3);
     std::vector<float> tv;
     for (const Vec3& v : T) tv.insert(tv.end(), {float(v.x()), float(v.y()), float(v.z())});
@@ -184,12 +192,10 @@ TEST(GltfBody, WhatCannotBeABodysMotionIsRefusedWithWhatToDo) {
   expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
                  {"CUBICSPLINE", "only LINEAR"});
   sc.write(file, "LINEAR", /*scale_channel=*/true);
-  expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
-                 {"scales node 'Body'"});
+  expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input, {"scales node 'Body'"});
   const fs::path obj = scratch("not-gltf.obj");
   std::ofstream(obj) << "v 0 0 0\n";
-  expect_refused([&] { assets::read_gltf_body_path(obj, "Body"); }, ErrorCategory::bad_input,
-                 {"not a glTF file"});
+  expect_refused([&] { assets::read_gltf_body_path(obj, "Body"); }, ErrorCategory::bad_input, {"not a glTF file"});
 }
 
 // A key the file can hold but no body can follow: a translation past the limit of any length (a
@@ -201,13 +207,15 @@ TEST(GltfBody, AKeyPastTheLengthLimitOrOfNoRotationIsRefusedNamingIt) {
   const fs::path file = scratch("far.gltf");
   far.write(file);
   expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
-                 {"far.gltf: animation 'Walk': translation key 1 of node 'Body' (at 1 s) is ", " along x, past the limit of 1e9 mesh units"});
+                 {"far.gltf: animation 'Walk': translation key 1 of node 'Body' (at 1 s) is ",
+                  " along x, past the limit of 1e9 mesh units"});
   Scenario zero;
   zero.zero_quaternion = true;
   const fs::path nothing = scratch("zero-quaternion.gltf");
   zero.write(nothing);
   expect_refused([&] { assets::read_gltf_body_path(nothing, "Body"); }, ErrorCategory::bad_input,
-                 {"zero-quaternion.gltf: animation 'Walk': rotation key 1 of node 'Body' (at 1.5 s) is a quaternion of length 0, not a rotation"});
+                 {"zero-quaternion.gltf: animation 'Walk': rotation key 1 of node 'Body' (at 1.5 s) is a quaternion of "
+                  "length 0, not a rotation"});
 }
 
 // sweep-sim on a glTF tube whose node "Body" is animated: the scene says only {"node": "Body"}.
@@ -234,9 +242,10 @@ TEST(GltfBody, SweepSimBakesTheBodyFromTheMeshsOwnAnimation) {
   turns.insert(turns.end(), q1.begin(), q1.end());
   turns.insert(turns.end(), q2.begin(), q2.end());
   const int turn = g.add(turns, "VEC4", 3);
-  g.doc["animations"] = Json::array(
-      {{{"samplers", {{{"input", times}, {"output", moves}}, {{"input", times}, {"output", turn}}}},
-        {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
+  g.doc["animations"] =
+      Json::array({{{"samplers", {{{"input", times}, {"output", moves}}, {{"input", times}, {"output", turn}}}},
+                    {"channels",
+                     {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
                       {{"sampler", 1}, {"target", {{"node", 0}, {"path", "rotation"}}}}}}}});
   const fs::path mesh = scratch("tube.gltf"), rig = scratch("tube.rig.json"), bind = scratch("tube.bind"),
                  scene = scratch("walk.scene.json"), pc2 = scratch("tube.pc2");
@@ -244,9 +253,12 @@ TEST(GltfBody, SweepSimBakesTheBodyFromTheMeshsOwnAnimation) {
   io::write_rig(rig, rig_of({straight_sweep("tube", false)}, "tube.gltf"));
   std::ofstream(scene) << R"({"format": "sweep-scene", "version": 1, "duration": 1.5, "fps": 10,
     "body": {"node": "Body"}, "forces": [{"sweep": "tube", "t": 1, "theta": 0, "vector": [0, 0, 1], "start": 0.2, "end": 0.4}]})";
-  ASSERT_EQ(std::system((std::string(SWEEP_BIND_EXE) + " -q '" + rig.string() + "' -o '" + bind.string() + "'").c_str()), 0);
+  ASSERT_EQ(
+      std::system((std::string(SWEEP_BIND_EXE) + " -q '" + rig.string() + "' -o '" + bind.string() + "'").c_str()), 0);
   ASSERT_EQ(std::system((std::string(SWEEP_SIM_EXE) + " -q '" + rig.string() + "' --scene '" + scene.string() +
-                         "' -b '" + bind.string() + "' -o '" + pc2.string() + "'").c_str()), 0);
+                         "' -b '" + bind.string() + "' -o '" + pc2.string() + "'")
+                            .c_str()),
+            0);
   std::ifstream in(pc2, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::int32_t points = 0, samples = 0;
@@ -257,7 +269,8 @@ TEST(GltfBody, SweepSimBakesTheBodyFromTheMeshsOwnAnimation) {
   const sim::BodyPath path = assets::read_gltf_body_path(mesh, "Body");
   // The closed form of the file's keys (lerp and slerp), checked on the path first.
   for (double t : {0.25, 0.75, 1.2}) {
-    const Quat want_q = t <= 0.5 ? Quat::Identity().slerp(t / 0.5, turn_y(20)) : turn_y(20).slerp(std::min(1.0, (t - 0.5) / 0.5), turn_y(45));
+    const Quat want_q = t <= 0.5 ? Quat::Identity().slerp(t / 0.5, turn_y(20))
+                                 : turn_y(20).slerp(std::min(1.0, (t - 0.5) / 0.5), turn_y(45));
     EXPECT_LT(path.at(t).rotation.angularDistance(want_q), 1e-6) << t;
   }
   int root_side = 0;

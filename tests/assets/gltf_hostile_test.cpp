@@ -54,15 +54,17 @@ TEST(GltfHostile, AnInterpolationThatIsNotAStringIsBadInputWithItsPointer) {
 TEST(GltfHostile, ABufferViewWhoseOffsetWrapsIsNotRead) {
   const fs::path file = regression("crash-view-offset-wraps.gltf");
   const std::string m = bad_input_message([&] { assets::read_gltf_body_path(file, "Body"); });
-  EXPECT_EQ(m, file.string() + ": animation 'Walk': the translation keys of node 'Body' cannot be read "
-                               "(float times and values of matching count expected)");
+  EXPECT_EQ(m, file.string() +
+                   ": animation 'Walk': the translation keys of node 'Body' cannot be read "
+                   "(float times and values of matching count expected)");
 }
 
 TEST(GltfHostile, ANegativeJointIsNoJoint) {
   const fs::path file = regression("ub-joint-negative-float.gltf");
   const std::string m = bad_input_message([&] { assets::read_gltf_skin(file, {}, Eigen::Affine3d::Identity()); });
-  EXPECT_EQ(m, file.string() + ": mesh 'Creature', vertex 3: joint -1 in JOINTS_0 is not a joint index (a whole "
-                               "number from 0)");
+  EXPECT_EQ(m, file.string() +
+                   ": mesh 'Creature', vertex 3: joint -1 in JOINTS_0 is not a joint index (a whole "
+                   "number from 0)");
 }
 
 }  // namespace

@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "sweep/core/error.h"
 #include "fp_guard.h"
+#include "sweep/core/error.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/read_file.h"
 
@@ -38,8 +38,7 @@ class MeshIo : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("sweep_test_io_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("sweep_test_io_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -57,8 +56,7 @@ class MeshIo : public ::testing::Test {
 Faces faces_of(const Mesh& m) {
   Faces out;
   for (std::size_t f = 0; f < m.face_count(); ++f) {
-    out.emplace_back(m.face_vertices.begin() + m.face_offsets[f],
-                     m.face_vertices.begin() + m.face_offsets[f + 1]);
+    out.emplace_back(m.face_vertices.begin() + m.face_offsets[f], m.face_vertices.begin() + m.face_offsets[f + 1]);
   }
   return out;
 }
@@ -106,8 +104,7 @@ TEST_F(MeshIo, OffKeepsFileOrderExactlyAndPolygons) {
                            "OFF\n# a comment\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
                            "0.1 0.2 0.30000000000000004\n4 3 2 1 0\n3 4 0 1\n");
   const Mesh m = read_mesh(p);
-  expect_positions(m,
-                   {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.1, 0.2, 0.30000000000000004}});
+  expect_positions(m, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.1, 0.2, 0.30000000000000004}});
   EXPECT_EQ(faces_of(m), (Faces{{3, 2, 1, 0}, {4, 0, 1}}));
 }
 
@@ -160,8 +157,7 @@ TEST_F(MeshIo, ObjKeepsVArrayOrderWhenFacesReferenceOutOfOrder) {
                            "f 4/1/1 3/1/1 2/1/1 1/1/1\nv 0.1 0.2 0.30000000000000004\n"
                            "g second\nf -1 1 2\nf 5 4 3\nl 1 2\n");
   const Mesh m = read_mesh(p);
-  expect_positions(m,
-                   {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.1, 0.2, 0.30000000000000004}});
+  expect_positions(m, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.1, 0.2, 0.30000000000000004}});
   EXPECT_EQ(faces_of(m), (Faces{{3, 2, 1, 0}, {4, 0, 1}, {4, 3, 2}}));
 }
 
@@ -171,9 +167,8 @@ TEST_F(MeshIo, ObjReadsCoordinatesExactlyWhereTinyobjWouldRound) {
                            "v 0.1 0.7000000000000001 -1.2345678901234567e-300\n"
                            "v 5e-324 1.7976931348623157e308 -0\nv 3 3 3\nf 1 2 3\n");
   const Mesh m = read_mesh(p);
-  expect_positions(m, {{0.1, 0.7000000000000001, -1.2345678901234567e-300},
-                       {5e-324, 1.7976931348623157e308, -0.0},
-                       {3, 3, 3}});
+  expect_positions(
+      m, {{0.1, 0.7000000000000001, -1.2345678901234567e-300}, {5e-324, 1.7976931348623157e308, -0.0}, {3, 3, 3}});
 }
 
 // A UTF-8 byte order mark before the first line is not content. Each text format reads
@@ -185,9 +180,9 @@ TEST_F(MeshIo, ByteOrderMarkIsSkippedByEveryTextReader) {
   in.face_vertices = {0, 1, 2, 0, 2, 3};
   in.face_offsets = {0, 3, 6};
   const std::string bom = "\xEF\xBB\xBF";
-  for (const auto& [name, bytes] : {std::pair{std::string("m.obj"), obj_bytes(in)},
-                                    std::pair{std::string("m.off"), off_bytes(in)},
-                                    std::pair{std::string("m.ply"), ply_bytes(in)}}) {
+  for (const auto& [name, bytes] :
+       {std::pair{std::string("m.obj"), obj_bytes(in)}, std::pair{std::string("m.off"), off_bytes(in)},
+        std::pair{std::string("m.ply"), ply_bytes(in)}}) {
     SCOPED_TRACE(name);
     const Mesh plain = read_mesh(write("plain-" + name, bytes));
     const Mesh marked = read_mesh(write("bom-" + name, bom + bytes));
@@ -224,8 +219,8 @@ tinygltf::Model two_primitive_model() {
     model.bufferViews.push_back(v);
     return static_cast<int>(model.bufferViews.size() - 1);
   };
-  auto add_accessor = [&](int view, int component, int type, std::size_t count,
-                          std::vector<double> mn, std::vector<double> mx) {
+  auto add_accessor = [&](int view, int component, int type, std::size_t count, std::vector<double> mn,
+                          std::vector<double> mx) {
     tinygltf::Accessor a;
     a.bufferView = view;
     a.componentType = component;
@@ -237,17 +232,14 @@ tinygltf::Model two_primitive_model() {
     return static_cast<int>(model.accessors.size() - 1);
   };
   tinygltf::Mesh mesh;
-  auto add_primitive = [&](const std::vector<float>& pos, const std::vector<std::uint16_t>& idx,
-                           std::vector<double> mn, std::vector<double> mx) {
-    const int pv =
-        add_view(append(pos.data(), pos.size() * 4), pos.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER);
-    const int iv = add_view(append(idx.data(), idx.size() * 2), idx.size() * 2,
-                            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  auto add_primitive = [&](const std::vector<float>& pos, const std::vector<std::uint16_t>& idx, std::vector<double> mn,
+                           std::vector<double> mx) {
+    const int pv = add_view(append(pos.data(), pos.size() * 4), pos.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER);
+    const int iv = add_view(append(idx.data(), idx.size() * 2), idx.size() * 2, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] =
         add_accessor(pv, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, pos.size() / 3, mn, mx);
-    prim.indices = add_accessor(iv, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
-                                idx.size(), {}, {});
+    prim.indices = add_accessor(iv, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR, idx.size(), {}, {});
     prim.mode = TINYGLTF_MODE_TRIANGLES;
     mesh.primitives.push_back(prim);
   };
@@ -305,8 +297,7 @@ TEST_F(MeshIo, AsciiStlIsWeldedInFirstUseOrder) {
   s << "solid test\n";
   for (const auto& t : kStlTriangles) {
     s << "facet normal 0 0 1\nouter loop\n";
-    for (int c = 0; c < 3; ++c)
-      s << "vertex " << t[3 * c] << ' ' << t[3 * c + 1] << ' ' << t[3 * c + 2] << '\n';
+    for (int c = 0; c < 3; ++c) s << "vertex " << t[3 * c] << ' ' << t[3 * c + 1] << ' ' << t[3 * c + 2] << '\n';
     s << "endloop\nendfacet\n";
   }
   s << "endsolid test\n";
@@ -382,24 +373,19 @@ TEST_F(MeshIo, FbxIsWeldedInFirstUseOrderPerMeshWithNodeTransformsBaked) {
   aiMatrix4x4 scaled;
   aiMatrix4x4::Scaling(aiVector3D(2, 2, 2), scaled);
   const auto scene = make_scene({
-      {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5f, 0.5f, 1}},
-       {{3, 2, 1, 0}, {4, 0, 1}},
-       {}},
+      {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5f, 0.5f, 1}}, {{3, 2, 1, 0}, {4, 0, 1}}, {}},
       {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{2, 0, 1}}, moved * scaled},
   });
   const fs::path p = dir_ / "a.fbx";
   {
     Assimp::Exporter exporter;
-    ASSERT_EQ(exporter.Export(scene.get(), "fbxa", p.string()), aiReturn_SUCCESS)
-        << exporter.GetErrorString();
+    ASSERT_EQ(exporter.Export(scene.get(), "fbxa", p.string()), aiReturn_SUCCESS) << exporter.GetErrorString();
   }
   const Mesh m = read_mesh(p);
   // Mesh 0, first use: (0,1,0) (1,1,0) (1,0,0) (0,0,0) | (0.5,0.5,1) (0,0,0)* (1,0,0)*
   // Mesh 1 (welded separately, so (0,0,8) is new even though mesh 0 has nothing there):
   //   (0,2,8) (0,0,8) (2,0,8)
-  expect_positions(
-      m,
-      {{0, 1, 0}, {1, 1, 0}, {1, 0, 0}, {0, 0, 0}, {0.5, 0.5, 1}, {0, 2, 8}, {0, 0, 8}, {2, 0, 8}});
+  expect_positions(m, {{0, 1, 0}, {1, 1, 0}, {1, 0, 0}, {0, 0, 0}, {0.5, 0.5, 1}, {0, 2, 8}, {0, 0, 8}, {2, 0, 8}});
   EXPECT_EQ(faces_of(m), (Faces{{0, 1, 2, 3}, {4, 3, 2}, {5, 6, 7}}));
 }
 
@@ -425,8 +411,7 @@ TEST_F(MeshIo, WriteObjThenReadIsExact) {
   ASSERT_EQ(m.vertex_count(), in.vertex_count());
   for (std::size_t i = 0; i < in.vertex_count(); ++i) {
     for (int k = 0; k < 3; ++k) {
-      EXPECT_EQ(std::bit_cast<std::uint64_t>(m.positions[i][k]),
-                std::bit_cast<std::uint64_t>(in.positions[i][k]))
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(m.positions[i][k]), std::bit_cast<std::uint64_t>(in.positions[i][k]))
           << "vertex " << i << " coordinate " << k;
     }
   }
@@ -439,8 +424,7 @@ TEST_F(MeshIo, WriteObjThenReadIsExact) {
 
 TEST_F(MeshIo, WriteOffThenReadIsExact) {
   Mesh in;
-  in.positions = {
-      {0.1, 0.7000000000000001, -0.0}, {1e-300, 2, 3}, {4, 5, 6.02214076e23}, {1, 1, 1}};
+  in.positions = {{0.1, 0.7000000000000001, -0.0}, {1e-300, 2, 3}, {4, 5, 6.02214076e23}, {1, 1, 1}};
   in.add_face({0, 1, 2, 3});
   in.add_face({3, 2, 1});
   const fs::path p = dir_ / "rt.off";
@@ -454,8 +438,7 @@ TEST_F(MeshIo, ObjBytesAreExactlyAsDocumented) {
   Mesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0.5, 0.1, -0.0}};
   m.add_face({0, 1, 2});
-  EXPECT_EQ(obj_bytes(m),
-            "# sweep mesh 1: 3 vertices, 1 faces\nv 0 0 0\nv 1 0 0\nv 0.5 0.1 -0\nf 1 2 3\n");
+  EXPECT_EQ(obj_bytes(m), "# sweep mesh 1: 3 vertices, 1 faces\nv 0 0 0\nv 1 0 0\nv 0.5 0.1 -0\nf 1 2 3\n");
   EXPECT_EQ(off_bytes(m), "OFF\n# sweep mesh 1\n3 1 0\n0 0 0\n1 0 0\n0.5 0.1 -0\n3 0 1 2\n");
 }
 
@@ -529,16 +512,16 @@ TEST_F(MeshIo, GarbageBytes) {
 
 TEST_F(MeshIo, NanCoordinateInOffNamesTheVertex) {
   test::FpTrapsOff traps_off;
-  expect_bad(write("nan.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 nan 0\n0 1 0\n4 0 1 2 3\n"),
-             ErrorCategory::bad_input, "line 5: vertex 2 has a non-finite coordinate (1, nan, 0)");
-  expect_bad(write("inf.off", "OFF\n3 1 0\n0 0 0\n1e999 0 0\n0 1 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "vertex 1 has a non-finite coordinate (inf, 0, 0)");
+  expect_bad(write("nan.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 nan 0\n0 1 0\n4 0 1 2 3\n"), ErrorCategory::bad_input,
+             "line 5: vertex 2 has a non-finite coordinate (1, nan, 0)");
+  expect_bad(write("inf.off", "OFF\n3 1 0\n0 0 0\n1e999 0 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "vertex 1 has a non-finite coordinate (inf, 0, 0)");
 }
 
 TEST_F(MeshIo, NanCoordinateInObjNamesTheVertex) {
   test::FpTrapsOff traps_off;
-  expect_bad(write("nan.obj", "v 0 0 0\nv 1 0 0\n# c\nv 0 -nan 0\nf 1 2 3\n"),
-             ErrorCategory::bad_input, "line 4: vertex 2 has a non-finite coordinate (0, -nan, 0)");
+  expect_bad(write("nan.obj", "v 0 0 0\nv 1 0 0\n# c\nv 0 -nan 0\nf 1 2 3\n"), ErrorCategory::bad_input,
+             "line 4: vertex 2 has a non-finite coordinate (0, -nan, 0)");
   expect_bad(write("inf.obj", "v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n"), ErrorCategory::bad_input,
              "vertex 1 has a non-finite coordinate (inf, 0, 0)");
 }
@@ -553,19 +536,18 @@ TEST_F(MeshIo, NanCoordinateInPlyNamesTheVertex) {
 }
 
 TEST_F(MeshIo, NonNumericCoordinate) {
-  expect_bad(write("abc.off", "OFF\n3 1 0\n0 0 0\n1 abc 0\n0 1 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "line 4: vertex 1: 'abc' is not a number");
+  expect_bad(write("abc.off", "OFF\n3 1 0\n0 0 0\n1 abc 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 4: vertex 1: 'abc' is not a number");
   expect_bad(write("abc.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n"), ErrorCategory::bad_input,
              "line 2: vertex 1: expected 3 coordinates");
   // One leading '+' is a sign; a sign after it is not.
-  expect_bad(write("pm.off", "OFF\n3 1 0\n0 0 0\n1 +-5 0\n0 1 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "line 4: vertex 1: '+-5' is not a number");
-  expect_bad(write("pp.off", "OFF\n3 1 0\n0 0 0\n1 ++5 0\n0 1 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "line 4: vertex 1: '++5' is not a number");
+  expect_bad(write("pm.off", "OFF\n3 1 0\n0 0 0\n1 +-5 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 4: vertex 1: '+-5' is not a number");
+  expect_bad(write("pp.off", "OFF\n3 1 0\n0 0 0\n1 ++5 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 4: vertex 1: '++5' is not a number");
   expect_bad(write("p.off", "OFF\n3 1 0\n0 0 0\n1 + 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
              "line 4: vertex 1: '+' is not a number");
-  const Mesh plus =
-      read_mesh(write("plus.off", "OFF\n3 1 0\n+0 0 0\n+1.5 0 0\n0 +.5 0\n3 0 1 2\n"));
+  const Mesh plus = read_mesh(write("plus.off", "OFF\n3 1 0\n+0 0 0\n+1.5 0 0\n0 +.5 0\n3 0 1 2\n"));
   EXPECT_EQ(plus.positions[1], Vec3(1.5, 0, 0));
   EXPECT_EQ(plus.positions[2], Vec3(0, 0.5, 0));
 }
@@ -576,19 +558,19 @@ TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
       "property int z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
   // assimp would read 0.5 in an int property as 0, and a coordinate past the float range as
   // some finite value: both refused, naming the line.
-  expect_bad(write("frac.ply", header + "0 0 0\n1 0 0\n0 1 0.5\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "line 12: vertex 2: '0.5' is not a whole number");
-  expect_bad(write("huge.ply", header + "0 0 0\n1 1e39 0\n0 1 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "line 11: vertex 1: '1e39' is not a number within the range");
+  expect_bad(write("frac.ply", header + "0 0 0\n1 0 0\n0 1 0.5\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 12: vertex 2: '0.5' is not a whole number");
+  expect_bad(write("huge.ply", header + "0 0 0\n1 1e39 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 11: vertex 1: '1e39' is not a number within the range");
   std::string uchar_items = header;
   uchar_items.replace(uchar_items.find("uchar int"), 9, "uchar uchar");
-  expect_bad(write("uchar.ply", uchar_items + "0 0 0\n1 0 0\n0 1 0\n3 0 1 256\n"),
-             ErrorCategory::bad_input, "line 13: face 0: '256' is not a whole number");
+  expect_bad(write("uchar.ply", uchar_items + "0 0 0\n1 0 0\n0 1 0\n3 0 1 256\n"), ErrorCategory::bad_input,
+             "line 13: face 0: '256' is not a whole number");
   expect_bad(write("digits.ply", header + "0 0 0\n1 020000000000000000000000 0\n0 1 0\n3 0 1 2\n"),
              ErrorCategory::bad_input, "line 11: vertex 1: '020000000000000000000000' is not a number");
   // A vertical tab is a blank to some readers and part of a number to assimp: refused.
-  expect_bad(write("vtab.ply", header + "0 0 0\n1\v 0 0\n0 1 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "line 11: a control character (byte 11)");
+  expect_bad(write("vtab.ply", header + "0 0 0\n1\v 0 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 11: a control character (byte 11)");
   // Names must be plain (assimp reads "4vertex" partly as a count), and a vertex element present.
   std::string odd_name = header;
   odd_name.replace(odd_name.find("vertex 3"), 8, "4vertex 3");
@@ -598,8 +580,8 @@ TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
              ErrorCategory::bad_input, "the header has no vertex element");
   std::string blank_line = header;
   blank_line.replace(blank_line.find("property float y\n"), 17, "property float y\n\n");
-  expect_bad(write("blank.ply", blank_line + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "line 6: a blank line in the header");
+  expect_bad(write("blank.ply", blank_line + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 6: a blank line in the header");
   // An element or a property named twice: readers differ in which one they keep.
   std::string twice = header;
   twice.replace(twice.find("element vertex 3"), 16,
@@ -608,8 +590,8 @@ TEST_F(MeshIo, PlyValuesMustFitTheirTypes) {
              "line 7: a second element 'vertex' (the first is on line 3)");
   std::string prop_twice = header;
   prop_twice.replace(prop_twice.find("property int z"), 14, "property int z\nproperty float x");
-  expect_bad(write("prop_twice.ply", prop_twice + "0 0 0 0\n1 0 0 0\n0 1 0 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "line 7: a second property 'x' in element 'vertex'");
+  expect_bad(write("prop_twice.ply", prop_twice + "0 0 0 0\n1 0 0 0\n0 1 0 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "line 7: a second property 'x' in element 'vertex'");
   const Mesh ok = read_mesh(write("ok.ply", header + "0 0 0\n1 0 0\n0 1 -7\n3 0 1 2\n"));
   EXPECT_EQ(ok.positions[2], Vec3(0, 1, -7));
 }
@@ -621,11 +603,9 @@ TEST_F(MeshIo, GltfWithAByteOrderMarkIsRefusedWithTheReason) {
 }
 
 TEST_F(MeshIo, FaceIndexOutOfRangeNamesTheFace) {
-  expect_bad(write("oor.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n4 3 2 1 7\n"),
-             ErrorCategory::bad_input,
+  expect_bad(write("oor.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n4 3 2 1 7\n"), ErrorCategory::bad_input,
              "line 8: face 1 uses vertex 7, out of range (the mesh has 4 vertices)");
-  expect_bad(write("oor.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 2 9\n"),
-             ErrorCategory::bad_input,
+  expect_bad(write("oor.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 2 9\n"), ErrorCategory::bad_input,
              "face 1 uses vertex 9 (1-based, as in the file), out of range");
   expect_bad(write("neg.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 -7\n"), ErrorCategory::bad_input,
              "face 0 uses vertex -3 (1-based, as in the file), out of range");
@@ -637,29 +617,26 @@ TEST_F(MeshIo, FaceIndexOutOfRangeNamesTheFace) {
 }
 
 TEST_F(MeshIo, NoFaces) {
-  expect_bad(write("nof.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), ErrorCategory::bad_input,
-             "no faces");
+  expect_bad(write("nof.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), ErrorCategory::bad_input, "no faces");
   expect_bad(write("nof.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), ErrorCategory::bad_input, "no faces");
 }
 
 TEST_F(MeshIo, TruncatedOffAndShortFaces) {
   expect_bad(write("t.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n"), ErrorCategory::bad_input,
              "the header announces 4 vertices, the file has 3");
-  expect_bad(write("tf.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n"),
-             ErrorCategory::bad_input, "the header announces 2 faces, the file has 1");
+  expect_bad(write("tf.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n"), ErrorCategory::bad_input,
+             "the header announces 2 faces, the file has 1");
   expect_bad(write("f2.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n2 0 1\n"), ErrorCategory::bad_input,
              "face 0 has 2 vertices (a face needs at least 3)");
-  expect_bad(write("fi.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n4 0 1 2\n"),
-             ErrorCategory::bad_input, "face 0: expected 4 vertex indices, found 3");
+  expect_bad(write("fi.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n4 0 1 2\n"), ErrorCategory::bad_input,
+             "face 0: expected 4 vertex indices, found 3");
   // A count that overflows n + 1 once read the indices past the end of the line.
   expect_bad(write("huge.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n18446744073709551615 0 1 2\n"),
-             ErrorCategory::bad_input,
-             "face 0: expected 18446744073709551615 vertex indices, found 3");
+             ErrorCategory::bad_input, "face 0: expected 18446744073709551615 vertex indices, found 3");
 }
 
 TEST_F(MeshIo, UnknownExtensionIsUnsupported) {
-  expect_bad(write("a.xyz123", "whatever"), ErrorCategory::unsupported,
-             "unsupported mesh format '.xyz123'");
+  expect_bad(write("a.xyz123", "whatever"), ErrorCategory::unsupported, "unsupported mesh format '.xyz123'");
   expect_bad(write("noext", "whatever"), ErrorCategory::unsupported, "no file extension");
   expect_bad(write("b.off", "OFF BINARY\n"), ErrorCategory::unsupported, "binary OFF");
   expect_bad(write("c.off", "4OFF\n1 1 0\n0 0 0 1\n"), ErrorCategory::unsupported, "4OFF");

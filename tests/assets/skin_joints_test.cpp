@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "core/sample_sweeps.h"
 #include "sweep/assets/bake_skin.h"
 #include "sweep/core/error.h"
-#include "core/sample_sweeps.h"
 
 namespace sweep::test {
 namespace {
@@ -34,8 +34,7 @@ std::string refusal(int stations, int ring) {
 TEST(SkinJoints, ASkeletonOfMoreThan65535JointsIsRefusedAndOneOfExactlyThatManyIsNot) {
   EXPECT_EQ(refusal(118, 39), "");
   const std::string one_more_ring = refusal(118, 40);
-  EXPECT_NE(one_more_ring.find("67173 joints, more than a glTF skin's 65535"), std::string::npos)
-      << one_more_ring;
+  EXPECT_NE(one_more_ring.find("67173 joints, more than a glTF skin's 65535"), std::string::npos) << one_more_ring;
   const std::string one_more_station = refusal(119, 39);
   EXPECT_NE(one_more_station.find("66095 joints"), std::string::npos) << one_more_station;
 }

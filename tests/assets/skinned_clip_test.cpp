@@ -3,6 +3,8 @@
 // a tail skinned to Hip -> Tail1 -> Tail2 -> Tail3, clip "Walk"). Every expectation is computed here
 // a second way: the clip's keys restated from the generator, composed into joint matrices and
 // skinned by this file's own code.
+#include "sweep/assets/skinned_clip.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -17,11 +19,10 @@
 #include <string>
 #include <vector>
 
+#include "bind/support.h"
 #include "sweep/assets/gltf_skin.h"
 #include "sweep/assets/mesh_io.h"
-#include "sweep/assets/skinned_clip.h"
 #include "sweep/bind/bind.h"
-#include "bind/support.h"
 #include "sweep/core/error.h"
 #include "sweep/core/springs.h"
 #include "sweep/io/read_file.h"
@@ -34,7 +35,9 @@ using Json = nlohmann::json;
 using Mat4 = Eigen::Matrix4d;
 namespace fs = std::filesystem;
 
-fs::path fixture() { return fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf"; }
+fs::path fixture() {
+  return fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf";
+}
 
 fs::path scratch(const std::string& name) {
   const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/assets/skinned_clip";
@@ -42,7 +45,9 @@ fs::path scratch(const std::string& name) {
   return dir / name;
 }
 
-Quat about(const Vec3& axis, double degrees) { return Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180, axis)); }
+Quat about(const Vec3& axis, double degrees) {
+  return Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180, axis));
+}
 Mat4 trs(const Vec3& t, const Quat& r) {
   Mat4 m = Mat4::Identity();
   m.topLeftCorner<3, 3>() = r.toRotationMatrix();
@@ -59,8 +64,8 @@ double lerp_keys(const std::vector<double>& times, const std::vector<double>& va
 }
 // glTF's cubic Hermite spline of one component (tangents times the key interval dt).
 double hermite(double v0, double b0, double v1, double a1, double s, double dt) {
-  return (2 * s * s * s - 3 * s * s + 1) * v0 + (s * s * s - 2 * s * s + s) * dt * b0 + (-2 * s * s * s + 3 * s * s) * v1 +
-         (s * s * s - s * s) * dt * a1;
+  return (2 * s * s * s - 3 * s * s + 1) * v0 + (s * s * s - 2 * s * s + s) * dt * b0 +
+         (-2 * s * s * s + 3 * s * s) * v1 + (s * s * s - s * s) * dt * a1;
 }
 
 // The clip "Walk", restated from meshes/make_skinned_tail.py.
@@ -69,7 +74,9 @@ Vec3 hip_translation(double t) {
   return Vec3(lerp_keys(kHipTimes, {0, 0.03, 0, -0.03, 0}, t), lerp_keys(kHipTimes, {0, 0.04, 0, 0.04, 0}, t), -0.3);
 }
 // Turns about one axis: slerp is the angle's lerp.
-Quat hip_rotation(double t) { return about(Vec3::UnitY(), lerp_keys(kHipTimes, {0, 15, 0, -15, 0}, t)); }
+Quat hip_rotation(double t) {
+  return about(Vec3::UnitY(), lerp_keys(kHipTimes, {0, 15, 0, -15, 0}, t));
+}
 Quat tail1_rotation(double t) {
   // Keys at 0, 0.5, 1 (-10, 10, -10 degrees about x); in/out tangents on the x component only.
   const Quat q[3] = {about(Vec3::UnitX(), -10), about(Vec3::UnitX(), 10), about(Vec3::UnitX(), -10)};
@@ -83,8 +90,12 @@ Quat tail1_rotation(double t) {
   v.normalize();
   return Quat(v[3], v[0], v[1], v[2]);
 }
-Quat tail2_rotation(double t) { return about(Vec3::UnitX(), t < 0.5 ? -15 : 15); }
-Quat tail3_rotation(double t) { return about(Vec3::UnitY(), lerp_keys({0, 0.5, 1}, {0, 20, 0}, t)); }
+Quat tail2_rotation(double t) {
+  return about(Vec3::UnitX(), t < 0.5 ? -15 : 15);
+}
+Quat tail3_rotation(double t) {
+  return about(Vec3::UnitY(), lerp_keys({0, 0.5, 1}, {0, 20, 0}, t));
+}
 
 // Joint matrices J_k = World(k) · IBM_k of Hip, Tail1, Tail2, Tail3 at clip time t.
 std::vector<Mat4> joints_at(double t) {
@@ -94,7 +105,8 @@ std::vector<Mat4> joints_at(double t) {
   const Mat4 tail3 = tail2 * trs(Vec3(0, 0, 0.33), tail3_rotation(t));
   const double rest_z[4] = {-0.3, 0, 0.33, 0.66};
   std::vector<Mat4> out;
-  for (int k = 0; const Mat4& world : {hip, tail1, tail2, tail3}) out.push_back(world * trs(Vec3(0, 0, -rest_z[k++]), Quat::Identity()));
+  for (int k = 0; const Mat4& world : {hip, tail1, tail2, tail3})
+    out.push_back(world * trs(Vec3(0, 0, -rest_z[k++]), Quat::Identity()));
   return out;
 }
 // The generator's weights, by the bind position.
@@ -157,7 +169,9 @@ Creature creature(const std::string& name, double spring_hz = 0) {
   }
   io::write_rig(c.rig, c.rig_data);
   c.mesh = assets::read_mesh(c.gltf);
-  EXPECT_EQ(std::system((std::string(SWEEP_BIND_EXE) + " -q '" + c.rig.string() + "' -o '" + c.binding.string() + "'").c_str()), 0);
+  EXPECT_EQ(std::system(
+                (std::string(SWEEP_BIND_EXE) + " -q '" + c.rig.string() + "' -o '" + c.binding.string() + "'").c_str()),
+            0);
   c.bound = bind::bind(c.rig_data, c.mesh).binding;
   return c;
 }
@@ -165,8 +179,9 @@ Creature creature(const std::string& name, double spring_hz = 0) {
 int run_sim(const Creature& c, const std::string& scene_json, const fs::path& out, const std::string& name) {
   const fs::path scene = scratch(name + ".scene.json");
   std::ofstream(scene) << scene_json;
-  const std::string cmd = std::string(SWEEP_SIM_EXE) + " -q '" + c.rig.string() + "' --scene '" + scene.string() + "' -b '" +
-                          c.binding.string() + "' -o '" + out.string() + "' 2> '" + scratch(name + ".err").string() + "'";
+  const std::string cmd = std::string(SWEEP_SIM_EXE) + " -q '" + c.rig.string() + "' --scene '" + scene.string() +
+                          "' -b '" + c.binding.string() + "' -o '" + out.string() + "' 2> '" +
+                          scratch(name + ".err").string() + "'";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -176,7 +191,9 @@ TEST(SkinnedClip, TheFixtureIsItsGeneratorsOutput) {
   if (std::system("python3 --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "no python3";
   const fs::path out = scratch("regenerated.gltf");
   ASSERT_EQ(std::system(("python3 '" + (fs::path(SWEEP_SOURCE_DIR) / "meshes/make_skinned_tail.py").string() + "' '" +
-                         out.string() + "'").c_str()), 0);
+                         out.string() + "'")
+                            .c_str()),
+            0);
   EXPECT_EQ(io::read_file(out), io::read_file(fixture()));
 }
 
@@ -194,11 +211,27 @@ TEST(SkinnedClip, ChannelsInterpolateAsGltfDefines) {
   auto as_quat = [](const Eigen::Vector4d& v) { return Quat(v[3], v[0], v[1], v[2]); };
   for (double t : {-0.5, 0.0, 0.1, 0.25, 0.3, 0.49, 0.5, 0.51, 0.8, 1.0, 1.7}) {
     const double u = std::clamp(t, 0.0, 1.0);  // held before the first key and after the last
-    EXPECT_LT((assets::channel_value(channel("Hip", assets::ChannelPath::translation), t).head<3>() - hip_translation(u)).norm(), 1e-7) << t;
-    EXPECT_LT(as_quat(assets::channel_value(channel("Hip", assets::ChannelPath::rotation), t)).angularDistance(hip_rotation(u)), 1e-6) << t;
-    EXPECT_LT(as_quat(assets::channel_value(channel("Tail1", assets::ChannelPath::rotation), t)).angularDistance(tail1_rotation(u)), 1e-6) << t;
-    EXPECT_LT(as_quat(assets::channel_value(channel("Tail2", assets::ChannelPath::rotation), t)).angularDistance(tail2_rotation(u)), 1e-6) << t;
-    EXPECT_LT(as_quat(assets::channel_value(channel("Tail3", assets::ChannelPath::rotation), t)).angularDistance(tail3_rotation(u)), 1e-6) << t;
+    EXPECT_LT(
+        (assets::channel_value(channel("Hip", assets::ChannelPath::translation), t).head<3>() - hip_translation(u))
+            .norm(),
+        1e-7)
+        << t;
+    EXPECT_LT(as_quat(assets::channel_value(channel("Hip", assets::ChannelPath::rotation), t))
+                  .angularDistance(hip_rotation(u)),
+              1e-6)
+        << t;
+    EXPECT_LT(as_quat(assets::channel_value(channel("Tail1", assets::ChannelPath::rotation), t))
+                  .angularDistance(tail1_rotation(u)),
+              1e-6)
+        << t;
+    EXPECT_LT(as_quat(assets::channel_value(channel("Tail2", assets::ChannelPath::rotation), t))
+                  .angularDistance(tail2_rotation(u)),
+              1e-6)
+        << t;
+    EXPECT_LT(as_quat(assets::channel_value(channel("Tail3", assets::ChannelPath::rotation), t))
+                  .angularDistance(tail3_rotation(u)),
+              1e-6)
+        << t;
   }
   // The cubic's tangents are scaled by the key interval: at the middle of the first piece the
   // x component is (v0 + v1)/2 + dt·(b0 − a1)/8 before normalizing, not the tangents alone.
@@ -223,13 +256,16 @@ TEST(SkinnedClip, TheClipDrivesTheBodyAndThePartsRoot) {
   const Creature c = creature("drive");
   const fs::path pc2 = scratch("drive.pc2");
   ASSERT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 2, "fps": 30, "forces": [],
-    "body": {"node": "Hip", "animation": "Walk", "loop": true}})", pc2, "drive"), 0)
+    "body": {"node": "Hip", "animation": "Walk", "loop": true}})",
+                    pc2, "drive"),
+            0)
       << io::read_file(scratch("drive.err"));
   const Pc2 out = read_pc2(pc2);
   ASSERT_EQ(out.points, static_cast<int>(c.mesh.vertex_count()));
   ASSERT_EQ(out.samples, 61);
   std::vector<double> weight(c.mesh.vertex_count(), 0);
-  for (std::size_t k = 0; k < c.bound.sweeps[0].size(); ++k) weight[c.bound.sweeps[0].vertices[k]] = c.bound.sweeps[0].weight[k];
+  for (std::size_t k = 0; k < c.bound.sweeps[0].size(); ++k)
+    weight[c.bound.sweeps[0].vertices[k]] = c.bound.sweeps[0].weight[k];
   const double size = 1.7;  // the creature's bounding box diagonal, about
   double outside = 0, ring = 0, tip_off_keyed = 0;
   int ring_count = 0;
@@ -250,7 +286,8 @@ TEST(SkinnedClip, TheClipDrivesTheBodyAndThePartsRoot) {
   EXPECT_EQ(ring_count, 25);  // the root ring and its cap centre
   EXPECT_LT(ring, 1e-5 * size);
   EXPECT_GT(tip_off_keyed, 1e-2);  // the tail is simulated, not only keyed
-  std::cout << "outside the part: " << outside << ", root ring: " << ring << ", tip off its keyed pose: " << tip_off_keyed << "\n";
+  std::cout << "outside the part: " << outside << ", root ring: " << ring
+            << ", tip off its keyed pose: " << tip_off_keyed << "\n";
 }
 
 // With very stiff springs the tail follows its own keyed pose (the clip's skinning of its
@@ -259,7 +296,9 @@ TEST(SkinnedClip, AStiffPartFollowsItsKeyedPose) {
   const Creature c = creature("stiff", 60);
   const fs::path pc2 = scratch("stiff.pc2");
   ASSERT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 2, "fps": 30, "forces": [],
-    "body": {"node": "Tail2", "animation": "Walk", "loop": true}})", pc2, "stiff"), 0)
+    "body": {"node": "Tail2", "animation": "Walk", "loop": true}})",
+                    pc2, "stiff"),
+            0)
       << io::read_file(scratch("stiff.err"));
   const Pc2 out = read_pc2(pc2);
   double worst = 0, keyed_sway = 0;
@@ -281,15 +320,20 @@ TEST(SkinnedClip, ALoopingBakeAfterAPrerollMeetsItsFirstFrame) {
   const Creature c = creature("loop");
   const fs::path pc2 = scratch("loop.pc2");
   ASSERT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [],
-    "body": {"node": "Creature", "animation": "Walk", "loop": true, "preroll": 6}})", pc2, "loop"), 0)
+    "body": {"node": "Creature", "animation": "Walk", "loop": true, "preroll": 6}})",
+                    pc2, "loop"),
+            0)
       << io::read_file(scratch("loop.err"));
   // The same without the preroll: the tail starts at rest, so its first cycle does not close.
   const fs::path cold = scratch("cold.pc2");
   ASSERT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [],
-    "body": {"node": "Creature", "animation": "Walk", "loop": true}})", cold, "cold"), 0);
+    "body": {"node": "Creature", "animation": "Walk", "loop": true}})",
+                    cold, "cold"),
+            0);
   auto seam_of = [&](const Pc2& out) {
     double seam = 0;
-    for (std::size_t v = 0; v < c.mesh.vertex_count(); ++v) seam = std::max(seam, (out.at(30, v) - out.at(0, v)).norm());
+    for (std::size_t v = 0; v < c.mesh.vertex_count(); ++v)
+      seam = std::max(seam, (out.at(30, v) - out.at(0, v)).norm());
     return seam;
   };
   const Pc2 out = read_pc2(pc2), out_cold = read_pc2(cold);
@@ -308,12 +352,17 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
   auto make = [&](const std::string& node, const std::string& clip) {
     assets::SkinnedClip(fixture(), *model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, node, clip, true, 0, 30);
   };
-  expect_refused([&] { make("Nose", "Walk"); }, ErrorCategory::bad_input, {"'Nose'", "not a node", "'Hip', 'Tail1', 'Tail2', 'Tail3'"});
-  expect_refused([&] { make("Eye", "Walk"); }, ErrorCategory::bad_input, {"neither the skinned mesh's node nor a joint", "'Creature'"});
-  expect_refused([&] { make("Hip", "Run"); }, ErrorCategory::bad_input, {"no animation is named 'Run'", "'Walk', 'Blink'"});
-  expect_refused([&] { make("Hip", "Blink"); }, ErrorCategory::bad_input, {"'Blink' moves none of the joints", "(it moves 'Eye')"});
+  expect_refused([&] { make("Nose", "Walk"); }, ErrorCategory::bad_input,
+                 {"'Nose'", "not a node", "'Hip', 'Tail1', 'Tail2', 'Tail3'"});
+  expect_refused([&] { make("Eye", "Walk"); }, ErrorCategory::bad_input,
+                 {"neither the skinned mesh's node nor a joint", "'Creature'"});
+  expect_refused([&] { make("Hip", "Run"); }, ErrorCategory::bad_input,
+                 {"no animation is named 'Run'", "'Walk', 'Blink'"});
+  expect_refused([&] { make("Hip", "Blink"); }, ErrorCategory::bad_input,
+                 {"'Blink' moves none of the joints", "(it moves 'Eye')"});
   // The root joint found from the weights: Tail1 holds the whole root ring.
-  const assets::SkinnedClip walk(fixture(), *model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, "Hip", "Walk", true, 0, 30);
+  const assets::SkinnedClip walk(fixture(), *model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, "Hip", "Walk",
+                                 true, 0, 30);
   EXPECT_EQ(model->nodes[walk.root_joint_node(0)].name, "Tail1");
 
   // Edited copies of the file.
@@ -323,16 +372,22 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
     edit(d);
     const fs::path path = scratch("edited.gltf");
     std::ofstream(path) << d.dump();
-    expect_refused([&] { assets::read_gltf_skin(path, c.mesh.positions, Eigen::Affine3d::Identity()); }, ErrorCategory::bad_input, fragments);
+    expect_refused([&] { assets::read_gltf_skin(path, c.mesh.positions, Eigen::Affine3d::Identity()); },
+                   ErrorCategory::bad_input, fragments);
   };
-  refused_file([](Json& d) { d["meshes"][0]["primitives"][0]["attributes"]["JOINTS_1"] = 1; }, {"more than 4 joint influences"});
-  refused_file([](Json& d) {
-    // All four inverse bind matrices zero: a second buffer of 256 zero bytes.
-    d["buffers"].push_back({{"byteLength", 256}, {"uri", "data:application/octet-stream;base64," + std::string(340, 'A') + "AA=="}});
-    d["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 0}, {"byteLength", 256}});
-    d["accessors"].push_back({{"bufferView", d["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", 4}, {"type", "MAT4"}});
-    d["skins"][0]["inverseBindMatrices"] = d["accessors"].size() - 1;
-  }, {"inverse bind matrix of joint 'Hip'", "not an invertible affine transform"});
+  refused_file([](Json& d) { d["meshes"][0]["primitives"][0]["attributes"]["JOINTS_1"] = 1; },
+               {"more than 4 joint influences"});
+  refused_file(
+      [](Json& d) {
+        // All four inverse bind matrices zero: a second buffer of 256 zero bytes.
+        d["buffers"].push_back(
+            {{"byteLength", 256}, {"uri", "data:application/octet-stream;base64," + std::string(340, 'A') + "AA=="}});
+        d["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 0}, {"byteLength", 256}});
+        d["accessors"].push_back(
+            {{"bufferView", d["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", 4}, {"type", "MAT4"}});
+        d["skins"][0]["inverseBindMatrices"] = d["accessors"].size() - 1;
+      },
+      {"inverse bind matrix of joint 'Hip'", "not an invertible affine transform"});
   // A scale channel on the tail's root joint.
   Json d = doc;
   d["animations"][0]["channels"].push_back({{"sampler", 0}, {"target", {{"node", 2}, {"path", "scale"}}}});
@@ -341,8 +396,10 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
   std::ofstream(scaled) << d.dump();
   const auto scaled_model = assets::read_gltf_skin(scaled, c.mesh.positions, Eigen::Affine3d::Identity());
   ASSERT_TRUE(scaled_model);
-  const assets::SkinnedClip clip(scaled, *scaled_model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, "Hip", "Walk", true, 0, 30);
-  expect_refused([&] { (void)clip.sweep_path(0, 1.0); }, ErrorCategory::bad_input, {"root joint 'Tail1'", "scaled or sheared"});
+  const assets::SkinnedClip clip(scaled, *scaled_model, Eigen::Affine3d::Identity(), c.rig_data, c.bound, "Hip", "Walk",
+                                 true, 0, 30);
+  expect_refused([&] { (void)clip.sweep_path(0, 1.0); }, ErrorCategory::bad_input,
+                 {"root joint 'Tail1'", "scaled or sheared"});
 }
 
 // sweep-sim refuses a clip the file does not hold (exit 2, listing those it does), before anything
@@ -353,8 +410,11 @@ TEST(SkinnedClip, SweepSimRefusesAnUnknownClipWithWhatToDo) {
   const fs::path pc2 = scratch("run.pc2");
   fs::remove(pc2);
   EXPECT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [],
-    "body": {"node": "Creature", "animation": "Run"}})", pc2, "run"), 2);
-  EXPECT_NE(io::read_file(scratch("run.err")).find("'Walk', 'Blink'"), std::string::npos) << io::read_file(scratch("run.err"));
+    "body": {"node": "Creature", "animation": "Run"}})",
+                    pc2, "run"),
+            2);
+  EXPECT_NE(io::read_file(scratch("run.err")).find("'Walk', 'Blink'"), std::string::npos)
+      << io::read_file(scratch("run.err"));
   EXPECT_FALSE(fs::exists(pc2));
 }
 

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "sweep/assets/mesh_io.h"
 #include "bind/support.h"
+#include "sweep/assets/mesh_io.h"
 #include "sweep/io/read_file.h"
 #include "sweep/io/rig_json.h"
 
@@ -63,7 +63,7 @@ inline void write_asset(const fs::path& gltf, const std::function<void(Json&)>& 
     uv.push_back(static_cast<float>(0.5 + p.x()));
     uv.push_back(static_cast<float>(0.6 - p.z() / 1.6));
     // The tube's radial normals, the caps' axial ones, the box's corners' diagonals.
-    const Vec3 n = p.z() < -0.01 ? Vec3(p - Vec3(0, 0, -0.325)).normalized()
+    const Vec3 n = p.z() < -0.01                     ? Vec3(p - Vec3(0, 0, -0.325)).normalized()
                    : std::hypot(p.x(), p.y()) > 0.05 ? Vec3(p.x(), p.y(), 0).normalized()
                                                      : Vec3(0, 0, p.z() > 0.5 ? 1 : -1);
     normals.insert(normals.end(), {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())});
@@ -82,12 +82,14 @@ inline void write_asset(const fs::path& gltf, const std::function<void(Json&)>& 
     doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_" + std::to_string(set)] = doc["accessors"].size() - 1;
   }
   doc["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 4 * uv.size()}, {"byteLength", 4 * normals.size()}});
-  doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", count}, {"type", "VEC3"}});
+  doc["accessors"].push_back(
+      {{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", count}, {"type", "VEC3"}});
   doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = doc["accessors"].size() - 1;
   doc["images"] = {{{"name", "hide"}, {"uri", "hide.png"}}};
   doc["samplers"] = {{{"magFilter", 9729}, {"minFilter", 9729}}};
   doc["textures"] = {{{"name", "hide texture"}, {"sampler", 0}, {"source", 0}}};
-  doc["materials"] = {{{"name", "Hide"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 1}}}}}}};
+  doc["materials"] = {
+      {{"name", "Hide"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 1}}}}}}};
   doc["meshes"][0]["primitives"][0]["material"] = 0;
   doc["nodes"][4]["extras"] = {{"bone", "tail tip"}};
   doc["asset"]["extras"] = {{"author", "test"}};
@@ -102,21 +104,25 @@ inline Asset setup(const std::string& name, const std::function<void(Json&)>& ed
   Asset s{here(name + ".gltf"), here(name + ".rig.json"), here(name + ".bind")};
   write_asset(s.gltf, edit);
   io::write_rig(s.rig, rig_of({straight_sweep("tail", false)}, s.gltf.filename().string()));
-  EXPECT_EQ(std::system((std::string(SWEEP_BIND_EXE) + " -q '" + s.rig.string() + "' -o '" + s.binding.string() + "'").c_str()), 0);
+  EXPECT_EQ(std::system(
+                (std::string(SWEEP_BIND_EXE) + " -q '" + s.rig.string() + "' -o '" + s.binding.string() + "'").c_str()),
+            0);
   return s;
 }
 
 inline int run_sim(const Asset& s, const std::string& scene_json, const std::string& outputs, const std::string& name,
-            const std::string& extra = "") {
+                   const std::string& extra = "") {
   const fs::path scene = here(name + ".scene.json");
   std::ofstream(scene) << scene_json;
-  const std::string cmd = std::string(SWEEP_SIM_EXE) + " -q '" + s.rig.string() + "' --scene '" + scene.string() + "' -b '" +
-                          s.binding.string() + "' " + outputs + " " + extra + " 2> '" + here(name + ".err").string() + "'";
+  const std::string cmd = std::string(SWEEP_SIM_EXE) + " -q '" + s.rig.string() + "' --scene '" + scene.string() +
+                          "' -b '" + s.binding.string() + "' " + outputs + " " + extra + " 2> '" +
+                          here(name + ".err").string() + "'";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-inline bool no_images(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+inline bool no_images(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+                      void*) {
   return true;  // the bytes are compared as they are; nothing here needs the pixels
 }
 
@@ -133,11 +139,26 @@ inline tinygltf::Model load(const fs::path& path) {
 
 inline double component(const unsigned char* at, int type) {
   switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, at, 4); return f; }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return *at;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t v; std::memcpy(&v, at, 2); return v; }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t v; std::memcpy(&v, at, 4); return v; }
-    default: ADD_FAILURE() << "component type " << type; return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float f;
+      std::memcpy(&f, at, 4);
+      return f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return *at;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      std::uint16_t v;
+      std::memcpy(&v, at, 2);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      std::uint32_t v;
+      std::memcpy(&v, at, 4);
+      return v;
+    }
+    default:
+      ADD_FAILURE() << "component type " << type;
+      return 0;
   }
 }
 
@@ -158,9 +179,12 @@ inline std::vector<double> numbers(const tinygltf::Model& m, int index) {
       for (int c = 0; c < width; ++c) out[i * width + c] = component(at + i * stride + c * size, a.componentType);
   }
   if (a.sparse.isSparse) {
-    const unsigned char* indices = base(a.sparse.indices.bufferView, static_cast<std::size_t>(a.sparse.indices.byteOffset));
-    const unsigned char* values = base(a.sparse.values.bufferView, static_cast<std::size_t>(a.sparse.values.byteOffset));
-    const int index_size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.sparse.indices.componentType));
+    const unsigned char* indices =
+        base(a.sparse.indices.bufferView, static_cast<std::size_t>(a.sparse.indices.byteOffset));
+    const unsigned char* values =
+        base(a.sparse.values.bufferView, static_cast<std::size_t>(a.sparse.values.byteOffset));
+    const int index_size =
+        tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.sparse.indices.componentType));
     for (int k = 0; k < a.sparse.count; ++k) {
       const auto i = static_cast<std::size_t>(component(indices + k * index_size, a.sparse.indices.componentType));
       for (int c = 0; c < width; ++c) out[i * width + c] = component(values + (k * width + c) * size, a.componentType);
@@ -185,7 +209,7 @@ struct Shown {
   std::vector<Vec3> positions, normals;
 };
 inline Shown played(const tinygltf::Model& m, int animation, std::size_t k, bool morph = true,
-             const std::vector<double>* base = nullptr) {
+                    const std::vector<double>* base = nullptr) {
   const std::size_t nodes = m.nodes.size();
   std::vector<Vec3> t(nodes, Vec3::Zero()), s(nodes, Vec3::Ones());
   std::vector<Quat> r(nodes, Quat::Identity());
@@ -199,13 +223,15 @@ inline Shown played(const tinygltf::Model& m, int animation, std::size_t k, bool
   const tinygltf::Mesh& mesh = m.meshes[0];
   std::vector<double> weights = mesh.weights;
   for (const tinygltf::AnimationChannel& ch : m.animations[static_cast<std::size_t>(animation)].channels) {
-    const tinygltf::AnimationSampler& sampler = m.animations[static_cast<std::size_t>(animation)].samplers[static_cast<std::size_t>(ch.sampler)];
+    const tinygltf::AnimationSampler& sampler =
+        m.animations[static_cast<std::size_t>(animation)].samplers[static_cast<std::size_t>(ch.sampler)];
     const std::vector<double> v = numbers(m, sampler.output);
     const auto n = static_cast<std::size_t>(ch.target_node);
     if (ch.target_path == "translation") t[n] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
     if (ch.target_path == "scale") s[n] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
     if (ch.target_path == "rotation") r[n] = Quat(v[4 * k + 3], v[4 * k], v[4 * k + 1], v[4 * k + 2]);
-    if (ch.target_path == "weights") weights.assign(v.begin() + k * weights.size(), v.begin() + (k + 1) * weights.size());
+    if (ch.target_path == "weights")
+      weights.assign(v.begin() + k * weights.size(), v.begin() + (k + 1) * weights.size());
   }
   std::vector<int> parent(nodes, -1);
   for (std::size_t n = 0; n < nodes; ++n)
@@ -230,7 +256,8 @@ inline Shown played(const tinygltf::Model& m, int animation, std::size_t k, bool
   const std::vector<double> weight = numbers(m, p.attributes.at("WEIGHTS_0"));
   Shown out;
   std::vector<double> morphed = position;
-  std::vector<double> normal = p.attributes.contains("NORMAL") ? numbers(m, p.attributes.at("NORMAL")) : std::vector<double>();
+  std::vector<double> normal =
+      p.attributes.contains("NORMAL") ? numbers(m, p.attributes.at("NORMAL")) : std::vector<double>();
   for (std::size_t target = 0; target < p.targets.size(); ++target) {
     if (!morph || weights[target] == 0) continue;
     const std::vector<double> d = numbers(m, p.targets[target].at("POSITION"));
@@ -242,9 +269,11 @@ inline Shown played(const tinygltf::Model& m, int animation, std::size_t k, bool
   for (std::size_t v = 0; v < position.size() / 3; ++v) {
     Mat4 skinning = Mat4::Zero();
     for (int e = 0; e < 4; ++e) skinning += weight[4 * v + e] * joint[static_cast<std::size_t>(joints[4 * v + e])];
-    out.positions.push_back((skinning * Vec3(morphed[3 * v], morphed[3 * v + 1], morphed[3 * v + 2]).homogeneous()).head<3>());
+    out.positions.push_back(
+        (skinning * Vec3(morphed[3 * v], morphed[3 * v + 1], morphed[3 * v + 2]).homogeneous()).head<3>());
     if (!normal.empty())
-      out.normals.push_back((skinning.topLeftCorner<3, 3>() * Vec3(normal[3 * v], normal[3 * v + 1], normal[3 * v + 2])).normalized());
+      out.normals.push_back(
+          (skinning.topLeftCorner<3, 3>() * Vec3(normal[3 * v], normal[3 * v + 1], normal[3 * v + 2])).normalized());
   }
   return out;
 }
@@ -264,8 +293,8 @@ struct Pc2 {
 };
 
 inline std::string validate(const fs::path& glb, int* code) {
-  const std::string cmd = "node '" + (fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/validate.js").string() + "' '" +
-                          glb.string() + "' 2>&1";
+  const std::string cmd = "node '" + (fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/validate.js").string() +
+                          "' '" + glb.string() + "' 2>&1";
   std::string report;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (pipe == nullptr) return report;

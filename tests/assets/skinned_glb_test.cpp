@@ -5,10 +5,10 @@
 // skinned here, as an engine plays its new animation: morph weights first, then linear blend
 // skinning with the animation's keys, against the .pc2 of the same run. Then what it refuses, and
 // --under-skin's cache (the bake before skinning).
-#include "assets/skinned_glb_support.h"
-
 #include <iostream>
 #include <numbers>
+
+#include "assets/skinned_glb_support.h"
 
 namespace sweep::test {
 namespace {
@@ -68,7 +68,8 @@ TEST(SkinnedGlbMorph, KeepsTheAssetWholeAndPlaysTheBake) {
   EXPECT_EQ(out.images[0].name, "hide");
   EXPECT_EQ(out.images[0].mimeType, "image/png");
   const tinygltf::BufferView& image = out.bufferViews[static_cast<std::size_t>(out.images[0].bufferView)];
-  EXPECT_EQ(std::string(reinterpret_cast<const char*>(out.buffers[0].data.data() + image.byteOffset), image.byteLength), tiny_png());
+  EXPECT_EQ(std::string(reinterpret_cast<const char*>(out.buffers[0].data.data() + image.byteOffset), image.byteLength),
+            tiny_png());
   const tinygltf::Primitive &pin = in.meshes[0].primitives[0], &pout = out.meshes[0].primitives[0];
   for (const char* uv : {"TEXCOORD_0", "TEXCOORD_1"}) {
     ASSERT_TRUE(pout.attributes.contains(uv)) << uv;
@@ -114,7 +115,9 @@ TEST(SkinnedGlbMorph, KeepsTheAssetWholeAndPlaysTheBake) {
     };
     const std::vector<Vec3> baked = surface([&](std::size_t v) { return cache.at(k, v); });
     const std::vector<Vec3> keyed = surface([&](std::size_t v) { return clip_only.positions[v]; });
-    auto degrees = [](const Vec3& a, const Vec3& b) { return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180 / std::numbers::pi; };
+    auto degrees = [](const Vec3& a, const Vec3& b) {
+      return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180 / std::numbers::pi;
+    };
     for (std::size_t v = 2 * 24; v < 39 * 24; ++v) {
       const Vec3 want = Quat::FromTwoVectors(keyed[v], baked[v]) * clip_only.normals[v];
       worst_normal = std::max(worst_normal, degrees(shown.normals[v], want));
@@ -177,7 +180,8 @@ TEST(SkinnedGlbMorph, UnderSkinTheCacheIsTheBakeBeforeSkinning) {
   ASSERT_TRUE(walk.ok) << io::read_file(here("walk.err"));
   const Asset& s = walk.asset;
   const fs::path under = here("under.pc2");
-  ASSERT_EQ(run_sim(s, kWalk, "-o '" + under.string() + "'", "under", "--under-skin"), 0) << io::read_file(here("under.err"));
+  ASSERT_EQ(run_sim(s, kWalk, "-o '" + under.string() + "'", "under", "--under-skin"), 0)
+      << io::read_file(here("under.err"));
   const tinygltf::Model out = load(walk.glb);
   const Pc2 w(walk.pc2), u(under);
   ASSERT_EQ(u.frames, w.frames);
@@ -206,7 +210,8 @@ TEST(SkinnedGlbMorph, UnderSkinTheCacheIsTheBakeBeforeSkinning) {
   std::cout << "under-skin .pc2 skinned against the world .pc2: " << worst << "\n";
   // Without a skinned clip there is nothing to write under: exit 1.
   EXPECT_EQ(run_sim(s, R"({"format": "sweep-scene", "version": 1, "duration": 0.1, "fps": 30, "forces": []})",
-                    "-o '" + here("plain.pc2").string() + "'", "plain", "--under-skin"), 1);
+                    "-o '" + here("plain.pc2").string() + "'", "plain", "--under-skin"),
+            1);
 }
 
 }  // namespace

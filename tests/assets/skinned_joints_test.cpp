@@ -28,7 +28,8 @@ void add_wag(Json& doc) {
     if (!tail3_turn && !hip_bob) continue;
     wag["samplers"].push_back(sampler);
     for (const int target : tail3_turn ? std::vector<int>{2, 3} : std::vector<int>{1})
-      wag["channels"].push_back({{"sampler", wag["samplers"].size() - 1}, {"target", {{"node", target}, {"path", path}}}});
+      wag["channels"].push_back(
+          {{"sampler", wag["samplers"].size() - 1}, {"target", {{"node", target}, {"path", path}}}});
   }
   doc["animations"].push_back(std::move(wag));
 }
@@ -63,7 +64,8 @@ Eigen::Vector4d sample(const tinygltf::Model& m, const tinygltf::AnimationSample
   if (s.interpolation == "STEP") return key(k);
   const double u = (t - times[k]) / (times[k + 1] - times[k]);
   if (width == 4) {
-    const Quat a(key(k)[3], key(k)[0], key(k)[1], key(k)[2]), b(key(k + 1)[3], key(k + 1)[0], key(k + 1)[1], key(k + 1)[2]);
+    const Quat a(key(k)[3], key(k)[0], key(k)[1], key(k)[2]),
+        b(key(k + 1)[3], key(k + 1)[0], key(k + 1)[1], key(k + 1)[2]);
     const Quat q = a.slerp(u, b);
     return Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
   }
@@ -113,7 +115,8 @@ std::vector<Vec3> skinned_at(const tinygltf::Model& m, int animation, double t) 
   }
   const tinygltf::Primitive& p = m.meshes[0].primitives[0];
   const std::vector<double> position = numbers(m, p.attributes.at("POSITION"));
-  const std::vector<double> joints = numbers(m, p.attributes.at("JOINTS_0")), weight = numbers(m, p.attributes.at("WEIGHTS_0"));
+  const std::vector<double> joints = numbers(m, p.attributes.at("JOINTS_0")),
+                            weight = numbers(m, p.attributes.at("WEIGHTS_0"));
   std::vector<Vec3> out;
   for (std::size_t v = 0; v < position.size() / 3; ++v) {
     Mat4 skinning = Mat4::Zero();
@@ -147,7 +150,8 @@ TEST(SkinnedJoints, KeepsTheAssetWholeAndAddsThePartsJointsToItsSkeleton) {
   const std::size_t added = out.nodes.size() - in.nodes.size();
   ASSERT_EQ(out.skins[0].joints.size(), in.skins[0].joints.size() + added);
   for (std::size_t j = 0; j < in.skins[0].joints.size(); ++j) EXPECT_EQ(out.skins[0].joints[j], in.skins[0].joints[j]);
-  const std::vector<double> ibm_in = numbers(in, in.skins[0].inverseBindMatrices), ibm_out = numbers(out, out.skins[0].inverseBindMatrices);
+  const std::vector<double> ibm_in = numbers(in, in.skins[0].inverseBindMatrices),
+                            ibm_out = numbers(out, out.skins[0].inverseBindMatrices);
   EXPECT_EQ(std::vector<double>(ibm_out.begin(), ibm_out.begin() + static_cast<long>(ibm_in.size())), ibm_in);
   // The new joints: stations "tail.00" … under Tail1 (node 2, the tail's root joint), ring joints
   // "tail.03.r05" … under their station.
@@ -193,7 +197,8 @@ TEST(SkinnedJoints, KeepsTheAssetWholeAndAddsThePartsJointsToItsSkeleton) {
   ASSERT_EQ(out.images.size(), 1u);
   EXPECT_EQ(out.images[0].name, "hide");
   const tinygltf::BufferView& image = out.bufferViews[static_cast<std::size_t>(out.images[0].bufferView)];
-  EXPECT_EQ(std::string(reinterpret_cast<const char*>(out.buffers[0].data.data() + image.byteOffset), image.byteLength), tiny_png());
+  EXPECT_EQ(std::string(reinterpret_cast<const char*>(out.buffers[0].data.data() + image.byteOffset), image.byteLength),
+            tiny_png());
   const tinygltf::Primitive &pin = in.meshes[0].primitives[0], &pout = out.meshes[0].primitives[0];
   for (const char* attribute : {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1"}) {
     ASSERT_TRUE(pout.attributes.contains(attribute)) << attribute;
@@ -205,8 +210,10 @@ TEST(SkinnedJoints, KeepsTheAssetWholeAndAddsThePartsJointsToItsSkeleton) {
 
   // Weights.
   const std::vector<char> part = part_vertices(bake.asset);
-  const std::vector<double> jin = numbers(in, pin.attributes.at("JOINTS_0")), win = numbers(in, pin.attributes.at("WEIGHTS_0"));
-  const std::vector<double> jout = numbers(out, pout.attributes.at("JOINTS_0")), wout = numbers(out, pout.attributes.at("WEIGHTS_0"));
+  const std::vector<double> jin = numbers(in, pin.attributes.at("JOINTS_0")),
+                            win = numbers(in, pin.attributes.at("WEIGHTS_0"));
+  const std::vector<double> jout = numbers(out, pout.attributes.at("JOINTS_0")),
+                            wout = numbers(out, pout.attributes.at("WEIGHTS_0"));
   ASSERT_EQ(wout.size(), 4 * part.size());
   std::size_t on_new = 0;
   for (std::size_t v = 0; v < part.size(); ++v) {
@@ -291,7 +298,8 @@ TEST(SkinnedJoints, AnotherClipPlaysThePartsOriginalMotion) {
   const std::vector<char> part = part_vertices(bake.asset);
   double worst = 0, worst_outside = 0, swing = 0;
   for (const double t : times) {
-    const std::vector<Vec3> original = skinned_at(in, 2, t), played = skinned_at(out, 2, t), rest = skinned_at(in, 2, 0);
+    const std::vector<Vec3> original = skinned_at(in, 2, t), played = skinned_at(out, 2, t),
+                            rest = skinned_at(in, 2, 0);
     for (std::size_t v = 0; v < part.size(); ++v) {
       const double e = (played[v] - original[v]).norm();
       (part[v] ? worst : worst_outside) = std::max(part[v] ? worst : worst_outside, e);
@@ -301,8 +309,8 @@ TEST(SkinnedJoints, AnotherClipPlaysThePartsOriginalMotion) {
   EXPECT_LT(worst, 0.01);
   EXPECT_LT(worst_outside, 1e-5);
   EXPECT_GT(swing, 0.1) << "Wag hardly moved the tail: the check above could not fail";
-  std::cout << "Wag: the tail against its original skinning, max " << worst << " of its length (it swings "
-            << swing << "); outside it " << worst_outside << "\n";
+  std::cout << "Wag: the tail against its original skinning, max " << worst << " of its length (it swings " << swing
+            << "); outside it " << worst_outside << "\n";
 }
 
 }  // namespace

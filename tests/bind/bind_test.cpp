@@ -4,9 +4,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "support.h"
 #include "sweep/bind/deform.h"
 #include "sweep/core/elastic_sweep.h"
-#include "support.h"
 
 namespace sweep::test {
 namespace {
@@ -19,19 +19,17 @@ constexpr double kPi = std::numbers::pi;
 
 // Every bound vertex rebuilt on the rest shape from the stored float32 coordinates lies within
 // `tolerance` of the mesh vertex (asserted vertex by vertex).
-void expect_rest_exact(const SweepBinding& table, const SweepShape& rest, const Mesh& mesh,
-                       double tolerance) {
+void expect_rest_exact(const SweepBinding& table, const SweepShape& rest, const Mesh& mesh, double tolerance) {
   ASSERT_GT(table.size(), 0u);
   for (std::size_t k = 0; k < table.size(); ++k) {
     const Vec3 rebuilt = deform_point(rest, table.coords(k));
     ASSERT_LE((rebuilt - mesh.positions[table.vertices[k]]).norm(), tolerance)
-        << table.name << ": vertex " << table.vertices[k] << " (t " << table.t[k] << ", theta "
-        << table.theta[k] << ", s " << table.s[k] << ", z " << table.z[k] << ")";
+        << table.name << ": vertex " << table.vertices[k] << " (t " << table.t[k] << ", theta " << table.theta[k]
+        << ", s " << table.s[k] << ", z " << table.z[k] << ")";
   }
 }
 
-std::vector<Vec3> deform(const Binding& b, const std::vector<SweepShape>& shapes,
-                         const Mesh& mesh) {
+std::vector<Vec3> deform(const Binding& b, const std::vector<SweepShape>& shapes, const Mesh& mesh) {
   std::vector<Vec3> out(mesh.vertex_count());
   bind::deform_exact(b, shapes, mesh.positions, out);
   return out;
@@ -117,10 +115,8 @@ TEST_P(BindFittedTube, RestPoseIsRebuiltWithin1e5OfTheLength) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Meshes, BindFittedTube,
-                         testing::Values(FittedTube{"tube_straight.obj", 1.0},
-                                         FittedTube{"tube_bent.obj", 2.0},
-                                         FittedTube{"tube_tapered.off", 1.5},
-                                         FittedTube{"tube_ellipse.ply", 1.0},
+                         testing::Values(FittedTube{"tube_straight.obj", 1.0}, FittedTube{"tube_bent.obj", 2.0},
+                                         FittedTube{"tube_tapered.off", 1.5}, FittedTube{"tube_ellipse.ply", 1.0},
                                          FittedTube{"tube_lobed.obj", 1.2}),
                          [](const testing::TestParamInfo<FittedTube>& param_info) {
                            std::string s = param_info.param.file;
@@ -159,8 +155,7 @@ TEST(BindFollow, TurningASectionMovesEverythingBeyondItByThatRigidRotation) {
   EXPECT_EQ(beyond, 17 * 24 + 1);  // rings 24..40 and the tip cap centre
   EXPECT_EQ(before, 16 * 24 + 1);  // rings 0..15 and the root cap centre
   // The tip moved where the rotation takes it: (0, -0.4 sin 0.3, 0.6 + 0.4 cos 0.3).
-  EXPECT_NEAR((out[985] - Vec3(0, -0.4 * std::sin(angle), 0.6 + 0.4 * std::cos(angle))).norm(), 0,
-              1e-6);
+  EXPECT_NEAR((out[985] - Vec3(0, -0.4 * std::sin(angle), 0.6 + 0.4 * std::cos(angle))).norm(), 0, 1e-6);
 }
 
 TEST(BindFollow, GrowingARadialHandleMovesOnlyNearbyVerticesOutward) {
@@ -256,8 +251,7 @@ TEST(BindOwnership, OverlappingPartsGoToTheNearestSurfaceAndTiesToTheEarlierSwee
     EXPECT_EQ(r.sweeps[1 - exact].bound_vertex_count, 0u);
   }
   // Identical sweeps: every vertex is a tie, the earlier sweep takes all.
-  const bind::BindResult r =
-      bind::bind(rig_of({straight_sweep("first"), straight_sweep("second")}), mesh);
+  const bind::BindResult r = bind::bind(rig_of({straight_sweep("first"), straight_sweep("second")}), mesh);
   EXPECT_EQ(r.binding.sweeps[0].size(), mesh.vertex_count());
   EXPECT_EQ(r.binding.sweeps[1].size(), 0u);
 }
@@ -288,8 +282,7 @@ TEST(BindBlend, WeightIsTheSmoothstepOfTheDistanceBeyondTheRootPlane) {
   }
   // Ring 2 (z = 0.05, w = 0.5) moves half as far as without the blend (up to float rest error).
   const std::uint32_t v = 2 * 24;
-  EXPECT_NEAR((blended[v] - mesh.positions[v]).norm(), 0.5 * (full[v] - mesh.positions[v]).norm(),
-              1e-6);
+  EXPECT_NEAR((blended[v] - mesh.positions[v]).norm(), 0.5 * (full[v] - mesh.positions[v]).norm(), 1e-6);
 }
 
 TEST(BindAdjacency, RowsAreSortedUniqueAndSymmetric) {

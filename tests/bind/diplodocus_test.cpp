@@ -4,9 +4,9 @@
 #include <chrono>
 #include <cstdio>
 
+#include "support.h"
 #include "sweep/bind/deform.h"
 #include "sweep/core/elastic_sweep.h"
-#include "support.h"
 
 namespace sweep::test {
 namespace {
@@ -23,8 +23,8 @@ TEST(BindDiplodocus, TailAndNeckRestPoseIsRebuiltWithin1e5OfTheirLengthAtEveryVe
     const SweepDef& def = dino->rig.sweeps[i];
     const bind::SweepBinding& t = r.binding.sweeps[i];
     const double tolerance = 1e-5 * def.rest.length();
-    std::printf("%s: length %.4f, %zu vertices bound, rest max error %.3g (%.3g of the length)\n",
-                def.name.c_str(), def.rest.length(), t.size(), r.sweeps[i].rest_max_error,
+    std::printf("%s: length %.4f, %zu vertices bound, rest max error %.3g (%.3g of the length)\n", def.name.c_str(),
+                def.rest.length(), t.size(), r.sweeps[i].rest_max_error,
                 r.sweeps[i].rest_max_error / def.rest.length());
     // A tail or neck is a sizeable part of the model, and far from all of it.
     EXPECT_GT(t.size(), 1000u);
@@ -32,8 +32,8 @@ TEST(BindDiplodocus, TailAndNeckRestPoseIsRebuiltWithin1e5OfTheirLengthAtEveryVe
     for (std::size_t k = 0; k < t.size(); ++k) {
       const Vec3 rebuilt = deform_point(def.rest, t.coords(k));
       ASSERT_LE((rebuilt - dino->mesh.positions[t.vertices[k]]).norm(), tolerance)
-          << def.name << ": vertex " << t.vertices[k] << " (t " << t.t[k] << ", theta "
-          << t.theta[k] << ", s " << t.s[k] << ", z " << t.z[k] << ")";
+          << def.name << ": vertex " << t.vertices[k] << " (t " << t.t[k] << ", theta " << t.theta[k] << ", s "
+          << t.s[k] << ", z " << t.z[k] << ")";
     }
     EXPECT_LE(r.sweeps[i].rest_max_error, tolerance);
   }
@@ -88,8 +88,7 @@ TEST(BindDiplodocus, BindingTailAndNeckTakesUnder100Milliseconds) {
   for (int run = 0; run < 7; ++run) {
     const auto start = std::chrono::steady_clock::now();
     const bind::Binding b = bind::bind_rig(dino->rig, dino->mesh);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                     .count());
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     ASSERT_GT(b.bound_count(), 0u);
   }
   std::sort(ms.begin(), ms.end());

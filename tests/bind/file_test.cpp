@@ -4,13 +4,12 @@
 #include <omp.h>
 
 #include <cstring>
-
 #include <nlohmann/json.hpp>
 
+#include "support.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/read_file.h"
 #include "sweep/io/rig_json.h"
-#include "support.h"
 
 namespace sweep::test {
 namespace {
@@ -135,7 +134,9 @@ TEST(BindingFile, RigHashIsFnvOfTheDocumentedByteLayout) {
   rig.sweeps[0].rest.radii[3] = std::nextafter(rig.sweeps[0].rest.radii[3], 1.0);
   rig.sweeps[1].material = Material{};
   std::string bytes(bind::kSweepHashTag);
-  auto u32 = [&](std::uint64_t v) { for (int b = 0; b < 4; ++b) bytes += static_cast<char>((v >> (8 * b)) & 0xff); };
+  auto u32 = [&](std::uint64_t v) {
+    for (int b = 0; b < 4; ++b) bytes += static_cast<char>((v >> (8 * b)) & 0xff);
+  };
   auto f64 = [&](double x) {
     std::uint64_t v;
     std::memcpy(&v, &x, 8);
@@ -179,9 +180,8 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
     p.rings = 4;
     return p;
   }());
-  expect_refused(
-      [&] { io::load_binding(path, smaller, d.rig); }, ErrorCategory::bad_input,
-      {src.c_str(), "made for a mesh with 986 vertices, this mesh has 98", "run sweep-bind again"});
+  expect_refused([&] { io::load_binding(path, smaller, d.rig); }, ErrorCategory::bad_input,
+                 {src.c_str(), "made for a mesh with 986 vertices, this mesh has 98", "run sweep-bind again"});
   Mesh edited = d.mesh;
   edited.positions[100] += Vec3(0, 0, 1e-9);
   expect_refused([&] { io::load_binding(path, edited, d.rig); }, ErrorCategory::bad_input,
@@ -196,19 +196,17 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
   added.sweeps.push_back(straight_sweep("neck"));
   for (const Rig* r : {&reshaped, &renamed, &added}) {
     expect_refused([&] { io::load_binding(path, d.mesh, *r); }, ErrorCategory::bad_input,
-                   {src.c_str(), "another version of the rig (sweeps changed since binding)",
-                    "run sweep-bind again"});
+                   {src.c_str(), "another version of the rig (sweeps changed since binding)", "run sweep-bind again"});
   }
 
   // Truncated: anywhere in the header, in the payload, just before the checksum; and empty.
-  for (std::size_t keep : {std::size_t{0}, std::size_t{20}, std::size_t{47}, std::size_t{100},
-                           good.size() / 2, good.size() - 1}) {
-    expect_refused([&] { io::parse_binding(good.substr(0, keep), src); },
-                   ErrorCategory::bad_input, {src.c_str(), "truncated"});
+  for (std::size_t keep :
+       {std::size_t{0}, std::size_t{20}, std::size_t{47}, std::size_t{100}, good.size() / 2, good.size() - 1}) {
+    expect_refused([&] { io::parse_binding(good.substr(0, keep), src); }, ErrorCategory::bad_input,
+                   {src.c_str(), "truncated"});
   }
   // Trailing garbage.
-  expect_refused([&] { io::parse_binding(good + "xx", src); }, ErrorCategory::bad_input,
-                 {src.c_str(), "corrupt"});
+  expect_refused([&] { io::parse_binding(good + "xx", src); }, ErrorCategory::bad_input, {src.c_str(), "corrupt"});
   // A flipped byte anywhere is refused: magic, version, counts, hashes, names, indices, floats,
   // the checksum itself.
   for (std::size_t at = 0; at < good.size(); at += 7) {
@@ -225,9 +223,7 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
       } else if (at < 12) {
         EXPECT_NE(what.find("version"), std::string::npos) << what;
       } else if (at >= 40 && at < 48) {
-        EXPECT_TRUE(what.find("truncated") != std::string::npos ||
-                    what.find("corrupt") != std::string::npos)
-            << what;
+        EXPECT_TRUE(what.find("truncated") != std::string::npos || what.find("corrupt") != std::string::npos) << what;
       } else {
         EXPECT_NE(what.find("corrupt binding: checksum mismatch"), std::string::npos) << what;
       }
@@ -244,8 +240,7 @@ TEST(BindingFile, StaleAndBrokenBindingsAreRefusedByTheLoader) {
   expect_refused([&] { io::parse_binding(older, src); }, ErrorCategory::bad_input,
                  {src.c_str(), "binding format 1", "run sweep-bind again"});
   // A missing file.
-  expect_refused([&] { io::read_binding(d.dir / "missing.bind"); }, ErrorCategory::bad_input,
-                 {"missing.bind"});
+  expect_refused([&] { io::read_binding(d.dir / "missing.bind"); }, ErrorCategory::bad_input, {"missing.bind"});
 }
 
 TEST(BindingFile, TableConsistencyIsCheckedEvenWhenTheChecksumHolds) {
@@ -253,20 +248,19 @@ TEST(BindingFile, TableConsistencyIsCheckedEvenWhenTheChecksumHolds) {
   const Rig rig = rig_of({straight_sweep("a"), straight_sweep("b")});
   Binding b = bind::bind_rig(rig, mesh);
   b.sweeps[1].vertices = {3};  // also bound by "a"
-  for (auto* c :
-       {&b.sweeps[1].t, &b.sweeps[1].theta, &b.sweeps[1].s, &b.sweeps[1].z, &b.sweeps[1].weight}) {
+  for (auto* c : {&b.sweeps[1].t, &b.sweeps[1].theta, &b.sweeps[1].s, &b.sweeps[1].z, &b.sweeps[1].weight}) {
     *c = {0.5f};
   }
-  expect_refused([&] { io::parse_binding(io::binding_bytes(b), "x.bind"); },
-                 ErrorCategory::bad_input, {"x.bind: corrupt binding: vertex 3 is bound by more"});
+  expect_refused([&] { io::parse_binding(io::binding_bytes(b), "x.bind"); }, ErrorCategory::bad_input,
+                 {"x.bind: corrupt binding: vertex 3 is bound by more"});
   Binding c = bind::bind_rig(rig, mesh);
   c.sweeps[0].vertices[10] = 5000;
-  expect_refused([&] { io::parse_binding(io::binding_bytes(c), "x.bind"); },
-                 ErrorCategory::bad_input, {"sweep 0 ('a'), entry 10", "out of range"});
+  expect_refused([&] { io::parse_binding(io::binding_bytes(c), "x.bind"); }, ErrorCategory::bad_input,
+                 {"sweep 0 ('a'), entry 10", "out of range"});
   Binding w = bind::bind_rig(rig, mesh);
   w.sweeps[0].weight[7] = 1.5f;
-  expect_refused([&] { io::parse_binding(io::binding_bytes(w), "x.bind"); },
-                 ErrorCategory::bad_input, {"entry 7", "weight must be in [0, 1]"});
+  expect_refused([&] { io::parse_binding(io::binding_bytes(w), "x.bind"); }, ErrorCategory::bad_input,
+                 {"entry 7", "weight must be in [0, 1]"});
 }
 
 // The program, as a black box.
@@ -289,8 +283,7 @@ TEST(BindTool, WritesTheBindingBesideTheRigAndAReport) {
   EXPECT_LT(doc["sweeps"][0]["rest_max_error"].get<double>(), 1e-5);
   EXPECT_GE(doc["seconds"]["bind"].get<double>(), 0);
   // -o, and the same bytes again.
-  const ToolRun again =
-      run_bind_tool(quoted(d.rig_path) + " -q -o " + quoted(d.dir / "b2.bind"), d.dir);
+  const ToolRun again = run_bind_tool(quoted(d.rig_path) + " -q -o " + quoted(d.dir / "b2.bind"), d.dir);
   ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_EQ(again.out, "");
   EXPECT_EQ(io::read_file(d.dir / "b2.bind"), io::read_file(bind_path));
@@ -332,10 +325,10 @@ TEST(BindTool, RefusesStaleAndBrokenBindingsWithExitCode2) {
       "made for a mesh with other vertex positions (the mesh changed since binding); run "
       "sweep-bind again");
   assets::write_mesh(d.mesh_path, tube::make_tube([] {
-                   auto p = straight_tube_params();
-                   p.rings = 4;
-                   return p;
-                 }()));
+                       auto p = straight_tube_params();
+                       p.rings = 4;
+                       return p;
+                     }()));
   check("made for a mesh with 986 vertices, this mesh has 98; run sweep-bind again");
   io::write_file_atomically(d.mesh_path, mesh_text);
 
@@ -362,8 +355,7 @@ TEST(BindTool, RefusesStaleAndBrokenBindingsWithExitCode2) {
 
   // And the original is accepted again.
   io::write_file_atomically(bind_path, good);
-  EXPECT_EQ(run_bind_tool(quoted(d.rig_path) + " --check " + quoted(bind_path), d.dir).exit_code,
-            0);
+  EXPECT_EQ(run_bind_tool(quoted(d.rig_path) + " --check " + quoted(bind_path), d.dir).exit_code, 0);
 }
 
 TEST(BindTool, MissingRigOrMeshIsBadInputAndWritesNothing) {

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "support.h"
 #include "sweep/bind/deform.h"
 #include "sweep/core/elastic_sweep.h"
-#include "support.h"
 
 namespace sweep::test {
 namespace {

@@ -12,11 +12,11 @@
 #include <sstream>
 #include <string>
 
+#include "diplodocus_seeds.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/bind/bind.h"
 #include "sweep/core/error.h"
 #include "sweep/core/rig.h"
-#include "diplodocus_seeds.h"
 #include "sweep/fit/fit.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/read_file.h"
@@ -30,8 +30,7 @@ namespace fs = std::filesystem;
 // 0.025) of 24 vertices, both ends capped (vertex 984 = root cap centre, 985 = tip cap centre).
 // Expects `body` to throw Error(category) whose message contains every fragment.
 template <typename F>
-void expect_refused(F&& body, ErrorCategory category,
-                    std::initializer_list<const char*> fragments) {
+void expect_refused(F&& body, ErrorCategory category, std::initializer_list<const char*> fragments) {
   try {
     body();
     ADD_FAILURE() << "accepted; expected a message containing " << *fragments.begin();
@@ -56,8 +55,7 @@ inline tube::TubeParams straight_tube_params() {
 // The hand-made sweep of that tube: K = 6 sections at t = 0, 0.2, ..., 1 on the z axis, identity
 // frames, n = 8 radii of 0.1 (so sample j's angle 2πj/8 falls on mesh segment 3j). With `seeds`
 // the part is given as sweep-fit would (root at the origin, tip at the tip cap centre).
-inline SweepDef straight_sweep(const std::string& name = "tube", bool seeds = true,
-                               double radius = 0.1) {
+inline SweepDef straight_sweep(const std::string& name = "tube", bool seeds = true, double radius = 0.1) {
   SweepShape s;
   s.radial_count = 8;
   for (int i = 0; i < 6; ++i) {
@@ -124,8 +122,8 @@ struct ToolRun {
 // Runs sweep-bind with the given arguments (already quoted where needed).
 inline ToolRun run_bind_tool(const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string("\"") + SWEEP_BIND_EXE + "\" " + args + " >\"" +
-                          out.string() + "\" 2>\"" + err.string() + "\"";
+  const std::string cmd =
+      std::string("\"") + SWEEP_BIND_EXE + "\" " + args + " >\"" + out.string() + "\" 2>\"" + err.string() + "\"";
   const int status = std::system(cmd.c_str());
   ToolRun r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -54,8 +54,8 @@ TEST(CApiAllocation, FrameCallsAllocateNothingAfterTheFirstFrame) {
     rest.insert(rest.end(), {x, y, z});
   }
   const int vertex_count = static_cast<int>(rest.size() / 3);
-  sweep_instance* in = sweep_open((dir / "tube.rig.json").c_str(), (dir / "tube.bind").c_str(), nullptr, rest.data(),
-                                  vertex_count);
+  sweep_instance* in =
+      sweep_open((dir / "tube.rig.json").c_str(), (dir / "tube.bind").c_str(), nullptr, rest.data(), vertex_count);
   fs::remove_all(dir);
   ASSERT_NE(in, nullptr) << sweep_last_error();
 
@@ -135,8 +135,8 @@ TEST(CApiAllocation, MaterialModeFramesAllocateNothingWithPositionsOrJointsOut) 
     rest.insert(rest.end(), {x, y, z});
   }
   const auto open = [&] {
-    return sweep_open((dir / "tube.rig.json").c_str(), (dir / "tube.bind").c_str(), (dir / "settings.scene.json").c_str(),
-                      rest.data(), static_cast<int>(rest.size() / 3));
+    return sweep_open((dir / "tube.rig.json").c_str(), (dir / "tube.bind").c_str(),
+                      (dir / "settings.scene.json").c_str(), rest.data(), static_cast<int>(rest.size() / 3));
   };
   sweep_instance* by_positions = open();
   sweep_instance* by_joints = open();

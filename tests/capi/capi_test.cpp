@@ -93,8 +93,8 @@ class CApi : public testing::Test {
     return path(name);
   }
   static sweep_instance* open(const char* settings) {
-    sweep_instance* in = sweep_open(path("tube.rig.json").c_str(), path("tube.bind").c_str(), settings, rest_->data(),
-                                    vertex_count());
+    sweep_instance* in =
+        sweep_open(path("tube.rig.json").c_str(), path("tube.bind").c_str(), settings, rest_->data(), vertex_count());
     EXPECT_NE(in, nullptr) << sweep_last_error();
     return in;
   }
@@ -132,15 +132,15 @@ TEST_F(CApi, LiveForceEqualsSceneForce) {
   std::ostringstream forces;
   forces.precision(17);
   forces << R"(, "forces": [{"sweep": "tube", "point": [1.0, 0.1, 0.8], "vector": [0, 2.5, -1], "start": )" << t_held
-         << R"(, "end": )" << t_held + 0.4 << R"(}, {"sweep": "tube", "point": [1.3, 0.0, 1.0], "vector": [0.5, -4, 0], "start": )"
-         << t_impulse << "}]";
+         << R"(, "end": )" << t_held + 0.4
+         << R"(}, {"sweep": "tube", "point": [1.3, 0.0, 1.0], "vector": [0.5, -4, 0], "start": )" << t_impulse << "}]";
   sweep_instance* from_scene = open(scene("forces.scene.json", forces.str()).c_str());
   sweep_instance* live = open(scene("none.scene.json", R"(, "forces": [])").c_str());
   ASSERT_TRUE(from_scene && live);
   const double held_point[3] = {1.0, 0.1, 0.8}, held_force[3] = {0, 2.5, -1};
   const double impulse_point[3] = {1.3, 0.0, 1.0}, impulse_force[3] = {0.5, -4, 0};
   std::vector<double> steps;
-  for (int k = 0; k < 3; ++k) steps.push_back(1.0 / 30);  // to 0.1 s
+  for (int k = 0; k < 3; ++k) steps.push_back(1.0 / 30);   // to 0.1 s
   for (int k = 0; k < 18; ++k) steps.push_back(1.0 / 30);  // to 0.7 s
   steps.push_back(1.0 / 144);
   for (int k = 0; k < 30; ++k) steps.push_back(1.0 / 30);
@@ -168,8 +168,9 @@ TEST_F(CApi, LiveForceEqualsSceneForce) {
 // Advancing by irregular frame times (1/60, 1/144, 1/30 mixed) lands on the same pose at the same
 // times as regular 1/60 s frames.
 TEST_F(CApi, IrregularFrameTimesGiveTheSamePoses) {
-  const std::string settings =
-      scene("push.scene.json", R"(, "forces": [{"sweep": "tube", "t": 1.0, "theta": 0.0, "vector": [0, 2.0, 0], "start": 0.05, "end": 0.6, "sections": "chain"}])");
+  const std::string settings = scene(
+      "push.scene.json",
+      R"(, "forces": [{"sweep": "tube", "t": 1.0, "theta": 0.0, "vector": [0, 2.0, 0], "start": 0.05, "end": 0.6, "sections": "chain"}])");
   sweep_instance* regular = open(settings.c_str());
   sweep_instance* irregular = open(settings.c_str());
   ASSERT_TRUE(regular && irregular);
@@ -236,8 +237,8 @@ TEST_F(CApi, BodyPoseMovesTheMeshRigidlyAndThePartLags) {
     if (k == 360) settled = off;
   }
   EXPECT_LE(body_error, 1e-6 * length_);
-  EXPECT_GT(lag, 0.02 * length_);       // the part lags the swinging body
-  EXPECT_LT(settled, 0.02 * lag);       // and settles after it stops (4 s at damping ratio 0.3)
+  EXPECT_GT(lag, 0.02 * length_);  // the part lags the swinging body
+  EXPECT_LT(settled, 0.02 * lag);  // and settles after it stops (4 s at damping ratio 0.3)
   sweep_close(in);
 }
 

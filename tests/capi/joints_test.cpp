@@ -164,8 +164,9 @@ TEST_P(CApiJoints, SkinningWithTheJointsGivesThePositionsWithinTheExportError) {
 INSTANTIATE_TEST_SUITE_P(Layouts, CApiJoints, testing::Values(Layout{0, 0}, Layout{8, 1}, Layout{6, 4}),
                          [](const testing::TestParamInfo<Layout>& param_info) {
                            const Layout& l = param_info.param;
-                           return l.stations == 0 ? std::string("Default")
-                                                  : "Joints" + std::to_string(l.stations) + "Ring" + std::to_string(l.ring);
+                           return l.stations == 0
+                                      ? std::string("Default")
+                                      : "Joints" + std::to_string(l.stations) + "Ring" + std::to_string(l.ring);
                          });
 
 }  // namespace

@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <numbers>
 
+#include "beam_tubes.h"
 #include "sweep/core/elastic_sweep.h"
 #include "sweep/core/section_properties.h"
-#include "beam_tubes.h"
 
 namespace sweep {
 namespace {
@@ -77,7 +77,7 @@ TEST(BeamTheory, OwnWeightWithinOnePercentOfWL4Over8EI) {
   const SweepDef def = tube(kRadius, kRadius, 1.0);
   const SectionProperties p = props_of(def);
   const double l = length_m(def), g = 0.01;  // m/s²: small deflection
-  const double w = kDensity * p.area * g;      // N/m
+  const double w = kDensity * p.area * g;    // N/m
   const double expected = w * std::pow(l, 4) / (8 * kYoung * p.i_xx);
   const double got = settled_tip_deflection(def, Vec3::Zero(), g);
   std::printf("own weight: %.6g m, wL^4/8EI %.6g m (%+.3f%%)\n", got, expected, 100 * (got / expected - 1));

@@ -7,16 +7,16 @@
 #include <numbers>
 #include <vector>
 
+#include "sample_sweeps.h"
 #include "sweep/core/elastic_sweep.h"
 #include "sweep/core/section_properties.h"
-#include "sample_sweeps.h"
 
 namespace sweep::test::beam {
 
 constexpr double kPi = std::numbers::pi;
 constexpr int kSections = 32, kRadii = 32;
-constexpr double kRadius = 0.5;    // mesh units
-constexpr double kScale = 0.1;     // metres per unit
+constexpr double kRadius = 0.5;      // mesh units
+constexpr double kScale = 0.1;       // metres per unit
 constexpr double kLengthUnits = 31;  // mesh units
 constexpr double kYoung = 1e7, kDensity = 1100;
 
@@ -61,7 +61,9 @@ inline SectionProperties props_of(const SweepDef& def) {
   return section_properties(r);
 }
 
-inline double length_m(const SweepDef& def) { return kScale * def.rest.length(); }
+inline double length_m(const SweepDef& def) {
+  return kScale * def.rest.length();
+}
 
 // Frequencies (rad/s) of the modes that turn about `axis` (0, 1: bend; 2: twist). A round tube
 // bends alike about x and y, so its bending frequencies come in pairs whose eigenvectors may be any

@@ -2,6 +2,8 @@
 // beam_tubes.h (3.1 m, 5 cm radius, ρ = 1100 kg/m³): the mass matrix against inverse dynamics and
 // the rest model, energy kept when undamped and never gained, the released and the whipped soft
 // tube, a turning body, the step's convergence, and the statics against the elastica.
+#include "sweep/core/chain_dynamics.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,9 +11,8 @@
 #include <memory>
 #include <numbers>
 
-#include "sweep/core/chain_dynamics.h"
-#include "sweep/core/elastic_sweep.h"
 #include "beam_tubes.h"
+#include "sweep/core/elastic_sweep.h"
 
 namespace sweep {
 namespace {
@@ -48,7 +49,8 @@ TEST(ChainDynamics, MassMatrixAtRestIsTheModalModelsAndEverywhereTheInverseDynam
   ChainDynamics chain(t.model, t.def.rest);
   const double scale = t.model->mass.cwiseAbs().maxCoeff();
   EXPECT_LE((chain.mass_matrix() - t.model->mass).cwiseAbs().maxCoeff(), 1e-12 * scale);
-  for (int i = 1; i <= chain.joints(); ++i) chain.set_joint(i, Vec3(0.05 * std::sin(i), 0.04, -0.03 * std::cos(2 * i)), Vec3::Zero());
+  for (int i = 1; i <= chain.joints(); ++i)
+    chain.set_joint(i, Vec3(0.05 * std::sin(i), 0.04, -0.03 * std::cos(2 * i)), Vec3::Zero());
   const Eigen::MatrixXd m = chain.mass_matrix();
   const int dim = 3 * chain.joints();
   EXPECT_LE((m - m.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
@@ -67,7 +69,8 @@ TEST(ChainDynamics, MassMatrixAtRestIsTheModalModelsAndEverywhereTheInverseDynam
 TEST(ChainDynamics, TheRecursiveSolveOfTheMassMatrixIsTheDenseOne) {
   const Tube t(kYoung, 0.05);
   ChainDynamics chain(t.model, t.def.rest);
-  for (int i = 1; i <= chain.joints(); ++i) chain.set_joint(i, Vec3(0.3 * std::sin(i), 0.2, -0.4 * std::cos(2 * i)), Vec3::Zero());
+  for (int i = 1; i <= chain.joints(); ++i)
+    chain.set_joint(i, Vec3(0.3 * std::sin(i), 0.2, -0.4 * std::cos(2 * i)), Vec3::Zero());
   const int dim = 3 * chain.joints();
   Eigen::VectorXd r(dim);
   for (int c = 0; c < dim; ++c) r[c] = std::cos(0.7 * c) + 0.1 * c;
@@ -117,9 +120,10 @@ TEST(ChainDynamics, AReleasedSoftTubeNeverOutrunsGravitysWorkAndStaysInItsPlane)
       lowest = std::min(lowest, chain.centres().back().y());
       fastest = std::max(fastest, std::sqrt(2 * kinetic / total_mass(*t.model)));
     }
-    std::printf("released soft tube (beta 100, zeta %.2g): tip down to %.3f L, rms speed up to %.3g m/s, "
-                "largest (KE - W)/(m g L) %.3g, off its plane %.3g L\n",
-                zeta, lowest / t.length(), fastest, worst, off_plane / t.length());
+    std::printf(
+        "released soft tube (beta 100, zeta %.2g): tip down to %.3f L, rms speed up to %.3g m/s, "
+        "largest (KE - W)/(m g L) %.3g, off its plane %.3g L\n",
+        zeta, lowest / t.length(), fastest, worst, off_plane / t.length());
     EXPECT_LE(worst, 1e-6);
     // Rounding (1e-16) grows out of the plane as the whipping tube amplifies it; a real asymmetry
     // of the step moved it 0.3–0.9 L.
@@ -143,8 +147,9 @@ TEST(ChainDynamics, AWhippedSoftTubeNeverHasMoreEnergyThanTheKickGaveIt) {
       worst = std::max(worst, (chain.kinetic_energy() + chain.elastic_energy()) / kick - 1);
       bend = std::max(bend, chain.rotations().back().angularDistance(t.def.rest.frames.back().rotation));
     }
-    std::printf("whipped soft tube (zeta %.2g): kick %.3g J, tip turned up to %.3g rad, largest energy over the kick's %+.3g\n",
-                zeta, kick, bend, worst);
+    std::printf(
+        "whipped soft tube (zeta %.2g): kick %.3g J, tip turned up to %.3g rad, largest energy over the kick's %+.3g\n",
+        zeta, kick, bend, worst);
     EXPECT_GT(bend, 0.5);  // a large motion
     // Undamped, implicit midpoint keeps a nearby energy (its swing about it, no drift): the
     // issue's bar of 1 %; damped, it only loses energy.
@@ -236,15 +241,16 @@ TEST(ChainDynamics, SettledShapesAreTheElastica) {
       const Vec3& tip = chain.centres().back();
       for (int j = 1; j <= chain.joints(); ++j) {
         const Vec3 tau = (tip - chain.centres()[j]).cross(load);
-        const Eigen::Matrix3d axes = (chain.rotations()[j - 1] * (t.def.rest.frames[j - 1].rotation.conjugate() *
-                                                                   t.def.rest.frames[j].rotation)).toRotationMatrix();
+        const Eigen::Matrix3d axes =
+            (chain.rotations()[j - 1] * (t.def.rest.frames[j - 1].rotation.conjugate() * t.def.rest.frames[j].rotation))
+                .toRotationMatrix();
         for (int k = 0; k < 3; ++k) torque[3 * (j - 1) + k] = (axes.transpose() * tau)[k];
       }
       chain.step(0.1 / w1, body, torque);
     }
     const double drop = -chain.centres().back().y() / l;
-    std::printf("elastica, alpha %.3g beta %.3g: tip drop %.5f L, table %.5f (%+.3f%%)\n", c.alpha, c.beta, drop, c.drop,
-                100 * (drop / c.drop - 1));
+    std::printf("elastica, alpha %.3g beta %.3g: tip drop %.5f L, table %.5f (%+.3f%%)\n", c.alpha, c.beta, drop,
+                c.drop, 100 * (drop / c.drop - 1));
     EXPECT_NEAR(drop / c.drop, 1.0, 0.01);
   }
 }

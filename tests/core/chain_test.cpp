@@ -1,8 +1,8 @@
 // Chain: turning X_j turns every later section rigidly about c'_j and leaves earlier ones alone.
 #include <gtest/gtest.h>
 
-#include "sweep/core/elastic_sweep.h"
 #include "sample_sweeps.h"
+#include "sweep/core/elastic_sweep.h"
 
 namespace sweep {
 namespace {

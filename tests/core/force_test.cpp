@@ -1,11 +1,12 @@
 // Force split, on cases computed by hand.
+#include "sweep/core/force.h"
+
 #include <gtest/gtest.h>
 
 #include <numbers>
 
-#include "sweep/core/elastic_sweep.h"
-#include "sweep/core/force.h"
 #include "sample_sweeps.h"
+#include "sweep/core/elastic_sweep.h"
 
 namespace sweep {
 namespace {
@@ -35,10 +36,10 @@ TEST(RotationalPart, AxisForAnObliqueForce) {
 TEST(RadialPart, PushInwardIsPositivePullOutwardNegativeTangentialZero) {
   // Plane z = 0 through o = 0; p at radius 2 on +x.
   const Vec3 p(2, 0, 0), o(0, 0, 0), n(0, 0, 1);
-  EXPECT_NEAR(radial_force(p, o, n, Vec3(-3, 0, 0), 0.5), 1.5, 1e-15);   // inward push
-  EXPECT_NEAR(radial_force(p, o, n, Vec3(4, 0, 0), 0.5), -2.0, 1e-15);   // outward pull
-  EXPECT_NEAR(radial_force(p, o, n, Vec3(0, 7, 0), 0.5), 0.0, 1e-15);    // tangential
-  EXPECT_NEAR(radial_force(p, o, n, Vec3(0, 0, 9), 0.5), 0.0, 1e-15);    // along the axis
+  EXPECT_NEAR(radial_force(p, o, n, Vec3(-3, 0, 0), 0.5), 1.5, 1e-15);  // inward push
+  EXPECT_NEAR(radial_force(p, o, n, Vec3(4, 0, 0), 0.5), -2.0, 1e-15);  // outward pull
+  EXPECT_NEAR(radial_force(p, o, n, Vec3(0, 7, 0), 0.5), 0.0, 1e-15);   // tangential
+  EXPECT_NEAR(radial_force(p, o, n, Vec3(0, 0, 9), 0.5), 0.0, 1e-15);   // along the axis
   // Oblique: only the in-plane radial component counts: (−1, 2, 5) → 1·C_rad.
   EXPECT_NEAR(radial_force(p, o, n, Vec3(-1, 2, 5), 1.0), 1.0, 1e-15);
 }
@@ -61,7 +62,9 @@ TEST(RadialPart, BilinearWeightsSumToOneAndSitOnAHandle) {
 }
 
 // A straight tube along z with sections at t = 0..4 and n = 4 handles (θ = 0, π/2, π, 3π/2).
-SweepShape tube() { return test::straight_shape(5, 4, 0.5); }
+SweepShape tube() {
+  return test::straight_shape(5, 4, 0.5);
+}
 
 TEST(Accumulate, RadialPushOnAHandleGoesToThatHandleOnly) {
   const SweepShape s = tube();
@@ -157,7 +160,7 @@ TEST(ElasticSweepForces, TipPushBendsAlongTheForceAndReleaseDecaysToRest) {
   f.target = RotationTarget::chain;
   const ForceId id = sweep.add_force(f);
   for (int s = 0; s < 200; ++s) sweep.step(0.01);
-  EXPECT_GT(sweep.deformed().frames[5].center.y(), 0.05);  // moved along the force
+  EXPECT_GT(sweep.deformed().frames[5].center.y(), 0.05);             // moved along the force
   EXPECT_NEAR(sweep.deformed().frames[0].center.norm(), 0.0, 1e-15);  // the root never moves
   ASSERT_TRUE(sweep.remove_force(id));
   for (int s = 0; s < 3000; ++s) sweep.step(0.01);

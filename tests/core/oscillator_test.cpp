@@ -1,11 +1,11 @@
 // Integration: the exact integrator against the textbook damped oscillator, step counts, the
 // convergence order of semi-implicit Euler, and stability at extreme parameters.
+#include "sweep/core/oscillator.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
-
-#include "sweep/core/oscillator.h"
 
 namespace sweep {
 namespace {
@@ -59,7 +59,8 @@ void check_step_and_release(const OscillatorParams& p, double dt, double t_end) 
   for (int s = 1; s <= steps; ++s) {
     on.apply(x, v, s <= off_step ? f : 0.0);
     const long double t = s * static_cast<long double>(dt);
-    Exact r = s <= off_step ? textbook(p, 0.25L, -0.5L, f, t) : textbook(p, at_off.x, at_off.v, 0.0L, t - off_step * (long double)dt);
+    Exact r = s <= off_step ? textbook(p, 0.25L, -0.5L, f, t)
+                            : textbook(p, at_off.x, at_off.v, 0.0L, t - off_step * (long double)dt);
     if (s == off_step) at_off = r;
     ref.push_back(r);
     got.push_back({x, v});

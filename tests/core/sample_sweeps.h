@@ -40,6 +40,8 @@ inline SweepShape irregular_shape(int k, int n) {
   return s;
 }
 
-inline SweepDef sweep_def(SweepShape shape) { return make_sweep("test", std::move(shape)); }
+inline SweepDef sweep_def(SweepShape shape) {
+  return make_sweep("test", std::move(shape));
+}
 
 }  // namespace sweep::test

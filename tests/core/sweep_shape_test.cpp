@@ -1,4 +1,6 @@
 // Rest: with no force, every evaluation reproduces the key sections exactly.
+#include "sweep/core/sweep_shape.h"
+
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -6,11 +8,10 @@
 #include <utility>
 #include <vector>
 
+#include "sample_sweeps.h"
 #include "sweep/core/deform_point.h"
 #include "sweep/core/elastic_sweep.h"
 #include "sweep/core/locate.h"
-#include "sweep/core/sweep_shape.h"
-#include "sample_sweeps.h"
 
 namespace sweep {
 namespace {
@@ -143,8 +144,7 @@ TEST(Interpolants, SlerpStepsFollowTheArc) {
         if (linear) {
           EXPECT_EQ(out[q].coeffs(), exact.coeffs()) << "step " << q << " of " << steps;
         } else {
-          EXPECT_LT((out[q].coeffs() - exact.coeffs()).norm(), 1e-14)
-              << "step " << q << " of " << steps;
+          EXPECT_LT((out[q].coeffs() - exact.coeffs()).norm(), 1e-14) << "step " << q << " of " << steps;
         }
       }
     }
@@ -163,8 +163,7 @@ TEST(Interpolants, CatmullRomFormsAreOneCubicThroughTheSamples) {
     EXPECT_NEAR(cell.at(1.0), samples[(j + 1) % n], 1e-15);
     const auto [c0, c1, c2, c3] = cell.cubic();
     for (double w : {0.0, 0.25, 0.5, 0.75, 1.0, unit(rng), unit(rng)}) {
-      EXPECT_NEAR(c0 + w * (c1 + w * (c2 + w * c3)), cell.at(w), 1e-14)
-          << "cell " << j << " w " << w;
+      EXPECT_NEAR(c0 + w * (c1 + w * (c2 + w * c3)), cell.at(w), 1e-14) << "cell " << j << " w " << w;
     }
   }
 }

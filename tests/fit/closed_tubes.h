@@ -20,9 +20,7 @@ inline Mesh make_torus(double major, double minor, int rings, int segments) {
       m.positions.emplace_back(rho * std::cos(u), rho * std::sin(u), minor * std::sin(v));
     }
   }
-  const auto id = [&](int i, int j) {
-    return static_cast<std::uint32_t>((i % rings) * segments + j % segments);
-  };
+  const auto id = [&](int i, int j) { return static_cast<std::uint32_t>((i % rings) * segments + j % segments); };
   for (int i = 0; i < rings; ++i) {
     for (int j = 0; j < segments; ++j) m.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
   }

@@ -6,9 +6,9 @@
 #include <numbers>
 #include <vector>
 
-#include "sweep/core/mesh.h"
 #include "fit/curve_tubes.h"
 #include "fit/fused_tubes.h"
+#include "sweep/core/mesh.h"
 
 namespace sweep::test {
 
@@ -57,15 +57,15 @@ struct Walker {
   Mesh mesh;
 };
 
-inline Walker make_walker(int legs_per_side, bool abdomen, const Eigen::Matrix3d& rotate = Eigen::Matrix3d::Identity()) {
+inline Walker make_walker(int legs_per_side, bool abdomen,
+                          const Eigen::Matrix3d& rotate = Eigen::Matrix3d::Identity()) {
   Walker w;
   append(w.mesh, ellipsoid(Vec3(0, 0.8, 0), Vec3(1.0, 0.3, 0.35)));
   if (abdomen) append(w.mesh, ellipsoid(Vec3(-1.55, 0.85, 0), Vec3(0.6, 0.3, 0.3)));
   for (int side : {-1, 1}) {
     for (int k = 0; k < legs_per_side; ++k) {
       const double x = legs_per_side == 1 ? 0.0 : -0.6 + 1.2 * k / (legs_per_side - 1);
-      const Vec3 hip(x, 0.8, side * 0.3), knee(x, 1.25, side * 0.9),
-          foot(x, Walker::kFootRadius, side * 1.05);
+      const Vec3 hip(x, 0.8, side * 0.3), knee(x, 1.25, side * 0.9), foot(x, Walker::kFootRadius, side * 1.05);
       CurveTube t;
       t.curve = [=](double u) { return Vec3((1 - u) * (1 - u) * hip + 2 * u * (1 - u) * knee + u * u * foot); };
       // The leg, widening into a ball foot over its last two foot radii.
@@ -114,10 +114,11 @@ inline NeckAndHead make_neck_and_head() {
   const auto f = [](const Vec3& p) {
     double v = p.norm() - 0.35;
     v = std::min(v, capsule_distance(p, Vec3::Zero(), Vec3(0, 0, NeckAndHead::kNeckTop), NeckAndHead::kR));
-    v = std::min(v, Vec3(p - Vec3(NeckAndHead::kMuzzleX, 0, NeckAndHead::kMuzzleZ)).norm() - NeckAndHead::kMuzzleRadius);
-    return std::min(v, ellipsoid_distance(p, Vec3(NeckAndHead::kHeadX, 0, NeckAndHead::kHeadZ),
-                                          Vec3(NeckAndHead::kHeadLength, NeckAndHead::kHeadRadius,
-                                               NeckAndHead::kHeadRadius)));
+    v = std::min(v,
+                 Vec3(p - Vec3(NeckAndHead::kMuzzleX, 0, NeckAndHead::kMuzzleZ)).norm() - NeckAndHead::kMuzzleRadius);
+    return std::min(
+        v, ellipsoid_distance(p, Vec3(NeckAndHead::kHeadX, 0, NeckAndHead::kHeadZ),
+                              Vec3(NeckAndHead::kHeadLength, NeckAndHead::kHeadRadius, NeckAndHead::kHeadRadius)));
   };
   n.mesh = mesh_level_set(f, Vec3(-0.4, -0.4, -0.4), Vec3(0.6, 0.4, 1.35), 0.03);
   return n;

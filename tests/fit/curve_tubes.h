@@ -17,7 +17,7 @@
 namespace sweep::test {
 
 struct CurveTube {
-  std::function<Vec3(double)> curve;  // any parameter u in [0, 1]
+  std::function<Vec3(double)> curve;     // any parameter u in [0, 1]
   std::function<double(double)> radius;  // r at arc length s
   int samples = 2000;                    // of the curve, for arc length and frames
   double ring_spacing = 0;               // along s; 0: a third of the smallest radius
@@ -123,7 +123,8 @@ struct CurveTube {
     };
     const double r_end = radius(len);
     // The hemisphere at the end: rings on a quarter circle beyond s = len.
-    const int cap_rings = r_end > 0 ? std::max(3, static_cast<int>(std::ceil(r_end * std::numbers::pi / 2 / spacing))) : 0;
+    const int cap_rings =
+        r_end > 0 ? std::max(3, static_cast<int>(std::ceil(r_end * std::numbers::pi / 2 / spacing))) : 0;
     for (int i = 0; i < rings; ++i) {
       const double s = len * i / (rings - 1);
       for (int j = 0; j < segments; ++j) m.positions.push_back(ring_vertex(s, std::max(radius(s), 0.0), j));
@@ -163,8 +164,7 @@ struct CurveTube {
 // A radius profile with a body: an ellipsoid of revolution of radius `body` over arc length
 // [0, body_length] around the curve, smoothly merged (a soft maximum) with the tube's own
 // profile `tube`.
-inline std::function<double(double)> with_body(double body, double body_length,
-                                               std::function<double(double)> tube) {
+inline std::function<double(double)> with_body(double body, double body_length, std::function<double(double)> tube) {
   return [=](double s) {
     const double x = (s - body_length / 2) / (body_length / 2);
     const double bulb = x < 1 ? body * std::sqrt(std::max(0.0, 1 - x * x)) : 0.0;

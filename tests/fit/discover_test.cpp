@@ -1,6 +1,8 @@
 // find_parts on shapes whose parts are known: a body with one tube (one part, ending where the
 // tube does, starting where it leaves the body), a lone tube (the whole mesh), and flat pieces
 // (no part: rings that enclose nothing are no tube).
+#include "sweep/fit/discover.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,9 +12,8 @@
 #include <set>
 #include <utility>
 
-#include "sweep/core/topology.h"
 #include "curve_tubes.h"
-#include "sweep/fit/discover.h"
+#include "sweep/core/topology.h"
 #include "sweep/fit/fit.h"
 #include "sweep/fit/hole_patches.h"
 
@@ -68,8 +69,7 @@ Mesh without(const Mesh& mesh, const std::function<bool(const Vec3&)>& drop) {
   out.positions = mesh.positions;
   const std::vector<std::uint32_t> tris = mesh.triangles();
   for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const Vec3 c = (mesh.positions[tris[t]] + mesh.positions[tris[t + 1]] +
-                    mesh.positions[tris[t + 2]]) / 3;
+    const Vec3 c = (mesh.positions[tris[t]] + mesh.positions[tris[t + 1]] + mesh.positions[tris[t + 2]]) / 3;
     if (!drop(c)) out.add_face({tris[t], tris[t + 1], tris[t + 2]});
   }
   return out;
@@ -125,9 +125,8 @@ struct HoledTube {
     t.curve = [](double u) { return Vec3(0, 0, u * (kBody + kTube)); };
     t.radius = with_body(4 * kR, kBody, [](double) { return kR; });
     whole = t.mesh();
-    holed = without(whole, [](const Vec3& c) {
-      return c.x() > 0 && std::abs(c.y()) < 0.8 * kR && std::abs(c.z() - kHoleAt) < kR;
-    });
+    holed = without(
+        whole, [](const Vec3& c) { return c.x() > 0 && std::abs(c.y()) < 0.8 * kR && std::abs(c.z() - kHoleAt) < kR; });
   }
 };
 
@@ -160,8 +159,7 @@ TEST(HolePatches, AHoleIsClosedOverItsRimsOwnVerticesKeepingTheOrientation) {
   for (const auto& [a, b] : runs) EXPECT_TRUE(runs.count({b, a})) << a << " -> " << b << " alone";
   // The rows follow the triangles: rim vertices now neighbour vertices across the hole.
   std::size_t gained = 0;
-  for (const std::uint32_t v : rims[0])
-    gained += patched.adjacency.of(v).size() - topology.adjacency.of(v).size();
+  for (const std::uint32_t v : rims[0]) gained += patched.adjacency.of(v).size() - topology.adjacency.of(v).size();
   EXPECT_EQ(gained, 2 * (rims[0].size() - 3)) << "each of the patch's diagonals, both ways";
   EXPECT_EQ(patched.vertex_triangles.neighbours.size(), patched.triangles.size());
 }
@@ -269,8 +267,7 @@ TEST(Discover, VerticesNoFaceUsesTakeNoSourceOfTheAverage) {
   first.positions.push_back(Vec3(5, 0, 0));
   first.positions.insert(first.positions.end(), t.whole.positions.begin(), t.whole.positions.end());
   const std::vector<std::uint32_t> tris = t.whole.triangles();
-  for (std::size_t f = 0; f + 2 < tris.size(); f += 3)
-    first.add_face({tris[f] + 1, tris[f + 1] + 1, tris[f + 2] + 1});
+  for (std::size_t f = 0; f + 2 < tris.size(); f += 3) first.add_face({tris[f] + 1, tris[f + 1] + 1, tris[f + 2] + 1});
   fit::DiscoverOptions two;
   two.samples = 2;
   const std::vector<fit::FoundPart> a = fit::find_parts(t.whole, build_topology(t.whole), two);

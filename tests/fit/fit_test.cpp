@@ -10,13 +10,13 @@
 #include <numbers>
 #include <numeric>
 
+#include "curve_tubes.h"
+#include "fused_tubes.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/error.h"
 #include "sweep/core/locate.h"
 #include "sweep/core/rig.h"
 #include "sweep/core/topology.h"
-#include "curve_tubes.h"
-#include "fused_tubes.h"
 #include "sweep/fit/slicer.h"
 #include "sweep/fit/trace.h"
 #include "tubes.h"
@@ -57,9 +57,7 @@ TEST(TubeFit, StraightCircularTubeFitsToFacetPrecision) {
     EXPECT_LT(std::hypot(f.center.x(), f.center.y()), 1e-9);
     EXPECT_NEAR(f.axis().z(), 1, 1e-9);
     // No twist: every x axis equals the first.
-    EXPECT_NEAR(
-        ((f.rotation * Vec3::UnitX()) - (r.sweep.rest.frames[0].rotation * Vec3::UnitX())).norm(),
-        0, 1e-9);
+    EXPECT_NEAR(((f.rotation * Vec3::UnitX()) - (r.sweep.rest.frames[0].rotation * Vec3::UnitX())).norm(), 0, 1e-9);
   }
   // 16 rays between the vertices of a 24-gon: still far below the radius.
   o.radial = 16;
@@ -79,8 +77,7 @@ TEST(TubeFit, AStoppedShortProblemSaysWhyTheAxisEnds) {
   const FitResult r = fit_sweep(mesh, o);
   ASSERT_FALSE(r.axis.end_reason.empty());
   ASSERT_EQ(r.problems.size(), 1u);
-  EXPECT_NE(r.problems[0].find("the trace stopped short of the tip (" + r.axis.end_reason + ")"),
-            std::string::npos)
+  EXPECT_NE(r.problems[0].find("the trace stopped short of the tip (" + r.axis.end_reason + ")"), std::string::npos)
       << r.problems[0];
 }
 
@@ -115,8 +112,8 @@ TEST(TubeFit, BentTubeAxisMatchesTheExactArc) {
   }
   EXPECT_NEAR(r.length, tube.length - 0.05, 3 * tube.radius);  // ends inside the tip cap
   EXPECT_LT(r.error.rms, 0.01 * tube.radius);
-  std::printf("bent tube: fit_rms %.3g = %.3g%% of r, %zu axis points\n", r.error.rms,
-              100 * r.error.rms / tube.radius, r.axis.points.size());
+  std::printf("bent tube: fit_rms %.3g = %.3g%% of r, %zu axis points\n", r.error.rms, 100 * r.error.rms / tube.radius,
+              r.axis.points.size());
 }
 
 TEST(TubeFit, TaperedTubeRadiiFollowTheTaperAndToleranceChoosesK) {
@@ -134,8 +131,7 @@ TEST(TubeFit, TaperedTubeRadiiFollowTheTaperAndToleranceChoosesK) {
   expect_valid(r);
   for (int i = 0; i < r.sweep.rest.section_count(); ++i) {
     const double s = r.sweep.rest.frames[i].center.z();
-    for (double x : r.sweep.rest.section_radii(i))
-      EXPECT_NEAR(x, tube.radius_at(s), 0.01 * tube.radius_at(s));
+    for (double x : r.sweep.rest.section_radii(i)) EXPECT_NEAR(x, tube.radius_at(s), 0.01 * tube.radius_at(s));
   }
   o.tolerance = 0.002;
   const FitResult t = fit_sweep(mesh, o);
@@ -259,10 +255,9 @@ TEST_F(Diplodocus, TailPartHasTheTipAndNoLegOrBody) {
 TEST_F(Diplodocus, TailFitAtDefaultsIsWithinTwoPercentOfMeanRadius) {
   const FitResult r = fit_sweep(*mesh_, tail());
   expect_valid(r);
-  std::printf(
-      "tail: K=%d n=%d fit_rms %.3g (%.2f%% of mean radius %.3g), fit_max %.3g, %zu vertices\n",
-      r.sweep.rest.section_count(), r.sweep.rest.radial_count, r.error.rms,
-      100 * r.error.rms / r.mean_radius, r.mean_radius, r.error.max, r.part_vertices.size());
+  std::printf("tail: K=%d n=%d fit_rms %.3g (%.2f%% of mean radius %.3g), fit_max %.3g, %zu vertices\n",
+              r.sweep.rest.section_count(), r.sweep.rest.radial_count, r.error.rms, 100 * r.error.rms / r.mean_radius,
+              r.mean_radius, r.error.max, r.part_vertices.size());
   EXPECT_LE(r.error.rms, 0.02 * r.mean_radius);
   EXPECT_GT(r.length, 0.25);  // root x ≈ -0.3 to tip x = -0.5, sagging
 }
@@ -299,8 +294,7 @@ TEST_F(Diplodocus, FitErrorFallsAsSectionsAndRadiiGrow) {
     }
   }
   for (int b = 1; b < 4; ++b) {
-    for (int a = 1; a < 5; ++a)
-      EXPECT_LT(table[a][b], table[a - 1][b]) << "K " << ks[a] << " n " << ns[b];
+    for (int a = 1; a < 5; ++a) EXPECT_LT(table[a][b], table[a - 1][b]) << "K " << ks[a] << " n " << ns[b];
   }
   EXPECT_LT(table[4][3], 0.25 * table[0][3]);
 }
@@ -319,8 +313,8 @@ TEST_F(Diplodocus, NeckBendsUpAndIsFittedToo) {
   EXPECT_LT(r.error.rms, 0.03 * r.mean_radius);
   const FitResult t = fit_sweep(*mesh_, tail());
   std::vector<std::uint32_t> both;
-  std::set_intersection(r.part_vertices.begin(), r.part_vertices.end(), t.part_vertices.begin(),
-                        t.part_vertices.end(), std::back_inserter(both));
+  std::set_intersection(r.part_vertices.begin(), r.part_vertices.end(), t.part_vertices.begin(), t.part_vertices.end(),
+                        std::back_inserter(both));
   EXPECT_TRUE(both.empty());
 }
 
@@ -385,8 +379,7 @@ TEST(OtherMeshes, ASweepThatLeavesTheMeshBetweenItsVerticesIsRefused) {
   EXPECT_LE(r.error.p90, o.max_error * r.mean_radius) << "the vertices alone pass";
   EXPECT_GT(r.error.surface_p90, o.max_surface_error * r.mean_radius);
   ASSERT_EQ(r.problems.size(), 1u);
-  EXPECT_NE(r.problems[0].find("a tenth of the fitted surface is farther than"), std::string::npos)
-      << r.problems[0];
+  EXPECT_NE(r.problems[0].find("a tenth of the fitted surface is farther than"), std::string::npos) << r.problems[0];
 }
 
 // CGAL's elephant raises its trunk against a tusk: the surface runs on from the trunk through
@@ -404,8 +397,7 @@ TEST(OtherMeshes, ATrunkAgainstItsTuskDoesNotFloodIntoTheHead) {
   const Topology topology = build_topology(mesh);
   const SweepShape& rest = r.sweep.rest;
   const std::size_t unbounded =
-      select_part(mesh, topology, rest.frames.front(), root_disc_radius(rest), mesh.positions[r.tip_vertex])
-          .size();
+      select_part(mesh, topology, rest.frames.front(), root_disc_radius(rest), mesh.positions[r.tip_vertex]).size();
   EXPECT_LT(5 * r.part_vertices.size(), unbounded) << r.part_vertices.size() << " of " << unbounded;
   const SweepLocator locator(rest);
   for (const std::uint32_t v : r.part_vertices) {
@@ -469,8 +461,8 @@ TEST(Part, RadiiWithoutNarrowLobesCutALobeButKeepAnEllipse) {
   lobed.t = {0, 1};
   lobed.frames.resize(2);
   lobed.radii.assign(48, 1.0);
-  lobed.radii[5] = lobed.radii[6] = 2.5;   // section 0: a lobe two samples (30°) wide
-  lobed.radii[24 + 7] = 1.3;               // section 1: a bump of one sample
+  lobed.radii[5] = lobed.radii[6] = 2.5;  // section 0: a lobe two samples (30°) wide
+  lobed.radii[24 + 7] = 1.3;              // section 1: a bump of one sample
   const SweepShape cut = without_narrow_lobes(lobed);
   for (const double r : cut.radii) EXPECT_DOUBLE_EQ(r, 1.0);
   SweepShape ellipse = lobed;  // semi-axes 3 and 1
@@ -509,8 +501,9 @@ TEST(Part, RadiiWithoutNarrowLobesKeepEveryConvexSection) {
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < n; ++j) {
           const double th = 2 * std::numbers::pi * (j + 0.5 * i) / n;  // section 1: off the axes
-          section.radii[static_cast<std::size_t>(i * n + j)] =
-              shape == 0 ? ellipse(2, th) : shape == 1 ? ellipse(5, th) : strip(th);
+          section.radii[static_cast<std::size_t>(i * n + j)] = shape == 0   ? ellipse(2, th)
+                                                               : shape == 1 ? ellipse(5, th)
+                                                                            : strip(th);
         }
       }
       // Section 1's samples sit half a step off the axes; radius_sample reads them in turn
@@ -596,8 +589,7 @@ TEST(OtherMeshes, AStubShorterThanItsRadiusIsWarnedAbout) {
 }
 
 TEST(OtherMeshes, TriceratopsTailTapers) {
-  if (!std::filesystem::exists(kCgal / "triceratops.off"))
-    GTEST_SKIP() << "run tools/setup-deps.sh";
+  if (!std::filesystem::exists(kCgal / "triceratops.off")) GTEST_SKIP() << "run tools/setup-deps.sh";
   FitOptions o;
   o.name = "tail";
   o.root = {-5.7, 1.0, 0.016};
@@ -639,8 +631,8 @@ TEST(TubeFit, CoarseFacetsAreFittedAtTheirVertices) {
   const FitError before = measure_fit_error(slices_only, mesh, all);
   const FitError after = measure_fit_error(fitted, mesh, all);
   std::printf("8-gon tube: vertices to surface rms %.2f%% -> %.2f%% of r; surface to mesh rms %.2f%% -> %.2f%%\n",
-              100 * before.rms / tube.radius, 100 * after.rms / tube.radius,
-              100 * before.surface_rms / tube.radius, 100 * after.surface_rms / tube.radius);
+              100 * before.rms / tube.radius, 100 * after.rms / tube.radius, 100 * before.surface_rms / tube.radius,
+              100 * after.surface_rms / tube.radius);
   EXPECT_LT(after.rms, before.rms / 4);
   EXPECT_LT(after.rms, 0.001 * tube.radius);
   // A smooth surface through the vertices bulges past the flat facets between them (the circle
@@ -651,7 +643,8 @@ TEST(TubeFit, CoarseFacetsAreFittedAtTheirVertices) {
   // Only the radii change.
   EXPECT_EQ(fitted.t, slices_only.t);
   for (int i = 0; i < fitted.section_count(); ++i) {
-    EXPECT_EQ(fitted.frames[static_cast<std::size_t>(i)].center, slices_only.frames[static_cast<std::size_t>(i)].center);
+    EXPECT_EQ(fitted.frames[static_cast<std::size_t>(i)].center,
+              slices_only.frames[static_cast<std::size_t>(i)].center);
   }
 }
 

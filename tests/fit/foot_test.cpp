@@ -44,13 +44,15 @@ Station station(double s) {
   const double side = kR * (1 + 1.5 * w), height = kR * (1 - 0.6 * w);
   if (s <= bend_end) {
     const double phi = (s - kLeg) / kBend;
-    return {Vec3(0, -kLeg - kBend * std::sin(phi), kBend * (1 - std::cos(phi))),
-            Vec3(0, -std::cos(phi), std::sin(phi)), side, height};
+    return {Vec3(0, -kLeg - kBend * std::sin(phi), kBend * (1 - std::cos(phi))), Vec3(0, -std::cos(phi), std::sin(phi)),
+            side, height};
   }
   return {Vec3(0, -kLeg - kBend, kBend + (s - bend_end)), Vec3(0, 0, 1), side, height};
 }
 
-double total_length() { return kLeg + kBend * kPi / 2 + kFoot; }
+double total_length() {
+  return kLeg + kBend * kPi / 2 + kFoot;
+}
 
 // Rings every quarter radius (the foot's sole closer), 32 around; flat fans close both ends.
 Mesh leg_with_foot() {
@@ -96,19 +98,20 @@ TEST(Foot, LegWithAKneeAndAFootSpreadingSidewaysIsAcceptedAndHonest) {
   const Station end = station(total_length());
   const Vec3 toe = end.centre + (end.side - 0.5 * kR) * Vec3::UnitX();
   const Vec3 root(0, -1.5 * kR, 0);
-  const ToolRun r = run_tool(SWEEP_FIT_EXE,
-                             quoted(dir / "leg.obj") + " -o " + quoted(dir / "rig.json") +
-                                 " --name leg --tip " + point_arg(toe) + " --root " +
-                                 point_arg(root) + " --report " + quoted(dir / "report.json"),
-                             dir);
+  const ToolRun r =
+      run_tool(SWEEP_FIT_EXE,
+               quoted(dir / "leg.obj") + " -o " + quoted(dir / "rig.json") + " --name leg --tip " + point_arg(toe) +
+                   " --root " + point_arg(root) + " --report " + quoted(dir / "report.json"),
+               dir);
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const nlohmann::json report = nlohmann::json::parse(slurp(dir / "report.json"));
   const auto& e = report.at("sweeps").at(0);
-  std::printf("leg with a foot: rms %.2f%%, 90%% within %.2f%%, traced/surface %.3f, end cut %d, "
-              "%zu of %zu part vertices measured\n",
-              100 * e.at("fit_rms_relative").get<double>(), 100 * e.at("fit_p90_relative").get<double>(),
-              e.at("traced_over_surface").get<double>(), e.at("end_cut").get<bool>() ? 1 : 0,
-              e.at("measured_vertex_count").get<std::size_t>(), e.at("part_vertex_count").get<std::size_t>());
+  std::printf(
+      "leg with a foot: rms %.2f%%, 90%% within %.2f%%, traced/surface %.3f, end cut %d, "
+      "%zu of %zu part vertices measured\n",
+      100 * e.at("fit_rms_relative").get<double>(), 100 * e.at("fit_p90_relative").get<double>(),
+      e.at("traced_over_surface").get<double>(), e.at("end_cut").get<bool>() ? 1 : 0,
+      e.at("measured_vertex_count").get<std::size_t>(), e.at("part_vertex_count").get<std::size_t>());
   EXPECT_LE(e.at("fit_rms_relative").get<double>(), 0.02) << r.out;
   EXPECT_LE(e.at("fit_p90_relative").get<double>(), 0.1) << r.out;
   EXPECT_GE(e.at("traced_over_surface").get<double>(), 0.8) << r.out;
@@ -118,8 +121,7 @@ TEST(Foot, LegWithAKneeAndAFootSpreadingSidewaysIsAcceptedAndHonest) {
   const auto part = e.at("part_vertex_count").get<std::size_t>();
   EXPECT_NEAR(static_cast<double>(part), static_cast<double>(below_root), 32.0);  // a ring
   // Every part vertex is measured, or declared: past an end section (carried) or a protrusion.
-  EXPECT_EQ(e.at("measured_vertex_count").get<std::size_t>() +
-                e.at("beyond_ends_vertex_count").get<std::size_t>() +
+  EXPECT_EQ(e.at("measured_vertex_count").get<std::size_t>() + e.at("beyond_ends_vertex_count").get<std::size_t>() +
                 e.at("protrusion_vertex_count").get<std::size_t>(),
             part);
   const Rig rig = io::read_rig(dir / "rig.json");

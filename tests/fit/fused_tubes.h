@@ -29,8 +29,7 @@ inline double distance_to_polyline(const std::vector<Vec3>& points, const Vec3& 
 
 // The surface f = 0 inside [lo, hi] (f < 0 inside; f must be > 0 on the box's boundary), cells
 // of size h. Triangles face outwards (towards f > 0).
-inline Mesh mesh_level_set(const std::function<double(const Vec3&)>& f, const Vec3& lo,
-                           const Vec3& hi, double h) {
+inline Mesh mesh_level_set(const std::function<double(const Vec3&)>& f, const Vec3& lo, const Vec3& hi, double h) {
   const int nx = static_cast<int>(std::ceil((hi.x() - lo.x()) / h));
   const int ny = static_cast<int>(std::ceil((hi.y() - lo.y()) / h));
   const int nz = static_cast<int>(std::ceil((hi.z() - lo.z()) / h));
@@ -64,8 +63,7 @@ inline Mesh mesh_level_set(const std::function<double(const Vec3&)>& f, const Ve
     return it->second;
   };
   // The triangle a, b, c turned to face from `inside` towards `outside`.
-  const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec3& inside,
-                       const Vec3& outside) {
+  const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec3& inside, const Vec3& outside) {
     const Vec3 n = (m.positions[b] - m.positions[a]).cross(m.positions[c] - m.positions[a]);
     if (n.dot(outside - inside) < 0) std::swap(b, c);
     m.add_face({a, b, c});

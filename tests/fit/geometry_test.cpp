@@ -8,9 +8,9 @@
 #include <numbers>
 
 #include "sweep/core/error.h"
+#include "sweep/core/topology.h"
 #include "sweep/fit/loop.h"
 #include "sweep/fit/slicer.h"
-#include "sweep/core/topology.h"
 #include "sweep/fit/trace.h"
 
 namespace sweep::fit {
@@ -100,8 +100,8 @@ TEST(Loop, AFigure8IsCutAtItsNeckAndThePointsDiscKept) {
   const double alpha = std::acos(d / 2);  // the corners, seen from A's centre
   const int n = 2000;                     // points on each disc's arc
   std::vector<Vec2> q;
-  arc(q, {0, 0}, alpha, 2 * std::numbers::pi - alpha, n);  // A, the upper corner round
-  q.pop_back();                                            // the lower corner, once
+  arc(q, {0, 0}, alpha, 2 * std::numbers::pi - alpha, n);                     // A, the upper corner round
+  q.pop_back();                                                               // the lower corner, once
   arc(q, {d, 0}, std::numbers::pi + alpha, 3 * std::numbers::pi - alpha, n);  // B, back up
   q.pop_back();
   const std::vector<SlicePolyline> slice = {outline(q)};
@@ -166,10 +166,8 @@ TEST(Loop, EllipsesLobesPeanutsAndCsAreNotCut) {
     cases.push_back({"ellipse 50:1", q, {0, 0}});
     cases.push_back({"ellipse 50:1, point off centre", q, {0.6, 0.005}});
   }
-  cases.push_back(
-      {"5 lobes of 0.2", polar([](double a) { return 1 + 0.2 * std::cos(5 * a); }, 400), {0, 0}});
-  cases.push_back(
-      {"3 lobes of 0.5", polar([](double a) { return 1 + 0.5 * std::cos(3 * a); }, 400), {0, 0}});
+  cases.push_back({"5 lobes of 0.2", polar([](double a) { return 1 + 0.2 * std::cos(5 * a); }, 400), {0, 0}});
+  cases.push_back({"3 lobes of 0.5", polar([](double a) { return 1 + 0.5 * std::cos(3 * a); }, 400), {0, 0}});
   {
     const double d = 1.2, alpha = std::acos(d / 2);
     std::vector<Vec2> q;
@@ -194,8 +192,8 @@ TEST(Loop, EllipsesLobesPeanutsAndCsAreNotCut) {
     cases.push_back({"C", q, {-0.8, 0}});
   }
   for (const Case& c : cases) {
-    const std::optional<Loop> loop = loop_around({outline(c.q)}, Vec3(c.point.x(), c.point.y(), 0),
-                                                 Vec3::UnitZ(), 0, Necks::cut);
+    const std::optional<Loop> loop =
+        loop_around({outline(c.q)}, Vec3(c.point.x(), c.point.y(), 0), Vec3::UnitZ(), 0, Necks::cut);
     ASSERT_TRUE(loop) << c.name;
     EXPECT_TRUE(loop->around) << c.name;
     EXPECT_EQ(loop->necks_cut, 0) << c.name;
@@ -284,7 +282,7 @@ TEST(Part, ABoundStopsTheFloodAtABridgeButKeepsAProtrusion) {
   Mesh m;
   for (int i = 0; i < 10; ++i) m.positions.emplace_back(i, 0, 0);  // a_i = i
   for (int i = 0; i < 10; ++i) m.positions.emplace_back(i, 1, 0);  // b_i = 10 + i
-  const std::uint32_t c0 = 20, c1 = 21, c2 = 22, c3 = 23;  // the bridge, from a_5 round to x = 0
+  const std::uint32_t c0 = 20, c1 = 21, c2 = 22, c3 = 23;          // the bridge, from a_5 round to x = 0
   m.positions.insert(m.positions.end(), {{5, -1, 0}, {5, -2, 0}, {5, -3, 0}, {0, -3, 0}});
   const std::uint32_t d0 = 24, d1 = 25, d2 = 26;  // the spike, out from a_7
   m.positions.insert(m.positions.end(), {{7, -1, 0}, {7, -2, 0}, {7, -3, 0}});
@@ -402,12 +400,12 @@ TEST(Slicer, SeamSplitVerticesSliceAsOneClosedLoop) {
       const double th = 2 * std::numbers::pi * j / segments;
       m.positions.push_back(turn * Vec3(std::cos(th), std::sin(th), i));
     }
-  for (int i = 0; i < rings; ++i) m.positions[i * (segments + 1) + segments] = m.positions[i * (segments + 1)];  // exactly
+  for (int i = 0; i < rings; ++i)
+    m.positions[i * (segments + 1) + segments] = m.positions[i * (segments + 1)];  // exactly
   const auto id = [](int i, int j) { return static_cast<std::uint32_t>(i * (segments + 1) + j); };
   for (int i = 0; i + 1 < rings; ++i)
     for (int j = 0; j < segments; ++j) m.add_face({id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)});
-  const std::vector<SlicePolyline> slice =
-      MeshSlicer(m).slice(turn * Vec3(0.1, 0.05, 1.37), turn * Vec3(0.1, 0.05, 1));
+  const std::vector<SlicePolyline> slice = MeshSlicer(m).slice(turn * Vec3(0.1, 0.05, 1.37), turn * Vec3(0.1, 0.05, 1));
   ASSERT_EQ(slice.size(), 1u);
   EXPECT_TRUE(slice[0].closed);
   EXPECT_EQ(slice[0].points.size(), static_cast<std::size_t>(2 * segments));  // side edges and quads' diagonals

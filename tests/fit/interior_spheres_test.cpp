@@ -24,8 +24,7 @@ Box box() {
   for (int k = 0; k < 8; ++k) b.points.emplace_back(2.0 * (k & 1), (k >> 1) & 1, (k >> 2) & 1);
   const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                                      {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : quads)
-    b.triangles.insert(b.triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+  for (const auto& q : quads) b.triangles.insert(b.triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
   return b;
 }
 

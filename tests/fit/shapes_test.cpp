@@ -1,7 +1,7 @@
 // sweep-fit as a black box on each shape class a real part takes (curve_tubes.h): a curl of more
 // than 270°, an elbow of 90° two radii from a body, a tube lying against the body along its
-// length, a helix, a taper to a point, a tube leaving a broad body. Each is fitted from a tip clicked half a radius off its end (no root: the tool finds
-// it), and the rig's key sections are checked against the generator's curve.
+// length, a helix, a taper to a point, a tube leaving a broad body. Each is fitted from a tip clicked half a radius off
+// its end (no root: the tool finds it), and the rig's key sections are checked against the generator's curve.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <numbers>
 #include <string>
 
-#include "sweep/assets/mesh_io.h"
 #include "curve_tubes.h"
+#include "sweep/assets/mesh_io.h"
 #include "sweep/io/rig_json.h"
 #include "tools/tool_runner.h"
 
@@ -23,7 +23,7 @@ constexpr double kPi = std::numbers::pi;
 struct Shape {
   std::string name;
   CurveTube tube;
-  double part_start = 0;  // arc length where the part begins (the body's end), 0: none
+  double part_start = 0;   // arc length where the part begins (the body's end), 0: none
   double click_off = 0.5;  // how far beside the end the tip is clicked, in radii
 };
 
@@ -42,8 +42,8 @@ std::string point_arg(const Vec3& p) {
 }
 
 struct Checked {
-  double worst_centre = 0;    // section centre to the curve, over kR
-  double worst_degrees = 0;   // section axis to the curve's tangent there
+  double worst_centre = 0;   // section centre to the curve, over kR
+  double worst_degrees = 0;  // section axis to the curve's tangent there
   double first_s = 0, last_s = 0;
   double traced_over_surface = 0, rms = 0;
   int sections = 0;
@@ -54,11 +54,11 @@ Checked fit_and_check(Shape& shape) {
   const fs::path dir = scratch_dir("shape-" + shape.name);
   const Mesh mesh = shape.tube.mesh();
   assets::write_obj(dir / "shape.obj", mesh);
-  const ToolRun r = run_tool(SWEEP_FIT_EXE,
-                             quoted(dir / "shape.obj") + " -o " + quoted(dir / "rig.json") +
-                                 " --name " + shape.name + " --tip " + point_arg(clicked_tip(shape.tube, shape.click_off)) +
-                                 " --report " + quoted(dir / "report.json"),
-                             dir);
+  const ToolRun r =
+      run_tool(SWEEP_FIT_EXE,
+               quoted(dir / "shape.obj") + " -o " + quoted(dir / "rig.json") + " --name " + shape.name + " --tip " +
+                   point_arg(clicked_tip(shape.tube, shape.click_off)) + " --report " + quoted(dir / "report.json"),
+               dir);
   Checked c;
   EXPECT_EQ(r.code, 0) << shape.name << "\n" << r.out << r.err;
   if (r.code != 0) return c;
@@ -78,15 +78,15 @@ Checked fit_and_check(Shape& shape) {
     if (i == 0) c.first_s = s;
     c.last_s = s;
     char line[200];
-    std::snprintf(line, sizeof line, "  section %2d at s=%.3f: %.2f%% of r off the curve, %.2f deg\n",
-                  i, s, 100 * shape.tube.distance_to_axis(f.center) / kR,
-                  std::acos(cosine) * 180 / kPi);
+    std::snprintf(line, sizeof line, "  section %2d at s=%.3f: %.2f%% of r off the curve, %.2f deg\n", i, s,
+                  100 * shape.tube.distance_to_axis(f.center) / kR, std::acos(cosine) * 180 / kPi);
     c.table += line;
   }
-  std::printf("%-6s K=%d: centre off the curve <= %.2f%% of r, axis <= %.2f deg, sections from s=%.3f "
-              "to %.3f of %.3f, traced/surface %.3f, rms %.2f%%\n",
-              shape.name.c_str(), c.sections, 100 * c.worst_centre, c.worst_degrees, c.first_s,
-              c.last_s, shape.tube.length(), c.traced_over_surface, 100 * c.rms);
+  std::printf(
+      "%-6s K=%d: centre off the curve <= %.2f%% of r, axis <= %.2f deg, sections from s=%.3f "
+      "to %.3f of %.3f, traced/surface %.3f, rms %.2f%%\n",
+      shape.name.c_str(), c.sections, 100 * c.worst_centre, c.worst_degrees, c.first_s, c.last_s, shape.tube.length(),
+      c.traced_over_surface, 100 * c.rms);
   return c;
 }
 
@@ -146,8 +146,7 @@ TEST(Shapes, ElbowOfNinetyDegreesTwoRadiiFromTheBody) {
 TEST(Shapes, LyingAgainstTheBodyAlongItsLength) {
   // Out of the body's end for 2r, a U-turn of radius 2.75r, then 8r back along the body, its
   // surface half a radius from the body's: planes normal to the tube there cut the body too.
-  const double lead = kBodyLength + 2 * kR, turn_radius = 2.75 * kR, arc = turn_radius * kPi,
-               back = 8 * kR;
+  const double lead = kBodyLength + 2 * kR, turn_radius = 2.75 * kR, arc = turn_radius * kPi, back = 8 * kR;
   Shape s{"along", {}, kBodyLength};
   s.tube.curve = [=](double u) {
     const double a = u * (lead + arc + back);
@@ -174,9 +173,7 @@ TEST(Shapes, TipClickedThreeRadiiBesideTheEnd) {
 TEST(Shapes, HelixOfTwoTurns) {
   const double rh = 3 * kR, rise = 16 * kR;
   Shape s{"helix", {}, 0};
-  s.tube.curve = [=](double u) {
-    return Vec3(rh * std::cos(4 * kPi * u), rh * std::sin(4 * kPi * u), rise * u);
-  };
+  s.tube.curve = [=](double u) { return Vec3(rh * std::cos(4 * kPi * u), rh * std::sin(4 * kPi * u), rise * u); };
   s.tube.radius = constant_tube();
   expect_follows(s);
 }

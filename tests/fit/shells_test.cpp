@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <set>
 
-#include "sweep/core/topology.h"
 #include "fit/creatures.h"
+#include "sweep/core/topology.h"
 #include "sweep/fit/discover.h"
 
 namespace sweep::test {

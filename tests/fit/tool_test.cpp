@@ -42,9 +42,8 @@ ToolRun run_tool(const std::string& args) {
 class Tool : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ =
-        fs::temp_directory_path() / ("sweep_fit_tool_" + std::to_string(getpid()) + "_" +
-                                     testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("sweep_fit_tool_" + std::to_string(getpid()) + "_" +
+                                        testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     tube_ = (dir_ / "tube.obj").string();
@@ -52,9 +51,7 @@ class Tool : public testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const char* name) const { return (dir_ / name).string(); }
-  void write(const char* name, const std::string& text) const {
-    std::ofstream(dir_ / name) << text;
-  }
+  void write(const char* name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
   fs::path dir_;
   std::string tube_;
 };
@@ -68,9 +65,8 @@ TEST_F(Tool, VersionAndHelp) {
 
 TEST_F(Tool, FitsATubeAndWritesRigAndReport) {
   const std::string rig = path("rig.json"), report = path("report.json");
-  const ToolRun r =
-      run_tool(tube_ + " -o " + rig + " --name hose --root 0,0,0.1 --tip 0,0,1 --report " + report +
-               " --preview " + path("fit.png"));
+  const ToolRun r = run_tool(tube_ + " -o " + rig + " --name hose --root 0,0,0.1 --tip 0,0,1 --report " + report +
+                             " --preview " + path("fit.png"));
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream png(path("fit.png"), std::ios::binary);
   std::string signature(8, '\0');
@@ -84,8 +80,8 @@ TEST_F(Tool, FitsATubeAndWritesRigAndReport) {
   EXPECT_NEAR(loaded.sweeps[0].part->root.z(), 0.1, 1e-12);
   const nlohmann::json j = nlohmann::json::parse(std::ifstream(report));
   const auto& s = j.at("sweeps").at(0);
-  for (const char* key : {"part_vertex_count", "length", "mean_radius", "fit_rms", "fit_max",
-                          "star_violations", "seconds"}) {
+  for (const char* key :
+       {"part_vertex_count", "length", "mean_radius", "fit_rms", "fit_max", "star_violations", "seconds"}) {
     EXPECT_TRUE(s.contains(key)) << key;
   }
   EXPECT_LT(s.at("fit_rms").get<double>(), 0.001);
@@ -103,13 +99,11 @@ TEST_F(Tool, SaysTheMeshsBoundingBoxAndTheSpaceOfItsPoints) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  EXPECT_NE(r.output.find(std::to_string(mesh.vertex_count()) + " vertices, " +
-                          std::to_string(mesh.face_count()) + " faces, bounding box " +
-                          format_point(lo) + " to " + format_point(hi)),
+  EXPECT_NE(r.output.find(std::to_string(mesh.vertex_count()) + " vertices, " + std::to_string(mesh.face_count()) +
+                          " faces, bounding box " + format_point(lo) + " to " + format_point(hi)),
             std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("are in the file's coordinates as stored (the format states no unit)"),
-            std::string::npos)
+  EXPECT_NE(r.output.find("are in the file's coordinates as stored (the format states no unit)"), std::string::npos)
       << r.output;
   const nlohmann::json j = nlohmann::json::parse(std::ifstream(report)).at("mesh_summary");
   EXPECT_EQ(j.at("vertices").get<std::size_t>(), mesh.vertex_count());
@@ -133,10 +127,10 @@ TEST_F(Tool, BadRequestsExitNonZeroAndWriteNoRig) {
   const Case cases[] = {
       {tube_ + " -o " + rig + ok + " --sections 1", 1, "--sections: Value 1 not in range 2 to 100000"},
       {tube_ + " -o " + rig + ok + " --radial 2", 1, "--radial: Value 2 not in range 3 to 4096"},
-      {tube_ + " -o " + rig + ok + " --sections 8 --tolerance 0.01", 1,
-       "--sections excludes --tolerance"},
+      {tube_ + " -o " + rig + ok + " --sections 8 --tolerance 0.01", 1, "--sections excludes --tolerance"},
       {tube_ + " -o " + rig + " --root 0,0,0.1", 1, "give --tip X,Y,Z or --tip-vertex N"},
-      {tube_ + " -o " + rig + " --root 0,0,zero --tip 0,0,1", 1, "--root expects three finite numbers X,Y,Z, got '0,0,zero'"},
+      {tube_ + " -o " + rig + " --root 0,0,zero --tip 0,0,1", 1,
+       "--root expects three finite numbers X,Y,Z, got '0,0,zero'"},
       {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,0,1,2", 1, "--tip expects three"},
       {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,0", 1, "--tip expects three"},
       {tube_ + " -o " + rig + " --root 0,0,0.1 --tip 0,inf,1", 1, "--tip expects three"},
@@ -170,8 +164,7 @@ TEST_F(Tool, TipOnAnotherPieceIsNotReachable) {
     two.face_offsets.push_back(static_cast<std::uint32_t>(two.face_vertices.size()));
   }
   assets::write_obj(path("two.obj"), two);
-  const ToolRun r =
-      run_tool(path("two.obj") + " -o " + path("rig.json") + " --root 0,0,0.1 --tip 0.5,0,1");
+  const ToolRun r = run_tool(path("two.obj") + " -o " + path("rig.json") + " --root 0,0,0.1 --tip 0.5,0,1");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("not reachable"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(path("rig.json")));
@@ -199,15 +192,17 @@ TEST_F(Tool, UntrustedFitWritesReportAndPreviewButNoRigUnlessForced) {
   EXPECT_TRUE(fs::exists(path("rig.json")));
 }
 
-fs::path diplodocus() { return fs::path(SWEEP_SOURCE_DIR) / "meshes" / "cgal" / "diplodocus.off"; }
+fs::path diplodocus() {
+  return fs::path(SWEEP_SOURCE_DIR) / "meshes" / "cgal" / "diplodocus.off";
+}
 
 // The audit's silent bad fit: a root clicked on the tail's upper surface, not on its axis, gave a
 // sweep 0.014 long over 4,979 "part" vertices. Now the whole tail is fitted (or the tool fails).
 TEST_F(Tool, RootOnTheTailsUpperSurfaceFitsTheWholeTail) {
   if (!fs::exists(diplodocus())) GTEST_SKIP() << "run tools/setup-deps.sh";
   const auto fit = [&](const std::string& root, const char* name) {
-    const ToolRun r = run_tool(diplodocus().string() + " -o " + path(name) + " --report " +
-                               path("report.json") + " --root=" + root + " --tip=-0.5,-0.345,-0.012");
+    const ToolRun r = run_tool(diplodocus().string() + " -o " + path(name) + " --report " + path("report.json") +
+                               " --root=" + root + " --tip=-0.5,-0.345,-0.012");
     EXPECT_EQ(r.code, 0) << r.output;
     return nlohmann::json::parse(std::ifstream(path("report.json"))).at("sweeps").at(0);
   };
@@ -327,8 +322,8 @@ TEST_F(Tool, AllFitsEveryPartIntoOneRigUnderTheNamesGiven) {
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("--names gives 2 names for the 6 parts"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(rig));
-  r = run_tool(diplodocus().string() + " --all -o " + rig +
-               " --names neck,tail,fl,fr,bl,br --report " + path("all.json"));
+  r = run_tool(diplodocus().string() + " --all -o " + rig + " --names neck,tail,fl,fr,bl,br --report " +
+               path("all.json"));
   ASSERT_EQ(r.code, 0) << r.output;
   const Rig loaded = io::read_rig(rig);
   ASSERT_EQ(loaded.sweeps.size(), 6u);
@@ -405,16 +400,14 @@ TEST_F(Tool, DiplodocusTailAndNeckShareOneRig) {
   const fs::path mesh = fs::path(SWEEP_SOURCE_DIR) / "meshes" / "cgal" / "diplodocus.off";
   if (!fs::exists(mesh)) GTEST_SKIP() << "run tools/setup-deps.sh";
   const std::string rig = path("dino.rig.json");
-  ToolRun r = run_tool(mesh.string() + " -o " + rig +
-                       " --name tail --root=-0.29,-0.16,-0.015 --tip=-0.5,-0.345,-0.012");
+  ToolRun r =
+      run_tool(mesh.string() + " -o " + rig + " --name tail --root=-0.29,-0.16,-0.015 --tip=-0.5,-0.345,-0.012");
   ASSERT_EQ(r.code, 0) << r.output;
-  r = run_tool(mesh.string() + " -o " + rig +
-               " --name neck --root=0.255,0.08,0.06 --tip=0.5,0.37,0.1");
+  r = run_tool(mesh.string() + " -o " + rig + " --name neck --root=0.255,0.08,0.06 --tip=0.5,0.37,0.1");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("added to"), std::string::npos) << r.output;
   // Fitting the tail again replaces it in place.
-  r = run_tool(mesh.string() + " -o " + rig +
-               " --name tail -k 16 --root=-0.29,-0.16,-0.015 --tip=-0.5,-0.345,-0.012");
+  r = run_tool(mesh.string() + " -o " + rig + " --name tail -k 16 --root=-0.29,-0.16,-0.015 --tip=-0.5,-0.345,-0.012");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("replaced in"), std::string::npos) << r.output;
   const Rig loaded = io::read_rig(rig);

@@ -1,5 +1,7 @@
 // find_tube_end (fit/tube_end.h) on measured distances made up span by span: where the run of
 // spans off the tube begins, and when the end is not cut at all.
+#include "sweep/fit/tube_end.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 #include <vector>
 
 #include "core/sample_sweeps.h"
-#include "sweep/fit/tube_end.h"
 
 namespace sweep::fit {
 namespace {
@@ -59,15 +60,17 @@ TEST(TubeEnd, TheRunGoesOnOverSpansWithNoVertexButNotOverMoreThanTwoRadiiOfTube)
   ASSERT_TRUE(end.has_value());
   EXPECT_EQ(end->first_section, 7);
   // On 15 spans, 11 and 14 off, 12 and 13 fit (two radii of tube): still one run.
-  const std::optional<TubeEnd> gap2 = find_tube_end(
-      test::straight_shape(16, 8, 1.0), measured([](int span) { return span == 11 || span == 14 ? 0.2 : 0.01; }, 15),
-      kLimit, 1.0);
+  const std::optional<TubeEnd> gap2 =
+      find_tube_end(test::straight_shape(16, 8, 1.0),
+                    measured([](int span) { return span == 11 || span == 14 ? 0.2 : 0.01; }, 15), kLimit, 1.0);
   ASSERT_TRUE(gap2.has_value());
   EXPECT_EQ(gap2->first_section, 11);
   // Spans 5 (a little: within the limit) and 9 off, 6 to 8 fit (three radii of tube): the run is
   // span 9 alone.
-  const std::optional<TubeEnd> tip_only = find_tube_end(
-      shape, measured([](int span) { return span == 9 ? 0.2 : span == 5 ? 0.08 : 0.01; }), kLimit, 1.0);
+  const std::optional<TubeEnd> tip_only =
+      find_tube_end(shape, measured([](int span) { return span == 9   ? 0.2
+                                                          : span == 5 ? 0.08
+                                                                      : 0.01; }), kLimit, 1.0);
   ASSERT_TRUE(tip_only.has_value());
   EXPECT_EQ(tip_only->first_section, 9);
   // The last three spans fit: no run begins at the tip end, whatever is off before them.

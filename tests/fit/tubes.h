@@ -42,15 +42,12 @@ struct Tube {
         m.positions.push_back(axis(s) + radius_at(s) * (std::cos(th) * u + std::sin(th) * v));
       }
     }
-    const auto id = [&](int i, int j) {
-      return static_cast<std::uint32_t>(i * segments + (j % segments));
-    };
+    const auto id = [&](int i, int j) { return static_cast<std::uint32_t>(i * segments + (j % segments)); };
     const auto root = static_cast<std::uint32_t>(m.positions.size());
     m.positions.push_back(axis(0));
     m.positions.push_back(axis(length));
     for (int i = 0; i + 1 < rings; ++i) {
-      for (int j = 0; j < segments; ++j)
-        m.add_face({id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)});
+      for (int j = 0; j < segments; ++j) m.add_face({id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)});
     }
     for (int j = 0; j < segments; ++j) {
       m.add_face({root, id(0, j + 1), id(0, j)});

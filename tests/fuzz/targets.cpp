@@ -69,8 +69,7 @@ const Rig& material_rig() {
 // buffer URIs then resolve inside it. Removed when the process ends.
 struct ScratchDir {
   std::filesystem::path path;
-  ScratchDir()
-      : path(std::filesystem::temp_directory_path() / ("sweep_fuzz_" + std::to_string(::getpid()))) {
+  ScratchDir() : path(std::filesystem::temp_directory_path() / ("sweep_fuzz_" + std::to_string(::getpid()))) {
     std::filesystem::create_directories(path);
   }
   ~ScratchDir() {
@@ -215,14 +214,12 @@ Vec3 strtod3(const std::vector<std::string>& w, std::size_t first) {
 
 void expect_vertices(const Mesh& m, const std::vector<Vec3>& expected, const char* target) {
   if (m.positions.size() != expected.size()) {
-    throw std::logic_error(std::string(target) + ": the reader holds " +
-                           std::to_string(m.positions.size()) + " vertices, the file's lines " +
-                           std::to_string(expected.size()));
+    throw std::logic_error(std::string(target) + ": the reader holds " + std::to_string(m.positions.size()) +
+                           " vertices, the file's lines " + std::to_string(expected.size()));
   }
   for (std::size_t i = 0; i < expected.size(); ++i) {
     if (!(m.positions[i] == expected[i])) {
-      throw std::logic_error(std::string(target) + ": vertex " + std::to_string(i) +
-                             " differs from its line");
+      throw std::logic_error(std::string(target) + ": vertex " + std::to_string(i) + " differs from its line");
     }
   }
 }
@@ -295,8 +292,7 @@ void ply_mesh(std::string_view data) {
     }
     if (l[0] == "property" && elements == 1 && l.size() > 2) props.push_back(l.back());
   }
-  if (!ascii || !vertex_first || props.size() < 3 || props[0] != "x" || props[1] != "y" ||
-      props[2] != "z") {
+  if (!ascii || !vertex_first || props.size() < 3 || props[0] != "x" || props[1] != "y" || props[2] != "z") {
     return;
   }
   std::vector<Vec3> expected;
@@ -386,7 +382,8 @@ void check_skin_model(const assets::SkinModel& m) {
   for (const int j : m.joints) expect(j >= 0 && static_cast<std::size_t>(j) < nodes, "gltf: a joint is not a node");
   for (const Eigen::Matrix4d& ibm : m.inverse_bind) expect(ibm.allFinite(), "gltf: a non-finite inverse bind matrix");
   const std::size_t n = m.bind_positions.size();
-  expect(m.vertex_joints.size() == n && m.vertex_weights.size() == n, "gltf: not one joint set and weight set a vertex");
+  expect(m.vertex_joints.size() == n && m.vertex_weights.size() == n,
+         "gltf: not one joint set and weight set a vertex");
   for (std::size_t v = 0; v < n; ++v) {
     expect(m.bind_positions[v].allFinite(), "gltf: a non-finite bind position");
     double sum = 0;
@@ -428,7 +425,8 @@ void check_body_path(const sim::BodyPath& path) {
   const std::vector<sim::BodyKey>& keys = path.keys();
   expect(!keys.empty(), "gltf: a body path without keys");
   for (std::size_t k = 0; k < keys.size(); ++k) {
-    expect(std::isfinite(keys[k].time) && (k == 0 || keys[k].time > keys[k - 1].time), "gltf: body key times not increasing");
+    expect(std::isfinite(keys[k].time) && (k == 0 || keys[k].time > keys[k - 1].time),
+           "gltf: body key times not increasing");
     expect(keys[k].translation.allFinite(), "gltf: a non-finite body translation");
     expect(std::abs(keys[k].rotation.norm() - 1) < 1e-6, "gltf: a body rotation that is not a unit quaternion");
   }
@@ -469,7 +467,8 @@ void gltf(std::string_view data) {
   try {
     names = first_node_names(path);
     const std::vector<Vec3> positions = skinned_positions(path);
-    if (const std::optional<assets::SkinModel> model = assets::read_gltf_skin(path, positions, Eigen::Affine3d::Identity())) {
+    if (const std::optional<assets::SkinModel> model =
+            assets::read_gltf_skin(path, positions, Eigen::Affine3d::Identity())) {
       check_skin_model(*model);
     }
   } catch (const Error& e) {
@@ -507,15 +506,9 @@ void material(std::string_view data) {
 }
 
 const std::vector<Target>& targets() {
-  static const std::vector<Target> all = {{"rig_json", rig_json},
-                                          {"scene", scene},
-                                          {"binding", binding},
-                                          {"off_mesh", off_mesh},
-                                          {"obj_mesh", obj_mesh},
-                                          {"ply_mesh", ply_mesh},
-                                          {"fit_off", fit_off},
-                                          {"gltf", gltf},
-                                          {"material", material}};
+  static const std::vector<Target> all = {{"rig_json", rig_json}, {"scene", scene},       {"binding", binding},
+                                          {"off_mesh", off_mesh}, {"obj_mesh", obj_mesh}, {"ply_mesh", ply_mesh},
+                                          {"fit_off", fit_off},   {"gltf", gltf},         {"material", material}};
   return all;
 }
 

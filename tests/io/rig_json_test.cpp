@@ -1,14 +1,15 @@
 // The rig file: round trip, and every kind of bad input answered with the JSON pointer.
+#include "sweep/io/rig_json.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "sweep/core/error.h"
 #include "fp_guard.h"
+#include "sweep/core/error.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/mesh_names.h"
-#include "sweep/io/rig_json.h"
 
 namespace sweep::io {
 namespace {
@@ -125,17 +126,24 @@ TEST(RigJson, MalformedJsonNamesLineAndColumn) {
 }
 
 TEST(RigJson, WrongValuesNameTheirPointer) {
-  expect_bad(with("/sweeps/0/sections/1/radii/2", -1), "rig.json: /sweeps/0/sections/1/radii/2: must be a positive number, got -1");
-  expect_bad(with("/sweeps/0/sections/1/radii/0", "wide"), "/sweeps/0/sections/1/radii/0: must be a number, got \"wide\"");
+  expect_bad(with("/sweeps/0/sections/1/radii/2", -1),
+             "rig.json: /sweeps/0/sections/1/radii/2: must be a positive number, got -1");
+  expect_bad(with("/sweeps/0/sections/1/radii/0", "wide"),
+             "/sweeps/0/sections/1/radii/0: must be a number, got \"wide\"");
   expect_bad(with("/sweeps/0/radial_samples", 2), "/sweeps/0/radial_samples: must be between 3");
   expect_bad(with("/sweeps/0/sections/1/t", 0.0), "/sweeps/0/sections/1/t: must be greater than the previous");
   expect_bad(with("/sweeps/0/sections/0/t", 0.5), "/sweeps/0/sections/0/t: the first section's t must be 0");
-  expect_bad(with("/sweeps/0/sections/1/rotation", nlohmann::json::array({0, 0, 0, 2})), "/sweeps/0/sections/1/rotation: must be a unit quaternion");
-  expect_bad(with("/sweeps/0/sections/1/center", nlohmann::json::array({0, 0})), "/sweeps/0/sections/1/center: must be an array of 3 numbers");
+  expect_bad(with("/sweeps/0/sections/1/rotation", nlohmann::json::array({0, 0, 0, 2})),
+             "/sweeps/0/sections/1/rotation: must be a unit quaternion");
+  expect_bad(with("/sweeps/0/sections/1/center", nlohmann::json::array({0, 0})),
+             "/sweeps/0/sections/1/center: must be an array of 3 numbers");
   expect_bad(with("/sweeps/0/springs/bend/mass", -2), "/sweeps/0/springs/bend/mass: must be a positive number, got -2");
-  expect_bad(with("/sweeps/0/springs/radial/damping_ratio", -0.1), "/sweeps/0/springs/radial/damping_ratio: must not be negative");
-  expect_bad(with("/sweeps/0/sections/1/springs/twist/frequency_hz", 0), "/sweeps/0/sections/1/springs/twist/frequency_hz: must be a positive number");
-  expect_bad(with("/sweeps/0/sections/1/radii", nlohmann::json::array({1, 2})), "/sweeps/0/sections/1/radii: expected 3 radii");
+  expect_bad(with("/sweeps/0/springs/radial/damping_ratio", -0.1),
+             "/sweeps/0/springs/radial/damping_ratio: must not be negative");
+  expect_bad(with("/sweeps/0/sections/1/springs/twist/frequency_hz", 0),
+             "/sweeps/0/sections/1/springs/twist/frequency_hz: must be a positive number");
+  expect_bad(with("/sweeps/0/sections/1/radii", nlohmann::json::array({1, 2})),
+             "/sweeps/0/sections/1/radii: expected 3 radii");
   expect_bad(with("/format", "other"), "/format: must be \"sweep-rig\"");
   expect_bad(with("/version", 7), "/version: rig format version 7 is not supported", ErrorCategory::unsupported);
   expect_bad(with("/sweeps", nlohmann::json::object()), "/sweeps: must be an array, got an object");
@@ -179,7 +187,7 @@ TEST(RigJson, OverridesApplyOverTheSweepDefaults) {
   EXPECT_EQ(def.default_springs.radial.frequency_hz, 9.5);
   EXPECT_EQ(def.springs[0].radial.frequency_hz, 9.5);  // inherited
   EXPECT_EQ(def.springs[1].radial.frequency_hz, 9.5);
-  EXPECT_EQ(def.springs[1].bend.frequency_hz, 4.25);   // the section's own override stays
+  EXPECT_EQ(def.springs[1].bend.frequency_hz, 4.25);  // the section's own override stays
   EXPECT_EQ(def.springs[0].bend.frequency_hz, def.default_springs.bend.frequency_hz);
 }
 
@@ -274,7 +282,6 @@ TEST(RigJson, MeshNameIsVersionThreeAndOnlyWrittenWhenSet) {
   empty["mesh_name"] = "";
   expect_bad(empty.dump(), "rig.json: /mesh_name: must not be empty");
 }
-
 
 // A rig over several meshes of one file names them all, in order, as a list (version 4); in memory
 // Rig::mesh_name holds them joined by NUL. A list of one is that name; a name twice, an empty one

@@ -99,8 +99,7 @@ TEST(Tube, BentTubeRingCentresLieOnTheDocumentedArc) {
   for (int i = 0; i < p.rings; ++i) {
     const double s = p.length * i / (p.rings - 1);
     Vec3 centre = Vec3::Zero();
-    for (int j = 0; j < p.segments; ++j)
-      centre += m.positions[static_cast<std::size_t>(i * p.segments + j)];
+    for (int j = 0; j < p.segments; ++j) centre += m.positions[static_cast<std::size_t>(i * p.segments + j)];
     centre /= p.segments;
     EXPECT_NEAR((centre - Vec3(R, 0, 0)).norm(), R, kTol) << "ring " << i;
     EXPECT_NEAR(centre.y(), 0, kTol);
@@ -145,8 +144,7 @@ TEST(Tube, FrameIsRightHandedOrthonormalAndStartsAtXYZ) {
 }
 
 TEST(Tube, VerticesMatchTubeRadiusForEveryShapeAndTaper) {
-  for (const CrossSection shape :
-       {CrossSection::circle, CrossSection::ellipse, CrossSection::lobed}) {
+  for (const CrossSection shape : {CrossSection::circle, CrossSection::ellipse, CrossSection::lobed}) {
     TubeParams p;
     p.shape = shape;
     p.taper = 0.4;
@@ -227,9 +225,8 @@ int run_shell(const std::string& command) {
 class TubeMeshes : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sweep_test_tube_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("sweep_test_tube_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -237,12 +234,12 @@ class TubeMeshes : public ::testing::Test {
   fs::path dir_;
 };
 
-const char* const kCommitted[] = {"tube_straight.obj", "tube_bent.obj", "tube_tapered.off",
-                                  "tube_ellipse.ply", "tube_lobed.obj"};
+const char* const kCommitted[] = {"tube_straight.obj", "tube_bent.obj", "tube_tapered.off", "tube_ellipse.ply",
+                                  "tube_lobed.obj"};
 
 TEST_F(TubeMeshes, RegeneratedFilesMatchCommittedBytes) {
-  const std::string cmd = "bash '" + (kSource / "tools/sweep-tube/regenerate-meshes.sh").string() +
-                          "' '" + kTubeExe.string() + "' '" + dir_.string() + "'";
+  const std::string cmd = "bash '" + (kSource / "tools/sweep-tube/regenerate-meshes.sh").string() + "' '" +
+                          kTubeExe.string() + "' '" + dir_.string() + "'";
   ASSERT_EQ(run_shell(cmd), 0) << cmd;
   std::size_t count = 0;
   for (const auto& e : fs::directory_iterator(dir_)) {
@@ -300,8 +297,7 @@ TEST_F(TubeMeshes, CommittedMeshesAreTheDocumentedTubes) {
     const bool single = p.extension() == ".ply";
     for (std::size_t i = 0; i < m.vertex_count(); ++i) {
       if (single) {
-        EXPECT_EQ(m.positions[i], expected.positions[i].cast<float>().cast<double>())
-            << ex.name << i;
+        EXPECT_EQ(m.positions[i], expected.positions[i].cast<float>().cast<double>()) << ex.name << i;
       } else {
         EXPECT_EQ(m.positions[i], expected.positions[i]) << ex.name << " vertex " << i;
       }
@@ -316,8 +312,7 @@ TEST_F(TubeMeshes, ProgramReportsBadOptionsWithUsageExitCode) {
   EXPECT_EQ(run_shell(exe + " -q -o " + out + " --shape blob 2>/dev/null"), 1);
   EXPECT_EQ(run_shell(exe + " -q --no-such-flag -o " + out + " 2>/dev/null"), 1);
   EXPECT_EQ(run_shell(exe + " -q -o '" + (dir_ / "t.stl").string() + "' 2>/dev/null"), 1);
-  EXPECT_EQ(run_shell(exe + " -q -o '" + (dir_ / "no/such/dir/t.obj").string() + "' 2>/dev/null"),
-            4);
+  EXPECT_EQ(run_shell(exe + " -q -o '" + (dir_ / "no/such/dir/t.obj").string() + "' 2>/dev/null"), 4);
   EXPECT_TRUE(fs::is_empty(dir_)) << "no partial output";
   EXPECT_EQ(run_shell(exe + " --help >/dev/null"), 0);
   EXPECT_EQ(run_shell(exe + " -q -o " + out + " --rings 3 --segments 4 --no-caps"), 0);

@@ -1,15 +1,16 @@
 // The fit preview's pixels where the geometry says they must be: the tube seen from the side,
 // tinted where it is the part, grey where not, the axis red over it, a key section's outline on
 // its surface; and the PNG bytes' header.
+#include "sweep/preview/render.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "sweep/core/error.h"
 #include "fit/tubes.h"
+#include "sweep/core/error.h"
 #include "sweep/preview/png.h"
-#include "sweep/preview/render.h"
 
 namespace sweep::preview {
 namespace {
@@ -20,7 +21,8 @@ struct Pixel {
   int r, g, b;
 };
 Pixel pixel(const Image& im, int x, int y) {
-  const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(im.width) + static_cast<std::size_t>(x));
+  const std::size_t i =
+      3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(im.width) + static_cast<std::size_t>(x));
   return {im.rgb[i], im.rgb[i + 1], im.rgb[i + 2]};
 }
 

@@ -192,8 +192,8 @@ TEST(Allocation, TheCounterSeesAnAllocation) {
   if (!test::kCounts) GTEST_SKIP() << kSanitizerSkip;
   auto* before = new std::vector<double>(100);
   test::open_allocation_window();
-  auto* inside = new std::vector<double>(100);  // the vector and its buffer: two news
-  void* block = std::malloc(64);                 // and one malloc
+  auto* inside = new std::vector<double>(100);              // the vector and its buffer: two news
+  void* block = std::malloc(64);                            // and one malloc
   asm volatile("" : : "g"(inside), "g"(block) : "memory");  // kept: the compiler may not elide them
   const test::AllocationCounts counts = test::close_allocation_window();
   auto* after = new std::vector<double>(100);

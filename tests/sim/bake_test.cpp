@@ -9,9 +9,9 @@
 #include <fstream>
 #include <numbers>
 
+#include "bind/support.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/bind/bind.h"
-#include "bind/support.h"
 #include "sweep/sim/fast_deform.h"
 
 using sweep::assets::run_bake;
@@ -44,16 +44,14 @@ Frames read_pc2(const fs::path& path) {
   in.read(reinterpret_cast<char*>(&rate), 4);
   in.read(reinterpret_cast<char*>(&samples), 4);
   Frames f(samples, std::vector<Vec3f>(points));
-  for (auto& frame : f)
-    in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
+  for (auto& frame : f) in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
   EXPECT_TRUE(in.good());
   return f;
 }
 
 // Bakes `scene` to a .pc2 (and a .glb when asked) in a fresh folder and reads the .pc2 back.
 Frames bake(const Tube& tube, const Scene& scene, bool exact, const fs::path& glb = {}) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("sweep_bake_test_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() / ("sweep_bake_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   sweep::assets::BakeOptions o;
   o.outputs = {dir / "out.pc2"};
@@ -75,8 +73,7 @@ Scene scene_with(std::vector<SceneForce> forces, double duration = 3.0) {
   return s;
 }
 
-SceneForce force_at(double t, double theta, Vec3 vector, double start, double end,
-                    std::uint8_t components) {
+SceneForce force_at(double t, double theta, Vec3 vector, double start, double end, std::uint8_t components) {
   SceneForce f;
   f.sweep = "tube";
   f.spec.t = t;
@@ -100,8 +97,7 @@ TEST(Bake, NoForceEveryFrameIsTheRestMeshExactly) {
     const Frames f = bake(tube, scene_with({}, 1.0), exact);
     ASSERT_EQ(f.size(), 31u);
     for (const auto& frame : f) {
-      for (std::size_t v = 0; v < frame.size(); ++v)
-        ASSERT_EQ(frame[v], tube.mesh.positions[v].cast<float>()) << v;
+      for (std::size_t v = 0; v < frame.size(); ++v) ASSERT_EQ(frame[v], tube.mesh.positions[v].cast<float>()) << v;
     }
   }
 }
@@ -121,8 +117,7 @@ TEST(Bake, TipForceWithChainBendsAlongTheForceAndDecaysAfterRelease) {
   EXPECT_GT(mid_shift.y(), 0.005f);
   // The root section is fixed exactly (tests/core); its ring's vertices, rebuilt in float once the
   // sweep moves, stay at the file's positions to float precision. After release the motion decays.
-  for (const auto& frame : f)
-    EXPECT_LT((ring_centroid(frame, 0) - ring_centroid(f[0], 0)).norm(), 1e-6f);
+  for (const auto& frame : f) EXPECT_LT((ring_centroid(frame, 0) - ring_centroid(f[0], 0)).norm(), 1e-6f);
   const Vec3f late = ring_centroid(f.back(), tip) - ring_centroid(f[0], tip);
   EXPECT_LT(late.norm(), 0.01f * tip_shift.norm());
 }
@@ -144,9 +139,8 @@ TEST(Bake, RadialOnlyForceKeepsTheAxisAndChangesRadiiOnlyNearThePoint) {
   tube.rig.sweeps = {fine};
   tube.binding = bind::bind_rig(tube.rig, tube.mesh);
   // Inward at t = 0.5 (section 5, ring 20), θ = π/2 (handle 2, segment 6).
-  const Frames f = bake(
-      tube, scene_with({force_at(0.5, std::numbers::pi / 2, Vec3(0, -3, 0), 0.0, 1.0, kRadial)}),
-      true);
+  const Frames f =
+      bake(tube, scene_with({force_at(0.5, std::numbers::pi / 2, Vec3(0, -3, 0), 0.0, 1.0, kRadial)}), true);
   const std::vector<Vec3f>& p = f[20];
   const int ring = 20, seg = kSegments / 4;
   for (int r = 0; r < kRings; ++r) {
@@ -177,8 +171,7 @@ TEST(Bake, RotationalOnlyForceLeavesEverySectionShapeUnchanged) {
       moved = std::max(moved, double((ck - c0).norm()));
       for (int s = 0; s < kSegments; ++s) {
         // Rigid per section: distances to the ring's centre keep their length.
-        const float d0 = (f[0][r * kSegments + s] - c0).norm(),
-                    dk = (f[k][r * kSegments + s] - ck).norm();
+        const float d0 = (f[0][r * kSegments + s] - c0).norm(), dk = (f[k][r * kSegments + s] - ck).norm();
         ASSERT_NEAR(dk, d0, 2e-6f) << "frame " << k << " ring " << r << " segment " << s;
       }
     }
@@ -222,8 +215,7 @@ TEST(Bake, ReportSaysWhichBlocksAreWrittenInPlace) {
     const Mesh mesh = tube::make_tube(p);
     const Rig rig = test::rig_of({test::straight_sweep()});
     const bind::Binding binding = bind::bind_rig(rig, mesh);
-    const fs::path dir =
-        fs::temp_directory_path() / ("sweep_bake_blocks_" + std::to_string(::getpid()));
+    const fs::path dir = fs::temp_directory_path() / ("sweep_bake_blocks_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     sweep::assets::BakeOptions o;
     o.outputs = {dir / "out.pc2"};
@@ -253,8 +245,8 @@ TEST(Bake, DiplodocusTailAndNeckSideBySideGiveTheSameBitsOnOneOrTwoThreads) {
   const bind::Binding binding = bind::bind_rig(dino->rig, dino->mesh);
   Scene scene = scene_with({}, 1.0);
   for (int i = 0; i < 2; ++i) {
-    SceneForce f = force_at(0.9 * dino->rig.sweeps[i].rest.length(), 0.0, Vec3(0.5, 0.5, 0), 0, 0.4,
-                            kRotational | kRadial);
+    SceneForce f =
+        force_at(0.9 * dino->rig.sweeps[i].rest.length(), 0.0, Vec3(0.5, 0.5, 0), 0, 0.4, kRotational | kRadial);
     f.sweep = dino->rig.sweeps[i].name;
     f.sweep_index = i;
     f.spec.target = RotationTarget::chain;
@@ -270,8 +262,7 @@ TEST(Bake, DiplodocusTailAndNeckSideBySideGiveTheSameBitsOnOneOrTwoThreads) {
   for (int threads : {1, 2}) {
     omp_set_num_threads(threads);
     const fs::path dir =
-        fs::temp_directory_path() /
-        ("sweep_bake_dino_" + std::to_string(::getpid()) + "_" + std::to_string(threads));
+        fs::temp_directory_path() / ("sweep_bake_dino_" + std::to_string(::getpid()) + "_" + std::to_string(threads));
     fs::create_directories(dir);
     sweep::assets::BakeOptions o;
     o.outputs = {dir / "out.pc2"};
@@ -295,12 +286,11 @@ TEST(Bake, ABindingThatGivesAVertexToTwoSweepsIsRefused) {
   bind::Binding binding = tube.binding;
   binding.sweeps.push_back(binding.sweeps[0]);
   binding.sweeps[1].name = "b";
-  Scene scene = scene_with({force_at(1.0, 0.0, Vec3(0, 2, 0), 0, 0.2, kRotational),
-                            force_at(1.0, 0.0, Vec3(0, 2, 0), 0, 0.2, kRotational)},
-                           0.2);
+  Scene scene = scene_with(
+      {force_at(1.0, 0.0, Vec3(0, 2, 0), 0, 0.2, kRotational), force_at(1.0, 0.0, Vec3(0, 2, 0), 0, 0.2, kRotational)},
+      0.2);
   scene.forces[1].sweep_index = 1;
-  const fs::path dir =
-      fs::temp_directory_path() / ("sweep_bake_twice_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() / ("sweep_bake_twice_" + std::to_string(::getpid()));
   sweep::assets::BakeOptions o;
   o.outputs = {dir / "out.pc2"};
   try {
@@ -308,8 +298,7 @@ TEST(Bake, ABindingThatGivesAVertexToTwoSweepsIsRefused) {
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.category(), ErrorCategory::bad_input);
-    EXPECT_NE(std::string(e.what()).find("is bound by more than one sweep"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("is bound by more than one sweep"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(dir / "out.pc2"));
 }
@@ -318,8 +307,7 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
   const Tube tube;
   SceneForce push = force_at(1.0, 0.0, Vec3(0, 2, 0.5), 0.0, 0.5, kRotational | kRadial);
   const Scene scene = scene_with({push}, 1.0);
-  const fs::path dir =
-      fs::temp_directory_path() / ("sweep_bake_files_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() / ("sweep_bake_files_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const Frames pc2 = bake(tube, scene, false, dir / "out.glb");
 
@@ -342,8 +330,7 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
     if (acc.bufferView >= 0) {
       const tinygltf::BufferView& bv = model.bufferViews.at(acc.bufferView);
       std::memcpy(static_cast<void*>(out.data()),
-                  model.buffers.at(bv.buffer).data.data() + bv.byteOffset + acc.byteOffset,
-                  acc.count * 12);
+                  model.buffers.at(bv.buffer).data.data() + bv.byteOffset + acc.byteOffset, acc.count * 12);
     }
     if (acc.sparse.isSparse) {
       const auto& sp = acc.sparse;
@@ -351,14 +338,9 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
       const auto& vb = model.bufferViews.at(sp.values.bufferView);
       for (int i = 0; i < sp.count; ++i) {
         std::uint32_t idx = 0;
-        std::memcpy(
-            &idx,
-            model.buffers.at(ib.buffer).data.data() + ib.byteOffset + sp.indices.byteOffset + 4 * i,
-            4);
-        std::memcpy(
-            out[idx].data(),
-            model.buffers.at(vb.buffer).data.data() + vb.byteOffset + sp.values.byteOffset + 12 * i,
-            12);
+        std::memcpy(&idx, model.buffers.at(ib.buffer).data.data() + ib.byteOffset + sp.indices.byteOffset + 4 * i, 4);
+        std::memcpy(out[idx].data(),
+                    model.buffers.at(vb.buffer).data.data() + vb.byteOffset + sp.values.byteOffset + 12 * i, 12);
       }
     }
     return out;

@@ -7,11 +7,11 @@
 
 #include "bind/support.h"
 #include "fit/curve_tubes.h"
+#include "sim/surface_probes.h"
 #include "sweep/fit/fit.h"
 #include "sweep/fit/surface_distance.h"
 #include "sweep/sim/contact.h"
 #include "sweep/sim/simulator.h"
-#include "sim/surface_probes.h"
 
 namespace sweep::sim {
 namespace {
@@ -82,8 +82,7 @@ void expect_inside_and_filling(const Mesh& mesh, const Rig& rig, const bind::Bin
   for (const Collider& c : proxy.colliders) {
     EXPECT_TRUE(c.carried) << c.name;
     EXPECT_TRUE(surface.inside(c.pose.center)) << c.name;
-    EXPECT_LE(c.radius, surface.distance(c.pose.center) + 1e-9)
-        << c.name << " reaches out of the body";
+    EXPECT_LE(c.radius, surface.distance(c.pose.center) + 1e-9) << c.name << " reaches out of the body";
   }
   std::vector<char> bound(mesh.vertex_count(), 0);
   for (const bind::SweepBinding& s : binding.sweeps) {
@@ -92,8 +91,7 @@ void expect_inside_and_filling(const Mesh& mesh, const Rig& rig, const bind::Bin
   const auto nearest_vertex_bound = [&](const Vec3& p) {
     std::size_t best = 0;
     for (std::size_t v = 1; v < mesh.vertex_count(); ++v) {
-      if ((mesh.positions[v] - p).squaredNorm() < (mesh.positions[best] - p).squaredNorm())
-        best = v;
+      if ((mesh.positions[v] - p).squaredNorm() < (mesh.positions[best] - p).squaredNorm()) best = v;
     }
     return bound[best] != 0;
   };
@@ -108,8 +106,7 @@ void expect_inside_and_filling(const Mesh& mesh, const Rig& rig, const bind::Bin
     for (double y = lo.y() + 0.3 * h; y < hi.y(); y += h) {
       for (double z = lo.z() + 0.3 * h; z < hi.z(); z += h) {
         const Vec3 p(x, y, z);
-        if (!surface.inside(p) || rest_room(rig, p, 0, kStations) <= 0 || nearest_vertex_bound(p))
-          continue;
+        if (!surface.inside(p) || rest_room(rig, p, 0, kStations) <= 0 || nearest_vertex_bound(p)) continue;
         ++body;
         for (const Collider& c : proxy.colliders) {
           if ((p - c.pose.center).norm() <= c.radius + proxy.fit.spacing) {
@@ -129,12 +126,10 @@ void expect_inside_and_filling(const Mesh& mesh, const Rig& rig, const bind::Bin
 // the part's root, and the check can fail.
 void expect_clear_of_the_parts(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
                                const tools::BodyProxy& proxy, double margin) {
-  EXPECT_EQ(rest_pose_overlaps(rig, proxy.colliders, Frame{}, kStations),
-            std::vector<std::string>{});
+  EXPECT_EQ(rest_pose_overlaps(rig, proxy.colliders, Frame{}, kStations), std::vector<std::string>{});
   const tools::BodyProxy wide = tools::body_proxy(mesh, rig, binding, settings(margin), kStations);
   ASSERT_FALSE(wide.colliders.empty());
-  EXPECT_EQ(rest_pose_overlaps(rig, wide.colliders, Frame{}, kStations),
-            std::vector<std::string>{});
+  EXPECT_EQ(rest_pose_overlaps(rig, wide.colliders, Frame{}, kStations), std::vector<std::string>{});
   const tools::BodyProxy blind = tools::body_proxy(mesh, Rig{}, bind::Binding{}, settings(), kStations);
   EXPECT_FALSE(rest_pose_overlaps(rig, blind.colliders, Frame{}, kStations).empty());
 }
@@ -168,8 +163,8 @@ TEST(BodyProxy, DiplodocusNoSphereCutsAPartsRestSurface) {
 
 // The deepest the tail's surface lies inside any body sphere over the frames of a kick forward and
 // sideways, under the rump and into a hind leg.
-double deepest_in_body(const Rig& rig, const std::vector<Collider>& body,
-                       const std::vector<Collider>& scene_colliders, double fps) {
+double deepest_in_body(const Rig& rig, const std::vector<Collider>& body, const std::vector<Collider>& scene_colliders,
+                       double fps) {
   Scene scene;
   scene.duration = 0.5;
   scene.fps = fps;
@@ -179,8 +174,7 @@ double deepest_in_body(const Rig& rig, const std::vector<Collider>& body,
   double deepest = 0;
   for (int k = 1; k < scene.frame_count(); ++k) {
     sim.advance_frame();
-    for (const Collider& c : body)
-      deepest = std::max(deepest, penetration(sim.sweep(0).deformed(), c));
+    for (const Collider& c : body) deepest = std::max(deepest, penetration(sim.sweep(0).deformed(), c));
   }
   return deepest;
 }
@@ -192,8 +186,7 @@ TEST(BodyProxy, ATailKickedIntoTheBodyEndsNoFrameInsideIt) {
   const double length = d->rig.sweeps[0].rest.length();
   const double free = deepest_in_body(d->rig, body, {}, 30);
   // (11% of the length when written: through the rump's surface and into the hind leg.)
-  ASSERT_GT(free, 0.05 * length)
-      << "without the body collider the tail must pass deep into the body";
+  ASSERT_GT(free, 0.05 * length) << "without the body collider the tail must pass deep into the body";
   for (const double fps : {24.0, 144.0}) {
     const double held = deepest_in_body(d->rig, body, body, fps);
     EXPECT_LE(held, 1e-3 * length) << fps << " fps";

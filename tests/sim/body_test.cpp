@@ -11,13 +11,13 @@
 #include <numbers>
 #include <string>
 
-#include "sweep/assets/bake_run.h"
-#include "sweep/bind/bind.h"
 #include "bind/support.h"
 #include "core/beam_tubes.h"
 #include "core/sample_sweeps.h"
-#include "sweep/sim/simulator.h"
 #include "sim/sweep_pose.h"
+#include "sweep/assets/bake_run.h"
+#include "sweep/bind/bind.h"
+#include "sweep/sim/simulator.h"
 
 using sweep::assets::run_bake;
 
@@ -48,7 +48,9 @@ Rig bent_part() {
   return rig;
 }
 
-BodyKey key(double time, Vec3 translation, Quat rotation = Quat::Identity()) { return {time, translation, rotation}; }
+BodyKey key(double time, Vec3 translation, Quat rotation = Quat::Identity()) {
+  return {time, translation, rotation};
+}
 
 Scene scene_of(BodyPath path, double duration, double fps = 30, double step = Scene::kDefaultStep) {
   Scene s;
@@ -153,7 +155,8 @@ TEST(Body, TurningAtConstantRateStretchesByTheCentrifugalClosedForm) {
   const double k = mass * std::pow(2 * kPi * f0, 2);
   const Rig rig = one_section(mass, f0, 1.0);
   std::vector<BodyKey> keys;  // a linear turn about y at ω (pieces under half a turn each)
-  for (int i = 0; i <= 40; ++i) keys.push_back(key(0.5 * i, Vec3::Zero(), Quat(Eigen::AngleAxisd(omega * 0.5 * i, Vec3::UnitY()))));
+  for (int i = 0; i <= 40; ++i)
+    keys.push_back(key(0.5 * i, Vec3::Zero(), Quat(Eigen::AngleAxisd(omega * 0.5 * i, Vec3::UnitY()))));
   const Scene scene = scene_of(BodyPath(keys, BodyInterpolation::linear), 12.0);
   Simulator sim(rig, scene);
   // While the section moves out (+z), the Coriolis force −2m ω × v pushes it against the turn: −x.
@@ -232,10 +235,10 @@ TEST(Body, ATeleportPutsThePartsToRestInsteadOfWhipping) {
   const std::vector<double> with = speeds(true, &teleports);
   const std::vector<double> without = speeds(false, nullptr);
   ASSERT_EQ(teleports, std::vector<int>{31});  // the frame that contains t = 1.0 .. 1.01
-  EXPECT_GT(with[29], 0.0);                     // moving before (the kick at 0.5 s still rings)
-  EXPECT_LE(with[31], with[29]);                // no spike in the frame after it
-  EXPECT_EQ(with[31], 0.0);                     // at rest in the new place
-  EXPECT_GT(without[31], 10 * with[29]);        // what it spares: the whip
+  EXPECT_GT(with[29], 0.0);                    // moving before (the kick at 0.5 s still rings)
+  EXPECT_LE(with[31], with[29]);               // no spike in the frame after it
+  EXPECT_EQ(with[31], 0.0);                    // at rest in the new place
+  EXPECT_GT(without[31], 10 * with[29]);       // what it spares: the whip
 }
 
 // Poses at every frame, keyed by the frame's time in units of 1/720 s.
@@ -257,8 +260,8 @@ TEST(Body, AnyFrameRateGivesTheSameMotionWithTheBodyMoving) {
   const Rig rig = bent_part();
   const Quat turn(Eigen::AngleAxisd(0.7, Vec3(0.2, 1, 0.1).normalized()));
   for (const BodyInterpolation interpolation : {BodyInterpolation::linear, BodyInterpolation::cubic}) {
-    const BodyPath path({key(0.4321, Vec3::Zero()), key(0.9, Vec3(2, 0.3, 0), turn), key(1.2345, Vec3(2.5, 0.3, 0.4), turn),
-                         key(1.6, Vec3(2.6, 0.3, 0.4))},
+    const BodyPath path({key(0.4321, Vec3::Zero()), key(0.9, Vec3(2, 0.3, 0), turn),
+                         key(1.2345, Vec3(2.5, 0.3, 0.4), turn), key(1.6, Vec3(2.6, 0.3, 0.4))},
                         interpolation);
     const double step = 1.0 / 700;
     const Scene reference = scene_of(path, 2.0, 144, step);
@@ -270,7 +273,8 @@ TEST(Body, AnyFrameRateGivesTheSameMotionWithTheBodyMoving) {
         const auto it = ref.find(time);
         if (it == ref.end()) continue;
         moved = std::max(moved, max_difference(p, ref.at(0)));
-        ASSERT_LE(max_difference(p, it->second), 1e-9 * rig.sweeps[0].rest.length()) << fps << " fps, t = " << time / 720.0;
+        ASSERT_LE(max_difference(p, it->second), 1e-9 * rig.sweeps[0].rest.length())
+            << fps << " fps, t = " << time / 720.0;
       }
     }
     EXPECT_GT(moved, 1e-3);
@@ -342,7 +346,8 @@ TEST(Body, FilesCarryTheBodyPcTwoInTheWorldGlbAsTheNodesAnimation) {
   const Rig rig = test::rig_of({test::straight_sweep()});
   const bind::Binding binding = bind::bind_rig(rig, mesh);
   const Quat turn(Eigen::AngleAxisd(1.2, Vec3::UnitY()));
-  Scene scene = scene_of(BodyPath({key(0, Vec3::Zero()), key(1, Vec3(0.5, 0, 0.2), turn)}, BodyInterpolation::cubic), 1.5);
+  Scene scene =
+      scene_of(BodyPath({key(0, Vec3::Zero()), key(1, Vec3(0.5, 0, 0.2), turn)}, BodyInterpolation::cubic), 1.5);
   const fs::path dir = fs::temp_directory_path() / ("sweep_body_files_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   sweep::assets::BakeOptions o;
@@ -363,7 +368,8 @@ TEST(Body, FilesCarryTheBodyPcTwoInTheWorldGlbAsTheNodesAnimation) {
     EXPECT_EQ(anim.samplers.at(c.sampler).interpolation, "LINEAR");
     EXPECT_EQ(acc.count, pc2.size());
     const tinygltf::BufferView& bv = model.bufferViews.at(acc.bufferView);
-    channel[c.target_path] = reinterpret_cast<const float*>(model.buffers.at(0).data.data() + bv.byteOffset + acc.byteOffset);
+    channel[c.target_path] =
+        reinterpret_cast<const float*>(model.buffers.at(0).data.data() + bv.byteOffset + acc.byteOffset);
   }
   ASSERT_EQ(channel.size(), 2u);
   // A vertex no sweep moves (the far cap's centre is bound; the first ring sits at the root): its

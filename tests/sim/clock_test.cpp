@@ -6,8 +6,8 @@
 #include <numeric>
 
 #include "core/sample_sweeps.h"
-#include "sweep/sim/simulator.h"
 #include "sim/sweep_pose.h"
+#include "sweep/sim/simulator.h"
 
 namespace sweep::sim {
 namespace {

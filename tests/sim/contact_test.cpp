@@ -1,6 +1,8 @@
 // Colliders: shapes against their closed forms, and parts that hit them — a fast swing
 // into a thin plate, a thin capsule between two key sections, a part coming to rest on the ground
 // — measured on the deformed surface itself, densely sampled, not on the solver's own stations.
+#include "sweep/sim/contact.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,11 +10,10 @@
 #include <numbers>
 
 #include "core/beam_tubes.h"
-#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
-#include "sweep/sim/contact.h"
-#include "sweep/sim/simulator.h"
 #include "sim/surface_probes.h"
+#include "sweep/core/error.h"
+#include "sweep/sim/simulator.h"
 
 namespace sweep::sim {
 namespace {
@@ -101,8 +102,8 @@ TEST(Contact, AFastSwingNeverEndsAFrameThroughAThinPlate) {
   const double length = rig.sweeps[0].rest.length();
   // A plate 0.02 units thick (1/1550 of the length) beside the outer half of the tube, 1.5 radii
   // from its axis, across the way the kick sends it.
-  const Collider plate = Collider::box(Vec3(1.5 * test::beam::kRadius + 0.01, 0, 0.75 * length),
-                                       Vec3(0.01, 5, 0.25 * length + 1));
+  const Collider plate =
+      Collider::box(Vec3(1.5 * test::beam::kRadius + 0.01, 0, 0.75 * length), Vec3(0.01, 5, 0.25 * length + 1));
   // Without it the tube swings far past where the plate is, moving many plate thicknesses a step.
   // A frame a step (480 fps): the tip's largest move in one step.
   Scene probe;
@@ -577,7 +578,8 @@ TEST(Contact, ARestPoseInsideAColliderIsNamed) {
   // Its centre 0.3 beside the axis, 0.5 in radius: the tube's surface (radius 0.5) is 0.7 inside.
   Collider ball = Collider::sphere(Vec3(0.3, 0, 20), 0.5);
   ball.name = "ball";
-  const std::vector<std::string> found = rest_pose_overlaps(rig, {ball, Collider::sphere(Vec3(9, 0, 0), 1)}, Frame{}, 4);
+  const std::vector<std::string> found =
+      rest_pose_overlaps(rig, {ball, Collider::sphere(Vec3(9, 0, 0), 1)}, Frame{}, 4);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_NE(found[0].find("\"ball\""), std::string::npos) << found[0];
   EXPECT_NE(found[0].find("\"tube\""), std::string::npos) << found[0];

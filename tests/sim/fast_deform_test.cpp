@@ -10,11 +10,11 @@
 #include <random>
 
 #include "bind/support.h"
+#include "core/sample_sweeps.h"
+#include "sim/sweep_cloud.h"
 #include "sweep/core/deform_point.h"
 #include "sweep/core/elastic_sweep.h"
-#include "core/sample_sweeps.h"
 #include "sweep/sim/simulator.h"
-#include "sim/sweep_cloud.h"
 
 namespace sweep::sim {
 namespace {
@@ -78,8 +78,7 @@ TEST(FastDeform, RestIsReproducedToFloatPrecisionAtTheStations) {
   for (std::size_t v = 0; v < out.size(); ++v)
     worst = std::max(worst, double((out[v] - rest[v]).cwiseAbs().maxCoeff()));
   // A few roundings of the table and of the vertex's sum (under 3 unit roundoffs here).
-  EXPECT_LE(worst, 8 * kFloatRoundoff * magnitude(rest))
-      << "worst " << worst << " of " << magnitude(rest);
+  EXPECT_LE(worst, 8 * kFloatRoundoff * magnitude(rest)) << "worst " << worst << " of " << magnitude(rest);
 }
 
 TEST(FastDeform, ErrorAgainstTheExactPathFallsQuadraticallyWithStations) {
@@ -95,8 +94,8 @@ TEST(FastDeform, ErrorAgainstTheExactPathFallsQuadraticallyWithStations) {
   const Cloud c = cloud_on(sweep.rest(), 4000);
   double exact_worst = 0;
   for (std::size_t v = 0; v < c.rest.size(); ++v) {
-    exact_worst = std::max(exact_worst, (deform_point(sweep.rest(), c.bound.coords(v)) -
-                                         c.rest[v].cast<double>()).cwiseAbs().maxCoeff());
+    exact_worst = std::max(
+        exact_worst, (deform_point(sweep.rest(), c.bound.coords(v)) - c.rest[v].cast<double>()).cwiseAbs().maxCoeff());
   }
   EXPECT_LE(exact_worst, 8 * kFloatRoundoff * magnitude(c.rest));  // the coordinates in float
   for (const bool at_rest : {true, false}) {
@@ -121,8 +120,8 @@ TEST(FastDeform, ErrorAgainstTheExactPathFallsQuadraticallyWithStations) {
       if (!at_rest && stations == 16) {
         EXPECT_LT(e, 2e-4 * sweep.rest().length());
       }
-      std::printf("fast path %s, %d stations a span: largest error %.3g of the length\n", pose,
-                  stations, e / sweep.rest().length());
+      std::printf("fast path %s, %d stations a span: largest error %.3g of the length\n", pose, stations,
+                  e / sweep.rest().length());
       previous = e;
     }
   }
@@ -174,8 +173,7 @@ TEST(FastDeform, AtStationsAndSampleAnglesTheTableIsTheExactSweep) {
     for (int q = 0; q < stations; ++q) {
       for (int j = 0; j < shape.radial_count; ++j) {
         b.vertices.push_back(static_cast<std::uint32_t>(b.vertices.size()));
-        b.t.push_back(
-            static_cast<float>(shape.t[s] + (shape.t[s + 1] - shape.t[s]) * q / stations));
+        b.t.push_back(static_cast<float>(shape.t[s] + (shape.t[s + 1] - shape.t[s]) * q / stations));
         b.theta.push_back(static_cast<float>(shape.sample_angle(j)));
         b.s.push_back(0.9f);
         b.z.push_back(s == 0 && q == 0 && j == 0 ? -0.3f : 0.0f);
@@ -291,8 +289,8 @@ TEST(FastDeform, MeshOrderChangesTheLayoutButNotOneBit) {
 // Runs `scene` on a bound mesh and, every frame, rebuilds each sweep with each compiled form of the
 // kernel (automatic, baseline x86-64, AVX2 where the CPU has it): all must give the same bits.
 // Returns how many vertex positions moved away from the rest pose over the run.
-std::size_t expect_kernel_forms_agree(const Mesh& mesh, const Rig& rig,
-                                      const bind::Binding& binding, const Scene& scene) {
+std::size_t expect_kernel_forms_agree(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
+                                      const Scene& scene) {
   std::vector<Vec3f> rest(mesh.vertex_count());
   for (std::size_t v = 0; v < rest.size(); ++v) rest[v] = mesh.positions[v].cast<float>();
   std::vector<std::unique_ptr<FastDeformer>> fast;
@@ -315,9 +313,8 @@ std::size_t expect_kernel_forms_agree(const Mesh& mesh, const Rig& rig,
     for (std::size_t f = 1; f < forms.size(); ++f) {
       for (std::size_t v = 0; v < rest.size(); ++v) {
         if (std::memcmp(out[0][v].data(), out[f][v].data(), sizeof(Vec3f)) != 0) {
-          ADD_FAILURE() << "frame " << k << ", vertex " << v << ": form " << static_cast<int>(forms[f])
-                        << " gives " << out[f][v].transpose() << ", automatic "
-                        << out[0][v].transpose();
+          ADD_FAILURE() << "frame " << k << ", vertex " << v << ": form " << static_cast<int>(forms[f]) << " gives "
+                        << out[f][v].transpose() << ", automatic " << out[0][v].transpose();
           return moved;
         }
       }
@@ -370,8 +367,7 @@ TEST(FastDeform, BaselineAndAvx2KernelsGiveTheSameBits) {
   std::vector<Vec3f> rest(mesh.vertex_count());
   for (std::size_t v = 0; v < rest.size(); ++v) rest[v] = mesh.positions[v].cast<float>();
   EXPECT_GT(FastDeformer(rig.sweeps[0].rest, bound, rest).direct_block_count(), 0u);
-  EXPECT_GT(expect_kernel_forms_agree(mesh, rig, binding, push_at_the_tips(rig, 1.0)),
-            mesh.vertex_count());
+  EXPECT_GT(expect_kernel_forms_agree(mesh, rig, binding, push_at_the_tips(rig, 1.0)), mesh.vertex_count());
 }
 
 TEST(FastDeform, DiplodocusKernelFormsGiveTheSameBits) {

@@ -6,8 +6,8 @@
 #include <cstdio>
 
 #include "bind/support.h"
-#include "diplodocus_seeds.h"
 #include "core/sample_sweeps.h"
+#include "diplodocus_seeds.h"
 #include "sweep/io/scene_json.h"
 #include "sweep/sim/simulator.h"
 
@@ -88,8 +88,8 @@ TEST(FollowerLoads, DiplodocusFig4WithinOneHundredThousandthOfTheLengthAtTheDefa
   Scene fine = scene;
   fine.step = Scene::kDefaultStep / 16;
   const double e = run_difference(dino->rig, scene, fine);
-  std::printf("diplodocus Fig. 4, default step %.4g s: %.3g of the length from a 16x finer step\n",
-              Scene::kDefaultStep, e);
+  std::printf("diplodocus Fig. 4, default step %.4g s: %.3g of the length from a 16x finer step\n", Scene::kDefaultStep,
+              e);
   EXPECT_GT(e, 0.0);
   EXPECT_LE(e, 1e-5);
 }

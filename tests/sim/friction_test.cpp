@@ -25,11 +25,11 @@ namespace {
 using test::beam::kRadius;
 using test::beam::kScale;
 
-constexpr double kG = 9.81;          // m/s²
-constexpr double kStiff = 2e9;      // Pa: lags of at most ~1.5% of the length at μ = 0.4 (small deflection)
-constexpr double kSpeed = 0.5;       // the body's speed along +x, mesh units/s (5 cm/s)
-constexpr double kSettled = 2.0;     // s: the first bending mode (~12 rad/s, ζ = 0.5) has decayed to e^-12
-constexpr double kDuration = 2.5;    // s: the steady lag is the mean over [kSettled, kDuration]
+constexpr double kG = 9.81;        // m/s²
+constexpr double kStiff = 2e9;     // Pa: lags of at most ~1.5% of the length at μ = 0.4 (small deflection)
+constexpr double kSpeed = 0.5;     // the body's speed along +x, mesh units/s (5 cm/s)
+constexpr double kSettled = 2.0;   // s: the first bending mode (~12 rad/s, ζ = 0.5) has decayed to e^-12
+constexpr double kDuration = 2.5;  // s: the steady lag is the mean over [kSettled, kDuration]
 
 SweepDef stiff_tube() {
   SweepDef def = test::beam::tube(kRadius, kRadius, 0.5);
@@ -83,11 +83,15 @@ double free_sag(const SweepDef& def) {
   const SectionProperties p = test::beam::props_of(def);
   return def.material->density * p.area * kG * std::pow(test::beam::length_m(def), 4) / (8 * kStiff * p.i_xx);
 }
-double drop_m(const SweepDef& def) { return 0.5 * free_sag(def); }
+double drop_m(const SweepDef& def) {
+  return 0.5 * free_sag(def);
+}
 
 // The floor holds the tip up by (sag − drop), so it presses it with N = 3EI/L³ (sag − drop); sliding,
 // the tip is dragged back by μN, and a tip load F moves the tip by FL³/3EI: it lags μ (sag − drop).
-double coulomb_lag(const SweepDef& def, double mu) { return mu * (free_sag(def) - drop_m(def)); }
+double coulomb_lag(const SweepDef& def, double mu) {
+  return mu * (free_sag(def) - drop_m(def));
+}
 
 TEST(ContactFriction, ASlidingPartLagsByItsKineticDragMuTimesItsWeight) {
   Rig rig;
@@ -160,8 +164,8 @@ TEST(ContactFriction, AStuckTipStaysWhereItRestsWhileTheBodyMovesLessThanItsSlid
     double rest = 0, worst = 0;
     for (int k = 1; k < scene.frame_count(); ++k) {
       sim.advance_frame();
-      const double tip = sim.sweep(0).deformed().frames.back().center.x();  // mesh units, body frame
-      if (k == 24) rest = tip;                                                // t = 1 s, body at 0
+      const double tip = sim.sweep(0).deformed().frames.back().center.x();     // mesh units, body frame
+      if (k == 24) rest = tip;                                                 // t = 1 s, body at 0
       if (k >= 30) worst = std::max(worst, std::abs((tip + kTravel) - rest));  // world x against t = 1 s
     }
     std::printf("step %.5g s: tip %.3g units off where it rested (travel %.3g)\n", step, worst, kTravel);
@@ -186,10 +190,10 @@ TEST(ContactFriction, TheOutputFrameRateDoesNotChangeTheMotion) {
     scene.gravity = Vec3(0, -kG, 0);
     scene.gravity_preloaded = false;
     const std::vector<BodyKey> keys = {{0, Vec3::Zero(), Quat::Identity()},
-                                 {0.3, Vec3::Zero(), Quat::Identity()},
-                                 {0.6, Vec3(0.3, 0, 0), Quat::Identity()},
-                                 {0.8, Vec3(0.32, 0, 0.05), Quat::Identity()},
-                                 {100, Vec3(0.32, 0, 0.05), Quat::Identity()}};
+                                       {0.3, Vec3::Zero(), Quat::Identity()},
+                                       {0.6, Vec3(0.3, 0, 0), Quat::Identity()},
+                                       {0.8, Vec3(0.32, 0, 0.05), Quat::Identity()},
+                                       {100, Vec3(0.32, 0, 0.05), Quat::Identity()}};
     scene.body = BodyPath(keys, BodyInterpolation::linear);
     Collider floor = ground(rig.sweeps[0]);
     floor.friction = 0.3;
@@ -290,9 +294,9 @@ TEST(ContactFriction, ATeleportForgetsTheAnchorsAndThePartSettlesAsIfItStartedTh
                                  {100, there, Quat::Identity()}},
                                 BodyInterpolation::linear),
                        kCut + kAfter, &teleports, &asleep_at_cut);
-  const auto fresh = run(BodyPath({{0, there, Quat::Identity()}, {100, there, Quat::Identity()}},
-                                  BodyInterpolation::linear),
-                         kAfter, nullptr, nullptr);
+  const auto fresh =
+      run(BodyPath({{0, there, Quat::Identity()}, {100, there, Quat::Identity()}}, BodyInterpolation::linear), kAfter,
+          nullptr, nullptr);
   const std::size_t at_cut = static_cast<std::size_t>(std::lround(kCut * kFps));
   ASSERT_EQ(teleports, std::vector<int>{static_cast<int>(at_cut) + 1});
   const std::size_t tip_x = cut[0].size() - 3;
@@ -344,15 +348,15 @@ double cut_off_a_fresh_start(double fps, double step, double t1, double t2, std:
                                  {100, there, Quat::Identity()}},
                                 BodyInterpolation::linear),
                        reset + kAfter, teleports);
-  const auto fresh = run(BodyPath({{0, there, Quat::Identity()}, {100, there, Quat::Identity()}},
-                                  BodyInterpolation::linear),
-                         kAfter, nullptr);
+  const auto fresh =
+      run(BodyPath({{0, there, Quat::Identity()}, {100, there, Quat::Identity()}}, BodyInterpolation::linear), kAfter,
+          nullptr);
   const std::size_t at = static_cast<std::size_t>(std::lround(reset * fps));
   double worst = 0;
   for (std::size_t k = 1; k < fresh.size() && at + k < cut.size(); ++k)
     worst = std::max(worst, farthest_apart(cut[at + k], fresh[k]));
-  std::printf("cut %.6f..%.6f at %g fps, step %g: off a fresh start at %.6f by at most %.3g units\n", t1, t2, fps,
-              step, reset, worst);
+  std::printf("cut %.6f..%.6f at %g fps, step %g: off a fresh start at %.6f by at most %.3g units\n", t1, t2, fps, step,
+              reset, worst);
   return worst;
 }
 
@@ -419,7 +423,8 @@ TEST(ContactFriction, APartHeldOnAWorldFloorSleepsWhileTheBodyStandsStill) {
     sim.advance_frame();
     if (k / scene.fps > 0.8 && slept < 0 && !sim.is_awake(0)) slept = k, steps = sim.steps_taken(0);
   }
-  std::printf("held on the floor: asleep at frame %d, tip x %.4g\n", slept, sim.sweep(0).deformed().frames.back().center.x());
+  std::printf("held on the floor: asleep at frame %d, tip x %.4g\n", slept,
+              sim.sweep(0).deformed().frames.back().center.x());
   ASSERT_GT(slept, 0) << "never fell asleep";
   EXPECT_LT(slept / scene.fps, 1.5);
   EXPECT_FALSE(sim.is_awake(0));
@@ -559,9 +564,10 @@ TEST(ContactFriction, ATipHeldOnASlopeSleepsAndWakesWhereItWas) {
   for (std::size_t k = static_cast<std::size_t>(woke); k < run.poses.size(); ++k)
     jump = std::max(jump, farthest_apart(run.poses[k], asleep));
   const double apart = farthest_apart(run.poses.back(), awake.poses.back());
-  std::printf("sleep on the slope: asleep at frame %d, woken at %d, asleep again at %d; moved %.3g units once "
-              "woken; %.3g units from a part never asleep at the end\n",
-              slept, woke, slept_again, jump, apart);
+  std::printf(
+      "sleep on the slope: asleep at frame %d, woken at %d, asleep again at %d; moved %.3g units once "
+      "woken; %.3g units from a part never asleep at the end\n",
+      slept, woke, slept_again, jump, apart);
   EXPECT_LT(jump, 0.1 * kHeldDrift * length);
   EXPECT_LT(apart, 0.1 * kHeldDrift * length);
 }
@@ -585,9 +591,8 @@ TEST(ContactFriction, TheHoldNeverAddsEnergyWhileTheBodyIsStill) {
     double lost[2] = {0, 0};  // the share of the start's energy lost by the end, μ = 0 and μ = 2
     for (const int high : {0, 1}) {
       const double mu = high ? 2.0 : 0.0;
-      std::vector<BodyKey> keys = {{0, Vec3::Zero(), Quat::Identity()},
-                                   {0.3, pressed, Quat::Identity()},
-                                   {0.6, dragged, Quat::Identity()}};
+      std::vector<BodyKey> keys = {
+          {0, Vec3::Zero(), Quat::Identity()}, {0.3, pressed, Quat::Identity()}, {0.6, dragged, Quat::Identity()}};
       if (release) keys.push_back({0.7, Vec3(1.5, 0, 0), Quat::Identity()});
       const double still = keys.back().time;
       keys.push_back({100, keys.back().translation, Quat::Identity()});

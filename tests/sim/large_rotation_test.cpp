@@ -40,7 +40,9 @@ SweepDef two_metre_tube(double youngs, double zeta, bool bent = false) {
   return def;
 }
 
-double length_m(const ElasticSweep& s) { return s.chain()->metres_per_unit * s.rest().length(); }
+double length_m(const ElasticSweep& s) {
+  return s.chain()->metres_per_unit * s.rest().length();
+}
 
 double total_mass(const ElasticSweep& s) {
   double m = 0;
@@ -153,8 +155,10 @@ TEST(LargeRotation, StabilityMatrixFromARopeToSteelAtStepsFromATenthOfAMilliseco
         previous = e;
         now = after;
       }
-      std::printf("E %.0e, step %.3g s: largest (energy - work)/(m g L + work) %.3g, work up to %.3g m g L, rise once still %.3g, tip %.3g L down\n",
-                  youngs, h, over, largest_work / mgl, rise, -tube.exact_chain_state()->centres().back().y() / length_m(tube));
+      std::printf(
+          "E %.0e, step %.3g s: largest (energy - work)/(m g L + work) %.3g, work up to %.3g m g L, rise once still "
+          "%.3g, tip %.3g L down\n",
+          youngs, h, over, largest_work / mgl, rise, -tube.exact_chain_state()->centres().back().y() / length_m(tube));
       EXPECT_LE(over, 0.01) << "E " << youngs << ", step " << h;
       EXPECT_LE(rise, 1e-9) << "E " << youngs << ", step " << h;
     }

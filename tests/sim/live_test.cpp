@@ -5,10 +5,10 @@
 #include <cmath>
 #include <limits>
 
-#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
-#include "sweep/sim/simulator.h"
 #include "sim/sweep_pose.h"
+#include "sweep/core/error.h"
+#include "sweep/sim/simulator.h"
 
 namespace sweep::sim {
 namespace {
@@ -49,7 +49,9 @@ SceneForce push(double start, double end, const Vec3& v) {
 // A linear body path that walks, turns and stops.
 BodyPath walk() {
   const auto turn = [](double a) { return Quat(Eigen::AngleAxisd(a, Vec3(0.2, 1, 0.1).normalized())); };
-  return BodyPath({{0.25, Vec3::Zero(), turn(0)}, {0.75, Vec3(1.5, 0, 0.3), turn(0.5)}, {1.25, Vec3(2, 0.4, 0.3), turn(-0.2)},
+  return BodyPath({{0.25, Vec3::Zero(), turn(0)},
+                   {0.75, Vec3(1.5, 0, 0.3), turn(0.5)},
+                   {1.25, Vec3(2, 0.4, 0.3), turn(-0.2)},
                    {1.5, Vec3(2, 0.4, 0.3), turn(-0.2)}},
                   BodyInterpolation::linear);
 }

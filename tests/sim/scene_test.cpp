@@ -1,11 +1,12 @@
 // Scene defaults that depend on the rig.
+#include "sweep/sim/scene.h"
+
 #include <gtest/gtest.h>
 
-#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
+#include "sweep/core/error.h"
 #include "sweep/io/json_reader.h"
 #include "sweep/io/scene_json.h"
-#include "sweep/sim/scene.h"
 
 namespace sweep::sim {
 namespace {
@@ -38,7 +39,8 @@ std::string refusal(const std::string& colliders) {
   rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
   rig.sweeps.back().name = "tube";
   const io::Json json = io::Json::parse(R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30,
-    "forces": [], "colliders": )" + colliders + "}");
+    "forces": [], "colliders": )" + colliders +
+                                        "}");
   try {
     parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
   } catch (const Error& e) {
@@ -78,21 +80,38 @@ TEST(Scene, CollidersAreReadWithTheirShapesAndPlaces) {
 }
 
 TEST(Scene, BadCollidersAreRefusedWithWhereAndWhy) {
-  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 0}])").find("/colliders/0/radius: must be a positive number"), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "cone", "center": [0, 0, 0]}])").find("/colliders/0/shape: must be \"sphere\", \"capsule\", \"box\" or \"plane\""), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}])").find("/colliders/0/normal: must not be zero"), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "box", "center": [0, 0, 0], "half_size": [1, 0, 1]}])").find("/colliders/0/half_size: every half size must be positive"), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "from": [0, 0, 0]}])").find("/colliders/0/from: is not a member of a sphere collider"), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "attached": "leg"}])").find("/colliders/0/attached: must be \"world\""), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "friction": -1}])").find("/colliders/0/friction: must be between 0 and 100"), std::string::npos);
-  EXPECT_NE(refusal(R"([{"shape": "capsule", "from": [0, 0, 0], "radius": 1}])").find("/colliders/0: missing required member \"to\""), std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 0}])")
+                .find("/colliders/0/radius: must be a positive number"),
+            std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "cone", "center": [0, 0, 0]}])")
+                .find("/colliders/0/shape: must be \"sphere\", \"capsule\", \"box\" or \"plane\""),
+            std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}])")
+                .find("/colliders/0/normal: must not be zero"),
+            std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "box", "center": [0, 0, 0], "half_size": [1, 0, 1]}])")
+                .find("/colliders/0/half_size: every half size must be positive"),
+            std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "from": [0, 0, 0]}])")
+                .find("/colliders/0/from: is not a member of a sphere collider"),
+            std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "attached": "leg"}])")
+                .find("/colliders/0/attached: must be \"world\""),
+            std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "friction": -1}])")
+                .find("/colliders/0/friction: must be between 0 and 100"),
+            std::string::npos);
+  EXPECT_NE(refusal(R"([{"shape": "capsule", "from": [0, 0, 0], "radius": 1}])")
+                .find("/colliders/0: missing required member \"to\""),
+            std::string::npos);
   EXPECT_NE(refusal(R"({"shape": "plane"})").find("/colliders: "), std::string::npos);
   EXPECT_EQ(refusal(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 1}])"), "");
 }
 
 TEST(Scene, ABadContactStepIsRefusedWithWhereAndWhy) {
   EXPECT_NE(refusal(R"([], "contact_step": 0)").find("/contact_step: must be a positive number"), std::string::npos);
-  EXPECT_NE(refusal(R"([], "contact_step": 2)").find("/contact_step: must be between 1e-06 and 1 s, got 2"), std::string::npos);
+  EXPECT_NE(refusal(R"([], "contact_step": 2)").find("/contact_step: must be between 1e-06 and 1 s, got 2"),
+            std::string::npos);
   EXPECT_NE(refusal(R"([], "contact_step": "fine")").find("/contact_step: "), std::string::npos);
   EXPECT_EQ(refusal(R"([], "contact_step": 0.004)"), "");
   EXPECT_EQ(Scene{}.contact_step, Scene::kDefaultStep);
@@ -147,11 +166,18 @@ TEST(Scene, TheBodyColliderIsReadAndBadOnesAreRefusedWithWhereAndWhy) {
   EXPECT_EQ(scene.body_collider.friction, 0.25);
   EXPECT_TRUE(scene.colliders.empty());  // the tools fit the spheres, as they read the mesh
   EXPECT_EQ(body_refusal(R"({"spheres": 8})"), "");
-  EXPECT_NE(body_refusal(R"({"resolution": 8})").find("/body_collider: missing required member \"spheres\""), std::string::npos);
-  EXPECT_NE(body_refusal(R"({"spheres": 1000})").find("/body_collider/spheres: must be between 1 and 256"), std::string::npos);
-  EXPECT_NE(body_refusal(R"({"spheres": 8, "resolution": 2})").find("/body_collider/resolution: must be between 8 and 200"), std::string::npos);
-  EXPECT_NE(body_refusal(R"({"spheres": 8, "margin": -1})").find("/body_collider/margin: must be between 0 and"), std::string::npos);
-  EXPECT_NE(body_refusal(R"({"spheres": 8, "friction": 101})").find("/body_collider/friction: must be between 0 and 100"), std::string::npos);
+  EXPECT_NE(body_refusal(R"({"resolution": 8})").find("/body_collider: missing required member \"spheres\""),
+            std::string::npos);
+  EXPECT_NE(body_refusal(R"({"spheres": 1000})").find("/body_collider/spheres: must be between 1 and 256"),
+            std::string::npos);
+  EXPECT_NE(
+      body_refusal(R"({"spheres": 8, "resolution": 2})").find("/body_collider/resolution: must be between 8 and 200"),
+      std::string::npos);
+  EXPECT_NE(body_refusal(R"({"spheres": 8, "margin": -1})").find("/body_collider/margin: must be between 0 and"),
+            std::string::npos);
+  EXPECT_NE(
+      body_refusal(R"({"spheres": 8, "friction": 101})").find("/body_collider/friction: must be between 0 and 100"),
+      std::string::npos);
   EXPECT_NE(body_refusal("true").find("/body_collider: "), std::string::npos);
 }
 

@@ -1,14 +1,15 @@
 // The simulator: scene timing, what it skips, sleep, substep independence, divergence.
+#include "sweep/sim/simulator.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <memory>
 #include <numbers>
 
-#include "sweep/core/error.h"
 #include "core/sample_sweeps.h"
 #include "fp_guard.h"
-#include "sweep/sim/simulator.h"
+#include "sweep/core/error.h"
 
 namespace sweep::sim {
 namespace {
@@ -216,7 +217,7 @@ TEST(Simulator, ExactIntegratorIsStableWhereEulerIsNot) {
   const SpringSettings& spring = rig.sweeps[0].springs[5].positional;
   const double f = scene.forces[0].spec.vector.y(), w = 2 * std::numbers::pi * hz;
   const double static_offset = f / spring.stiffness();  // f/k
-  ASSERT_GT(w * scene.step_seconds(), 20 * 2.0);  // one step a frame: ω dt past 20 × the limit
+  ASSERT_GT(w * scene.step_seconds(), 20 * 2.0);        // one step a frame: ω dt past 20 × the limit
 
   // Semi-implicit Euler at that step grows by ~(ω dt)² a step: far past the exact bound at once,
   // then a runaway.
@@ -229,8 +230,7 @@ TEST(Simulator, ExactIntegratorIsStableWhereEulerIsNot) {
     try {
       for (int k = 1; k < euler.frame_count(); ++k) {
         sim.advance_frame();
-        if (past_bound < 0 && !(std::abs(sim.sweep(0).section_offset(5).y()) <= 2 * static_offset))
-          past_bound = k;
+        if (past_bound < 0 && !(std::abs(sim.sweep(0).section_offset(5).y()) <= 2 * static_offset)) past_bound = k;
       }
       ADD_FAILURE() << "semi-implicit Euler did not diverge";
     } catch (const Error& e) {
@@ -246,8 +246,7 @@ TEST(Simulator, ExactIntegratorIsStableWhereEulerIsNot) {
   for (int k = 1; k < scene.frame_count(); ++k) {
     sim.advance_frame();
     const double t = sim.time();
-    const double y =
-        static_offset * ((1 - std::cos(w * t)) - (t > 1 ? 1 - std::cos(w * (t - 1)) : 0.0));
+    const double y = static_offset * ((1 - std::cos(w * t)) - (t > 1 ? 1 - std::cos(w * (t - 1)) : 0.0));
     const ElasticSweep& tail = sim.sweep(0);
     ASSERT_TRUE(tail.is_finite()) << "frame " << k;
     ASSERT_NEAR(tail.section_offset(5).y(), y, 1e-9 * static_offset) << "frame " << k;

@@ -32,9 +32,8 @@ void for_each_surface_sample(const SweepShape& shape, Visit&& visit) {
 inline double penetration(const SweepShape& shape, const Collider& c) {
   double deepest = 0;
   Vec3 out;
-  for_each_surface_sample(shape, [&](const Vec3& p) {
-    deepest = std::max(deepest, -c.local_distance(c.pose.to_local(p), &out));
-  });
+  for_each_surface_sample(
+      shape, [&](const Vec3& p) { deepest = std::max(deepest, -c.local_distance(c.pose.to_local(p), &out)); });
   return deepest;
 }
 

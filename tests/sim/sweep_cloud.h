@@ -25,14 +25,12 @@ inline SweepCloud sweep_cloud(const SweepShape& shape, int count, double s_min, 
   const SweepLocator locator(shape);
   for (int v = 0; v < count; ++v) {
     const long long w = v;
-    const double t = -0.05 * shape.length() +
-                     1.1 * shape.length() * static_cast<double>((w * 7919) % count) / count;
+    const double t = -0.05 * shape.length() + 1.1 * shape.length() * static_cast<double>((w * 7919) % count) / count;
     const double theta = 2 * std::numbers::pi * static_cast<double>((w * 104729) % 997) / 997.0;
     const double s = s_min + s_span * static_cast<double>((w * 31) % 101) / 100.0;
     const double tc = std::clamp(t, 0.0, shape.length());
     const double r = s * radius_at(shape, theta, tc);
-    const Vec3 p =
-        frame_at(shape, tc).to_world(Vec3(r * std::cos(theta), r * std::sin(theta), t - tc));
+    const Vec3 p = frame_at(shape, tc).to_world(Vec3(r * std::cos(theta), r * std::sin(theta), t - tc));
     const SweepCoords sc = locator.locate(p);
     c.bound.vertices.push_back(static_cast<std::uint32_t>(v));
     c.bound.t.push_back(static_cast<float>(sc.t));

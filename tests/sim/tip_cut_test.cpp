@@ -10,12 +10,12 @@
 #include <fstream>
 #include <numbers>
 
+#include "bind/support.h"
+#include "fit/closed_tubes.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/assets/edge_stretch.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/bind/bind.h"
-#include "bind/support.h"
-#include "fit/closed_tubes.h"
 #include "sweep/fit/fit.h"
 #include "sweep/io/rig_json.h"
 
@@ -86,7 +86,8 @@ Baked bake_push(const Stretch& s, const Vec3& push, const std::string& tag) {
   std::memcpy(&points, header + 16, 4);
   std::memcpy(&samples, header + 28, 4);
   b.frames.assign(samples, std::vector<Vec3f>(points));
-  for (auto& frame : b.frames) in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
+  for (auto& frame : b.frames)
+    in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
   EXPECT_TRUE(in.good());
   fs::remove_all(dir);
   return b;
@@ -134,8 +135,7 @@ void expect_cut_holds(const Stretch& s, const Baked& b, double min_tip_motion) {
 TEST(TipCut, TorusStretchIsCutAtTheTipAndNothingBeyondMoves) {
   // Tube radius 0.15 on a centre-line circle of radius 1; root at 0°, tip at 90°, both on the
   // outer equator: the rings from the tip run both ways round the torus.
-  const Stretch s = fit_and_bind(test::make_torus(1.0, 0.15, 128, 16), Vec3(1.15, 0, 0),
-                                 Vec3(0, 1.15, 0), 0.3);
+  const Stretch s = fit_and_bind(test::make_torus(1.0, 0.15, 128, 16), Vec3(1.15, 0, 0), Vec3(0, 1.15, 0), 0.3);
   ASSERT_TRUE(s.fit.tip_cut) << s.fit.root_reason;
   ASSERT_TRUE(s.rig.sweeps[0].part && s.rig.sweeps[0].part->tip_cut);
   EXPECT_NE(io::format_rig(s.rig).find("\"tip_cut\": true"), std::string::npos);
@@ -171,8 +171,8 @@ TEST(TipCut, KnotStretchIsCutAtTheTipAndNothingBeyondMoves) {
   Mesh mesh = assets::read_mesh(path);
   // Two vertices on the knot's surface (tube radius about 0.09) about 0.47 apart over the surface,
   // an eighth of its length: the root on the outside of a lobe.
-  const Stretch s = fit_and_bind(std::move(mesh), Vec3(0.489903, -0.198281, 0.00624241),
-                                 Vec3(0.2302, 0.0624, 0.207), 0.1);
+  const Stretch s =
+      fit_and_bind(std::move(mesh), Vec3(0.489903, -0.198281, 0.00624241), Vec3(0.2302, 0.0624, 0.207), 0.1);
   ASSERT_TRUE(s.fit.tip_cut) << s.fit.root_reason;
   EXPECT_TRUE(s.fit.problems.empty());
   EXPECT_LT(s.fit.error.rms, 0.01 * s.fit.mean_radius);

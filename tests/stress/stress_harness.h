@@ -81,17 +81,14 @@ inline std::string check_state(const ElasticSweep& body, StressResult& res) {
   for (int i = 0; i < d.section_count(); ++i) {
     const Frame& f = d.frames[i];
     for (int c = 0; c < 3; ++c) {
-      if (!std::isfinite(f.center[c]))
-        return "section " + std::to_string(i) + ": centre not finite";
+      if (!std::isfinite(f.center[c])) return "section " + std::to_string(i) + ": centre not finite";
     }
     for (int c = 0; c < 4; ++c) {
-      if (!std::isfinite(f.rotation.coeffs()[c]))
-        return "section " + std::to_string(i) + ": rotation not finite";
+      if (!std::isfinite(f.rotation.coeffs()[c])) return "section " + std::to_string(i) + ": rotation not finite";
     }
     const double e = orthonormality_error(f);
     res.max_orthonormality_error = std::max(res.max_orthonormality_error, e);
-    if (!(e < kOrthonormalTolerance))
-      return "section " + std::to_string(i) + ": frame not orthonormal";
+    if (!(e < kOrthonormalTolerance)) return "section " + std::to_string(i) + ": frame not orthonormal";
   }
   for (std::size_t m = 0; m < d.radii.size(); ++m) {
     if (!std::isfinite(d.radii[m]) || !(d.radii[m] > 0))
@@ -102,7 +99,9 @@ inline std::string check_state(const ElasticSweep& body, StressResult& res) {
 }
 
 // Decay rate of a damped oscillator, 1/s: ζω for ζ ≤ 1, ω(ζ − √(ζ² − 1)) above.
-inline double decay_rate(double w, double z) { return z <= 1 ? z * w : w * (z - std::sqrt(z * z - 1)); }
+inline double decay_rate(double w, double z) {
+  return z <= 1 ? z * w : w * (z - std::sqrt(z * z - 1));
+}
 
 // Slowest decay rate of the sweep's springs (of its modes, in material mode: the lowest frequency
 // decays slowest at one damping ratio, under- or over-damped alike).
@@ -114,7 +113,8 @@ inline double slowest_decay_rate(const StressParams& p, const ElasticSweep& body
   int which = 0;
   for (const auto* bank : {&c.positional, &c.radial}) {
     // (section 0 is fixed: its entries never move)
-    for (std::size_t m = root_entries[which]; m < bank->size(); ++m) w2 = std::min(w2, (*bank)[m].stiffness / (*bank)[m].mass);
+    for (std::size_t m = root_entries[which]; m < bank->size(); ++m)
+      w2 = std::min(w2, (*bank)[m].stiffness / (*bank)[m].mass);
     ++which;
   }
   return decay_rate(std::sqrt(std::max(w2, 0.0)), p.material->damping_ratio);
@@ -122,9 +122,8 @@ inline double slowest_decay_rate(const StressParams& p, const ElasticSweep& body
 
 // Runs `steps` steps: the first `forced_steps` under random forces (a new random set every
 // `change_every` steps, with an occasional impulse), the rest force-free.
-inline StressResult run_stress(const SweepDef& base, const StressParams& p, std::uint64_t seed,
-                               long long steps, long long forced_steps,
-                               long long change_every = 50) {
+inline StressResult run_stress(const SweepDef& base, const StressParams& p, std::uint64_t seed, long long steps,
+                               long long forced_steps, long long change_every = 50) {
   StressResult res;
   ElasticSweep body(with_params(base, p));
   body.set_integrator(p.integrator);
@@ -141,9 +140,7 @@ inline StressResult run_stress(const SweepDef& base, const StressParams& p, std:
     f.vector = dir.norm() > 1e-9 ? Vec3(mag * dir.normalized()) : Vec3(mag, 0, 0);
     f.components = static_cast<std::uint8_t>(1 + rng() % 7);
     const int target = static_cast<int>(rng() % 3);
-    f.target = target == 0   ? RotationTarget::nearest
-               : target == 1 ? RotationTarget::chain
-                             : RotationTarget::section;
+    f.target = target == 0 ? RotationTarget::nearest : target == 1 ? RotationTarget::chain : RotationTarget::section;
     f.target_section = 1 + static_cast<int>(rng() % (k - 1));
     f.moment = rng() % 2 ? MomentModel::scaled : MomentModel::physical;
     return f;
@@ -172,12 +169,10 @@ inline StressResult run_stress(const SweepDef& base, const StressParams& p, std:
     }
     const double damping = p.material ? p.material->damping_ratio : p.damping_ratio;
     if (!forced && damping > 0 && p.integrator == Integrator::exact) {
-      const double growth =
-          energy > kEnergyFloor ? (e - energy) / energy : (e > kEnergyFloor ? 1.0 : 0.0);
+      const double growth = energy > kEnergyFloor ? (e - energy) / energy : (e > kEnergyFloor ? 1.0 : 0.0);
       res.max_energy_growth = std::max(res.max_energy_growth, growth);
       if (growth > kEnergyGrowthTolerance) {
-        res.failure = "step " + std::to_string(s + 1) + ": energy grew without force, by " +
-                      std::to_string(growth);
+        res.failure = "step " + std::to_string(s + 1) + ": energy grew without force, by " + std::to_string(growth);
         return res;
       }
     }
@@ -187,11 +182,10 @@ inline StressResult run_stress(const SweepDef& base, const StressParams& p, std:
   // Return to rest: expected when the slowest spring mode has decayed by e^-30 over the free part.
   const double free_time = static_cast<double>(steps - forced_steps) * p.dt;
   res.rest_expected = p.integrator == Integrator::exact && slowest_decay_rate(p, body) * free_time > 30;
-  res.returned_to_rest =
-      res.final_displacement <= 1e-9 * std::max(res.peak_displacement, 1e-300) + 1e-300;
+  res.returned_to_rest = res.final_displacement <= 1e-9 * std::max(res.peak_displacement, 1e-300) + 1e-300;
   if (res.rest_expected && !res.returned_to_rest) {
-    res.failure = "did not return to rest: displacement " + std::to_string(res.final_displacement) +
-                  " after peak " + std::to_string(res.peak_displacement);
+    res.failure = "did not return to rest: displacement " + std::to_string(res.final_displacement) + " after peak " +
+                  std::to_string(res.peak_displacement);
   }
   return res;
 }

@@ -9,16 +9,16 @@
 #include <filesystem>
 #include <numbers>
 
-#include "sweep/assets/mesh_io.h"
-#include "sweep/core/error.h"
-#include "sweep/core/deform_point.h"
 #include "core/sample_sweeps.h"
+#include "sim/sweep_cloud.h"
+#include "stress/stress_harness.h"
+#include "sweep/assets/mesh_io.h"
+#include "sweep/core/deform_point.h"
+#include "sweep/core/error.h"
 #include "sweep/fit/fit.h"
 #include "sweep/io/rig_json.h"
 #include "sweep/sim/fast_deform.h"
 #include "sweep/sim/simulator.h"
-#include "sim/sweep_cloud.h"
-#include "stress/stress_harness.h"
 
 namespace sweep::stress {
 namespace {
@@ -48,8 +48,8 @@ void sweep_grid(const SweepDef& def, const Grid& g, long long steps, std::uint64
             p.force = 1e3;
             const StressResult r = run_stress(def, p, seed + runs, steps, steps / 2, 25);
             ++runs;
-            ASSERT_TRUE(r.ok()) << "m " << m << " f " << f << " zeta " << z << " C " << c << " dt "
-                                << dt << ": " << r.failure;
+            ASSERT_TRUE(r.ok()) << "m " << m << " f " << f << " zeta " << z << " C " << c << " dt " << dt << ": "
+                                << r.failure;
             EXPECT_LT(r.max_orthonormality_error, kOrthonormalTolerance);
             EXPECT_GT(r.min_radius_ratio, 0.0);
           }
@@ -74,11 +74,9 @@ TEST(Stress, DampedSweepReturnsToRestWithoutEnergyEverGrowing) {
       p.dt = dt;
       p.force = 50;
       const long long steps = dt >= 1.0 ? 400 : dt >= 1e-2 ? 2000 : 20000;
-      const StressResult r =
-          run_stress(test::sweep_def(test::irregular_shape(6, 8)), p, 11, steps, steps / 10);
+      const StressResult r = run_stress(test::sweep_def(test::irregular_shape(6, 8)), p, 11, steps, steps / 10);
       ASSERT_TRUE(r.ok()) << "dt " << dt << " zeta " << z << ": " << r.failure;
-      EXPECT_TRUE(r.rest_expected)
-          << "dt " << dt << " zeta " << z << ": the run is too short to test the return";
+      EXPECT_TRUE(r.rest_expected) << "dt " << dt << " zeta " << z << ": the run is too short to test the return";
       EXPECT_TRUE(r.returned_to_rest);
       EXPECT_LE(r.max_energy_growth, kEnergyGrowthTolerance);
     }
@@ -107,8 +105,8 @@ TEST(Stress, MaterialModeStiffSoftHeavyLightStaysFiniteAndNeverGainsEnergy) {
             p.dt = dt;
             p.force = 1e3;
             const StressResult r = run_stress(def, p, 500 + runs++, 200, 100, 25);
-            ASSERT_TRUE(r.ok()) << "E " << e << " rho " << rho << " m/unit " << scale << " zeta " << z
-                                << " dt " << dt << ": " << r.failure;
+            ASSERT_TRUE(r.ok()) << "E " << e << " rho " << rho << " m/unit " << scale << " zeta " << z << " dt " << dt
+                                << ": " << r.failure;
           }
         }
       }
@@ -147,8 +145,7 @@ TEST(Stress, EnergyCheckHoldsWhileMotionDecaysThroughSubnormalNumbers) {
   p.dt = 1.0 / 60;
   p.force = 1e3;
   for (std::uint64_t seed = 0; seed < 8; ++seed) {
-    const StressResult r =
-        run_stress(test::sweep_def(test::irregular_shape(5, 6)), p, seed, 14000, 100);
+    const StressResult r = run_stress(test::sweep_def(test::irregular_shape(5, 6)), p, seed, 14000, 100);
     ASSERT_TRUE(r.ok()) << "seed " << seed << ": " << r.failure;
     EXPECT_TRUE(r.returned_to_rest);
     EXPECT_LT(r.final_displacement, 1e-150);  // ½kx² has underflowed below the normal range
@@ -190,10 +187,8 @@ TEST(Stress, ExplicitIntegratorsThatBlowUpAreReportedAsDivergence) {
 // ---------------------------------------------------------------------------------
 
 TEST(Stress, DiplodocusTailUnderRandomForcesWithExtremeParameters) {
-  const std::filesystem::path path =
-      std::filesystem::path(SWEEP_SOURCE_DIR) / "meshes/cgal/diplodocus.off";
-  if (!std::filesystem::exists(path))
-    GTEST_SKIP() << path << " is absent (tools/setup-deps.sh unpacks it)";
+  const std::filesystem::path path = std::filesystem::path(SWEEP_SOURCE_DIR) / "meshes/cgal/diplodocus.off";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is absent (tools/setup-deps.sh unpacks it)";
   const Mesh mesh = assets::read_mesh(path);
   fit::FitOptions o;
   o.name = "tail";
@@ -237,8 +232,7 @@ void check_degenerate(const SweepShape& shape, const char* what) {
   ElasticSweep body(test::sweep_def(shape));
   for (int i = 1; i < shape.section_count(); ++i) {
     body.set_section_pose(i, Vec3(0.01, 0.0, 0.02) * shape.length(), Vec3(0.3, -0.2, 0.5));
-    for (int j = 0; j < shape.radial_count; j += 2)
-      body.set_radial_offset(i, j, -0.5 * shape.radius_sample(i, j));
+    for (int j = 0; j < shape.radial_count; j += 2) body.set_radial_offset(i, j, -0.5 * shape.radius_sample(i, j));
   }
   sim::FastDeformer fast(shape, c.bound, c.rest, 16);
   std::vector<sim::Vec3f> out = c.rest;
@@ -246,8 +240,7 @@ void check_degenerate(const SweepShape& shape, const char* what) {
   double worst = 0;
   for (std::size_t v = 0; v < out.size(); ++v) {
     for (int e = 0; e < 3; ++e) ASSERT_TRUE(std::isfinite(out[v][e])) << "vertex " << v;
-    worst = std::max(
-        worst, (out[v].cast<double>() - deform_point(body.deformed(), c.bound.coords(v))).norm());
+    worst = std::max(worst, (out[v].cast<double>() - deform_point(body.deformed(), c.bound.coords(v))).norm());
   }
   EXPECT_LT(worst, 2e-2 * size);
 }
@@ -270,8 +263,7 @@ TEST(Stress, AxisFoldingBackSharply) {
   s.radial_count = 8;
   Frame f;
   for (int i = 0; i < 6; ++i) {
-    if (i > 0)
-      f = f * Frame{Quat(Eigen::AngleAxisd(std::numbers::pi / 3, Vec3::UnitY())), Vec3(0, 0, 0.5)};
+    if (i > 0) f = f * Frame{Quat(Eigen::AngleAxisd(std::numbers::pi / 3, Vec3::UnitY())), Vec3(0, 0, 0.5)};
     s.t.push_back(0.5 * i);
     s.frames.push_back(f);
     for (int j = 0; j < 8; ++j) s.radii.push_back(0.1);
@@ -319,10 +311,8 @@ TEST(Stress, FastPathIsBitIdenticalOnOneAndTwoThreads) {
   const std::size_t count = sim::kParallelVertexThreshold + 5000;
   for (std::size_t v = 0; v < count; ++v) {
     bound.vertices.push_back(static_cast<std::uint32_t>(v));
-    bound.t.push_back(
-        static_cast<float>(body.rest().length() * static_cast<double>((v * 7919) % count) / count));
-    bound.theta.push_back(
-        static_cast<float>(2 * std::numbers::pi * static_cast<double>((v * 104729) % 997) / 997.0));
+    bound.t.push_back(static_cast<float>(body.rest().length() * static_cast<double>((v * 7919) % count) / count));
+    bound.theta.push_back(static_cast<float>(2 * std::numbers::pi * static_cast<double>((v * 104729) % 997) / 997.0));
     bound.s.push_back(0.3f + 0.7f * static_cast<float>((v * 31) % 101) / 100.0f);
     bound.z.push_back(0.0f);
     bound.weight.push_back(v % 10 == 0 ? 0.5f : 1.0f);

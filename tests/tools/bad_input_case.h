@@ -64,5 +64,4 @@ inline std::string case_name(const testing::TestParamInfo<Case>& info) {
   return info.param.name;
 }
 
-
 }  // namespace sweep::test

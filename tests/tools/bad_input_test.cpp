@@ -8,16 +8,15 @@
 // and NaN OFF, missing mesh, seeds off the mesh), tests/bind/file_test.cpp (missing rig or mesh,
 // --check of stale, truncated, bit-flipped and foreign bindings).
 #include <gtest/gtest.h>
-
 #include <sys/stat.h>
 
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "sweep/assets/mesh_io.h"
 #include "bad_input_case.h"
 #include "pipeline.h"
+#include "sweep/assets/mesh_io.h"
 #include "tube.h"
 
 namespace sweep::test {
@@ -116,8 +115,7 @@ Mesh non_manifold_tube() {
 
 const std::string kFitSeeds = " --name tube --root 0,0,0.02 --tip 0,0,1";
 
-std::string fit_args(const Workspace& ws, const std::string& mesh,
-                     const std::string& rig = "new.rig.json") {
+std::string fit_args(const Workspace& ws, const std::string& mesh, const std::string& rig = "new.rig.json") {
   return quoted(ws / mesh) + " -o " + quoted(ws / rig) + kFitSeeds;
 }
 
@@ -247,8 +245,7 @@ std::vector<Case> fit_cases() {
       {"Fit_RigNegativeMass",
        fit,
        [](const Workspace& ws) {
-         edit_json(ws / "rig.json",
-                   [](json& j) { j["sweeps"][0]["springs"]["positional"]["mass"] = -1; });
+         edit_json(ws / "rig.json", [](json& j) { j["sweeps"][0]["springs"]["positional"]["mass"] = -1; });
          return fit_args(ws, "tube.obj", "rig.json");
        },
        2,
@@ -266,8 +263,7 @@ std::vector<Case> fit_cases() {
        fit,
        [](const Workspace& ws) {
          spit(ws / "axis.txt", "0 0 0.02\n0 0.5\n0 0 1\n");
-         return quoted(ws / "tube.obj") + " -o " + quoted(ws / "new.rig.json") + " --axis " +
-                quoted(ws / "axis.txt");
+         return quoted(ws / "tube.obj") + " -o " + quoted(ws / "new.rig.json") + " --axis " + quoted(ws / "axis.txt");
        },
        2,
        {"axis.txt:2: expected X Y Z"}},
@@ -283,9 +279,7 @@ std::vector<Case> fit_cases() {
        {"no/such/dir/rig.json: cannot create a file in"}},
       {"Fit_ReportInMissingFolderWritesNoRig",
        fit,
-       [](const Workspace& ws) {
-         return fit_args(ws, "tube.obj") + " --report " + quoted(ws / "missing" / "r.json");
-       },
+       [](const Workspace& ws) { return fit_args(ws, "tube.obj") + " --report " + quoted(ws / "missing" / "r.json"); },
        4,
        {"missing/r.json: cannot create a file in"}},
       {"Fit_ObjIndexPast32BitsRefused",
@@ -371,9 +365,7 @@ std::vector<Case> fit_cases() {
        {"tube.obj is the same file as the mesh"}},
       {"Fit_ReportOntoMesh",
        fit,
-       [](const Workspace& ws) {
-         return fit_args(ws, "tube.obj") + " --report " + quoted(ws / "tube.obj");
-       },
+       [](const Workspace& ws) { return fit_args(ws, "tube.obj") + " --report " + quoted(ws / "tube.obj"); },
        1,
        {"--report ", "is the same file as the mesh"}},
       {"Fit_ReportOntoRig",
@@ -403,8 +395,7 @@ std::string bind_args(const Workspace& ws) {
 
 std::vector<Case> bind_cases() {
   const char* bind = SWEEP_BIND_EXE;
-  auto rig_case = [&](std::string name, std::function<void(json&)> change, int code,
-                      std::string expect) {
+  auto rig_case = [&](std::string name, std::function<void(json&)> change, int code, std::string expect) {
     return Case{std::move(name),
                 bind,
                 [change](const Workspace& ws) {
@@ -482,8 +473,10 @@ std::vector<Case> bind_cases() {
           "rig.json: /version: rig format version 5 is not supported (this build reads versions 1 to 4)"),
       rig_case(
           "Bind_TipCutInAVersion1Rig",
-          [](json& j) { j["sweeps"][0]["part"] = {{"root", {0, 0, 0}}, {"tip", {0, 0, 1}}, {"tip_cut", true}}; }, 2,
-          "rig.json: /sweeps/0/part/tip_cut: needs rig format version 2 (the file says version 1)"),
+          [](json& j) {
+            j["sweeps"][0]["part"] = {{"root", {0, 0, 0}}, {"tip", {0, 0, 1}}, {"tip_cut", true}};
+          },
+          2, "rig.json: /sweeps/0/part/tip_cut: needs rig format version 2 (the file says version 1)"),
       rig_case(
           "Bind_RadialSamplesBelow3", [](json& j) { j["sweeps"][0]["radial_samples"] = 2; }, 2,
           "rig.json: /sweeps/0/radial_samples: must be between 3 and 4096, got 2"),
@@ -492,11 +485,10 @@ std::vector<Case> bind_cases() {
           [](json& j) {
             j["sweeps"][0]["sections"][2]["springs"] = {{"bend", {{"mass", -0.5}}}};
           },
-          2,
-          "rig.json: /sweeps/0/sections/2/springs/bend/mass: must be a positive number, got -0.5"),
+          2, "rig.json: /sweeps/0/sections/2/springs/bend/mass: must be a positive number, got -0.5"),
       rig_case(
-          "Bind_NegativeRadius", [](json& j) { j["sweeps"][0]["sections"][1]["radii"][3] = -0.1; },
-          2, "rig.json: /sweeps/0/sections/1/radii/3: must be a positive number, got -0.1"),
+          "Bind_NegativeRadius", [](json& j) { j["sweeps"][0]["sections"][1]["radii"][3] = -0.1; }, 2,
+          "rig.json: /sweeps/0/sections/1/radii/3: must be a positive number, got -0.1"),
       rig_case(
           "Bind_NotAUnitQuaternion",
           [](json& j) {
@@ -550,24 +542,20 @@ std::vector<Case> bind_cases() {
        4,
        {"missing/out.bind: cannot create a file in"}},
       rig_case(
-          "Bind_SectionTBeyondLimit", [](json& j) { j["sweeps"][0]["sections"][2]["t"] = 1e39; },
-          2, "rig.json: /sweeps/0/sections/2/t: must be between -1e+09 and 1e+09, got 1e+39"),
+          "Bind_SectionTBeyondLimit", [](json& j) { j["sweeps"][0]["sections"][2]["t"] = 1e39; }, 2,
+          "rig.json: /sweeps/0/sections/2/t: must be between -1e+09 and 1e+09, got 1e+39"),
       rig_case(
-          "Bind_FrequencyBeyondLimit",
-          [](json& j) { j["sweeps"][0]["springs"]["bend"]["frequency_hz"] = 1e160; }, 2,
+          "Bind_FrequencyBeyondLimit", [](json& j) { j["sweeps"][0]["springs"]["bend"]["frequency_hz"] = 1e160; }, 2,
           "rig.json: /sweeps/0/springs/bend/frequency_hz: must be between 0.001 and 10000, got "
           "1e+160"),
       rig_case(
-          "Bind_MassBelowLimit",
-          [](json& j) { j["sweeps"][0]["springs"]["radial"]["mass"] = 1e-12; }, 2,
+          "Bind_MassBelowLimit", [](json& j) { j["sweeps"][0]["springs"]["radial"]["mass"] = 1e-12; }, 2,
           "rig.json: /sweeps/0/springs/radial/mass: must be between 1e-06 and 1e+06, got 1e-12"),
       rig_case(
-          "Bind_RadiusBeyondLimit",
-          [](json& j) { j["sweeps"][0]["sections"][1]["radii"][0] = 1e308; }, 2,
+          "Bind_RadiusBeyondLimit", [](json& j) { j["sweeps"][0]["sections"][1]["radii"][0] = 1e308; }, 2,
           "rig.json: /sweeps/0/sections/1/radii/0: must be between 0 and 1e+09, got 1e+308"),
       rig_case(
-          "Bind_RadialSamplesBeyondLimit",
-          [](json& j) { j["sweeps"][0]["radial_samples"] = 4097; }, 2,
+          "Bind_RadialSamplesBeyondLimit", [](json& j) { j["sweeps"][0]["radial_samples"] = 4097; }, 2,
           "rig.json: /sweeps/0/radial_samples: must be between 3 and 4096, got 4097"),
       mesh_case("Bind_MeshObjWithWrappingIndex", kObjIndexPast32Bits,
                 "tube.obj: line 4: face 0 uses vertex 4294967298"),
@@ -594,8 +582,7 @@ std::vector<Case> bind_cases() {
       {"Bind_ReportOntoBinding",
        bind,
        [](const Workspace& ws) {
-         return bind_args(ws) + " -o " + quoted(ws / "b.bind") + " --report " +
-                quoted(ws / "b.bind");
+         return bind_args(ws) + " -o " + quoted(ws / "b.bind") + " --report " + quoted(ws / "b.bind");
        },
        1,
        {"--report ", "is the same file as the binding"}},
@@ -622,14 +609,12 @@ std::vector<Case> bind_cases() {
 // ---- scenes, bindings and outputs (sweep-sim) ----
 
 std::string sim_args(const Workspace& ws, const std::string& out = "out.glb") {
-  return quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") + " -q -o " +
-         quoted(ws / out);
+  return quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") + " -q -o " + quoted(ws / out);
 }
 
 std::vector<Case> sim_cases() {
   const char* sim = SWEEP_SIM_EXE;
-  auto scene_case = [&](std::string name, std::function<void(json&)> change, int code,
-                        std::string expect) {
+  auto scene_case = [&](std::string name, std::function<void(json&)> change, int code, std::string expect) {
     return Case{std::move(name),
                 sim,
                 [change](const Workspace& ws) {
@@ -639,8 +624,7 @@ std::vector<Case> sim_cases() {
                 code,
                 {std::move(expect)}};
   };
-  auto binding_case = [&](std::string name, std::function<void(std::string&)> change,
-                          std::string expect) {
+  auto binding_case = [&](std::string name, std::function<void(std::string&)> change, std::string expect) {
     return Case{std::move(name),
                 sim,
                 [change](const Workspace& ws) {
@@ -665,8 +649,7 @@ std::vector<Case> sim_cases() {
        sim,
        [](const Workspace& ws) {
          make_unreadable(ws / "locked.json", kScene);
-         return quoted(ws / "rig.json") + " -s " + quoted(ws / "locked.json") + " -q -o " +
-                quoted(ws / "out.glb");
+         return quoted(ws / "rig.json") + " -s " + quoted(ws / "locked.json") + " -q -o " + quoted(ws / "out.glb");
        },
        2,
        {"locked.json: "}},
@@ -688,9 +671,7 @@ std::vector<Case> sim_cases() {
        {"scene.json:2:12: syntax error while parsing object key - unexpected ','"}},
       {"Sim_RigWithoutSceneGivenAsScene",
        sim,
-       [](const Workspace& ws) {
-         return quoted(ws / "rig.json") + " -q -o " + quoted(ws / "out.glb");
-       },
+       [](const Workspace& ws) { return quoted(ws / "rig.json") + " -q -o " + quoted(ws / "out.glb"); },
        2,
        {"rig.json: (document): this rig file has no \"scene\"; give a scene file"}},
       {"Sim_SceneNotAnObject",
@@ -702,11 +683,9 @@ std::vector<Case> sim_cases() {
        2,
        {"scene.json: (document): must be a JSON object"}},
       scene_case(
-          "Sim_FpsNotANumber", [](json& j) { j["fps"] = "ten"; }, 2,
-          "scene.json: /fps: must be a number, got \"ten\""),
+          "Sim_FpsNotANumber", [](json& j) { j["fps"] = "ten"; }, 2, "scene.json: /fps: must be a number, got \"ten\""),
       scene_case(
-          "Sim_FormatNotAString", [](json& j) { j["format"] = 7; }, 2,
-          "scene.json: /format: must be a string, got 7"),
+          "Sim_FormatNotAString", [](json& j) { j["format"] = 7; }, 2, "scene.json: /format: must be a string, got 7"),
       scene_case(
           "Sim_MissingDuration", [](json& j) { j.erase("duration"); }, 2,
           "scene.json: (document): missing required member \"duration\""),
@@ -715,16 +694,22 @@ std::vector<Case> sim_cases() {
           "scene.json: /fps: must be a positive number, got -10"),
       scene_case(
           "Sim_ColliderOfNoSize",
-          [](json& j) { j["colliders"] = json::parse(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 0}])"); }, 2,
-          "scene.json: /colliders/0/radius: must be a positive number, got 0"),
+          [](json& j) { j["colliders"] = json::parse(R"([{"shape": "sphere", "center": [0, 0, 0], "radius": 0}])"); },
+          2, "scene.json: /colliders/0/radius: must be a positive number, got 0"),
       scene_case(
           "Sim_FlatBoxCollider",
-          [](json& j) { j["colliders"] = json::parse(R"([{"shape": "box", "center": [0, 0, 0], "half_size": [1, 1, 0]}])"); }, 2,
-          "scene.json: /colliders/0/half_size: every half size must be positive (a plate is a thin box, not a flat one)"),
+          [](json& j) {
+            j["colliders"] = json::parse(R"([{"shape": "box", "center": [0, 0, 0], "half_size": [1, 1, 0]}])");
+          },
+          2,
+          "scene.json: /colliders/0/half_size: every half size must be positive (a plate is a thin box, not a flat "
+          "one)"),
       scene_case(
           "Sim_PlaneWithoutNormal",
-          [](json& j) { j["colliders"] = json::parse(R"([{"shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}])"); }, 2,
-          "scene.json: /colliders/0/normal: must not be zero: it points out of the solid side"),
+          [](json& j) {
+            j["colliders"] = json::parse(R"([{"shape": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]}])");
+          },
+          2, "scene.json: /colliders/0/normal: must not be zero: it points out of the solid side"),
       scene_case(
           "Sim_BodyColliderOfNoSpheres", [](json& j) { j["body_collider"] = json::parse(R"({"spheres": 0})"); }, 2,
           "scene.json: /body_collider/spheres: must be between 1 and 256, got 0"),
@@ -752,8 +737,7 @@ std::vector<Case> sim_cases() {
       {"Sim_RigNegativeMass",
        sim,
        [](const Workspace& ws) {
-         edit_json(ws / "rig.json",
-                   [](json& j) { j["sweeps"][0]["springs"]["twist"]["mass"] = -2; });
+         edit_json(ws / "rig.json", [](json& j) { j["sweeps"][0]["springs"]["twist"]["mass"] = -2; });
          return sim_args(ws);
        },
        2,
@@ -793,8 +777,7 @@ std::vector<Case> sim_cases() {
        sim,
        [](const Workspace& ws) {
          edit_json(ws / "rig.json", [](json& j) {
-           j["sweeps"][0]["sections"][1]["radii"][0] =
-               j["sweeps"][0]["sections"][1]["radii"][0].get<double>() * 1.05;
+           j["sweeps"][0]["sections"][1]["radii"][0] = j["sweeps"][0]["sections"][1]["radii"][0].get<double>() * 1.05;
          });
          return sim_args(ws);
        },
@@ -809,11 +792,7 @@ std::vector<Case> sim_cases() {
        },
        2,
        {"tube.obj: line 2: vertex 1 has a non-finite coordinate"}},
-      {"Sim_UnsupportedOutput",
-       sim,
-       [](const Workspace& ws) { return sim_args(ws, "out.fbx"); },
-       3,
-       {"out.fbx"}},
+      {"Sim_UnsupportedOutput", sim, [](const Workspace& ws) { return sim_args(ws, "out.fbx"); }, 3, {"out.fbx"}},
       {"Sim_GlbInMissingFolder",
        sim,
        [](const Workspace& ws) { return sim_args(ws, "missing/out.glb"); },
@@ -833,30 +812,24 @@ std::vector<Case> sim_cases() {
        sim,
        [](const Workspace& ws) {
          fs::create_directory(ws / "ro");
-         return sim_args(ws,
-                         fs::relative(read_only_output(ws / "ro", "out.glb"), ws.work).string());
+         return sim_args(ws, fs::relative(read_only_output(ws / "ro", "out.glb"), ws.work).string());
        },
        4,
        {"out.glb: cannot create a file in"}},
       {"Sim_GoodGlbAndPc2InMissingFolderWriteNeither",
        sim,
-       [](const Workspace& ws) {
-         return sim_args(ws, "out.glb") + " -o " + quoted(ws / "missing" / "out.pc2");
-       },
+       [](const Workspace& ws) { return sim_args(ws, "out.glb") + " -o " + quoted(ws / "missing" / "out.pc2"); },
        4,
        {"missing/out.pc2: cannot create a file in"}},
       {"Sim_ReportInMissingFolder",
        sim,
-       [](const Workspace& ws) {
-         return sim_args(ws, "out.pc2") + " --report " + quoted(ws / "missing" / "r.json");
-       },
+       [](const Workspace& ws) { return sim_args(ws, "out.pc2") + " --report " + quoted(ws / "missing" / "r.json"); },
        4,
        {"missing/r.json: cannot create a file in"}},
       {"Sim_DivergesWritesNothing",
        sim,
        [](const Workspace& ws) {
-         edit_json(ws / "rig.json",
-                   [](json& j) { j["sweeps"][0]["springs"]["bend"]["frequency_hz"] = 1000; });
+         edit_json(ws / "rig.json", [](json& j) { j["sweeps"][0]["springs"]["bend"]["frequency_hz"] = 1000; });
          // Springs are not part of the binding's rig hash: the binding still matches.
          edit_json(ws / "scene.json", [](json& j) {
            j["integrator"] = "semi-implicit-euler";
@@ -878,8 +851,11 @@ std::vector<Case> sim_cases() {
           },
           2, "scene.json: /fps: duration × fps makes more than 1000000 frames"),
       scene_case(
-          "Sim_ForceBeyondLimit", [](json& j) { j["forces"][0]["vector"] = {0, 1e300, 0}; }, 2,
-          "scene.json: /forces/0/vector: a force of at most 1e+09 N"),
+          "Sim_ForceBeyondLimit",
+          [](json& j) {
+            j["forces"][0]["vector"] = {0, 1e300, 0};
+          },
+          2, "scene.json: /forces/0/vector: a force of at most 1e+09 N"),
       {"Sim_ForceAfterTheEndWarns",
        sim,
        [](const Workspace& ws) {
@@ -890,8 +866,9 @@ std::vector<Case> sim_cases() {
          return sim_args(ws);
        },
        0,
-       {"warning: ", "scene.json: /forces/0/start: the force starts after the scene ends "
-                     "(duration 0.5 s): it never acts"},
+       {"warning: ",
+        "scene.json: /forces/0/start: the force starts after the scene ends "
+        "(duration 0.5 s): it never acts"},
        {"out.glb"}},
       {"Sim_ExactRunawayIsBadInput",
        sim,
@@ -924,8 +901,8 @@ std::vector<Case> sim_cases() {
        sim,
        [](const Workspace& ws) {
          fs::rename(ws / "scene.json", ws / ("s" + kBadUtf8 + ".json"));
-         return quoted(ws / "rig.json") + " -s " + quoted(ws / ("s" + kBadUtf8 + ".json")) +
-                " -q -o " + quoted(ws / "out.glb");
+         return quoted(ws / "rig.json") + " -s " + quoted(ws / ("s" + kBadUtf8 + ".json")) + " -q -o " +
+                quoted(ws / "out.glb");
        },
        1,
        {"the scene file name is not valid UTF-8"}},

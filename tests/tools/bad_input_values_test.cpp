@@ -69,16 +69,14 @@ Case gltf_case(std::string name, std::function<void(json&)> change, std::string 
 // The tube's OBJ (the rig's mesh) changed by `change`: the positions stay, so the binding holds.
 Case obj_case(std::string name, std::function<void(const Workspace&, std::string&)> change,
               std::vector<std::string> expect) {
-  return Case{std::move(name),
-              SWEEP_SIM_EXE,
+  return Case{std::move(name), SWEEP_SIM_EXE,
               [change](const Workspace& ws) {
                 std::string obj = slurp(ws / "tube.obj");
                 change(ws, obj);
                 spit(ws / "tube.obj", obj);
                 return sim_tube(ws, "");
               },
-              2,
-              std::move(expect)};
+              2, std::move(expect)};
 }
 
 std::vector<Case> option_cases() {
@@ -86,55 +84,96 @@ std::vector<Case> option_cases() {
   const char* sim = SWEEP_SIM_EXE;
   const char* bind = SWEEP_BIND_EXE;
   return {
-      {"Fit_EmptyTip", fit, [](const Workspace& ws) { return fit_tube(ws, " --tip ''"); }, 1,
+      {"Fit_EmptyTip",
+       fit,
+       [](const Workspace& ws) { return fit_tube(ws, " --tip ''"); },
+       1,
        {"--tip expects three finite numbers X,Y,Z, got ''"}},
-      {"Fit_EmptyRoot", fit, [](const Workspace& ws) { return fit_tube(ws, " --root '' --tip 0,0,1"); }, 1,
+      {"Fit_EmptyRoot",
+       fit,
+       [](const Workspace& ws) { return fit_tube(ws, " --root '' --tip 0,0,1"); },
+       1,
        {"--root expects three finite numbers X,Y,Z, got ''"}},
-      {"Fit_TipVertexNegative", fit, [](const Workspace& ws) { return fit_tube(ws, " --tip-vertex -1"); }, 1,
+      {"Fit_TipVertexNegative",
+       fit,
+       [](const Workspace& ws) { return fit_tube(ws, " --tip-vertex -1"); },
+       1,
        {"--tip-vertex must be a whole number >= 0, got '-1'"}},
-      {"Fit_TipVertexNotANumber", fit, [](const Workspace& ws) { return fit_tube(ws, " --tip-vertex abc"); }, 1,
+      {"Fit_TipVertexNotANumber",
+       fit,
+       [](const Workspace& ws) { return fit_tube(ws, " --tip-vertex abc"); },
+       1,
        {"--tip-vertex must be a whole number >= 0, got 'abc'"}},
-      {"Fit_TipVertexTwoToThe64Minus1", fit,
-       [](const Workspace& ws) { return fit_tube(ws, " --tip-vertex 18446744073709551615"); }, 1,
+      {"Fit_TipVertexTwoToThe64Minus1",
+       fit,
+       [](const Workspace& ws) { return fit_tube(ws, " --tip-vertex 18446744073709551615"); },
+       1,
        {"--tip-vertex 18446744073709551615 is past the vertices of any mesh (a mesh has at most 4294967294)"}},
-      {"Fit_TipVertexPast64Bits", fit,
-       [](const Workspace& ws) { return fit_tube(ws, " --tip-vertex 18446744073709551616"); }, 1,
+      {"Fit_TipVertexPast64Bits",
+       fit,
+       [](const Workspace& ws) { return fit_tube(ws, " --tip-vertex 18446744073709551616"); },
+       1,
        {"--tip-vertex is too large: 18446744073709551616 is beyond 2^64 - 1"}},
-      {"Fit_AllWithANameTwice", fit,
+      {"Fit_AllWithANameTwice",
+       fit,
        [](const Workspace& ws) {
          return quoted(ws / "tube.obj") + " --all -o " + quoted(ws / "new.rig.json") + " --names same,same";
        },
-       1, {"--names: 'same' is given twice (parts 1 and 2 in 'same,same'); a rig holds one sweep a name"}},
-      {"Fit_OutputIsAFolder", fit,
+       1,
+       {"--names: 'same' is given twice (parts 1 and 2 in 'same,same'); a rig holds one sweep a name"}},
+      {"Fit_OutputIsAFolder",
+       fit,
        [](const Workspace& ws) {
          fs::create_directory(ws / "rig.d");
          return quoted(ws / "tube.obj") + " -o " + quoted(ws / "rig.d") + " --name tube --tip 0,0,1";
        },
-       4, {"rig.d: is a folder; outputs replace regular files only"}},
-      {"Fit_OutputIsAFifo", fit,
+       4,
+       {"rig.d: is a folder; outputs replace regular files only"}},
+      {"Fit_OutputIsAFifo",
+       fit,
        [](const Workspace& ws) {
          make_fifo(ws / "pipe.json");
          return quoted(ws / "tube.obj") + " -o " + quoted(ws / "pipe.json") + " --name tube --tip 0,0,1";
        },
-       4, {"pipe.json: is a FIFO; outputs replace regular files only"}},
-      {"Fit_OutputIsDevNull", fit,
-       [](const Workspace& ws) { return quoted(ws / "tube.obj") + " -o /dev/null --name tube --tip 0,0,1"; }, 4,
+       4,
+       {"pipe.json: is a FIFO; outputs replace regular files only"}},
+      {"Fit_OutputIsDevNull",
+       fit,
+       [](const Workspace& ws) { return quoted(ws / "tube.obj") + " -o /dev/null --name tube --tip 0,0,1"; },
+       4,
        {"/dev/null: is a device; outputs replace regular files only"}},
 
-      {"Bind_SubnormalBlendIsANumber", bind,
+      {"Bind_SubnormalBlendIsANumber",
+       bind,
        [](const Workspace& ws) { return quoted(ws / "rig.json") + " -q --blend 1e-308 -o " + quoted(ws / "b.bind"); },
-       0, {}, {"b.bind"}},
-      {"Sim_StepNan", sim, [](const Workspace& ws) { return sim_tube(ws, " --step nan"); }, 1,
+       0,
+       {},
+       {"b.bind"}},
+      {"Sim_StepNan",
+       sim,
+       [](const Workspace& ws) { return sim_tube(ws, " --step nan"); },
+       1,
        {"--step", "must be a finite number, got nan"}},
-      {"Sim_MaxOutputSizeZero", sim, [](const Workspace& ws) { return sim_tube(ws, " --max-output-size 0"); }, 1,
+      {"Sim_MaxOutputSizeZero",
+       sim,
+       [](const Workspace& ws) { return sim_tube(ws, " --max-output-size 0"); },
+       1,
        {"--max-output-size", "must be at least 1 byte, got '0' (leave the option out for no limit)"}},
-      {"Sim_MaxOutputSizeNegative", sim, [](const Workspace& ws) { return sim_tube(ws, " --max-output-size -1"); }, 1,
-       {"--max-output-size", "must be a whole number of bytes with an optional unit (K, M, G, KiB, MiB, GiB), got '-1'"}},
-      {"Sim_MaxOutputSizePast64Bits", sim,
-       [](const Workspace& ws) { return sim_tube(ws, " --max-output-size 18446744073709552616"); }, 1,
+      {"Sim_MaxOutputSizeNegative",
+       sim,
+       [](const Workspace& ws) { return sim_tube(ws, " --max-output-size -1"); },
+       1,
+       {"--max-output-size",
+        "must be a whole number of bytes with an optional unit (K, M, G, KiB, MiB, GiB), got '-1'"}},
+      {"Sim_MaxOutputSizePast64Bits",
+       sim,
+       [](const Workspace& ws) { return sim_tube(ws, " --max-output-size 18446744073709552616"); },
+       1,
        {"--max-output-size", "is too large: 18446744073709552616 is beyond 2^64 - 1 bytes"}},
-      {"Sim_MaxOutputSizeUnitPast64Bits", sim,
-       [](const Workspace& ws) { return sim_tube(ws, " --max-output-size 18446744073709552G"); }, 1,
+      {"Sim_MaxOutputSizeUnitPast64Bits",
+       sim,
+       [](const Workspace& ws) { return sim_tube(ws, " --max-output-size 18446744073709552G"); },
+       1,
        {"--max-output-size", "is too large: 18446744073709552G is beyond 2^64 - 1 bytes"}},
   };
 }
@@ -171,13 +210,16 @@ std::vector<Case> numeric_option_cases() {
     std::function<std::string(const Workspace&, const std::string&)> args;
   };
   const Tool tools[] = {
-      {SWEEP_FIT_EXE, "Fit", [](const Workspace& ws, const std::string& o) { return fit_tube(ws, " --tip 0,0,1" + o); }},
+      {SWEEP_FIT_EXE, "Fit",
+       [](const Workspace& ws, const std::string& o) { return fit_tube(ws, " --tip 0,0,1" + o); }},
       {SWEEP_BIND_EXE, "Bind",
-       [](const Workspace& ws, const std::string& o) { return quoted(ws / "rig.json") + " -q -o " + quoted(ws / "b.bind") + o; }},
+       [](const Workspace& ws, const std::string& o) {
+         return quoted(ws / "rig.json") + " -q -o " + quoted(ws / "b.bind") + o;
+       }},
       {SWEEP_SIM_EXE, "Sim", [](const Workspace& ws, const std::string& o) { return sim_tube(ws, o); }},
   };
-  const std::pair<const char*, const char*> values[] = {
-      {"Nan", "nan"}, {"Inf", "inf"}, {"MinusInf", "-inf"}, {"Word", "abc"}, {"Empty", "''"}, {"PastDouble", "1e999"}};
+  const std::pair<const char*, const char*> values[] = {{"Nan", "nan"},  {"Inf", "inf"},  {"MinusInf", "-inf"},
+                                                        {"Word", "abc"}, {"Empty", "''"}, {"PastDouble", "1e999"}};
   std::vector<Case> cases;
   for (const Tool& tool : tools) {
     for (const std::string& option : numeric_options(tool.exe)) {
@@ -186,8 +228,11 @@ std::vector<Case> numeric_option_cases() {
       for (const auto& [tag, value] : values) {
         const std::string extra = " " + option + "=" + value;
         const auto args = tool.args;
-        cases.push_back({std::string(tool.tag) + "_Every_" + id + "_" + tag, tool.exe,
-                         [args, extra](const Workspace& ws) { return args(ws, extra); }, 1, {option}});
+        cases.push_back({std::string(tool.tag) + "_Every_" + id + "_" + tag,
+                         tool.exe,
+                         [args, extra](const Workspace& ws) { return args(ws, extra); },
+                         1,
+                         {option}});
       }
     }
   }
@@ -196,7 +241,9 @@ std::vector<Case> numeric_option_cases() {
 
 // The generator itself: it must find the numeric options the tools are known to have.
 TEST(OptionMatrix, FindsTheNumericOptionsInEachToolsHelp) {
-  const auto has = [](const std::vector<std::string>& v, const char* o) { return std::find(v.begin(), v.end(), o) != v.end(); };
+  const auto has = [](const std::vector<std::string>& v, const char* o) {
+    return std::find(v.begin(), v.end(), o) != v.end();
+  };
   const auto fit = numeric_options(SWEEP_FIT_EXE), sim = numeric_options(SWEEP_SIM_EXE),
              bind = numeric_options(SWEEP_BIND_EXE);
   EXPECT_TRUE(has(fit, "--sections") && has(fit, "--radial") && has(fit, "--tolerance"));
@@ -207,30 +254,31 @@ TEST(OptionMatrix, FindsTheNumericOptionsInEachToolsHelp) {
 
 std::vector<Case> gltf_cases() {
   return {
-      gltf_case("Fit_GltfIndexCountNotTriangles",
-                [](json& j) {
-                  j["accessors"][1]["count"] = 4;
-                },
-                "t.gltf: mesh 0 primitive 0: 4 indices (/meshes/0/primitives/0/indices), not a multiple of 3"),
-      gltf_case("Fit_GltfNodeSkinPastTheSkins", [](json& j) { j["nodes"][0]["skin"] = 3; },
-                "t.gltf: /nodes/0/skin: 3 is not a skin (the file has 0 skins)"),
-      gltf_case("Fit_GltfSkinJointPastTheNodes",
-                [](json& j) { j["skins"] = json::parse(R"([{"joints": [7]}])"); },
-                "t.gltf: /skins/0/joints/0: 7 is not a node (the file has 1)"),
+      gltf_case(
+          "Fit_GltfIndexCountNotTriangles", [](json& j) { j["accessors"][1]["count"] = 4; },
+          "t.gltf: mesh 0 primitive 0: 4 indices (/meshes/0/primitives/0/indices), not a multiple of 3"),
+      gltf_case(
+          "Fit_GltfNodeSkinPastTheSkins", [](json& j) { j["nodes"][0]["skin"] = 3; },
+          "t.gltf: /nodes/0/skin: 3 is not a skin (the file has 0 skins)"),
+      gltf_case(
+          "Fit_GltfSkinJointPastTheNodes", [](json& j) { j["skins"] = json::parse(R"([{"joints": [7]}])"); },
+          "t.gltf: /skins/0/joints/0: 7 is not a node (the file has 1)"),
       // assimp crashed (SIGSEGV) on this one, --list as well as a fit.
-      gltf_case("Fit_GltfSkinnedMeshWithoutJoints",
-                [](json& j) {
-                  j["nodes"][0]["skin"] = 0;
-                  j["nodes"].push_back({{"name", "Bone"}});
-                  j["scenes"][0]["nodes"].push_back(1);
-                  j["skins"] = json::parse(R"([{"joints": [1]}])");
-                },
-                "t.gltf: /nodes/0/skin: node 0 is skinned by skin 0, but its mesh 0 primitive 0 has no JOINTS_0",
-                " --list"),
-      gltf_case("Fit_GltfAccessorLongerThanItsView", [](json& j) { j["accessors"][0]["count"] = 4; },
-                "t.gltf: /accessors/0: 4 elements of 12 bytes (stride 12) from byte 0 do not fit in bufferView 0's 36 bytes"),
-      gltf_case("Fit_GltfStrideShorterThanAnElement", [](json& j) { j["bufferViews"][0]["byteStride"] = 4; },
-                "t.gltf: /accessors/0: its elements are 12 bytes, but its bufferView 0 has a byteStride of 4"),
+      gltf_case(
+          "Fit_GltfSkinnedMeshWithoutJoints",
+          [](json& j) {
+            j["nodes"][0]["skin"] = 0;
+            j["nodes"].push_back({{"name", "Bone"}});
+            j["scenes"][0]["nodes"].push_back(1);
+            j["skins"] = json::parse(R"([{"joints": [1]}])");
+          },
+          "t.gltf: /nodes/0/skin: node 0 is skinned by skin 0, but its mesh 0 primitive 0 has no JOINTS_0", " --list"),
+      gltf_case(
+          "Fit_GltfAccessorLongerThanItsView", [](json& j) { j["accessors"][0]["count"] = 4; },
+          "t.gltf: /accessors/0: 4 elements of 12 bytes (stride 12) from byte 0 do not fit in bufferView 0's 36 bytes"),
+      gltf_case(
+          "Fit_GltfStrideShorterThanAnElement", [](json& j) { j["bufferViews"][0]["byteStride"] = 4; },
+          "t.gltf: /accessors/0: its elements are 12 bytes, but its bufferView 0 has a byteStride of 4"),
       Case{"Fit_GltfBufferIsAFifo",
            SWEEP_FIT_EXE,
            [](const Workspace& ws) {
@@ -247,7 +295,8 @@ std::vector<Case> obj_cases() {
   return {
       obj_case("Sim_ObjTextureCoordinateOutOfRange",
                [](const Workspace&, std::string& obj) { obj += "vt 0 0\nf 1/99999 2/1 3/1\n"; },
-               {"tube.obj: line ", "uses texture coordinate 99999 (as in the file), out of range (the file has 1 before this line)"}),
+               {"tube.obj: line ",
+                "uses texture coordinate 99999 (as in the file), out of range (the file has 1 before this line)"}),
       obj_case("Sim_ObjNormalOutOfRange",
                [](const Workspace&, std::string& obj) { obj += "vn 0 0 1\nf 1//1 2//1 3//7\n"; },
                {"tube.obj: line ", "uses normal 7 (as in the file), out of range (the file has 1 before this line)"}),
@@ -305,8 +354,9 @@ TEST(FitLimits, ARigPastTheLengthLimitIsNotWritten) {
   }
   spit(ws / "huge.obj", out);
   const std::set<std::string> before = listing(ws.work);
-  const ToolRun r = run_tool(SWEEP_FIT_EXE, quoted(ws / "huge.obj") + " -o " + quoted(ws / "huge.rig.json") +
-                                                " --name tube --root 0,0,2e10 --tip 0,0,1e12 -k 6 -n 8",
+  const ToolRun r = run_tool(SWEEP_FIT_EXE,
+                             quoted(ws / "huge.obj") + " -o " + quoted(ws / "huge.rig.json") +
+                                 " --name tube --root 0,0,2e10 --tip 0,0,1e12 -k 6 -n 8",
                              ws.io);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("huge.obj: the fitted rig would break the rig format's limits ("), std::string::npos) << r.err;

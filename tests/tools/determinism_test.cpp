@@ -16,16 +16,14 @@ namespace {
 // scene.json, plus rig2.json / rig2.bind made the same way with 2 threads.
 fs::path dense_pipeline() {
   return cached_dir("dense", [](const fs::path& dir, const fs::path& io) {
-    const ToolRun tube = run_tool(
-        SWEEP_TUBE_EXE, "-q --rings 400 --segments 128 -o " + quoted(dir / "dense.obj"), io);
+    const ToolRun tube = run_tool(SWEEP_TUBE_EXE, "-q --rings 400 --segments 128 -o " + quoted(dir / "dense.obj"), io);
     ASSERT_EQ(tube.code, 0) << tube.err;
     for (const char* threads : {"1", "2"}) {
       const std::string env = std::string("OMP_NUM_THREADS=") + threads;
       const std::string rig = threads[0] == '1' ? "rig.json" : "rig2.json";
-      const ToolRun fit = run_tool(SWEEP_FIT_EXE,
-                                   quoted(dir / "dense.obj") + " -o " + quoted(dir / rig) +
-                                       " --name tube --root 0,0,0.02 --tip 0,0,1",
-                                   io, env);
+      const ToolRun fit = run_tool(
+          SWEEP_FIT_EXE,
+          quoted(dir / "dense.obj") + " -o " + quoted(dir / rig) + " --name tube --root 0,0,0.02 --tip 0,0,1", io, env);
       ASSERT_EQ(fit.code, 0) << fit.err;
       const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(dir / rig) + " -q", io, env);
       ASSERT_EQ(bind.code, 0) << bind.err;
@@ -44,8 +42,8 @@ class Determinism : public testing::Test {
 #endif
     dense_ = dense_pipeline();
     ASSERT_FALSE(HasFatalFailure());
-    const fs::path top = scratch_dir(std::string("determinism-") +
-                                     testing::UnitTest::GetInstance()->current_test_info()->name());
+    const fs::path top =
+        scratch_dir(std::string("determinism-") + testing::UnitTest::GetInstance()->current_test_info()->name());
     io_ = top / "io";
     fs::create_directories(io_);
     out_ = top;
@@ -55,12 +53,11 @@ class Determinism : public testing::Test {
   std::set<std::string> bake(const std::string& tag, const std::string& extra) {
     const fs::path dir = out_ / tag;
     fs::create_directories(dir);
-    const ToolRun r =
-        run_tool(SWEEP_SIM_EXE,
-                 quoted(dense_ / "rig.json") + " -s " + quoted(dense_ / "scene.json") + " -q -o " +
-                     quoted(dir / "bake.glb") + " -o " + quoted(dir / "bake.pc2") + " -o " +
-                     quoted(dir / "bake.obj") + " " + extra,
-                 io_);
+    const ToolRun r = run_tool(SWEEP_SIM_EXE,
+                               quoted(dense_ / "rig.json") + " -s " + quoted(dense_ / "scene.json") + " -q -o " +
+                                   quoted(dir / "bake.glb") + " -o " + quoted(dir / "bake.pc2") + " -o " +
+                                   quoted(dir / "bake.obj") + " " + extra,
+                               io_);
     EXPECT_EQ(r.code, 0) << r.err;
     return listing(dir);
   }
@@ -86,9 +83,8 @@ TEST_F(Determinism, RigAndBindingAreTheSameBytesWithOneOrTwoThreads) {
   // 24 bytes per bound vertex: more than the fast path's parallel threshold (40,000) are bound.
   EXPECT_GT(slurp(dense_ / "rig.bind").size(), 40000u * 24);
   // And again in this process's run: a third binding, two threads, -o elsewhere.
-  const ToolRun again = run_tool(
-      SWEEP_BIND_EXE, quoted(dense_ / "rig.json") + " -q -o " + quoted(out_ / "again.bind"), io_,
-      "OMP_NUM_THREADS=2");
+  const ToolRun again = run_tool(SWEEP_BIND_EXE, quoted(dense_ / "rig.json") + " -q -o " + quoted(out_ / "again.bind"),
+                                 io_, "OMP_NUM_THREADS=2");
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_TRUE(slurp(out_ / "again.bind") == slurp(dense_ / "rig.bind"));
 }

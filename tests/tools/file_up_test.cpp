@@ -4,13 +4,12 @@
 // leaves the coordinates as they are), and as a Collada file saying <up_axis>Z_UP</up_axis> (which
 // assimp's reader applies, turning the scene to +Y up). --list must name four legs in both, say
 // which axis it went by and why, and (the FBX) name them otherwise when told another axis with --up.
+#include <assimp/material.h>
+#include <assimp/scene.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <assimp/Exporter.hpp>
-#include <assimp/material.h>
-#include <assimp/scene.h>
-
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -28,9 +27,9 @@ void export_mesh(const Mesh& mesh, const fs::path& file, const char* format) {
   scene.mRootNode->mNumMeshes = 1;
   scene.mRootNode->mMeshes = new unsigned[1]{0};
   scene.mNumMaterials = 1;
-  scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  scene.mMaterials = new aiMaterial* [1] { new aiMaterial() };
   scene.mNumMeshes = 1;
-  scene.mMeshes = new aiMesh*[1]{new aiMesh()};
+  scene.mMeshes = new aiMesh* [1] { new aiMesh() };
   aiMesh& m = *scene.mMeshes[0];
   m.mName = "Walker";
   m.mPrimitiveTypes = aiPrimitiveType_POLYGON | aiPrimitiveType_TRIANGLE;
@@ -88,7 +87,8 @@ TEST(FileUp, ListNamesPartsByAZUpFbxOrColladaFilesOwnUpAxis) {
                                     "P: \"UpAxis\", \"int\", \"Integer\", \"\", 2"));
   std::string said;
   EXPECT_EQ(listed_names(dir / "walker.fbx", "", dir, &said), four_legs);
-  EXPECT_EQ(said, "names go by up +Z (the FBX file's GlobalSettings say UpAxis 2, UpAxisSign 1; --up X|Y|Z gives another)");
+  EXPECT_EQ(said,
+            "names go by up +Z (the FBX file's GlobalSettings say UpAxis 2, UpAxisSign 1; --up X|Y|Z gives another)");
   EXPECT_EQ(nlohmann::json::parse(slurp(dir / "parts.json"))["up"]["axis"], "+Z");
   EXPECT_NE(listed_names(dir / "walker.fbx", " --up Y", dir, &said), four_legs) << "the file's axis made them legs";
   EXPECT_EQ(said, "names go by up +Y (given by --up; --up X|Y|Z gives another)");
@@ -96,8 +96,9 @@ TEST(FileUp, ListNamesPartsByAZUpFbxOrColladaFilesOwnUpAxis) {
   export_mesh(w.mesh, dir / "exported.dae", "collada");
   spit(dir / "walker.dae", replaced(slurp(dir / "exported.dae"), "<up_axis>Y_UP</up_axis>", "<up_axis>Z_UP</up_axis>"));
   EXPECT_EQ(listed_names(dir / "walker.dae", "", dir, &said), four_legs);
-  EXPECT_EQ(said, "names go by up +Y (the Collada file's <up_axis> is Z_UP, which the reader turned to +Y with the "
-                  "scene; --up X|Y|Z gives another)");
+  EXPECT_EQ(said,
+            "names go by up +Y (the Collada file's <up_axis> is Z_UP, which the reader turned to +Y with the "
+            "scene; --up X|Y|Z gives another)");
 }
 
 }  // namespace

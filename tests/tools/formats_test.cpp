@@ -15,11 +15,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "pipeline.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/rig.h"
 #include "sweep/core/topology.h"
 #include "sweep/io/rig_json.h"
-#include "pipeline.h"
 #include "textured_asset.h"
 
 namespace sweep::test {
@@ -49,7 +49,8 @@ std::string seeds() {
   auto csv = [](const Eigen::Vector3d& p) {
     return std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
   };
-  return " --root " + csv(w * Eigen::Vector3d(0, 0, 0.02)) + " --tip " + csv(w * Eigen::Vector3d(0, 0, 1)) + " -k 6 -n 8";
+  return " --root " + csv(w * Eigen::Vector3d(0, 0, 0.02)) + " --tip " + csv(w * Eigen::Vector3d(0, 0, 1)) +
+         " -k 6 -n 8";
 }
 
 // creature.gltf (+ .bin, skin.png) holding the tail alone, and the same asset as creature.glb,
@@ -90,8 +91,10 @@ struct FormatFit {
 
 FormatFit fit_format(const fs::path& mesh, const fs::path& work, const fs::path& io) {
   FormatFit f;
-  const fs::path rig = work / (mesh.filename().string() + ".rig.json"), report = work / (mesh.filename().string() + ".json");
-  f.run = run_tool(SWEEP_FIT_EXE, quoted(mesh) + " -o " + quoted(rig) + " --name tail --report " + quoted(report) + seeds(), io);
+  const fs::path rig = work / (mesh.filename().string() + ".rig.json"),
+                 report = work / (mesh.filename().string() + ".json");
+  f.run = run_tool(SWEEP_FIT_EXE,
+                   quoted(mesh) + " -o " + quoted(rig) + " --name tail --report " + quoted(report) + seeds(), io);
   EXPECT_EQ(f.run.code, 0) << mesh << "\n" << f.run.out << f.run.err;
   if (f.run.code != 0) return f;
   f.report = Json::parse(slurp(report));
@@ -138,7 +141,8 @@ void expect_same_fit(const FormatFit& got, const FormatFit& want, const std::str
     t = std::max(t, std::abs(a.t[i] - b.t[i]));
     centre = std::max(centre, (a.frames[i].center - b.frames[i].center).norm());
     angle = std::max(angle, a.frames[i].rotation.angularDistance(b.frames[i].rotation));
-    for (int j = 0; j < a.radial_count; ++j) radius = std::max(radius, std::abs(a.radius_sample(i, j) - b.radius_sample(i, j)));
+    for (int j = 0; j < a.radial_count; ++j)
+      radius = std::max(radius, std::abs(a.radius_sample(i, j) - b.radius_sample(i, j)));
   }
   const double part = std::max(farthest_from(got.part, want.part), farthest_from(want.part, got.part));
   std::cout << format << ": " << got.part.size() << " part positions (farthest from the .gltf's " << part
@@ -191,8 +195,7 @@ TEST(Formats, ASeamSplitTubeFitsAsTheWeldedOne) {
   const Mesh split = assets::read_mesh(dir / "creature.gltf");
   const Topology topology = build_topology(split);
   // Each ring's seam vertex, and each cap's rim and centre against the side's rings.
-  EXPECT_EQ(topology.welded_count,
-            static_cast<std::size_t>(TexturedAsset::kRings + 2 * TexturedAsset::kSegments));
+  EXPECT_EQ(topology.welded_count, static_cast<std::size_t>(TexturedAsset::kRings + 2 * TexturedAsset::kSegments));
   Mesh welded;
   std::vector<std::uint32_t> index(split.vertex_count());
   for (std::uint32_t v = 0; v < split.vertex_count(); ++v) {

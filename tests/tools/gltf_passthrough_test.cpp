@@ -16,14 +16,14 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <set>
 #include <sstream>
-#include <nlohmann/json.hpp>
 
-#include "sweep/assets/mesh_io.h"
 #include "glb_file.h"
 #include "pipeline.h"
+#include "sweep/assets/mesh_io.h"
 #include "textured_asset.h"
 
 namespace sweep::test {
@@ -48,9 +48,9 @@ fs::path textured_pipeline() {
     auto csv = [](const Vec3& p) {
       return std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
     };
-    const ToolRun fit = run_tool(SWEEP_FIT_EXE, quoted(dir / "creature.gltf") + " -o " + quoted(dir / "rig.json") +
-                                                    " --name tube --root " + csv(root) + " --tip " + csv(tip) +
-                                                    " -k 6 -n 8",
+    const ToolRun fit = run_tool(SWEEP_FIT_EXE,
+                                 quoted(dir / "creature.gltf") + " -o " + quoted(dir / "rig.json") +
+                                     " --name tube --root " + csv(root) + " --tip " + csv(tip) + " -k 6 -n 8",
                                  io);
     ASSERT_EQ(fit.code, 0) << fit.err;
     const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(dir / "rig.json") + " -q", io);
@@ -71,7 +71,8 @@ struct TexturedWorkspace {
   }
   fs::path operator/(const std::string& name) const { return work / name; }
   ToolRun bake(const std::string& outputs) const {
-    return run_tool(SWEEP_SIM_EXE, quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q " + outputs, io);
+    return run_tool(SWEEP_SIM_EXE,
+                    quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q " + outputs, io);
   }
 };
 
@@ -80,7 +81,8 @@ std::vector<Vec3> welded_normals(const std::vector<float>& positions, const std:
                                  const std::vector<float>& rest) {
   std::map<std::array<float, 3>, std::uint32_t> first;
   std::vector<std::uint32_t> rep(positions.size() / 3);
-  for (std::uint32_t v = 0; v < rep.size(); ++v) rep[v] = first.try_emplace({rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]}, v).first->second;
+  for (std::uint32_t v = 0; v < rep.size(); ++v)
+    rep[v] = first.try_emplace({rest[3 * v], rest[3 * v + 1], rest[3 * v + 2]}, v).first->second;
   std::vector<Vec3> sum(rep.size(), Vec3::Zero());
   auto p = [&](std::uint32_t v) { return Vec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]); };
   for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
@@ -126,9 +128,11 @@ TEST(GltfPassthrough, TheBakedGlbIsTheInputPlusTheBake) {
       EXPECT_EQ(po["attributes"], pi["attributes"]);
       EXPECT_EQ(po["material"], pi["material"]);
       for (const auto& [name, accessor] : pi["attributes"].items()) {
-        const int width = in["accessors"][accessor.get<std::size_t>()]["type"] == "VEC2" ? 2
-                          : in["accessors"][accessor.get<std::size_t>()]["type"] == "VEC3" ? 3 : 4;
-        EXPECT_EQ(floats(out.json, out.bin, accessor, width), floats(in, in_bin, accessor, width)) << m << " " << p << " " << name;
+        const int width = in["accessors"][accessor.get<std::size_t>()]["type"] == "VEC2"   ? 2
+                          : in["accessors"][accessor.get<std::size_t>()]["type"] == "VEC3" ? 3
+                                                                                           : 4;
+        EXPECT_EQ(floats(out.json, out.bin, accessor, width), floats(in, in_bin, accessor, width))
+            << m << " " << p << " " << name;
       }
       EXPECT_EQ(uints(out.json, out.bin, po["indices"]), uints(in, in_bin, pi["indices"]));
     }
@@ -182,14 +186,18 @@ TEST(GltfPassthrough, TheBakedGlbIsTheInputPlusTheBake) {
         if (ring == 0 || ring == TexturedAsset::kRings - 1) continue;  // next to the caps' edge
         const Vec3 n0(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
         const Vec3 n = n0 + Vec3(dn[3 * v], dn[3 * v + 1], dn[3 * v + 2]);
-        const double angle = std::acos(std::clamp(n.normalized().dot(recomputed[v]), -1.0, 1.0)) * 180 / std::numbers::pi;
+        const double angle =
+            std::acos(std::clamp(n.normalized().dot(recomputed[v]), -1.0, 1.0)) * 180 / std::numbers::pi;
         worst_normal = std::max(worst_normal, angle);
-        turned = std::max(turned, std::acos(std::clamp(n.normalized().dot(n0.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi);
-        const Vec3 t = Vec3(tangents[4 * v], tangents[4 * v + 1], tangents[4 * v + 2]) + Vec3(dt[3 * v], dt[3 * v + 1], dt[3 * v + 2]);
+        turned = std::max(
+            turned, std::acos(std::clamp(n.normalized().dot(n0.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi);
+        const Vec3 t = Vec3(tangents[4 * v], tangents[4 * v + 1], tangents[4 * v + 2]) +
+                       Vec3(dt[3 * v], dt[3 * v + 1], dt[3 * v + 2]);
         // Tangents live in the mesh's space as positions do: perpendicular to the normal there
         // only up to the node's non-uniform scale, so compare in world space.
         const Vec3 tw = (w.linear() * t).normalized(), nw = (to_local.transpose() * n).normalized();
-        worst_tangent = std::max(worst_tangent, std::abs(90 - std::acos(std::clamp(tw.dot(nw), -1.0, 1.0)) * 180 / std::numbers::pi));
+        worst_tangent = std::max(worst_tangent,
+                                 std::abs(90 - std::acos(std::clamp(tw.dot(nw), -1.0, 1.0)) * 180 / std::numbers::pi));
       }
     }
     base += static_cast<std::uint32_t>(rest.size() / 3);
@@ -239,8 +247,8 @@ struct SceneMeshesDir {
   }
   fs::path operator/(const std::string& name) const { return work / name; }
   ToolRun fit(const std::string& args) const {
-    return run_tool(SWEEP_FIT_EXE, quoted(work / "creature.gltf") + " -o " + quoted(work / "rig.json") +
-                                       " --name tube" + args, io);
+    return run_tool(SWEEP_FIT_EXE,
+                    quoted(work / "creature.gltf") + " -o " + quoted(work / "rig.json") + " --name tube" + args, io);
   }
   ToolRun bind() const { return run_tool(SWEEP_BIND_EXE, quoted(work / "rig.json") + " -q", io); }
   // rig.json as a rig from before mesh names (version 1, no mesh_name): of the whole file.
@@ -251,7 +259,8 @@ struct SceneMeshesDir {
     spit(work / "rig.json", rig.dump(2));
   }
   ToolRun bake(const std::string& outputs) const {
-    return run_tool(SWEEP_SIM_EXE, quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q " + outputs, io);
+    return run_tool(SWEEP_SIM_EXE,
+                    quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q " + outputs, io);
   }
   // The Tail mesh's POSITION values as stored (its side, then its caps): its local space.
   std::vector<float> tail_local() const {
@@ -288,7 +297,10 @@ TEST(SceneMeshes, TheNamedMeshIsBakedAloneInItsOwnSpace) {
   EXPECT_EQ(rig["mesh_name"], "Tail");
   EXPECT_EQ(rig["version"], 3);
   ASSERT_EQ((r = d.bind()).code, 0) << r.err;
-  ASSERT_EQ((r = d.bake("-o " + quoted(d / "out.glb") + " -o " + quoted(d / "out.pc2") + " -o " + quoted(d / "out.obj"))).code, 0)
+  ASSERT_EQ(
+      (r = d.bake("-o " + quoted(d / "out.glb") + " -o " + quoted(d / "out.pc2") + " -o " + quoted(d / "out.obj")))
+          .code,
+      0)
       << r.err;
 
   const std::vector<float> local = d.tail_local();
@@ -351,7 +363,8 @@ TEST(SceneMeshes, AnUnknownNameIsRefusedNamingTheFileAndItsMeshes) {
   EXPECT_FALSE(fs::exists(d / "rig.json"));
 
   spit(d / "tube.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-  r = run_tool(SWEEP_FIT_EXE, quoted(d / "tube.off") + " -o " + quoted(d / "rig.json") + " --mesh Tail --tip 0,0,1", d.io);
+  r = run_tool(SWEEP_FIT_EXE, quoted(d / "tube.off") + " -o " + quoted(d / "rig.json") + " --mesh Tail --tip 0,0,1",
+               d.io);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("tube.off: holds one mesh with no name (the format has none), so there is no mesh 'Tail'"),
             std::string::npos)
@@ -362,7 +375,9 @@ TEST(SceneMeshes, AnUnknownNameIsRefusedNamingTheFileAndItsMeshes) {
   const std::string rig = slurp(d / "rig.json");
   r = d.fit(" --mesh Ground" + tail_seeds());
   EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_NE(r.err.find("--mesh Ground: " + (d / "rig.json").string() + " is a rig of its mesh 'Tail'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--mesh Ground: " + (d / "rig.json").string() + " is a rig of its mesh 'Tail'"),
+            std::string::npos)
+      << r.err;
   EXPECT_EQ(slurp(d / "rig.json"), rig);
 }
 
@@ -377,8 +392,11 @@ TEST(SceneMeshes, TheLargestIsTakenByDefaultAndSaidSo) {
                        "the others: 'Ground' 4 vertices"),
             std::string::npos)
       << r.err;
-  EXPECT_NE(r.out.find("mesh " + (d / "creature.gltf").string() + " 'Tail' (the largest): 875 vertices"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("the file's meshes (--mesh NAME takes one): 'Tail' 875 vertices, 'Ground' 4 vertices"), std::string::npos)
+  EXPECT_NE(r.out.find("mesh " + (d / "creature.gltf").string() + " 'Tail' (the largest): 875 vertices"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("the file's meshes (--mesh NAME takes one): 'Tail' 875 vertices, 'Ground' 4 vertices"),
+            std::string::npos)
       << r.out;
   const Json summary = Json::parse(slurp(d / "fit.json"))["mesh_summary"];
   EXPECT_EQ(summary["mesh_name"], "Tail");
@@ -395,9 +413,10 @@ TEST(SceneMeshes, TheLargestIsTakenByDefaultAndSaidSo) {
   ASSERT_EQ((r = d.fit(" --mesh Tail" + tail_seeds())).code, 0) << r.err;
   EXPECT_EQ(Json::parse(slurp(d / "rig.json"))["mesh_name"], "TailNode");
   // Updating that rig, the mesh's name finds its node as well as the node's name does.
-  r = run_tool(SWEEP_FIT_EXE, quoted(d / "creature.gltf") + " -o " + quoted(d / "rig.json") +
-                                  " --mesh Tail --name second" + tail_seeds(),
-               d.io);
+  r = run_tool(
+      SWEEP_FIT_EXE,
+      quoted(d / "creature.gltf") + " -o " + quoted(d / "rig.json") + " --mesh Tail --name second" + tail_seeds(),
+      d.io);
   ASSERT_EQ(r.code, 0) << r.err;
   const Json updated = Json::parse(slurp(d / "rig.json"));
   EXPECT_EQ(updated["mesh_name"], "TailNode");
@@ -409,9 +428,11 @@ TEST(SceneMeshes, TheLargestIsTakenByDefaultAndSaidSo) {
 TEST(SceneMeshes, LocalSeedsAreTakenToWorldByTheNodesTransform) {
   const SceneMeshesDir d("scene-meshes-local-seeds");
   const Eigen::Affine3d w = TexturedAsset::tail_world();
-  ToolRun r = d.fit(" --mesh Tail --space local --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8 -v --report " + quoted(d / "fit.json"));
+  ToolRun r =
+      d.fit(" --mesh Tail --space local --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8 -v --report " + quoted(d / "fit.json"));
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("--tip, --root and --axis are in the mesh's own space (--space local)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--tip, --root and --axis are in the mesh's own space (--space local)"), std::string::npos)
+      << r.out;
   EXPECT_EQ(Json::parse(slurp(d / "fit.json"))["mesh_summary"]["seeds_space"], "local");
   const Json local = Json::parse(slurp(d / "rig.json"));
   const Json& part = local["sweeps"][0]["part"];
@@ -425,12 +446,15 @@ TEST(SceneMeshes, LocalSeedsAreTakenToWorldByTheNodesTransform) {
   const Json& b = world["sweeps"][0]["sections"];
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(a[k]["center"][c].get<double>() - b[k]["center"][c].get<double>()));
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(a[k]["center"][c].get<double>() - b[k]["center"][c].get<double>()));
   }
   EXPECT_LT(worst, 1e-5) << "the seeds given in world space are rounded to 6 decimals";
   r = run_tool(SWEEP_FIT_EXE, quoted(d / "creature.gltf") + " --list --space local", d.io);
   EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_NE(r.err.find("--space says what --root, --tip and --axis are in: it does not go with --list"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--space says what --root, --tip and --axis are in: it does not go with --list"),
+            std::string::npos)
+      << r.err;
 }
 
 // A rig from before mesh names (version 1, no mesh_name) reads the whole file as it always did: the
@@ -451,7 +475,8 @@ TEST(SceneMeshes, ARigWithoutAMeshNameReadsTheWholeFileAsBefore) {
     const Vec3 want = TexturedAsset::tail_world() * Vec3(local[3 * v], local[3 * v + 1], local[3 * v + 2]);
     worst = std::max(worst, (want - Vec3(frame0[3 * v], frame0[3 * v + 1], frame0[3 * v + 2])).norm());
   }
-  const std::vector<float> ground = floats(d.in, d.in_bin, d.in["meshes"][1]["primitives"][0]["attributes"]["POSITION"], 3);
+  const std::vector<float> ground =
+      floats(d.in, d.in_bin, d.in["meshes"][1]["primitives"][0]["attributes"]["POSITION"], 3);
   for (std::size_t v = 0; v < 4; ++v) {
     const Vec3 want(ground[3 * v], ground[3 * v + 1] - 1, ground[3 * v + 2]);  // Ground's node: translation (0, -1, 0)
     const std::size_t at = 3 * (local.size() / 3 + v);
@@ -468,8 +493,9 @@ TEST(SceneMeshes, LocalSeedsIntoARigThatReadsTheWholeFileAreRefused) {
   ASSERT_EQ(r.code, 0) << r.err;
   d.make_rig_of_the_whole_file();
   const std::string before = slurp(d / "rig.json");
-  r = run_tool(SWEEP_FIT_EXE, quoted(d / "creature.gltf") + " -o " + quoted(d / "rig.json") +
-                                  " --name other --space local --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8",
+  r = run_tool(SWEEP_FIT_EXE,
+               quoted(d / "creature.gltf") + " -o " + quoted(d / "rig.json") +
+                   " --name other --space local --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8",
                d.io);
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find("--space local: "), std::string::npos) << r.err;
@@ -509,7 +535,8 @@ TEST(SceneMeshes, TheNamedMeshIsTakenByTheFilesNumberingNotTheImporters) {
   const auto expect_the_tail_deformed_alone = [](const fs::path& glb) {
     const Glb out = read_glb(glb);
     EXPECT_FALSE(out.json["meshes"][0]["primitives"][0].contains("targets")) << "the Ground gained targets";
-    for (const Json& prim : out.json["meshes"][1]["primitives"]) EXPECT_EQ(prim.value("targets", Json::array()).size(), 6u);
+    for (const Json& prim : out.json["meshes"][1]["primitives"])
+      EXPECT_EQ(prim.value("targets", Json::array()).size(), 6u);
   };
   expect_the_tail_deformed_alone(d / "out.glb");
 
@@ -545,7 +572,8 @@ TEST(GltfPassthrough, WhatTheGlbCannotCarryIsRefused) {
   expect_refused(
       "targets",
       [](Json& d) {
-        d["meshes"][0]["primitives"][1]["targets"] = Json::array({{{"POSITION", d["meshes"][0]["primitives"][1]["attributes"]["NORMAL"]}}});
+        d["meshes"][0]["primitives"][1]["targets"] =
+            Json::array({{{"POSITION", d["meshes"][0]["primitives"][1]["attributes"]["NORMAL"]}}});
       },
       "mesh 0 ('Tail') primitive 1 already has morph targets");
   expect_refused(
@@ -566,13 +594,15 @@ TEST(GltfPassthrough, WhatTheGlbCannotCarryIsRefused) {
         Json& side = d["meshes"][0]["primitives"][0];
         Json& position = d["accessors"][side["attributes"]["POSITION"].get<std::size_t>()];
         position["sparse"] = {{"count", 1},
-                              {"indices", {{"bufferView", d["accessors"][side["indices"].get<std::size_t>()]["bufferView"]},
-                                           {"componentType", 5125}}},
+                              {"indices",
+                               {{"bufferView", d["accessors"][side["indices"].get<std::size_t>()]["bufferView"]},
+                                {"componentType", 5125}}},
                               {"values", {{"bufferView", position["bufferView"]}}}};
       },
       "mesh 0 ('Tail') primitive 0: its POSITION is not a plain float accessor");
   // An image the .glb must embed but cannot read: bad input, exit 2.
-  expect_refused("missing-image", [](Json&) {}, "image 0 ('skin.png'): cannot read it", 2, "skin.png");
+  expect_refused(
+      "missing-image", [](Json&) {}, "image 0 ('skin.png'): cannot read it", 2, "skin.png");
   // A .pc2 alone is still baked: the refusal is the .glb's.
   const TexturedWorkspace ws("gltf-passthrough-pc2-only");
   Json doc = Json::parse(slurp(ws / "creature.gltf"));
@@ -581,7 +611,6 @@ TEST(GltfPassthrough, WhatTheGlbCannotCarryIsRefused) {
   EXPECT_EQ(ws.bake("-o " + quoted(ws / "out.pc2")).code, 0);
 }
 
-
 // A moving body: the new animation moves node Tail (translation and rotation; its own scale kept)
 // so that Creature · Tail(t) · (rest + delta) is the .pc2's position (in the Tail's rest space) in
 // world space, in every frame.
@@ -589,8 +618,9 @@ TEST(GltfPassthrough, AMovingBodyMovesTheTailNodeComposedWithItsOwnTransform) {
   const TexturedWorkspace ws("gltf-passthrough-body");
   Json scene = Json::parse(kTexturedScene);
   scene["body"] = {{"interpolation", "linear"},
-                   {"keys", {{{"time", 0}, {"translation", {0, 0, 0}}},
-                             {{"time", 0.5}, {"translation", {0.3, 0.1, -0.2}}, {"turn_degrees", 40}}}}};
+                   {"keys",
+                    {{{"time", 0}, {"translation", {0, 0, 0}}},
+                     {{"time", 0.5}, {"translation", {0.3, 0.1, -0.2}}, {"turn_degrees", 40}}}}};
   spit(ws / "scene.json", scene.dump());
   const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
   ASSERT_EQ(r.code, 0) << r.err;
@@ -603,7 +633,8 @@ TEST(GltfPassthrough, AMovingBodyMovesTheTailNodeComposedWithItsOwnTransform) {
     ASSERT_EQ(c["target"]["node"], 1);
     const std::string path = c["target"]["path"];
     if (path == "weights") continue;
-    keys[path] = floats(out.json, out.bin, bake["samplers"][c["sampler"].get<std::size_t>()]["output"], path == "rotation" ? 4 : 3);
+    keys[path] = floats(out.json, out.bin, bake["samplers"][c["sampler"].get<std::size_t>()]["output"],
+                        path == "rotation" ? 4 : 3);
   }
   ASSERT_EQ(keys.size(), 2u);
   const std::string pc2 = slurp(ws / "out.pc2");
@@ -622,11 +653,13 @@ TEST(GltfPassthrough, AMovingBodyMovesTheTailNodeComposedWithItsOwnTransform) {
     local.scale(Vec3(1.2, 1.2, 1.5));
     const Eigen::Affine3d placed = TexturedAsset::creature() * local;
     for (std::size_t v = 0; v < rest.size() / 3; ++v) {
-      const Vec3 got = placed * Vec3(rest[3 * v] + d[3 * v], rest[3 * v + 1] + d[3 * v + 1], rest[3 * v + 2] + d[3 * v + 2]);
+      const Vec3 got =
+          placed * Vec3(rest[3 * v] + d[3 * v], rest[3 * v + 1] + d[3 * v + 1], rest[3 * v + 2] + d[3 * v + 2]);
       // The .pc2: the Tail's own space, the body's motion in it.
       const Vec3 want = TexturedAsset::tail_world() * Vec3(world[3 * v], world[3 * v + 1], world[3 * v + 2]);
       worst = std::max(worst, (got - want).norm());
-      travelled = std::max(travelled, (want - TexturedAsset::tail_world() * Vec3(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2])).norm());
+      travelled = std::max(
+          travelled, (want - TexturedAsset::tail_world() * Vec3(rest[3 * v], rest[3 * v + 1], rest[3 * v + 2])).norm());
     }
   }
   std::cout << "moving body: largest distance from the .pc2 " << worst << " (the tail travels " << travelled << ")\n";
@@ -698,18 +731,22 @@ void write_textured_obj(const fs::path& dir) {
   }
   obj += "vn 0 0 -1\nvn 0 0 1\nusemtl Skin\n";
   auto corner = [&](int i, int j, int jt) {
-    return " " + std::to_string(i * S + j % S + 1) + "/" + std::to_string(i * (S + 1) + jt + 1) + "/" + std::to_string(j % S + 1);
+    return " " + std::to_string(i * S + j % S + 1) + "/" + std::to_string(i * (S + 1) + jt + 1) + "/" +
+           std::to_string(j % S + 1);
   };
   for (int i = 0; i + 1 < R; ++i)
-    for (int j = 0; j < S; ++j) obj += "f" + corner(i, j, j) + corner(i, j + 1, j + 1) + corner(i + 1, j + 1, j + 1) + corner(i + 1, j, j) + "\n";
+    for (int j = 0; j < S; ++j)
+      obj += "f" + corner(i, j, j) + corner(i, j + 1, j + 1) + corner(i + 1, j + 1, j + 1) + corner(i + 1, j, j) + "\n";
   obj += "usemtl Bone\n";
   const int centre_vt = R * (S + 1) + 1;
   for (int j = 0; j < S; ++j) {
     auto c = [&](int i, int jj, int n) {
       return " " + std::to_string(i * S + jj % S + 1) + "/" + std::to_string(centre_vt) + "/" + std::to_string(n);
     };
-    obj += "f " + std::to_string(R * S + 1) + "/" + std::to_string(centre_vt) + "/" + std::to_string(S + 1) + c(0, j + 1, S + 1) + c(0, j, S + 1) + "\n";
-    obj += "f " + std::to_string(R * S + 2) + "/" + std::to_string(centre_vt) + "/" + std::to_string(S + 2) + c(R - 1, j, S + 2) + c(R - 1, j + 1, S + 2) + "\n";
+    obj += "f " + std::to_string(R * S + 1) + "/" + std::to_string(centre_vt) + "/" + std::to_string(S + 1) +
+           c(0, j + 1, S + 1) + c(0, j, S + 1) + "\n";
+    obj += "f " + std::to_string(R * S + 2) + "/" + std::to_string(centre_vt) + "/" + std::to_string(S + 2) +
+           c(R - 1, j, S + 2) + c(R - 1, j + 1, S + 2) + "\n";
   }
   spit(dir / "creature.obj", obj);
   spit(dir / "creature.mtl", "newmtl Skin\nKd 0.8 0.8 0.8\nmap_Kd skin.png\nnewmtl Bone\nKd 0.9 0.9 0.85\n");
@@ -727,8 +764,10 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   write_textured_obj(dir);
   fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
-  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
-                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE,
+                             quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                 quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"),
+                             io);
   ASSERT_EQ(r.code, 0) << r.err;
   const Glb out = read_glb(dir / "out.glb");
   ASSERT_EQ(out.json["meshes"].size(), 1u);
@@ -751,7 +790,8 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   EXPECT_EQ(out.json["meshes"][0]["primitives"][1]["attributes"], side["attributes"]);
   ASSERT_EQ(rest.size() / 3, mesh.vertex_count() + R + 2 * S);
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
-    for (int c = 0; c < 3; ++c) ASSERT_EQ(rest[3 * v + c], static_cast<float>(mesh.positions[v][c])) << "vertex order: " << v;
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(rest[3 * v + c], static_cast<float>(mesh.positions[v][c])) << "vertex order: " << v;
   const std::vector<std::uint32_t> side_triangles = uints(out.json, out.bin, side["indices"]);
   const std::set<std::uint32_t> used(side_triangles.begin(), side_triangles.end());
   EXPECT_EQ(used.size(), static_cast<std::size_t>(R * (S + 1))) << "one vertex a (v, vt, vn) corner: the seam split";
@@ -772,7 +812,8 @@ TEST(ObjPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
     const int i = static_cast<int>(it->second) / S, j = static_cast<int>(it->second) % S;
     const int jt = j == 0 && uv[2 * v] > 0.5f ? S : j;  // the seam's second copy
     seen.insert({i, jt});
-    worst_uv = std::max({worst_uv, std::abs(uv[2 * v] - double(jt) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
+    worst_uv =
+        std::max({worst_uv, std::abs(uv[2 * v] - double(jt) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
     const double th = 2 * std::numbers::pi * j / S;
     EXPECT_NEAR(normals[3 * v], std::cos(th), 1e-5);
     EXPECT_NEAR(colours[4 * v], double(i) / (R - 1), 1e-6);
@@ -810,12 +851,14 @@ TEST(ObjPassthrough, WindowsSeparatorsInTheMaterialLibraryAreRead) {
   fs::create_directories(io);
   write_textured_obj(dir);
   fs::rename(dir / "skin.png", dir / "textures" / "skin.png");
-  spit(dir / "creature.mtl", "newmtl Skin\r\nKd 0.8 0.8 0.8\r\nmap_Kd .\\textures\\skin.png\r\n"
-                             "newmtl Bone\r\nKd 0.9 0.9 0.85\r\n");
+  spit(dir / "creature.mtl",
+       "newmtl Skin\r\nKd 0.8 0.8 0.8\r\nmap_Kd .\\textures\\skin.png\r\n"
+       "newmtl Bone\r\nKd 0.9 0.9 0.85\r\n");
   fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
-  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") +
-                                                " -q -o " + quoted(dir / "out.glb"), io);
+  const ToolRun r = run_tool(
+      SWEEP_SIM_EXE,
+      quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " + quoted(dir / "out.glb"), io);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.err, "");
   const Glb out = read_glb(dir / "out.glb");
@@ -838,13 +881,14 @@ TEST(ObjPassthrough, NanAndZeroNormalsAreRecomputedFromTheFaces) {
   std::string obj = slurp(dir / "creature.obj");
   const std::size_t first = obj.find("\nvn ") + 1, second = obj.find("\nvn ", first) + 1;
   const std::size_t second_end = obj.find('\n', second);
-  obj.replace(second, second_end - second, "vn 0 0 0");  // the normal of the vertices at j = 1
+  obj.replace(second, second_end - second, "vn 0 0 0");             // the normal of the vertices at j = 1
   obj.replace(first, obj.find('\n', first) - first, "vn nan 0 1");  // ... and at j = 0
   spit(dir / "creature.obj", obj);
   fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
-  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") +
-                                                " -q -o " + quoted(dir / "out.glb"), io);
+  const ToolRun r = run_tool(
+      SWEEP_SIM_EXE,
+      quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " + quoted(dir / "out.glb"), io);
   ASSERT_EQ(r.code, 0) << r.err;
   // The side's corners at j = 0 (with the seam's second copy) and j = 1, on every ring.
   const std::string count = std::to_string(3 * R);
@@ -852,7 +896,8 @@ TEST(ObjPassthrough, NanAndZeroNormalsAreRecomputedFromTheFaces) {
   EXPECT_NE(r.err.find("warning: " + (dir / "creature.obj").string() + ": mesh 0 primitive 0: " + count +
                        " normals are not finite or of no length (first: vertex 0 (nan, 0, 1)); recomputed from "
                        "the faces round each vertex (area-weighted)"),
-            std::string::npos) << r.err;
+            std::string::npos)
+      << r.err;
   const Glb out = read_glb(dir / "out.glb");
   const Json& side = out.json["meshes"][0]["primitives"][0];
   const std::vector<float> rest = floats(out.json, out.bin, side["attributes"]["POSITION"], 3);
@@ -902,10 +947,14 @@ TEST(GltfPassthrough, NanAndZeroNormalsAreRecomputedFromTheFaces) {
   const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb"));
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
-  EXPECT_NE(r.err.find("warning: " + (ws / "creature.gltf").string() + ": mesh 0 primitive 0: 2 normals are not "
-                       "finite or of no length (first: vertex " + std::to_string(nan_vertex) + " (nan, 0, 1)); "
+  EXPECT_NE(r.err.find("warning: " + (ws / "creature.gltf").string() +
+                       ": mesh 0 primitive 0: 2 normals are not "
+                       "finite or of no length (first: vertex " +
+                       std::to_string(nan_vertex) +
+                       " (nan, 0, 1)); "
                        "recomputed from the faces round each vertex (area-weighted)"),
-            std::string::npos) << r.err;
+            std::string::npos)
+      << r.err;
   const Glb out = read_glb(ws / "out.glb");
   const Json& side = out.json["meshes"][0]["primitives"][0];
   const std::vector<float> normals = floats(out.json, out.bin, side["attributes"]["NORMAL"], 3);
@@ -950,7 +999,8 @@ TEST(ObjPassthrough, VertexColoursAloneAreCarriedAndEveryTargetDeclaresItsBounds
   colours.push_back({1, 1, 1});
   auto id = [&](int i, int j) { return std::to_string(i * S + j % S + 1); };
   for (int i = 0; i + 1 < R; ++i)
-    for (int j = 0; j < S; ++j) obj += "f " + id(i, j) + " " + id(i, j + 1) + " " + id(i + 1, j + 1) + " " + id(i + 1, j) + "\n";
+    for (int j = 0; j < S; ++j)
+      obj += "f " + id(i, j) + " " + id(i, j + 1) + " " + id(i + 1, j + 1) + " " + id(i + 1, j) + "\n";
   for (int j = 0; j < S; ++j) {
     obj += "f " + std::to_string(R * S + 1) + " " + id(0, j + 1) + " " + id(0, j) + "\n";
     obj += "f " + std::to_string(R * S + 2) + " " + id(R - 1, j) + " " + id(R - 1, j + 1) + "\n";
@@ -958,8 +1008,9 @@ TEST(ObjPassthrough, VertexColoursAloneAreCarriedAndEveryTargetDeclaresItsBounds
   spit(dir / "colours.obj", obj);
   fit_and_bind(dir, io, "colours.obj", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
-  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") +
-                                                " -q -o " + quoted(dir / "out.glb"), io);
+  const ToolRun r = run_tool(
+      SWEEP_SIM_EXE,
+      quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " + quoted(dir / "out.glb"), io);
   ASSERT_EQ(r.code, 0) << r.err;
   const Glb out = read_glb(dir / "out.glb");
   const Json& primitive = out.json["meshes"][0]["primitives"][0];
@@ -995,18 +1046,22 @@ TEST(ObjPassthrough, BlenderShowsTheObjsSurfaceAndPlaysTheBake) {
   write_textured_obj(dir);
   fit_and_bind(dir, io, "creature.obj", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
-  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
-                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE,
+                             quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                 quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"),
+                             io);
   ASSERT_EQ(r.code, 0) << r.err;
   const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/check_passthrough.py";
-  const ToolRun b = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
-                                            quoted(dir / "creature.obj") + " " + quoted(dir / "out.glb") + " " +
-                                            quoted(dir / "out.pc2") + " 10 creature",
+  const ToolRun b = run_tool("blender",
+                             "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
+                                 quoted(dir / "creature.obj") + " " + quoted(dir / "out.glb") + " " +
+                                 quoted(dir / "out.pc2") + " 10 creature",
                              io);
   std::string lines;
   std::istringstream in(b.out);
   for (std::string line; std::getline(in, line);) {
-    if (line.rfind("ok", 0) == 0 || line.rfind("FAIL", 0) == 0 || line.rfind("blender check", 0) == 0) lines += line + "\n";
+    if (line.rfind("ok", 0) == 0 || line.rfind("FAIL", 0) == 0 || line.rfind("blender check", 0) == 0)
+      lines += line + "\n";
   }
   std::cout << lines;
   EXPECT_EQ(b.code, 0) << b.out << b.err;
@@ -1027,16 +1082,21 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
   ASSERT_EQ(x.code, 0) << x.out << x.err;
   fit_and_bind(dir, io, "creature.fbx", " -k 6 -n 8");
   spit(dir / "scene.json", kTexturedScene);
-  const ToolRun r = run_tool(SWEEP_SIM_EXE, quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
-                                                quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"), io);
+  const ToolRun r = run_tool(SWEEP_SIM_EXE,
+                             quoted(dir / "rig.json") + " --scene " + quoted(dir / "scene.json") + " -q -o " +
+                                 quoted(dir / "out.glb") + " -o " + quoted(dir / "out.pc2"),
+                             io);
   ASSERT_EQ(r.code, 0) << r.err;
   const Glb out = read_glb(dir / "out.glb");
   ASSERT_TRUE(out.json.contains("materials"));
   std::size_t skin = 0;
-  for (std::size_t m = 0; m < out.json["materials"].size(); ++m) skin = out.json["materials"][m]["name"] == "Skin" ? m : skin;
+  for (std::size_t m = 0; m < out.json["materials"].size(); ++m)
+    skin = out.json["materials"][m]["name"] == "Skin" ? m : skin;
   ASSERT_EQ(out.json["materials"][skin]["name"], "Skin");
   const std::size_t texture = out.json["materials"][skin]["pbrMetallicRoughness"]["baseColorTexture"]["index"];
-  EXPECT_EQ(view_bytes(out.json, out.bin, out.json["images"][out.json["textures"][texture]["source"].get<std::size_t>()]["bufferView"]), tiny_png());
+  EXPECT_EQ(view_bytes(out.json, out.bin,
+                       out.json["images"][out.json["textures"][texture]["source"].get<std::size_t>()]["bufferView"]),
+            tiny_png());
   const Mesh mesh = assets::read_mesh(dir / "creature.fbx");
   std::map<std::array<float, 3>, std::uint32_t> by_position;
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -1044,7 +1104,8 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
     by_position[{p.x(), p.y(), p.z()}] = v;
   }
   // The .pc2 holds the mesh in its own space: its node's world transform maps it to the .glb's.
-  const Eigen::Affine3d to_world = assets::read_scene_mesh(dir / "creature.fbx", "", assets::MeshPick::only_or_largest).to_world;
+  const Eigen::Affine3d to_world =
+      assets::read_scene_mesh(dir / "creature.fbx", "", assets::MeshPick::only_or_largest).to_world;
   const std::string pc2 = slurp(dir / "out.pc2");
   double worst_uv = 0, worst = 0, moved = 0;
   std::size_t side_vertices = 0;
@@ -1079,7 +1140,8 @@ TEST(FbxPassthrough, UvsNormalsAndTheMaterialsImageCarryIntoTheGlb) {
       const int i = static_cast<int>(std::lround(z * (R - 1)));
       int j = static_cast<int>(std::lround(th / (2 * std::numbers::pi) * S + S)) % S;
       if (j == 0 && uv[2 * v] > 0.5f) j = S;  // the seam's second copy
-      worst_uv = std::max({worst_uv, std::abs(uv[2 * v] - double(j) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
+      worst_uv = std::max(
+          {worst_uv, std::abs(uv[2 * v] - double(j) / S), std::abs(uv[2 * v + 1] - (1 - double(i) / (R - 1)))});
     }
   }
   std::cout << "fbx passthrough: " << side_vertices << " side vertices, UV error " << worst_uv << ", largest move "
@@ -1124,8 +1186,9 @@ TEST(SceneMeshes, AnFbxsUnitIsSaidAndNotApplied) {
     const ToolRun x = obj_to_fbx(top / "creature.obj", dir / c.file, io, c.blender_args);
     ASSERT_EQ(x.code, 0) << x.out << x.err;
     const std::string seeds = " --root 0,0," + std::to_string(0.02 * c.scale) + " --tip 0,0," + std::to_string(c.scale);
-    const ToolRun r = run_tool(SWEEP_FIT_EXE, quoted(dir / c.file) + " -o " + quoted(dir / (std::string(c.file) + ".rig.json")) +
-                                                  " --name tube -k 6 -n 8 -v --report " + quoted(dir / "fit.json") + seeds,
+    const ToolRun r = run_tool(SWEEP_FIT_EXE,
+                               quoted(dir / c.file) + " -o " + quoted(dir / (std::string(c.file) + ".rig.json")) +
+                                   " --name tube -k 6 -n 8 -v --report " + quoted(dir / "fit.json") + seeds,
                                io);
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("no unit scale; " + c.said), std::string::npos) << r.out;
@@ -1144,8 +1207,14 @@ TEST(SceneMeshes, AnFbxsUnitIsSaidAndNotApplied) {
 TEST(GltfPassthrough, SameBytesEveryRunAndAnObjsMissingTextureIsAWarning) {
   const TexturedWorkspace ws("gltf-passthrough-determinism");
   const std::string args = " --scene " + quoted(ws / "scene.json") + " -q ";
-  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, quoted(ws / "rig.json") + args + "-o " + quoted(ws / "a.glb"), ws.io, "OMP_NUM_THREADS=1").code, 0);
-  ASSERT_EQ(run_tool(SWEEP_SIM_EXE, quoted(ws / "rig.json") + args + "-o " + quoted(ws / "b.glb"), ws.io, "OMP_NUM_THREADS=2").code, 0);
+  ASSERT_EQ(
+      run_tool(SWEEP_SIM_EXE, quoted(ws / "rig.json") + args + "-o " + quoted(ws / "a.glb"), ws.io, "OMP_NUM_THREADS=1")
+          .code,
+      0);
+  ASSERT_EQ(
+      run_tool(SWEEP_SIM_EXE, quoted(ws / "rig.json") + args + "-o " + quoted(ws / "b.glb"), ws.io, "OMP_NUM_THREADS=2")
+          .code,
+      0);
   EXPECT_EQ(slurp(ws / "a.glb"), slurp(ws / "b.glb"));
   EXPECT_GT(slurp(ws / "a.glb").size(), 10000u);
 
@@ -1167,7 +1236,8 @@ TEST(GltfPassthrough, SameBytesEveryRunAndAnObjsMissingTextureIsAWarning) {
   ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
   EXPECT_EQ(r.err_lines()[0].rfind("warning: ", 0), 0u) << r.err;
   EXPECT_NE(r.err.find("skin.png: cannot read material 'Skin''s texture (map_Kd, line 3 of its library)"),
-            std::string::npos) << r.err;
+            std::string::npos)
+      << r.err;
   EXPECT_NE(r.err.find("the material keeps its base colour only"), std::string::npos) << r.err;
   const Glb c = read_glb(dir / "c.glb");
   EXPECT_EQ(c.json["materials"][0]["name"], "Skin");
@@ -1187,14 +1257,16 @@ TEST(GltfPassthrough, BlenderShowsTheAssetAndPlaysTheBake) {
   const ToolRun r = ws.bake("-o " + quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2"));
   ASSERT_EQ(r.code, 0) << r.err;
   const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/check_passthrough.py";
-  const ToolRun b = run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
-                                            quoted(ws / "creature.gltf") + " " + quoted(ws / "out.glb") + " " +
-                                            quoted(ws / "out.pc2") + " 10 Tail",
+  const ToolRun b = run_tool("blender",
+                             "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " +
+                                 quoted(ws / "creature.gltf") + " " + quoted(ws / "out.glb") + " " +
+                                 quoted(ws / "out.pc2") + " 10 Tail",
                              ws.io);
   std::string lines;
   std::istringstream in(b.out);
   for (std::string line; std::getline(in, line);) {
-    if (line.rfind("ok", 0) == 0 || line.rfind("FAIL", 0) == 0 || line.rfind("blender check", 0) == 0) lines += line + "\n";
+    if (line.rfind("ok", 0) == 0 || line.rfind("FAIL", 0) == 0 || line.rfind("blender check", 0) == 0)
+      lines += line + "\n";
   }
   std::cout << lines;
   EXPECT_EQ(b.code, 0) << b.out << b.err;

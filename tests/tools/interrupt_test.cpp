@@ -51,8 +51,7 @@ Bake start_bake(const Workspace& ws) {
   const std::string rig = (ws / "rig.json").string(), scene = (ws / "long.json").string();
   const std::string glb = (ws / "out.glb").string(), pc2 = (ws / "out.pc2").string();
   const std::string report = (ws / "report.json").string();
-  std::vector<std::string> args{SWEEP_SIM_EXE, rig,  "-s", scene, "-o", glb, "-o", pc2,
-                                "--report",    report};
+  std::vector<std::string> args{SWEEP_SIM_EXE, rig, "-s", scene, "-o", glb, "-o", pc2, "--report", report};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -112,8 +111,8 @@ TEST(Interrupt, SignalsAtRandomMomentsLeaveTheFolderAsItWas) {
       kill(b.pid, signal);
       const int code = wait_for(b);
       const std::string err = slurp(ws.io / "stderr.txt");
-      SCOPED_TRACE(std::string(strsignal(signal)) + " after " + std::to_string(at) + " s of " +
-                   std::to_string(full) + " s\n" + err);
+      SCOPED_TRACE(std::string(strsignal(signal)) + " after " + std::to_string(at) + " s of " + std::to_string(full) +
+                   " s\n" + err);
       if (code == 0) {  // finished first (a slow start): then everything is there; start again
         for (const char* name : {"out.glb", "out.pc2", "report.json"}) fs::remove(ws / name);
         continue;
@@ -122,8 +121,8 @@ TEST(Interrupt, SignalsAtRandomMomentsLeaveTheFolderAsItWas) {
       EXPECT_EQ(code, 128 + signal);
       const char* signal_name = signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "SIGHUP";
       EXPECT_NE(err.find(std::string("error: interrupted by ") + signal_name), std::string::npos);
-      EXPECT_NE(err.find("not written: " + (ws / "out.glb").string() + ", " + (ws / "out.pc2").string() +
-                         ", " + (ws / "report.json").string()),
+      EXPECT_NE(err.find("not written: " + (ws / "out.glb").string() + ", " + (ws / "out.pc2").string() + ", " +
+                         (ws / "report.json").string()),
                 std::string::npos)
           << "names every output";
       EXPECT_EQ(listing(ws.work), before) << "no output under its final name, no temporary";

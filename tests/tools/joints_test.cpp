@@ -4,8 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sweep/assets/bake_skin.h"
 #include "pipeline.h"
+#include "sweep/assets/bake_skin.h"
 
 namespace sweep::test {
 namespace {
@@ -18,8 +18,7 @@ TEST(Joints, ASkinnedBakeReportsItsErrorAndIsFarSmallerThanTheMorphBake) {
                            " --joints 8 --ring-joints 1 --report " + quoted(ws / "r.json"),
                        ws.io);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("skinned .glb: 9 joints (8 a sweep, and the body); against the bake: max "),
-            std::string::npos)
+  EXPECT_NE(r.out.find("skinned .glb: 9 joints (8 a sweep, and the body); against the bake: max "), std::string::npos)
       << r.out;
   const nlohmann::json report = nlohmann::json::parse(slurp(ws / "r.json"));
   ASSERT_TRUE(report.contains("skin_error_max_relative")) << report.dump(2);
@@ -46,12 +45,11 @@ TEST(Joints, BadJointCountsExitOneAndWriteNothing) {
   const std::string base = quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") + " -o " +
                            quoted(ws / "out.glb") + " --report " + quoted(ws / "r.json");
   // The tube's rig has K = 6 sections: 41 stations at the default 8 a span, 6 at --stations 1.
-  for (const std::string& bad :
-       {std::string("--joints 1"), std::string("--joints 0"), std::string("--joints -4"),
-        std::string("--joints 256"), std::string("--joints 1000"), std::string("--joints 42"),
-        std::string("--joints 7 --stations 1"), std::string("--joints abc"),
-        std::string("--joints 4 --ring-joints 0"), std::string("--joints --ring-joints 65"),
-        std::string("--ring-joints 4"), std::string("--joints 4 --ring-joints")}) {
+  for (const std::string& bad : {std::string("--joints 1"), std::string("--joints 0"), std::string("--joints -4"),
+                                 std::string("--joints 256"), std::string("--joints 1000"), std::string("--joints 42"),
+                                 std::string("--joints 7 --stations 1"), std::string("--joints abc"),
+                                 std::string("--joints 4 --ring-joints 0"), std::string("--joints --ring-joints 65"),
+                                 std::string("--ring-joints 4"), std::string("--joints 4 --ring-joints")}) {
     const ToolRun r = run_tool(SWEEP_SIM_EXE, base + " " + bad, ws.io);
     EXPECT_EQ(r.code, 1) << bad << ": " << r.err;
     EXPECT_NE(r.err.find(bad.find("--ring-joints") == std::string::npos ? "--joints" : "--ring-joints"),
@@ -60,10 +58,10 @@ TEST(Joints, BadJointCountsExitOneAndWriteNothing) {
     EXPECT_EQ(r.out, "") << bad;
     EXPECT_EQ(listing(ws.work), before) << bad;
   }
-  const ToolRun r = run_tool(SWEEP_SIM_EXE,
-                             quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") + " -o " +
-                                 quoted(ws / "out.pc2") + " --joints 8",
-                             ws.io);
+  const ToolRun r = run_tool(
+      SWEEP_SIM_EXE,
+      quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") + " -o " + quoted(ws / "out.pc2") + " --joints 8",
+      ws.io);
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find("--joints: skins a .glb output"), std::string::npos) << r.err;
   EXPECT_EQ(listing(ws.work), before);
@@ -79,21 +77,23 @@ TEST(Joints, BadJointCountsExitOneAndWriteNothing) {
 TEST(Joints, JointsAloneTakesTheDefaultsWhichBeatSectionJoints) {
   const Workspace ws("joints-default");
   const std::string scene = " -s " + quoted(ws / "scene.json");
-  for (const std::string& order : {quoted(ws / "rig.json") + scene + " --joints -o " + quoted(ws / "d.glb"),
-                                   std::string("--joints -q ") + quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb"),
-                                   quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb") + " --joints"}) {
+  for (const std::string& order :
+       {quoted(ws / "rig.json") + scene + " --joints -o " + quoted(ws / "d.glb"),
+        std::string("--joints -q ") + quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb"),
+        quoted(ws / "rig.json") + scene + " -o " + quoted(ws / "d.glb") + " --joints"}) {
     const ToolRun r = run_tool(SWEEP_SIM_EXE, order + " -q --report " + quoted(ws / "d.json"), ws.io);
     ASSERT_EQ(r.code, 0) << order << ": " << r.err;
     const nlohmann::json report = nlohmann::json::parse(slurp(ws / "d.json"));
     EXPECT_EQ(report["joints_per_sweep"], assets::kDefaultSkinJoints) << order;
     EXPECT_EQ(report["ring_joints"], assets::kDefaultRingJoints) << order;
-    EXPECT_EQ(report["skin_joints"], 1 + assets::kDefaultSkinJoints + (assets::kDefaultSkinJoints - 1) * assets::kDefaultRingJoints);
+    EXPECT_EQ(report["skin_joints"],
+              1 + assets::kDefaultSkinJoints + (assets::kDefaultSkinJoints - 1) * assets::kDefaultRingJoints);
   }
-  const ToolRun r = run_tool(SWEEP_SIM_EXE,
-                             quoted(ws / "rig.json") + scene + " -q -o " + quoted(ws / "s.glb") + " --joints " +
-                                 std::to_string(assets::kDefaultSkinJoints) + " --ring-joints 1 --report " +
-                                 quoted(ws / "s.json"),
-                             ws.io);
+  const ToolRun r =
+      run_tool(SWEEP_SIM_EXE,
+               quoted(ws / "rig.json") + scene + " -q -o " + quoted(ws / "s.glb") + " --joints " +
+                   std::to_string(assets::kDefaultSkinJoints) + " --ring-joints 1 --report " + quoted(ws / "s.json"),
+               ws.io);
   ASSERT_EQ(r.code, 0) << r.err;
   const double ring = nlohmann::json::parse(slurp(ws / "d.json"))["skin_error_max_relative"].get<double>();
   const double section = nlohmann::json::parse(slurp(ws / "s.json"))["skin_error_max_relative"].get<double>();
@@ -107,14 +107,13 @@ TEST(Joints, JointsAloneTakesTheDefaultsWhichBeatSectionJoints) {
 // (BadJointCounts).
 TEST(Joints, JointsAloneOnAShortSweepTakesAJointAStation) {
   const Workspace ws("joints-short");
-  const ToolRun r = run_tool(SWEEP_SIM_EXE,
-                             quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") +
-                                 " --stations 1 --joints -o " + quoted(ws / "d.glb") + " --report " +
-                                 quoted(ws / "d.json"),
-                             ws.io);
+  const ToolRun r =
+      run_tool(SWEEP_SIM_EXE,
+               quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") + " --stations 1 --joints -o " +
+                   quoted(ws / "d.glb") + " --report " + quoted(ws / "d.json"),
+               ws.io);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("note: --joints: 6 joints a sweep, not 24: sweep \"tube\" has 6 stations"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("note: --joints: 6 joints a sweep, not 24: sweep \"tube\" has 6 stations"), std::string::npos)
       << r.err;
   const nlohmann::json report = nlohmann::json::parse(slurp(ws / "d.json"));
   EXPECT_EQ(report["joints_per_sweep"], 6);

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 
-#include "sweep/assets/mesh_io.h"
 #include "pipeline.h"
+#include "sweep/assets/mesh_io.h"
 
 namespace sweep::test {
 namespace {
@@ -20,8 +20,7 @@ json read_json(const fs::path& p) {
 }
 
 // A tube by sweep-tube into `dir`.
-fs::path make_tube(const fs::path& dir, const fs::path& io, const std::string& name,
-                   const std::string& args) {
+fs::path make_tube(const fs::path& dir, const fs::path& io, const std::string& name, const std::string& args) {
   const fs::path mesh = dir / name;
   const ToolRun r = run_tool(SWEEP_TUBE_EXE, "-q " + args + " -o " + quoted(mesh), io);
   EXPECT_EQ(r.code, 0) << r.err;
@@ -33,8 +32,7 @@ fs::path make_tube(const fs::path& dir, const fs::path& io, const std::string& n
 // nearest vertex, more than the limit of a tenth of the diagonal, 5.)
 TEST(NewcomerMessages, ASeedOnALargeFaceIsOnTheMesh) {
   const Workspace ws("messages-seed-face");
-  const fs::path mesh = make_tube(ws.work, ws.io, "coarse.obj",
-                                  "--length 50 --radius 2 --rings 3 --segments 6");
+  const fs::path mesh = make_tube(ws.work, ws.io, "coarse.obj", "--length 50 --radius 2 --rings 3 --segments 6");
   // The middle of the side quad between θ = 0 and 60°, halfway between rings 0 and 1.
   const std::string root = "1.5,0.8660254037844386,12.5";
   const ToolRun r = run_tool(SWEEP_FIT_EXE,
@@ -60,24 +58,22 @@ TEST(NewcomerMessages, APartFitsTheSameAtAnyScale) {
     for (Vec3& p : scaled.positions) p *= scale;
     const std::string name = "tube-" + std::to_string(scale);
     assets::write_obj(ws / (name + ".obj"), scaled);
-    const ToolRun r = run_tool(
-        SWEEP_FIT_EXE,
-        quoted(ws / (name + ".obj")) + " -o " + quoted(ws / (name + ".rig.json")) + " --tip 0,0," +
-            std::to_string(1.5 * scale) + " --report " + quoted(ws / (name + ".json")),
-        ws.io);
+    const ToolRun r =
+        run_tool(SWEEP_FIT_EXE,
+                 quoted(ws / (name + ".obj")) + " -o " + quoted(ws / (name + ".rig.json")) + " --tip 0,0," +
+                     std::to_string(1.5 * scale) + " --report " + quoted(ws / (name + ".json")),
+                 ws.io);
     ASSERT_EQ(r.code, 0) << "scale " << scale << ": " << r.err;
     const json s = read_json(ws / (name + ".json")).at("sweeps").at(0);
     if (reference.is_null()) {
       reference = s;
       continue;
     }
-    for (const char* key : {"traced_over_surface", "tip_gap_relative", "in_range_share",
-                            "fit_rms_relative", "fit_p90_relative", "surface_rms_relative"}) {
-      EXPECT_NEAR(s.at(key).get<double>(), reference.at(key).get<double>(), 1e-4)
-          << key << " at scale " << scale;
+    for (const char* key : {"traced_over_surface", "tip_gap_relative", "in_range_share", "fit_rms_relative",
+                            "fit_p90_relative", "surface_rms_relative"}) {
+      EXPECT_NEAR(s.at(key).get<double>(), reference.at(key).get<double>(), 1e-4) << key << " at scale " << scale;
     }
-    EXPECT_NEAR(s.at("length").get<double>() / scale, reference.at("length").get<double>(), 1e-6)
-        << "scale " << scale;
+    EXPECT_NEAR(s.at("length").get<double>() / scale, reference.at("length").get<double>(), 1e-6) << "scale " << scale;
     EXPECT_EQ(s.at("part_vertex_count"), reference.at("part_vertex_count")) << "scale " << scale;
   }
 }
@@ -126,8 +122,8 @@ TEST(NewcomerMessages, AFailedFitWritesItsReport) {
     fs::remove(ws / "f.json");
     fs::remove(ws / "f.png");
     const ToolRun r = run_tool(SWEEP_FIT_EXE,
-                               c.args + " -o " + quoted(ws / "f.rig.json") + " --report " +
-                                   quoted(ws / "f.json") + " --preview " + quoted(ws / "f.png"),
+                               c.args + " -o " + quoted(ws / "f.rig.json") + " --report " + quoted(ws / "f.json") +
+                                   " --preview " + quoted(ws / "f.png"),
                                ws.io);
     EXPECT_EQ(r.code, c.code) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
@@ -162,10 +158,8 @@ TEST(NewcomerMessages, NumbersInMessagesAreFormatted) {
   spit(ws / "big.json",
        R"({"format": "sweep-scene", "version": 1, "duration": 0.5, "fps": 10,
   "forces": [{"sweep": "tube", "t": 1, "theta": 0, "vector": [2e9, 0, 0], "start": 0, "end": 0.2}]})");
-  ToolRun r = run_tool(SWEEP_SIM_EXE,
-                       quoted(ws / "rig.json") + " -s " + quoted(ws / "big.json") + " -o " +
-                           quoted(ws / "a.pc2"),
-                       ws.io);
+  ToolRun r = run_tool(
+      SWEEP_SIM_EXE, quoted(ws / "rig.json") + " -s " + quoted(ws / "big.json") + " -o " + quoted(ws / "a.pc2"), ws.io);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("got one of length 2e+09"), std::string::npos) << r.err;
   // The summaries of the three tools.
@@ -179,9 +173,7 @@ TEST(NewcomerMessages, NumbersInMessagesAreFormatted) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_FALSE(std::regex_search(r.out, six_decimals)) << r.out;
   r = run_tool(SWEEP_SIM_EXE,
-               quoted(ws / "n.rig.json") + " -s " + quoted(ws / "scene.json") + " -o " +
-                   quoted(ws / "n.pc2"),
-               ws.io);
+               quoted(ws / "n.rig.json") + " -s " + quoted(ws / "scene.json") + " -o " + quoted(ws / "n.pc2"), ws.io);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_FALSE(std::regex_search(r.out, six_decimals)) << r.out;
   EXPECT_NE(r.out.find("baked 6 frames (0.5 s at 10 fps"), std::string::npos) << r.out;
@@ -200,9 +192,9 @@ TEST(NewcomerMessages, AnObjSequenceIsOneWroteLine) {
   std::istringstream lines(r.out);
   for (std::string line; std::getline(lines, line);) wrote += line.rfind("wrote ", 0) == 0;
   EXPECT_EQ(wrote, 2) << r.out;
-  EXPECT_NE(r.out.find("wrote 6 files " + (ws / "seq" / "b_0000.obj").string() +
-                       " ... b_0005.obj (b_####.obj, one a frame)"),
-            std::string::npos)
+  EXPECT_NE(
+      r.out.find("wrote 6 files " + (ws / "seq" / "b_0000.obj").string() + " ... b_0005.obj (b_####.obj, one a frame)"),
+      std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("wrote " + (ws / "b.pc2").string() + "\n"), std::string::npos) << r.out;
 }
@@ -211,22 +203,21 @@ TEST(NewcomerMessages, AnObjSequenceIsOneWroteLine) {
 // of the flat root cap (a fan the plane contains), or through a ring of vertices of a coarse tube.
 TEST(NewcomerMessages, TaperedTubeSectionsAreStarShaped) {
   const Workspace ws("messages-star");
-  const fs::path coarse = make_tube(ws.work, ws.io, "coarse.off",
-                                    "--length 1.5 --radius 0.15 --taper 0.4 --rings 5 --segments 6");
+  const fs::path coarse =
+      make_tube(ws.work, ws.io, "coarse.off", "--length 1.5 --radius 0.15 --taper 0.4 --rings 5 --segments 6");
   const fs::path committed = fs::path(SWEEP_SOURCE_DIR) / "meshes" / "tube_tapered.off";
   struct Case {
     fs::path mesh;
     std::string root;
   };
-  const Case cases[] = {{committed, "0,0,0"},   {coarse, "0,0,0"},    {coarse, "0,0,0.375"},
-                        {committed, "0,0,0.375"}, {committed, ""}, {coarse, ""}};
+  const Case cases[] = {{committed, "0,0,0"},     {coarse, "0,0,0"}, {coarse, "0,0,0.375"},
+                        {committed, "0,0,0.375"}, {committed, ""},   {coarse, ""}};
   for (const Case& c : cases) {
     fs::remove(ws / "s.rig.json");
-    const ToolRun r = run_tool(
-        SWEEP_FIT_EXE,
-        quoted(c.mesh) + " -o " + quoted(ws / "s.rig.json") + " --tip 0,0,1.5 --force" +
-            (c.root.empty() ? "" : " --root " + c.root) + " --report " + quoted(ws / "s.json"),
-        ws.io);
+    const ToolRun r = run_tool(SWEEP_FIT_EXE,
+                               quoted(c.mesh) + " -o " + quoted(ws / "s.rig.json") + " --tip 0,0,1.5 --force" +
+                                   (c.root.empty() ? "" : " --root " + c.root) + " --report " + quoted(ws / "s.json"),
+                               ws.io);
     ASSERT_EQ(r.code, 0) << c.mesh << " " << c.root << ": " << r.err;
     EXPECT_EQ(r.err.find("star-shaped"), std::string::npos) << c.mesh << " " << c.root << ": " << r.err;
     EXPECT_EQ(read_json(ws / "s.json").at("sweeps").at(0).at("star_violations"), json::array())

@@ -24,8 +24,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 std::string scene(double duration, double fps, const std::string& extra = "") {
-  return R"({"format": "sweep-scene", "version": 1, "duration": )" + std::to_string(duration) +
-         R"(, "fps": )" + std::to_string(fps) + extra +
+  return R"({"format": "sweep-scene", "version": 1, "duration": )" + std::to_string(duration) + R"(, "fps": )" +
+         std::to_string(fps) + extra +
          R"(, "forces": [{"sweep": "tube", "t": 1, "theta": 0, "vector": [0, 1, 0], "start": 0, "end": 0.2}]})";
 }
 
@@ -51,7 +51,7 @@ std::string bake(const Workspace& ws, const std::string& scene_file, const std::
 
 TEST(ObjSequence, AShorterRebakeRemovesTheLongerOnesFrames) {
   const Workspace ws("obj-sequence-rebake");
-  spit(ws / "long.json", scene(2.0, 20));  // 41 frames
+  spit(ws / "long.json", scene(2.0, 20));   // 41 frames
   spit(ws / "short.json", scene(0.5, 10));  // 6 frames
   ASSERT_EQ(run_tool(SWEEP_SIM_EXE, bake(ws, "long.json", "o.obj"), ws.io).code, 0);
   ASSERT_EQ(frames(ws.work, "o").size(), 41u);
@@ -94,7 +94,8 @@ TEST(ObjSequence, FilesAKilledRunSetAsideArePutBackOrRemoved) {
   // The same, said: without -q the notes name both.
   fs::rename(ws / "o_0000.obj", ws / ".o_0000.obj.old-Ef56Gh");
   spit(ws / ".o_0001.obj.old-Ij78Kl", "the earlier frame 1\n");
-  const std::string rig = quoted(ws / "rig.json") + " -s " + quoted(ws / "short.json") + " -o " + quoted(ws / "fourth.pc2");
+  const std::string rig =
+      quoted(ws / "rig.json") + " -s " + quoted(ws / "short.json") + " -o " + quoted(ws / "fourth.pc2");
   const ToolRun said = run_tool(SWEEP_SIM_EXE, rig, ws.io);
   ASSERT_EQ(said.code, 0) << said.err;
   EXPECT_NE(said.err.find("note: put back " + (ws / "o_0000.obj").string()), std::string::npos) << said.err;
@@ -124,17 +125,21 @@ TEST(ObjSequence, TheSizeLimitHoldsForWhatIsWritten) {
     obj += line + "\n";
   }
   spit(ws / "off.obj", obj);
-  ASSERT_EQ(run_tool(SWEEP_FIT_EXE, quoted(ws / "off.obj") + " -o " + quoted(ws / "off.rig.json") +
-                                        " --name tube --root -0.0123457,-0.0234568,-0.3390122"
-                                        " --tip -0.0123457,-0.0234568,-0.0123456 -k 6 -n 8 -q",
-                     ws.io).code, 0);
+  ASSERT_EQ(run_tool(SWEEP_FIT_EXE,
+                     quoted(ws / "off.obj") + " -o " + quoted(ws / "off.rig.json") +
+                         " --name tube --root -0.0123457,-0.0234568,-0.3390122"
+                         " --tip -0.0123457,-0.0234568,-0.0123456 -k 6 -n 8 -q",
+                     ws.io)
+                .code,
+            0);
   ASSERT_EQ(run_tool(SWEEP_BIND_EXE, quoted(ws / "off.rig.json") + " -q", ws.io).code, 0);
   spit(ws / "moving.json", scene(1.0, 30, R"(, "body": {"keys": [{"time": 0, "translation": [0, 0, 0]},
                                                                   {"time": 1, "translation": [0.1, 0.2, 0.3]}]})"));
   auto run = [&](const std::string& out, const std::string& extra) {
-    return run_tool(SWEEP_SIM_EXE, quoted(ws / "off.rig.json") + " -s " + quoted(ws / "moving.json") + " -q -o " +
-                                       quoted(ws / out) + extra,
-                    ws.io);
+    return run_tool(
+        SWEEP_SIM_EXE,
+        quoted(ws / "off.rig.json") + " -s " + quoted(ws / "moving.json") + " -q -o " + quoted(ws / out) + extra,
+        ws.io);
   };
   ASSERT_EQ(run("o.obj", "").code, 0);
   std::uint64_t written = 0;
@@ -176,8 +181,8 @@ TEST(ObjSequence, ASignalRemovesEveryTemporaryOfALongSequence) {
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  std::vector<std::string> args{SWEEP_SIM_EXE, (ws / "rig.json").string(), "-s", (ws / "long.json").string(),
-                                "-q", "-o", (ws / "o.obj").string()};
+  std::vector<std::string> args{SWEEP_SIM_EXE, (ws / "rig.json").string(), "-s", (ws / "long.json").string(), "-q",
+                                "-o",          (ws / "o.obj").string()};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

@@ -13,8 +13,7 @@ namespace {
 
 // `frames` frames at 32 fps (a duration a binary fraction holds exactly).
 std::string scene_of(int frames) {
-  return R"({"format": "sweep-scene", "version": 1, "fps": 32, "duration": )" +
-         std::to_string((frames - 1) / 32.0) +
+  return R"({"format": "sweep-scene", "version": 1, "fps": 32, "duration": )" + std::to_string((frames - 1) / 32.0) +
          R"(, "forces": [{"sweep": "tube", "t": 1, "theta": 0, "vector": [0, 1, 0], "start": 0, "end": 0.2}]})";
 }
 
@@ -22,8 +21,8 @@ TEST(OutputSize, MaxOutputSizeRefusesBeforeSimulating) {
   const Workspace ws("output-size-limit");
   spit(ws / "s.json", scene_of(61));
   const std::set<std::string> before = listing(ws.work);
-  const std::string args = quoted(ws / "rig.json") + " -s " + quoted(ws / "s.json") + " -o " +
-                           quoted(ws / "out.glb") + " -o " + quoted(ws / "out.pc2");
+  const std::string args = quoted(ws / "rig.json") + " -s " + quoted(ws / "s.json") + " -o " + quoted(ws / "out.glb") +
+                           " -o " + quoted(ws / "out.pc2");
   // The tube has 794 vertices: the .pc2 alone is 32 + 61 x 794 x 12 bytes, about 0.58 MB.
   ToolRun r = run_tool(SWEEP_SIM_EXE, args + " --max-output-size 500K", ws.io);
   EXPECT_EQ(r.code, 4) << r.err;
@@ -63,7 +62,8 @@ TEST(OutputSize, AFullDiskLeavesNothingBehind) {
   const fs::path small = ws.work.parent_path() / "small";
   fs::create_directories(small);
   const std::string mount = "mount -t tmpfs -o size=600k tmpfs " + quoted(small) + " 2>/dev/null";
-  if (std::system(mount.c_str()) != 0) GTEST_SKIP() << "cannot mount a tmpfs here (needs root and a kernel that allows it)";
+  if (std::system(mount.c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here (needs root and a kernel that allows it)";
   spit(ws / "s.json", scene_of(120));  // the .pc2: 32 + 120 x 794 x 12 bytes, about 1.1 MB
   const ToolRun r = run_tool(SWEEP_SIM_EXE,
                              quoted(ws / "rig.json") + " -s " + quoted(ws / "s.json") + " -q -o " +
@@ -114,8 +114,8 @@ TEST(OutputSize, PeakMemoryIsFlatInTheBakesLength) {
     return peak_kb({(ws / "rig.json").string(), "-s", (ws / scene).string(), "-q", "-o", (ws / out).string()});
   };
   const long pc2_short = peak("short.json", "a.pc2"), pc2_long = peak("long.json", "b.pc2");
-  EXPECT_LT(pc2_long - pc2_short, 4 * 1024) << ".pc2: " << pc2_short << " kB for 100 frames, "
-                                            << pc2_long << " kB for 4,000";
+  EXPECT_LT(pc2_long - pc2_short, 4 * 1024)
+      << ".pc2: " << pc2_short << " kB for 100 frames, " << pc2_long << " kB for 4,000";
   const long glb_short = peak("short.json", "a.glb"), glb_long = peak("long.json", "b.glb");
   EXPECT_LT(static_cast<double>(glb_long - glb_short) / 3900, 12.0)
       << ".glb: " << glb_short << " kB for 100 frames, " << glb_long << " kB for 4,000";

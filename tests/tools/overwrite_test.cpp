@@ -31,20 +31,17 @@ TEST(Overwrite, OutputOntoAnyInputIsRefusedBeforeAnyWork) {
   };
   std::vector<Run> runs;
   for (const char* input : {"rig.json", "scene.json", "rig.bind", "tube.obj"}) {
-    runs.push_back({SWEEP_SIM_EXE, rig + scene + " -o " + quoted(ws / "o.pc2") + " --report " +
-                                       quoted(ws / input),
-                    "--report "});
+    runs.push_back(
+        {SWEEP_SIM_EXE, rig + scene + " -o " + quoted(ws / "o.pc2") + " --report " + quoted(ws / input), "--report "});
   }
   runs.push_back({SWEEP_SIM_EXE, rig + scene + " -o " + quoted(ws / "rig.bind"), "-o "});
   for (const char* input : {"rig.json", "tube.obj"}) {
     runs.push_back({SWEEP_BIND_EXE, rig + " -o " + quoted(ws / input), "the binding "});
-    runs.push_back({SWEEP_BIND_EXE, rig + " -o " + quoted(ws / "b.bind") + " --report " +
-                                        quoted(ws / input),
-                    "--report "});
+    runs.push_back(
+        {SWEEP_BIND_EXE, rig + " -o " + quoted(ws / "b.bind") + " --report " + quoted(ws / input), "--report "});
   }
   runs.push_back({SWEEP_FIT_EXE,
-                  quoted(ws / "tube.obj") + " -o " + quoted(ws / "tube.obj") +
-                      " --name t --root 0,0,0.02 --tip 0,0,1",
+                  quoted(ws / "tube.obj") + " -o " + quoted(ws / "tube.obj") + " --name t --root 0,0,0.02 --tip 0,0,1",
                   "-o "});
   runs.push_back({SWEEP_FIT_EXE,
                   quoted(ws / "tube.obj") + " -o " + rig + " --report " + quoted(ws / "tube.obj") +
@@ -71,9 +68,8 @@ TEST(Overwrite, OutputThroughAHardLinkOrASymlinkedFolderIsRefused) {
   const auto before = files_of(ws.work);
   for (const std::string& report : {std::string("linked.json"), std::string("alias/rig.bind")}) {
     const ToolRun r = run_tool(SWEEP_SIM_EXE,
-                               quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") +
-                                   " -q -o " + quoted(ws / "o.pc2") + " --report " +
-                                   quoted(ws / report),
+                               quoted(ws / "rig.json") + " -s " + quoted(ws / "scene.json") + " -q -o " +
+                                   quoted(ws / "o.pc2") + " --report " + quoted(ws / report),
                                ws.io);
     EXPECT_EQ(r.code, 1) << r.err;
     EXPECT_NE(r.err.find("is the same file as"), std::string::npos) << r.err;
@@ -118,9 +114,8 @@ TEST(Overwrite, ObjRebakeThatFailsKeepsTheEarlierFrames) {
   spit(ws / "diverging.rig.json", rig.dump(2));
   fs::copy_file(ws / "rig.bind", ws / "diverging.rig.bind");
   const auto inputs = files_of(ws.work);
-  const ToolRun r = run_tool(SWEEP_SIM_EXE,
-                             quoted(ws / "diverging.rig.json") + " -q -o " + quoted(ws / "out.obj"),
-                             ws.io);
+  const ToolRun r =
+      run_tool(SWEEP_SIM_EXE, quoted(ws / "diverging.rig.json") + " -q -o " + quoted(ws / "out.obj"), ws.io);
   EXPECT_EQ(r.code, 5) << r.err;
   EXPECT_TRUE(files_of(ws.work) == inputs) << "the earlier frames were touched";
 }
@@ -140,9 +135,8 @@ TEST(Overwrite, TwoObjBakesAtOnceDoNotMix) {
   for (int round = 0; round < 3; ++round) {
     fs::remove_all(ws.work / "c");
     fs::create_directories(ws.work / "c");
-    const std::string both = "'" + std::string(SWEEP_SIM_EXE) + "' " +
-                             sim(ws, "scene.json", "c/out.obj") + " & '" + SWEEP_SIM_EXE + "' " +
-                             sim(ws, "strong.json", "c/out.obj") + " & wait";
+    const std::string both = "'" + std::string(SWEEP_SIM_EXE) + "' " + sim(ws, "scene.json", "c/out.obj") + " & '" +
+                             SWEEP_SIM_EXE + "' " + sim(ws, "strong.json", "c/out.obj") + " & wait";
     ASSERT_EQ(std::system(both.c_str()), 0);
     const auto c = files_of(ws.work / "c");
     EXPECT_TRUE(c == a || c == b) << "round " << round << ": frames of both runs mixed";
@@ -153,10 +147,9 @@ TEST(Overwrite, TwoObjBakesAtOnceDoNotMix) {
 // succeeds (SIGPIPE ignored, the lines dropped) and its output is there.
 TEST(Overwrite, ClosedStdoutIsNoError) {
   const Workspace ws("overwrite-closed-stdout");
-  const std::string cmd = "bash -c \"'" + std::string(SWEEP_SIM_EXE) + "' " + quoted(ws / "rig.json") +
-                          " -s " + quoted(ws / "scene.json") + " -o " + quoted(ws / "o.pc2") +
-                          " 2>" + quoted(ws.io / "err.txt") +
-                          " | true; exit \\${PIPESTATUS[0]}\"";
+  const std::string cmd = "bash -c \"'" + std::string(SWEEP_SIM_EXE) + "' " + quoted(ws / "rig.json") + " -s " +
+                          quoted(ws / "scene.json") + " -o " + quoted(ws / "o.pc2") + " 2>" +
+                          quoted(ws.io / "err.txt") + " | true; exit \\${PIPESTATUS[0]}\"";
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0) << slurp(ws.io / "err.txt");
@@ -175,8 +168,7 @@ TEST(Overwrite, OutOfMemoryIsExit6WithAMessage) {
   for (int i = 0; i < 300000; ++i) scene["forces"].push_back(force);
   spit(ws / "big.json", scene.dump());
   const auto before = files_of(ws.work);
-  const ToolRun r = run_tool(SWEEP_SIM_EXE, sim(ws, "big.json", "o.pc2"), ws.io,
-                             "ulimit -v 300000;");
+  const ToolRun r = run_tool(SWEEP_SIM_EXE, sim(ws, "big.json", "o.pc2"), ws.io, "ulimit -v 300000;");
   EXPECT_EQ(r.code, 6) << r.err;
   EXPECT_EQ(r.err, "error: out of memory\n");
   EXPECT_TRUE(files_of(ws.work) == before);

@@ -28,11 +28,10 @@ inline std::string stamp(const char* exe) {
 // captured streams) and shared by every test process. ctest runs tests in parallel processes: the
 // first takes a lock (flock, released when it exits even if it crashes), builds the folder under a
 // temporary name and renames it into place; the others wait for the lock and find it there.
-inline fs::path cached_dir(const std::string& name,
-                           const std::function<void(const fs::path&, const fs::path&)>& make) {
+inline fs::path cached_dir(const std::string& name, const std::function<void(const fs::path&, const fs::path&)>& make) {
   const fs::path root = fs::path(SWEEP_BINARY_DIR) / "test-scratch" / "tools-cache";
-  const fs::path dir = root / (name + "-" + stamp(SWEEP_FIT_EXE) + "-" + stamp(SWEEP_BIND_EXE) +
-                               "-" + stamp(SWEEP_TUBE_EXE));
+  const fs::path dir =
+      root / (name + "-" + stamp(SWEEP_FIT_EXE) + "-" + stamp(SWEEP_BIND_EXE) + "-" + stamp(SWEEP_TUBE_EXE));
   if (fs::exists(dir)) return dir;
   fs::create_directories(root);
   const int lock = ::open((root / (name + ".lock")).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
@@ -56,12 +55,10 @@ inline fs::path cached_dir(const std::string& name,
 }
 
 // Fits `mesh` (in `dir`) with the seeds of the brief into dir/rig.json and binds it to rig.bind.
-inline void fit_and_bind(const fs::path& dir, const fs::path& io, const std::string& mesh,
-                         const std::string& extra) {
-  const ToolRun fit = run_tool(SWEEP_FIT_EXE,
-                               quoted(dir / mesh) + " -o " + quoted(dir / "rig.json") +
-                                   " --name tube --root 0,0,0.02 --tip 0,0,1" + extra,
-                               io);
+inline void fit_and_bind(const fs::path& dir, const fs::path& io, const std::string& mesh, const std::string& extra) {
+  const ToolRun fit = run_tool(
+      SWEEP_FIT_EXE,
+      quoted(dir / mesh) + " -o " + quoted(dir / "rig.json") + " --name tube --root 0,0,0.02 --tip 0,0,1" + extra, io);
   ASSERT_EQ(fit.code, 0) << fit.err;
   const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(dir / "rig.json") + " -q", io);
   ASSERT_EQ(bind.code, 0) << bind.err;

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <nlohmann/json.hpp>
 
 #include "pipeline.h"
@@ -26,8 +25,8 @@ TEST(RigUpdate, TwoFitsIntoOneRigAtOnceKeepBothSweeps) {
   const std::set<std::string> before = listing(ws.work);
   auto fit = [&](const std::string& name) {
     return "'" + std::string(SWEEP_FIT_EXE) + "' " + quoted(ws / "tube.obj") + " -o " + quoted(ws / "rig.json") +
-           " --name " + name + " --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8 -q >" + quoted(ws.io / (name + ".out")) +
-           " 2>" + quoted(ws.io / (name + ".err"));
+           " --name " + name + " --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8 -q >" + quoted(ws.io / (name + ".out")) + " 2>" +
+           quoted(ws.io / (name + ".err"));
   };
   for (int trial = 0; trial < 3; ++trial) {
     const std::string a = "a" + std::to_string(trial), b = "b" + std::to_string(trial);

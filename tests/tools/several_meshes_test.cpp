@@ -12,8 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <nlohmann/json.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <string>
@@ -46,7 +46,7 @@ struct Piece {
 };
 
 struct LegsAsset {
-  Walker walker;  // hips and feet in world space
+  Walker walker;              // hips and feet in world space
   std::vector<Piece> pieces;  // Body, LegL, LegR: the file's order
 };
 
@@ -91,7 +91,8 @@ void write_legs_glb(const LegsAsset& a, const fs::path& file, std::vector<std::s
   auto add = [&](const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
     views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}, {"target", target}});
     bin.append(static_cast<const char*>(data), bytes);
-    accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
+    accessors.push_back(
+        {{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
     return accessors.size() - 1;
   };
   for (std::size_t k = 0; k < a.pieces.size(); ++k) {
@@ -106,9 +107,12 @@ void write_legs_glb(const LegsAsset& a, const fs::path& file, std::vector<std::s
     }
     accessors[position]["min"] = lo;
     accessors[position]["max"] = hi;
-    const std::size_t indices = add(p.triangles.data(), 4 * p.triangles.size(), 5125, "SCALAR", p.triangles.size(), 34963);
-    meshes.push_back({{"name", names[k]}, {"primitives", {{{"attributes", {{"POSITION", position}}}, {"indices", indices}}}}});
-    nodes.push_back({{"name", names[k]}, {"mesh", k}, {"translation", {p.translation.x(), p.translation.y(), p.translation.z()}}});
+    const std::size_t indices =
+        add(p.triangles.data(), 4 * p.triangles.size(), 5125, "SCALAR", p.triangles.size(), 34963);
+    meshes.push_back(
+        {{"name", names[k]}, {"primitives", {{{"attributes", {{"POSITION", position}}}, {"indices", indices}}}}});
+    nodes.push_back(
+        {{"name", names[k]}, {"mesh", k}, {"translation", {p.translation.x(), p.translation.y(), p.translation.z()}}});
   }
   const Json doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep tests: legs as meshes"}}},
                     {"scene", 0},
@@ -128,8 +132,10 @@ const std::string kMeshes = " --mesh LegR --mesh Body --mesh LegL";  // any orde
 fs::path legs_pipeline() {
   return cached_dir("legs-glb", [](const fs::path& dir, const fs::path& io) {
     write_legs_glb(legs_asset(), dir / "legs.glb");
-    const ToolRun fit = run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + kMeshes + " --all -o " + quoted(dir / "rig.json") +
-                                                    " -k 16 -n 12 --report " + quoted(dir / "fit.json"), io);
+    const ToolRun fit = run_tool(SWEEP_FIT_EXE,
+                                 quoted(dir / "legs.glb") + kMeshes + " --all -o " + quoted(dir / "rig.json") +
+                                     " -k 16 -n 12 --report " + quoted(dir / "fit.json"),
+                                 io);
     ASSERT_EQ(fit.code, 0) << fit.err;
     const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(dir / "rig.json") + " -q", io);
     ASSERT_EQ(bind.code, 0) << bind.err;
@@ -140,7 +146,8 @@ TEST(SeveralMeshes, ListFindsEachLegMeshOnceFromTheBodyToTheFoot) {
   const fs::path dir = scratch_dir("several-meshes-list");
   const LegsAsset a = legs_asset();
   write_legs_glb(a, dir / "legs.glb");
-  const ToolRun r = run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + kMeshes + " --list --report " + quoted(dir / "parts.json"), dir);
+  const ToolRun r = run_tool(
+      SWEEP_FIT_EXE, quoted(dir / "legs.glb") + kMeshes + " --list --report " + quoted(dir / "parts.json"), dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("names go by up +Y (glTF is +Y up by its specification"), std::string::npos) << r.out;
   const Json parts = Json::parse(slurp(dir / "parts.json"));
@@ -161,12 +168,14 @@ TEST(SeveralMeshes, ListFindsEachLegMeshOnceFromTheBodyToTheFoot) {
   }
   EXPECT_EQ(legs.size(), 2u) << "each leg once";
   // --mesh all: every mesh of the file, in its order: the same mesh, so the same parts.
-  const ToolRun all = run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --mesh all --list --report " + quoted(dir / "all.json"), dir);
+  const ToolRun all = run_tool(
+      SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --mesh all --list --report " + quoted(dir / "all.json"), dir);
   ASSERT_EQ(all.code, 0) << all.err;
   EXPECT_EQ(Json::parse(slurp(dir / "all.json"))["parts"], parts["parts"]);
   // --export-obj: that mesh as read, every vertex where the importer puts it, in that order; it
   // goes with no other mode.
-  const ToolRun exported = run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --mesh all -q --export-obj " + quoted(dir / "legs.obj"), dir);
+  const ToolRun exported = run_tool(
+      SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --mesh all -q --export-obj " + quoted(dir / "legs.obj"), dir);
   ASSERT_EQ(exported.code, 0) << exported.err;
   std::istringstream obj(slurp(dir / "legs.obj"));
   std::size_t v = 0, wrong = 0;
@@ -176,13 +185,16 @@ TEST(SeveralMeshes, ListFindsEachLegMeshOnceFromTheBodyToTheFoot) {
     Vec3 p;
     xyz >> p.x() >> p.y() >> p.z();
     const std::size_t k = v < a.pieces[0].vertices() ? 0 : v < a.pieces[0].vertices() + a.pieces[1].vertices() ? 1 : 2;
-    const std::size_t i = v - (k == 0 ? 0 : k == 1 ? a.pieces[0].vertices() : a.pieces[0].vertices() + a.pieces[1].vertices());
+    const std::size_t i = v - (k == 0   ? 0
+                               : k == 1 ? a.pieces[0].vertices()
+                                        : a.pieces[0].vertices() + a.pieces[1].vertices());
     wrong += p != a.pieces[k].world(i);
     ++v;
   }
   EXPECT_EQ(v, a.pieces[0].vertices() + a.pieces[1].vertices() + a.pieces[2].vertices());
   EXPECT_EQ(wrong, 0u);
-  EXPECT_EQ(run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --list --export-obj " + quoted(dir / "x.obj"), dir).code, 1);
+  EXPECT_EQ(
+      run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --list --export-obj " + quoted(dir / "x.obj"), dir).code, 1);
 }
 
 TEST(SeveralMeshes, TheRigNamesItsMeshesInTheFilesOrderAndABakeMovesOnlyTheLegs) {
@@ -201,8 +213,10 @@ TEST(SeveralMeshes, TheRigNamesItsMeshesInTheFilesOrderAndABakeMovesOnlyTheLegs)
   spit(work / "scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 0.5, "fps": 10,
     "forces": [{"sweep": ")" + rig["sweeps"][0]["name"].get<std::string>() +
                                 R"(", "t": 1, "theta": 0, "vector": [30, 0, 0], "start": 0, "end": 0.2}]})");
-  const ToolRun bake = run_tool(SWEEP_SIM_EXE, quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") +
-                                                   " -q -o " + quoted(work / "legs.pc2") + " -o " + quoted(work / "baked.glb"), io);
+  const ToolRun bake = run_tool(SWEEP_SIM_EXE,
+                                quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q -o " +
+                                    quoted(work / "legs.pc2") + " -o " + quoted(work / "baked.glb"),
+                                io);
   ASSERT_EQ(bake.code, 0) << bake.err;
 
   // The .pc2: every vertex of the three meshes, in world space; the body's exactly where it rests.
@@ -227,7 +241,8 @@ TEST(SeveralMeshes, TheRigNamesItsMeshesInTheFilesOrderAndABakeMovesOnlyTheLegs)
           // Still: the same bits in every frame, and where it rests (to float rounding: the bake
           // adds in float what the importer added in double).
           const std::vector<float>& first = frame_positions.front();
-          for (int c = 0; c < 3; ++c) ASSERT_EQ(f[3 * v + c], first[3 * v + c]) << "body vertex " << v << " frame " << k;
+          for (int c = 0; c < 3; ++c)
+            ASSERT_EQ(f[3 * v + c], first[3 * v + c]) << "body vertex " << v << " frame " << k;
           ASSERT_LT((got - rest).norm(), 1e-7) << "body vertex " << v;
         } else {
           leg_moved = std::max(leg_moved, (got - rest).norm());
@@ -291,8 +306,10 @@ TEST(SeveralMeshes, AMovingBodyCarriesEveryMeshOfTheRigInTheGlb) {
                                                  {"time": 0.5, "translation": [1, 0, 0.5], "turn_degrees": 40}]},
     "forces": [{"sweep": ")" + rig["sweeps"][1]["name"].get<std::string>() +
                                 R"(", "t": 1, "theta": 0, "vector": [30, 0, 0], "start": 0, "end": 0.2}]})");
-  const ToolRun bake = run_tool(SWEEP_SIM_EXE, quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") +
-                                                   " -q -o " + quoted(work / "legs.pc2") + " -o " + quoted(work / "baked.glb"), io);
+  const ToolRun bake = run_tool(SWEEP_SIM_EXE,
+                                quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q -o " +
+                                    quoted(work / "legs.pc2") + " -o " + quoted(work / "baked.glb"),
+                                io);
   ASSERT_EQ(bake.code, 0) << bake.err;
   const std::string pc2 = slurp(work / "legs.pc2");
   const Glb out = read_glb(work / "baked.glb");
@@ -317,12 +334,14 @@ TEST(SeveralMeshes, AMovingBodyCarriesEveryMeshOfTheRigInTheGlb) {
     for (int k = 0; k < 6; ++k) {
       int points = 0;
       const std::vector<float> f = pc2_frame(pc2, k, &points);
-      const std::vector<float> d = prim.contains("targets") ? floats(out.json, out.bin, prim["targets"][k]["POSITION"], 3)
-                                                            : std::vector<float>(piece.local.size(), 0.0f);
+      const std::vector<float> d = prim.contains("targets")
+                                       ? floats(out.json, out.bin, prim["targets"][k]["POSITION"], 3)
+                                       : std::vector<float>(piece.local.size(), 0.0f);
       const Eigen::Quaterniond q(r[4 * k + 3], r[4 * k], r[4 * k + 1], r[4 * k + 2]);
       const Vec3 shift(t[3 * k], t[3 * k + 1], t[3 * k + 2]);
       for (std::size_t i = 0; i < piece.vertices(); ++i) {
-        const Vec3 local(piece.local[3 * i] + d[3 * i], piece.local[3 * i + 1] + d[3 * i + 1], piece.local[3 * i + 2] + d[3 * i + 2]);
+        const Vec3 local(piece.local[3 * i] + d[3 * i], piece.local[3 * i + 1] + d[3 * i + 1],
+                         piece.local[3 * i + 2] + d[3 * i + 2]);
         const Vec3 want(f[3 * (base + i)], f[3 * (base + i) + 1], f[3 * (base + i) + 2]);
         worst = std::max(worst, (q * local + shift - want).norm());
         carried = std::max(carried, (want - piece.world(i)).norm());
@@ -365,7 +384,8 @@ TEST(SeveralMeshes, ARigWhoseMeshWasRenamedIsRefused) {
   // resolve).
   const ToolRun twice = run_tool(SWEEP_FIT_EXE, quoted(work / "legs.glb") + " --mesh Body --mesh Body --list", io);
   EXPECT_EQ(twice.code, 2);
-  EXPECT_NE(twice.err.find("'Body' and 'Body' name the same mesh (node 'Body'); name each mesh once"), std::string::npos)
+  EXPECT_NE(twice.err.find("'Body' and 'Body' name the same mesh (node 'Body'); name each mesh once"),
+            std::string::npos)
       << twice.err;
 }
 

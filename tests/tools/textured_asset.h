@@ -47,14 +47,18 @@ inline std::string glb_bytes(const nlohmann::json& doc, const std::string& bin) 
 }
 
 // Whether Blender is installed (it writes the FBX files; tests that need it skip without).
-inline bool have_blender() { return std::system("command -v blender > /dev/null 2>&1") == 0; }
+inline bool have_blender() {
+  return std::system("command -v blender > /dev/null 2>&1") == 0;
+}
 
 // Blender converts `obj` (+ its .mtl and textures) to `fbx` with tests/blender/obj_to_fbx.py: the
 // OBJ's coordinates, the texture embedded; `unit_args` as that script takes them ("" = metres).
-inline ToolRun obj_to_fbx(const fs::path& obj, const fs::path& fbx, const fs::path& io, const std::string& unit_args = "") {
+inline ToolRun obj_to_fbx(const fs::path& obj, const fs::path& fbx, const fs::path& io,
+                          const std::string& unit_args = "") {
   const fs::path script = fs::path(SWEEP_SOURCE_DIR) / "tests/blender/obj_to_fbx.py";
-  return run_tool("blender", "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " + quoted(obj) +
-                                 " " + quoted(fbx) + unit_args,
+  return run_tool("blender",
+                  "-b --factory-startup --python-exit-code 1 --python " + quoted(script) + " -- " + quoted(obj) + " " +
+                      quoted(fbx) + unit_args,
                   io);
 }
 
@@ -88,14 +92,14 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
   using A = TexturedAsset;
   std::string bin;
   Json views = Json::array(), accessors = Json::array();
-  auto add = [&](const void* data, std::size_t bytes, int component, const char* type, std::size_t count,
-                 int target) {
+  auto add = [&](const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
     bin.append((4 - bin.size() % 4) % 4, '\0');
     Json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
     if (target) view["target"] = target;
     bin.append(static_cast<const char*>(data), bytes);
     views.push_back(view);
-    accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
+    accessors.push_back(
+        {{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
     return accessors.size() - 1;
   };
   auto floats = [&](const std::vector<float>& v, const char* type, int width, bool bounds = false) {
@@ -113,7 +117,9 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
     }
     return a;
   };
-  auto indices = [&](const std::vector<std::uint32_t>& v) { return add(v.data(), 4 * v.size(), 5125, "SCALAR", v.size(), 34963); };
+  auto indices = [&](const std::vector<std::uint32_t>& v) {
+    return add(v.data(), 4 * v.size(), 5125, "SCALAR", v.size(), 34963);
+  };
 
   // The tail's side: positions, normals, tangents, UVs, colours.
   std::vector<float> pos, nrm, tan, uv, col;
@@ -122,7 +128,8 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
     for (int j = 0; j <= A::kSegments; ++j) {
       const double th = 2 * std::numbers::pi * (j % A::kSegments) / A::kSegments;
       const float c = static_cast<float>(std::cos(th)), s = static_cast<float>(std::sin(th));
-      pos.insert(pos.end(), {static_cast<float>(A::kRadius) * c, static_cast<float>(A::kRadius) * s, static_cast<float>(z)});
+      pos.insert(pos.end(),
+                 {static_cast<float>(A::kRadius) * c, static_cast<float>(A::kRadius) * s, static_cast<float>(z)});
       nrm.insert(nrm.end(), {c, s, 0});
       tan.insert(tan.end(), {-s, c, 0, 1});
       uv.insert(uv.end(), {static_cast<float>(j) / A::kSegments, static_cast<float>(i) / (A::kRings - 1)});
@@ -132,7 +139,8 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
   std::vector<std::uint32_t> side;
   for (int i = 0; i + 1 < A::kRings; ++i) {
     for (int j = 0; j < A::kSegments; ++j) {
-      const std::uint32_t a = i * (A::kSegments + 1) + j, b = a + 1, c2 = b + A::kSegments + 1, d = a + A::kSegments + 1;
+      const std::uint32_t a = i * (A::kSegments + 1) + j, b = a + 1, c2 = b + A::kSegments + 1,
+                          d = a + A::kSegments + 1;
       side.insert(side.end(), {a, b, c2, a, c2, d});
     }
   }
@@ -152,23 +160,33 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
     const std::uint32_t centre = first + A::kSegments;
     for (int j = 0; j < A::kSegments; ++j) {
       const std::uint32_t a = first + j, b = first + (j + 1) % A::kSegments;
-      if (end) caps.insert(caps.end(), {centre, a, b});
-      else caps.insert(caps.end(), {centre, b, a});
+      if (end)
+        caps.insert(caps.end(), {centre, a, b});
+      else
+        caps.insert(caps.end(), {centre, b, a});
     }
   }
   const std::vector<float> gpos = {-2, 0, -2, 2, 0, -2, 2, 0, 2, -2, 0, 2}, gnrm = {0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0},
                            guv = {0, 0, 1, 0, 1, 1, 0, 1};
   const std::vector<std::uint32_t> ground = {0, 2, 1, 0, 3, 2};
 
-  Json side_prim = {{"attributes", {{"POSITION", floats(pos, "VEC3", 3, true)}, {"NORMAL", floats(nrm, "VEC3", 3)},
-                                    {"TANGENT", floats(tan, "VEC4", 4)}, {"TEXCOORD_0", floats(uv, "VEC2", 2)},
-                                    {"COLOR_0", floats(col, "VEC4", 4)}}},
-                    {"indices", indices(side)}, {"material", 0}};
+  Json side_prim = {{"attributes",
+                     {{"POSITION", floats(pos, "VEC3", 3, true)},
+                      {"NORMAL", floats(nrm, "VEC3", 3)},
+                      {"TANGENT", floats(tan, "VEC4", 4)},
+                      {"TEXCOORD_0", floats(uv, "VEC2", 2)},
+                      {"COLOR_0", floats(col, "VEC4", 4)}}},
+                    {"indices", indices(side)},
+                    {"material", 0}};
   Json cap_prim = {{"attributes", {{"POSITION", floats(cpos, "VEC3", 3, true)}, {"NORMAL", floats(cnrm, "VEC3", 3)}}},
-                   {"indices", indices(caps)}, {"material", 1}};
-  Json ground_prim = {{"attributes", {{"POSITION", floats(gpos, "VEC3", 3, true)}, {"NORMAL", floats(gnrm, "VEC3", 3)},
-                                      {"TEXCOORD_0", floats(guv, "VEC2", 2)}}},
-                      {"indices", indices(ground)}, {"material", 2}};
+                   {"indices", indices(caps)},
+                   {"material", 1}};
+  Json ground_prim = {{"attributes",
+                       {{"POSITION", floats(gpos, "VEC3", 3, true)},
+                        {"NORMAL", floats(gnrm, "VEC3", 3)},
+                        {"TEXCOORD_0", floats(guv, "VEC2", 2)}}},
+                      {"indices", indices(ground)},
+                      {"material", 2}};
   const std::vector<float> idle_times = {0, 1, 2}, idle_moves = {0, -1, 0, 0, -0.9f, 0, 0, -1, 0};
   const std::size_t idle_in = add(idle_times.data(), 12, 5126, "SCALAR", 3, 0);
   accessors[idle_in]["min"] = Json::array({0.0});
@@ -189,29 +207,34 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
   tail["mesh"] = 0;
   tail["extras"] = {{"wag", true}};
 
-  Json doc = {
-      {"asset", {{"version", "2.0"}, {"generator", "sweep tests: textured asset"}}},
-      {"scene", 0},
-      {"scenes", {{{"name", "World"}, {"nodes", {0, 3}}}}},
-      {"nodes", {creature, tail, {{"name", "Head"}, {"translation", {0, 0.3, -0.4}}},
-                 {{"name", "Ground"}, {"mesh", 1}, {"translation", {0, -1, 0}}}}},
-      {"meshes", {{{"name", "Tail"}, {"primitives", {side_prim, cap_prim}}},
-                  {{"name", "Ground"}, {"primitives", {ground_prim}}}}},
-      {"materials", {{{"name", "Skin"},
-                      {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {1, 0.9, 0.8, 1}},
-                                                {"metallicFactor", 0}}},
-                      {"doubleSided", true}},
-                     {{"name", "Bone"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.9, 0.85, 1}}}}},
-                     {{"name", "Grass"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.6, 0.1, 1}}}}}}},
-      {"textures", {{{"sampler", 0}, {"source", 0}}}},
-      {"samplers", {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 10497}}}},
-      {"images", {{{"name", "skin"}, {"uri", "skin.png"}}}},
-      {"animations", {{{"name", "Idle"},
-                       {"samplers", {{{"input", idle_in}, {"output", idle_out}, {"interpolation", "LINEAR"}}}},
-                       {"channels", {{{"sampler", 0}, {"target", {{"node", 3}, {"path", "translation"}}}}}}}}},
-      {"accessors", accessors},
-      {"bufferViews", views},
-      {"buffers", {{{"uri", "creature.bin"}, {"byteLength", bin.size()}}}}};
+  Json doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep tests: textured asset"}}},
+              {"scene", 0},
+              {"scenes", {{{"name", "World"}, {"nodes", {0, 3}}}}},
+              {"nodes",
+               {creature,
+                tail,
+                {{"name", "Head"}, {"translation", {0, 0.3, -0.4}}},
+                {{"name", "Ground"}, {"mesh", 1}, {"translation", {0, -1, 0}}}}},
+              {"meshes",
+               {{{"name", "Tail"}, {"primitives", {side_prim, cap_prim}}},
+                {{"name", "Ground"}, {"primitives", {ground_prim}}}}},
+              {"materials",
+               {{{"name", "Skin"},
+                 {"pbrMetallicRoughness",
+                  {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {1, 0.9, 0.8, 1}}, {"metallicFactor", 0}}},
+                 {"doubleSided", true}},
+                {{"name", "Bone"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.9, 0.85, 1}}}}},
+                {{"name", "Grass"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.6, 0.1, 1}}}}}}},
+              {"textures", {{{"sampler", 0}, {"source", 0}}}},
+              {"samplers", {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 10497}}}},
+              {"images", {{{"name", "skin"}, {"uri", "skin.png"}}}},
+              {"animations",
+               {{{"name", "Idle"},
+                 {"samplers", {{{"input", idle_in}, {"output", idle_out}, {"interpolation", "LINEAR"}}}},
+                 {"channels", {{{"sampler", 0}, {"target", {{"node", 3}, {"path", "translation"}}}}}}}}},
+              {"accessors", accessors},
+              {"bufferViews", views},
+              {"buffers", {{{"uri", "creature.bin"}, {"byteLength", bin.size()}}}}};
   spit(dir / "creature.bin", bin);
   spit(dir / "skin.png", tiny_png());
   spit(dir / "creature.gltf", doc.dump(1));

@@ -59,11 +59,10 @@ inline fs::path scratch_dir(const std::string& name) {
 
 // Runs `exe args` in the shell with `env` before it ("OMP_NUM_THREADS=1"); the captured streams go
 // to `io_dir`, which must not be a folder whose listing the test checks.
-inline ToolRun run_tool(const char* exe, const std::string& args, const fs::path& io_dir,
-                        const std::string& env = "") {
+inline ToolRun run_tool(const char* exe, const std::string& args, const fs::path& io_dir, const std::string& env = "") {
   const fs::path out = io_dir / "stdout.txt", err = io_dir / "stderr.txt";
-  const std::string cmd = env + (env.empty() ? "" : " ") + "'" + exe + "' " + args + " >" +
-                          quoted(out) + " 2>" + quoted(err) + " </dev/null";
+  const std::string cmd = env + (env.empty() ? "" : " ") + "'" + exe + "' " + args + " >" + quoted(out) + " 2>" +
+                          quoted(err) + " </dev/null";
   const int status = std::system(cmd.c_str());
   ToolRun r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -76,8 +75,8 @@ inline ToolRun run_tool(const char* exe, const std::string& args, const fs::path
 inline std::set<std::string> listing(const fs::path& dir) {
   std::set<std::string> names;
   std::error_code ec;
-  for (auto it = fs::recursive_directory_iterator(dir, ec);
-       it != fs::recursive_directory_iterator(); it.increment(ec)) {
+  for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
     if (ec) break;
     names.insert(fs::relative(it->path(), dir).generic_string());
   }
@@ -104,10 +103,9 @@ inline std::string make_unreadable(const fs::path& path, const std::string& cont
 // chmod 555 does that for an ordinary user; root writes through it, so there the output is put
 // below a regular file instead ("<dir>/not-a-folder/<name>"), which fails the same way for
 // everyone (ENOTDIR).
-inline fs::path read_only_output(const fs::path& dir, const std::string& name,
-                                 std::string* how = nullptr) {
-  fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
-                           fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
+inline fs::path read_only_output(const fs::path& dir, const std::string& name, std::string* how = nullptr) {
+  fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read | fs::perms::group_exec |
+                           fs::perms::others_read | fs::perms::others_exec);
   const fs::path probe = dir / ".probe";
   if (FILE* f = std::fopen(probe.c_str(), "wb")) {  // still writable: we are root
     std::fclose(f);

@@ -29,10 +29,11 @@ int main(int argc, char** argv) {
     const SectionProperties p = props_of(round);
     const double l = length_m(round);
     const double force = 0.01, g = 0.01;  // small deflections
-    const double tip = settled_tip_deflection(round, Vec3(0, force, 0), 0) /
-                           (force * l * l * l / (3 * kYoung * p.i_xx)) - 1;
+    const double tip =
+        settled_tip_deflection(round, Vec3(0, force, 0), 0) / (force * l * l * l / (3 * kYoung * p.i_xx)) - 1;
     const double weight = settled_tip_deflection(round, Vec3::Zero(), g) /
-                              (kDensity * p.area * g * std::pow(l, 4) / (8 * kYoung * p.i_xx)) - 1;
+                              (kDensity * p.area * g * std::pow(l, 4) / (8 * kYoung * p.i_xx)) -
+                          1;
     const ElasticSweep free_tube(test::beam::tube(kRadius, kRadius, 0.0, k));
     const std::vector<double> bend = frequencies_about(*free_tube.chain(), 0);
     const std::vector<double> twist = frequencies_about(*free_tube.chain(), 2);
@@ -43,8 +44,10 @@ int main(int argc, char** argv) {
     const double twist_err = twist.empty() ? NAN : twist[0] / first_twist(round, p) - 1;
     const SweepDef oval = test::beam::tube(0.6, 0.3, 1.0, k);
     const SectionProperties po = props_of(oval);
-    const double ellipse = (settled_tip_deflection(oval, Vec3(0, 0.01, 0), 0) /
-                            settled_tip_deflection(oval, Vec3(0.01, 0, 0), 0)) / (po.i_yy / po.i_xx) - 1;
+    const double ellipse =
+        (settled_tip_deflection(oval, Vec3(0, 0.01, 0), 0) / settled_tip_deflection(oval, Vec3(0.01, 0, 0), 0)) /
+            (po.i_yy / po.i_xx) -
+        1;
 
     const double setup = median_seconds(runs, [&] { const ElasticSweep s(round); });
     ElasticSweep sweep(test::beam::tube(kRadius, kRadius, 0.05, k));
@@ -57,9 +60,11 @@ int main(int argc, char** argv) {
     f.moment = MomentModel::physical;
     sweep.add_force(f);
     const int steps = 480;
-    const double step = median_seconds(runs, [&] {
-      for (int s = 0; s < steps; ++s) sweep.step(1.0 / 480);
-    }) / steps;
+    const double step = median_seconds(runs,
+                                       [&] {
+                                         for (int s = 0; s < steps; ++s) sweep.step(1.0 / 480);
+                                       }) /
+                        steps;
 
     const double pct[7] = {tip, weight, bend_err[0], bend_err[1], bend_err[2], twist_err, ellipse};
     csv += fmt("%d", k);

@@ -38,10 +38,11 @@ ElasticSweep released_tube(int sections, bool exact) {
 double us_per_step(int sections, bool exact, double h, int runs) {
   const int steps = static_cast<int>(std::lround(2.0 / h));
   return 1e6 *
-         sweep::bench::median_seconds(runs, [&] {
-           ElasticSweep sweep = released_tube(sections, exact);
-           for (int s = 0; s < steps; ++s) sweep.step(h);
-         }) /
+         sweep::bench::median_seconds(runs,
+                                      [&] {
+                                        ElasticSweep sweep = released_tube(sections, exact);
+                                        for (int s = 0; s < steps; ++s) sweep.step(h);
+                                      }) /
          steps;
 }
 
@@ -65,14 +66,15 @@ int main(int argc, char** argv) {
   const int runs = args.quick ? 3 : 9;
   std::string csv = "sections,step_s,modal_us_per_step,exact_us_per_step,ratio,iterations,factorizations\n";
   std::string md =
-      "| K | step (s) | modal step (µs) | exact step (µs) | exact / modal | iterations / step | factorizations / step |\n"
+      "| K | step (s) | modal step (µs) | exact step (µs) | exact / modal | iterations / step | factorizations / step "
+      "|\n"
       "|---|---|---|---|---|---|---|\n";
   for (const double h : {1.0 / 480, 1.0 / 120}) {
     for (const int k : {8, 16, 32}) {
       const double modal = us_per_step(k, false, h, runs), exact = us_per_step(k, true, h, runs);
       const Counts n = exact_counts(k, h);
-      csv += fmt("%d,%.6g,%.4g,%.4g,%.4g,%.4g,%.4g\n", k, h, modal, exact, exact / modal, n.iterations,
-                 n.factorizations);
+      csv +=
+          fmt("%d,%.6g,%.4g,%.4g,%.4g,%.4g,%.4g\n", k, h, modal, exact, exact / modal, n.iterations, n.factorizations);
       md += fmt("| %d | 1/%.0f | %.3g | %.3g | %.2f× | %.2f | %.3f |\n", k, 1 / h, modal, exact, exact / modal,
                 n.iterations, n.factorizations);
     }

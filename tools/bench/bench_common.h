@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
+#include "diplodocus_seeds.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/bind/bind.h"
 #include "sweep/core/locate.h"
 #include "sweep/core/rig.h"
-#include "diplodocus_seeds.h"
 #include "sweep/fit/fit.h"
 #include "tube.h"
 
@@ -145,8 +145,7 @@ inline SweepShape tube_sweep(const tube::TubeParams& p, int sections, int radial
     m << f.u, f.v, f.tangent;
     s.t.push_back(t);
     s.frames.push_back({Quat(m).normalized(), f.point});
-    for (int j = 0; j < radial; ++j)
-      s.radii.push_back(tube::tube_radius(p, 2 * std::numbers::pi * j / radial, t));
+    for (int j = 0; j < radial; ++j) s.radii.push_back(tube::tube_radius(p, 2 * std::numbers::pi * j / radial, t));
   }
   return s;
 }

@@ -26,10 +26,8 @@ void pose(ElasticSweep& s, double amount) {
   const int n = s.rest().radial_count;
   const double len = s.rest().length();
   for (int i = 1; i < k; ++i) {
-    s.set_section_pose(i, Vec3(0.002 * len * amount, 0, 0),
-                       Vec3(0.08 * amount, 0.04 * amount, 0.06 * amount));
-    for (int j = 0; j < n; j += 3)
-      s.set_radial_offset(i, j, 0.15 * amount * s.rest().radius_sample(i, j));
+    s.set_section_pose(i, Vec3(0.002 * len * amount, 0, 0), Vec3(0.08 * amount, 0.04 * amount, 0.06 * amount));
+    for (int j = 0; j < n; j += 3) s.set_radial_offset(i, j, 0.15 * amount * s.rest().radius_sample(i, j));
   }
 }
 
@@ -52,8 +50,7 @@ struct Floor {
   std::vector<float> a, b, c, d, e;
   std::vector<std::uint32_t> idx;
   std::vector<float> out;
-  explicit Floor(std::size_t n)
-      : a(n, 1), b(n, 2), c(n, 3), d(n, 4), e(n, 5), idx(n, 6), out(3 * n) {}
+  explicit Floor(std::size_t n) : a(n, 1), b(n, 2), c(n, 3), d(n, 4), e(n, 5), idx(n, 6), out(3 * n) {}
   void run() {
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(a.size());
     float* o = out.data();
@@ -108,8 +105,7 @@ struct Lbs {
       const float* b2 = B + 12 * i2[k];
       const float* b3 = B + 12 * i3[k];
       float m[12];
-      for (int c = 0; c < 12; ++c)
-        m[c] = w0[k] * b0[c] + w1[k] * b1[c] + w2[k] * b2[c] + w3[k] * b3[c];
+      for (int c = 0; c < 12; ++c) m[c] = w0[k] * b0[c] + w1[k] * b1[c] + w2[k] * b2[c] + w3[k] * b3[c];
       const float x = px[k], y = py[k], z = pz[k];
       o[3 * k] = m[0] * x + m[1] * y + m[2] * z + m[3];
       o[3 * k + 1] = m[4] * x + m[5] * y + m[6] * z + m[7];
@@ -124,8 +120,8 @@ struct Case {
   std::vector<ElasticSweep> bodies;
 };
 
-void run_case(Case& c, const std::vector<int>& stations, const std::vector<int>& threads, int runs,
-              int exact_runs, std::vector<Row>& rows) {
+void run_case(Case& c, const std::vector<int>& stations, const std::vector<int>& threads, int runs, int exact_runs,
+              std::vector<Row>& rows) {
   const Mesh& mesh = c.rig.mesh;
   const std::size_t nv = mesh.vertex_count();
   std::size_t bound = 0;
@@ -146,15 +142,13 @@ void run_case(Case& c, const std::vector<int>& stations, const std::vector<int>&
   for (int th : threads) {
     omp_set_num_threads(th);
     const double floor_ns = 1e9 * median_seconds(runs, [&] { floor.run(); }) / bound;
-    rows.push_back(
-        {c.name, bound, "floor (copy, 36 B/vertex)", th, floor_ns, floor_ns, 0, -1, -1, floor_ns});
+    rows.push_back({c.name, bound, "floor (copy, 36 B/vertex)", th, floor_ns, floor_ns, 0, -1, -1, floor_ns});
     const double lbs_ns = 1e9 * median_seconds(runs, [&] { lbs.run(); }) / bound;
     rows.push_back({c.name, bound, "LBS 4 bones", th, lbs_ns, lbs_ns, 0, -1, -1, floor_ns});
     for (int st : stations) {
       std::vector<std::unique_ptr<FastDeformer>> fast;
       for (std::size_t i = 0; i < c.bodies.size(); ++i) {
-        fast.push_back(
-            std::make_unique<FastDeformer>(c.bodies[i].rest(), c.rig.binding.sweeps[i], rest, st));
+        fast.push_back(std::make_unique<FastDeformer>(c.bodies[i].rest(), c.rig.binding.sweeps[i], rest, st));
       }
       std::vector<Vec3f> out = rest;
       for (std::size_t i = 0; i < fast.size(); ++i) fast[i]->tabulate(c.bodies[i].deformed());
@@ -169,17 +163,16 @@ void run_case(Case& c, const std::vector<int>& stations, const std::vector<int>&
       });
       double err = 0;
       for (const auto& s : c.rig.binding.sweeps) {
-        for (std::uint32_t v : s.vertices)
-          err = std::max(err, (out[v].cast<double>() - exact[v]).norm());
+        for (std::uint32_t v : s.vertices) err = std::max(err, (out[v].cast<double>() - exact[v]).norm());
       }
-      rows.push_back({c.name, bound, fmt("fast %d stations/span", st), th, 1e9 * loop / bound,
-                      1e9 * total / bound, 1e6 * tab, err, err / length, floor_ns});
+      rows.push_back({c.name, bound, fmt("fast %d stations/span", st), th, 1e9 * loop / bound, 1e9 * total / bound,
+                      1e6 * tab, err, err / length, floor_ns});
     }
     std::vector<Vec3> out(nv);
-    const double ex = median_seconds(
-        exact_runs, [&] { bind::deform_exact(c.rig.binding, shapes, mesh.positions, out); });
-    rows.push_back({c.name, bound, "exact (deform_point, double)", th, 1e9 * ex / bound,
-                    1e9 * ex / bound, 0, 0, 0, floor_ns});
+    const double ex =
+        median_seconds(exact_runs, [&] { bind::deform_exact(c.rig.binding, shapes, mesh.positions, out); });
+    rows.push_back(
+        {c.name, bound, "exact (deform_point, double)", th, 1e9 * ex / bound, 1e9 * ex / bound, 0, 0, 0, floor_ns});
   }
 }
 
@@ -199,8 +192,7 @@ int main(int argc, char** argv) {
     Case dino{"diplodocus", diplodocus_rig(), {}};
     for (const auto& def : dino.rig.rig.sweeps) dino.bodies.emplace_back(def);
     for (auto& b : dino.bodies) pose(b, 1.0);
-    run_case(dino, {1, 2, 4, 8, 16, 32}, threads, args.quick ? 101 : 401, args.quick ? 5 : 21,
-             rows);
+    run_case(dino, {1, 2, 4, 8, 16, 32}, threads, args.quick ? 101 : 401, args.quick ? 5 : 21, rows);
   }
   // The dense tube twice: in ring order (as generated; each block is written straight into the
   // mesh) and with its vertices numbered at random (no order to exploit: the worst case).
@@ -213,8 +205,8 @@ int main(int argc, char** argv) {
     for (const auto& def : tube.rig.rig.sweeps) tube.bodies.emplace_back(def);
     for (auto& b : tube.bodies) pose(b, 1.0);
     omp_set_num_threads(max_threads);
-    run_case(tube, args.quick ? std::vector<int>{2, 8} : std::vector<int>{1, 2, 4, 8, 16}, threads,
-             args.quick ? 9 : 21, shuffle ? 1 : 3, rows);
+    run_case(tube, args.quick ? std::vector<int>{2, 8} : std::vector<int>{1, 2, 4, 8, 16}, threads, args.quick ? 9 : 21,
+             shuffle ? 1 : 3, rows);
   }
 
   std::string csv =
@@ -227,14 +219,14 @@ int main(int argc, char** argv) {
       "table µs | max error vs exact (mesh units) | max error / length "
       "|\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
-    csv += fmt("%s,%zu,%s,%d,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g\n", r.mesh.c_str(), r.vertices,
-               r.method.c_str(), r.threads, r.loop_ns, r.total_ns, r.tabulate_us, r.max_error,
-               r.max_error_rel, r.floor_ns, r.loop_ns / r.floor_ns);
+    csv += fmt("%s,%zu,%s,%d,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g\n", r.mesh.c_str(), r.vertices, r.method.c_str(),
+               r.threads, r.loop_ns, r.total_ns, r.tabulate_us, r.max_error, r.max_error_rel, r.floor_ns,
+               r.loop_ns / r.floor_ns);
     const std::string e = r.max_error < 0 ? "—" : fmt("%.2e", r.max_error);
     const std::string er = r.max_error_rel < 0 ? "—" : fmt("%.2e", r.max_error_rel);
-    md += fmt("| %s | %zu | %s | %d | %.3g | %.2f | %.3g | %.3g | %s | %s |\n", r.mesh.c_str(),
-              r.vertices, r.method.c_str(), r.threads, r.loop_ns, r.loop_ns / r.floor_ns,
-              r.total_ns, r.tabulate_us, e.c_str(), er.c_str());
+    md += fmt("| %s | %zu | %s | %d | %.3g | %.2f | %.3g | %.3g | %s | %s |\n", r.mesh.c_str(), r.vertices,
+              r.method.c_str(), r.threads, r.loop_ns, r.loop_ns / r.floor_ns, r.total_ns, r.tabulate_us, e.c_str(),
+              er.c_str());
   }
   write_text(args.out / "deform.csv", csv);
   write_text(args.out / "deform.md", md);

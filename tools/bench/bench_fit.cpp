@@ -27,10 +27,8 @@ int main(int argc, char** argv) {
       {"diplodocus.off", test::kDiplodocusNeck},
       {"triceratops.off", {"tail", {-5.7, 1.0, 0.016}, {-10.29, 1.06, 0.04}}},
   };
-  const std::vector<int> ks =
-      args.quick ? std::vector<int>{4, 8, 16, 32} : std::vector<int>{4, 8, 16, 32, 64};
-  const std::vector<int> ns =
-      args.quick ? std::vector<int>{8, 16, 32} : std::vector<int>{4, 8, 16, 32, 64};
+  const std::vector<int> ks = args.quick ? std::vector<int>{4, 8, 16, 32} : std::vector<int>{4, 8, 16, 32, 64};
+  const std::vector<int> ns = args.quick ? std::vector<int>{8, 16, 32} : std::vector<int>{4, 8, 16, 32, 64};
   const int runs = args.quick ? 1 : 3;
   std::string csv =
       "mesh,part,vertices,K,n,fit_ms,fit_rms,fit_max,mean_radius,length,rms_over_mean_radius,max_"
@@ -39,15 +37,13 @@ int main(int argc, char** argv) {
   for (const Part& part : parts) {
     const fs::path path = source_dir() / "meshes/cgal" / part.mesh;
     if (!fs::exists(path)) {
-      std::fprintf(stderr, "warning: %s is absent (tools/setup-deps.sh unpacks it): skipped\n",
-                   path.string().c_str());
+      std::fprintf(stderr, "warning: %s is absent (tools/setup-deps.sh unpacks it): skipped\n", path.string().c_str());
       continue;
     }
     const Mesh mesh = assets::read_mesh(path);
     const fit::SweepFitter fitter(mesh);
-    md += fmt(
-        "\n**%s %s** — fit_rms / fit_max as %% of the mean radius; fit time ms (median of %d)\n\n",
-        part.mesh, part.seeds.name, runs);
+    md += fmt("\n**%s %s** — fit_rms / fit_max as %% of the mean radius; fit time ms (median of %d)\n\n", part.mesh,
+              part.seeds.name, runs);
     md += "| K \\ n |";
     for (int n : ns) md += fmt(" %d |", n);
     md += "\n|---|";
@@ -68,10 +64,9 @@ int main(int argc, char** argv) {
         o.measure_error = true;
         const fit::FitResult res = fitter.fit(o);
         const double ms = 1e3 * median(times);
-        csv +=
-            fmt("%s,%s,%zu,%d,%d,%.4g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", part.mesh, part.seeds.name,
-                res.part_vertices.size(), k, n, ms, res.error.rms, res.error.max, res.mean_radius,
-                res.length, res.error.rms / res.mean_radius, res.error.max / res.mean_radius);
+        csv += fmt("%s,%s,%zu,%d,%d,%.4g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", part.mesh, part.seeds.name,
+                   res.part_vertices.size(), k, n, ms, res.error.rms, res.error.max, res.mean_radius, res.length,
+                   res.error.rms / res.mean_radius, res.error.max / res.mean_radius);
         md += fmt(" %.2f / %.1f, %.0f ms |", 100 * res.error.rms / res.mean_radius,
                   100 * res.error.max / res.mean_radius, ms);
       }

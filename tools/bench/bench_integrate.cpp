@@ -24,13 +24,11 @@ namespace sweep::bench {
 namespace {
 
 // Closed form of m x'' + c x' + k x = f, x(0) = x0, v(0) = 0, under-damped, long double.
-long double closed_form(long double m, long double c, long double k, long double f, long double x0,
-                        long double t) {
+long double closed_form(long double m, long double c, long double k, long double f, long double x0, long double t) {
   const long double alpha = c / (2 * m), w2 = k / m;
   const long double beta = std::sqrt(w2 - alpha * alpha);
   const long double eq = f / k, a = x0 - eq;
-  return eq +
-         std::exp(-alpha * t) * (a * std::cos(beta * t) + (alpha * a / beta) * std::sin(beta * t));
+  return eq + std::exp(-alpha * t) * (a * std::cos(beta * t) + (alpha * a / beta) * std::sin(beta * t));
 }
 
 struct SpreadRow {
@@ -47,8 +45,7 @@ int main(int argc, char** argv) {
   using namespace sweep;
   using namespace sweep::bench;
   const Args args = parse_args(argc, argv);
-  const Integrator integrators[] = {Integrator::exact, Integrator::rk4,
-                                    Integrator::semi_implicit_euler};
+  const Integrator integrators[] = {Integrator::exact, Integrator::rk4, Integrator::semi_implicit_euler};
 
   // ---- integrator × dt ------------------------------------------------------------------------
   const SpringSettings spring{1.0, 1.5, 0.1};
@@ -75,25 +72,20 @@ int main(int argc, char** argv) {
         map.apply(x, v, force);
         diverged = !(std::abs(x) < 1e6);
       }
-      const double err =
-          diverged ? -1 : static_cast<double>(std::abs(static_cast<long double>(x) - ref)) / scale;
+      const double err = diverged ? -1 : static_cast<double>(std::abs(static_cast<long double>(x) - ref)) / scale;
       std::vector<StepMap> maps(kBank, map);
       const double step_s = median_seconds(args.quick ? 51 : 201, [&] {
         for (int m = 0; m < kBank; ++m) maps[m].apply(xs[m], vs[m], fs[m]);
-        for (int m = 0; m < kBank; ++m)
-          xs[m] = std::min(std::max(xs[m], -1e3), 1e3);  // keep it bounded
+        for (int m = 0; m < kBank; ++m) xs[m] = std::min(std::max(xs[m], -1e3), 1e3);  // keep it bounded
       });
       const double map_s = median_seconds(args.quick ? 101 : 1001, [&] {
         volatile double sink = make_step_map(p, dt, integ).xx;
         (void)sink;
       });
       const std::string name(integrator_name(integ));
-      csv += fmt("%s,%.6g,%d,%.6g,%.4g,%.4g\n", name.c_str(), dt, nsteps, err, 1e9 * step_s / kBank,
-                 1e6 * map_s);
-      md +=
-          fmt("| %s | 1/%d | %.3g | %s | %.2g | %.2g |\n", name.c_str(), nsteps,
-              std::sqrt(p.stiffness / p.mass) * dt,
-              diverged ? "diverged" : fmt("%.2e", err).c_str(), 1e9 * step_s / kBank, 1e6 * map_s);
+      csv += fmt("%s,%.6g,%d,%.6g,%.4g,%.4g\n", name.c_str(), dt, nsteps, err, 1e9 * step_s / kBank, 1e6 * map_s);
+      md += fmt("| %s | 1/%d | %.3g | %s | %.2g | %.2g |\n", name.c_str(), nsteps, std::sqrt(p.stiffness / p.mass) * dt,
+                diverged ? "diverged" : fmt("%.2e", err).c_str(), 1e9 * step_s / kBank, 1e6 * map_s);
     }
   }
   write_text(args.out / "integrate.csv", csv);
@@ -225,10 +217,12 @@ int main(int argc, char** argv) {
     for (std::size_t m = 0; m < poses.size(); ++m) err = std::max(err, std::abs(poses[m] - fine[m]));
     sim::Scene s = fig4;
     s.step = step;
-    const double seconds = median_seconds(args.quick ? 3 : 7, [&] {
-      sim::Simulator sim(dino.rig, s, sim::SleepSettings{0, 0, 0, false});
-      for (int k = 1; k < s.frame_count(); ++k) sim.advance_frame();
-    }) / s.duration;
+    const double seconds = median_seconds(args.quick ? 3 : 7,
+                                          [&] {
+                                            sim::Simulator sim(dino.rig, s, sim::SleepSettings{0, 0, 0, false});
+                                            for (int k = 1; k < s.frame_count(); ++k) sim.advance_frame();
+                                          }) /
+                           s.duration;
     md += fmt("| 1/%d%s | %.2e | %s | %.3g |\n", per_second, per_second == 480 ? " (default)" : "", err,
               previous > 0 ? fmt("%.2f", previous / err).c_str() : "", 1e3 * seconds);
     csv += fmt("%.6g,%.6g,%.6g\n", step, err, 1e3 * seconds);

@@ -60,8 +60,12 @@ Cost median_of(const std::vector<Cost>& runs) {
   return {pick(&Cost::frame_us), pick(&Cost::step_us), pick(&Cost::deform_us), pick(&Cost::copy_us)};
 }
 
-void pace() { std::this_thread::sleep_for(std::chrono::duration<double>(kFrame)); }
-double us(Clock::time_point a, Clock::time_point b) { return 1e6 * std::chrono::duration<double>(b - a).count(); }
+void pace() {
+  std::this_thread::sleep_for(std::chrono::duration<double>(kFrame));
+}
+double us(Clock::time_point a, Clock::time_point b) {
+  return 1e6 * std::chrono::duration<double>(b - a).count();
+}
 
 // The scene player: `scene` at its fps, frames 1/60 s apart.
 Cost scene_player(const RealRig& dino, const sim::Scene& scene, int frames) {
@@ -180,8 +184,8 @@ sweep_instance* open_dino(const fs::path& dir, const char* settings, const std::
 // Through the C interface, as an engine calls it: step (sweep_set_body + sweep_advance) and read
 // (sweep_positions: the parts that moved deformed, the world-space copy; or sweep_joints) timed
 // apart. `ring`: the skeleton's ring joints (0: the default).
-Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>& rest, int frames, bool paced, Read read,
-            int ring = 0) {
+Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>& rest, int frames, bool paced,
+            Read read, int ring = 0) {
   sweep_instance* in = open_dino(dir, settings, rest);
   if (ring > 0) check(sweep_set_skin(in, 24, ring));
   std::vector<float> out(read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(in)));
@@ -212,7 +216,8 @@ Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>&
 double crowd(const fs::path& dir, const std::vector<float>& rest, int count, int threads, int frames, Read read) {
   std::vector<sweep_instance*> herd;
   for (int c = 0; c < count; ++c) herd.push_back(open_dino(dir, "settings.scene.json", rest));
-  const std::size_t size = read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(herd[0]));
+  const std::size_t size =
+      read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(herd[0]));
   std::vector<std::vector<float>> out(static_cast<std::size_t>(count), std::vector<float>(size));
   int frame = 0;
   const auto work = [&](int worker) {
@@ -267,7 +272,10 @@ struct StepError {
 std::vector<std::vector<float>> step_run(const fs::path& dir, double step, const std::vector<float>& rest, int frames,
                                          double& frame_us) {
   const fs::path settings = dir / fmt("step-%.9g.scene.json", step);
-  write_text(settings, fmt(R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": %.17g, "gravity": [0, -9.81, 0], "forces": []})", step));
+  write_text(
+      settings,
+      fmt(R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": %.17g, "gravity": [0, -9.81, 0], "forces": []})",
+          step));
   sweep_instance* in = sweep_open((dir / "dino.rig.json").c_str(), (dir / "dino.bind").c_str(), settings.c_str(),
                                   rest.data(), static_cast<int>(rest.size() / 3));
   if (in == nullptr) check(SWEEP_ERROR_INTERNAL);
@@ -318,10 +326,13 @@ int main(int argc, char** argv) {
   dino.rig.mesh = diplodocus_path().string();
   io::write_rig(dir / "dino.rig.json", dino.rig);
   io::write_binding(dir / "dino.bind", dino.binding);
-  write_text(dir / "settings.scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "gravity": [0, -9.81, 0], "forces": []})");
+  write_text(
+      dir / "settings.scene.json",
+      R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "gravity": [0, -9.81, 0], "forces": []})");
   // The same with sweep-sim's internal step, 1/480 s: 8 steps a 60 fps frame instead of 1.
-  write_text(dir / "fine.scene.json",
-             R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": 0.0020833333333333333, "gravity": [0, -9.81, 0], "forces": []})");
+  write_text(
+      dir / "fine.scene.json",
+      R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": 0.0020833333333333333, "gravity": [0, -9.81, 0], "forces": []})");
   std::vector<float> rest;
   for (const Vec3& p : dino.mesh.positions) rest.insert(rest.end(), {float(p.x()), float(p.y()), float(p.z())});
 
@@ -341,16 +352,17 @@ int main(int argc, char** argv) {
 
   std::size_t bound = 0;
   for (const auto& s : dino.binding.sweeps) bound += s.size();
-  const char* names[] = {"scene player, 30 fps (sweep-sim's frame)",
-                         "scene player, 60 fps",
-                         "live (C++): set_body_pose + advance_to, step 1/480 s",
-                         "live (C++), live step 1/60 s, one thread: mesh-order deform + transform_positions (libsweep's read before)",
-                         "live (C++), live step 1/60 s, one thread: LivePositions (libsweep's read now)",
-                         "libsweep, step 1/480 s (8 a frame): positions",
-                         "libsweep, live step 1/60 s: positions",
-                         "libsweep, live step, frames back to back: positions",
-                         "libsweep, live step: joints out (24 + 23×24 ring a part)",
-                         "libsweep, live step: joints out (24 a part, no ring)"};
+  const char* names[] = {
+      "scene player, 30 fps (sweep-sim's frame)",
+      "scene player, 60 fps",
+      "live (C++): set_body_pose + advance_to, step 1/480 s",
+      "live (C++), live step 1/60 s, one thread: mesh-order deform + transform_positions (libsweep's read before)",
+      "live (C++), live step 1/60 s, one thread: LivePositions (libsweep's read now)",
+      "libsweep, step 1/480 s (8 a frame): positions",
+      "libsweep, live step 1/60 s: positions",
+      "libsweep, live step, frames back to back: positions",
+      "libsweep, live step: joints out (24 + 23×24 ring a part)",
+      "libsweep, live step: joints out (24 a part, no ring)"};
   constexpr int kCases = 10;
   std::vector<std::vector<std::vector<Cost>>> runs(kCases, std::vector<std::vector<Cost>>(max_threads));
   // A crowd of 1 and 100, on 1 and 2 threads, positions and joints out.
@@ -378,23 +390,29 @@ int main(int argc, char** argv) {
     }
   }
   std::string csv = "case,threads,frame_us,step_us,deform_us,read_us\n";
-  std::string md = fmt("Diplodocus tail + neck (%zu bound vertices of %zu), material mode, gravity, a new body pose every "
-                       "frame, frames 1/60 s apart (a %s build):\n\n",
-                       bound, dino.mesh.vertex_count(), SWEEP_BUILD_TYPE);
-  md += "| case | threads | frame µs (median) | step µs | deform µs | read µs (world copy; libsweep: sweep_positions or sweep_joints) |\n"
-        "|---|---|---|---|---|---|\n";
+  std::string md =
+      fmt("Diplodocus tail + neck (%zu bound vertices of %zu), material mode, gravity, a new body pose every "
+          "frame, frames 1/60 s apart (a %s build):\n\n",
+          bound, dino.mesh.vertex_count(), SWEEP_BUILD_TYPE);
+  md +=
+      "| case | threads | frame µs (median) | step µs | deform µs | read µs (world copy; libsweep: sweep_positions or "
+      "sweep_joints) |\n"
+      "|---|---|---|---|---|---|\n";
   for (int c = 0; c < kCases; ++c) {
     for (int th = 1; th <= max_threads; ++th) {
       const Cost m = median_of(runs[c][th - 1]);
       csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g\n", names[c], th, m.frame_us, m.step_us, m.deform_us, m.copy_us);
       const std::string deform = c >= 5 ? "—" : fmt("%.1f", m.deform_us);
       const std::string read = c >= 3 ? fmt("%.1f", m.copy_us) : "—";
-      md += fmt("| %s | %d | %.1f | %.1f | %s | %s |\n", names[c], th, m.frame_us, m.step_us, deform.c_str(), read.c_str());
+      md += fmt("| %s | %d | %.1f | %.1f | %s | %s |\n", names[c], th, m.frame_us, m.step_us, deform.c_str(),
+                read.c_str());
     }
   }
-  md += "\nA crowd: N instances through libsweep, the live step, each frame every creature's pose, advance and read, "
-        "the creatures shared among the threads (libsweep's own threads kept to one inside each), frames 1/60 s apart:\n\n"
-        "| creatures | threads | frame µs, positions (median) | frame µs, joints out (median) |\n|---|---|---|---|\n";
+  md +=
+      "\nA crowd: N instances through libsweep, the live step, each frame every creature's pose, advance and read, "
+      "the creatures shared among the threads (libsweep's own threads kept to one inside each), frames 1/60 s "
+      "apart:\n\n"
+      "| creatures | threads | frame µs, positions (median) | frame µs, joints out (median) |\n|---|---|---|---|\n";
   csv += "\ncreatures,threads,frame_us_positions,frame_us_joints\n";
   for (int h = 0; h < 2; ++h) {
     for (int th = 1; th <= max_threads; ++th) {
@@ -407,10 +425,11 @@ int main(int argc, char** argv) {
   const int accuracy_frames = args.quick ? 120 : 300;
   double reference_us = 0;
   const auto reference = step_run(dir, sim::Scene::kDefaultStep / 8, rest, accuracy_frames, reference_us);
-  md += fmt("\nA coarser internal step against a fine one (1/%d s), the same live run (the walk, gravity, a 20 kN push on "
-            "the tail's tip from 0.5 to 0.6 s), %d frames at 60 fps: the largest distance of a bound vertex from where the "
-            "fine step puts it, over its part's length, and the frame's cost back to back (1 thread):\n\n",
-            static_cast<int>(std::lround(8 / sim::Scene::kDefaultStep)), accuracy_frames);
+  md += fmt(
+      "\nA coarser internal step against a fine one (1/%d s), the same live run (the walk, gravity, a 20 kN push on "
+      "the tail's tip from 0.5 to 0.6 s), %d frames at 60 fps: the largest distance of a bound vertex from where the "
+      "fine step puts it, over its part's length, and the frame's cost back to back (1 thread):\n\n",
+      static_cast<int>(std::lround(8 / sim::Scene::kDefaultStep)), accuracy_frames);
   md += "| step | steps a 60 fps frame | largest error / length | frame µs (median) |\n|---|---|---|---|\n";
   csv += "\nstep_s,steps_per_frame,max_error_relative,frame_us\n";
   omp_set_num_threads(1);

@@ -28,16 +28,14 @@ struct FrameCost {
 // Runs `frames` frames of `scene` on `rig`, returning the median frame cost over frames [skip,
 // end). Frames run back to back (a bake), or `pause` seconds apart (a runtime paced by its display:
 // between frames the threads go to sleep and the caches cool down).
-FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, int skip,
-                     double pause = 0) {
+FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, int skip, double pause = 0) {
   const std::size_t nv = rig.mesh.vertex_count();
   std::vector<Vec3f> positions(nv);
   for (std::size_t v = 0; v < nv; ++v) positions[v] = rig.mesh.positions[v].cast<float>();
   sim::Simulator sim(rig.rig, scene);
   std::vector<std::unique_ptr<FastDeformer>> fast;
   for (int i = 0; i < sim.sweep_count(); ++i) {
-    fast.push_back(std::make_unique<FastDeformer>(rig.rig.sweeps[i].rest, rig.binding.sweeps[i],
-                                                  positions, 8));
+    fast.push_back(std::make_unique<FastDeformer>(rig.rig.sweeps[i].rest, rig.binding.sweeps[i], positions, 8));
   }
   std::vector<double> total, step, deform;
   std::vector<sim::DeformJob> jobs;
@@ -154,10 +152,9 @@ int main(int argc, char** argv) {
       }
       for (int th = 1; th <= threads; ++th) {
         const FrameCost c = median_cost(runs[th - 1]);
-        csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,1,%d\n", label.c_str(), th, c.median_us, c.step_us,
-                   c.deform_us, c.awake_at_end);
-        md += fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", label.c_str(), th, c.median_us,
-                  c.step_us, c.deform_us);
+        csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,1,%d\n", label.c_str(), th, c.median_us, c.step_us, c.deform_us,
+                   c.awake_at_end);
+        md += fmt("| %s | %d | %.1f | %.1f | %.1f | — |\n", label.c_str(), th, c.median_us, c.step_us, c.deform_us);
       }
     }
   }
@@ -185,7 +182,8 @@ int main(int argc, char** argv) {
     {
       std::vector<sim::BodyKey> keys;
       for (int k = 0; k <= 12; ++k) {
-        keys.push_back({2.0 * k, Vec3(0.05 * k, 0, 0.01 * (k % 3)), Quat(Eigen::AngleAxisd(0.1 * std::sin(k), Vec3::UnitY()))});
+        keys.push_back(
+            {2.0 * k, Vec3(0.05 * k, 0, 0.01 * (k % 3)), Quat(Eigen::AngleAxisd(0.1 * std::sin(k), Vec3::UnitY()))});
       }
       walking.body = sim::BodyPath(keys, sim::BodyInterpolation::cubic);
       sim::WindSettings w;
@@ -208,13 +206,13 @@ int main(int argc, char** argv) {
       const char* labels[3] = {"diplodocus, the paper's springs, step 1/480 s",
                                "diplodocus, material mode + gravity, step 1/480 s",
                                "diplodocus, material mode + gravity, walking body and gusty wind"};
-      const std::string ratio = mode == 0 ? "—"
+      const std::string ratio = mode == 0   ? "—"
                                 : mode == 1 ? fmt("%.2f × the paper's", b.median_us / a.median_us)
                                             : fmt("%.2f × the still body's", c3.median_us / b.median_us);
-      csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g,%d\n", labels[mode], threads, c.median_us, c.step_us,
-                 c.deform_us, c.median_us / (mode == 2 ? b.median_us : a.median_us), c.awake_at_end);
-      md += fmt("| %s | %d | %.1f | %.1f | %.1f | %s |\n", labels[mode], threads, c.median_us, c.step_us,
-                c.deform_us, ratio.c_str());
+      csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g,%d\n", labels[mode], threads, c.median_us, c.step_us, c.deform_us,
+                 c.median_us / (mode == 2 ? b.median_us : a.median_us), c.awake_at_end);
+      md += fmt("| %s | %d | %.1f | %.1f | %.1f | %s |\n", labels[mode], threads, c.median_us, c.step_us, c.deform_us,
+                ratio.c_str());
     }
   }
 
@@ -231,11 +229,13 @@ int main(int argc, char** argv) {
     walking.gravity = Vec3(0, -9.81, 0);
     std::vector<sim::BodyKey> keys;
     for (int k = 0; k <= 12; ++k) {
-      keys.push_back({2.0 * k, Vec3(0.05 * k, 0, 0.01 * (k % 3)), Quat(Eigen::AngleAxisd(0.1 * std::sin(k), Vec3::UnitY()))});
+      keys.push_back(
+          {2.0 * k, Vec3(0.05 * k, 0, 0.01 * (k % 3)), Quat(Eigen::AngleAxisd(0.1 * std::sin(k), Vec3::UnitY()))});
     }
     walking.body = sim::BodyPath(keys, sim::BodyInterpolation::cubic);
     using sim::Collider;
-    const std::vector<Collider> demo = {  // rigs/diplodocus-path.scene.json
+    const std::vector<Collider> demo = {
+        // rigs/diplodocus-path.scene.json
         Collider::plane(Vec3(0, -0.462, 0), Vec3::UnitY()),
         Collider::capsule(Vec3(-0.1915, -0.1739, -0.0871), Vec3(-0.2894, -0.3609, -0.1242), 0.0441),
         Collider::capsule(Vec3(0.1538, -0.2441, 0.13), Vec3(0.2263, -0.4616, 0.1177), 0.0333),
@@ -250,18 +250,19 @@ int main(int argc, char** argv) {
     scenes[3] = scenes[2];
     scenes[3].colliders[0] = Collider::plane(Vec3(0, -0.30, 0), Vec3::UnitY());  // in the tail's way
     scenes[4] = scenes[3];
-    scenes[4].body = {};  // the tail lying on the floor, the body still: settles, then sleeps
+    scenes[4].body = {};                  // the tail lying on the floor, the body still: settles, then sleeps
     scenes[4].gravity_preloaded = false;  // it sags onto the floor: driven until it sleeps
     // The body itself, as sweep-sim fits it for "body_collider": {"spheres": 24} (the fit is load
     // time, not frame time, and is not measured here).
     sim::Scene::BodyCollider body;
     body.spheres = 24;
     scenes[5].colliders =
-        tools::body_proxy(material.mesh, material.rig, material.binding, body, walking.contact_stations)
-            .colliders;
+        tools::body_proxy(material.mesh, material.rig, material.binding, body, walking.contact_stations).colliders;
     const char* labels[6] = {"walking diplodocus (material, gravity), no collider",
-                             "… ground and three legs, none touched", "… 16 colliders, none touched",
-                             "… 16 colliders, the tail on a raised floor", "… the same, body still (settles, sleeps)",
+                             "… ground and three legs, none touched",
+                             "… 16 colliders, none touched",
+                             "… 16 colliders, the tail on a raised floor",
+                             "… the same, body still (settles, sleeps)",
                              "… the body proxy (24 spheres carried by the body)"};
     std::vector<FrameCost> runs[6];
     for (int r = 0; r < rounds; ++r) {
@@ -319,10 +320,10 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < cases.size(); ++i) {
       const FrameCost& c = result[i];
       const std::string& name = cases[i].name;
-      csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g,%d\n", name.c_str(), th, c.median_us, c.step_us,
-                 c.deform_us, c.median_us / all, c.awake_at_end);
-      md += fmt("| %s | %d | %.2f | %.2f | %.2f | %.3f |\n", name.c_str(), th, c.median_us,
-                c.step_us, c.deform_us, c.median_us / all);
+      csv += fmt("\"%s\",%d,%.4g,%.4g,%.4g,%.4g,%d\n", name.c_str(), th, c.median_us, c.step_us, c.deform_us,
+                 c.median_us / all, c.awake_at_end);
+      md += fmt("| %s | %d | %.2f | %.2f | %.2f | %.3f |\n", name.c_str(), th, c.median_us, c.step_us, c.deform_us,
+                c.median_us / all);
     }
   }
   write_text(args.out / "skip.csv", csv);

@@ -101,23 +101,23 @@ int main(int argc, char** argv) {
     total_steps += r.steps;
     const bool explicit_integrator = c.p.integrator != Integrator::exact;
     if (!r.ok()) (explicit_integrator ? expected_failures : failures) += 1;
-    const std::string result =
-        r.ok() ? "ok" : (explicit_integrator ? "diverged (caught): " : "FAILED: ") + r.failure;
+    const std::string result = r.ok() ? "ok" : (explicit_integrator ? "diverged (caught): " : "FAILED: ") + r.failure;
     const std::string name(integrator_name(c.p.integrator));
     const Material mat = c.p.material.value_or(Material{});
     const double zeta = c.p.material ? mat.damping_ratio : c.p.damping_ratio;
-    const std::string model = c.p.material ? fmt("material %g, %g, %g", mat.youngs_modulus, mat.density, mat.metres_per_unit)
-                                           : fmt("springs %g, %g", c.p.mass, c.p.frequency_hz);
-    csv += fmt("%s,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%lld,%lld,\"%s\",%.3g,%.3g,%.3g,%.3g,%.3g,%d,%d,%.3g\n",
-               name.c_str(), c.p.material ? "material" : "springs", c.p.material ? 0.0 : c.p.mass,
-               c.p.material ? 0.0 : c.p.frequency_hz, c.p.material ? mat.youngs_modulus : 0.0,
-               c.p.material ? mat.density : 0.0, c.p.material ? mat.metres_per_unit : 0.0, zeta, c.p.c_rot,
-               c.p.c_rad, c.p.dt, c.p.force, c.steps, r.steps, result.c_str(), r.max_orthonormality_error,
-               r.min_radius_ratio, r.max_energy_growth, r.peak_displacement, r.final_displacement,
-               r.rest_expected, r.returned_to_rest, secs);
-    md += fmt("| %s | %s | %g | %s | %g | %lld | %s | %.1e | %.3f | %.1e | %s | %.2f |\n", name.c_str(),
-              model.c_str(), zeta, c.p.material ? "–" : fmt("%g", c.p.c_rot).c_str(), c.p.dt, r.steps,
-              result.c_str(), r.max_orthonormality_error, r.min_radius_ratio, r.max_energy_growth,
+    const std::string model = c.p.material
+                                  ? fmt("material %g, %g, %g", mat.youngs_modulus, mat.density, mat.metres_per_unit)
+                                  : fmt("springs %g, %g", c.p.mass, c.p.frequency_hz);
+    csv +=
+        fmt("%s,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%lld,%lld,\"%s\",%.3g,%.3g,%.3g,%.3g,%.3g,%d,%d,%.3g\n", name.c_str(),
+            c.p.material ? "material" : "springs", c.p.material ? 0.0 : c.p.mass, c.p.material ? 0.0 : c.p.frequency_hz,
+            c.p.material ? mat.youngs_modulus : 0.0, c.p.material ? mat.density : 0.0,
+            c.p.material ? mat.metres_per_unit : 0.0, zeta, c.p.c_rot, c.p.c_rad, c.p.dt, c.p.force, c.steps, r.steps,
+            result.c_str(), r.max_orthonormality_error, r.min_radius_ratio, r.max_energy_growth, r.peak_displacement,
+            r.final_displacement, r.rest_expected, r.returned_to_rest, secs);
+    md += fmt("| %s | %s | %g | %s | %g | %lld | %s | %.1e | %.3f | %.1e | %s | %.2f |\n", name.c_str(), model.c_str(),
+              zeta, c.p.material ? "–" : fmt("%g", c.p.c_rot).c_str(), c.p.dt, r.steps, result.c_str(),
+              r.max_orthonormality_error, r.min_radius_ratio, r.max_energy_growth,
               r.rest_expected ? (r.returned_to_rest ? "yes" : "NO") : (r.returned_to_rest ? "yes" : "not expected"),
               secs);
   }
@@ -126,8 +126,7 @@ int main(int argc, char** argv) {
           "failures with the "
           "exact integrator; %d explicit-integrator runs beyond their stability limit caught as "
           "divergence.\n",
-          cases.size(), total_steps, tail.rest.section_count(), tail.rest.radial_count, failures,
-          expected_failures);
+          cases.size(), total_steps, tail.rest.section_count(), tail.rest.radial_count, failures, expected_failures);
   write_text(args.out / "stress.csv", csv);
   write_text(args.out / "stress.md", md);
   std::fputs(md.c_str(), stdout);

@@ -16,8 +16,8 @@ namespace sweep::tools {
 
 // A file name given must not be empty: `--report ""` would otherwise mean "no report" silently.
 inline const CLI::Validator kNonEmptyName(
-    [](std::string& name) { return name.empty() ? std::string("the file name is empty") : std::string(); },
-    "", "NONEMPTY");
+    [](std::string& name) { return name.empty() ? std::string("the file name is empty") : std::string(); }, "",
+    "NONEMPTY");
 
 // `text` as a double, whole (nothing after the number); nullopt when it is not one. strtod, not
 // std::stod: stod throws for a value that underflows (1e-308, a subnormal), which is a number.
@@ -56,8 +56,8 @@ inline CLI::Validator finite_range(double lo, double hi) {
         if (!x) return "must be a number, got '" + text + "'";
         if (!std::isfinite(*x)) return "must be a finite number, got " + text;
         if (!(*x >= lo && *x <= hi)) {
-          return "must be between " + CLI::detail::to_string(lo) + " and " + CLI::detail::to_string(hi) +
-                 ", got " + text;
+          return "must be between " + CLI::detail::to_string(lo) + " and " + CLI::detail::to_string(hi) + ", got " +
+                 text;
         }
         return {};
       },
@@ -90,13 +90,20 @@ inline std::optional<std::uint64_t> read_byte_size(const std::string& text, std:
   std::string unit = text.substr(digits);
   for (char& c : unit) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   std::uint64_t scale = 0;
-  if (unit.empty() || unit == "b") scale = 1;
-  else if (unit == "k" || unit == "kb") scale = 1000;
-  else if (unit == "m" || unit == "mb") scale = 1000000;
-  else if (unit == "g" || unit == "gb") scale = 1000000000;
-  else if (unit == "kib") scale = 1024;
-  else if (unit == "mib") scale = std::uint64_t{1} << 20;
-  else if (unit == "gib") scale = std::uint64_t{1} << 30;
+  if (unit.empty() || unit == "b")
+    scale = 1;
+  else if (unit == "k" || unit == "kb")
+    scale = 1000;
+  else if (unit == "m" || unit == "mb")
+    scale = 1000000;
+  else if (unit == "g" || unit == "gb")
+    scale = 1000000000;
+  else if (unit == "kib")
+    scale = 1024;
+  else if (unit == "mib")
+    scale = std::uint64_t{1} << 20;
+  else if (unit == "gib")
+    scale = std::uint64_t{1} << 30;
   if (digits == 0 || scale == 0) {
     why = "must be a whole number of bytes with an optional unit (K, M, G, KiB, MiB, GiB), got '" + text + "'";
     return std::nullopt;

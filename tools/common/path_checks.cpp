@@ -75,9 +75,8 @@ void check_paths(const std::vector<NamedPath>& inputs, const std::vector<NamedPa
     check_utf8(out.path.string(), out.role + " file name");
     const auto [it, fresh] = seen.emplace(identity(out.path), &out);
     if (!fresh) {
-      fail(ErrorCategory::usage, out.role + " " + out.path.string() + " is the same file as " +
-                                     it->second->role + " " + it->second->path.string() +
-                                     "; refusing to overwrite it (give another name)");
+      fail(ErrorCategory::usage, out.role + " " + out.path.string() + " is the same file as " + it->second->role + " " +
+                                     it->second->path.string() + "; refusing to overwrite it (give another name)");
     }
   }
 }

@@ -16,9 +16,9 @@
 namespace sweep::tools {
 
 struct NamedPath {
-  std::string role;             // for messages: "--report", "the rig", "the mesh", ...
-  std::filesystem::path path;   // empty: an optional file not given, skipped (tools refuse an
-                                // empty name on the command line: tools/common/cli_checks.h)
+  std::string role;            // for messages: "--report", "the rig", "the mesh", ...
+  std::filesystem::path path;  // empty: an optional file not given, skipped (tools refuse an
+                               // empty name on the command line: tools/common/cli_checks.h)
 };
 
 void check_paths(const std::vector<NamedPath>& inputs, const std::vector<NamedPath>& outputs);

@@ -12,14 +12,13 @@
 #include <errno.h>  // program_invocation_short_name (GNU)
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <csignal>
 #include <exception>
 #include <functional>
 #include <iostream>
 #include <new>
 #include <optional>
-
-#include <CLI/CLI.hpp>
 
 #include "sweep/core/error.h"
 #include "sweep/io/interrupt.h"
@@ -82,6 +81,8 @@ inline std::optional<int> parse_command_line(CLI::App& app, int argc, char** arg
   return std::nullopt;
 }
 
-inline void warn(const std::string& message) { std::cerr << "warning: " << message << "\n"; }
+inline void warn(const std::string& message) {
+  std::cerr << "warning: " << message << "\n";
+}
 
 }  // namespace sweep::tools

@@ -21,8 +21,8 @@ UpdateLock::UpdateLock(const fs::path& target) {
   for (;;) {
     fd_ = ::open(lock_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
     if (fd_ < 0) {
-      fail(ErrorCategory::output, target.string() + ": cannot create its lock file " + lock_.string() +
-                                      ": " + std::strerror(errno));
+      fail(ErrorCategory::output,
+           target.string() + ": cannot create its lock file " + lock_.string() + ": " + std::strerror(errno));
     }
     int rc = 0;
     while ((rc = ::flock(fd_, LOCK_EX)) != 0 && errno == EINTR) {
@@ -34,7 +34,8 @@ UpdateLock::UpdateLock(const fs::path& target) {
     }
     // The holder before us removes the file as it lets go: the lock we hold is then on a file no
     // longer under the name, which a third run may already have made and locked. Take that one.
-    struct stat held {}, named {};
+    struct stat held {
+    }, named{};
     if (::fstat(fd_, &held) == 0 && ::stat(lock_.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
         held.st_ino == named.st_ino) {
       break;

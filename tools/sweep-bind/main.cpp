@@ -18,9 +18,9 @@
 #include "sweep/io/binding_file.h"
 #include "sweep/io/interrupt.h"
 #include "sweep/io/mesh_names.h"
-#include "tools/common/path_checks.h"
 #include "sweep/io/rig_json.h"
 #include "tools/common/cli_checks.h"
+#include "tools/common/path_checks.h"
 #include "tools/common/tool_main.h"
 
 namespace {
@@ -96,16 +96,15 @@ int run(const Settings& s) {
   if (!s.check.empty()) {
     const sweep::bind::Binding b = sweep::io::load_binding(s.check, mesh, rig);
     if (!s.quiet) {
-      std::cout << s.check.string() << ": matches " << s.rig.string() << " and "
-                << mesh_path.string() << " (" << b.bound_count() << " of " << b.vertex_count
-                << " vertices bound)\n";
+      std::cout << s.check.string() << ": matches " << s.rig.string() << " and " << mesh_path.string() << " ("
+                << b.bound_count() << " of " << b.vertex_count << " vertices bound)\n";
     }
     return 0;
   }
 
   const fs::path output = s.output.empty() ? sweep::io::default_binding_path(s.rig) : s.output;
   sweep::tools::check_paths({{"the rig", s.rig}, {"the mesh", mesh_path}},
-                         {{"the binding", output}, {"--report", s.report}});
+                            {{"the binding", output}, {"--report", s.report}});
   // Every output is checked before any work, so a report that cannot be written does not leave a
   // binding behind (nor a binding that cannot be written cost a bind).
   sweep::io::check_can_create(output);
@@ -130,13 +129,12 @@ int run(const Settings& s) {
 
   if (!s.quiet) {
     std::cout << s.rig.string() << ": " << mesh_path.string()
-              << (rig.mesh_name.empty() ? "" : " " + sweep::assets::asked_meshes(rig.mesh_name)) << ", " << mesh.vertex_count()
-              << " vertices\n";
+              << (rig.mesh_name.empty() ? "" : " " + sweep::assets::asked_meshes(rig.mesh_name)) << ", "
+              << mesh.vertex_count() << " vertices\n";
     for (const sweep::bind::SweepBindStats& st : r.sweeps) {
       std::cout << "  " << st.name << ": " << st.bound_vertex_count << " vertices bound";
       if (st.bound_vertex_count != st.part_vertex_count) {
-        std::cout << " (" << st.part_vertex_count - st.bound_vertex_count
-                  << " of its part went to a nearer sweep)";
+        std::cout << " (" << st.part_vertex_count - st.bound_vertex_count << " of its part went to a nearer sweep)";
       }
       if (st.loose_piece_count > 0) {
         std::cout << ", " << st.loose_piece_count << (st.loose_piece_count == 1 ? " loose piece (" : " loose pieces (")
@@ -144,8 +142,7 @@ int run(const Settings& s) {
       }
       if (st.blended_vertex_count > 0) std::cout << ", " << st.blended_vertex_count << " blended";
       std::cout << ", rest error max " << sweep::format_number(st.rest_max_error) << " ("
-                << sweep::format_number(st.length > 0 ? st.rest_max_error / st.length : 0.0)
-                << " of its length)\n";
+                << sweep::format_number(st.length > 0 ? st.rest_max_error / st.length : 0.0) << " of its length)\n";
       if (st.bound_vertex_count == 0) {
         sweep::tools::warn("sweep '" + st.name + "' binds no vertices");
       }
@@ -154,14 +151,15 @@ int run(const Settings& s) {
     // a blend that cut is a seam that opens as soon as the tip moves.
     for (const sweep::SweepDef& def : rig.sweeps) {
       if (def.part && def.part->tip_cut && s.options.blend == 0) {
-        sweep::tools::warn("sweep '" + def.name + "' is cut at its tip too (the tube goes on past "
+        sweep::tools::warn("sweep '" + def.name +
+                           "' is cut at its tip too (the tube goes on past "
                            "it): with no --blend the cut opens as the tip moves; bind with --blend "
                            "of about a radius");
       }
     }
     std::cout << "  unbound: " << r.unbound_vertex_count << " vertices\n"
-              << "wrote " << output.string() << " (bound in " << format_ms(r.seconds)
-              << ", loaded in " << format_ms(load_seconds) << ")\n";
+              << "wrote " << output.string() << " (bound in " << format_ms(r.seconds) << ", loaded in "
+              << format_ms(load_seconds) << ")\n";
   }
   return 0;
 }
@@ -174,20 +172,19 @@ int main(int argc, char** argv) {
     CLI::App app{"Bind every vertex of each sweep's part to its sweep coordinates", "sweep-bind"};
     app.add_option("rig", s.rig, "Rig file (JSON) written by sweep-fit")->required();
     auto* output = app.add_option("-o,--output", s.output, "Binding file (default: the rig's path with .bind)")
-        ->check(sweep::tools::kNonEmptyName);
+                       ->check(sweep::tools::kNonEmptyName);
     auto* report = app.add_option("--report", s.report, "Write a JSON report (counts, rest error, timings)")
-        ->check(sweep::tools::kNonEmptyName);
+                       ->check(sweep::tools::kNonEmptyName);
     app.add_option("--blend", s.options.blend,
-                   "Depth of the blend zone beyond each part's root plane, and before its tip-side cut if it has one (mesh units; 0 = none)")
+                   "Depth of the blend zone beyond each part's root plane, and before its tip-side cut if it has one "
+                   "(mesh units; 0 = none)")
         ->check(sweep::tools::kNonNegative)
         ->capture_default_str();
-    app.add_option("--check", s.check,
-                   "Verify this existing binding against the rig and its mesh instead of binding")
+    app.add_option("--check", s.check, "Verify this existing binding against the rig and its mesh instead of binding")
         ->excludes(output)
         ->excludes(report);
     app.add_flag("-q,--quiet", s.quiet, "Print nothing on success");
-    app.set_version_flag("--version", std::string("sweep-bind ") + SWEEP_VERSION +
-                                          " (binding format " +
+    app.set_version_flag("--version", std::string("sweep-bind ") + SWEEP_VERSION + " (binding format " +
                                           std::to_string(sweep::io::kBindingFormatVersion) + ")");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);

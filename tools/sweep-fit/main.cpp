@@ -13,9 +13,10 @@
 #include <optional>
 #include <sstream>
 
-#include "sweep/assets/mesh_io.h"
 #include "common/cli_checks.h"
 #include "common/tool_main.h"
+#include "sweep-fit/report.h"
+#include "sweep/assets/mesh_io.h"
 #include "sweep/core/error.h"
 #include "sweep/core/limits.h"
 #include "sweep/core/text.h"
@@ -25,13 +26,12 @@
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/interrupt.h"
 #include "sweep/io/mesh_names.h"
-#include "tools/common/path_checks.h"
 #include "sweep/io/read_file.h"
 #include "sweep/io/rig_json.h"
-#include "tools/common/update_lock.h"
 #include "sweep/preview/png.h"
 #include "sweep/preview/render.h"
-#include "sweep-fit/report.h"
+#include "tools/common/path_checks.h"
+#include "tools/common/update_lock.h"
 
 namespace fs = std::filesystem;
 using sweep::ErrorCategory;
@@ -41,35 +41,35 @@ using sweep::Vec3;
 namespace {
 
 struct Settings {
-  fs::path mesh;              // input mesh (any format assets::read_mesh reads)
+  fs::path mesh;  // input mesh (any format assets::read_mesh reads)
   // --mesh, once or more: which meshes of the file, as one (joined: io/mesh_names.h; "" = the rig's,
   // or the only or largest one).
   std::vector<std::string> mesh_names;
   std::string mesh_name;
-  std::string space = "world";  // --space: what --root, --tip and --axis are in (world, local)
-  fs::path rig;               // rig file to create or update
-  std::string name = "part";  // the sweep's name in the rig
-  std::string root, tip;  // X,Y,Z in mesh units (root optional: found where the part meets the body)
-  std::int64_t tip_vertex = -1;   // the tip as a vertex index
-  std::string tip_vertex_text;    // --tip-vertex as given (read by tip_vertex_index)
+  std::string space = "world";   // --space: what --root, --tip and --axis are in (world, local)
+  fs::path rig;                  // rig file to create or update
+  std::string name = "part";     // the sweep's name in the rig
+  std::string root, tip;         // X,Y,Z in mesh units (root optional: found where the part meets the body)
+  std::int64_t tip_vertex = -1;  // the tip as a vertex index
+  std::string tip_vertex_text;   // --tip-vertex as given (read by tip_vertex_index)
   bool root_given = false, tip_given = false;  // --root, --tip given (even empty: refused)
-  bool quiet = false;             // -q: no notes
-  bool force = false;             // write the rig even when the fit breaks a limit
-  fs::path axis;              // optional axis polyline: "X Y Z" (or X,Y,Z) per line, root first
+  bool quiet = false;                          // -q: no notes
+  bool force = false;                          // write the rig even when the fit breaks a limit
+  fs::path axis;                               // optional axis polyline: "X Y Z" (or X,Y,Z) per line, root first
   int sections = sweep::fit::FitOptions{}.sections;
   int radial = sweep::fit::FitOptions{}.radial;
   double tolerance = 0;  // > 0: fewest sections with fit_rms ≤ tolerance × mean radius
   fs::path report;       // optional JSON report
   bool verbose = false;
-  bool list = false;      // --list: print the parts found, write no rig
-  bool all = false;       // --all: fit every part found into the rig
-  std::string names;      // --names a,b,c for --all
+  bool list = false;       // --list: print the parts found, write no rig
+  bool all = false;        // --all: fit every part found into the rig
+  std::string names;       // --names a,b,c for --all
   std::string only, skip;  // --only / --skip a,b,c for --all: parts by their suggested names
-  std::string up = "Y";   // --up: the up axis the suggested names go by
-  bool up_given = false;  // else the file's own (assets::FileUp)
-  fs::path preview;       // optional PNG: the fit drawn over the mesh from three sides
-  fs::path material;      // optional material file: the fitted sweeps move in material mode
-  fs::path export_obj;    // --export-obj: the mesh as read, to this OBJ (no fit)
+  std::string up = "Y";    // --up: the up axis the suggested names go by
+  bool up_given = false;   // else the file's own (assets::FileUp)
+  fs::path preview;        // optional PNG: the fit drawn over the mesh from three sides
+  fs::path material;       // optional material file: the fitted sweeps move in material mode
+  fs::path export_obj;     // --export-obj: the mesh as read, to this OBJ (no fit)
 };
 
 // "X,Y,Z" → a point; our own parse so that the message names the flag and the text given.
@@ -82,13 +82,11 @@ Vec3 to_point(const std::string& text, const char* flag) {
     const std::string field = text.substr(at, end == std::string::npos ? end : end - at);
     char* stop = nullptr;
     p[i] = field.empty() ? 0 : std::strtod(field.c_str(), &stop);
-    ok = !field.empty() && stop == field.c_str() + field.size() && std::isfinite(p[i]) &&
-         end != std::string::npos;
+    ok = !field.empty() && stop == field.c_str() + field.size() && std::isfinite(p[i]) && end != std::string::npos;
     at = end + 1;
   }
   if (!ok) {  // (a fourth number stays in the third field and fails its parse)
-    fail(ErrorCategory::usage,
-         std::string(flag) + " expects three finite numbers X,Y,Z, got '" + text + "'");
+    fail(ErrorCategory::usage, std::string(flag) + " expects three finite numbers X,Y,Z, got '" + text + "'");
   }
   return p;
 }
@@ -104,13 +102,11 @@ std::vector<Vec3> read_axis(const fs::path& path) {
     Vec3 p;
     if (!(fields >> p.x())) continue;  // blank line
     if (!(fields >> p.y() >> p.z()) || !p.allFinite()) {
-      fail(ErrorCategory::bad_input,
-           path.string() + ":" + std::to_string(number) + ": expected X Y Z");
+      fail(ErrorCategory::bad_input, path.string() + ":" + std::to_string(number) + ": expected X Y Z");
     }
     points.push_back(p);
   }
-  if (points.size() < 2)
-    fail(ErrorCategory::bad_input, path.string() + ": an axis needs at least 2 points");
+  if (points.size() < 2) fail(ErrorCategory::bad_input, path.string() + ": an axis needs at least 2 points");
   return points;
 }
 
@@ -127,9 +123,9 @@ std::vector<std::string> split_names(const std::string& text, const std::string&
     // Two parts of one name would be one sweep in the rig: the second would replace the first.
     for (std::size_t k = 0; k + 1 < names.size(); ++k) {
       if (names[k] == names.back()) {
-        fail(ErrorCategory::usage, flag + ": '" + names.back() + "' is given twice (parts " +
-                                       std::to_string(k + 1) + " and " + std::to_string(names.size()) +
-                                       " in '" + text + "'); a rig holds one sweep a name");
+        fail(ErrorCategory::usage, flag + ": '" + names.back() + "' is given twice (parts " + std::to_string(k + 1) +
+                                       " and " + std::to_string(names.size()) + " in '" + text +
+                                       "'); a rig holds one sweep a name");
       }
     }
     if (comma == std::string::npos) break;
@@ -171,8 +167,8 @@ sweep::Rig open_rig(const Settings& s, bool& updating) {
     rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
     const fs::path rig_dir = fs::absolute(s.rig).parent_path();
     if (fs::weakly_canonical(rig_dir / rig.mesh) != fs::weakly_canonical(fs::absolute(s.mesh))) {
-      fail(ErrorCategory::usage, s.rig.string() + " is a rig of mesh '" + rig.mesh + "', not of " +
-                                     s.mesh.string() + "; write to another --rig file");
+      fail(ErrorCategory::usage, s.rig.string() + " is a rig of mesh '" + rig.mesh + "', not of " + s.mesh.string() +
+                                     "; write to another --rig file");
     }
     // (--mesh against the rig's mesh: read_checked_mesh, once the name is resolved to a node.)
   }
@@ -284,16 +280,21 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
   ReadMesh m;
   // Several --mesh are taken in the file's order, whatever order they were given in; a rig's list
   // in its own.
-  m.read = sweep::assets::read_scene_mesh(s.mesh, name,
-                                          rigs ? sweep::assets::MeshPick::whole_file : sweep::assets::MeshPick::only_or_largest,
-                                          /*file_order=*/!s.mesh_name.empty());
+  m.read = sweep::assets::read_scene_mesh(
+      s.mesh, name, rigs ? sweep::assets::MeshPick::whole_file : sweep::assets::MeshPick::only_or_largest,
+      /*file_order=*/!s.mesh_name.empty());
   sweep::assets::validate_mesh(m.read.mesh, s.mesh.string());
   std::string taken;
-  if (!s.mesh_name.empty()) taken = "named by --mesh";
-  else if (rigs && !name.empty()) taken = "the rig's mesh";
-  else if (m.read.largest) taken = "the largest";
-  else if (!m.read.name.empty()) taken = "the only one";
-  else if (m.read.meshes.size() > 1) taken = "the whole file: the rig being updated names no mesh";
+  if (!s.mesh_name.empty())
+    taken = "named by --mesh";
+  else if (rigs && !name.empty())
+    taken = "the rig's mesh";
+  else if (m.read.largest)
+    taken = "the largest";
+  else if (!m.read.name.empty())
+    taken = "the only one";
+  else if (m.read.meshes.size() > 1)
+    taken = "the whole file: the rig being updated names no mesh";
   m.summary = sweep::fit_tool::summarize_mesh(s.mesh, m.read, taken);
   m.summary.seeds_local = s.space == "local";
   if (s.verbose) sweep::fit_tool::print_mesh_summary(s.mesh, m.summary);
@@ -302,9 +303,11 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
   }
   // --mesh may name the rig's mesh by its node's name (what the rig records) or by its mesh's.
   if (rigs && !s.mesh_name.empty() && m.read.name != rig->mesh_name && s.mesh_name != rig->mesh_name) {
-    fail(ErrorCategory::usage, "--mesh " + (s.mesh_names.size() > 1 ? sweep::io::quoted_mesh_names(s.mesh_name) : s.mesh_name) + ": " + s.rig.string() + " is a rig of " +
-                                   (rig->mesh_name.empty() ? "the whole file" : "its " + sweep::assets::asked_meshes(rig->mesh_name)) +
-                                   "; write to another --rig file");
+    fail(ErrorCategory::usage,
+         "--mesh " + (s.mesh_names.size() > 1 ? sweep::io::quoted_mesh_names(s.mesh_name) : s.mesh_name) + ": " +
+             s.rig.string() + " is a rig of " +
+             (rig->mesh_name.empty() ? "the whole file" : "its " + sweep::assets::asked_meshes(rig->mesh_name)) +
+             "; write to another --rig file");
   }
   if (rig != nullptr) rig->mesh_name = m.read.name;
   return m;
@@ -312,14 +315,13 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
 
 // The report and the preview (--report, --preview), which are written also when a fit fails, to
 // show what went wrong; with the rig when it is written, all in place together or none.
-void add_report_and_preview(sweep::io::Publication& outputs, const Settings& s,
-                            const ReadMesh& read, const std::vector<sweep::fit::FitResult>& fits,
-                            bool rig_written, double seconds,
+void add_report_and_preview(sweep::io::Publication& outputs, const Settings& s, const ReadMesh& read,
+                            const std::vector<sweep::fit::FitResult>& fits, bool rig_written, double seconds,
                             const sweep::Error* failure = nullptr) {
   const sweep::Mesh& mesh = read.mesh();
   if (!s.report.empty()) {
-    outputs.add(s.report, sweep::fit_tool::fit_report_text(s.mesh, read.summary, s.rig, fits,
-                                                           rig_written, seconds, failure));
+    outputs.add(s.report,
+                sweep::fit_tool::fit_report_text(s.mesh, read.summary, s.rig, fits, rig_written, seconds, failure));
   }
   if (!s.preview.empty()) {
     std::vector<sweep::preview::Overlay> parts;
@@ -332,8 +334,8 @@ void add_report_and_preview(sweep::io::Publication& outputs, const Settings& s,
 
 // Warnings, then the problems: a fit that breaks a limit fails (exit 2) with the numbers and
 // what to try, after writing the report, unless --force.
-void check_problems(const Settings& s, const ReadMesh& mesh,
-                    const std::vector<sweep::fit::FitResult>& fits, double seconds) {
+void check_problems(const Settings& s, const ReadMesh& mesh, const std::vector<sweep::fit::FitResult>& fits,
+                    double seconds) {
   std::string all;
   for (const sweep::fit::FitResult& r : fits) {
     for (const std::string& w : r.warnings) sweep::tools::warn(r.sweep.name + ": " + w);
@@ -371,16 +373,15 @@ void fitting(const Settings& s, const ReadMesh& mesh, std::vector<sweep::fit::Fi
       add_report_and_preview(outputs, s, mesh, shown, false, seconds_since(start), &e);
       outputs.commit();
     } catch (const sweep::Error& not_written) {
-      sweep::tools::warn(std::string("the report of the failure was not written: ") +
-                         not_written.what());
+      sweep::tools::warn(std::string("the report of the failure was not written: ") + not_written.what());
     }
     throw;
   }
 }
 
 void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, bool updating,
-                   const std::optional<sweep::Material>& material,
-                   const std::vector<sweep::fit::FitResult>& fits, std::chrono::steady_clock::time_point start) {
+                   const std::optional<sweep::Material>& material, const std::vector<sweep::fit::FitResult>& fits,
+                   std::chrono::steady_clock::time_point start) {
   int replaced = 0;
   for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep, material);
   const double seconds = seconds_since(start);
@@ -399,9 +400,11 @@ void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, boo
   outputs.commit();
   if (s.quiet) return;  // -q: nothing on success, as the other tools
   for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
-  std::cout << (replaced > 0 ? "replaced in " : updating ? "added to " : "wrote ") << s.rig.string()
-            << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps")
-            << ") in " << sweep::format_number(seconds, 3) << " s\n";
+  std::cout << (replaced > 0 ? "replaced in "
+                : updating   ? "added to "
+                             : "wrote ")
+            << s.rig.string() << " (" << rig.sweeps.size() << (rig.sweeps.size() == 1 ? " sweep" : " sweeps") << ") in "
+            << sweep::format_number(seconds, 3) << " s\n";
 }
 
 // The rig, report and preview are checked before the fit, so none is written when another cannot
@@ -418,7 +421,7 @@ int run_one(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
   sweep::tools::check_utf8(s.name, "--name");
   sweep::tools::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}, {"--material", s.material}},
-                         {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
+                            {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
   const std::optional<sweep::Material> material = read_material_option(s);
   sweep::fit::FitOptions o = fit_options(s);
   if (!s.axis.empty()) o.axis = read_axis(s.axis);
@@ -432,16 +435,16 @@ int run_one(const Settings& s) {
   if (s.space == "local") {
     // A rig that names no mesh reads the whole of a scene file: many nodes, no one local space.
     if (sweep::io::several_mesh_names(mesh.read.name)) {
-      fail(ErrorCategory::usage, "--space local: " + s.mesh.string() + "'s " + sweep::assets::asked_meshes(mesh.read.name) +
+      fail(ErrorCategory::usage, "--space local: " + s.mesh.string() + "'s " +
+                                     sweep::assets::asked_meshes(mesh.read.name) +
                                      " are read as one in world space, each placed by its own node; there is no one "
                                      "local space: give the points in world space");
     }
     if (mesh.read.name.empty() && !mesh.read.meshes.empty()) {
-      fail(ErrorCategory::usage,
-           "--space local: " + s.rig.string() + " names no mesh, so it reads the whole of " +
-               s.mesh.string() + " in world space (" +
-               sweep::assets::list_scene_meshes(mesh.read.meshes) +
-               "); give the points in world space, or fit into a new rig with --mesh NAME");
+      fail(ErrorCategory::usage, "--space local: " + s.rig.string() + " names no mesh, so it reads the whole of " +
+                                     s.mesh.string() + " in world space (" +
+                                     sweep::assets::list_scene_meshes(mesh.read.meshes) +
+                                     "); give the points in world space, or fit into a new rig with --mesh NAME");
     }
     // The points are in the mesh's own space: its node's world transform takes them to the world
     // space the mesh (and the rig) are in.
@@ -462,7 +465,7 @@ int run_one(const Settings& s) {
 int run_all(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
   sweep::tools::check_paths({{"the mesh", s.mesh}, {"--material", s.material}},
-                         {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
+                            {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
   const std::optional<sweep::Material> material = read_material_option(s);
   const std::vector<std::string> names = split_names(s.names);
   bool updating = false;
@@ -477,14 +480,13 @@ int run_all(const Settings& s) {
         sweep::fit::find_parts(mesh.mesh(), fitter.patched_topology(), discover_options(names_up(s, mesh.read)));
     if (found.empty()) {
       fail(ErrorCategory::bad_input,
-           s.mesh.string() + ": " +
-               sweep::fit_tool::no_parts_found(sweep::hole_edge_count(fitter.patched_topology())));
+           s.mesh.string() + ": " + sweep::fit_tool::no_parts_found(sweep::hole_edge_count(fitter.patched_topology())));
     }
     const std::vector<sweep::fit::FoundPart> parts = chosen_parts(s, found);
     if (!names.empty() && names.size() != parts.size()) {
-      fail(ErrorCategory::usage, "--names gives " + std::to_string(names.size()) +
-                                     " names for the " + std::to_string(parts.size()) + " parts " +
-                                     (parts.size() == found.size() ? "found (see --list)" : "chosen by --only or --skip"));
+      fail(ErrorCategory::usage,
+           "--names gives " + std::to_string(names.size()) + " names for the " + std::to_string(parts.size()) +
+               " parts " + (parts.size() == found.size() ? "found (see --list)" : "chosen by --only or --skip"));
     }
     for (std::size_t i = 0; i < parts.size(); ++i) {
       sweep::fit::FitOptions o = fit_options(s);
@@ -497,8 +499,8 @@ int run_all(const Settings& s) {
         fits.push_back(fitter.fit(o));
       } catch (const sweep::Error& e) {
         if (e.category() != ErrorCategory::bad_input) throw;
-        const std::string which = o.name + " (part " + std::to_string(i + 1) + " of " +
-                                  std::to_string(parts.size()) + "): ";
+        const std::string which =
+            o.name + " (part " + std::to_string(i + 1) + " of " + std::to_string(parts.size()) + "): ";
         if (!s.force) {
           fail(ErrorCategory::bad_input,
                which + e.what() + "\n  (--force fits the other parts and leaves this one out)");
@@ -561,12 +563,9 @@ int main(int argc, char** argv) {
         ->expected(1)
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
         ->check(sweep::tools::kNonEmptyName);
-    auto* rig = app.add_option("-o,--rig", s.rig,
-                               "Rig file to create, or to add/replace the sweep(s) in");
-    auto* list = app.add_flag("--list", s.list,
-                              "Find the mesh's tubular parts and list them (no rig is written)");
-    auto* all = app.add_flag("--all", s.all, "Find the mesh's tubular parts and fit every one")
-                    ->excludes(list);
+    auto* rig = app.add_option("-o,--rig", s.rig, "Rig file to create, or to add/replace the sweep(s) in");
+    auto* list = app.add_flag("--list", s.list, "Find the mesh's tubular parts and list them (no rig is written)");
+    auto* all = app.add_flag("--all", s.all, "Find the mesh's tubular parts and fit every one")->excludes(list);
     auto* names = app.add_option("--names", s.names,
                                  "With --all: the parts' names, comma-separated, in --list's order "
                                  "(default: the suggested names)");
@@ -583,20 +582,18 @@ int main(int argc, char** argv) {
                               "Collada: as the file says; else Y)")
                    ->check(CLI::IsMember({"X", "Y", "Z"}))
                    ->capture_default_str();
-    auto* name =
-        app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
+    auto* name = app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();
     auto* root = app.add_option("--root", s.root,
                                 "X,Y,Z: where the part leaves the body (on its axis, its surface or "
                                 "inside the body); default: found where the part meets the body");
     auto* tip = app.add_option("--tip", s.tip, "X,Y,Z: on or near the part's end");
     auto* tip_vertex =
-        app.add_option("--tip-vertex", s.tip_vertex_text, "The part's end as a vertex index")
-            ->excludes(tip);
+        app.add_option("--tip-vertex", s.tip_vertex_text, "The part's end as a vertex index")->excludes(tip);
     app.add_flag("--force", s.force,
                  "Write the rig even when the fit breaks a limit (stops short, leaks into the "
                  "body, error too large)");
-    auto* axis = app.add_option(
-        "--axis", s.axis, "File of axis points 'X Y Z' per line, root first (instead of tracing)");
+    auto* axis =
+        app.add_option("--axis", s.axis, "File of axis points 'X Y Z' per line, root first (instead of tracing)");
     // The rig reader's limits (core/limits.h): never write a rig that sweep-bind refuses.
     auto* sections = app.add_option("-k,--sections", s.sections, "Key sections K")
                          ->check(CLI::Range(2, sweep::limits::kMaxSections))
@@ -609,11 +606,10 @@ int main(int argc, char** argv) {
                    "(--tolerance chooses K)")
         ->check(sweep::tools::kPositive)
         ->excludes(sections);
-    app.add_option("--report", s.report, "Write a JSON report here")
-        ->check(sweep::tools::kNonEmptyName);
-    auto* preview = app.add_option("--preview", s.preview,
-                                   "Draw the fit over the mesh from three sides into this PNG file")
-                        ->check(sweep::tools::kNonEmptyName);
+    app.add_option("--report", s.report, "Write a JSON report here")->check(sweep::tools::kNonEmptyName);
+    auto* preview =
+        app.add_option("--preview", s.preview, "Draw the fit over the mesh from three sides into this PNG file")
+            ->check(sweep::tools::kNonEmptyName);
     auto* material = app.add_option("--material", s.material,
                                     "JSON file of a material (youngs_modulus_pa, density_kg_m3, "
                                     "metres_per_unit, ...): the fitted sweeps move in material mode")
@@ -641,43 +637,48 @@ int main(int argc, char** argv) {
     const bool finding = list->count() > 0 || all->count() > 0;
     for (const CLI::Option* one : {tip, tip_vertex, root, axis, name}) {
       if (finding && one->count() > 0) {
-        fail(ErrorCategory::usage, one->get_name() + " names one part: it does not go with " +
-                                       (s.list ? "--list" : "--all"));
+        fail(ErrorCategory::usage,
+             one->get_name() + " names one part: it does not go with " + (s.list ? "--list" : "--all"));
       }
     }
     if (names->count() > 0 && !s.all) fail(ErrorCategory::usage, "--names goes with --all");
     for (const CLI::Option* choice : {only, skip}) {
       if (choice->count() > 0 && !s.all) fail(ErrorCategory::usage, choice->get_name() + " goes with --all");
     }
-    if (up->count() > 0 && !finding) fail(ErrorCategory::usage, "--up names the parts --list and --all find: it goes with them");
+    if (up->count() > 0 && !finding)
+      fail(ErrorCategory::usage, "--up names the parts --list and --all find: it goes with them");
     if (space->count() > 0 && finding) {
-      fail(ErrorCategory::usage, std::string("--space says what --root, --tip and --axis are in: it does not go with ") +
-                                     (s.list ? "--list" : "--all"));
+      fail(ErrorCategory::usage,
+           std::string("--space says what --root, --tip and --axis are in: it does not go with ") +
+               (s.list ? "--list" : "--all"));
     }
     if (material->count() > 0 && s.list) fail(ErrorCategory::usage, "--material goes with a fit or --all, not --list");
     if (preview->count() > 0 && s.list) {
       fail(ErrorCategory::usage, "--preview draws fitted parts: use it with a fit or --all, not --list");
     }
     if (preview->count() > 0 && s.preview.extension() != ".png") {
-      fail(ErrorCategory::usage, "--preview writes a PNG: its name must end in .png, got '" +
-                                     s.preview.string() + "'");
+      fail(ErrorCategory::usage, "--preview writes a PNG: its name must end in .png, got '" + s.preview.string() + "'");
     }
     if (export_obj->count() > 0) {
-      for (const CLI::Option* other : {list, all, rig, tip, tip_vertex, root, axis, name, material, preview, up, space}) {
+      for (const CLI::Option* other :
+           {list, all, rig, tip, tip_vertex, root, axis, name, material, preview, up, space}) {
         if (other->count() > 0) {
-          fail(ErrorCategory::usage, "--export-obj writes the mesh alone: " + other->get_name() + " does not go with it");
+          fail(ErrorCategory::usage,
+               "--export-obj writes the mesh alone: " + other->get_name() + " does not go with it");
         }
       }
       if (s.export_obj.extension() != ".obj") {
-        fail(ErrorCategory::usage, "--export-obj writes an OBJ: its name must end in .obj, got '" + s.export_obj.string() + "'");
+        fail(ErrorCategory::usage,
+             "--export-obj writes an OBJ: its name must end in .obj, got '" + s.export_obj.string() + "'");
       }
       return run_export(s);
     }
     if (!s.list && rig->count() == 0) fail(ErrorCategory::usage, "-o RIG is required (except with --list)");
     if (s.list && rig->count() > 0) fail(ErrorCategory::usage, "--list writes no rig: drop -o");
     if (!finding && s.axis.empty() && tip->count() == 0 && tip_vertex->count() == 0) {
-      fail(ErrorCategory::usage, "give --tip X,Y,Z or --tip-vertex N (or --axis FILE), or --list "
-                                 "or --all to find the parts");
+      fail(ErrorCategory::usage,
+           "give --tip X,Y,Z or --tip-vertex N (or --axis FILE), or --list "
+           "or --all to find the parts");
     }
     if (s.name.empty()) fail(ErrorCategory::usage, "--name must not be empty");
     if (s.list) return run_list(s);

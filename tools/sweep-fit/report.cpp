@@ -64,9 +64,8 @@ Json fit_entry(const fit::FitResult& r) {
   s["axis_points"] = r.axis.points.size();
   auto& v = s["star_violations"] = Json::array();
   for (const auto& x : r.star_violations) {
-    v.push_back({{"section", x.section},
-                 {"multi_crossing_rays", x.multi_crossing_rays},
-                 {"missed_rays", x.missed_rays}});
+    v.push_back(
+        {{"section", x.section}, {"multi_crossing_rays", x.multi_crossing_rays}, {"missed_rays", x.missed_rays}});
   }
   s["warnings"] = r.warnings;
   s["seconds"] = r.seconds;
@@ -79,9 +78,12 @@ struct NamedUnit {
   const char* words;   // "100 cm = 1 m"
   const char* plural;  // "metres"
 };
-constexpr NamedUnit kNamedUnits[] = {{1, "1 cm", "centimetres"},         {100, "100 cm = 1 m", "metres"},
-                                     {0.1, "0.1 cm = 1 mm", "millimetres"}, {2.54, "2.54 cm, an inch", "inches"},
-                                     {30.48, "30.48 cm, a foot", "feet"},  {100000, "100000 cm = 1 km", "kilometres"}};
+constexpr NamedUnit kNamedUnits[] = {{1, "1 cm", "centimetres"},
+                                     {100, "100 cm = 1 m", "metres"},
+                                     {0.1, "0.1 cm = 1 mm", "millimetres"},
+                                     {2.54, "2.54 cm, an inch", "inches"},
+                                     {30.48, "30.48 cm, a foot", "feet"},
+                                     {100000, "100000 cm = 1 km", "kilometres"}};
 const NamedUnit* named_unit(double cm) {
   for (const NamedUnit& u : kNamedUnits) {
     if (u.cm == cm) return &u;
@@ -119,22 +121,25 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const assets::Scen
   m.unit = read.unit;
   const std::string ext = lower_extension(path);
   if (ext == "gltf" || ext == "glb") {
-    m.space = "the scene's world space: each mesh placed by its node's transforms (glTF units are "
-              "metres)";
+    m.space =
+        "the scene's world space: each mesh placed by its node's transforms (glTF units are "
+        "metres)";
   } else if (ext == "off" || ext == "obj" || ext == "ply" || ext == "stl") {
     m.space = "the file's coordinates as stored (the format states no unit)";
   } else {
     // assimp reads with no post-processing, so no unit scale is applied (measured on FBX files
     // Blender writes: UnitScaleFactor 1 with the coordinates × 100, and 100 with them as they are).
-    m.space = "the scene's world space as assimp reads it: node transforms applied (axis conversion "
-              "included), no unit scale; ";
+    m.space =
+        "the scene's world space as assimp reads it: node transforms applied (axis conversion "
+        "included), no unit scale; ";
     const double cm = read.unit.unit_scale_factor;
     if (cm > 0) {
       m.metres_per_unit = cm / 100;
       m.space += "FBX UnitScaleFactor " + format_number(cm) + " (the file's unit is " + unit_words(cm) +
-                 "): points are in " + (cm == 100 ? std::string("metres") : unit_plural(cm) + " (× " +
-                 format_number(m.metres_per_unit) + " → metres; a material's metres_per_unit " +
-                 format_number(m.metres_per_unit) + ")");
+                 "): points are in " +
+                 (cm == 100 ? std::string("metres")
+                            : unit_plural(cm) + " (× " + format_number(m.metres_per_unit) +
+                                  " → metres; a material's metres_per_unit " + format_number(m.metres_per_unit) + ")");
     } else {
       m.space += "the file states no unit (no UnitScaleFactor)";
     }
@@ -145,9 +150,8 @@ MeshSummary summarize_mesh(const std::filesystem::path& path, const assets::Scen
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m) {
   std::cout << "mesh " << path.string();
   if (!m.name.empty()) std::cout << " " << io::shown_mesh_names(m.name) << " (" << m.taken << ")";
-  std::cout << ": " << m.vertices << " vertices, " << m.faces
-            << " faces, bounding box " << format_point(m.min) << " to " << format_point(m.max)
-            << " (size " << format_point(m.max - m.min) << ")\n"
+  std::cout << ": " << m.vertices << " vertices, " << m.faces << " faces, bounding box " << format_point(m.min)
+            << " to " << format_point(m.max) << " (size " << format_point(m.max - m.min) << ")\n"
             << "  points" << (m.seeds_local ? "" : " (and --tip, --root, --axis)") << " are in " << m.space << "\n";
   if (m.seeds_local) {
     std::cout << "  --tip, --root and --axis are in the mesh's own space (--space local): its node's world "
@@ -168,13 +172,12 @@ std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummar
     if (e.name != m.name) others.push_back(e);
   }
   return path.string() + " holds " + std::to_string(m.meshes.size()) + " meshes; took '" + m.name + "' (" +
-         std::to_string(m.vertices) + " vertices, the largest; --mesh NAME takes another); the others: " +
-         assets::list_scene_meshes(others);
+         std::to_string(m.vertices) +
+         " vertices, the largest; --mesh NAME takes another); the others: " + assets::list_scene_meshes(others);
 }
 
 std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary& summary,
-                            const std::filesystem::path& rig,
-                            const std::vector<fit::FitResult>& fits, bool rig_written,
+                            const std::filesystem::path& rig, const std::vector<fit::FitResult>& fits, bool rig_written,
                             double seconds, const Error* failure) {
   Json rep;
   rep["format"] = "sweep-fit-report";
@@ -195,12 +198,11 @@ std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary
   }
   rep["mesh_summary"]["meshes"] = std::move(meshes);
   // The file's stated unit (FBX), which nothing applies: what a point of the mesh is in metres.
-  rep["mesh_summary"]["unit"] =
-      summary.unit.unit_scale_factor > 0
-          ? Json{{"unit_scale_factor", summary.unit.unit_scale_factor},
-                 {"original_unit_scale_factor", summary.unit.original_unit_scale_factor},
-                 {"metres_per_unit", summary.metres_per_unit}}
-          : Json();
+  rep["mesh_summary"]["unit"] = summary.unit.unit_scale_factor > 0
+                                    ? Json{{"unit_scale_factor", summary.unit.unit_scale_factor},
+                                           {"original_unit_scale_factor", summary.unit.original_unit_scale_factor},
+                                           {"metres_per_unit", summary.metres_per_unit}}
+                                    : Json();
   rep["rig"] = rig.generic_string();
   rep["rig_written"] = rig_written;
   auto& sweeps = rep["sweeps"] = Json::array();
@@ -243,30 +245,28 @@ void write_parts_report(const std::filesystem::path& report, const std::filesyst
 
 void print_fit(const fit::FitResult& r, bool verbose) {
   const double mr = r.mean_radius > 0 ? r.mean_radius : 1.0;
-  std::cout << r.sweep.name << ": " << r.sweep.rest.section_count() << " sections x "
-            << r.sweep.rest.radial_count << " radii, length " << format_number(r.length)
-            << " (along its axis, root section to last), mean radius " << format_number(r.mean_radius) << "\n"
-            << "  root " << format_point(r.root) << (r.root_found ? " (found: " : " (")
-            << r.root_reason << ")\n"
+  std::cout << r.sweep.name << ": " << r.sweep.rest.section_count() << " sections x " << r.sweep.rest.radial_count
+            << " radii, length " << format_number(r.length) << " (along its axis, root section to last), mean radius "
+            << format_number(r.mean_radius) << "\n"
+            << "  root " << format_point(r.root) << (r.root_found ? " (found: " : " (") << r.root_reason << ")\n"
             << (r.tip_cut ? "  tip-side cut at the last section (" + r.tip_cut_reason + ")\n" : "")
             << (r.end_cut ? "  the sweep ends before the part does (" + r.end_cut_reason + ")\n" : "")
-            << "  part: " << r.part_vertices.size() << " vertices, "
-            << format_percent(r.in_range_share()) << " between the end sections; the axis traced "
-            << format_number(r.traced_length) << " (root to the end's cap), the surface distance "
-            << format_number(r.surface_length) << " (root ring to tip)\n"
-            << "  fit: rms " << format_percent(r.error.rms / mr) << ", 90% within "
-            << format_percent(r.error.p90 / mr) << ", max " << format_percent(r.error.max / mr)
-            << " of the mean radius (part to surface); surface to part rms "
-            << format_percent(r.error.surface_rms / mr) << ", 90% within "
-            << format_percent(r.error.surface_p90 / mr) << ", max "
+            << "  part: " << r.part_vertices.size() << " vertices, " << format_percent(r.in_range_share())
+            << " between the end sections; the axis traced " << format_number(r.traced_length)
+            << " (root to the end's cap), the surface distance " << format_number(r.surface_length)
+            << " (root ring to tip)\n"
+            << "  fit: rms " << format_percent(r.error.rms / mr) << ", 90% within " << format_percent(r.error.p90 / mr)
+            << ", max " << format_percent(r.error.max / mr)
+            << " of the mean radius (part to surface); surface to part rms " << format_percent(r.error.surface_rms / mr)
+            << ", 90% within " << format_percent(r.error.surface_p90 / mr) << ", max "
             << format_percent(r.error.surface_max / mr) << "\n";
   if (verbose) {
-    std::cout << "  axis: " << r.axis.points.size() << " points, ending "
-              << format_number(r.tip_gap / mr) << " mean radii from tip vertex " << r.tip_vertex
-              << " (" << (r.axis.end_reason.empty() ? "the axis given" : r.axis.end_reason)
-              << "); " << r.error.beyond_ends_count << " part vertices beyond the end sections, "
-              << r.error.protrusion_count << " in protrusions carried along (more than "
-              << format_number(kPartReachRadii) << " radii from the axis)\n";
+    std::cout << "  axis: " << r.axis.points.size() << " points, ending " << format_number(r.tip_gap / mr)
+              << " mean radii from tip vertex " << r.tip_vertex << " ("
+              << (r.axis.end_reason.empty() ? "the axis given" : r.axis.end_reason) << "); "
+              << r.error.beyond_ends_count << " part vertices beyond the end sections, " << r.error.protrusion_count
+              << " in protrusions carried along (more than " << format_number(kPartReachRadii)
+              << " radii from the axis)\n";
   }
 }
 
@@ -275,8 +275,7 @@ std::string no_parts_found(std::size_t hole_edges) {
   if (hole_edges > 0) {
     m += " (the mesh is open: " + std::to_string(hole_edges) +
          " edges rim holes the search left open — it patches a hole of up to " +
-         std::to_string(fit::kMaxTriangulatedRim) + " edges round and " +
-         format_percent(fit::kMaxPatchedHoleShare) +
+         std::to_string(fit::kMaxTriangulatedRim) + " edges round and " + format_percent(fit::kMaxPatchedHoleShare) +
          " of the mesh's size across — and a ring of surface distance that runs into one measures "
          "no tube, so such holes can hide a part; fill them first)";
   }
@@ -288,20 +287,21 @@ void print_parts(const std::vector<fit::FoundPart>& parts, std::size_t hole_edge
     std::cout << no_parts_found(hole_edges) << "\n";
     return;
   }
-  std::printf("%-8s %8s  %-28s %-28s %10s %10s %8s\n", "name", "tip", "tip at", "root at",
-              "length", "radius", "vertices");
+  std::printf("%-8s %8s  %-28s %-28s %10s %10s %8s\n", "name", "tip", "tip at", "root at", "length", "radius",
+              "vertices");
   for (const fit::FoundPart& p : parts) {
     const std::string tip = format_point(p.tip, 4), root = format_point(p.root, 4);
-    std::printf("%-8s %8u  %-28s %-28s %10.4g %10.4g %8zu\n", p.name.c_str(), p.tip_vertex,
-                tip.c_str(), root.c_str(), p.length, p.mean_radius, p.vertex_count);
+    std::printf("%-8s %8u  %-28s %-28s %10.4g %10.4g %8zu\n", p.name.c_str(), p.tip_vertex, tip.c_str(), root.c_str(),
+                p.length, p.mean_radius, p.vertex_count);
   }
   // Parts found on an open mesh (a tube whose ends are open rims) are measured up to the rims: say
   // that the mesh is open, as when no part is found.
   if (hole_edges > 0) {
-    std::printf("the mesh is open: %zu edges rim holes the search left open (a hole of up to %d edges "
-                "round and %s of the mesh's size across is patched); a part that ends at one ends at "
-                "its rim\n",
-                hole_edges, static_cast<int>(fit::kMaxTriangulatedRim), format_percent(fit::kMaxPatchedHoleShare).c_str());
+    std::printf(
+        "the mesh is open: %zu edges rim holes the search left open (a hole of up to %d edges "
+        "round and %s of the mesh's size across is patched); a part that ends at one ends at "
+        "its rim\n",
+        hole_edges, static_cast<int>(fit::kMaxTriangulatedRim), format_percent(fit::kMaxPatchedHoleShare).c_str());
   }
   std::fflush(stdout);
 }

@@ -25,9 +25,9 @@ struct MeshSummary {
   std::string name;   // the mesh taken ("" = the whole file, or a format of one nameless mesh)
   std::string taken;  // why: "named by --mesh", "the rig's", "the only one", "the largest", "the whole file"
   std::vector<assets::SceneMeshEntry> meshes;  // all the file's meshes (empty: a format without names)
-  assets::MeshUnit unit;        // the unit the file states (FBX UnitScaleFactor), applied by nothing
-  double metres_per_unit = 0;  // what that unit is in metres (0: the file states none)
-  bool seeds_local = false;    // --space local: --root, --tip and --axis in the mesh's own space
+  assets::MeshUnit unit;                       // the unit the file states (FBX UnitScaleFactor), applied by nothing
+  double metres_per_unit = 0;                  // what that unit is in metres (0: the file states none)
+  bool seeds_local = false;                    // --space local: --root, --tip and --axis in the mesh's own space
 };
 MeshSummary summarize_mesh(const std::filesystem::path& path, const assets::SceneMesh& read, const std::string& taken);
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m);
@@ -40,8 +40,7 @@ std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummar
 // message and exit code), `fits` then holding what was fitted before it and, for a FitFailure,
 // the fit as far as it got. Format "sweep-fit-report", version 2 (docs/tools.md: sweep-fit's report).
 std::string fit_report_text(const std::filesystem::path& mesh, const MeshSummary& summary,
-                            const std::filesystem::path& rig,
-                            const std::vector<fit::FitResult>& fits, bool rig_written,
+                            const std::filesystem::path& rig, const std::vector<fit::FitResult>& fits, bool rig_written,
                             double seconds, const Error* failure = nullptr);
 
 // The parts found: format "sweep-fit-parts", version 1; "up" the direction the names went by and why.

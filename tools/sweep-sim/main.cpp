@@ -9,30 +9,30 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "sweep/assets/assimp_skin.h"
 #include "sweep/assets/bake.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/assets/gltf_motion.h"
-#include "sweep/assets/assimp_skin.h"
-#include "sweep/assets/skinned_clip.h"
 #include "sweep/assets/mesh_io.h"
+#include "sweep/assets/skinned_clip.h"
 #include "sweep/core/limits.h"
 #include "sweep/core/text.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/interrupt.h"
-#include "tools/common/path_checks.h"
 #include "sweep/io/rig_json.h"
 #include "sweep/io/scene_json.h"
 #include "sweep/sim/contact.h"
 #include "sweep/sim/scene.h"
 #include "tools/common/body_proxy.h"
 #include "tools/common/cli_checks.h"
+#include "tools/common/path_checks.h"
 #include "tools/common/tool_main.h"
 #include "tools/sweep-sim/progress.h"
 
@@ -61,9 +61,9 @@ struct Settings {
   std::string max_output_text;         // --max-output-size as given (checked by read_byte_size)
   int joints = 0;                      // --joints: skinned .glb with this many joints a sweep; 0 = morph targets
   bool joints_given = false;
-  std::string joints_text;             // --joints as given: "" alone (the default, see run)
+  std::string joints_text;                              // --joints as given: "" alone (the default, see run)
   int ring_joints = sweep::assets::kDefaultRingJoints;  // --ring-joints: ring joints a station (1: none)
-  bool ring_fit = false;                            // --ring-fit: least-squares ring keys
+  bool ring_fit = false;                                // --ring-fit: least-squares ring keys
   bool ring_given = false;
 };
 
@@ -155,13 +155,12 @@ int run(Settings s) {
   const sweep::Rig rig = sweep::io::read_rig(s.rig, sweep::tools::warn);
   const fs::path mesh_path = sweep::io::resolve_mesh_path(s.rig, rig);
   // The rig's mesh of that file (the whole file for a rig that names none).
-  const sweep::assets::SceneMesh read = sweep::assets::read_scene_mesh(mesh_path, rig.mesh_name, sweep::assets::MeshPick::whole_file);
+  const sweep::assets::SceneMesh read =
+      sweep::assets::read_scene_mesh(mesh_path, rig.mesh_name, sweep::assets::MeshPick::whole_file);
   const sweep::Mesh& mesh = read.mesh;
-  const fs::path binding_path =
-      s.binding.empty() ? sweep::io::default_binding_path(s.rig) : s.binding;
+  const fs::path binding_path = s.binding.empty() ? sweep::io::default_binding_path(s.rig) : s.binding;
   const sweep::bind::Binding binding = sweep::io::load_binding(binding_path, mesh, rig);
-  sweep::sim::Scene scene =
-      sweep::io::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
+  sweep::sim::Scene scene = sweep::io::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
   // A skinned mesh plays its clip (assets/skinned_clip.h); any other follows one node rigidly.
   std::optional<sweep::assets::SkinnedClip> skinned;
   if (!scene.body_node.empty()) {
@@ -175,18 +174,22 @@ int run(Settings s) {
       }
     } else {
       if (scene.body_loop || scene.body_preroll > 0)
-        sweep::fail(sweep::ErrorCategory::bad_input,
-                    mesh_path.string() + ": the scene's body \"loop\" and \"preroll\" play a skinned mesh's clip, and this mesh is not skinned");
+        sweep::fail(
+            sweep::ErrorCategory::bad_input,
+            mesh_path.string() +
+                ": the scene's body \"loop\" and \"preroll\" play a skinned mesh's clip, and this mesh is not skinned");
       scene.body = sweep::assets::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
     }
   }
   if (s.ring_given && !s.joints_given && !(skinned && !s.morph)) {
-    sweep::fail(sweep::ErrorCategory::usage, "--ring-joints: lays out the joints of --joints or of a skinned clip's .glb, and neither is asked for");
+    sweep::fail(sweep::ErrorCategory::usage,
+                "--ring-joints: lays out the joints of --joints or of a skinned clip's .glb, and neither is asked for");
   }
   // A skinned clip's .glb is by default its character with the parts' joints added to its
   // skeleton, laid out as --joints alone lays them out; --morph keeps the morph targets.
-  if (skinned && !s.morph && !s.joints_given &&
-      std::any_of(s.outputs.begin(), s.outputs.end(), [](const fs::path& o) { return sweep::lower_extension(o) == "glb"; })) {
+  if (skinned && !s.morph && !s.joints_given && std::any_of(s.outputs.begin(), s.outputs.end(), [](const fs::path& o) {
+        return sweep::lower_extension(o) == "glb";
+      })) {
     s.joints_given = true;
     s.joints_text.clear();
   }
@@ -204,16 +207,17 @@ int run(Settings s) {
     }
     if (fewest != nullptr) {
       sweep::io::note("--joints: " + std::to_string(s.joints) + " joints a sweep, not " +
-                      std::to_string(sweep::assets::kDefaultSkinJoints) + ": sweep \"" + fewest->name +
-                      "\" has " + std::to_string(s.joints) + " stations");
+                      std::to_string(sweep::assets::kDefaultSkinJoints) + ": sweep \"" + fewest->name + "\" has " +
+                      std::to_string(s.joints) + " stations");
     }
   }
   if (scene.body_collider.spheres > 0) {
     const sweep::tools::BodyProxy proxy =
         sweep::tools::body_proxy(mesh, rig, binding, scene.body_collider, scene.contact_stations);
     if (proxy.colliders.empty())
-      sweep::tools::warn("body_collider: no sphere fits in the body (is the mesh closed, and not all "
-                         "parts?): none is used");
+      sweep::tools::warn(
+          "body_collider: no sphere fits in the body (is the mesh closed, and not all "
+          "parts?): none is used");
     scene.colliders.insert(scene.colliders.end(), proxy.colliders.begin(), proxy.colliders.end());
     if (!proxy.colliders.empty())
       sweep::io::note("body collider: " + std::to_string(proxy.colliders.size()) + " spheres, covering " +
@@ -222,14 +226,13 @@ int run(Settings s) {
   }
   {
     const sweep::sim::BodyState b = scene.body.at(0);
-    for (const std::string& m : sweep::sim::rest_pose_overlaps(rig, scene.colliders, {b.rotation, b.translation},
-                                                               scene.contact_stations))
+    for (const std::string& m :
+         sweep::sim::rest_pose_overlaps(rig, scene.colliders, {b.rotation, b.translation}, scene.contact_stations))
       sweep::tools::warn(m);
   }
   if (!s.integrator.empty() && !sweep::parse_integrator(s.integrator, &scene.integrator)) {
-    sweep::fail(
-        sweep::ErrorCategory::usage,
-        "--integrator: expected exact, semi-implicit-euler or rk4, got \"" + s.integrator + "\"");
+    sweep::fail(sweep::ErrorCategory::usage,
+                "--integrator: expected exact, semi-implicit-euler or rk4, got \"" + s.integrator + "\"");
   }
   if (s.substeps > 0 && s.step > 0)
     sweep::fail(sweep::ErrorCategory::usage, "--step and --substeps: give one or the other");
@@ -246,11 +249,8 @@ int run(Settings s) {
     }
   }
   if (!s.report.empty()) outputs.push_back({"--report", s.report});
-  sweep::tools::check_paths({{"the rig", s.rig},
-                          {"the mesh", mesh_path},
-                          {"the binding", binding_path},
-                          {"the scene", s.scene}},
-                         outputs);
+  sweep::tools::check_paths(
+      {{"the rig", s.rig}, {"the mesh", mesh_path}, {"the binding", binding_path}, {"the scene", s.scene}}, outputs);
   // Every output is checked before any is written: a report that cannot be written is found
   // before the bake is, so a failure leaves nothing behind.
   for (const fs::path& out : s.outputs) sweep::io::check_can_create(out);
@@ -287,30 +287,28 @@ int run(Settings s) {
 
   if (!s.quiet) {
     using sweep::format_number;
-    std::cout << "baked " << report.frames << " frames ("
-              << format_number((report.frames - 1) / report.fps, 3) << " s at "
-              << format_number(report.fps) << " fps, step " << format_number(report.step_seconds, 3)
+    std::cout << "baked " << report.frames << " frames (" << format_number((report.frames - 1) / report.fps, 3)
+              << " s at " << format_number(report.fps) << " fps, step " << format_number(report.step_seconds, 3)
               << " s) in " << format_number(total, 3) << " s: simulate "
               << format_number(report.simulate_seconds * 1e3, 3) << " ms, deform "
               << format_number(report.deform_seconds * 1e3, 3) << " ms, write "
               << format_number(report.write_seconds * 1e3, 3) << " ms\n";
     for (const auto& st : report.sweeps) {
-      std::cout << "  " << st.name << std::string(st.name.size() < 12 ? 12 - st.name.size() : 0, ' ')
-                << " " << (st.driven ? "driven" : "no force reaches it: skipped") << ", "
-                << st.steps << " steps, deformed in " << st.frames_deformed << " frames, "
-                << st.bound_vertex_count << " vertices\n";
+      std::cout << "  " << st.name << std::string(st.name.size() < 12 ? 12 - st.name.size() : 0, ' ') << " "
+                << (st.driven ? "driven" : "no force reaches it: skipped") << ", " << st.steps << " steps, deformed in "
+                << st.frames_deformed << " frames, " << st.bound_vertex_count << " vertices\n";
     }
     std::cout << "largest edge stretch " << format_number(report.max_stretch.ratio, 4) << "x";
     if (report.max_stretch.found) {
       std::cout << " (edge " << report.max_stretch.a << "-" << report.max_stretch.b << ", frame "
-                << report.max_stretch_frame << " at t = "
-                << format_number(report.max_stretch_frame / report.fps, 3) << " s)";
+                << report.max_stretch_frame << " at t = " << format_number(report.max_stretch_frame / report.fps, 3)
+                << " s)";
     }
     std::cout << " over " << report.stretch_edge_count << " edges, measured in "
               << format_number(report.stretch_seconds * 1e3, 3) << " ms\n";
     if (report.skin_joints > 0 && report.skin_in_character) {
-      std::cout << "skinned .glb: " << report.skin_joints << " joints added to the character's skeleton ("
-                << s.joints << " a part";
+      std::cout << "skinned .glb: " << report.skin_joints << " joints added to the character's skeleton (" << s.joints
+                << " a part";
       if (s.ring_joints > 1) std::cout << ", " << s.ring_joints << " around each station but the root";
       std::cout << "); against the bake: max " << format_number(report.skin_error.max_relative * 100, 3)
                 << " % of the part's length (frame " << report.skin_error.max_frame << ", vertex "
@@ -319,10 +317,10 @@ int run(Settings s) {
     } else if (report.skin_joints > 0) {
       std::cout << "skinned .glb: " << report.skin_joints << " joints (" << s.joints << " a sweep";
       if (s.ring_joints > 1) std::cout << ", " << s.ring_joints << " around each but the root";
-      std::cout << ", and the body); against the bake: max "
-                << format_number(report.skin_error.max_relative * 100, 3) << " % of the part's length (frame "
-                << report.skin_error.max_frame << ", vertex " << report.skin_error.max_vertex << "), RMS "
-                << format_number(report.skin_error.rms_relative * 100, 3) << " %\n";
+      std::cout << ", and the body); against the bake: max " << format_number(report.skin_error.max_relative * 100, 3)
+                << " % of the part's length (frame " << report.skin_error.max_frame << ", vertex "
+                << report.skin_error.max_vertex << "), RMS " << format_number(report.skin_error.rms_relative * 100, 3)
+                << " %\n";
     }
     for (const double t : report.teleport_times) {
       std::cout << "  the body jumped at t = " << format_number(t)
@@ -350,8 +348,7 @@ int run(Settings s) {
 int main(int argc, char** argv) {
   return sweep::tools::guarded_main([&] {
     Settings s;
-    CLI::App app{"Simulate a scene's forces on a rig and bake the animation of its mesh",
-                 "sweep-sim"};
+    CLI::App app{"Simulate a scene's forces on a rig and bake the animation of its mesh", "sweep-sim"};
     app.set_version_flag("--version", std::string("sweep-sim ") + SWEEP_VERSION);
     app.add_option("rig", s.rig, "Rig file (from sweep-fit)")->required();
     app.add_option("-o,--output", s.outputs,
@@ -376,37 +373,33 @@ int main(int argc, char** argv) {
               return sweep::tools::read_byte_size(text, why) ? std::string() : why;
             },
             "SIZE", "BYTES"));
-    app.add_option("--report", s.report,
-                   "Write a JSON report: frames, per-frame displacement, timings")
+    app.add_option("--report", s.report, "Write a JSON report: frames, per-frame displacement, timings")
         ->check(sweep::tools::kNonEmptyName);
-    app.add_option("--integrator", s.integrator,
-                   "Override the scene's integrator: exact, semi-implicit-euler, rk4");
+    app.add_option("--integrator", s.integrator, "Override the scene's integrator: exact, semi-implicit-euler, rk4");
     app.add_option("--substeps", s.substeps, "Override the scene's internal steps per frame")
         ->check(CLI::Range(1, 100000));
-    app.add_option("--step", s.step,
-                   "Override the scene's internal step, seconds (independent of the frame rate)")
+    app.add_option("--step", s.step, "Override the scene's internal step, seconds (independent of the frame rate)")
         ->check(sweep::tools::finite_range(sweep::limits::kMinStep, sweep::limits::kMaxStep));
     app.add_option("--threads", s.threads, "Threads for stepping and deforming (default: all cores)")
         ->check(CLI::Range(1, 1024));
-    app.add_option("--stations", s.stations,
-                   "Fast path: stations per span (error falls as its square)")
+    app.add_option("--stations", s.stations, "Fast path: stations per span (error falls as its square)")
         ->check(CLI::Range(1, 1024));
-    auto* joints = app.add_option(
-                           "--joints", s.joints_text,
-                           "Write each .glb as a skinned mesh instead of morph targets: N joints along "
-                           "each sweep (2 to 255, at most the sweep's stations; --joints alone, last or "
-                           "before another option: " +
-                               std::to_string(sweep::assets::kDefaultSkinJoints) +
-                               " or the fewest stations of any sweep where that is fewer, with --ring-joints " +
-                               std::to_string(sweep::assets::kDefaultRingJoints) +
-                               " by default, within 1 % of the length on the demo's scene); the summary "
-                               "and report give its error against the bake")
+    auto* joints = app.add_option("--joints", s.joints_text,
+                                  "Write each .glb as a skinned mesh instead of morph targets: N joints along "
+                                  "each sweep (2 to 255, at most the sweep's stations; --joints alone, last or "
+                                  "before another option: " +
+                                      std::to_string(sweep::assets::kDefaultSkinJoints) +
+                                      " or the fewest stations of any sweep where that is fewer, with --ring-joints " +
+                                      std::to_string(sweep::assets::kDefaultRingJoints) +
+                                      " by default, within 1 % of the length on the demo's scene); the summary "
+                                      "and report give its error against the bake")
                        ->expected(0, 1);
-    auto* ring = app.add_option("--ring-joints", s.ring_joints,
-                   "With --joints: M joints around each station but the root, carrying the radial "
-                   "change at their angles (1 to 64; 1: none, each station joint scales its whole "
-                   "section; default " + std::to_string(sweep::assets::kDefaultRingJoints) +
-                   "); also for a skinned clip's .glb");
+    auto* ring =
+        app.add_option("--ring-joints", s.ring_joints,
+                       "With --joints: M joints around each station but the root, carrying the radial "
+                       "change at their angles (1 to 64; 1: none, each station joint scales its whole "
+                       "section; default " +
+                           std::to_string(sweep::assets::kDefaultRingJoints) + "); also for a skinned clip's .glb");
     app.add_flag("--ring-fit", s.ring_fit,
                  "With --joints: fit the ring joints' keys by least squares over the vertices they "
                  "weigh (less error; every ring joint is keyed, a larger file)")
@@ -419,11 +412,9 @@ int main(int argc, char** argv) {
                  "When the scene's body plays a skinned glTF mesh's clip: .pc2 and .obj frames hold "
                  "each vertex before skinning, in the mesh's bind space (the parts' motion alone), "
                  "for a Mesh Cache modifier above the Armature modifier in Blender");
-    app.add_flag("--exact", s.exact,
-                 "Deform with the exact per-vertex path (the reference; slower)");
+    app.add_flag("--exact", s.exact, "Deform with the exact per-vertex path (the reference; slower)");
     app.add_flag(
-        "--no-sleep", [&](std::int64_t) { s.sleep = false; },
-        "Keep stepping sweeps whose motion has died out");
+        "--no-sleep", [&](std::int64_t) { s.sleep = false; }, "Keep stepping sweeps whose motion has died out");
     app.add_flag("-q,--quiet", s.quiet, "No summary and no progress bar");
     if (const auto stop = sweep::tools::parse_command_line(app, argc, argv)) return *stop;
     if (s.quiet) sweep::io::set_note_sink(nullptr);

@@ -51,20 +51,15 @@ double max_shape_factor(const TubeParams& p) {
 }  // namespace
 
 void check_params(const TubeParams& p) {
-  if (!(p.length > 0) || !std::isfinite(p.length))
-    usage("--length must be positive (got " + num(p.length) + ")");
-  if (!(p.radius > 0) || !std::isfinite(p.radius))
-    usage("--radius must be positive (got " + num(p.radius) + ")");
-  if (!(p.taper > 0) || !std::isfinite(p.taper))
-    usage("--taper must be positive (got " + num(p.taper) + ")");
+  if (!(p.length > 0) || !std::isfinite(p.length)) usage("--length must be positive (got " + num(p.length) + ")");
+  if (!(p.radius > 0) || !std::isfinite(p.radius)) usage("--radius must be positive (got " + num(p.radius) + ")");
+  if (!(p.taper > 0) || !std::isfinite(p.taper)) usage("--taper must be positive (got " + num(p.taper) + ")");
   if (!(std::abs(p.bend) <= 2 * std::numbers::pi)) {
     usage("--bend must be between -2pi and 2pi radians (got " + num(p.bend) + ")");
   }
   if (p.rings < 2) usage("--rings must be at least 2 (got " + std::to_string(p.rings) + ")");
-  if (p.segments < 3)
-    usage("--segments must be at least 3 (got " + std::to_string(p.segments) + ")");
-  if (p.shape == CrossSection::ellipse &&
-      (!(p.ellipse_ratio > 0) || !std::isfinite(p.ellipse_ratio))) {
+  if (p.segments < 3) usage("--segments must be at least 3 (got " + std::to_string(p.segments) + ")");
+  if (p.shape == CrossSection::ellipse && (!(p.ellipse_ratio > 0) || !std::isfinite(p.ellipse_ratio))) {
     usage("--ellipse-ratio must be positive (got " + num(p.ellipse_ratio) + ")");
   }
   if (p.shape == CrossSection::lobed) {
@@ -79,9 +74,8 @@ void check_params(const TubeParams& p) {
     const double widest = p.radius * std::max(1.0, p.taper) * max_shape_factor(p);
     const double curvature_radius = p.length / std::abs(p.bend);
     if (widest >= curvature_radius) {
-      usage("--bend " + num(p.bend) + " over --length " + num(p.length) +
-            " curves the axis with radius " + num(curvature_radius) +
-            ", no larger than the tube's widest section " + num(widest) +
+      usage("--bend " + num(p.bend) + " over --length " + num(p.length) + " curves the axis with radius " +
+            num(curvature_radius) + ", no larger than the tube's widest section " + num(widest) +
             ": the tube would fold through itself");
     }
   }
@@ -121,13 +115,11 @@ double tube_segment_theta(const TubeParams& p, int segment) {
 }
 
 std::size_t tube_vertex_count(const TubeParams& p) {
-  return static_cast<std::size_t>(p.rings) * static_cast<std::size_t>(p.segments) +
-         (p.caps ? 2 : 0);
+  return static_cast<std::size_t>(p.rings) * static_cast<std::size_t>(p.segments) + (p.caps ? 2 : 0);
 }
 
 std::size_t tube_face_count(const TubeParams& p) {
-  const std::size_t side =
-      static_cast<std::size_t>(p.rings - 1) * static_cast<std::size_t>(p.segments);
+  const std::size_t side = static_cast<std::size_t>(p.rings - 1) * static_cast<std::size_t>(p.segments);
   return side * (p.triangulate ? 2 : 1) + (p.caps ? 2 * static_cast<std::size_t>(p.segments) : 0);
 }
 
@@ -160,8 +152,7 @@ Mesh make_tube(const TubeParams& p) {
     mesh.positions.push_back(tube_axis_point(p, p.length));
     const std::uint32_t tip = root + 1;
     for (std::uint32_t j = 0; j < n; ++j) mesh.add_face({root, at(0, j + 1), at(0, j)});
-    for (std::uint32_t j = 0; j < n; ++j)
-      mesh.add_face({tip, at(p.rings - 1, j), at(p.rings - 1, j + 1)});
+    for (std::uint32_t j = 0; j < n; ++j) mesh.add_face({tip, at(p.rings - 1, j), at(p.rings - 1, j + 1)});
   }
   return mesh;
 }

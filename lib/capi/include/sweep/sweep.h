@@ -42,8 +42,8 @@ enum {
   SWEEP_ERROR_BAD_INPUT = 2,   /* a file is missing, unreadable, malformed or does not match */
   SWEEP_ERROR_UNSUPPORTED = 3, /* valid input this version cannot handle */
   SWEEP_ERROR_OUTPUT = 4,
-  SWEEP_ERROR_DIVERGED = 5,    /* the simulation diverged (explicit integrators) */
-  SWEEP_ERROR_INTERNAL = 6     /* a bug, or out of memory */
+  SWEEP_ERROR_DIVERGED = 5, /* the simulation diverged (explicit integrators) */
+  SWEEP_ERROR_INTERNAL = 6  /* a bug, or out of memory */
 };
 
 typedef struct sweep_instance sweep_instance;
