@@ -12,6 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "sweep/assets/assimp_placement.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/error.h"
 #include "sweep/core/fp_environment.h"
@@ -27,31 +28,10 @@ using Mat4 = Eigen::Matrix4d;
   fail(category, file.string() + ": " + what);
 }
 
-Mat4 to_mat(const aiMatrix4x4& m) {
-  Mat4 t;
-  t << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
-  return t;
-}
-
-// A vertex placed in world space exactly as the mesh reader places it (mesh_import.cpp), so that
-// the positions compare bit for bit.
-Vec3 placed(const Mat4& t, const aiVector3D& v) {
-  if (t.isIdentity(0.0)) return Vec3(v.x, v.y, v.z);
-  const Eigen::Vector4d h = t * Eigen::Vector4d(v.x, v.y, v.z, 1.0);
-  return h.head<3>();
-}
-
-using PositionKey = std::array<std::uint64_t, 3>;
-PositionKey key_of(const Vec3& p) {
-  PositionKey key;
-  for (int k = 0; k < 3; ++k) key[k] = std::bit_cast<std::uint64_t>(p[k] == 0.0 ? 0.0 : p[k]);
-  return key;
-}
-struct PositionKeyHash {
-  std::size_t operator()(const PositionKey& k) const {
-    return static_cast<std::size_t>((k[0] * 0x9E3779B97F4A7C15ull) ^ (k[1] * 0xC2B2AE3D27D4EB4Full) ^ k[2]);
-  }
-};
+using detail::key_of;
+using detail::PositionKey;
+using detail::PositionKeyHash;
+using detail::to_transform;
 
 // The node tree, depth first (a node before its children), with each node's world transform at rest.
 struct Tree {
@@ -64,7 +44,7 @@ void collect(const aiNode* n, int parent, const Mat4& parent_world, Tree& tree) 
   SkinNode node;
   node.name = n->mName.C_Str();
   node.parent = parent;
-  node.matrix = to_mat(n->mTransformation);
+  node.matrix = to_transform(n->mTransformation);
   // An animated node's channels replace these (a clip keys all three for every node it moves).
   aiVector3D scale, position;
   aiQuaternion rotation;
@@ -196,7 +176,7 @@ std::optional<SkinModel> read_assimp_skin(const std::filesystem::path& file, std
       const int node = find_node(tree, bone->mName.C_Str());
       if (node < 0)
         refuse(file, "mesh '" + std::string(am->mName.C_Str()) + "': bone '" + bone->mName.C_Str() + "' names no node");
-      const Mat4 offset = to_mat(bone->mOffsetMatrix);
+      const Mat4 offset = to_transform(bone->mOffsetMatrix);
       const double det = offset.topLeftCorner<3, 3>().determinant();
       if (!offset.allFinite() || !(std::abs(det) > 1e-12) ||
           (offset.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6) {
@@ -222,7 +202,7 @@ std::optional<SkinModel> read_assimp_skin(const std::filesystem::path& file, std
     }
     const Mat4& world = tree.world[static_cast<std::size_t>(node_of[m])];
     for (unsigned v = 0; v < am->mNumVertices; ++v) {
-      corners[key_of(placed(world, am->mVertices[v]))].push_back(
+      corners[key_of(detail::apply(world, am->mVertices[v]))].push_back(
           {node_of[m], Vec3(am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z), std::move(influences[v])});
     }
   }

@@ -24,6 +24,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "sweep/assets/assimp_placement.h"
 #include "sweep/assets/gltf_document.h"
 #include "sweep/assets/mesh_checks.h"
 #include "sweep/assets/mesh_io.h"
@@ -74,13 +75,12 @@ void check_input_file(const fs::path& path) {
 
 // ---- assimp: PLY, glTF/glb (kept as stored) and everything else (welded) ----
 
-using Transform = Eigen::Matrix4d;
-
-Transform to_transform(const aiMatrix4x4& m) {
-  Transform t;
-  t << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
-  return t;
-}
+using detail::apply;
+using detail::key_of;
+using detail::PositionKey;
+using detail::PositionKeyHash;
+using detail::to_transform;
+using detail::Transform;
 
 // World transform of each mesh: that of the first node referring to it in depth-first order
 // (identity when no node does). Instances (one mesh under several nodes) are not duplicated.
@@ -162,30 +162,6 @@ std::vector<Placed> placed_of(const NodeMeshes& node) {
   std::vector<Placed> placed;
   for (const unsigned m : node.parts) placed.push_back({m, node.world});
   return placed;
-}
-
-Vec3 apply(const Transform& t, const aiVector3D& v) {
-  if (t.isIdentity(0.0)) return Vec3(v.x, v.y, v.z);  // exact: no arithmetic at all
-  const Eigen::Vector4d h = t * Eigen::Vector4d(v.x, v.y, v.z, 1.0);
-  return h.head<3>();
-}
-
-// Key for welding by exact position: the bit patterns, with -0 and +0 counted as one.
-struct PositionKey {
-  std::array<std::uint64_t, 3> bits;
-  bool operator==(const PositionKey&) const = default;
-};
-struct PositionKeyHash {
-  std::size_t operator()(const PositionKey& k) const {
-    std::uint64_t h = kFnvOffset;  // FNV-1a's constants, a 64-bit word at a time: a table key, not a file's hash
-    for (std::uint64_t b : k.bits) h = (h ^ b) * kFnvPrime;
-    return static_cast<std::size_t>(h ^ (h >> 29));
-  }
-};
-PositionKey key_of(const Vec3& p) {
-  PositionKey key;
-  for (int k = 0; k < 3; ++k) key.bits[k] = std::bit_cast<std::uint64_t>(p[k] == 0.0 ? 0.0 : p[k]);
-  return key;
 }
 
 // `bytes` given: the file's content already in memory (PLY, read from there so that a byte order
