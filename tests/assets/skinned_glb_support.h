@@ -199,6 +199,47 @@ inline int find_animation(const tinygltf::Model& m, const std::string& name) {
   return -1;
 }
 
+// Every node's rest translation, rotation and scale (the file's, or glTF's defaults).
+struct NodePoses {
+  std::vector<Vec3> t, s;
+  std::vector<Quat> r;
+};
+inline NodePoses rest_poses(const tinygltf::Model& m) {
+  const std::size_t nodes = m.nodes.size();
+  NodePoses p{std::vector<Vec3>(nodes, Vec3::Zero()), std::vector<Vec3>(nodes, Vec3::Ones()),
+              std::vector<Quat>(nodes, Quat::Identity())};
+  for (std::size_t n = 0; n < nodes; ++n) {
+    const tinygltf::Node& node = m.nodes[n];
+    if (node.translation.size() == 3) p.t[n] = Vec3(node.translation[0], node.translation[1], node.translation[2]);
+    if (node.rotation.size() == 4)
+      p.r[n] = Quat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+    if (node.scale.size() == 3) p.s[n] = Vec3(node.scale[0], node.scale[1], node.scale[2]);
+  }
+  return p;
+}
+// The first skin's joint matrices, World(joint) · inverse bind matrix, with the nodes posed so.
+inline std::vector<Mat4> skin_joint_matrices(const tinygltf::Model& m, const NodePoses& pose) {
+  const std::size_t nodes = m.nodes.size();
+  std::vector<int> parent(nodes, -1);
+  for (std::size_t n = 0; n < nodes; ++n)
+    for (int c : m.nodes[n].children) parent[static_cast<std::size_t>(c)] = static_cast<int>(n);
+  std::function<Mat4(int)> world = [&](int n) -> Mat4 {
+    Mat4 local = Mat4::Identity();
+    local.topLeftCorner<3, 3>() = pose.r[n].normalized().toRotationMatrix() * pose.s[n].asDiagonal();
+    local.topRightCorner<3, 1>() = pose.t[n];
+    return parent[n] < 0 ? local : Mat4(world(parent[n]) * local);
+  };
+  const tinygltf::Skin& skin = m.skins[0];
+  const std::vector<double> ibm = numbers(m, skin.inverseBindMatrices);
+  std::vector<Mat4> joint;
+  for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+    Mat4 inverse;
+    for (int e = 0; e < 16; ++e) inverse(e % 4, e / 4) = ibm[16 * j + e];
+    joint.push_back(world(skin.joints[j]) * inverse);
+  }
+  return joint;
+}
+
 // The file played as an engine plays animation `animation` at its key k (every channel keyed at
 // the same times): each node's local transform from its key, else its own; the mesh's morph
 // weights from its key; then morph targets added to POSITION and NORMAL, and linear blend
@@ -210,16 +251,10 @@ struct Shown {
 };
 inline Shown played(const tinygltf::Model& m, int animation, std::size_t k, bool morph = true,
                     const std::vector<double>* base = nullptr) {
-  const std::size_t nodes = m.nodes.size();
-  std::vector<Vec3> t(nodes, Vec3::Zero()), s(nodes, Vec3::Ones());
-  std::vector<Quat> r(nodes, Quat::Identity());
-  for (std::size_t n = 0; n < nodes; ++n) {
-    const tinygltf::Node& node = m.nodes[n];
-    EXPECT_TRUE(node.matrix.empty());
-    if (node.translation.size() == 3) t[n] = Vec3(node.translation[0], node.translation[1], node.translation[2]);
-    if (node.rotation.size() == 4) r[n] = Quat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
-    if (node.scale.size() == 3) s[n] = Vec3(node.scale[0], node.scale[1], node.scale[2]);
-  }
+  for (const tinygltf::Node& node : m.nodes) EXPECT_TRUE(node.matrix.empty());
+  NodePoses pose = rest_poses(m);
+  std::vector<Vec3>&t = pose.t, &s = pose.s;
+  std::vector<Quat>& r = pose.r;
   const tinygltf::Mesh& mesh = m.meshes[0];
   std::vector<double> weights = mesh.weights;
   for (const tinygltf::AnimationChannel& ch : m.animations[static_cast<std::size_t>(animation)].channels) {
@@ -233,23 +268,7 @@ inline Shown played(const tinygltf::Model& m, int animation, std::size_t k, bool
     if (ch.target_path == "weights")
       weights.assign(v.begin() + k * weights.size(), v.begin() + (k + 1) * weights.size());
   }
-  std::vector<int> parent(nodes, -1);
-  for (std::size_t n = 0; n < nodes; ++n)
-    for (int c : m.nodes[n].children) parent[static_cast<std::size_t>(c)] = static_cast<int>(n);
-  std::function<Mat4(int)> world = [&](int n) -> Mat4 {
-    Mat4 local = Mat4::Identity();
-    local.topLeftCorner<3, 3>() = r[n].normalized().toRotationMatrix() * s[n].asDiagonal();
-    local.topRightCorner<3, 1>() = t[n];
-    return parent[n] < 0 ? local : Mat4(world(parent[n]) * local);
-  };
-  const tinygltf::Skin& skin = m.skins[0];
-  const std::vector<double> ibm = numbers(m, skin.inverseBindMatrices);
-  std::vector<Mat4> joint;
-  for (std::size_t j = 0; j < skin.joints.size(); ++j) {
-    Mat4 inverse;
-    for (int e = 0; e < 16; ++e) inverse(e % 4, e / 4) = ibm[16 * j + e];
-    joint.push_back(world(skin.joints[j]) * inverse);
-  }
+  const std::vector<Mat4> joint = skin_joint_matrices(m, pose);
   const tinygltf::Primitive& p = mesh.primitives[0];
   const std::vector<double> position = base != nullptr ? *base : numbers(m, p.attributes.at("POSITION"));
   const std::vector<double> joints = numbers(m, p.attributes.at("JOINTS_0"));

@@ -75,15 +75,9 @@ Eigen::Vector4d sample(const tinygltf::Model& m, const tinygltf::AnimationSample
 // The mesh as clip `animation` shows it at time t: every node's transform sampled, then linear
 // blend skinning with the file's skin, inverse bind matrices, joints and weights.
 std::vector<Vec3> skinned_at(const tinygltf::Model& m, int animation, double t) {
-  const std::size_t nodes = m.nodes.size();
-  std::vector<Vec3> tr(nodes, Vec3::Zero()), sc(nodes, Vec3::Ones());
-  std::vector<Quat> r(nodes, Quat::Identity());
-  for (std::size_t n = 0; n < nodes; ++n) {
-    const tinygltf::Node& node = m.nodes[n];
-    if (node.translation.size() == 3) tr[n] = Vec3(node.translation[0], node.translation[1], node.translation[2]);
-    if (node.rotation.size() == 4) r[n] = Quat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
-    if (node.scale.size() == 3) sc[n] = Vec3(node.scale[0], node.scale[1], node.scale[2]);
-  }
+  NodePoses pose = rest_poses(m);
+  std::vector<Vec3>&tr = pose.t, &sc = pose.s;
+  std::vector<Quat>& r = pose.r;
   const tinygltf::Animation& a = m.animations[static_cast<std::size_t>(animation)];
   for (const tinygltf::AnimationChannel& ch : a.channels) {
     const auto n = static_cast<std::size_t>(ch.target_node);
@@ -96,23 +90,7 @@ std::vector<Vec3> skinned_at(const tinygltf::Model& m, int animation, double t) 
       (ch.target_path == "scale" ? sc[n] : tr[n]) = v.head<3>();
     }
   }
-  std::vector<int> parent(nodes, -1);
-  for (std::size_t n = 0; n < nodes; ++n)
-    for (int c : m.nodes[n].children) parent[static_cast<std::size_t>(c)] = static_cast<int>(n);
-  std::function<Mat4(int)> world = [&](int n) -> Mat4 {
-    Mat4 local = Mat4::Identity();
-    local.topLeftCorner<3, 3>() = r[n].normalized().toRotationMatrix() * sc[n].asDiagonal();
-    local.topRightCorner<3, 1>() = tr[n];
-    return parent[n] < 0 ? local : Mat4(world(parent[n]) * local);
-  };
-  const tinygltf::Skin& skin = m.skins[0];
-  const std::vector<double> ibm = numbers(m, skin.inverseBindMatrices);
-  std::vector<Mat4> joint;
-  for (std::size_t j = 0; j < skin.joints.size(); ++j) {
-    Mat4 inverse;
-    for (int e = 0; e < 16; ++e) inverse(e % 4, e / 4) = ibm[16 * j + e];
-    joint.push_back(world(skin.joints[j]) * inverse);
-  }
+  const std::vector<Mat4> joint = skin_joint_matrices(m, pose);
   const tinygltf::Primitive& p = m.meshes[0].primitives[0];
   const std::vector<double> position = numbers(m, p.attributes.at("POSITION"));
   const std::vector<double> joints = numbers(m, p.attributes.at("JOINTS_0")),
