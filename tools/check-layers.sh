@@ -13,7 +13,7 @@ declare -A allowed=(
   [sim]="core bind sim"
   [io]="core bind sim io"
   [capi]="core bind sim io capi"
-  [assets]="core bind sim io assets"
+  [assets]="core bind sim io fit assets"
   [fit]="core fit"
   [preview]="core preview"
 )

@@ -133,7 +133,6 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       part_rigs.push_back(std::move(r));
       sim::Scene s = scene;
       s.duration = scene.duration + preroll;
-      s.body_node.clear();
       s.body = options.skinned->sweep_path(i, s.duration);
       if (s.teleport_distance == 0) s.teleport_distance = longest;  // as for the whole rig
       s.forces.clear();

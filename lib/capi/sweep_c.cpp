@@ -201,14 +201,6 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     // Settings that give no step take the live one, with the exact integrator (stable at any step).
     if (in->scene.step == 0 && in->scene.substeps == 0 && in->scene.integrator == sweep::Integrator::exact)
       in->scene.step = kLiveStep;
-    if (!in->scene.body_node.empty())
-      fail(ErrorCategory::unsupported, std::string(settings_path) +
-                                           ": a body that follows a glTF node's animation needs the mesh file, which "
-                                           "libsweep does not read; give the body's pose with sweep_set_body");
-    if (in->scene.body_collider.spheres > 0)
-      fail(ErrorCategory::unsupported,
-           std::string(settings_path) +
-               ": \"body_collider\" is fitted to the mesh by the tools; libsweep does not fit it");
     for (std::size_t i = 0; i < in->rig.sweeps.size(); ++i) {
       in->deformers.push_back(
           std::make_unique<sweep::sim::FastDeformer>(in->rig.sweeps[i].rest, binding.sweeps[i], rest));

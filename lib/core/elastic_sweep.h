@@ -110,58 +110,6 @@ class ElasticSweep {
   // axis; a kick along the axis, which the joints cannot take, is left out).
   void apply_body_kick(const Vec3& dv, const Vec3& dw);
 
-  // Contact (sim/contact.h). A contact row is one direction d at a point of the axis (t its arc
-  // length), as the springs see it: J = ∂(d·p)/∂q over the offsets and joint turns of the sections
-  // up to the point (linearised: the point taken between its two sections, which move it), built
-  // on the current pose. Through the rows the solver moves the part as a force held there over the
-  // step would (move_rows: each spring by its inertia and compliance), holds it across the normal
-  // as a static force would (apply_rows: each spring by its compliance 1/k, the least spring energy
-  // for the move) and kicks it as an impulse there would (each spring by its mass, the chain's mass
-  // matrix in material mode).
-  struct ContactRow {
-    int first = 1, last = 0;                     // sections first..last take part
-    std::vector<double> positional, rotational;  // J, index 3·(i − first) + c
-    std::vector<double> modal;                   // material mode: Φᵀ Jᵀ over the joints (per metre)
-  };
-  // Without `with_modal`, only good for row_speed (the modal part is what couplings and kicks need).
-  void contact_row(double t, const Vec3& direction, ContactRow& row, bool with_modal = true) const;
-  // J_a M⁻¹ J_bᵀ (by_mass: the speed along b per N·s of impulse along a; with a == b the point's
-  // mobility) or J_a C J_bᵀ (the move along b per N of force along a).
-  double row_coupling(const ContactRow& a, const ContactRow& b, bool by_mass) const;
-  // Every row_coupling of `rows` at once, by mass and by compliance (n × n), as matrix products
-  // (the other three matrices are scratch).
-  void row_couplings(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr, Eigen::MatrixXd& modal,
-                     Eigen::MatrixXd& by_mass, Eigen::MatrixXd& by_compliance) const;
-  // J C Jᵀ alone (the moves' couplings: rows without their modal part will do).
-  void row_compliances(std::span<const ContactRow> rows, Eigen::MatrixXd& jp, Eigen::MatrixXd& jr,
-                       Eigen::MatrixXd& by_compliance) const;
-  // J q̇: the point's speed along the row's direction, relative to the body.
-  double row_speed(const ContactRow& row) const;
-  // J (q − C f): how far the springs hold the point along the row from where the last step's loads
-  // alone would hold it (mesh units), by the same compliance as row_coupling(…, false): a collider
-  // holding the point there presses it with the force N of J C Jᵀ N = that (a quasi-static read).
-  double row_strain(const ContactRow& row) const;
-  // Kicks (amounts in N·s: q̇ += M⁻¹ Σ Jᵀ amount) or moves (amounts in N: q += C Σ Jᵀ amount, and
-  // the shape is rebuilt).
-  // With speeds_too, a move also adds itself over `dt` to the speeds (q̇ += Δq / dt): the step's
-  // motion the move took back is taken out of its speeds as well.
-  void apply_rows(std::span<const ContactRow> rows, std::span<const double> amounts, bool as_impulses,
-                  double speeds_dt = 0);
-  // The step's moves (the contact solver's push out of a collider): J G Jᵀ, the move along b per N
-  // of force along a, G = (M/dt² + D/dt + K)⁻¹ per spring (per mode in material mode, which moves
-  // by bending alone): what the step itself would have done with the force in it had it
-  // been an implicit (backward Euler) step — the springs' inertia over a short step, their
-  // compliance over a long one. A move shaped by compliance alone swings the whole part about a
-  // point pushed near its root (a tube lying on the floor rose off it).
-  void row_move_couplings(std::span<const ContactRow> rows, double dt, Eigen::MatrixXd& scratch,
-                          Eigen::MatrixXd& by_move) const;
-  // Moves through those couplings (amounts in N: q += G Σ Jᵀ amount, the shape rebuilt), and the
-  // speeds by the same move over dt (q̇ += Δq / dt: an impulse's share, by mass, over a short step):
-  // the step's motion the move took back leaves the speeds too. Of that change of the speeds only
-  // the part α ∈ [0, 1] that leaves the least kinetic energy is kept (all of it when it only stops
-  // the step's motion, as under a part resting on the ground).
-  void move_rows(std::span<const ContactRow> rows, std::span<const double> amounts, double dt);
-
   // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
   const ChainModel* chain() const { return chain_.get(); }
   // Whether the joints move by the geometrically exact chain (core/chain_dynamics.h): material
@@ -192,9 +140,9 @@ class ElasticSweep {
   bool radial_active() const { return radial_.active; }
 
  private:
-  // Each row's J as a column of `m` (sections 1..K−1, zero past its point), scaled by √share — the
-  // kick's mass share or (kick false) the compliance 1/k — so that mᵀm is J D Jᵀ or J C Jᵀ.
-  void scaled_rows(std::span<const ContactRow> rows, Eigen::MatrixXd& m, bool positional, bool kick) const;
+  // The contact solver moves and kicks the springs through contact rows (core/contact_rows_detail.h,
+  // not installed: no game calls it).
+  friend class ContactRows;
   // All oscillators of one kind, flat: coordinate c of section i at index i·width + c.
   // A few step maps stay cached, keyed by (dt, integrator): a simulator alternates its internal
   // step, half of it (the mid-step predictor) and the odd partial step to a switching time.
@@ -223,10 +171,7 @@ class ElasticSweep {
 
   void init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int));
   void gather_loads(const std::vector<ActiveForce>& forces);
-  int map_slot(double dt);  // the cached maps for dt, computed if missing
-  // The contact moves' change of the speeds since v0, cut to the part that leaves the least
-  // kinetic energy.
-  void keep_least_energy_speeds();
+  int map_slot(double dt);       // the cached maps for dt, computed if missing
   void advance_banks(int slot);  // every active oscillator, loads held
   void rebuild();
   // Material mode: rotational loads to modal loads, and modal state back to joint coordinates.
@@ -244,10 +189,7 @@ class ElasticSweep {
   std::shared_ptr<const ChainModel> chain_;  // shared: built once per rig, copies of a sweep share it
   Bank modal_;
   std::vector<double> joint_scratch_;
-  std::vector<double> modal_scratch_;                          // contact: the modal sum of apply_rows
-  double positional_share(std::size_t m, bool by_mass) const;  // contact: 1/mass or 1/stiffness
   double energy_unit(const Bank& bank) const;  // what turns a bank's ½ m v² + ½ k x² into energy()'s
-  double rotational_share(std::size_t m, bool by_mass) const;
   // The exact chain: the joints' state lives in rotational_ (φ and the relative angular velocity
   // w in A_i's axes) and is loaded into it for each step, kick or energy read (allocation-free).
   mutable std::optional<ChainDynamics> exact_;

@@ -9,6 +9,7 @@
 #include "sweep/core/text.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/read_file.h"
+#include "sweep/io/scene_authoring_detail.h"
 
 namespace sweep::io {
 namespace {
@@ -247,10 +248,10 @@ sim::Collider read_collider(const io::JsonReader& r, const Json& v, const std::s
   return c;
 }
 
-// The body as a collider: {"spheres", "resolution", "margin", "friction"} (sim::Scene::BodyCollider).
-sim::Scene::BodyCollider read_body_collider(const io::JsonReader& r, const Json& v, const std::string& ptr) {
+// The body as a collider: {"spheres", "resolution", "margin", "friction"} (SceneAuthoring::BodyCollider).
+SceneAuthoring::BodyCollider read_body_collider(const io::JsonReader& r, const Json& v, const std::string& ptr) {
   r.object(v, ptr, {"spheres", "resolution", "margin", "friction"});
-  sim::Scene::BodyCollider b;
+  SceneAuthoring::BodyCollider b;
   // More spheres than this cost every frame more than they add: the body is coarse beside its parts.
   b.spheres = static_cast<int>(r.integer(r.required(v, ptr, "spheres"), member(ptr, "spheres"), 1, 256));
   // The fit samples resolution³ points at most: 200 is already 8 million, seconds of load.
@@ -269,9 +270,17 @@ double step_length(const io::JsonReader& r, const Json& value, const std::string
   return step;
 }
 
-}  // namespace
+// A key that needs the mesh file, met by the runtime's reader (no `authoring` to read it into).
+[[noreturn]] void refuse_authoring(const io::JsonReader& r, const std::string& where, const std::string& what,
+                                   const std::string& instead) {
+  fail(ErrorCategory::unsupported,
+       r.source() + ": " + where + ": " + what +
+           " needs the mesh file, which the runtime does not read (sweep-sim resolves it); " + instead);
+}
 
-sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& r, const Rig& rig) {
+// The scene, the authoring keys read into `authoring`, or refused without one.
+sim::Scene parse_scene_keys(const Json& json, const std::string& pointer, const io::JsonReader& r, const Rig& rig,
+                            SceneAuthoring* authoring) {
   r.object(json, pointer,
            {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator",
             "forces", "body", "teleport", "wind", "colliders", "body_collider", "contact_stations", "contact_step"});
@@ -325,15 +334,20 @@ sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::J
     const std::string bp = member(pointer, "body");
     if (b->is_object() && b->contains("node")) {
       // The glTF mesh's own animation of a node: the tools read it from the mesh.
+      if (authoring == nullptr) {
+        refuse_authoring(r, member(bp, "node"), "a body that follows a glTF node's animation",
+                         "give the body's pose live instead (sweep_set_body)");
+      }
+      SceneAuthoring& a = *authoring;
       r.object(*b, bp, {"node", "animation", "loop", "preroll"});
-      scene.body_node = r.string((*b)["node"], member(bp, "node"));
-      if (scene.body_node.empty()) r.fail_at(member(bp, "node"), "must name a node of the glTF mesh");
-      if (const Json* a = r.optional(*b, "animation")) scene.body_animation = r.string(*a, member(bp, "animation"));
+      a.body_node = r.string((*b)["node"], member(bp, "node"));
+      if (a.body_node.empty()) r.fail_at(member(bp, "node"), "must name a node of the glTF mesh");
+      if (const Json* n = r.optional(*b, "animation")) a.body_animation = r.string(*n, member(bp, "animation"));
       if (const Json* l = r.optional(*b, "loop")) {
         if (!l->is_boolean()) r.fail_at(member(bp, "loop"), "must be true or false, got " + io::describe(*l));
-        scene.body_loop = l->get<bool>();
+        a.body_loop = l->get<bool>();
       }
-      if (const Json* p = r.optional(*b, "preroll")) scene.body_preroll = r.bounded(*p, member(bp, "preroll"), 0, 3600);
+      if (const Json* p = r.optional(*b, "preroll")) a.body_preroll = r.bounded(*p, member(bp, "preroll"), 0, 3600);
     } else {
       scene.body = read_body(r, *b, bp);
     }
@@ -373,8 +387,13 @@ sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::J
     for (std::size_t i = 0; i < cs->size(); ++i)
       scene.colliders.push_back(read_collider(r, (*cs)[i], element(cp, i), i));
   }
-  if (const Json* b = r.optional(json, "body_collider"))
-    scene.body_collider = read_body_collider(r, *b, member(pointer, "body_collider"));
+  if (const Json* b = r.optional(json, "body_collider")) {
+    if (authoring == nullptr) {
+      refuse_authoring(r, member(pointer, "body_collider"), "the body as a collider (spheres fitted in the mesh)",
+                       "give its colliders instead");
+    }
+    authoring->body_collider = read_body_collider(r, *b, member(pointer, "body_collider"));
+  }
   if (const Json* st = r.optional(json, "contact_stations")) {
     scene.contact_stations = static_cast<int>(r.integer(*st, member(pointer, "contact_stations"), 1, 64));
   }
@@ -395,7 +414,9 @@ sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::J
   return scene;
 }
 
-sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn) {
+// The scene of the file at `path`, its authoring keys read into `authoring` or refused without one.
+sim::Scene read_scene_file(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn,
+                           SceneAuthoring* authoring) {
   const Json doc = io::parse_json_text(io::read_file(path, limits::kMaxJsonBytes), path.string());
   const io::JsonReader r(path.string(), warn);
   if (!doc.is_object()) r.fail_at("", "must be a JSON object");
@@ -403,9 +424,26 @@ sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig, const i
   // parse_scene, with its pointer.)
   const auto format = doc.find("format");
   const bool is_rig = format != doc.end() && format->is_string() && format->get<std::string>() == "sweep-rig";
-  if (is_rig && doc.contains("scene")) return parse_scene(doc["scene"], "/scene", r, rig);
+  if (is_rig && doc.contains("scene")) return parse_scene_keys(doc["scene"], "/scene", r, rig, authoring);
   if (is_rig) r.fail_at("", "this rig file has no \"scene\"; give a scene file");
-  return parse_scene(doc, "", r, rig);
+  return parse_scene_keys(doc, "", r, rig, authoring);
+}
+
+}  // namespace
+
+sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& reader, const Rig& rig) {
+  return parse_scene_keys(json, pointer, reader, rig, nullptr);
+}
+sim::Scene parse_scene(const Json& json, const std::string& pointer, const io::JsonReader& reader, const Rig& rig,
+                       SceneAuthoring& authoring) {
+  return parse_scene_keys(json, pointer, reader, rig, &authoring);
+}
+sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn) {
+  return read_scene_file(path, rig, warn, nullptr);
+}
+sim::Scene read_scene(const std::filesystem::path& path, const Rig& rig, const io::WarningSink& warn,
+                      SceneAuthoring& authoring) {
+  return read_scene_file(path, rig, warn, &authoring);
 }
 
 }  // namespace sweep::io

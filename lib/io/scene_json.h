@@ -1,6 +1,8 @@
 #pragma once
 // Reading a scene (sim/scene.h; schema: rigs/scene.schema.json) from JSON. Validated like the rig:
-// every error names the file and the JSON pointer, unknown members are warnings.
+// every error names the file and the JSON pointer, unknown members are warnings. The keys that need
+// the mesh file — a body that follows a glTF node ("body": {"node"}) and "body_collider" — are
+// refused (ErrorCategory::unsupported): the tools resolve them (assets/authored_scene.h).
 #include <filesystem>
 #include <string>
 

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "sweep/core/sweep_shape.h"
+#include "sweep/sim/contact_detail.h"
 
 namespace sweep::sim {
 namespace {
@@ -159,7 +160,11 @@ ContactSolver::ContactSolver(const SweepShape& rest, int stations_per_span)
     for (const double x : rest.section_radii(i)) r = std::max(r, x);
     smallest_reach_ = std::min(smallest_reach_, r);
   }
+  work_ = std::make_unique<RowWork>();
 }
+ContactSolver::ContactSolver(ContactSolver&&) noexcept = default;
+ContactSolver& ContactSolver::operator=(ContactSolver&&) noexcept = default;
+ContactSolver::~ContactSolver() = default;
 
 // A sphere that holds the whole surface: about the mean of the key sections' centres, out to the
 // farthest of them, plus a third of the longest span (each span's Hermite curve lies within its
@@ -316,8 +321,8 @@ void ContactSolver::solve_friction(const ElasticSweep& sweep, std::size_t contac
   // colliders): each update lowers f from f(0) = 0, so friction never adds energy in the colliders'
   // frames, and where the cone does not bind the block ends stopped (stick).
   const std::size_t m = 2 * contacts;
-  sweep.row_couplings({slide_rows_.data(), m}, jp_, jr_, modal_, slide_by_mass_, slide_by_compliance_);
-  const Eigen::MatrixXd& w = slide_by_mass_;
+  work_->ops.row_couplings(sweep, {work_->slide.data(), m}, work_->slide_by_mass, work_->slide_by_compliance);
+  const Eigen::MatrixXd& w = work_->slide_by_mass;
   friction_.assign(m, 0.0);
   friction_w_.assign(m, 0.0);  // W λ, kept up to date
   double scale = 0;
@@ -369,15 +374,15 @@ void ContactSolver::move_out(ElasticSweep& sweep, std::span<const PlacedCollider
       // A point no spring can move (the root, and in material mode the first span, which only the
       // stiff stretch and shear springs carry) cannot be pushed: it is not waited for.
       const Eigen::Index i = static_cast<Eigen::Index>(p);
-      if (by_move_(i, i) > 0) worst = std::min(worst, residual_[p]);
+      if (work_->by_move(i, i) > 0) worst = std::min(worst, residual_[p]);
     }
     if (worst >= -kGapTolerance * length) break;
-    // The move is the step's own answer to a force held over it (ElasticSweep::move_rows): through
+    // The move is the step's own answer to a force held over it (ContactRows::move_rows): through
     // the springs' inertia over the step as much as their compliance, and the speeds by the same
     // move over dt (as in position-based dynamics: else a part lying on the ground keeps its fall
     // in its speeds, falls through each step, is pushed back, and never comes to rest).
-    solve(by_move_, residual_, total, amount_);
-    sweep.move_rows(rows_, amount_, dt);
+    solve(work_->by_move, residual_, total, amount_);
+    work_->ops.move_rows(sweep, work_->normal, amount_, dt);
     for (std::size_t p = 0; p < n; ++p) total[p] += amount_[p];
   }
 }
@@ -516,13 +521,13 @@ void ContactSolver::build_rows(ElasticSweep& sweep, std::span<const PlacedCollid
   const std::size_t n = planes_.size();
   // The contact rows along each plane's normal, on the pose the springs reached, and their
   // couplings: the linear model the solves below use.
-  rows_.resize(n);
+  work_->normal.resize(n);
   for (std::size_t p = 0; p < n; ++p) {
     const Vec3 normal = colliders[planes_[p].collider].to_mesh.rotation * planes_[p].normal;
-    sweep.contact_row(stations_[planes_[p].station], normal, rows_[p]);
+    ContactRows::contact_row(sweep, stations_[planes_[p].station], normal, work_->normal[p]);
   }
-  sweep.row_couplings(rows_, jp_, jr_, modal_, by_mass_, by_compliance_);
-  sweep.row_move_couplings(rows_, dt, jr_, by_move_);
+  work_->ops.row_couplings(sweep, work_->normal, work_->by_mass, work_->by_compliance);
+  work_->ops.row_move_couplings(sweep, work_->normal, dt, work_->by_move);
 }
 
 void ContactSolver::push_out(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt) {
@@ -531,9 +536,9 @@ void ContactSolver::push_out(ElasticSweep& sweep, std::span<const PlacedCollider
   total_.assign(n, 0.0);
   // The move's change of each row's speed, for N below.
   move_speed_.resize(n);
-  for (std::size_t p = 0; p < n; ++p) move_speed_[p] = -sweep.row_speed(rows_[p]);
+  for (std::size_t p = 0; p < n; ++p) move_speed_[p] = -ContactRows::row_speed(sweep, work_->normal[p]);
   move_out(sweep, colliders, dt, total_, true);
-  for (std::size_t p = 0; p < n; ++p) move_speed_[p] += sweep.row_speed(rows_[p]);
+  for (std::size_t p = 0; p < n; ++p) move_speed_[p] += ContactRows::row_speed(sweep, work_->normal[p]);
 }
 
 bool ContactSolver::stop_approach(ElasticSweep& sweep, std::span<const PlacedCollider> colliders, double dt,
@@ -550,7 +555,8 @@ bool ContactSolver::stop_approach(ElasticSweep& sweep, std::span<const PlacedCol
     // The collider's own speed there, relative to the body (a world collider on a moving body).
     const Vec3 here = center_at(sweep.deformed(), stations_[planes_[p].station]);
     const Vec3 normal = placed.to_mesh.rotation * planes_[p].normal;
-    residual_[p] = sweep.row_speed(rows_[p]) - normal.dot(collider_velocity(planes_[p].collider, placed, here, dt));
+    residual_[p] = ContactRows::row_speed(sweep, work_->normal[p]) -
+                   normal.dot(collider_velocity(planes_[p].collider, placed, here, dt));
   }
   if (!touching) return false;
   // A contact the step pushed back is held on its plane for the step (its speed along the normal
@@ -558,8 +564,8 @@ bool ContactSolver::stop_approach(ElasticSweep& sweep, std::span<const PlacedCol
   // leave it a speed off the plane sets a resting part jittering. One only resting there is
   // free to leave.
   for (std::size_t p = 0; p < n; ++p) total_[p] = total_[p] > 0 ? std::numeric_limits<double>::infinity() : 0.0;
-  solve(by_mass_, residual_, total_, amount_);
-  sweep.apply_rows(rows_, amount_, true);
+  solve(work_->by_mass, residual_, total_, amount_);
+  work_->ops.apply_rows(sweep, work_->normal, amount_, true);
   return true;
 }
 
@@ -573,7 +579,8 @@ void ContactSolver::measure_normal_impulses(const ElasticSweep& sweep, double dt
   // counting it whole). A part resting on the ground gets its weight times dt, however long the
   // step.
   for (std::size_t p = 0; p < n; ++p) {
-    if (!std::isfinite(residual_[p]) || !(by_mass_(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p)) > 0)) {
+    if (!std::isfinite(residual_[p]) ||
+        !(work_->by_mass(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p)) > 0)) {
       residual_[p] = std::numeric_limits<double>::infinity();  // not touching, or held by the root
       continue;
     }
@@ -581,21 +588,21 @@ void ContactSolver::measure_normal_impulses(const ElasticSweep& sweep, double dt
     double change = 0;
     for (std::size_t q = 0; q < n; ++q) {
       const Eigen::Index j = static_cast<Eigen::Index>(q);
-      change += by_mass_(i, j) * amount_[q];
+      change += work_->by_mass(i, j) * amount_[q];
     }
     change += move_speed_[p];
     residual_[p] = -change;
   }
   none_.assign(n, 0.0);
-  solve(by_mass_, residual_, none_, pressed_);
+  solve(work_->by_mass, residual_, none_, pressed_);
   // The same force read quasi-statically: what holds the springs off where the step's loads alone
   // would hold them (J C Jᵀ N = J (q − C f), N ≥ 0, over the touching contacts). A stiff part resting
   // on the ground is held by its springs' strain, its steps' falls and kicks next to nothing; a hit
   // is all kicks. Each contact takes the larger reading, N·dt.
   for (std::size_t p = 0; p < n; ++p) {
-    if (std::isfinite(residual_[p])) residual_[p] = -sweep.row_strain(rows_[p]);
+    if (std::isfinite(residual_[p])) residual_[p] = -ContactRows::row_strain(sweep, work_->normal[p]);
   }
-  solve(by_compliance_, residual_, none_, held_);
+  solve(work_->by_compliance, residual_, none_, held_);
   for (std::size_t p = 0; p < n; ++p) pressed_[p] = std::max(pressed_[p], held_[p] * dt);
 }
 
@@ -614,17 +621,17 @@ void ContactSolver::slide(ElasticSweep& sweep, std::span<const PlacedCollider> c
     const Vec3 here = center_at(sweep.deformed(), t);
     Vec3 v = -collider_velocity(planes_[p].collider, placed, here, dt);
     for (int c = 0; c < 3; ++c) {
-      sweep.contact_row(t, Vec3::Unit(c), probe_row_, false);
-      v[c] += sweep.row_speed(probe_row_);
+      ContactRows::contact_row(sweep, t, Vec3::Unit(c), work_->probe, false);
+      v[c] += ContactRows::row_speed(sweep, work_->probe);
     }
     const Vec3 slide = v - normal.dot(v) * normal;
     const double speed = slide.norm();
     // The first row along the slip (any direction across the normal when there is none).
     const Vec3 first = speed > 0 ? Vec3(slide / speed) : normal.unitOrthogonal();
-    if (slide_rows_.size() < 2 * (k + 1)) slide_rows_.resize(2 * (k + 1));
+    if (work_->slide.size() < 2 * (k + 1)) work_->slide.resize(2 * (k + 1));
     if (slip_.size() < 2 * (k + 1)) slip_.resize(2 * (k + 1)), cone_.resize(k + 1);
-    sweep.contact_row(t, first, slide_rows_[2 * k]);
-    sweep.contact_row(t, normal.cross(first), slide_rows_[2 * k + 1]);
+    ContactRows::contact_row(sweep, t, first, work_->slide[2 * k]);
+    ContactRows::contact_row(sweep, t, normal.cross(first), work_->slide[2 * k + 1]);
     slip_[2 * k] = speed;
     slip_[2 * k + 1] = 0;
     cone_[k] = mu * pressed_[p] - spent_[p];
@@ -632,7 +639,7 @@ void ContactSolver::slide(ElasticSweep& sweep, std::span<const PlacedCollider> c
   }
   if (k == 0) return;
   solve_friction(sweep, k);
-  sweep.apply_rows({slide_rows_.data(), 2 * k}, {friction_.data(), 2 * k}, true);
+  work_->ops.apply_rows(sweep, {work_->slide.data(), 2 * k}, {friction_.data(), 2 * k}, true);
 }
 
 }  // namespace sweep::sim

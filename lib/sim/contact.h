@@ -14,7 +14,7 @@
 // chord (the tests measure the true surface: at most 1e-3 of the length, 0 in the fast swing into
 // a plate). The contacts of a step are solved together, as the complementarity problem they are
 // (a push ≥ 0 only where the gap closes; projected Gauss–Seidel on the couplings of the contact
-// rows, ElasticSweep::contact_row), so that pushes do not fight and lift the part off elsewhere:
+// rows, core/contact_rows_detail.h), so that pushes do not fight and lift the part off elsewhere:
 // first the ends are moved back onto their planes through the springs (as the step would have moved
 // them with the force in it, each spring or mode by 1/(m/dt² + c/dt + k): by its inertia over a
 // short step, its compliance over a long one; the speeds by the same move over dt; the true curve
@@ -38,6 +38,7 @@
 // collider one more; contacts are solved only when a chord end comes within its reach of a plane.
 // Friction held on positions adds, for the pairs held, J C Jᵀ over their rows and the normal ones
 // and an eigensolve of its 2m × 2m tangential block (~1.1× the frame of a tail lying on a floor).
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -79,7 +80,7 @@ std::vector<std::string> rest_pose_overlaps(const Rig& rig, const std::vector<Co
 // How far a point (mesh coordinates) lies outside every part's rest surface, less `margin`
 // (negative inside one; infinity for a rig of no part): the largest sphere about it that the rest
 // pose leaves clear, by the same measure as rest_pose_overlaps (the body proxy fills the body with
-// such spheres, tools/common/body_proxy.h).
+// such spheres, assets/body_proxy.h).
 double rest_room(const Rig& rig, const Vec3& point, double margin, int stations_per_span);
 
 class ContactSolver {
@@ -107,6 +108,9 @@ class ContactSolver {
   void forget_anchors() { anchors_.clear(); }
   static constexpr int kDefaultStationsPerSpan = 2;  // = Scene::contact_stations by default
   ContactSolver(const SweepShape& rest, int stations_per_span = kDefaultStationsPerSpan);
+  ContactSolver(ContactSolver&&) noexcept;
+  ContactSolver& operator=(ContactSolver&&) noexcept;
+  ~ContactSolver();
 
   // Whether a collider at `from` or `to` (its places at two times, in the part's coordinates) may
   // reach the part in `shape` in between: a sleeping part a world collider comes at must wake.
@@ -167,22 +171,19 @@ class ContactSolver {
   std::vector<Vec3> start_, end_;  // their points at the step's start and end (mesh coordinates)
   std::vector<Frame> start_pose_;  // each collider's local → mesh at the step's start
   std::vector<Plane> planes_;
-  std::vector<ElasticSweep::ContactRow> rows_;  // one per plane, along its normal
-  Eigen::MatrixXd by_mass_, by_compliance_;     // J M⁻¹ Jᵀ and J C Jᵀ over the rows
-  Eigen::MatrixXd by_move_;                     // J G Jᵀ: the moves' couplings (ElasticSweep::move_rows)
-  std::vector<double> move_speed_;              // the move's change of each row's speed
+  // The contact rows (core/contact_rows_detail.h) and their couplings, behind a pointer: the rows
+  // are the solver's own business, not the installed headers' (sim/contact_detail.h).
+  struct RowWork;
+  std::unique_ptr<RowWork> work_;
+  std::vector<double> move_speed_;  // the move's change of each row's speed
   std::vector<double> residual_, amount_, total_, coupled_;
   std::vector<double> pressed_, held_, none_;  // normal impulses; forces; zeros
   SupportScratch support_;
-  Eigen::MatrixXd jp_, jr_, modal_;  // the rows' J (positional, rotational) and Φᵀ Jᵀ, one column each
-  std::vector<char> evaluated_;      // whether start_/end_ hold station s this step
-  std::vector<double> span_reach_;   // each span's largest radius over the step
-  // Friction: two rows across each pressed contact's normal (the first along its slip), their
-  // slip speeds, each contact's cone radius μN, the impulses, and J M⁻¹ Jᵀ over the rows.
-  ElasticSweep::ContactRow probe_row_;
-  std::vector<ElasticSweep::ContactRow> slide_rows_;
+  std::vector<char> evaluated_;     // whether start_/end_ hold station s this step
+  std::vector<double> span_reach_;  // each span's largest radius over the step
+  // Friction: the slip speeds of the two rows across each pressed contact's normal (RowWork::slide),
+  // each contact's cone radius μN, the impulses.
   std::vector<double> slip_, cone_, friction_, friction_w_;
-  Eigen::MatrixXd slide_by_mass_, slide_by_compliance_;
   void solve_friction(const ElasticSweep& sweep, std::size_t contacts);
   // resolve()'s stages, in order: the broad phase; each span's reach over the step; the planes
   // separating each chord near a collider from it at the step's start; whether any station may
@@ -217,10 +218,8 @@ class ContactSolver {
   long step_ = 0;
   std::vector<Anchor> anchors_;  // collider · stations + station
   std::vector<Held> held_pairs_;
-  std::vector<ElasticSweep::ContactRow> stick_rows_;  // two across each held pair's normal, then rows_
   std::vector<double> spent_;  // per plane: the friction impulse (N·s) the hold took of its cone
   std::vector<double> stick_amount_, repush_;
-  Eigen::MatrixXd stick_by_compliance_, stick_by_mass_;
 };
 
 }  // namespace sweep::sim

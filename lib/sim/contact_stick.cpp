@@ -10,7 +10,7 @@
 // that takes stays in the cone |F| ≤ μN (stick); else it is moved only as far as leaves the springs
 // pressing it with μN against its slip, and the anchor follows it (slide). Neighbouring stations on
 // one collider are a patch and share their cones (Σ|F| ≤ Σ μN; see below). The force is the
-// quasi-static one, as N's own reading (ElasticSweep::row_strain): F = W⁺ J (q − C f), W = J C Jᵀ
+// quasi-static one, as N's own reading (ContactRows::row_strain): F = W⁺ J (q − C f), W = J C Jᵀ
 // over all the held rows together (W⁺ over the modes the springs bend: see below), less what the
 // normal forces do across (W_tn N). It depends on
 // where the springs are, not on the step: the drag of a steady slide is μN at any step and frame
@@ -22,7 +22,7 @@
 #include <cmath>
 
 #include "sweep/core/sweep_shape.h"
-#include "sweep/sim/contact.h"
+#include "sweep/sim/contact_detail.h"
 
 namespace sweep::sim {
 namespace {
@@ -93,7 +93,7 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
 
   // Two rows across each held pair's normal (fixed in the collider: the same at every step), then
   // the normal rows, for W_tn. With their modal part: the momentum check below reads J M⁻¹ Jᵀ.
-  stick_rows_.resize(2 * m + n);
+  work_->stick.resize(2 * m + n);
   Eigen::VectorXd offset(2 * m);  // how far each held station is off its anchor along its rows
   for (std::size_t k = 0; k < m; ++k) {
     const Held& h = held_pairs_[k];
@@ -102,14 +102,15 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     const std::array<Vec3, 2> across = across_of(pl.normal);
     const Vec3 off = here_local(h) - anchors_[h.anchor].local;
     for (int r = 0; r < 2; ++r) {
-      sweep.contact_row(stations_[pl.station], placed.to_mesh.rotation * across[r], stick_rows_[2 * k + r]);
+      ContactRows::contact_row(sweep, stations_[pl.station], placed.to_mesh.rotation * across[r],
+                               work_->stick[2 * k + r]);
       offset[static_cast<Eigen::Index>(2 * k + r)] = across[r].dot(off);
     }
   }
-  std::copy(rows_.begin(), rows_.end(), stick_rows_.begin() + static_cast<std::ptrdiff_t>(2 * m));
-  sweep.row_couplings(stick_rows_, jp_, jr_, modal_, stick_by_mass_, stick_by_compliance_);
+  std::copy(work_->normal.begin(), work_->normal.end(), work_->stick.begin() + static_cast<std::ptrdiff_t>(2 * m));
+  work_->ops.row_couplings(sweep, work_->stick, work_->stick_by_mass, work_->stick_by_compliance);
   const Eigen::Index t = static_cast<Eigen::Index>(2 * m);
-  const Eigen::MatrixXd& w = stick_by_compliance_;
+  const Eigen::MatrixXd& w = work_->stick_by_compliance;
 
   // The rows held: both of each pair where some spring moves its station.
   double largest = 0;
@@ -126,7 +127,7 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
   const Eigen::Map<const Eigen::VectorXd> normal_force(held_.data(), static_cast<Eigen::Index>(n));
   for (Eigen::Index i = 0; i < h; ++i) {
     for (Eigen::Index j = 0; j < h; ++j) wtt(i, j) = w(kept[i], kept[j]);
-    strain[i] = sweep.row_strain(stick_rows_[static_cast<std::size_t>(kept[i])]) -
+    strain[i] = ContactRows::row_strain(sweep, work_->stick[static_cast<std::size_t>(kept[i])]) -
                 w.row(kept[i]).segment(t, static_cast<Eigen::Index>(n)).dot(normal_force);
     off[i] = offset[kept[i]];
   }
@@ -206,7 +207,7 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     Eigen::MatrixXd wmm(h, h);
     for (Eigen::Index i = 0; i < h; ++i) {
       amount[i] = stick_amount_[static_cast<std::size_t>(kept[i])];
-      for (Eigen::Index j = 0; j < h; ++j) wmm(i, j) = stick_by_mass_(kept[i], kept[j]);
+      for (Eigen::Index j = 0; j < h; ++j) wmm(i, j) = work_->stick_by_mass(kept[i], kept[j]);
     }
     const Eigen::VectorXd impulse = pseudo_inverse(wmm, kBends) * (wtt * amount / dt);
     for (const Patch& patch : patches) {
@@ -229,7 +230,7 @@ void ContactSolver::hold(ElasticSweep& sweep, std::span<const PlacedCollider> co
     }
   }
   for (std::size_t k = 0; k < m; ++k) spent_[held_pairs_[k].plane] += taken[k];
-  sweep.apply_rows({stick_rows_.data(), 2 * m}, stick_amount_, false, dt);
+  work_->ops.apply_rows(sweep, {work_->stick.data(), 2 * m}, stick_amount_, false, dt);
   for (std::size_t k = 0; k < m; ++k) {
     anchors_[held_pairs_[k].anchor].step = step_;
     if (slid[k]) anchors_[held_pairs_[k].anchor].local = here_local(held_pairs_[k]);

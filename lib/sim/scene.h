@@ -43,16 +43,10 @@ struct Scene {
   bool gravity_preloaded = true;
   std::vector<SceneForce> forces;
   // The body's motion: the whole mesh moves with it, each part's root with the body, and
-  // the parts feel its accelerations. Empty: the body stands still.
+  // the parts feel its accelerations. Empty: the body stands still. (A scene file's body that follows
+  // a node of a glTF mesh, and its "body_collider", need the mesh file: the tools resolve them into
+  // this path and into `colliders`, assets/authored_scene.h; the runtime's reader refuses them.)
   BodyPath body;
-  // Or the animation of a node of the glTF mesh (scene "body": {"node", "animation"}): the tools,
-  // which read meshes, turn it into `body` (assets/gltf_motion.h). "" = none.
-  std::string body_node;
-  std::string body_animation;  // the animation's name; "" = the first one that moves the node
-  // A skinned mesh's clip (assets/skinned_clip.h): repeat it over the duration, and simulate this
-  // many seconds before frame 0 (rounded to whole frames).
-  bool body_loop = false;
-  double body_preroll = 0;
   // A body that jumps farther than this in one frame's time (mesh units), or turns by more than
   // this (radians), has been cut or respawned: the parts are put to rest in the new place instead
   // of feeling the jump (a piece of the path between two keys, wherever the frames fall, or the
@@ -66,16 +60,6 @@ struct Scene {
   // Colliders the parts may not enter (sim/collider.h, sim/contact.h); none by default. A world
   // collider stays put while the body moves; a carried one moves with it.
   std::vector<Collider> colliders;
-  // The body itself as a collider (scene "body_collider"): `spheres` spheres filling the mesh
-  // outside the parts, carried by the body. The tools fit them at load, as they read the mesh
-  // (tools/common/body_proxy.h), and add them to `colliders`: this library sees only spheres.
-  struct BodyCollider {
-    int spheres = 0;      // at most this many; 0 = no body collider
-    int resolution = 40;  // grid cells along the mesh's longest side the fit samples the body on
-    double margin = 0;    // as a collider's
-    double friction = 0.5;
-  };
-  BodyCollider body_collider;
   // Chords per span between key sections that meet the colliders (sim/contact.h).
   int contact_stations = 2;
   // The longest step a part takes while a collider is within its reach (s): a longer internal

@@ -30,11 +30,6 @@ constexpr std::size_t kLiveKeys = 8;
 }  // namespace
 
 Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep) : scene_(scene), sleep_(sleep) {
-  if (!scene.body_node.empty() && scene.body.empty()) {
-    fail(ErrorCategory::usage, "the scene's body follows node '" + scene.body_node +
-                                   "' of the glTF mesh's animation, which has not been read: fill "
-                                   "Scene::body with assets::read_gltf_body_path first (sweep-sim does)");
-  }
   for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
     const std::string wrong = scene.colliders[c].check();
     if (!wrong.empty()) {

@@ -308,6 +308,31 @@ TEST_F(CApi, BadCallsReturnErrorsWithMessages) {
 
 // Instances opened and closed over and over, each stepped with forces (the sanitizer build checks
 // that nothing leaks); each starts from rest, whatever the ones before it did.
+// Settings that need the mesh file (a body following a glTF node, the body as a collider) are
+// refused by name and place; the same settings without them open and run.
+TEST_F(CApi, SettingsThatNeedTheMeshFileAreRefusedByKey) {
+  const auto refusal = [&](const char* name, const std::string& body) {
+    const std::string settings = scene(name, body);
+    sweep_instance* in = sweep_open(path("tube.rig.json").c_str(), path("tube.bind").c_str(), settings.c_str(),
+                                    rest_->data(), vertex_count());
+    EXPECT_EQ(in, nullptr);
+    sweep_close(in);
+    return std::string(sweep_last_error());
+  };
+  EXPECT_NE(refusal("node.scene.json", R"(, "forces": [], "body": {"node": "Hip"})")
+                .find("node.scene.json: /body/node: a body that follows a glTF node's animation needs the mesh file"),
+            std::string::npos)
+      << sweep_last_error();
+  EXPECT_NE(refusal("proxy.scene.json", R"(, "forces": [], "body_collider": {"spheres": 8})")
+                .find("proxy.scene.json: /body_collider: the body as a collider"),
+            std::string::npos)
+      << sweep_last_error();
+  sweep_instance* plain = open(scene("plain.scene.json", R"(, "forces": [], "gravity": [0, -9.81, 0])").c_str());
+  ASSERT_NE(plain, nullptr) << sweep_last_error();
+  EXPECT_EQ(sweep_advance(plain, 1.0 / 60), SWEEP_OK) << sweep_last_error();
+  sweep_close(plain);
+}
+
 TEST_F(CApi, ReopeningStartsAfresh) {
   std::vector<float> first;
   for (int round = 0; round < 5; ++round) {

@@ -24,6 +24,7 @@
 #include "sweep/fit/fit.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/rig_json.h"
+#include "sweep/io/scene_authoring_detail.h"
 #include "sweep/io/scene_json.h"
 #include "sweep/sim/scene.h"
 
@@ -144,7 +145,10 @@ void scene(std::string_view data) {
   // written to a file of this process's own.
   const std::filesystem::path path = scratch_file("scene.json", data);
   try {
-    const sim::Scene s = io::read_scene(path, fixed_rig(), [](const std::string&) {});
+    // The tools' reader: the runtime's, and the keys that need the mesh file too.
+    io::SceneAuthoring authoring;
+    const sim::Scene s = io::read_scene(
+        path, fixed_rig(), [](const std::string&) {}, authoring);
     (void)s.frame_count();
   } catch (const Error& e) {
     ignore(e);

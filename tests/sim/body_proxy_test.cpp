@@ -1,7 +1,7 @@
 // The body as a collider: spheres fitted in a body outside its parts (a small body with
 // a tail, and CGAL's diplodocus outside its tail and neck). They must lie inside the body, fill
 // it, leave the parts' rest pose untouched, and stop the tail the body would otherwise let through.
-#include "tools/common/body_proxy.h"
+#include "sweep/assets/body_proxy.h"
 
 #include <gtest/gtest.h>
 
@@ -20,8 +20,8 @@ using test_probes::penetration;
 
 constexpr int kStations = ContactSolver::kDefaultStationsPerSpan;
 
-Scene::BodyCollider settings(double margin = 0) {
-  Scene::BodyCollider b;
+io::SceneAuthoring::BodyCollider settings(double margin = 0) {
+  io::SceneAuthoring::BodyCollider b;
   b.spheres = 24;
   b.margin = margin;
   return b;
@@ -33,11 +33,11 @@ const bind::Binding& diplodocus_binding() {
   return b;
 }
 
-const tools::BodyProxy* diplodocus_proxy() {
-  static const std::optional<tools::BodyProxy> p = []() -> std::optional<tools::BodyProxy> {
+const assets::BodyProxy* diplodocus_proxy() {
+  static const std::optional<assets::BodyProxy> p = []() -> std::optional<assets::BodyProxy> {
     const test::Diplodocus* d = test::diplodocus();
     if (!d) return std::nullopt;
-    return tools::body_proxy(d->mesh, d->rig, diplodocus_binding(), settings(), kStations);
+    return assets::body_proxy(d->mesh, d->rig, diplodocus_binding(), settings(), kStations);
   }();
   return p ? &*p : nullptr;
 }
@@ -77,7 +77,7 @@ const BodyWithTail& body_with_tail() {
 // vertex (the body, by another measure than the fit's), at least 90% lie within one fit spacing
 // of a sphere.
 void expect_inside_and_filling(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                               const tools::BodyProxy& proxy, int min_points) {
+                               const assets::BodyProxy& proxy, int min_points) {
   const fit::TriangleDistance surface(mesh.positions, mesh.triangles());
   for (const Collider& c : proxy.colliders) {
     EXPECT_TRUE(c.carried) << c.name;
@@ -125,32 +125,32 @@ void expect_inside_and_filling(const Mesh& mesh, const Rig& rig, const bind::Bin
 // check), with and without a margin; blind to the parts (no sweeps, nothing bound) the fit fills
 // the part's root, and the check can fail.
 void expect_clear_of_the_parts(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                               const tools::BodyProxy& proxy, double margin) {
+                               const assets::BodyProxy& proxy, double margin) {
   EXPECT_EQ(rest_pose_overlaps(rig, proxy.colliders, Frame{}, kStations), std::vector<std::string>{});
-  const tools::BodyProxy wide = tools::body_proxy(mesh, rig, binding, settings(margin), kStations);
+  const assets::BodyProxy wide = assets::body_proxy(mesh, rig, binding, settings(margin), kStations);
   ASSERT_FALSE(wide.colliders.empty());
   EXPECT_EQ(rest_pose_overlaps(rig, wide.colliders, Frame{}, kStations), std::vector<std::string>{});
-  const tools::BodyProxy blind = tools::body_proxy(mesh, Rig{}, bind::Binding{}, settings(), kStations);
+  const assets::BodyProxy blind = assets::body_proxy(mesh, Rig{}, bind::Binding{}, settings(), kStations);
   EXPECT_FALSE(rest_pose_overlaps(rig, blind.colliders, Frame{}, kStations).empty());
 }
 
 TEST(BodyProxy, SpheresLieInsideABodyAndFillIt) {
   const BodyWithTail& b = body_with_tail();
-  const tools::BodyProxy proxy = tools::body_proxy(b.mesh, b.rig, b.binding, settings(), kStations);
+  const assets::BodyProxy proxy = assets::body_proxy(b.mesh, b.rig, b.binding, settings(), kStations);
   ASSERT_EQ(proxy.colliders.size(), 24u);
   expect_inside_and_filling(b.mesh, b.rig, b.binding, proxy, 1000);
 }
 
 TEST(BodyProxy, NoSphereCutsATailsRestSurface) {
   const BodyWithTail& b = body_with_tail();
-  const tools::BodyProxy proxy = tools::body_proxy(b.mesh, b.rig, b.binding, settings(), kStations);
+  const assets::BodyProxy proxy = assets::body_proxy(b.mesh, b.rig, b.binding, settings(), kStations);
   expect_clear_of_the_parts(b.mesh, b.rig, b.binding, proxy, 0.01);
 }
 
 TEST(BodyProxy, DiplodocusSpheresLieInsideTheBodyAndFillIt) {
   const test::Diplodocus* d = test::diplodocus();
   if (!d) GTEST_SKIP() << "no diplodocus mesh (tools/setup-deps.sh)";
-  const tools::BodyProxy& proxy = *diplodocus_proxy();
+  const assets::BodyProxy& proxy = *diplodocus_proxy();
   ASSERT_EQ(proxy.colliders.size(), 24u);
   expect_inside_and_filling(d->mesh, d->rig, diplodocus_binding(), proxy, 1000);
 }

@@ -17,6 +17,7 @@
 #include "sim/sweep_pose.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/bind/bind.h"
+#include "sweep/core/contact_rows_detail.h"
 #include "sweep/sim/simulator.h"
 
 using sweep::assets::run_bake;
@@ -83,14 +84,14 @@ TEST(Body, AKickLeavesThePartStillInTheWorld) {
     part.apply_body_kick(kick.dv, kick.dw);
     const SweepShape& shape = part.deformed();
     const ChainModel& chain = *part.chain();
-    ElasticSweep::ContactRow row;
+    ContactRow row;
     double error = 0, wanted = 0, world_energy = 0;
     Vec3 tip = Vec3::Zero(), tip_wanted = Vec3::Zero();
     for (int i = 1; i < shape.section_count(); ++i) {
       Vec3 v = Vec3::Zero();
       for (int c = 0; c < 3; ++c) {
-        part.contact_row(shape.t[i], Vec3::Unit(c), row, false);
-        v[c] = part.row_speed(row);
+        ContactRows::contact_row(part, shape.t[i], Vec3::Unit(c), row, false);
+        v[c] = ContactRows::row_speed(part, row);
       }
       const Vec3 want = -(kick.dv + kick.dw.cross(shape.frames[i].center));
       const double m = chain.node_mass[static_cast<std::size_t>(i)];

@@ -222,7 +222,7 @@ TEST(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
 // A cantilever lying along a frictionless floor (or slope) from its root, the floor a thousandth
 // of a unit below its rest surface, gravity not pre-loaded: beyond its last contact only its weight
 // loads it, which bends it down, so no section may end a frame above its rest height (along the
-// floor's normal). Guards the push out of the floor (ElasticSweep::move_rows): shaped by the
+// floor's normal). Guards the push out of the floor (ContactRows::move_rows): shaped by the
 // springs' compliance alone, with its speed Δq/dt, the push on a station near the root swung the
 // whole tube up about it (E = 2e8: +1.15 units; 2e9: +0.07; the rubber tube flung 20 units up, and
 // 3.3 off a 20° slope).

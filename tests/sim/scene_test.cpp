@@ -6,6 +6,7 @@
 #include "core/sample_sweeps.h"
 #include "sweep/core/error.h"
 #include "sweep/io/json_reader.h"
+#include "sweep/io/scene_authoring_detail.h"
 #include "sweep/io/scene_json.h"
 
 namespace sweep::sim {
@@ -33,8 +34,9 @@ TEST(Scene, AMaterialSweepsForcesTakeTheRealMomentUnlessTheSceneSaysScaled) {
   EXPECT_EQ(scene.forces[2].spec.moment, MomentModel::scaled);
 }
 
-// The message a scene is refused with ("" if it is read).
-std::string refusal(const std::string& colliders) {
+// The message a scene is refused with ("" if it is read), by the runtime's reader or (authored) the
+// tools', which reads the keys that need the mesh file.
+std::string refusal(const std::string& colliders, bool authored = false) {
   Rig rig;
   rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
   rig.sweeps.back().name = "tube";
@@ -42,7 +44,11 @@ std::string refusal(const std::string& colliders) {
     "forces": [], "colliders": )" + colliders +
                                         "}");
   try {
-    parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+    io::SceneAuthoring authoring;
+    if (authored)
+      parse_scene(json, "", io::JsonReader("scene.json", {}), rig, authoring);
+    else
+      parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
   } catch (const Error& e) {
     return e.what();
   }
@@ -126,14 +132,17 @@ TEST(Scene, ASkinnedClipsLoopAndPrerollAreRead) {
   auto read = [&](const std::string& body) {
     const io::Json json = io::Json::parse(R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30,
       "forces": [], "body": )" + body + "}");
-    return parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+    io::SceneAuthoring authoring;
+    const Scene scene = parse_scene(json, "", io::JsonReader("scene.json", {}), rig, authoring);
+    EXPECT_TRUE(scene.body.empty());  // the tools fill it from the mesh
+    return authoring;
   };
-  const Scene scene = read(R"({"node": "Hip", "animation": "Walk", "loop": true, "preroll": 1.5})");
+  const io::SceneAuthoring scene = read(R"({"node": "Hip", "animation": "Walk", "loop": true, "preroll": 1.5})");
   EXPECT_EQ(scene.body_node, "Hip");
   EXPECT_EQ(scene.body_animation, "Walk");
   EXPECT_TRUE(scene.body_loop);
   EXPECT_EQ(scene.body_preroll, 1.5);
-  const Scene plain = read(R"({"node": "Hip"})");
+  const io::SceneAuthoring plain = read(R"({"node": "Hip"})");
   EXPECT_FALSE(plain.body_loop);
   EXPECT_EQ(plain.body_preroll, 0);
   auto refused = [&](const std::string& body) {
@@ -148,9 +157,9 @@ TEST(Scene, ASkinnedClipsLoopAndPrerollAreRead) {
   EXPECT_NE(refused(R"({"node": "Hip", "preroll": -1})").find("/body/preroll: "), std::string::npos);
 }
 
-// The message a scene with this "body_collider" is refused with ("" if it is read).
+// The message a scene with this "body_collider" is refused with by the tools' reader ("" if it is read).
 std::string body_refusal(const std::string& body) {
-  return refusal(R"([], "body_collider": )" + body);
+  return refusal(R"([], "body_collider": )" + body, true);
 }
 
 TEST(Scene, TheBodyColliderIsReadAndBadOnesAreRefusedWithWhereAndWhy) {
@@ -159,11 +168,12 @@ TEST(Scene, TheBodyColliderIsReadAndBadOnesAreRefusedWithWhereAndWhy) {
   rig.sweeps.back().name = "tube";
   const io::Json json = io::Json::parse(R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30,
     "forces": [], "body_collider": {"spheres": 12, "resolution": 32, "margin": 0.01, "friction": 0.25}})");
-  const Scene scene = parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
-  EXPECT_EQ(scene.body_collider.spheres, 12);
-  EXPECT_EQ(scene.body_collider.resolution, 32);
-  EXPECT_EQ(scene.body_collider.margin, 0.01);
-  EXPECT_EQ(scene.body_collider.friction, 0.25);
+  io::SceneAuthoring authoring;
+  const Scene scene = parse_scene(json, "", io::JsonReader("scene.json", {}), rig, authoring);
+  EXPECT_EQ(authoring.body_collider.spheres, 12);
+  EXPECT_EQ(authoring.body_collider.resolution, 32);
+  EXPECT_EQ(authoring.body_collider.margin, 0.01);
+  EXPECT_EQ(authoring.body_collider.friction, 0.25);
   EXPECT_TRUE(scene.colliders.empty());  // the tools fit the spheres, as they read the mesh
   EXPECT_EQ(body_refusal(R"({"spheres": 8})"), "");
   EXPECT_NE(body_refusal(R"({"resolution": 8})").find("/body_collider: missing required member \"spheres\""),
@@ -179,6 +189,33 @@ TEST(Scene, TheBodyColliderIsReadAndBadOnesAreRefusedWithWhereAndWhy) {
       body_refusal(R"({"spheres": 8, "friction": 101})").find("/body_collider/friction: must be between 0 and 100"),
       std::string::npos);
   EXPECT_NE(body_refusal("true").find("/body_collider: "), std::string::npos);
+}
+
+// The runtime runs a scene as it is: the keys that need the mesh file are refused by its reader,
+// as unsupported (exit-code category 3), naming the file and the key; the tools' reader takes them.
+TEST(Scene, TheRuntimesReaderRefusesWhatNeedsTheMeshFile) {
+  const auto category = [](const std::string& tail) {
+    Rig rig;
+    rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
+    rig.sweeps.back().name = "tube";
+    const io::Json json = io::Json::parse(
+        R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [], )" + tail + "}");
+    try {
+      parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+    } catch (const Error& e) {
+      return std::pair(e.category(), std::string(e.what()));
+    }
+    return std::pair(ErrorCategory::usage, std::string());
+  };
+  const auto [node, node_text] = category(R"("body": {"node": "Hip"})");
+  EXPECT_EQ(node, ErrorCategory::unsupported);
+  EXPECT_EQ(node_text.find("scene.json: /body/node: a body that follows a glTF node's animation needs the mesh file"),
+            0u)
+      << node_text;
+  const auto [proxy, proxy_text] = category(R"("body_collider": {"spheres": 8})");
+  EXPECT_EQ(proxy, ErrorCategory::unsupported);
+  EXPECT_EQ(proxy_text.find("scene.json: /body_collider: the body as a collider"), 0u) << proxy_text;
+  EXPECT_EQ(refusal(R"([], "body_collider": {"spheres": 8})", true), "");
 }
 
 }  // namespace

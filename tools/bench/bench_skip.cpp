@@ -8,9 +8,9 @@
 #include <thread>
 
 #include "bench_common.h"
+#include "sweep/assets/body_proxy.h"
 #include "sweep/sim/fast_deform.h"
 #include "sweep/sim/simulator.h"
-#include "tools/common/body_proxy.h"
 
 namespace sweep::bench {
 namespace {
@@ -254,10 +254,10 @@ int main(int argc, char** argv) {
     scenes[4].gravity_preloaded = false;  // it sags onto the floor: driven until it sleeps
     // The body itself, as sweep-sim fits it for "body_collider": {"spheres": 24} (the fit is load
     // time, not frame time, and is not measured here).
-    sim::Scene::BodyCollider body;
+    io::SceneAuthoring::BodyCollider body;
     body.spheres = 24;
     scenes[5].colliders =
-        tools::body_proxy(material.mesh, material.rig, material.binding, body, walking.contact_stations).colliders;
+        assets::body_proxy(material.mesh, material.rig, material.binding, body, walking.contact_stations).colliders;
     const char* labels[6] = {"walking diplodocus (material, gravity), no collider",
                              "… ground and three legs, none touched",
                              "… 16 colliders, none touched",

@@ -15,10 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "sweep/assets/assimp_skin.h"
+#include "sweep/assets/authored_scene.h"
 #include "sweep/assets/bake.h"
 #include "sweep/assets/bake_run.h"
-#include "sweep/assets/gltf_motion.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/assets/skinned_clip.h"
 #include "sweep/core/limits.h"
@@ -27,10 +26,7 @@
 #include "sweep/io/binding_file.h"
 #include "sweep/io/interrupt.h"
 #include "sweep/io/rig_json.h"
-#include "sweep/io/scene_json.h"
-#include "sweep/sim/contact.h"
 #include "sweep/sim/scene.h"
-#include "tools/common/body_proxy.h"
 #include "tools/common/cli_checks.h"
 #include "tools/common/path_checks.h"
 #include "tools/common/tool_main.h"
@@ -160,27 +156,12 @@ int run(Settings s) {
   const sweep::Mesh& mesh = read.mesh;
   const fs::path binding_path = s.binding.empty() ? sweep::io::default_binding_path(s.rig) : s.binding;
   const sweep::bind::Binding binding = sweep::io::load_binding(binding_path, mesh, rig);
-  sweep::sim::Scene scene = sweep::io::read_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn);
-  // A skinned mesh plays its clip (assets/skinned_clip.h); any other follows one node rigidly.
-  std::optional<sweep::assets::SkinnedClip> skinned;
-  if (!scene.body_node.empty()) {
-    if (auto model = sweep::assets::read_skin(mesh_path, mesh.positions, read.to_world)) {
-      for (const std::string& w : model->warnings) sweep::tools::warn(w);
-      skinned.emplace(mesh_path, std::move(*model), read.to_world, rig, binding, scene.body_node, scene.body_animation,
-                      scene.body_loop, scene.body_preroll, scene.fps);
-      for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
-        sweep::io::note("clip '" + skinned->clip_name() + "': part \"" + rig.sweeps[i].name + "\" hangs from joint '" +
-                        skinned->model().nodes[skinned->root_joint_node(static_cast<int>(i))].name + "'");
-      }
-    } else {
-      if (scene.body_loop || scene.body_preroll > 0)
-        sweep::fail(
-            sweep::ErrorCategory::bad_input,
-            mesh_path.string() +
-                ": the scene's body \"loop\" and \"preroll\" play a skinned mesh's clip, and this mesh is not skinned");
-      scene.body = sweep::assets::read_gltf_body_path(mesh_path, scene.body_node, scene.body_animation);
-    }
-  }
+  // The scene as authored, resolved on the mesh: a glTF node's motion or a skinned clip, the body proxy.
+  sweep::assets::ResolvedScene resolved = sweep::assets::resolve_scene(
+      sweep::assets::read_authored_scene(s.scene.empty() ? s.rig : s.scene, rig, sweep::tools::warn), mesh_path, read,
+      rig, binding, sweep::tools::warn);
+  sweep::sim::Scene& scene = resolved.scene;
+  const std::optional<sweep::assets::SkinnedClip>& skinned = resolved.skinned;
   if (s.ring_given && !s.joints_given && !(skinned && !s.morph)) {
     sweep::fail(sweep::ErrorCategory::usage,
                 "--ring-joints: lays out the joints of --joints or of a skinned clip's .glb, and neither is asked for");
@@ -210,25 +191,6 @@ int run(Settings s) {
                       std::to_string(sweep::assets::kDefaultSkinJoints) + ": sweep \"" + fewest->name + "\" has " +
                       std::to_string(s.joints) + " stations");
     }
-  }
-  if (scene.body_collider.spheres > 0) {
-    const sweep::tools::BodyProxy proxy =
-        sweep::tools::body_proxy(mesh, rig, binding, scene.body_collider, scene.contact_stations);
-    if (proxy.colliders.empty())
-      sweep::tools::warn(
-          "body_collider: no sphere fits in the body (is the mesh closed, and not all "
-          "parts?): none is used");
-    scene.colliders.insert(scene.colliders.end(), proxy.colliders.begin(), proxy.colliders.end());
-    if (!proxy.colliders.empty())
-      sweep::io::note("body collider: " + std::to_string(proxy.colliders.size()) + " spheres, covering " +
-                      sweep::format_percent(static_cast<double>(proxy.fit.covered) / proxy.fit.points) +
-                      " of the body's grid points (spacing " + sweep::format_number(proxy.fit.spacing, 3) + ")");
-  }
-  {
-    const sweep::sim::BodyState b = scene.body.at(0);
-    for (const std::string& m :
-         sweep::sim::rest_pose_overlaps(rig, scene.colliders, {b.rotation, b.translation}, scene.contact_stations))
-      sweep::tools::warn(m);
   }
   if (!s.integrator.empty() && !sweep::parse_integrator(s.integrator, &scene.integrator)) {
     sweep::fail(sweep::ErrorCategory::usage,

@@ -1,4 +1,4 @@
-#include "tools/common/body_proxy.h"
+#include "sweep/assets/body_proxy.h"
 
 #include <cmath>
 #include <string>
@@ -6,10 +6,10 @@
 #include "sweep/fit/surface_distance.h"
 #include "sweep/sim/contact.h"
 
-namespace sweep::tools {
+namespace sweep::assets {
 
 BodyProxy body_proxy(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                     const sim::Scene::BodyCollider& settings, int stations_per_span) {
+                     const io::SceneAuthoring::BodyCollider& settings, int stations_per_span) {
   BodyProxy out;
   if (settings.spheres <= 0) return out;
   // The body's faces (no vertex bound) and the parts' (any vertex bound).
@@ -49,4 +49,4 @@ BodyProxy body_proxy(const Mesh& mesh, const Rig& rig, const bind::Binding& bind
   return out;
 }
 
-}  // namespace sweep::tools
+}  // namespace sweep::assets

@@ -3,18 +3,18 @@
 // of unbound vertices than one that a sweep binds (so not a part, nor a part's cap such as the
 // diplodocus's head) — and clear of every part's rest surface by the margin (sim::rest_room, the
 // measure of sim::rest_pose_overlaps, so the rest pose touches none). Fitted once at load
-// (fit/interior_spheres.h, which reads the mesh through CGAL, so this lives on the tools' side) and
-// handed to the runtime as plain sphere colliders carried by the body.
+// (fit/interior_spheres.h, which reads the mesh through CGAL: the authoring side's) and handed to
+// the runtime as plain sphere colliders carried by the body (authored_scene.h).
 #include <vector>
 
 #include "sweep/bind/bind.h"
 #include "sweep/core/mesh.h"
 #include "sweep/core/rig.h"
 #include "sweep/fit/interior_spheres.h"
+#include "sweep/io/scene_authoring_detail.h"
 #include "sweep/sim/collider.h"
-#include "sweep/sim/scene.h"
 
-namespace sweep::tools {
+namespace sweep::assets {
 
 struct BodyProxy {
   std::vector<sim::Collider> colliders;  // "body sphere N", carried by the body, largest first
@@ -22,6 +22,6 @@ struct BodyProxy {
 };
 
 BodyProxy body_proxy(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                     const sim::Scene::BodyCollider& settings, int stations_per_span);
+                     const io::SceneAuthoring::BodyCollider& settings, int stations_per_span);
 
-}  // namespace sweep::tools
+}  // namespace sweep::assets
