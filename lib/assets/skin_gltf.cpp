@@ -197,13 +197,26 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
     if (!up.contains("children")) up["children"] = Json::array();
     up["children"].push_back(i);
   }
-  Json& shown = nodes[static_cast<std::size_t>(model.mesh_node)];
+  // glTF skins a mesh by its joints alone, ignoring its node's transform, and importers (Blender's)
+  // place a skinned mesh best as a root of no transform: a mesh node that is a leaf, no joint and
+  // moved by no clip is made one (the joints' world transforms do not change).
+  const auto mesh_node = static_cast<std::size_t>(model.mesh_node);
+  const int mesh_parent = model.nodes[mesh_node].parent;
+  const bool detach = mesh_parent >= 0 && !animated[mesh_node] && !nodes[mesh_node].contains("children") &&
+                      std::find(model.joints.begin(), model.joints.end(), model.mesh_node) == model.joints.end();
+  Json& shown = nodes[mesh_node];
   shown["mesh"] = 0;
   shown["skin"] = 0;
+  if (detach) {
+    for (const char* key : {"matrix", "translation", "rotation", "scale"}) shown.erase(key);
+    Json& siblings = nodes[static_cast<std::size_t>(mesh_parent)]["children"];
+    siblings.erase(std::find(siblings.begin(), siblings.end(), Json(mesh_node)));
+    if (siblings.empty()) nodes[static_cast<std::size_t>(mesh_parent)].erase("children");
+  }
   json["nodes"] = std::move(nodes);
   Json roots = Json::array();
   for (std::size_t i = 0; i < model.nodes.size(); ++i)
-    if (model.nodes[i].parent < 0) roots.push_back(i);
+    if (model.nodes[i].parent < 0 || (detach && i == mesh_node)) roots.push_back(i);
   json["scenes"] = Json::array({{{"nodes", std::move(roots)}}});
   if (!model.clips.empty()) {
     json["animations"] = Json::array();
