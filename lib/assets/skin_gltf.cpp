@@ -208,7 +208,20 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
   shown["mesh"] = 0;
   shown["skin"] = 0;
   if (detach) {
-    for (const char* key : {"matrix", "translation", "rotation", "scale"}) shown.erase(key);
+    // Its transform the mesh's space → world, as the bake read it: placed by it, POSITION is the mesh
+    // read (the .glb bake maps its vertices so), and glTF's skinning ignores it.
+    SkinNode placed;
+    placed.matrix = to_world.matrix();
+    Eigen::Matrix3d rotation, scaling;
+    to_world.computeRotationScaling(&rotation, &scaling);
+    placed.translation = to_world.translation();
+    placed.rotation = Quat(rotation);
+    placed.scale = scaling.diagonal();
+    const Json transform = node_json(placed, false);
+    for (const char* key : {"matrix", "translation", "rotation", "scale"}) {
+      shown.erase(key);
+      if (transform.contains(key)) shown[key] = transform[key];
+    }
     Json& siblings = nodes[static_cast<std::size_t>(mesh_parent)]["children"];
     siblings.erase(std::find(siblings.begin(), siblings.end(), Json(mesh_node)));
     if (siblings.empty()) nodes[static_cast<std::size_t>(mesh_parent)].erase("children");

@@ -6,8 +6,8 @@
 // normals) from the SkinModel the bake played:
 //  - the nodes: the model's, in its order (so that its node numbers are the document's), named as
 //    the file names them, under their parents; the skinned mesh on the model's mesh node (made a
-//    root of no transform when it is a leaf, no joint and unanimated: glTF ignores a skinned
-//    mesh node's transform, and Blender's importer places it right only so). A node
+//    root when it is a leaf, no joint and unanimated, its transform the one that places the
+//    mesh's space in the world as read; glTF's skinning ignores it). A node
 //    a clip moves gets its rest translation, rotation and scale (what the clip's channels
 //    replace); any other its matrix, as TRS where that decomposition gives it back (1e-9);
 //  - the skin: the model's joints and inverse bind matrices;

@@ -262,5 +262,38 @@ TEST(SkinnedCollada, TheBakedClipSkinnedIsTheBake) {
             << reported << "); outside it " << worst_outside << "\n";
 }
 
+// --morph: one morph target a frame under the character's skin (its offsets taken back through each
+// vertex's skinning matrix); the .glb passes the validator and, skinned here with its targets, is
+// the .pc2 to float precision at every vertex.
+TEST(SkinnedCollada, WithMorphTargetsTheGlbSkinnedIsTheBakeToFloatPrecision) {
+  const DaeBake& bake = dae_bake();
+  ASSERT_TRUE(bake.ok) << io::read_file(here("creature.err"));
+  const fs::path glb = here("creature.morph.glb");
+  std::string walk = kWalk;
+  walk.replace(walk.find("\"Walk\""), 6, "\"Walk_Walk\"");
+  ASSERT_EQ(run_sim(bake.asset, walk, "-o '" + glb.string() + "'", "creature.morph", "--morph"), 0)
+      << io::read_file(here("creature.morph.err"));
+  int code = -1;
+  const std::string report = validate(glb, &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+  const tinygltf::Model out = load(glb);
+  const int baked = find_animation(out, "sweep bake");
+  ASSERT_GE(baked, 0);
+  ASSERT_EQ(out.meshes[0].primitives[0].targets.size(), 31u);
+  const Pc2 cache(bake.pc2);
+  double worst = 0, moved = 0;
+  for (int k = 0; k < cache.frames; ++k) {
+    const std::vector<Vec3> shown = played(out, baked, static_cast<std::size_t>(k)).positions;
+    ASSERT_EQ(shown.size(), static_cast<std::size_t>(cache.points));
+    for (std::size_t v = 0; v < shown.size(); ++v) {
+      worst = std::max(worst, (shown[v] - cache.at(k, v)).norm());
+      moved = std::max(moved, (cache.at(k, v) - cache.at(0, v)).norm());
+    }
+  }
+  EXPECT_LT(worst, 1e-5);  // the tail is 1 long
+  EXPECT_GT(moved, 0.1) << "the tail hardly moved: the check above could not fail";
+}
+
 }  // namespace
 }  // namespace sweep::test
