@@ -58,8 +58,9 @@ Mat4 trs_matrix(const SkinNode& n) {
 
 Json node_json(const SkinNode& n, bool animated) {
   Json node = {{"name", n.name}};
-  const bool trs = animated || !n.matrix ||
-                   (trs_matrix(n) - *n.matrix).cwiseAbs().maxCoeff() <= 1e-9 * std::max(1.0, n.matrix->cwiseAbs().maxCoeff());
+  const bool trs =
+      animated || !n.matrix ||
+      (trs_matrix(n) - *n.matrix).cwiseAbs().maxCoeff() <= 1e-9 * std::max(1.0, n.matrix->cwiseAbs().maxCoeff());
   if (!trs) {
     Json m = Json::array();
     for (int e = 0; e < 16; ++e) m.push_back((*n.matrix)(e % 4, e / 4));

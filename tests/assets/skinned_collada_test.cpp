@@ -80,21 +80,22 @@ void write_creature_dae(const fs::path& dae) {
       t.precision(17);
       for (const double time : times) {
         t << time << ' ';
-        keys << row_major(local(assets::world_transforms(m, static_cast<int>(c), time), static_cast<std::size_t>(node)));
+        keys << row_major(
+            local(assets::world_transforms(m, static_cast<int>(c), time), static_cast<std::size_t>(node)));
       }
       const std::string id = "c" + std::to_string(c) + "n" + std::to_string(node);
       const std::string name = m.nodes[static_cast<std::size_t>(node)].name;
       animations << "<source id=\"" << id << "-t\"><float_array id=\"" << id << "-ta\" count=\"" << times.size()
-                 << "\">" << t.str() << "</float_array><technique_common><accessor source=\"#" << id
-                 << "-ta\" count=\"" << times.size()
+                 << "\">" << t.str() << "</float_array><technique_common><accessor source=\"#" << id << "-ta\" count=\""
+                 << times.size()
                  << "\" stride=\"1\"><param name=\"TIME\" type=\"float\"/></accessor></technique_common></source>\n"
                  << "<source id=\"" << id << "-m\"><float_array id=\"" << id << "-ma\" count=\"" << 16 * times.size()
                  << "\">" << keys.str() << "</float_array><technique_common><accessor source=\"#" << id
                  << "-ma\" count=\"" << times.size()
                  << "\" stride=\"16\"><param name=\"TRANSFORM\" type=\"float4x4\"/></accessor></technique_common>"
                  << "</source>\n<sampler id=\"" << id << "-s\"><input semantic=\"INPUT\" source=\"#" << id
-                 << "-t\"/><input semantic=\"OUTPUT\" source=\"#" << id << "-m\"/></sampler>\n<channel source=\"#"
-                 << id << "-s\" target=\"" << name << "/transform\"/>\n";
+                 << "-t\"/><input semantic=\"OUTPUT\" source=\"#" << id << "-m\"/></sampler>\n<channel source=\"#" << id
+                 << "-s\" target=\"" << name << "/transform\"/>\n";
     }
     animations << "</animation>\n";
   }
@@ -124,7 +125,8 @@ void write_creature_dae(const fs::path& dae) {
       << R"(" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
 <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
 <triangles count=")"
-      << triangles.size() / 3 << R"("><input semantic="VERTEX" source="#v" offset="0"/><p>)" << tris.str() << R"(</p></triangles>
+      << triangles.size() / 3 << R"("><input semantic="VERTEX" source="#v" offset="0"/><p>)" << tris.str()
+      << R"(</p></triangles>
 </mesh></geometry></library_geometries>
 <library_controllers><controller id="skin" name="skin"><skin source="#creature-mesh">
 <bind_shape_matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</bind_shape_matrix>
@@ -132,22 +134,24 @@ void write_creature_dae(const fs::path& dae) {
       << m.joints.size() << "\">" << names.str() << R"(</Name_array><technique_common><accessor source="#ja" count=")"
       << m.joints.size() << R"(" stride="1"><param name="JOINT" type="name"/></accessor></technique_common></source>
 <source id="b"><float_array id="ba" count=")"
-      << 16 * m.joints.size() << "\">" << ibm.str() << R"(</float_array><technique_common><accessor source="#ba" count=")"
-      << m.joints.size() << R"(" stride="16"><param name="TRANSFORM" type="float4x4"/></accessor></technique_common></source>
+      << 16 * m.joints.size() << "\">" << ibm.str()
+      << R"(</float_array><technique_common><accessor source="#ba" count=")" << m.joints.size()
+      << R"(" stride="16"><param name="TRANSFORM" type="float4x4"/></accessor></technique_common></source>
 <source id="w"><float_array id="wa" count=")"
       << weight_count << "\">" << weights.str() << R"(</float_array><technique_common><accessor source="#wa" count=")"
       << weight_count << R"(" stride="1"><param name="WEIGHT" type="float"/></accessor></technique_common></source>
 <joints><input semantic="JOINT" source="#j"/><input semantic="INV_BIND_MATRIX" source="#b"/></joints>
 <vertex_weights count=")"
       << n << R"("><input semantic="JOINT" source="#j" offset="0"/><input semantic="WEIGHT" source="#w" offset="1"/>
-<vcount>)" << vcount.str()
-      << "</vcount><v>" << v.str() << R"(</v></vertex_weights>
+<vcount>)"
+      << vcount.str() << "</vcount><v>" << v.str() << R"(</v></vertex_weights>
 </skin></controller></library_controllers>
 <library_animations>
 )" << animations.str()
       << R"(</library_animations>
 <library_visual_scenes><visual_scene id="Scene" name="Scene">
-)" << scene << R"(</visual_scene></library_visual_scenes>
+)" << scene
+      << R"(</visual_scene></library_visual_scenes>
 <scene><instance_visual_scene url="#Scene"/></scene>
 </COLLADA>
 )";
@@ -169,8 +173,8 @@ const DaeBake& dae_bake() {
     std::string walk = kWalk;
     walk.replace(walk.find("\"Walk\""), 6, "\"Walk_Walk\"");
     io::write_rig(b.asset.rig, rig_of({straight_sweep("tail", false)}, "creature.dae"));
-    const std::string bind = std::string(SWEEP_BIND_EXE) + " -q '" + b.asset.rig.string() + "' -o '" +
-                             b.asset.binding.string() + "'";
+    const std::string bind =
+        std::string(SWEEP_BIND_EXE) + " -q '" + b.asset.rig.string() + "' -o '" + b.asset.binding.string() + "'";
     b.ok = std::system(bind.c_str()) == 0 &&
            run_sim(b.asset, walk, "-o '" + b.glb.string() + "' -o '" + b.pc2.string() + "'", "creature",
                    "--report '" + b.report.string() + "'") == 0;
@@ -209,7 +213,8 @@ TEST(SkinnedCollada, KeepsTheInputsJointsAndClips) {
   ASSERT_EQ(out.skins.size(), 1u);
   const std::vector<int>& joints = out.skins[0].joints;
   ASSERT_GT(joints.size(), bones.size()) << "the parts' joints are added";
-  for (std::size_t k = 0; k < bones.size(); ++k) EXPECT_EQ(out.nodes[static_cast<std::size_t>(joints[k])].name, bones[k]);
+  for (std::size_t k = 0; k < bones.size(); ++k)
+    EXPECT_EQ(out.nodes[static_cast<std::size_t>(joints[k])].name, bones[k]);
   ASSERT_EQ(out.animations.size(), clips.size() + 1);
   for (std::size_t a = 0; a < clips.size(); ++a) EXPECT_EQ(out.animations[a].name, clips[a]);
   EXPECT_EQ(out.animations.back().name, "sweep bake");
