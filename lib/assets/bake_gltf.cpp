@@ -123,22 +123,8 @@ void GltfWriter::start_passthrough(const Mesh&) {
 }
 
 void GltfWriter::start(const Mesh& mesh) {
-  if (info().skinned) {
-    // The .glb of a skinned clip is the character's own document with its skeleton and clips;
-    // a character read through assimp (FBX, Collada, ...) has none here to keep.
-    std::string ext = info().source.path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (ext != ".gltf" && ext != ".glb") {
-      fail(ErrorCategory::unsupported,
-           out().string() +
-               ": the .glb of a skinned character's clip is the character's glTF with its skeleton and clips, and " +
-               info().source.path.string() +
-               " is not glTF: bake it to .pc2 or .obj (world positions), or export the "
-               "character to glTF first");
-    }
-  }
-  if (detail::is_passthrough_source(info().source.path)) {
+  if (detail::is_passthrough_source(info().source.path) || info().skinned) {
+    // A skinned character (glTF, or read through assimp: made a glTF character) keeps its skeleton.
     // A skinned clip moves every vertex; the parts' vertices are those that leave their skinned pose.
     // With joints in the character's skeleton no vertex gets a target.
     passthrough_ = detail::GltfPassthrough::open(info().source.path, out(), mesh,

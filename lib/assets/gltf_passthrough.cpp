@@ -18,6 +18,7 @@
 #include "sweep/assets/gltf_document.h"
 #include "sweep/assets/gltf_skin.h"
 #include "sweep/assets/obj_gltf.h"
+#include "sweep/assets/skin_gltf.h"
 #include "sweep/assets/skinned_clip.h"
 #include "sweep/assets/smooth_normals.h"
 #include "sweep/core/error.h"
@@ -721,11 +722,13 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.body_moves = info.body_moves;
   s.skin = info.skinned;
   s.joints = info.skinned != nullptr ? info.character_joints : nullptr;
-  if (const std::string ext = lower_extension(source); ext == "obj" || ext == "fbx") {
+  if (const std::string ext = lower_extension(source); ext != "gltf" && ext != "glb") {
     std::optional<SurfaceGltf> converted =
         ext == "obj" ? obj_as_gltf(source, rest, info.warn)
                      : surface_as_gltf(read_welded_surface(source, info.source.mesh_name), rest, source);
     if (!converted) fail(ErrorCategory::internal, s.where + "no surface to carry");
+    // A skinned character read through assimp: made a glTF character, skeleton, skin and clips.
+    if (s.skin != nullptr) add_skin(*converted, s.skin->model(), info.source.to_world);
     s.doc = std::move(converted->doc);
     s.given_sources = std::move(converted->sources);
   } else {
@@ -774,7 +777,7 @@ GltfPassthrough::~GltfPassthrough() = default;
 std::unique_ptr<GltfPassthrough> GltfPassthrough::open(const fs::path& source, const fs::path& out, const Mesh& rest,
                                                        const std::vector<std::uint32_t>& animated,
                                                        const BakeInfo& info) {
-  if (!is_passthrough_source(source)) return nullptr;
+  if (!is_passthrough_source(source) && info.skinned == nullptr) return nullptr;
   if (lower_extension(source) == "obj") {
     // Only an OBJ with something to carry: a plain one keeps the plain .glb (vertex order as read).
     const std::string text = read_file(source);

@@ -51,6 +51,8 @@
 // similarity (rotation, uniform scale, translation). A buffer or image that cannot be read is Error(bad_input). An OBJ
 // source with UVs, normals, colours or materials is first made a glTF document (obj_gltf.h); its vertices are split per
 // corner, so each primitive vertex names its source vertex in the mesh as read, and the targets follow that vertex.
+// An FBX's surface is made one the same way, and a skinned character's of any format assimp reads gets its skeleton,
+// skin and clips too (skin_gltf.h).
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
