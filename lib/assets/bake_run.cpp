@@ -135,6 +135,8 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       s.duration = scene.duration + preroll;
       s.body_node.clear();
       s.body = options.skinned->sweep_path(i, s.duration);
+      // The keys' own bend of the part, sampled at the internal step, loads its springs.
+      s.keyed_bends = {options.skinned->keyed_bend(i, s.duration, s.step_seconds())};
       if (s.teleport_distance == 0) s.teleport_distance = longest;  // as for the whole rig
       s.forces.clear();
       for (sim::SceneForce f : scene.forces) {

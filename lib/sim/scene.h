@@ -10,6 +10,7 @@
 #include "sweep/core/rig.h"
 #include "sweep/sim/body_path.h"
 #include "sweep/sim/collider.h"
+#include "sweep/sim/keyed_bend.h"
 #include "sweep/sim/wind.h"
 
 namespace sweep::sim {
@@ -53,6 +54,10 @@ struct Scene {
   // many seconds before frame 0 (rounded to whole frames).
   bool body_loop = false;
   double body_preroll = 0;
+  // Per sweep (by index; missing or empty: none), the keyed bend of its own pose relative to its
+  // root, which loads its springs as the body's motion does (sim/keyed_bend.h): a skinned clip's
+  // part (assets/skinned_clip.h) sets it, on the simulator's clock.
+  std::vector<KeyedBend> keyed_bends;
   // A body that jumps farther than this in one frame's time (mesh units), or turns by more than
   // this (radians), has been cut or respawned: the parts are put to rest in the new place instead
   // of feeling the jump (a piece of the path between two keys, wherever the frames fall, or the
