@@ -238,7 +238,8 @@ sim::KeyedBend SkinnedClip::keyed_bend(int sweep, double duration, double spacin
   const double floor = 64 * std::numeric_limits<double>::epsilon() * extent / (spacing * spacing);
   // Positions at samples n − 1, n, n + 1 (the velocity over a piece that jumps is the one before
   // it: a STEP key or an unequal seam is a cut, taken as the pose's jump, not felt).
-  std::vector<Vec3> p_prev, p_cur, p_next, accelerations;
+  std::vector<Vec3> p_prev, p_cur, p_next;
+  std::vector<Eigen::Vector3f> accelerations;
   accelerations.reserve(static_cast<std::size_t>(last + 1) * sections);
   keyed_sections(sweep, clip_time(scene_time(-1)), p_prev);
   keyed_sections(sweep, clip_time(scene_time(0)), p_cur);
@@ -253,7 +254,7 @@ sim::KeyedBend SkinnedClip::keyed_bend(int sweep, double duration, double spacin
       v_after[j] = cut ? v_before[j] : Vec3((p_next[j] - p_cur[j]) / spacing);
       Vec3 a = j == 0 ? Vec3::Zero() : Vec3((v_after[j] - v_before[j]) / spacing);
       if (a.cwiseAbs().maxCoeff() < floor) a = Vec3::Zero();
-      accelerations.push_back(a);
+      accelerations.push_back(a.cast<float>());
     }
     std::swap(v_before, v_after);
     std::swap(p_cur, p_next);

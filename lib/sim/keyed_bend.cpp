@@ -5,13 +5,14 @@
 
 namespace sweep::sim {
 
-KeyedBend::KeyedBend(double spacing, int sections, std::vector<Vec3> accelerations)
+KeyedBend::KeyedBend(double spacing, int sections, std::vector<Eigen::Vector3f> accelerations)
     : spacing_(spacing), sections_(sections), accelerations_(std::move(accelerations)) {
   const std::size_t samples = sections_ > 0 ? accelerations_.size() / static_cast<std::size_t>(sections_) : 0;
   moving_before_.assign(samples + 1, 0);
   for (std::size_t n = 0; n < samples; ++n) {
     const auto first = accelerations_.begin() + static_cast<std::ptrdiff_t>(n * sections_);
-    const bool moving = std::any_of(first, first + sections_, [](const Vec3& a) { return a != Vec3::Zero(); });
+    const bool moving =
+        std::any_of(first, first + sections_, [](const Eigen::Vector3f& a) { return a != Eigen::Vector3f::Zero(); });
     moving_before_[n + 1] = moving_before_[n] + (moving ? 1 : 0);
   }
 }
@@ -26,9 +27,12 @@ void KeyedBend::at(double t, std::span<Vec3> out) const {
   const double s = u - static_cast<double>(n);
   const std::size_t count = std::min(out.size(), static_cast<std::size_t>(sections_));
   for (std::size_t i = 0; i < count; ++i) {
-    const Vec3& a = accelerations_[static_cast<std::size_t>(n) * sections_ + i];
-    out[i] =
-        n + 1 < samples && s > 0 ? a + s * (accelerations_[static_cast<std::size_t>(n + 1) * sections_ + i] - a) : a;
+    const Vec3 a = accelerations_[static_cast<std::size_t>(n) * sections_ + i].cast<double>();
+    if (n + 1 < samples && s > 0) {
+      out[i] = a + s * (accelerations_[static_cast<std::size_t>(n + 1) * sections_ + i].cast<double>() - a);
+    } else {
+      out[i] = a;
+    }
   }
 }
 
