@@ -134,6 +134,9 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       sim::Scene s = scene;
       s.duration = scene.duration + preroll;
       s.body = options.skinned->sweep_path(i, s.duration);
+      // The keys' own bend of the part, sampled at the internal step, loads its springs.
+      s.keyed_bends.clear();
+      s.keyed_bends.push_back(options.skinned->keyed_bend(i, s.duration, s.step_seconds()));
       if (s.teleport_distance == 0) s.teleport_distance = longest;  // as for the whole rig
       s.forces.clear();
       for (sim::SceneForce f : scene.forces) {
@@ -145,6 +148,8 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       }
       part_scenes.push_back(std::move(s));
       sims.push_back(std::make_unique<sim::Simulator>(part_rigs.back(), part_scenes.back(), options.sleep));
+      // The simulator keeps its own copy of the keyed bend (a sample a section an internal step).
+      part_scenes.back().keyed_bends = {};
       of_sweep.emplace_back(i, 0);
     }
   }

@@ -3,6 +3,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "sweep/core/error.h"
@@ -28,6 +29,9 @@ constexpr int kSamplesPerFrame = 2;
 // How far from a rotation (|RᵀR − I|, per entry) a root joint's motion may be: 1e-4, a scale of
 // 1 ± 5e-5 at most.
 constexpr double kRigidTolerance = 1e-4;
+// A looping clip whose last and first poses put a section farther apart than this share of the
+// part's length jumps at its seam (float keys written equal differ by rounding alone).
+constexpr double kSeamShare = 1e-6;
 
 }  // namespace
 
@@ -92,6 +96,28 @@ SkinnedClip::SkinnedClip(const std::filesystem::path& file, SkinModel model, con
                                        [](const auto& a, const auto& b) { return a.second < b.second; });
     root_joint_.push_back(best->first);
     pivot_.push_back(centre / ring);
+    // Each section placed in the keyed pose as the bound vertices nearest it along the part are:
+    // with the mean of their skin weights.
+    const SweepShape& shape = rig.sweeps[i].rest;
+    std::vector<SectionSkin> sections(static_cast<std::size_t>(shape.section_count()));
+    for (int j = 0; j < shape.section_count(); ++j) {
+      sections[j].centre = shape.frames[j].center;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const float t : table.t) nearest = std::min(nearest, std::abs(t - shape.t[j]));
+      const double reach = nearest + kRootRingShare * shape.length();
+      std::map<int, double> mean;
+      int count = 0;
+      for (std::size_t k = 0; k < table.size(); ++k) {
+        if (std::abs(table.t[k] - shape.t[j]) > reach) continue;
+        const std::uint32_t v = table.vertices[k];
+        for (int e = 0; e < 4; ++e)
+          if (model_.vertex_weights[v][e] != 0) mean[model_.vertex_joints[v][e]] += model_.vertex_weights[v][e];
+        ++count;
+      }
+      for (const auto& [joint, w] : mean) sections[j].weights.emplace_back(joint, w / count);
+    }
+    section_skin_.push_back(std::move(sections));
+    length_.push_back(shape.length());
   }
 }
 
@@ -118,6 +144,26 @@ Eigen::Affine3d SkinnedClip::part_transform(const std::vector<Eigen::Matrix4d>& 
   return b;
 }
 
+void SkinnedClip::root_pose(const std::vector<Eigen::Matrix4d>& joints, int sweep, double clip_time, Quat& rotation,
+                            Vec3& translation) const {
+  const Eigen::Affine3d b = part_transform(joints, sweep);
+  const Eigen::Matrix3d r = b.linear();
+  // Exporters write scales of 1 as 0.9999999 and so on (float32 round trips): a scale within
+  // kRigidTolerance of 1 is that noise, not a scale channel.
+  if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < kRigidTolerance) ||
+      !(r.determinant() > 0)) {
+    fail(ErrorCategory::bad_input, "animation '" + clip_name() + "': the root joint '" +
+                                       model_.nodes[root_joint_node(sweep)].name + "' of part " +
+                                       std::to_string(sweep) + " is scaled or sheared at " + format_number(clip_time) +
+                                       " s (a scale channel on it or above it, or a scaled inverse bind matrix): a "
+                                       "part's root moves and turns rigidly");
+  }
+  translation = b * pivot_[sweep];
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  rotation = Quat(Eigen::Matrix3d(svd.matrixU() * svd.matrixV().transpose()));
+  rotation.normalize();  // the nearest rotation (polar decomposition)
+}
+
 sim::BodyPath SkinnedClip::sweep_path(int sweep, double duration) const {
   const long long frames = static_cast<long long>(std::floor(duration * fps_ + 1e-9));
   std::vector<sim::BodyKey> keys;
@@ -127,32 +173,93 @@ sim::BodyPath SkinnedClip::sweep_path(int sweep, double duration) const {
       // On the simulator's clock: frame f at f / fps exactly, as the simulator computes it.
       const double t = s == 0 ? f / fps_ : (f + static_cast<double>(s) / kSamplesPerFrame) / fps_;
       const double scene_time = (f - preroll_frames_ + static_cast<double>(s) / kSamplesPerFrame) / fps_;
-      const Eigen::Affine3d b = part_transform(joint_matrices_at(scene_time), sweep);
-      const Eigen::Matrix3d r = b.linear();
-      // Exporters write scales of 1 as 0.9999999 and so on (float32 round trips): a scale within
-      // kRigidTolerance of 1 is that noise, not a scale channel.
-      if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < kRigidTolerance) ||
-          !(r.determinant() > 0)) {
-        fail(ErrorCategory::bad_input, "animation '" + clip_name() + "': the root joint '" +
-                                           model_.nodes[root_joint_node(sweep)].name + "' of part " +
-                                           std::to_string(sweep) + " is scaled or sheared at " +
-                                           format_number(clip_time(scene_time)) +
-                                           " s (a scale channel on it or above it, or a scaled inverse bind matrix): a "
-                                           "part's root moves and turns rigidly");
-      }
       sim::BodyKey key;
       key.time = t;
-      key.translation = b * pivot_[sweep];
-      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
-      Quat q(Eigen::Matrix3d(svd.matrixU() * svd.matrixV().transpose()));
-      q.normalize();                          // the nearest rotation (polar decomposition)
-      if (q.dot(last) < 0) q.coeffs() *= -1;  // continuous, so that slerp takes the short way
-      last = q;
-      key.rotation = q;
+      root_pose(joint_matrices_at(scene_time), sweep, clip_time(scene_time), key.rotation, key.translation);
+      if (key.rotation.dot(last) < 0) key.rotation.coeffs() *= -1;  // continuous: slerp takes the short way
+      last = key.rotation;
       keys.push_back(key);
     }
   }
   return sim::BodyPath(std::move(keys), sim::BodyInterpolation::linear, pivot_[sweep]);
+}
+
+void SkinnedClip::keyed_sections(int sweep, double clip_time, std::vector<Vec3>& out) const {
+  const std::vector<Eigen::Matrix4d> joints = joint_matrices(model_, world_transforms(model_, clip_, clip_time));
+  Quat rotation;
+  Vec3 translation;
+  root_pose(joints, sweep, clip_time, rotation, translation);
+  const Eigen::Matrix3d to_root = rotation.toRotationMatrix().transpose();
+  const std::vector<SectionSkin>& sections = section_skin_[sweep];
+  out.resize(sections.size());
+  for (std::size_t j = 0; j < sections.size(); ++j) {
+    const Eigen::Vector4d c = (from_mesh_ * sections[j].centre).homogeneous();
+    Eigen::Vector4d world = Eigen::Vector4d::Zero();
+    for (const auto& [joint, w] : sections[j].weights) world += w * (joints[joint] * c);
+    out[j] = to_root * (world.head<3>() - translation) + pivot_[sweep];
+  }
+}
+
+bool SkinnedClip::jumps_between(double a, double b, bool seam) const {
+  const SkinClip& clip = model_.clips[clip_];
+  const double ca = clip_time(a), cb = clip_time(b);
+  const bool wrapped = cb < ca;  // a looping clip's seam lies between them
+  if (wrapped && seam) return true;
+  for (const ClipChannel& c : clip.channels) {
+    if (c.interpolation != ChannelInterpolation::step) continue;
+    // Before its first key a channel holds that key's value: only the later keys jump.
+    for (std::size_t k = 1; k < c.times.size(); ++k) {
+      const double key = c.times[k];
+      if (wrapped ? (key > ca || key <= cb) : (key > ca && key <= cb)) return true;
+    }
+  }
+  return false;
+}
+
+sim::KeyedBend SkinnedClip::keyed_bend(int sweep, double duration, double spacing) const {
+  const int sections = static_cast<int>(section_skin_[sweep].size());
+  const long long last = static_cast<long long>(std::ceil(duration / spacing - 1e-9));
+  const double preroll = preroll_frames_ / fps_;
+  const auto scene_time = [&](long long n) { return static_cast<double>(n) * spacing - preroll; };
+  // A looping clip whose last pose is not its first jumps at its seam.
+  const SkinClip& clip = model_.clips[clip_];
+  std::vector<Vec3> before, after;
+  bool seam = false;
+  double extent = 1;  // the size of the coordinates, for the rounding's floor
+  if (loop_ && clip.end > clip.start) {
+    keyed_sections(sweep, clip.end, before);
+    keyed_sections(sweep, clip.start, after);
+    for (std::size_t j = 1; j < before.size(); ++j)
+      seam = seam || (before[j] - after[j]).norm() > kSeamShare * length_[sweep];
+  }
+  for (const SectionSkin& s : section_skin_[sweep]) extent = std::max(extent, (from_mesh_ * s.centre).norm());
+  // Accelerations below what rounding the positions (a few ulps of the coordinates) makes are none:
+  // a part whose keys do not bend it is not loaded, and sleeps.
+  const double floor = 64 * std::numeric_limits<double>::epsilon() * extent / (spacing * spacing);
+  // Positions at samples n − 1, n, n + 1 (the velocity over a piece that jumps is the one before
+  // it: a STEP key or an unequal seam is a cut, taken as the pose's jump, not felt).
+  std::vector<Vec3> p_prev, p_cur, p_next;
+  std::vector<Eigen::Vector3f> accelerations;
+  accelerations.reserve(static_cast<std::size_t>(last + 1) * sections);
+  keyed_sections(sweep, clip_time(scene_time(-1)), p_prev);
+  keyed_sections(sweep, clip_time(scene_time(0)), p_cur);
+  std::vector<Vec3> v_before(sections, Vec3::Zero()), v_after(sections);
+  if (!jumps_between(scene_time(-1), scene_time(0), seam)) {
+    for (int j = 0; j < sections; ++j) v_before[j] = (p_cur[j] - p_prev[j]) / spacing;
+  }
+  for (long long n = 0; n <= last; ++n) {
+    keyed_sections(sweep, clip_time(scene_time(n + 1)), p_next);
+    const bool cut = jumps_between(scene_time(n), scene_time(n + 1), seam);
+    for (int j = 0; j < sections; ++j) {
+      v_after[j] = cut ? v_before[j] : Vec3((p_next[j] - p_cur[j]) / spacing);
+      Vec3 a = j == 0 ? Vec3::Zero() : Vec3((v_after[j] - v_before[j]) / spacing);
+      if (a.cwiseAbs().maxCoeff() < floor) a = Vec3::Zero();
+      accelerations.push_back(a.cast<float>());
+    }
+    std::swap(v_before, v_after);
+    std::swap(p_cur, p_next);
+  }
+  return sim::KeyedBend(spacing, sections, std::move(accelerations));
 }
 
 void SkinnedClip::pose(double scene_time, std::span<const Eigen::Vector3f> deformed,

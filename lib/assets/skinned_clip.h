@@ -19,9 +19,21 @@
 // the simulated deviation): a bound vertex is placed by its own skinning matrix,
 //     M_v(t) · p,    M_v(t) = Σ_i w_i J_{k_i}(t) · M⁻¹
 // with p its position deformed by the part in the mesh's frame, so that a part at rest is exactly
-// its skinned pose, and its deviation turns with the keyed bend of the joints that skin it. The
-// deviation is driven by the root joint's motion only: the keyed bend's own accelerations (a
-// tail's joints swinging on their own) do not yet load the springs.
+// its skinned pose, and its deviation turns with the keyed bend of the joints that skin it.
+// The keyed bend's own accelerations load the springs too (a tail whose joints are keyed to sway
+// while the hip stands still lags and overshoots its keys): each section's centre is placed in the
+// keyed pose by the mean skin weights of the bound vertices nearest it along the part, taken to its
+// root's frame, and its acceleration there, a_key, loads the section as the root's acceleration at
+// its centre does, so that its deviation q obeys m q'' + c q' + k q = −m a_key (sim/keyed_bend.h;
+// the paper's springs: each section's positional spring; material mode: through the joints, as
+// weight). The sections are point masses, as for the root's loads, so the keyed turning of a
+// section enters only through its centre's acceleration, and the Coriolis and centrifugal terms of
+// the keyed motion in a turning root are left out. a_key is the second difference of the keyed
+// centres at the simulator's internal step h on its own clock (the looped clip's time, so a clip
+// whose last pose is its first has no seam): its relative error is (ωh)²/12 for a sway at ω (4e-4
+// at 5 Hz at the default 1/480 s step), and a corner of LINEAR keys is its exact change of
+// velocity spread over 2h. A STEP key, and the seam of a loop whose ends differ, are cuts: the
+// part takes the jump with its deviation unchanged, without feeling it.
 //
 // Time: scene time τ (frame k at k / fps) maps to the clip's time start + τ, held at its ends, or
 // with `loop` start + (τ mod its length); `preroll` seconds (rounded to whole frames) are simulated
@@ -36,6 +48,7 @@
 #include "sweep/bind/bind.h"
 #include "sweep/core/rig.h"
 #include "sweep/sim/body_path.h"
+#include "sweep/sim/keyed_bend.h"
 
 namespace sweep::assets {
 
@@ -69,6 +82,9 @@ class SkinnedClip {
   // Sweep i's root motion from scene time −preroll to `duration`, on the simulator's clock
   // (simulator time 0 = scene time −preroll).
   sim::BodyPath sweep_path(int sweep, double duration) const;
+  // Sweep i's keyed bend over the same time, sampled every `spacing` seconds on the same clock
+  // (the simulator's internal step): each section's keyed acceleration relative to its root.
+  sim::KeyedBend keyed_bend(int sweep, double duration, double spacing) const;
 
   // World positions at scene time τ: `deformed` the bake's positions in the mesh's frame (rest
   // where no part moves them).
@@ -83,6 +99,23 @@ class SkinnedClip {
   Eigen::Affine3d from_mesh_ = Eigen::Affine3d::Identity();  // M⁻¹
   std::vector<int> root_joint_;                              // per sweep, into model_.joints
   std::vector<Vec3> pivot_;                                  // per sweep: the root ring's centre at rest
+  // Per sweep, per section: its centre at rest and the skin weights (joint, weight) that place it
+  // in the keyed pose, the mean of those of the bound vertices nearest it along the part.
+  struct SectionSkin {
+    Vec3 centre = Vec3::Zero();
+    std::vector<std::pair<int, double>> weights;
+  };
+  std::vector<std::vector<SectionSkin>> section_skin_;
+  std::vector<double> length_;  // per sweep, its length at rest
+  // Sweep i's root at clip time c as a rigid motion (the body path's key): world = rotation ·
+  // (mesh − pivot) + translation. Throws Error(bad_input) where it is scaled or sheared.
+  void root_pose(const std::vector<Eigen::Matrix4d>& joints, int sweep, double clip_time, Quat& rotation,
+                 Vec3& translation) const;
+  // Sweep i's section centres in the keyed pose at clip time c, in its root's frame (mesh coordinates).
+  void keyed_sections(int sweep, double clip_time, std::vector<Vec3>& out) const;
+  // Whether a STEP key of the clip falls in (clip_time(a), clip_time(b)] (a < b, less than a clip
+  // length apart), or, with `seam`, the loop's seam does.
+  bool jumps_between(double a, double b, bool seam) const;
   const bind::Binding* binding_ = nullptr;
 };
 

@@ -164,7 +164,8 @@ void ElasticSweep::clear_forces() {
 
 bool ElasticSweep::body_loads() const {
   return (chain_ && (body_.gravity != Vec3::Zero() || body_.drag > 0)) || body_.acceleration != Vec3::Zero() ||
-         body_.angular_velocity != Vec3::Zero() || body_.angular_acceleration != Vec3::Zero();
+         body_.angular_velocity != Vec3::Zero() || body_.angular_acceleration != Vec3::Zero() ||
+         !keyed_acceleration_.empty();
 }
 
 // Each section's share of the body's motion at the centres of the current shape, as a field of
@@ -172,7 +173,7 @@ bool ElasticSweep::body_loads() const {
 // beyond it, Σ_{i>j} (c_i − c_j) × m_i g_i, and each positional spring the force beyond it (the
 // chain's mass matrix carries those masses too); with the paper's springs each section's own
 // positional spring takes its own share.
-void ElasticSweep::add_body_loads(const BodyMotion& motion, bool to_joints) {
+void ElasticSweep::add_body_loads(const BodyMotion& motion, bool to_joints, bool keyed) {
   const int k = def_.rest.section_count();
   const double s = chain_ ? chain_->metres_per_unit : 1.0;  // mesh-unit accelerations to m/s²
   const Vec3& w = motion.angular_velocity;
@@ -210,6 +211,12 @@ void ElasticSweep::add_body_loads(const BodyMotion& motion, bool to_joints) {
     const double mass = chain_ ? chain_->node_mass[j] : def_.springs[j].positional.mass;
     Vec3 f = mass * (gravity - s * frame_acceleration);
     Vec3 turning = exact ? Vec3::Zero() : f;  // what the joints take (the exact chain: the wind alone)
+    if (keyed && !keyed_acceleration_.empty()) {
+      // The keyed bend's inertia: the exact chain does not know it, so its joints take it too.
+      const Vec3 inertia = -mass * s * keyed_acceleration_[j];
+      f += inertia;
+      turning += inertia;
+    }
     if (wind) {
       // The air against the section (m/s), across the part's axis: cross-flow drag on the span.
       const Vec3 air = motion.wind - s * (motion.velocity + w.cross(c) + section_velocity_[j]);
@@ -273,13 +280,23 @@ void ElasticSweep::set_body_motion(const BodyMotion& motion) {
   if (!chain_) body_.gravity = Vec3::Zero();
 }
 
+void ElasticSweep::set_keyed_acceleration(std::span<const Vec3> acceleration) {
+  if (acceleration.empty() ||
+      std::all_of(acceleration.begin(), acceleration.end(), [](const Vec3& a) { return a == Vec3::Zero(); })) {
+    keyed_acceleration_.clear();  // keeps its capacity: setting it again allocates nothing
+    return;
+  }
+  assert(acceleration.size() == static_cast<std::size_t>(def_.rest.section_count()));
+  keyed_acceleration_.assign(acceleration.begin(), acceleration.end());
+}
+
 void ElasticSweep::apply_body_kick(const Vec3& dv, const Vec3& dw) {
   if (dv == Vec3::Zero() && dw == Vec3::Zero()) return;
   loads_.clear();
   BodyMotion kick_motion;
   kick_motion.acceleration = dv;
   kick_motion.angular_acceleration = dw;
-  add_body_loads(kick_motion, true);
+  add_body_loads(kick_motion, true, false);
   loads_to_springs(false);
   if (chain_) {
     // Material mode takes the kick by bending alone (the joints, through the chain's full mass
@@ -302,7 +319,7 @@ void ElasticSweep::gather_loads(const std::vector<ActiveForce>& forces) {
   for (const ActiveForce& a : forces) {
     accumulate_force(deformed_, a.spec, a.t, a.theta, def_.rotational_scale, def_.radial_scale, loads_);
   }
-  if (body_loads()) add_body_loads(body_, !exact_chain());
+  if (body_loads()) add_body_loads(body_, !exact_chain(), true);
   loads_to_springs(true);
 }
 
@@ -458,6 +475,7 @@ void ElasticSweep::copy_state_from(const ElasticSweep& other) {
   integrator_ = other.integrator_;
   use_exact_ = other.use_exact_;
   body_ = other.body_;
+  keyed_acceleration_ = other.keyed_acceleration_;  // reuses its capacity
 }
 
 void ElasticSweep::rebuild() {

@@ -104,6 +104,13 @@ class ElasticSweep {
   };
   void set_body_motion(const BodyMotion& motion);
   const BodyMotion& body_motion() const { return body_; }
+  // The keyed pose's own motion relative to the body (a skinned part's bend keyed by the joints
+  // below its root, sim/keyed_bend.h): each section's acceleration (mesh units/s², body axes; one
+  // per section, section 0's unused), held until set again; empty: none. A section takes −m a
+  // from it as from the body's acceleration at its centre, so its deviation from the keyed pose
+  // obeys m q'' + c q' + k q = −m a (material mode: through the joints, as weight; the exact
+  // chain takes it as it takes the wind, an applied load).
+  void set_keyed_acceleration(std::span<const Vec3> acceleration);
   // An instant change of the body's velocity (Δv of its origin, Δω; body axes): each section
   // takes the impulse −m (Δv + Δω × c), as at the corner of a linear keyframed path (material
   // mode: through its joints alone, which leaves the part all but still in the world across its
@@ -198,13 +205,14 @@ class ElasticSweep {
   void step_exact(double dt);
   void sync_exact() const;  // exact_'s state from rotational_
   BodyMotion body_;
-  std::vector<double> gravity_preload_;  // rest-pose gravity loads in spring axes (3K pos, 3K rot)
-  std::vector<Vec3> section_velocity_;   // scratch: each centre's velocity relative to the body
-  std::vector<Vec3> shift_velocity_;     // scratch: its share from the positional springs
-  bool body_loads() const;               // whether body_ loads anything
+  std::vector<double> gravity_preload_;   // rest-pose gravity loads in spring axes (3K pos, 3K rot)
+  std::vector<Vec3> section_velocity_;    // scratch: each centre's velocity relative to the body
+  std::vector<Vec3> shift_velocity_;      // scratch: its share from the positional springs
+  std::vector<Vec3> keyed_acceleration_;  // per section; empty: no keyed bend
+  bool body_loads() const;                // whether body_ or the keyed bend loads anything
   // to_joints false: the positional springs' and the wind's shares alone (the exact chain takes the
-  // rest itself).
-  void add_body_loads(const BodyMotion& motion, bool to_joints);
+  // rest itself). `keyed`: the keyed bend's loads too (a kick has none).
+  void add_body_loads(const BodyMotion& motion, bool to_joints, bool keyed);
   void loads_to_springs(bool subtract_preload);  // loads_ into each bank's f, in spring axes
   void kick();                                   // loads in the banks' f as impulses (N·s)
   SectionLoads loads_;

@@ -10,6 +10,7 @@
 #include "sweep/core/rig.h"
 #include "sweep/sim/body_path.h"
 #include "sweep/sim/collider.h"
+#include "sweep/sim/keyed_bend.h"
 #include "sweep/sim/wind.h"
 
 namespace sweep::sim {
@@ -47,6 +48,10 @@ struct Scene {
   // a node of a glTF mesh, and its "body_collider", need the mesh file: the tools resolve them into
   // this path and into `colliders`, assets/authored_scene.h; the runtime's reader refuses them.)
   BodyPath body;
+  // Per sweep (by index; missing or empty: none), the keyed bend of its own pose relative to its
+  // root, which loads its springs as the body's motion does (sim/keyed_bend.h): a skinned clip's
+  // part (assets/skinned_clip.h) sets it, on the simulator's clock.
+  std::vector<KeyedBend> keyed_bends;
   // A body that jumps farther than this in one frame's time (mesh units), or turns by more than
   // this (radians), has been cut or respawned: the parts are put to rest in the new place instead
   // of feeling the jump (a piece of the path between two keys, wherever the frames fall, or the

@@ -63,6 +63,18 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep) : 
       if (!scene.gravity_preloaded) sweeps_.back().driven = sweeps_.back().awake = true;
     }
   }
+  // A keyed bend drives its part (from scene_, the simulator's own copy).
+  for (std::size_t i = 0; i < sweeps_.size() && i < scene_.keyed_bends.size(); ++i) {
+    const KeyedBend& bend = scene_.keyed_bends[i];
+    if (bend.empty()) continue;
+    if (bend.sections() != rig.sweeps[i].rest.section_count())
+      fail(ErrorCategory::usage, "Scene::keyed_bends[" + std::to_string(i) + "] has " +
+                                     std::to_string(bend.sections()) + " sections; sweep \"" + rig.sweeps[i].name +
+                                     "\" has " + std::to_string(rig.sweeps[i].rest.section_count()));
+    sweeps_[i].keyed = static_cast<int>(i);
+    sweeps_[i].keyed_now.assign(static_cast<std::size_t>(bend.sections()), Vec3::Zero());
+    sweeps_[i].driven = true;
+  }
   for (std::size_t f = 0; f < scene.forces.size(); ++f) {
     SweepState& s = sweeps_[scene.forces[f].sweep_index];
     s.driven = true;
@@ -133,8 +145,13 @@ bool Simulator::jumps(double from, double to) const {
          a.rotation.angularDistance(b.rotation) > teleport_angle_;
 }
 
-void Simulator::set_body_motion(ElasticSweep& sweep, double mid, bool teleporting) const {
+void Simulator::set_body_motion(SweepState& s, ElasticSweep& sweep, double mid, bool teleporting) const {
   const bool windy = scene_.wind.settings().any();
+  if (s.keyed >= 0) {
+    // The keyed bend's loads, like the body's, are none inside a teleport.
+    scene_.keyed_bends[s.keyed].at(mid, s.keyed_now);
+    sweep.set_keyed_acceleration(teleporting ? std::span<const Vec3>() : std::span<const Vec3>(s.keyed_now));
+  }
   // A body at rest: gravity, if any, was set once (unless it was changed live).
   if (!scene_.body.moves() && !windy && !live_loads_) return;
   ElasticSweep::BodyMotion m;
@@ -534,7 +551,7 @@ bool Simulator::has_work(int i, double from, double to) const {
   const SweepState& st = sweeps_[i];
   if (!st.driven) return false;
   if (st.awake) return true;
-  if (body_loads(from, to)) return true;
+  if (loads(st, from, to)) return true;
   if (collider_comes(i, from, to)) return true;
   for (std::size_t f : st.forces) {
     const SceneForce& force = scene_.forces[f];
@@ -563,7 +580,7 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
     const bool teleporting = in_teleport(cur, next);
     if (apply_kicks(body, cur, next, teleporting)) wake();
     if (switch_forces(s, body, ids, cur, next)) wake();
-    if (!awake && !teleporting && (body_loads(cur, next) || collider_comes(i, cur, next))) wake();
+    if (!awake && !teleporting && (loads(s, cur, next) || collider_comes(i, cur, next))) wake();
     if (awake) {
       // A whole internal step is stepped with h itself: (n+1)·h − n·h differs from h in its last
       // bits, and a step of new length costs new step maps.
@@ -667,7 +684,7 @@ void Simulator::step_piece(SweepState& s, ElasticSweep& body, bool on_view, doub
     const double a = cur + (next - cur) * p / pieces;
     const bool last = p + 1 == pieces;
     const double b = last ? next : cur + (next - cur) * (p + 1) / pieces;
-    set_body_motion(body, a + 0.5 * (b - a), teleporting);
+    set_body_motion(s, body, a + 0.5 * (b - a), teleporting);
     if (contacts) {
       if (p > 0 || !placed_at_ends) place_colliders(collider_time(a), s.placed);
       s.contact.begin_step(body, s.placed);
@@ -687,7 +704,7 @@ void Simulator::step_piece(SweepState& s, ElasticSweep& body, bool on_view, doub
 void Simulator::settle(SweepState& s, double from, double to) {
   const ElasticSweep& body = s.body;
   if (!sleep_.enabled || body.force_count() > 0 || s.windy) return;
-  if (body_loads(from, to)) return;
+  if (loads(s, from, to)) return;
   bool quiet = body.max_speed() < sleep_.speed && body.max_displacement() < sleep_.displacement;
   if (s.touched) {
     // A part held by a collider rests away from its rest pose, and each step its springs take up

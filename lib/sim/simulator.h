@@ -121,6 +121,8 @@ class Simulator {
     bool touched = false;                      // touched a collider during the current internal step
     double too_fast = 0;                       // this frame: the most pieces a step needed past the cap
     std::vector<Vec3> held_at{};               // its section centres when it last moved, while it touches
+    int keyed = -1;                            // its keyed bend, in scene_.keyed_bends (−1: none)
+    std::vector<Vec3> keyed_now{};             // scratch: the keyed bend's accelerations at one time
   };
   // The scene's colliders in mesh coordinates at time t (world ones moved by the body's inverse).
   void place_colliders(double t, std::vector<PlacedCollider>& out) const;
@@ -146,8 +148,13 @@ class Simulator {
   bool collider_comes(int i, double from, double to) const;
   void check_finite(const ElasticSweep& body, double t) const;
 
-  // The body's loads on sweep i over a piece centred on `mid` (inertia, turning gravity).
-  void set_body_motion(ElasticSweep& sweep, double mid, bool teleporting) const;
+  // The body's loads on sweep s over a piece centred on `mid` (inertia, turning gravity, its keyed
+  // bend).
+  void set_body_motion(SweepState& s, ElasticSweep& sweep, double mid, bool teleporting) const;
+  // Whether the body or sweep s's keyed bend loads it during [from, to].
+  bool loads(const SweepState& s, double from, double to) const {
+    return body_loads(from, to) || (s.keyed >= 0 && scene_.keyed_bends[s.keyed].loads_between(from, to));
+  }
   // Whether the body jumps between the two times (cut, respawn): see Scene::teleport_distance.
   bool jumps(double from, double to) const;
   // Adds to skipped_ the world colliders the parts, at rest and carried by the body over the
