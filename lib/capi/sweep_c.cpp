@@ -4,9 +4,11 @@
 // exception.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <string>
 #include <vector>
@@ -145,6 +147,27 @@ sweep::sim::SkinJointLayout default_skin(const sweep::Rig& rig) {
   return layout;
 }
 
+// The rest positions of a mesh, one copy for every instance opened with the same ones while one
+// lives: a crowd of one creature then streams one copy through its frames' world copies (which
+// stays in cache from one creature to the next) instead of one each from memory.
+static_assert(sizeof(sweep::sim::Vec3f) == 3 * sizeof(float), "compared as bytes below");
+std::shared_ptr<const std::vector<sweep::sim::Vec3f>> shared_rest(std::vector<sweep::sim::Vec3f> rest) {
+  static std::mutex mutex;
+  static std::vector<std::weak_ptr<const std::vector<sweep::sim::Vec3f>>> meshes;
+  const std::lock_guard lock(mutex);
+  std::erase_if(meshes, [](const auto& m) { return m.expired(); });
+  for (const auto& m : meshes) {
+    auto mesh = m.lock();
+    // Bit for bit (a NaN is refused before this; -0 and 0 are told apart).
+    if (mesh && mesh->size() == rest.size() &&
+        std::memcmp(mesh->data(), rest.data(), rest.size() * sizeof(sweep::sim::Vec3f)) == 0)
+      return mesh;
+  }
+  auto mesh = std::make_shared<const std::vector<sweep::sim::Vec3f>>(std::move(rest));
+  meshes.push_back(mesh);
+  return mesh;
+}
+
 sweep::Vec3 vec3(const double xyz[3]) {
   return {xyz[0], xyz[1], xyz[2]};
 }
@@ -214,7 +237,7 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     in->simulator->set_parallel(false);
     std::vector<const sweep::sim::FastDeformer*> parts;
     for (const auto& d : in->deformers) parts.push_back(d.get());
-    in->positions = std::make_unique<sweep::sim::LivePositions>(rest, parts);
+    in->positions = std::make_unique<sweep::sim::LivePositions>(shared_rest(std::move(rest)), parts);
     in->deform_due.assign(in->deformers.size(), 0);
     in->joints_due.assign(in->deformers.size(), 0);
     in->joints = std::make_unique<sweep::sim::SkinJoints>(rest_shapes(in->rig), default_skin(in->rig));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <mutex>
 
 #include "sweep/core/locate.h"
 
@@ -30,6 +31,50 @@ bool all_finite(const std::vector<double>& a) {
   return std::all_of(a.begin(), a.end(), [](double x) { return std::isfinite(x); });
 }
 
+bool same_shape(const SweepShape& a, const SweepShape& b) {
+  if (a.t != b.t || a.radial_count != b.radial_count || a.radii != b.radii || a.frames.size() != b.frames.size())
+    return false;
+  for (std::size_t i = 0; i < a.frames.size(); ++i) {
+    if (a.frames[i].rotation.coeffs() != b.frames[i].rotation.coeffs() || a.frames[i].center != b.frames[i].center)
+      return false;
+  }
+  return true;
+}
+
+// The chain model of a part, shared by every sweep of the same rest shape and materials while one
+// lives: a crowd of one creature (libsweep instances opened from one rig) then reads one set of
+// modes, which stays in cache from one creature to the next, where each its own sent them all to
+// memory (and each instance spent 0.2 ms building it). The model is a pure function of those
+// inputs: shared, it is the same bits.
+std::shared_ptr<const ChainModel> shared_chain_model(const SweepShape& rest, const std::vector<Material>& materials) {
+  struct Entry {
+    SweepShape rest;
+    std::vector<Material> materials;
+    std::weak_ptr<const ChainModel> model;
+  };
+  static std::mutex mutex;
+  static std::vector<Entry> models;
+  const auto find = [&]() -> std::shared_ptr<const ChainModel> {
+    std::erase_if(models, [](const Entry& e) { return e.model.expired(); });
+    for (const Entry& e : models) {
+      if (e.materials == materials && same_shape(e.rest, rest)) {
+        if (auto model = e.model.lock()) return model;
+      }
+    }
+    return nullptr;
+  };
+  {
+    const std::lock_guard lock(mutex);
+    if (auto model = find()) return model;
+  }
+  // Built outside the lock: instances opened on several threads build theirs side by side.
+  auto built = std::make_shared<const ChainModel>(build_chain_model(rest, materials));
+  const std::lock_guard lock(mutex);
+  if (auto model = find()) return model;
+  models.push_back({rest, materials, built});
+  return built;
+}
+
 }  // namespace
 
 ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
@@ -47,7 +92,7 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
   shift_velocity_.assign(k, Vec3::Zero());
   locator_.reset(deformed_);  // its table sized now, not in the frame that first places a force
   if (def_.material) {
-    chain_ = std::make_shared<const ChainModel>(build_chain_model(def_.rest, def_.section_materials));
+    chain_ = shared_chain_model(def_.rest, def_.section_materials);
     positional_.params = chain_->positional;
     radial_.params = chain_->radial;
     const std::size_t dim = static_cast<std::size_t>(3) * chain_->joints;

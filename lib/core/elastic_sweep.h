@@ -118,6 +118,7 @@ class ElasticSweep {
   void apply_body_kick(const Vec3& dv, const Vec3& dw);
 
   // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
+  // Shared (read-only) by every sweep of the same rest shape and materials while one lives.
   const ChainModel* chain() const { return chain_.get(); }
   // Whether the joints move by the geometrically exact chain (core/chain_dynamics.h): material
   // mode with the exact integrator, once set_exact_chain(true). Not yet the default: the contact

@@ -2,6 +2,7 @@
 #include "sweep/sim/live_positions.h"
 
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "sweep/core/error.h"
@@ -40,24 +41,27 @@ __attribute__((target_clones("avx2", "default"))) void transform(const float* po
 }  // namespace
 
 LivePositions::LivePositions(std::span<const Vec3f> rest, std::span<const FastDeformer* const> parts)
-    : points_(rest.begin(), rest.end()) {
-  std::size_t total = rest.size();
+    : LivePositions(std::make_shared<const std::vector<Vec3f>>(rest.begin(), rest.end()), parts) {}
+
+LivePositions::LivePositions(std::shared_ptr<const std::vector<Vec3f>> rest, std::span<const FastDeformer* const> parts)
+    : rest_(std::move(rest)) {
+  const std::vector<Vec3f>& mesh = *rest_;
+  std::size_t total = mesh.size();
   for (const FastDeformer* part : parts) total += part->vertex_count();
-  if (total >= kUnbound) fail(ErrorCategory::unsupported, "a mesh of " + std::to_string(rest.size()) + " vertices");
-  // Each part's vertices after the rest positions, in its grouped order, starting at their rest.
-  std::vector<char> bound(rest.size(), 0);
+  if (total >= kUnbound) fail(ErrorCategory::unsupported, "a mesh of " + std::to_string(mesh.size()) + " vertices");
+  // Each part's vertices, in its grouped order, starting at their rest.
+  std::vector<char> bound(mesh.size(), 0);
   for (const FastDeformer* part : parts) {
     offset_.push_back(points_.size());
     for (const std::uint32_t v : part->grouped_vertices()) {
-      if (v >= rest.size() || bound[v])
+      if (v >= mesh.size() || bound[v])
         fail(ErrorCategory::usage,
              "the parts' vertices must be mesh vertices, each bound by one part (vertex " + std::to_string(v) + ")");
       bound[v] = 1;
       target_.push_back(v);
-      points_.push_back(rest[v]);
+      points_.push_back(mesh[v]);
     }
   }
-  rest_count_ = rest.size();
 }
 
 void LivePositions::deform(int part, FastDeformer& fast, const SweepShape& shape) {
@@ -70,9 +74,8 @@ void LivePositions::world(const Eigen::Matrix3f& rotation, const Vec3f& translat
     for (int r = 0; r < 3; ++r) m[3 * c + r] = rotation(r, c);
     m[9 + c] = translation[c];
   }
-  const float* points = points_.data()->data();
-  transform(points, nullptr, rest_count_, m, out);
-  transform(points + 3 * rest_count_, target_.data(), target_.size(), m, out);
+  transform(rest_->data()->data(), nullptr, rest_->size(), m, out);
+  transform(points_.data()->data(), target_.data(), target_.size(), m, out);
 }
 
 }  // namespace sweep::sim

@@ -14,7 +14,10 @@
 // sim::transform_positions).
 //
 // A part not deformed yet holds its vertices' rest positions. Allocation-free after construction.
+// The rest positions are read-only and may be shared by many (a crowd of one creature: one copy,
+// which stays in cache from one creature's frame to the next).
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -26,6 +29,8 @@ class LivePositions {
  public:
   // `rest`: the whole mesh; `parts`: each part's fast path (their vertices disjoint).
   LivePositions(std::span<const Vec3f> rest, std::span<const FastDeformer* const> parts);
+  // The same, reading the rest positions from `rest` (not copied; shared).
+  LivePositions(std::shared_ptr<const std::vector<Vec3f>> rest, std::span<const FastDeformer* const> parts);
 
   // Part p's vertices deformed by `shape` (mesh space), with `fast`, the part's fast path.
   void deform(int part, FastDeformer& fast, const SweepShape& shape);
@@ -33,11 +38,10 @@ class LivePositions {
   void world(const Eigen::Matrix3f& rotation, const Vec3f& translation, float* out) const;
 
  private:
-  // The rest positions of every vertex, then each part's deformed vertices in its grouped order.
-  std::vector<Vec3f> points_;
-  std::size_t rest_count_ = 0;
-  std::vector<std::size_t> offset_;    // part p's first in points_
-  std::vector<std::uint32_t> target_;  // the mesh index of each part's vertex in points_ (after the rest)
+  std::shared_ptr<const std::vector<Vec3f>> rest_;  // every vertex
+  std::vector<Vec3f> points_;                       // each part's deformed vertices in its grouped order
+  std::vector<std::size_t> offset_;                 // part p's first in points_
+  std::vector<std::uint32_t> target_;               // the mesh index of each vertex in points_
 };
 
 }  // namespace sweep::sim

@@ -190,12 +190,16 @@ void SkinJoints::world_matrices(const Frame& body, std::span<float> out) const {
     if (M <= 1) continue;
     const float* stations = o - 16 * N;
     for (int j = 1; j < N; ++j) {
-      const float* station = stations + 16 * j;  // a ring joint scales its station's axes in-plane
-      for (int m = 0; m < M; ++m) {
-        const float rho = static_cast<float>(s.ring_scale[static_cast<std::size_t>(j - 1) * M + m]);
+      // A ring joint scales its station's axes in-plane. The station copied out of the output
+      // first: read through a pointer into the array being written, the loops below stayed scalar
+      // (they might alias), and these 1100 joints took most of the read.
+      float station[16];
+      std::copy_n(stations + 16 * j, 16, station);
+      const double* scale = s.ring_scale.data() + static_cast<std::size_t>(j - 1) * M;
+      for (int m = 0; m < M; ++m, o += 16) {
+        const float rho = static_cast<float>(scale[m]);
         for (int e = 0; e < 8; ++e) o[e] = station[e] * rho;
         for (int e = 8; e < 16; ++e) o[e] = station[e];
-        o += 16;
       }
     }
   }

@@ -306,8 +306,6 @@ TEST_F(CApi, BadCallsReturnErrorsWithMessages) {
   sweep_close(in);
 }
 
-// Instances opened and closed over and over, each stepped with forces (the sanitizer build checks
-// that nothing leaks); each starts from rest, whatever the ones before it did.
 // Settings that need the mesh file (a body following a glTF node, the body as a collider) are
 // refused by name and place; the same settings without them open and run.
 TEST_F(CApi, SettingsThatNeedTheMeshFileAreRefusedByKey) {
@@ -333,6 +331,56 @@ TEST_F(CApi, SettingsThatNeedTheMeshFileAreRefusedByKey) {
   sweep_close(plain);
 }
 
+// Instances of one creature share what never changes (the rest positions, the parts' modes), and
+// nothing else: one stepped and read between another's frames, pushed and posed otherwise, changes
+// none of its bits; a mesh that differs in one vertex is its own.
+TEST_F(CApi, InstancesOfOneCreatureStayIndependent) {
+  const double p[3] = {1.3, 0.0, 1.0}, f[3] = {0, 3, 0}, g[3] = {2, 0, 0};
+  std::vector<std::vector<float>> alone;
+  {
+    sweep_instance* in = open(nullptr);
+    ASSERT_TRUE(in);
+    ASSERT_EQ(sweep_add_force(in, "tube", p, f, 0.2), SWEEP_OK) << sweep_last_error();
+    for (int k = 0; k < 8; ++k) {
+      ASSERT_EQ(sweep_advance(in, 1.0 / 60), SWEEP_OK);
+      alone.push_back(positions(in));
+    }
+    sweep_close(in);
+  }
+  sweep_instance* a = open(nullptr);
+  sweep_instance* b = open(nullptr);
+  std::vector<float> moved_rest = *rest_;
+  moved_rest.back() += 1e-3f;  // the body's last vertex, bound to no part
+  sweep_instance* c =
+      sweep_open(path("tube.rig.json").c_str(), path("tube.bind").c_str(), nullptr, moved_rest.data(), vertex_count());
+  ASSERT_TRUE(a && b && c) << sweep_last_error();
+  ASSERT_EQ(sweep_add_force(a, "tube", p, f, 0.2), SWEEP_OK);
+  ASSERT_EQ(sweep_add_force(b, "tube", p, g, 0.1), SWEEP_OK);
+  double shifted[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5, 0, 0, 1};
+  for (int k = 0; k < 8; ++k) {
+    shifted[12] += 0.01;
+    ASSERT_EQ(sweep_set_body(b, shifted), SWEEP_OK);
+    ASSERT_EQ(sweep_advance(b, 1.0 / 60), SWEEP_OK);
+    const std::vector<float> other = positions(b);
+    ASSERT_EQ(sweep_advance(a, 1.0 / 60), SWEEP_OK);
+    ASSERT_EQ(sweep_advance(c, 1.0 / 60), SWEEP_OK);
+    const std::vector<float> now = positions(a);
+    EXPECT_EQ(max_difference(now, alone[k]), 0.0) << "frame " << k;
+    EXPECT_GT(max_difference(other, now), 0.0) << "frame " << k;
+    const std::vector<float> own = positions(c);
+    const int last = vertex_count() - 1;
+    EXPECT_EQ(max_difference(own, moved_rest, last, 1), 0.0) << "frame " << k;
+    EXPECT_EQ(max_difference(own, *rest_, 0, last), 0.0) << "frame " << k;  // c, unpushed, stays at rest
+  }
+  sweep_close(b);
+  ASSERT_EQ(sweep_advance(a, 1.0 / 60), SWEEP_OK);
+  EXPECT_EQ(max_difference(positions(a), *rest_, vertex_count() - kBodyVertices, kBodyVertices), 0.0);
+  sweep_close(a);
+  sweep_close(c);
+}
+
+// Instances opened and closed over and over, each stepped with forces (the sanitizer build checks
+// that nothing leaks); each starts from rest, whatever the ones before it did.
 TEST_F(CApi, ReopeningStartsAfresh) {
   std::vector<float> first;
   for (int round = 0; round < 5; ++round) {

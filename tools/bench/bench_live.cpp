@@ -212,7 +212,8 @@ Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>&
 // A crowd: `count` instances, each its own creature on the same walk (a phase apart), every frame
 // stepped and read on `threads` threads (the game's workers: each takes every threads-th creature,
 // libsweep's own OpenMP kept to one thread inside them), frames 1/60 s apart. The frame: from the
-// workers' start to the last one's end.
+// workers' start to the last one's end. Opened from the same files, the creatures share what never
+// changes (each part's chain model, the rest positions), as a game's crowd of one creature would.
 double crowd(const fs::path& dir, const std::vector<float>& rest, int count, int threads, int frames, Read read) {
   std::vector<sweep_instance*> herd;
   for (int c = 0; c < count; ++c) herd.push_back(open_dino(dir, "settings.scene.json", rest));
