@@ -11,7 +11,7 @@
 
 namespace sweep::test {
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SWEEP_SANITIZED)
 #define SWEEP_TEST_COUNTS_ALLOCATIONS 0
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)

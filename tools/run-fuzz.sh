@@ -10,9 +10,9 @@
 #   tools/run-fuzz.sh [SECONDS]    SECONDS per target (default 60), for exploring; bounded by time,
 #                                  so two runs differ. SWEEP_FUZZ_SEED=0 also lets libFuzzer pick a seed.
 # SWEEP_FUZZ_TARGETS="gltf material" runs only those targets.
-# Configures its own clang build (build/fuzz: SWEEP_FUZZ=ON, which instruments the library for
-# coverage under ASan+UBSan; line tables only for debug info: enough for symbolized reports),
-# builds only the fuzz targets, and runs each on a scratch copy of its committed seed corpus
+# Builds the fuzz targets in the asan preset's build (build/asan: clang, ASan+UBSan, the libraries
+# at -O1 with libFuzzer's coverage instrumentation; the sanitized test suite runs in the same build,
+# so the libraries are compiled once for both), and runs each on a scratch copy of its committed seed corpus
 # (tests/fuzz/corpus/<target>/; new inputs it finds stay in the scratch copy). Any crash, leak, sanitizer report or timeout fails the script; the input that did it is
 # copied to tests/fuzz/regressions/<target>/ so that it can be fixed and kept (those files are
 # replayed by the Fuzz/Replay tests of the regular suite). Prints each target's executions.
@@ -26,16 +26,14 @@ elif [ -n "${1:-}" ]; then
   seconds=$1
 fi
 seed=${SWEEP_FUZZ_SEED:-1}
-build=${SWEEP_FUZZ_BUILD_DIR:-build/fuzz}
+build=build/asan
 jobs=${SWEEP_JOBS:-2}
 targets=(rig_json scene binding off_mesh obj_mesh ply_mesh fit_off gltf material)
 if [ -n "${SWEEP_FUZZ_TARGETS:-}" ]; then read -r -a targets <<<"$SWEEP_FUZZ_TARGETS"; fi
 
-CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
-  -DSWEEP_FUZZ=ON -DSWEEP_WERROR=ON -DSWEEP_BUILD_TESTS=OFF >/dev/null
+cmake --preset asan >/dev/null
 built_at=$SECONDS
-cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+cmake --build --preset asan -j "$jobs" --target "${targets[@]/#/fuzz_}"
 echo "fuzz targets built in $((SECONDS - built_at)) s"
 
 work=$(mktemp -d)

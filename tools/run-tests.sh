@@ -3,11 +3,10 @@
 #   1. installs what is missing (Debian packages with Blender, CGAL's sample meshes, the glTF
 #      validator);
 #   2. builds the dev preset (warnings as errors) and runs every CTest test;
-#   3. builds the asan preset and runs every test again under AddressSanitizer + UBSan;
-#   4. runs each libFuzzer target a fixed number of times (SWEEP_FUZZ_RUNS, default 100000; fixed
-#      seed, so the same on every machine) on its committed corpus. Sized to CI's time: on a fresh
-#      clone at 150000 the nine targets' runs took 96 s after a 237 s build (gltf N/6 28 s,
-#      material N/4 8 s), in a 1660 s CI; 100000 takes about two thirds of that.
+#   3. builds the asan preset (clang) and runs every test again under AddressSanitizer + UBSan;
+#   4. runs each libFuzzer target, built in that same asan build (the libraries are compiled once
+#      for both), a fixed number of times (SWEEP_FUZZ_RUNS, default 100000; fixed seed, so the same
+#      on every machine) on its committed corpus.
 # SWEEP_TESTS_QUICK=1 stops after step 2 (for a quick local check).
 # Under CI (CI=true: a fresh clone nobody debugs in) the dev build leaves out debug info: -g does not
 # change the code GCC generates, and it is a third of the build's compile time.

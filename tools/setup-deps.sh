@@ -3,7 +3,8 @@
 # already present are not touched, and apt is not called at all when nothing is missing.
 #   tools/setup-deps.sh            # build + demo
 #   tools/setup-deps.sh --tests    # also what only the tests use: Blender (~170 MB download), which
-#                                  # plays the baked files in tests/blender
+#                                  # plays the baked files in tests/blender, and clang with its
+#                                  # sanitizer, libFuzzer and OpenMP runtimes (the asan preset)
 set -euo pipefail
 
 packages=(
@@ -18,7 +19,7 @@ packages=(
   clang-format   # the sources' format, checked by the tests (tools/check-format.sh)
 )
 case "${1:-}" in
-  --tests) packages+=(blender) ;;
+  --tests) packages+=(blender clang libclang-rt-dev libomp-dev) ;;
   "") ;;
   *) echo "error: unknown option $1 (expected --tests or nothing)" >&2; exit 1 ;;
 esac

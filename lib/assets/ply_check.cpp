@@ -156,6 +156,8 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
   bool has_format = false;
   bool ascii = false;
   std::vector<PlyElement> elements;
+  std::uint64_t unknown_line = 0;  // the first header line that is none of PLY's keywords
+  std::string unknown_word;
   for (;;) {
     if (!next_line(line)) bad_ply(source, line_no, "the header has no end_header");
     // Printable text only (assimp hangs on "end_header\v\0": a ply_mesh fuzz timeout).
@@ -226,11 +228,21 @@ void check_ascii_ply(std::string_view text, const std::string& source) {
         }
       }
       (list ? elements.back().list_names : elements.back().scalar_names).emplace_back(tok.back());
-    } else {
-      bad_ply(source, line_no, "unknown header line '" + std::string(tok[0].substr(0, 40)) + "'");
+    } else if (unknown_line == 0) {
+      unknown_line = line_no;
+      unknown_word = std::string(tok[0].substr(0, 40));
     }
   }
   if (!has_format) bad_ply(source, line_no, "the header has no format line");
+  // Exporters write free text in the header (Blender 2.4's "Created by Blender3D ..."); assimp skips
+  // such a line as it skips a comment. In an ASCII file that is safe to follow: the body is checked
+  // below against the elements announced, so a misspelt element or property line cannot shift
+  // what is read. A binary body is not checked, so there an unknown line is refused.
+  if (unknown_line != 0 && !ascii) {
+    bad_ply(source, unknown_line,
+            "unknown header line '" + unknown_word +
+                "' (a binary PLY's header may hold only format, element, property, comment and obj_info lines)");
+  }
   // Positions are what a mesh is read for; assimp also leaks memory on a vertex element without
   // them (found by the ply_mesh fuzz target), so such a header is refused here.
   // Likewise a face element without its index list (assimp leaks on that too).

@@ -368,7 +368,7 @@ TEST(BakeGltfSpeed, SixHundredFramesOf24000VerticesWith30PercentMoving) {
   // A diplodocus-sized bake (200 rings × 120 = 24,000 vertices; the last 60 rings, 7,200 vertices,
   // move). Times only the writer; frame positions are made outside the timed calls. Median of 3.
   constexpr int kRings = 200, kSegments = 120, kFirstMoving = 140;
-#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
+#if defined(NDEBUG) && !defined(SWEEP_SANITIZED)
   constexpr int kFrames = 600, kRuns = 3;
 #else  // unoptimized or sanitized: a tenth of the bake, once, untimed (it takes minutes otherwise)
   constexpr int kFrames = 60, kRuns = 1;
@@ -407,7 +407,7 @@ TEST(BakeGltfSpeed, SixHundredFramesOf24000VerticesWith30PercentMoving) {
             << fs::file_size(out) / 1e6 << " MB): median " << median << " s of " << kRuns << " (" << seconds.front()
             << " .. " << seconds.back() << ")\n";
   RecordProperty("median_seconds", std::to_string(median));
-#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
+#if defined(NDEBUG) && !defined(SWEEP_SANITIZED)
   EXPECT_LT(median, 3.0);
 #endif
   fs::remove(out);

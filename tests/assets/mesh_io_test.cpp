@@ -131,6 +131,30 @@ TEST_F(MeshIo, PlyKeepsFileOrderAndPolygons) {
   EXPECT_EQ(faces_of(m), (Faces{{3, 2, 1, 0}, {4, 0, 1}}));
 }
 
+TEST_F(MeshIo, PlyHeaderFreeTextIsSkippedWhereTheBodyIsChecked) {
+  // Blender 2.4 wrote "Created by Blender3D ..." into the header (assimp's models/PLY/Wuson.ply); assimp
+  // skips such a line. In an ASCII file the body check sees any layout a misspelt line would change.
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::string header =
+      "ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: \nelement vertex 3\n"
+      "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const Mesh m = read_mesh(write("created.ply", header + body));
+  expect_positions(m, {f32(0, 0, 0), f32(1, 0, 0), f32(0, 1, 0)});
+  EXPECT_EQ(faces_of(m), (Faces{{0, 1, 2}}));
+  // A misspelt element line is such a line too: its property then lands in the vertex element, whose
+  // lines no longer match it.
+  std::string misspelt = header;
+  misspelt.replace(misspelt.find("element face 1"), 14, "elemnt face 1");
+  expect_bad(write("misspelt.ply", misspelt + body), ErrorCategory::bad_input,
+             "line 11: vertex 0: expected a list length");
+  // A binary body is not checked: there the line is refused, naming it.
+  std::string binary = header;
+  binary.replace(binary.find("ascii"), 5, "binary_little_endian");
+  expect_bad(write("created_binary.ply", binary), ErrorCategory::bad_input,
+             "line 3: unknown header line 'Created' (a binary PLY's header may hold only");
+}
+
 TEST_F(MeshIo, PlyWrittenByUsReadsBackInOrderAtSinglePrecision) {
   Mesh in;
   in.positions = {{0.1, -2.5, 3}, {1e-3, 7, -0.0}, {4, 5, 6}, {-1, -1, -1}};

@@ -269,7 +269,7 @@ TEST(Contact, ATubeLyingAlongTheFloorFromItsRootStaysOnIt) {
   // At rest height, to the contact's tolerance (1e-4 of the length, as the ground test's margin).
   // Measured 0 for E = 2e8 and 2e9.
   const double length = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2).rest.length();
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SWEEP_SANITIZED)
   // Under the sanitizers (22 s a run there) the stiffer tube alone: the same code, the same contacts.
   for (const double e : {2e8}) EXPECT_LE(highest_lying(e, 0), 1e-4 * length) << "E = " << e;
 #else
@@ -504,7 +504,7 @@ TEST(Contact, FrictionDragsAPartTheBodyPullsOverTheGround) {
     return most;
   };
   EXPECT_LT(lag(0), 1e-6 * 31) << "no friction, no drag";
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SWEEP_SANITIZED)
   // Under the sanitizers (26 s a run there) one friction: the same hold and slide code.
   for (const double mu : {1.0}) EXPECT_GT(lag(mu), 0.01) << "friction " << mu << " drags the tip back";
 #else

@@ -35,7 +35,7 @@ fs::path dense_pipeline() {
 class Determinism : public testing::Test {
  protected:
   void SetUp() override {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SWEEP_SANITIZED)
     // Fitting and binding 51,202 vertices unoptimized under ASan takes over ten minutes on two
     // cores; the bytes these tests compare come from the optimized build, where they take seconds.
     GTEST_SKIP() << "dense determinism runs in optimized, unsanitized builds only";

@@ -25,7 +25,7 @@ using Clock = std::chrono::steady_clock;
 // A bake of a second or two: 1.2 s of motion at 30 fps, stepped every microsecond — every ten
 // under the sanitizers, where each step costs many times more (with the same step, this one test
 // took 633 s of CI's 29 minutes).
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SWEEP_SANITIZED)
 #define SWEEP_LONG_SCENE_STEP "1e-5"
 constexpr int kMomentsPerSignal = 1;
 #else

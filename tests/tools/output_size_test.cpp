@@ -104,7 +104,7 @@ long peak_kb(const std::vector<std::string>& arguments) {
 // tinygltf objects: 8.2 kB a frame measured, where one accessor a frame stayed under the former
 // bar of 8).
 TEST(OutputSize, PeakMemoryIsFlatInTheBakesLength) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SWEEP_SANITIZED)
   GTEST_SKIP() << "AddressSanitizer keeps freed memory in quarantine: peaks say nothing there";
 #endif
   const Workspace ws("output-size-memory");

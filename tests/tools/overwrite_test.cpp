@@ -159,7 +159,7 @@ TEST(Overwrite, ClosedStdoutIsNoError) {
 // Out of memory (a 30 MB scene, within the size limit, under a 300 MB address-space limit) is
 // exit 6 with a message, not an abort, and leaves nothing behind. Not under ASan, whose shadow
 // memory does not fit such a limit.
-#if !defined(__SANITIZE_ADDRESS__)
+#if !defined(SWEEP_SANITIZED)
 TEST(Overwrite, OutOfMemoryIsExit6WithAMessage) {
   const Workspace ws("overwrite-oom");
   json scene = json::parse(kScene);
