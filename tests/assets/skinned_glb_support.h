@@ -324,7 +324,7 @@ inline std::string validate(const fs::path& glb, int* code) {
   return report;
 }
 
-// A looping walk after a preroll of half a clip, so that frame k plays clip time (k/30 + 0.5) mod 1.
+// A looping walk after a preroll of half a clip (simulated before frame 0), so that frame k plays clip time k/30 mod 1.
 inline const char* const kWalk = R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [],
   "body": {"node": "Hip", "animation": "Walk", "loop": true, "preroll": 0.5}})";
 
