@@ -218,48 +218,76 @@ bool SkinnedClip::jumps_between(double a, double b, bool seam) const {
 
 sim::KeyedBend SkinnedClip::keyed_bend(int sweep, double duration, double spacing) const {
   const int sections = static_cast<int>(section_skin_[sweep].size());
-  const long long last = static_cast<long long>(std::ceil(duration / spacing - 1e-9));
   const double preroll = preroll_frames_ / fps_;
-  const auto scene_time = [&](long long n) { return static_cast<double>(n) * spacing - preroll; };
   // A looping clip whose last pose is not its first jumps at its seam.
   const SkinClip& clip = model_.clips[clip_];
+  const double length = clip.end - clip.start;
+  const bool looping = loop_ && length > 0;
   std::vector<Vec3> before, after;
   bool seam = false;
   double extent = 1;  // the size of the coordinates, for the rounding's floor
-  if (loop_ && clip.end > clip.start) {
+  if (looping) {
     keyed_sections(sweep, clip.end, before);
     keyed_sections(sweep, clip.start, after);
     for (std::size_t j = 1; j < before.size(); ++j)
       seam = seam || (before[j] - after[j]).norm() > kSeamShare * length_[sweep];
   }
   for (const SectionSkin& s : section_skin_[sweep]) extent = std::max(extent, (from_mesh_ * s.centre).norm());
-  // Accelerations below what rounding the positions (a few ulps of the coordinates) makes are none:
-  // a part whose keys do not bend it is not loaded, and sleeps.
-  const double floor = 64 * std::numeric_limits<double>::epsilon() * extent / (spacing * spacing);
-  // Positions at samples n − 1, n, n + 1 (the velocity over a piece that jumps is the one before
-  // it: a STEP key or an unequal seam is a cut, taken as the pose's jump, not felt).
-  std::vector<Vec3> p_prev, p_cur, p_next;
-  std::vector<Eigen::Vector3f> accelerations;
-  accelerations.reserve(static_cast<std::size_t>(last + 1) * sections);
-  keyed_sections(sweep, clip_time(scene_time(-1)), p_prev);
-  keyed_sections(sweep, clip_time(scene_time(0)), p_cur);
-  std::vector<Vec3> v_before(sections, Vec3::Zero()), v_after(sections);
-  if (!jumps_between(scene_time(-1), scene_time(0), seam)) {
-    for (int j = 0; j < sections; ++j) v_before[j] = (p_cur[j] - p_prev[j]) / spacing;
-  }
-  for (long long n = 0; n <= last; ++n) {
-    keyed_sections(sweep, clip_time(scene_time(n + 1)), p_next);
-    const bool cut = jumps_between(scene_time(n), scene_time(n + 1), seam);
-    for (int j = 0; j < sections; ++j) {
-      v_after[j] = cut ? v_before[j] : Vec3((p_next[j] - p_cur[j]) / spacing);
-      Vec3 a = j == 0 ? Vec3::Zero() : Vec3((v_after[j] - v_before[j]) / spacing);
-      if (a.cwiseAbs().maxCoeff() < floor) a = Vec3::Zero();
-      accelerations.push_back(a.cast<float>());
+  // Samples first … last of the second differences at `step`, sample n at scene time scene_time(n).
+  const auto differences = [&](double step, const auto& scene_time, long long first, long long last) {
+    // Accelerations below what rounding the positions (a few ulps of the coordinates) makes are
+    // none: a part whose keys do not bend it is not loaded, and sleeps.
+    const double floor = 64 * std::numeric_limits<double>::epsilon() * extent / (step * step);
+    // Positions at samples n − 1, n, n + 1 (the velocity over a piece that jumps is the one before
+    // it: a STEP key or an unequal seam is a cut, taken as the pose's jump, not felt).
+    std::vector<Vec3> p_prev, p_cur, p_next;
+    std::vector<Eigen::Vector3f> accelerations;
+    accelerations.reserve(static_cast<std::size_t>(std::max(last - first + 1, 0LL)) * sections);
+    keyed_sections(sweep, clip_time(scene_time(first - 1)), p_prev);
+    keyed_sections(sweep, clip_time(scene_time(first)), p_cur);
+    std::vector<Vec3> v_before(sections, Vec3::Zero()), v_after(sections);
+    if (!jumps_between(scene_time(first - 1), scene_time(first), seam)) {
+      for (int j = 0; j < sections; ++j) v_before[j] = (p_cur[j] - p_prev[j]) / step;
     }
-    std::swap(v_before, v_after);
-    std::swap(p_cur, p_next);
+    for (long long n = first; n <= last; ++n) {
+      keyed_sections(sweep, clip_time(scene_time(n + 1)), p_next);
+      const bool cut = jumps_between(scene_time(n), scene_time(n + 1), seam);
+      for (int j = 0; j < sections; ++j) {
+        v_after[j] = cut ? v_before[j] : Vec3((p_next[j] - p_cur[j]) / step);
+        Vec3 a = j == 0 ? Vec3::Zero() : Vec3((v_after[j] - v_before[j]) / step);
+        if (a.cwiseAbs().maxCoeff() < floor) a = Vec3::Zero();
+        accelerations.push_back(a.cast<float>());
+      }
+      std::swap(v_before, v_after);
+      std::swap(p_cur, p_next);
+    }
+    return accelerations;
+  };
+  if (looping) {
+    // One period, at the spacing nearest the step that divides the clip's length into whole
+    // samples (the step's own would not repeat: L / h is rarely whole). Sample k at the phase
+    // (k mod count) · step in [0, L), so that the seam falls between samples count − 1 and count
+    // (jumps_between sees it as the clip's time going back). A period before it is run first: a
+    // cut carries the velocity before it, which may lie in the previous period.
+    const long long count = std::max(1LL, std::llround(length / spacing));
+    const double step = length / static_cast<double>(count);
+    const auto phase = [&](long long k) { return static_cast<double>(((k % count) + count) % count) * step; };
+    std::vector<Eigen::Vector3f> two = differences(step, phase, -count, count - 1);
+    std::vector<Eigen::Vector3f> period(two.begin() + static_cast<std::ptrdiff_t>(count * sections), two.end());
+    // Phase 0 (scene time 0, the clip's start) at simulator time `preroll`.
+    return sim::KeyedBend::repeating(length, preroll, sections, std::move(period));
   }
-  return sim::KeyedBend(spacing, sections, std::move(accelerations));
+  // A clip held at its ends: the keyed sections stand still before scene time 0 and after the
+  // clip's length, so sample n (scene time n · spacing − preroll) is zero where n + 1 is at or
+  // before 0 or n − 1 at or after the length. Kept: from the last such sample before to the first
+  // after (with a margin of one for rounding), within the bake's [0, ceil(duration / spacing)].
+  const long long bake_last = static_cast<long long>(std::ceil(duration / spacing - 1e-9));
+  const long long first = std::max(0LL, static_cast<long long>(std::floor(preroll / spacing)) - 2);
+  const long long last =
+      std::min(bake_last, static_cast<long long>(std::ceil((preroll + std::max(length, 0.0)) / spacing)) + 2);
+  if (first > last) return sim::KeyedBend(spacing, sections, {}, 0);
+  const auto scene_time = [&](long long n) { return static_cast<double>(n) * spacing - preroll; };
+  return sim::KeyedBend(spacing, sections, differences(spacing, scene_time, first, last), first);
 }
 
 void SkinnedClip::pose(double scene_time, std::span<const Eigen::Vector3f> deformed,

@@ -82,8 +82,11 @@ class SkinnedClip {
   // Sweep i's root motion from scene time −preroll to `duration`, on the simulator's clock
   // (simulator time 0 = scene time −preroll).
   sim::BodyPath sweep_path(int sweep, double duration) const;
-  // Sweep i's keyed bend over the same time, sampled every `spacing` seconds on the same clock
-  // (the simulator's internal step): each section's keyed acceleration relative to its root.
+  // Sweep i's keyed bend over the same time, sampled about every `spacing` seconds on the same
+  // clock (the simulator's internal step): each section's keyed acceleration relative to its root.
+  // Only what the clip produces is held: a looping clip's one period (sampled at its length over
+  // round(length / spacing), repeating), or a held clip's span with a zero sample on either side
+  // (exactly the samples at every `spacing` from 0 a bake-long sampling gives; zero outside it).
   sim::KeyedBend keyed_bend(int sweep, double duration, double spacing) const;
 
   // World positions at scene time τ: `deformed` the bake's positions in the mesh's frame (rest
@@ -113,8 +116,9 @@ class SkinnedClip {
                  Vec3& translation) const;
   // Sweep i's section centres in the keyed pose at clip time c, in its root's frame (mesh coordinates).
   void keyed_sections(int sweep, double clip_time, std::vector<Vec3>& out) const;
-  // Whether a STEP key of the clip falls in (clip_time(a), clip_time(b)] (a < b, less than a clip
-  // length apart), or, with `seam`, the loop's seam does.
+  // Whether a STEP key of the clip falls in (clip_time(a), clip_time(b)] (a before b, less than a
+  // clip length apart; clip_time(b) < clip_time(a) is across the loop's seam), or, with `seam`, the
+  // loop's seam does.
   bool jumps_between(double a, double b, bool seam) const;
   const bind::Binding* binding_ = nullptr;
 };

@@ -5,6 +5,8 @@
 // Tail3, the tail from z = 0 to 1) with its clips replaced here by a sway of one joint, and the tail
 // a part of one spring section (the paper's springs: the tip's positional spring alone carries it).
 // The closed form is computed here, from the springs' settings and the keys.
+#include "sweep/sim/keyed_bend.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,7 +21,10 @@
 #include <vector>
 
 #include "bind/support.h"
+#include "sweep/assets/gltf_skin.h"
 #include "sweep/assets/mesh_io.h"
+#include "sweep/assets/skinned_clip.h"
+#include "sweep/bind/bind.h"
 #include "sweep/core/springs.h"
 #include "sweep/io/read_file.h"
 #include "sweep/io/rig_json.h"
@@ -195,6 +200,108 @@ TEST(KeyedBend, ARootSwayedByItsKeysDrivesThePartAsABase) {
 // keyed acceleration drives it the same way.
 TEST(KeyedBend, AJointBelowTheRootSwayedByItsKeysDrivesThePart) {
   expect_driven_oscillator("bend", 3, {0, 0, 0.33f});
+}
+
+// What a keyed bend holds is bounded by the clip, not the bake: the committed creature's "Walk"
+// (1 s; LINEAR, CUBICSPLINE and STEP channels on the tail's joints) on the binding tests' straight
+// tail of six sections, at the default internal step.
+struct WalkingTail {
+  Mesh mesh = assets::read_mesh(fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf");
+  Rig rig = rig_of({straight_sweep("tail", false)}, "skinned_tail.gltf");
+  bind::Binding bound = bind::bind(rig, mesh).binding;
+  assets::SkinnedClip clip(bool loop, double preroll) const {
+    const fs::path file = fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf";
+    const auto model = assets::read_gltf_skin(file, mesh.positions, Eigen::Affine3d::Identity());
+    return assets::SkinnedClip(file, *model, Eigen::Affine3d::Identity(), rig, bound, "Creature", "Walk", loop, preroll,
+                               kFps);
+  }
+};
+constexpr double kStep = 1.0 / 480;  // the simulator's default internal step at 30 fps
+constexpr double kWalkLength = 1.0;  // the fixture's "Walk", 0 to 1 s
+
+double largest(const sim::KeyedBend& bend, double from, double to, double dt) {
+  std::vector<Vec3> a(static_cast<std::size_t>(bend.sections()));
+  double most = 0;
+  for (double t = from; t <= to; t += dt) {
+    bend.at(t, a);
+    for (const Vec3& v : a) most = std::max(most, v.cwiseAbs().maxCoeff());
+  }
+  return most;
+}
+
+// A looping clip's bend is one period: as many samples for a 1 s bake as for a 20 s one (the
+// clip's length over the step), and the same accelerations one period apart, loads included.
+TEST(KeyedBend, ALoopingClipHoldsOnePeriodWhateverTheBakesLength) {
+  const WalkingTail w;
+  const double preroll = 0.5;
+  const assets::SkinnedClip clip = w.clip(true, preroll);
+  const sim::KeyedBend brief = clip.keyed_bend(0, 1.0 + preroll, kStep);
+  const sim::KeyedBend lasting = clip.keyed_bend(0, 20.0 + preroll, kStep);
+  EXPECT_EQ(brief.samples(), std::llround(kWalkLength / kStep));
+  EXPECT_EQ(lasting.samples(), brief.samples());
+  EXPECT_DOUBLE_EQ(lasting.period(), kWalkLength);
+  const double scale = largest(lasting, 0, kWalkLength, kStep / 3);
+  ASSERT_GT(scale, 1.0) << "the walk bends the tail";
+  std::vector<Vec3> a(6), b(6), c(6), d(6);
+  for (double t = 0.0123; t < 1.5; t += 0.0371) {  // between samples, and across the period's seam
+    lasting.at(t, a);
+    lasting.at(t + kWalkLength, b);
+    lasting.at(t + 17 * kWalkLength, c);
+    brief.at(t + 17 * kWalkLength, d);
+    for (int i = 0; i < 6; ++i) {
+      // Equal but for the rounding of t + k L (ulps of 18 s, over a sample's 2 ms).
+      EXPECT_NEAR((b[i] - a[i]).norm(), 0, 1e-9 * scale) << t << " s, section " << i;
+      EXPECT_NEAR((c[i] - a[i]).norm(), 0, 1e-9 * scale) << t << " s, section " << i;
+      EXPECT_EQ(d[i], c[i]) << t << " s, section " << i;
+    }
+    EXPECT_EQ(lasting.loads_between(t, t + kStep),
+              lasting.loads_between(t + 9 * kWalkLength, t + 9 * kWalkLength + kStep));
+  }
+}
+
+// A clip that does not loop holds its first pose before it and its last after it: its bend is zero
+// outside the clip (scene time 0 is the simulator's `preroll`), and holds samples over the clip's
+// span alone, whatever the bake's length.
+TEST(KeyedBend, AHeldClipIsZeroAfterItsEnd) {
+  const WalkingTail w;
+  const double preroll = 0.5;
+  const assets::SkinnedClip clip = w.clip(false, preroll);
+  const sim::KeyedBend brief = clip.keyed_bend(0, 3.0, kStep);
+  const sim::KeyedBend lasting = clip.keyed_bend(0, 20.0, kStep);
+  EXPECT_EQ(lasting.samples(), brief.samples());
+  EXPECT_LE(lasting.samples(), std::llround(kWalkLength / kStep) + 7);  // the span, a sample each side and margins
+  EXPECT_EQ(lasting.period(), 0);
+  const double end = preroll + kWalkLength;
+  EXPECT_GT(largest(lasting, preroll, end, kStep / 3), 1.0) << "the walk bends the tail";
+  EXPECT_EQ(largest(lasting, end + 2 * kStep, 20.0, kStep / 2), 0);
+  EXPECT_EQ(largest(lasting, 0, preroll - 2 * kStep, kStep / 2), 0);
+  EXPECT_FALSE(lasting.loads_between(end + 2 * kStep, 20.0));
+  EXPECT_FALSE(lasting.loads_between(0, preroll - 2 * kStep));
+  EXPECT_TRUE(lasting.loads_between(0, 20.0));
+}
+
+// A repeating bend wraps around its period: one section's four samples over a 1 s period (phase 0
+// at 0.25 s), only the last (phase 0.75 s) non-zero: halfway from it to the first it is half its
+// value, at any period before or after, and it loads just the pieces beside it.
+TEST(KeyedBend, ARepeatingBendWrapsAroundItsPeriod) {
+  const Eigen::Vector3f peak(4, -2, 1);
+  const sim::KeyedBend bend = sim::KeyedBend::repeating(
+      1.0, 0.25, 1, {Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero(), peak});
+  EXPECT_EQ(bend.samples(), 4);
+  EXPECT_DOUBLE_EQ(bend.spacing(), 0.25);
+  std::vector<Vec3> a(1);
+  for (const double t : {0.125, 1.125, -2.875, 7.125}) {  // phase 0.875
+    bend.at(t, a);
+    EXPECT_NEAR((a[0] - 0.5 * peak.cast<double>()).norm(), 0, 1e-12) << t;
+  }
+  bend.at(0.25 + 0.5 + 3, a);  // phase 0.5: between two zeros
+  EXPECT_EQ(a[0], Vec3::Zero());
+  bend.at(0.25 + 0.625 + 3, a);  // phase 0.625: halfway from sample 2 (zero) to the peak
+  EXPECT_NEAR((a[0] - 0.5 * peak.cast<double>()).norm(), 0, 1e-12);
+  EXPECT_FALSE(bend.loads_between(3.25 + 0.05, 3.25 + 0.2));  // phase 0.05 .. 0.2: samples 0 and 1
+  EXPECT_TRUE(bend.loads_between(3.25 + 0.9, 3.25 + 1.05));   // phase 0.9 .. 1.05: across the seam
+  EXPECT_TRUE(bend.loads_between(3.25 + 0.55, 3.25 + 0.6));   // the piece rising to the peak
+  EXPECT_TRUE(bend.loads_between(0, 5));                      // longer than the period
 }
 
 }  // namespace
