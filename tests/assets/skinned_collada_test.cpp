@@ -221,17 +221,6 @@ TEST(SkinnedCollada, KeepsTheInputsJointsAndClips) {
   EXPECT_EQ(out.animations.back().name, "sweep bake");
 }
 
-// Which vertices the tail binds.
-std::vector<char> part_vertices(const Asset& s) {
-  const Rig rig = io::read_rig(s.rig);
-  const Mesh mesh = assets::read_mesh(s.gltf);
-  const bind::Binding binding = io::load_binding(s.binding, mesh, rig);
-  std::vector<char> in(mesh.vertex_count(), 0);
-  for (const auto& table : binding.sweeps)
-    for (const std::uint32_t v : table.vertices) in[v] = 1;
-  return in;
-}
-
 // "sweep bake" skinned here at every frame is the .pc2: the tail within the skinned-export error
 // the bake reports (and under 1 % of its length), every other vertex — the input's skin as assimp
 // read it, played by the bake — to 1e-5 of the tail's length.

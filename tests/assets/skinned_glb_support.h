@@ -19,6 +19,7 @@
 
 #include "bind/support.h"
 #include "sweep/assets/mesh_io.h"
+#include "sweep/io/binding_file.h"
 #include "sweep/io/read_file.h"
 #include "sweep/io/rig_json.h"
 
@@ -100,6 +101,18 @@ inline void write_asset(const fs::path& gltf, const std::function<void(Json&)>& 
 struct Asset {
   fs::path gltf, rig, binding;
 };
+
+// Which vertices the tail binds.
+inline std::vector<char> part_vertices(const Asset& s) {
+  const Rig rig = io::read_rig(s.rig);
+  const Mesh mesh = assets::read_mesh(s.gltf);
+  const bind::Binding binding = io::load_binding(s.binding, mesh, rig);
+  std::vector<char> in(mesh.vertex_count(), 0);
+  for (const auto& table : binding.sweeps)
+    for (const std::uint32_t v : table.vertices) in[v] = 1;
+  return in;
+}
+
 inline Asset setup(const std::string& name, const std::function<void(Json&)>& edit = {}) {
   Asset s{here(name + ".gltf"), here(name + ".rig.json"), here(name + ".bind")};
   write_asset(s.gltf, edit);

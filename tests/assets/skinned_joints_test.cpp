@@ -104,17 +104,6 @@ std::vector<Vec3> skinned_at(const tinygltf::Model& m, int animation, double t) 
   return out;
 }
 
-// Which vertices the tail binds.
-std::vector<char> part_vertices(const Asset& s) {
-  const Rig rig = io::read_rig(s.rig);
-  const Mesh mesh = assets::read_mesh(s.gltf);
-  const bind::Binding binding = io::load_binding(s.binding, mesh, rig);
-  std::vector<char> in(mesh.vertex_count(), 0);
-  for (const auto& table : binding.sweeps)
-    for (const std::uint32_t v : table.vertices) in[v] = 1;
-  return in;
-}
-
 // The asset whole (nodes and names, the skin's joints and matrices, every clip's own channels,
 // material, image, UV sets, extras), the parts' joints added under the tail's root joint, and
 // weights that are weights: at most 4, non-negative, summing to 1; outside the tail the input's.
