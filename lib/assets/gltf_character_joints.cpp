@@ -6,17 +6,15 @@
 #include <cstdint>
 #include <string>
 
+#include "sweep/assets/gltf_codes_detail.h"
 #include "sweep/core/error.h"
 
 namespace sweep::assets::detail {
 namespace {
 
-using Json = nlohmann::json;
+using namespace gltf_codes;
 
-constexpr int kFloat = 5126;
-constexpr int kUnsignedByte = 5121;
-constexpr int kUnsignedShort = 5123;
-constexpr int kArrayBuffer = 34962;
+using Json = nlohmann::json;
 
 struct Writer {
   Json& json;

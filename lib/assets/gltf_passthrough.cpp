@@ -15,6 +15,7 @@
 #include <string>
 
 #include "sweep/assets/gltf_character_joints.h"
+#include "sweep/assets/gltf_codes_detail.h"
 #include "sweep/assets/gltf_document.h"
 #include "sweep/assets/gltf_skin.h"
 #include "sweep/assets/obj_gltf.h"
@@ -32,13 +33,12 @@ namespace sweep::assets::detail {
 
 namespace {
 
+using namespace gltf_codes;
+
 using Json = nlohmann::json;
 using Affine = Eigen::Affine3d;
 using Mat3 = Eigen::Matrix3d;
 namespace fs = std::filesystem;
-
-constexpr int kFloat = 5126;
-constexpr int kUint = 5125;
 
 // A node's rest transform as translation, rotation and scale (a "matrix" decomposed; `exact`
 // false when the matrix is not a rotation times a positive diagonal scale plus a translation).

@@ -11,18 +11,16 @@
 #include <utility>
 #include <vector>
 
+#include "sweep/assets/gltf_codes_detail.h"
 #include "sweep/core/error.h"
 
 namespace sweep::assets::detail {
 namespace {
 
+using namespace gltf_codes;
+
 using Json = nlohmann::json;
 using Mat4 = Eigen::Matrix4d;
-
-constexpr int kFloat = 5126;
-constexpr int kUnsignedByte = 5121;
-constexpr int kUnsignedShort = 5123;
-constexpr int kArrayBuffer = 34962;
 
 // Appends to the document's one buffer, as surface_as_gltf lays it out (4-byte aligned views).
 struct Bin {
