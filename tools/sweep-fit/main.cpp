@@ -19,6 +19,8 @@
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/error.h"
 #include "sweep/core/limits.h"
+#include "sweep/core/presets.h"
+#include "sweep/core/sway.h"
 #include "sweep/core/text.h"
 #include "sweep/fit/discover.h"
 #include "sweep/fit/fit.h"
@@ -412,7 +414,18 @@ void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, boo
   add_report_and_preview(outputs, s, mesh, fits, true, seconds);
   outputs.commit();
   if (s.quiet) return;  // -q: nothing on success, as the other tools
-  for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
+  for (const sweep::fit::FitResult& r : fits) {
+    sweep::fit_tool::print_fit(r, s.verbose);
+    // What a material gives it (a preset's E was solved for its frequency): how fast it sways.
+    const sweep::SweepDef* def = rig.find(r.sweep.name);
+    if (def == nullptr || !def->material) continue;
+    const sweep::SwayFigures sway = sweep::sway_figures(*def, Vec3::Zero());
+    std::cout << "  " << def->name << ": material E " << sweep::format_number(def->material->youngs_modulus, 4)
+              << " Pa, first sway";
+    for (std::size_t m = 0; m < sway.frequencies_hz.size(); ++m)
+      std::cout << (m ? ", " : " ") << sweep::format_number(sway.frequencies_hz[m], 3);
+    std::cout << " Hz\n";
+  }
   std::cout << (replaced > 0 ? "replaced in "
                 : updating   ? "added to "
                              : "wrote ")
