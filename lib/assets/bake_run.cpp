@@ -4,11 +4,14 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <numbers>
+#include <optional>
 
 #include "sweep/assets/bake.h"
 #include "sweep/assets/character_joints.h"
 #include "sweep/bind/deform.h"
 #include "sweep/core/error.h"
+#include "sweep/core/fold_check.h"
 #include "sweep/core/text.h"
 #include "sweep/sim/fast_deform.h"
 
@@ -159,10 +162,17 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   std::vector<std::uint32_t> animated;
   std::vector<std::unique_ptr<sim::FastDeformer>> fast(sweeps);
   BakeReport report;
+  std::vector<std::optional<FoldMeter>> folds(sweeps);
+  const Vec3 start_gravity = scene.body.at(0).rotation.conjugate() * scene.gravity;
   for (int i = 0; i < sweeps; ++i) {
     const bind::SweepBinding& table = binding.sweeps[i];
-    report.sweeps.push_back({rig.sweeps[i].name, sim_of(i).is_driven(of_sweep[i].second), 0, 0, table.size()});
+    SweepBakeStats& st = report.sweeps.emplace_back();
+    st.name = rig.sweeps[i].name;
+    st.driven = sim_of(i).is_driven(of_sweep[i].second);
+    st.bound_vertex_count = table.size();
+    report.sweeps[i].sway = sway_figures(rig.sweeps[i], start_gravity);
     if (!report.sweeps[i].driven) continue;
+    folds[i].emplace(rig.sweeps[i].rest);
     animated.insert(animated.end(), table.vertices.begin(), table.vertices.end());
     if (options.exact) continue;
     fast[i] = std::make_unique<sim::FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
@@ -256,6 +266,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       any_moved = true;
       ++stats.awake_sweeps;
       ++report.sweeps[i].frames_deformed;
+      folds[i]->measure(*shapes[i], k);
       if (fast[i]) jobs.push_back({fast[i].get(), shapes[i]});
     }
     deform_sweeps(jobs, positions);
@@ -311,7 +322,35 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     for (const auto& f : w->files()) report.files.push_back(f);
   }
   report.write_seconds += seconds_since(t0);
-  for (int i = 0; i < sweeps; ++i) report.sweeps[i].steps = sim_of(i).steps_taken(of_sweep[i].second);
+  for (int i = 0; i < sweeps; ++i) {
+    SweepBakeStats& st = report.sweeps[i];
+    st.steps = sim_of(i).steps_taken(of_sweep[i].second);
+    if (!folds[i]) continue;
+    const FoldMeter& f = *folds[i];
+    st.largest_bend = f.largest_bend;
+    st.bend_span = f.bend_span;
+    st.bend_frame = f.bend_frame;
+    st.fold_frame = f.fold_frame;
+    st.fold_span = f.fold_span;
+    st.cross_frame = f.cross_frame;
+    st.cross_a = f.cross_a;
+    st.cross_b = f.cross_b;
+    if (!options.warn) continue;
+    const auto at = [&](int frame) {
+      return "frame " + std::to_string(frame) + ", t = " + format_number(frame / scene.fps, 3) + " s";
+    };
+    if (f.fold_frame >= 0) {
+      options.warn("part \"" + st.name + "\" folds past 90° within one span (sections " +
+                   std::to_string(f.fold_span - 1) + "-" + std::to_string(f.fold_span) + ", first at " +
+                   at(f.fold_frame) + "; largest bend " + format_number(f.largest_bend * 180 / std::numbers::pi, 3) +
+                   "°): stiffer or more damped settings (a \"preset\"), or a gentler motion");
+    }
+    if (f.cross_frame >= 0) {
+      options.warn("part \"" + st.name + "\" passes through itself: the discs of sections " +
+                   std::to_string(f.cross_a) + " and " + std::to_string(f.cross_b) + " cross (first at " +
+                   at(f.cross_frame) + ")");
+    }
+  }
   if (!skins.empty()) {
     report.skin_joints = skins.front()->joint_count();
     report.skin_error = skins.front()->skin_error();

@@ -18,6 +18,7 @@
 #include "sweep/bind/bind.h"
 #include "sweep/core/mesh.h"
 #include "sweep/core/rig.h"
+#include "sweep/core/sway.h"
 #include "sweep/sim/scene.h"
 #include "sweep/sim/simulator.h"
 
@@ -86,6 +87,16 @@ struct SweepBakeStats {
   // Fast path: work blocks, and those computed straight into the mesh because the mesh's vertex
   // order keeps them contiguous (ring order; FastDeformer) — the fastest case. 0 with --exact.
   std::size_t work_blocks = 0, blocks_in_place = 0;
+  // What its settings give (core/sway.h): first sway frequencies and droop under the scene's
+  // gravity (in the body's axes at the start).
+  SwayFigures sway;
+  // Over the frames it was deformed in (core/fold_check.h): the largest bend of one span (rad),
+  // its span and first frame; the first frame a span folded past 90° (−1: none) and the first
+  // frame two of its sections' discs crossed (−1: none), with the sections.
+  double largest_bend = 0;
+  int bend_span = 0, bend_frame = 0;
+  int fold_frame = -1, fold_span = 0;
+  int cross_frame = -1, cross_a = 0, cross_b = 0;
 };
 
 struct BakeReport {

@@ -1,5 +1,6 @@
 #include "sweep/io/rig_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -53,11 +54,30 @@ void read_springs(const JsonReader& r, const Json& v, const std::string& ptr, Se
   if (const Json* x = r.optional(v, "radial")) read_spring(r, *x, member(ptr, "radial"), s.radial);
 }
 
-// A material given in a file overrides `m` field by field (core/material.h).
-void read_material(const JsonReader& r, const Json& v, const std::string& ptr, Material& m) {
-  r.object(
-      v, ptr,
-      {"youngs_modulus_pa", "poisson_ratio", "shear_modulus_pa", "density_kg_m3", "metres_per_unit", "damping_ratio"});
+// A material given in a file overrides `m` field by field (core/material.h). Where a preset may be
+// named (a sweep's material, a material file), `preset` takes it: the preset's members go first,
+// the members given override them.
+void read_material(const JsonReader& r, const Json& v, const std::string& ptr, Material& m,
+                   MaterialRequest* preset = nullptr) {
+  if (preset == nullptr) {
+    r.object(v, ptr,
+             {"youngs_modulus_pa", "poisson_ratio", "shear_modulus_pa", "density_kg_m3", "metres_per_unit",
+              "damping_ratio"});
+  } else {
+    r.object(v, ptr,
+             {"preset", "youngs_modulus_pa", "poisson_ratio", "shear_modulus_pa", "density_kg_m3", "metres_per_unit",
+              "damping_ratio"});
+    if (const Json* x = r.optional(v, "preset")) {
+      const std::string name = r.string(*x, member(ptr, "preset"));
+      preset->preset = find_preset(name);
+      if (preset->preset == nullptr)
+        r.fail_at(member(ptr, "preset"), "unknown preset \"" + name + "\": one of " + preset_names());
+      const double scale = m.metres_per_unit;
+      m = preset_base(*preset->preset);
+      m.metres_per_unit = scale;
+    }
+    preset->youngs_modulus_given = preset->youngs_modulus_given || r.optional(v, "youngs_modulus_pa") != nullptr;
+  }
   if (r.optional(v, "poisson_ratio") && r.optional(v, "shear_modulus_pa"))
     r.fail_at(ptr, "give either \"poisson_ratio\" or \"shear_modulus_pa\", not both");
   if (const Json* x = r.optional(v, "youngs_modulus_pa"))
@@ -106,9 +126,10 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr, 
   const int n = static_cast<int>(r.integer(r.required(v, ptr, "radial_samples"), member(ptr, "radial_samples"),
                                            limits::kMinRadial, limits::kMaxRadial));
   if (const Json* s = r.optional(v, "springs")) read_springs(r, *s, member(ptr, "springs"), def.default_springs);
+  MaterialRequest request;  // a preset's E is solved once the sections are read
   if (const Json* m = r.optional(v, "material")) {
     def.material = Material{};
-    read_material(r, *m, member(ptr, "material"), *def.material);
+    read_material(r, *m, member(ptr, "material"), *def.material, &request);
   }
   if (const Json* fs = r.optional(v, "force_scale")) {
     const std::string p = member(ptr, "force_scale");
@@ -148,6 +169,7 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr, 
   }
   def.rest.radial_count = n;
   std::set<std::string> names;
+  std::vector<std::size_t> own_youngs;  // sections that give their own Young's modulus
   for (std::size_t i = 0; i < sections.size(); ++i) {
     const std::string p = element(sp, i);
     const Json& s = sections[i];
@@ -186,12 +208,24 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr, 
         r.fail_at(member(p, "material"), "a section's material overrides the sweep's; the sweep has no \"material\"");
       Material mat = *def.material;
       read_material(r, *m, member(p, "material"), mat);
+      if (r.optional(*m, "youngs_modulus_pa") != nullptr) own_youngs.push_back(i);
       if (mat.metres_per_unit != def.material->metres_per_unit)
         r.fail_at(member(p, "material") + "/metres_per_unit",
                   "the mesh's scale is the sweep's: set it on the sweep's material");
       def.section_materials.push_back(mat);
     } else if (def.material) {
       def.section_materials.push_back(*def.material);
+    }
+  }
+  if (request.preset != nullptr && !request.youngs_modulus_given) {
+    // The preset's E for this part: every section takes it but those that give their own.
+    request.material = *def.material;
+    if (const std::string why = check_shape(def.rest); !why.empty()) r.fail_at(ptr, why);
+    const double e = resolve_material(request, def.rest).youngs_modulus;
+    def.material->youngs_modulus = e;
+    for (std::size_t i = 0; i < def.section_materials.size(); ++i) {
+      if (std::find(own_youngs.begin(), own_youngs.end(), i) == own_youngs.end())
+        def.section_materials[i].youngs_modulus = e;
     }
   }
   return def;
@@ -353,6 +387,25 @@ Material parse_material(const std::string& text, const std::string& source, cons
 
 Material read_material_file(const std::filesystem::path& path, const WarningSink& warn) {
   return parse_material(read_file(path, limits::kMaxJsonBytes), path.string(), warn);
+}
+
+MaterialRequest parse_material_request(const std::string& text, const std::string& source, const Preset* preset,
+                                       const WarningSink& warn) {
+  const Json doc = parse_json_text(text, source);
+  const JsonReader r(source, warn);
+  if (!doc.is_object()) r.fail_at("", "must be an object of material members, got " + describe(doc));
+  MaterialRequest request;
+  request.preset = preset;
+  if (preset != nullptr) request.material = preset_base(*preset);
+  if (preset != nullptr && r.optional(doc, "preset") != nullptr)
+    r.fail_at("/preset", "the preset is given twice (--preset and the file): give it once");
+  read_material(r, doc, "", request.material, &request);
+  return request;
+}
+
+MaterialRequest read_material_request(const std::filesystem::path& path, const Preset* preset,
+                                      const WarningSink& warn) {
+  return parse_material_request(read_file(path, limits::kMaxJsonBytes), path.string(), preset, warn);
 }
 
 std::string format_rig(const Rig& rig) {

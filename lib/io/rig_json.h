@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "sweep/core/presets.h"
 #include "sweep/core/rig.h"
 
 namespace sweep::io {
@@ -24,6 +25,12 @@ std::string format_rig(const Rig& rig);
 // metres_per_unit, damping_ratio), checked by the same rules, errors naming the file and pointer.
 Material parse_material(const std::string& text, const std::string& source, const WarningSink& warn = {});
 Material read_material_file(const std::filesystem::path& path, const WarningSink& warn = {});
+// The same, where a preset may be named ("preset": "tail", or `preset` from sweep-fit --preset;
+// not both): its members first, the file's over them; resolved per part (resolve_material).
+MaterialRequest parse_material_request(const std::string& text, const std::string& source, const Preset* preset,
+                                       const WarningSink& warn = {});
+MaterialRequest read_material_request(const std::filesystem::path& path, const Preset* preset,
+                                      const WarningSink& warn = {});
 
 // The rig's mesh path is stored relative to the rig file's folder (or absolute).
 std::filesystem::path resolve_mesh_path(const std::filesystem::path& rig_path, const Rig& rig);

@@ -8,6 +8,8 @@
 
 #include "fp_guard.h"
 #include "sweep/core/error.h"
+#include "sweep/core/presets.h"
+#include "sweep/core/sway.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/mesh_names.h"
 
@@ -147,6 +149,64 @@ TEST(RigJson, WrongValuesNameTheirPointer) {
   expect_bad(with("/format", "other"), "/format: must be \"sweep-rig\"");
   expect_bad(with("/version", 7), "/version: rig format version 7 is not supported", ErrorCategory::unsupported);
   expect_bad(with("/sweeps", nlohmann::json::object()), "/sweeps: must be an array, got an object");
+}
+
+// A sweep's "preset": its members, E solved on the sweep's own sections for the preset's first
+// sway frequency, the members given beside it (and a section's own E) over it.
+TEST(RigJson, APresetIsSolvedOnThePartAndExplicitMembersOverrideIt) {
+  const Preset& tail = *find_preset("tail");
+  const SweepShape rest = small_rig().sweeps[0].rest;
+  const Rig plain = parse_rig(with("/sweeps/0/material", {{"preset", "tail"}, {"metres_per_unit", 0.02}}), "rig.json");
+  const SweepDef& def = plain.sweeps[0];
+  ASSERT_TRUE(def.material.has_value());
+  EXPECT_EQ(def.material->density, tail.density);
+  EXPECT_EQ(def.material->damping_ratio, tail.damping_ratio);
+  EXPECT_EQ(def.material->metres_per_unit, 0.02);
+  EXPECT_EQ(*def.material, preset_material(rest, tail, 0.02));
+  EXPECT_EQ(def.section_materials, std::vector<Material>(2, *def.material));
+  EXPECT_NEAR(sway_figures(def, Vec3::Zero()).frequencies_hz.at(0), tail.frequency_hz, 1e-9);
+
+  // A density given: E solved with it (same frequency); E given: nothing solved.
+  nlohmann::ordered_json doc =
+      nlohmann::ordered_json::parse(with("/sweeps/0/material", {{"preset", "tail"}, {"density_kg_m3", 500}}));
+  doc["sweeps"][0]["sections"][1]["material"] = {{"youngs_modulus_pa", 7e5}};
+  const Rig dense = parse_rig(doc.dump(), "rig.json");
+  EXPECT_EQ(dense.sweeps[0].material->density, 500);
+  EXPECT_EQ(dense.sweeps[0].section_materials[0].youngs_modulus, dense.sweeps[0].material->youngs_modulus);
+  EXPECT_EQ(dense.sweeps[0].section_materials[1].youngs_modulus, 7e5);  // the section's own
+  const Rig given = parse_rig(with("/sweeps/0/material", {{"preset", "ear"}, {"youngs_modulus_pa", 3e6}}), "rig.json");
+  EXPECT_EQ(given.sweeps[0].material->youngs_modulus, 3e6);
+  EXPECT_EQ(given.sweeps[0].material->density, find_preset("ear")->density);
+
+  expect_bad(with("/sweeps/0/material", {{"preset", "wing"}}),
+             "/sweeps/0/material/preset: unknown preset \"wing\": one of tail, neck, ear, tentacle, strand");
+  nlohmann::ordered_json section = nlohmann::ordered_json::parse(with("/sweeps/0/material", {{"preset", "tail"}}));
+  section["sweeps"][0]["sections"][1]["material"] = {{"preset", "ear"}};
+  // A section takes the sweep's preset, never its own: that member is unknown there (a warning).
+  std::vector<std::string> warnings;
+  parse_rig(section.dump(), "rig.json", [&](const std::string& w) { warnings.push_back(w); });
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("/sweeps/0/sections/1/material/preset: unknown member \"preset\" ignored"),
+            std::string::npos)
+      << warnings[0];
+}
+
+TEST(RigJson, AMaterialFileMayNameAPresetOrTakeOneFromTheCommandLine) {
+  const MaterialRequest named =
+      parse_material_request(R"({"preset": "neck", "metres_per_unit": 0.01})", "m.json", nullptr);
+  ASSERT_EQ(named.preset, find_preset("neck"));
+  EXPECT_FALSE(named.youngs_modulus_given);
+  EXPECT_EQ(named.material.metres_per_unit, 0.01);
+  EXPECT_EQ(named.material.density, find_preset("neck")->density);
+  const MaterialRequest over = parse_material_request(R"({"damping_ratio": 0.5})", "m.json", find_preset("tail"));
+  EXPECT_EQ(over.material.damping_ratio, 0.5);
+  EXPECT_EQ(over.material.density, find_preset("tail")->density);
+  try {
+    parse_material_request(R"({"preset": "neck"})", "m.json", find_preset("tail"));
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("m.json: /preset: the preset is given twice"), std::string::npos) << e.what();
+  }
 }
 
 TEST(RigJson, MissingMembersAreNamed) {

@@ -360,5 +360,51 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
   fs::remove_all(dir);
 }
 
+// The report's fold and self-crossing figures, and the warnings they give (core/fold_check.h).
+TEST(Bake, AForcedFoldIsWarnedAndAQuietBakeIsNot) {
+  const Tube tube;
+  const auto run = [&](const SceneForce& force, std::vector<std::string>& warnings) {
+    const fs::path dir = fs::temp_directory_path() / ("sweep_fold_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    sweep::assets::BakeOptions o;
+    o.outputs = {dir / "out.pc2"};
+    o.warn = [&](const std::string& w) { warnings.push_back(w); };
+    const sweep::assets::BakeReport r = run_bake(tube.mesh, tube.rig, tube.binding, scene_with({force}, 1.0), o);
+    fs::remove_all(dir);
+    return r.sweeps.at(0);
+  };
+  // 2 N on the whole chain: a few degrees a span.
+  SceneForce gentle = force_at(1.0, 0.0, Vec3(0, 2, 0), 0.0, 0.5, kRotational);
+  gentle.spec.target = RotationTarget::chain;
+  std::vector<std::string> quiet_warnings;
+  const sweep::assets::SweepBakeStats quiet = run(gentle, quiet_warnings);
+  EXPECT_TRUE(quiet_warnings.empty());
+  EXPECT_GT(quiet.largest_bend, 0);
+  EXPECT_LT(quiet.largest_bend, 0.2);
+  EXPECT_EQ(quiet.fold_frame, -1);
+  EXPECT_EQ(quiet.cross_frame, -1);
+  // The paper's springs: each sways at its own bend frequency and feels no gravity.
+  ASSERT_EQ(quiet.sway.frequencies_hz.size(), 1u);
+  EXPECT_EQ(quiet.sway.frequencies_hz[0], tube.rig.sweeps[0].springs[1].bend.frequency_hz);
+  EXPECT_FALSE(quiet.sway.feels_gravity);
+
+  // 400 N at the tip on the whole chain, against bend springs of k = (2π 1.5 Hz)² ≈ 89 N·m/rad: its
+  // spans turn past 90° (the report names the first that did, and the warning says the same).
+  SceneForce hard = force_at(1.0, 0.0, Vec3(0, 400, 0), 0.0, 1.0, kRotational);
+  hard.spec.target = RotationTarget::chain;
+  std::vector<std::string> fold_warnings;
+  const sweep::assets::SweepBakeStats folded = run(hard, fold_warnings);
+  EXPECT_GT(folded.largest_bend, std::numbers::pi / 2);
+  EXPECT_GE(folded.fold_frame, 1);
+  EXPECT_GE(folded.fold_span, 1);
+  EXPECT_LE(folded.fold_span, 5);
+  ASSERT_FALSE(fold_warnings.empty());
+  const std::string span = std::to_string(folded.fold_span - 1) + "-" + std::to_string(folded.fold_span);
+  EXPECT_NE(fold_warnings[0].find("part \"tube\" folds past 90° within one span (sections " + span +
+                                  ", first at frame " + std::to_string(folded.fold_frame)),
+            std::string::npos)
+      << fold_warnings[0];
+}
+
 }  // namespace
 }  // namespace sweep::sim

@@ -9,6 +9,9 @@
 
 #include "pipeline.h"
 #include "sweep/assets/mesh_io.h"
+#include "sweep/core/presets.h"
+#include "sweep/core/sway.h"
+#include "sweep/io/rig_json.h"
 
 namespace sweep::test {
 namespace {
@@ -76,6 +79,42 @@ TEST(NewcomerMessages, APartFitsTheSameAtAnyScale) {
     EXPECT_NEAR(s.at("length").get<double>() / scale, reference.at("length").get<double>(), 1e-6) << "scale " << scale;
     EXPECT_EQ(s.at("part_vertex_count"), reference.at("part_vertex_count")) << "scale " << scale;
   }
+}
+
+// sweep-fit --preset: the fitted part's stiffness is solved on its own sections, so the tapered
+// tube at two sizes sways at the preset's frequency both times (E differs); a name it does not
+// know is a usage error that lists the presets.
+TEST(NewcomerMessages, APresetSwaysAtItsFrequencyAtAnyScale) {
+  const Workspace ws("messages-preset");
+  const Mesh tube = assets::read_mesh(fs::path(SWEEP_SOURCE_DIR) / "meshes" / "tube_tapered.off");
+  std::vector<double> youngs;
+  for (const double scale : {1.0, 50 / 1.5}) {
+    Mesh scaled = tube;
+    for (Vec3& p : scaled.positions) p *= scale;
+    const std::string name = "tube-" + std::to_string(scale);
+    assets::write_obj(ws / (name + ".obj"), scaled);
+    const ToolRun r = run_tool(SWEEP_FIT_EXE,
+                               quoted(ws / (name + ".obj")) + " -o " + quoted(ws / (name + ".rig.json")) +
+                                   " --tip 0,0," + std::to_string(1.5 * scale) + " --preset tail",
+                               ws.io);
+    ASSERT_EQ(r.code, 0) << "scale " << scale << ": " << r.err;
+    const Rig rig = io::read_rig(ws / (name + ".rig.json"));
+    ASSERT_TRUE(rig.sweeps.at(0).material.has_value());
+    EXPECT_EQ(rig.sweeps[0].material->density, find_preset("tail")->density);
+    const SwayFigures f = sway_figures(rig.sweeps[0], Vec3::Zero());
+    ASSERT_FALSE(f.frequencies_hz.empty());
+    EXPECT_NEAR(f.frequencies_hz[0], find_preset("tail")->frequency_hz, 1e-9) << "scale " << scale;
+    youngs.push_back(rig.sweeps[0].material->youngs_modulus);
+  }
+  EXPECT_GT(youngs[1], 100 * youngs[0]);  // a part 33× as long (in metres) needs ~1100× the E
+  const ToolRun bad = run_tool(
+      SWEEP_FIT_EXE,
+      quoted(ws / "tube-1.000000.obj") + " -o " + quoted(ws / "bad.rig.json") + " --tip 0,0,1.5 --preset wing", ws.io);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("--preset: unknown preset 'wing': one of tail, neck, ear, tentacle, strand"),
+            std::string::npos)
+      << bad.err;
+  EXPECT_FALSE(fs::exists(ws / "bad.rig.json"));
 }
 
 // Why the axis ends where it does: in the report and with -v.

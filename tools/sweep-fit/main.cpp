@@ -19,6 +19,8 @@
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/error.h"
 #include "sweep/core/limits.h"
+#include "sweep/core/presets.h"
+#include "sweep/core/sway.h"
 #include "sweep/core/text.h"
 #include "sweep/fit/discover.h"
 #include "sweep/fit/fit.h"
@@ -69,6 +71,7 @@ struct Settings {
   bool up_given = false;   // else the file's own (assets::FileUp)
   fs::path preview;        // optional PNG: the fit drawn over the mesh from three sides
   fs::path material;       // optional material file: the fitted sweeps move in material mode
+  std::string preset;      // --preset: a material preset (core/presets.h), the file's members over it
   fs::path export_obj;     // --export-obj: the mesh as read, to this OBJ (no fit)
 };
 
@@ -193,7 +196,10 @@ void set_material(sweep::SweepDef& def, const std::optional<sweep::Material>& m)
 // Adds `def` to the rig, or replaces the sweep of its name keeping the user's spring settings,
 // material and force scales (per-section overrides no longer apply: the sections are new). A
 // material given now (--material) replaces the sweep's. True when it replaced one.
-bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::Material>& material) {
+bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::MaterialRequest>& request) {
+  // A preset's stiffness is the part's own: solved on this sweep's sections.
+  const std::optional<sweep::Material> material =
+      request ? std::optional(sweep::resolve_material(*request, def.rest)) : std::nullopt;
   set_material(def, material);
   for (sweep::SweepDef& old : rig.sweeps) {
     if (old.name != def.name) continue;
@@ -209,9 +215,18 @@ bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::
   return false;
 }
 
-std::optional<sweep::Material> read_material_option(const Settings& s) {
-  if (s.material.empty()) return std::nullopt;
-  return sweep::io::read_material_file(s.material, sweep::tools::warn);
+std::optional<sweep::MaterialRequest> read_material_option(const Settings& s) {
+  const sweep::Preset* preset = nullptr;
+  if (!s.preset.empty()) {
+    preset = sweep::find_preset(s.preset);
+    if (preset == nullptr)
+      fail(ErrorCategory::usage, "--preset: unknown preset '" + s.preset + "': one of " + sweep::preset_names());
+  }
+  if (s.material.empty()) {
+    if (preset == nullptr) return std::nullopt;
+    return sweep::MaterialRequest{sweep::preset_base(*preset), preset, false};
+  }
+  return sweep::io::read_material_request(s.material, preset, sweep::tools::warn);
 }
 
 // The direction the suggested names go by: --up, else the file's own up (glTF's +Y, an FBX's
@@ -380,8 +395,8 @@ void fitting(const Settings& s, const ReadMesh& mesh, std::vector<sweep::fit::Fi
 }
 
 void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, bool updating,
-                   const std::optional<sweep::Material>& material, const std::vector<sweep::fit::FitResult>& fits,
-                   std::chrono::steady_clock::time_point start) {
+                   const std::optional<sweep::MaterialRequest>& material,
+                   const std::vector<sweep::fit::FitResult>& fits, std::chrono::steady_clock::time_point start) {
   int replaced = 0;
   for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep, material);
   const double seconds = seconds_since(start);
@@ -399,7 +414,18 @@ void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, boo
   add_report_and_preview(outputs, s, mesh, fits, true, seconds);
   outputs.commit();
   if (s.quiet) return;  // -q: nothing on success, as the other tools
-  for (const sweep::fit::FitResult& r : fits) sweep::fit_tool::print_fit(r, s.verbose);
+  for (const sweep::fit::FitResult& r : fits) {
+    sweep::fit_tool::print_fit(r, s.verbose);
+    // What a material gives it (a preset's E was solved for its frequency): how fast it sways.
+    const sweep::SweepDef* def = rig.find(r.sweep.name);
+    if (def == nullptr || !def->material) continue;
+    const sweep::SwayFigures sway = sweep::sway_figures(*def, Vec3::Zero());
+    std::cout << "  " << def->name << ": material E " << sweep::format_number(def->material->youngs_modulus, 4)
+              << " Pa, first sway";
+    for (std::size_t m = 0; m < sway.frequencies_hz.size(); ++m)
+      std::cout << (m ? ", " : " ") << sweep::format_number(sway.frequencies_hz[m], 3);
+    std::cout << " Hz\n";
+  }
   std::cout << (replaced > 0 ? "replaced in "
                 : updating   ? "added to "
                              : "wrote ")
@@ -422,7 +448,7 @@ int run_one(const Settings& s) {
   sweep::tools::check_utf8(s.name, "--name");
   sweep::tools::check_paths({{"the mesh", s.mesh}, {"--axis", s.axis}, {"--material", s.material}},
                             {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
-  const std::optional<sweep::Material> material = read_material_option(s);
+  const std::optional<sweep::MaterialRequest> material = read_material_option(s);
   sweep::fit::FitOptions o = fit_options(s);
   if (!s.axis.empty()) o.axis = read_axis(s.axis);
   if (s.root_given) o.root = to_point(s.root, "--root");
@@ -466,7 +492,7 @@ int run_all(const Settings& s) {
   const auto start = std::chrono::steady_clock::now();
   sweep::tools::check_paths({{"the mesh", s.mesh}, {"--material", s.material}},
                             {{"-o", s.rig}, {"--report", s.report}, {"--preview", s.preview}});
-  const std::optional<sweep::Material> material = read_material_option(s);
+  const std::optional<sweep::MaterialRequest> material = read_material_option(s);
   const std::vector<std::string> names = split_names(s.names);
   bool updating = false;
   const RigUpdate lock(s);
@@ -614,6 +640,9 @@ int main(int argc, char** argv) {
                                     "JSON file of a material (youngs_modulus_pa, density_kg_m3, "
                                     "metres_per_unit, ...): the fitted sweeps move in material mode")
                          ->check(sweep::tools::kNonEmptyName);
+    auto* preset = app.add_option("--preset", s.preset,
+                                  "A material preset (tail, neck, ear, tentacle, strand): the part's stiffness "
+                                  "solved for the preset's sway frequency; --material's members override it");
     auto* space = app.add_option("--space", s.space,
                                  "What --root, --tip and --axis are in: world (the mesh's points after "
                                  "its node transforms) or local (the mesh's own, as stored)")
@@ -653,6 +682,7 @@ int main(int argc, char** argv) {
                (s.list ? "--list" : "--all"));
     }
     if (material->count() > 0 && s.list) fail(ErrorCategory::usage, "--material goes with a fit or --all, not --list");
+    if (preset->count() > 0 && s.list) fail(ErrorCategory::usage, "--preset goes with a fit or --all, not --list");
     if (preview->count() > 0 && s.list) {
       fail(ErrorCategory::usage, "--preview draws fitted parts: use it with a fit or --all, not --list");
     }
@@ -661,7 +691,7 @@ int main(int argc, char** argv) {
     }
     if (export_obj->count() > 0) {
       for (const CLI::Option* other :
-           {list, all, rig, tip, tip_vertex, root, axis, name, material, preview, up, space}) {
+           {list, all, rig, tip, tip_vertex, root, axis, name, material, preset, preview, up, space}) {
         if (other->count() > 0) {
           fail(ErrorCategory::usage,
                "--export-obj writes the mesh alone: " + other->get_name() + " does not go with it");

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -79,6 +80,11 @@ double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// A frame number, or null for −1 (never).
+nlohmann::ordered_json frame_or_null(int frame) {
+  return frame >= 0 ? nlohmann::ordered_json(frame) : nlohmann::ordered_json();
+}
+
 std::string report_text(const Settings& s, const sweep::assets::BakeReport& r, double load_seconds,
                         double total_seconds) {
   nlohmann::ordered_json doc;
@@ -91,13 +97,25 @@ std::string report_text(const Settings& s, const sweep::assets::BakeReport& r, d
   doc["deformation"] = s.exact ? "exact" : "fast";
   nlohmann::ordered_json sweeps = nlohmann::ordered_json::array();
   for (const auto& st : r.sweeps) {
-    sweeps.push_back({{"name", st.name},
-                      {"driven", st.driven},
-                      {"steps", st.steps},
-                      {"frames_deformed", st.frames_deformed},
-                      {"bound_vertex_count", st.bound_vertex_count},
-                      {"work_blocks", st.work_blocks},
-                      {"blocks_in_place", st.blocks_in_place}});
+    sweeps.push_back(
+        {{"name", st.name},
+         {"driven", st.driven},
+         {"steps", st.steps},
+         {"frames_deformed", st.frames_deformed},
+         {"bound_vertex_count", st.bound_vertex_count},
+         {"work_blocks", st.work_blocks},
+         {"blocks_in_place", st.blocks_in_place},
+         {"sway_frequencies_hz", st.sway.frequencies_hz},
+         {"feels_gravity", st.sway.feels_gravity},
+         {"droop", st.sway.droop},
+         {"largest_span_bend_degrees", st.largest_bend * 180 / std::numbers::pi},
+         {"largest_bend_span", st.bend_span},
+         {"largest_bend_frame", st.bend_frame},
+         {"fold_frame", frame_or_null(st.fold_frame)},
+         {"fold_span", st.fold_frame >= 0 ? nlohmann::ordered_json(st.fold_span) : nlohmann::ordered_json()},
+         {"self_cross_frame", frame_or_null(st.cross_frame)},
+         {"self_cross_sections",
+          st.cross_frame >= 0 ? nlohmann::ordered_json::array({st.cross_a, st.cross_b}) : nlohmann::ordered_json()}});
   }
   doc["sweeps"] = std::move(sweeps);
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
@@ -259,6 +277,17 @@ int run(Settings s) {
       std::cout << "  " << st.name << std::string(st.name.size() < 12 ? 12 - st.name.size() : 0, ' ') << " "
                 << (st.driven ? "driven" : "no force reaches it: skipped") << ", " << st.steps << " steps, deformed in "
                 << st.frames_deformed << " frames, " << st.bound_vertex_count << " vertices\n";
+      std::cout << "    sways at";
+      for (std::size_t m = 0; m < st.sway.frequencies_hz.size(); ++m)
+        std::cout << (m ? ", " : " ") << format_number(st.sway.frequencies_hz[m], 3);
+      std::cout << " Hz, "
+                << (st.sway.feels_gravity ? "droops " + format_number(st.sway.droop * 100, 3) + " % of its length"
+                                          : std::string("feels no gravity (the paper's springs)"));
+      if (st.driven) {
+        std::cout << "; largest bend of a span " << format_number(st.largest_bend * 180 / std::numbers::pi, 3)
+                  << "° (sections " << st.bend_span - 1 << "-" << st.bend_span << ", frame " << st.bend_frame << ")";
+      }
+      std::cout << "\n";
     }
     std::cout << "largest edge stretch " << format_number(report.max_stretch.ratio, 4) << "x";
     if (report.max_stretch.found) {

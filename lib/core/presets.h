@@ -1,0 +1,51 @@
+#pragma once
+// Material presets: a kind of part in one word. A preset fixes the part's first sway frequency
+// (Hz), its damping and its density; the Young's modulus is then solved from the part's own
+// sections so that it sways at that frequency whatever its size or the mesh's units. So the same
+// asset at 1×, 10× or 100× moves the same way in angle and time under a body motion scaled with
+// it. Its sag under gravity is not scale-free, and cannot be: a cantilever's droop and first
+// frequency are tied by δ/L ≈ 1.545 g / (ω₁² L), so at a fixed frequency a part twice as long (in
+// metres: metres_per_unit says how long) droops half as much of its length.
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "sweep/core/material.h"
+#include "sweep/core/sweep_shape.h"
+
+namespace sweep {
+
+struct Preset {
+  std::string_view name;
+  double frequency_hz;   // first sway (bending) frequency the part is given
+  double damping_ratio;  // ζ of every mode
+  double density;        // kg/m³
+};
+
+std::span<const Preset> presets();
+const Preset* find_preset(std::string_view name);  // nullptr when there is none of that name
+std::string preset_names();                        // "tail, neck, …" for messages
+
+// `m` with its Young's modulus chosen so that a part of shape `rest` made of it has its first
+// bending mode at `frequency_hz` (the chain model's, core/chain_model.h). Every other member of
+// `m` is kept (its density, ν or G, metres_per_unit, damping).
+Material with_frequency(const SweepShape& rest, Material m, double frequency_hz);
+
+// The preset's material for `rest`: its density and damping, ν = 0.45, the mesh scale given, and
+// E solved for its frequency.
+Material preset_material(const SweepShape& rest, const Preset& preset, double metres_per_unit);
+
+// The preset's members before E is solved: density, damping, ν = 0.45 (the rest the defaults').
+Material preset_base(const Preset& preset);
+
+// A material as asked for: a preset's members (or the defaults) with those given explicitly on
+// top. With a preset and no Young's modulus given, E is solved on the part's rest shape for the
+// preset's frequency (with the density, ν or G and scale as given); explicit settings win.
+struct MaterialRequest {
+  Material material;
+  const Preset* preset = nullptr;
+  bool youngs_modulus_given = false;
+};
+Material resolve_material(const MaterialRequest& request, const SweepShape& rest);
+
+}  // namespace sweep
