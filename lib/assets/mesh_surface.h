@@ -5,11 +5,14 @@
 // normal, so each primitive's vertices are the file's distinct (vertex, UV, normal, colour)
 // corners, each naming its `source`: the vertex of the mesh as read_mesh read it.
 #include <array>
+#include <climits>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "sweep/core/mesh.h"
 
 namespace sweep::assets {
 
@@ -32,12 +35,31 @@ struct MeshSurface {
   std::vector<SurfaceMaterial> materials;
 };
 
-// FBX (and the other formats read_mesh welds through assimp): each assimp mesh a primitive, its
-// corners mapped to the welded vertices exactly as read_mesh welds them; normals in world space
-// (the node's transform); materials' diffuse or base colour and texture (embedded in the file, or a
-// file beside it). `mesh_name` ("" = the whole file) takes one mesh of the file, or several (a
-// list, or kAllMeshes), as read_scene_mesh (mesh_io.h) takes them by name. Error(bad_input) for a texture named but not
-// found.
-MeshSurface read_welded_surface(const std::filesystem::path& path, const std::string& mesh_name = {});
+// FBX (and the other formats read_mesh welds through assimp), every mesh of the file, for the .glb
+// bake that keeps them all: one SurfaceNode a node that shows meshes, depth first (the file's node
+// order, as read_scene_mesh lists them), each with its own vertices — welded per importer mesh in
+// world space as read_mesh welds them — and one primitive an importer mesh (sources into those
+// vertices; corners mapped to the welded vertices exactly as read_mesh welds them; normals in world
+// space, one of no length or not finite replaced by its face's; materials' diffuse or base colour
+// and texture, embedded in the file or a file beside it, shared in SceneSurface::materials).
+// `read_as` says which vertices are the mesh `mesh_name` takes ("" = the whole file; one mesh of
+// the file, or several: a list, or kAllMeshes, as read_scene_mesh (mesh_io.h) takes them by name:
+// the rig's mesh), by the number that mesh gives them: an importer mesh is the rig's where that
+// mesh places the same importer mesh by the same world transform (the first node showing it,
+// depth first, for the whole file). Error(bad_input) for a texture named but not found, or a name
+// no mesh has.
+inline constexpr std::uint32_t kNotRead = UINT32_MAX;
+struct SurfaceNode {
+  std::string name;       // its node's, as the file names it
+  std::string mesh_name;  // its mesh's (SceneMeshEntry::mesh_name), or ""
+  std::vector<Vec3> positions;
+  std::vector<std::uint32_t> read_as;  // per vertex: its vertex in the mesh read, or kNotRead
+  std::vector<SurfacePrimitive> primitives;
+};
+struct SceneSurface {
+  std::vector<SurfaceNode> nodes;
+  std::vector<SurfaceMaterial> materials;
+};
+SceneSurface read_scene_surface(const std::filesystem::path& path, const std::string& mesh_name = {});
 
 }  // namespace sweep::assets

@@ -117,13 +117,24 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
   if (gltf.sources.empty() || model.nodes.empty() || !gltf.doc.buffers.at(0))
     fail(ErrorCategory::internal, "a skinned character's surface has no primitive");
   Bin bin{json, *gltf.doc.buffers[0]};
-  const std::vector<std::uint32_t>& source = gltf.sources.front();  // every primitive shares it
+  // The skinned mesh: the one whose vertices are the mesh read (every primitive of it shares them);
+  // the file's other meshes are kept as they are, static.
+  std::size_t first = 0;
+  while (first < gltf.sources.size() && gltf.sources[first].empty()) ++first;
+  if (first == gltf.sources.size() || gltf.primitive_mesh.size() != gltf.sources.size())
+    fail(ErrorCategory::internal, "a skinned character's surface has no primitive of the mesh read");
+  const std::size_t skinned_mesh = gltf.primitive_mesh[first];
+  const std::vector<std::uint32_t>& source = gltf.sources[first];
   const std::size_t count = source.size();
+  for (std::size_t k = 0; k < gltf.sources.size(); ++k) {
+    if (!gltf.sources[k].empty() && gltf.primitive_mesh[k] != skinned_mesh)
+      fail(ErrorCategory::internal, "a skinned character's mesh read is on several meshes of the document");
+  }
   for (const std::uint32_t v : source) {
     if (v >= model.bind_positions.size())
       fail(ErrorCategory::internal, "a skinned character's surface is not its skinned mesh");
   }
-  Json& attributes = json["meshes"][0]["primitives"][0]["attributes"];
+  Json& attributes = json["meshes"][skinned_mesh]["primitives"][0]["attributes"];
 
   // POSITION and NORMAL in the bind space, written over the world ones.
   const std::size_t position = attributes["POSITION"].get<std::size_t>();
@@ -167,7 +178,7 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
   }
   const std::size_t weights_accessor =
       bin.accessor(weights.data(), 4 * weights.size(), kFloat, "VEC4", count, kArrayBuffer);
-  for (Json& primitive : json["meshes"][0]["primitives"]) {
+  for (Json& primitive : json["meshes"][skinned_mesh]["primitives"]) {
     primitive["attributes"]["JOINTS_0"] = joints_accessor;
     primitive["attributes"]["WEIGHTS_0"] = weights_accessor;
   }
@@ -204,7 +215,7 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
   const bool detach = mesh_parent >= 0 && !animated[mesh_node] && !nodes[mesh_node].contains("children") &&
                       std::find(model.joints.begin(), model.joints.end(), model.mesh_node) == model.joints.end();
   Json& shown = nodes[mesh_node];
-  shown["mesh"] = 0;
+  shown["mesh"] = skinned_mesh;
   shown["skin"] = 0;
   if (detach) {
     // Its transform the mesh's space → world, as the bake read it: placed by it, POSITION is the mesh
@@ -225,10 +236,18 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
     siblings.erase(std::find(siblings.begin(), siblings.end(), Json(mesh_node)));
     if (siblings.empty()) nodes[static_cast<std::size_t>(mesh_parent)].erase("children");
   }
+  // The surface's other nodes (the file's other meshes, placed in world space): roots after the model's.
+  std::vector<std::size_t> kept;
+  for (const Json& node : json["nodes"]) {
+    if (node.value("mesh", skinned_mesh) == skinned_mesh) continue;
+    kept.push_back(nodes.size());
+    nodes.push_back(node);
+  }
   json["nodes"] = std::move(nodes);
   Json roots = Json::array();
   for (std::size_t i = 0; i < model.nodes.size(); ++i)
     if (model.nodes[i].parent < 0 || (detach && i == mesh_node)) roots.push_back(i);
+  for (const std::size_t i : kept) roots.push_back(i);
   json["scenes"] = Json::array({{{"nodes", std::move(roots)}}});
   if (!model.clips.empty()) {
     json["animations"] = Json::array();

@@ -32,9 +32,18 @@ std::string row_major(const Mat4& m) {
   return out.str();
 }
 
+// A prop beside the creature (with_prop): a box of these corners, on a root node "Prop" moved by
+// kPropAt, a mesh of no skin.
+const Vec3 kPropAt(2, 0.5, -1);
+std::vector<Vec3> prop_corners() {
+  std::vector<Vec3> out;
+  for (int k = 0; k < 8; ++k) out.emplace_back(k & 1 ? 0.25 : -0.25, k & 2 ? 0.5 : -0.5, k & 4 ? 0.125 : -0.125);
+  return out;
+}
+
 // The creature as Collada: the same vertices (mesh space = world: its node is at the origin),
 // triangles, weights and inverse binds; nodes named as the glTF's, each with its rest matrix.
-void write_creature_dae(const fs::path& dae) {
+void write_creature_dae(const fs::path& dae, bool with_prop = false) {
   const fs::path gltf = fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf";
   const Mesh mesh = assets::read_mesh(gltf);
   const assets::SkinModel m = *assets::read_gltf_skin(gltf, mesh.positions, Eigen::Affine3d::Identity());
@@ -116,6 +125,21 @@ void write_creature_dae(const fs::path& dae) {
   std::string scene;
   for (std::size_t i = 0; i < m.nodes.size(); ++i)
     if (m.nodes[i].parent < 0) scene += node_xml(i);
+  std::string prop_geometry;
+  if (with_prop) {
+    std::ostringstream corners;
+    for (const Vec3& c : prop_corners()) corners << c.x() << ' ' << c.y() << ' ' << c.z() << ' ';
+    prop_geometry = R"(<geometry id="prop-mesh" name="Prop"><mesh><source id="pp"><float_array id="ppa" count="24">)" +
+                    corners.str() +
+                    R"(</float_array><technique_common><accessor source="#ppa" count="8" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+<vertices id="pv"><input semantic="POSITION" source="#pp"/></vertices>
+<triangles count="12"><input semantic="VERTEX" source="#pv" offset="0"/><p>0 2 1 1 2 3 4 5 6 5 7 6 0 1 4 1 5 4 2 6 3 3 6 7 0 4 2 2 4 6 1 3 5 3 7 5</p></triangles>
+</mesh></geometry>
+)";
+    scene += "<node id=\"Prop\" name=\"Prop\" type=\"NODE\"><matrix sid=\"transform\">1 0 0 " +
+             std::to_string(kPropAt.x()) + " 0 1 0 " + std::to_string(kPropAt.y()) + " 0 0 1 " +
+             std::to_string(kPropAt.z()) + " 0 0 0 1</matrix><instance_geometry url=\"#prop-mesh\"/></node>\n";
+  }
   std::ofstream out(dae);
   out << R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
@@ -128,7 +152,9 @@ void write_creature_dae(const fs::path& dae) {
 <triangles count=")"
       << triangles.size() / 3 << R"("><input semantic="VERTEX" source="#v" offset="0"/><p>)" << tris.str()
       << R"(</p></triangles>
-</mesh></geometry></library_geometries>
+</mesh></geometry>
+)" << prop_geometry
+      << R"(</library_geometries>
 <library_controllers><controller id="skin" name="skin"><skin source="#creature-mesh">
 <bind_shape_matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</bind_shape_matrix>
 <source id="j"><Name_array id="ja" count=")"
@@ -314,6 +340,74 @@ TEST(SkinnedCollada, WithMorphTargetsTheGlbSkinnedIsTheBakeToFloatPrecision) {
   }
   EXPECT_LT(worst, 1e-5);  // the tail is 1 long
   EXPECT_GT(moved, 0.1) << "the tail hardly moved: the check above could not fail";
+}
+
+// A static prop in the file beside the skinned character: the rig names the character's mesh; the
+// .glb keeps the prop on a node of its own, where the file places it, moved by no clip, with no
+// skin or target, and passes the validator. The prop changes nothing of the bake: the .pc2 is the
+// one without it, byte for byte, and the character's joints and clips are as there.
+TEST(SkinnedCollada, AStaticPropBesideTheCharacterIsKeptStill) {
+  const DaeBake& plain = dae_bake();
+  ASSERT_TRUE(plain.ok) << io::read_file(here("creature.err"));
+  const Asset asset{here("prop.dae"), here("prop.rig.json"), here("prop.bind")};
+  write_creature_dae(asset.gltf, /*with_prop=*/true);
+  const fs::path gltf = fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf";
+  const assets::SkinModel model =
+      *assets::read_gltf_skin(gltf, assets::read_mesh(gltf).positions, Eigen::Affine3d::Identity());
+  Rig rig = rig_of({straight_sweep("tail", false)}, "prop.dae");
+  rig.mesh_name = model.nodes[static_cast<std::size_t>(model.mesh_node)].name;
+  io::write_rig(asset.rig, rig);
+  ASSERT_EQ(std::system((std::string(SWEEP_BIND_EXE) + " -q '" + asset.rig.string() + "' -o '" +
+                         asset.binding.string() + "'")
+                            .c_str()),
+            0);
+  std::string walk = kWalk;
+  walk.replace(walk.find("\"Walk\""), 6, "\"Walk_Walk\"");
+  const fs::path glb = here("prop.glb"), pc2 = here("prop.pc2");
+  ASSERT_EQ(run_sim(asset, walk, "-o '" + glb.string() + "' -o '" + pc2.string() + "'", "prop"), 0)
+      << io::read_file(here("prop.err"));
+  EXPECT_EQ(io::read_file(pc2), io::read_file(plain.pc2)) << "the prop changes nothing of the bake";
+  int code = -1;
+  const std::string report = validate(glb, &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+
+  const tinygltf::Model out = load(glb), before = load(plain.glb);
+  ASSERT_EQ(out.nodes.size(), before.nodes.size() + 1) << "the character's nodes, and the prop's";
+  ASSERT_EQ(out.meshes.size(), 2u);
+  ASSERT_EQ(out.skins.size(), 1u);
+  EXPECT_EQ(out.skins[0].joints, before.skins[0].joints);
+  ASSERT_EQ(out.animations.size(), before.animations.size());
+  for (std::size_t a = 0; a < out.animations.size(); ++a) {
+    EXPECT_EQ(out.animations[a].name, before.animations[a].name);
+    EXPECT_EQ(out.animations[a].channels.size(), before.animations[a].channels.size());
+  }
+  int prop = -1;
+  for (std::size_t n = 0; n < out.nodes.size(); ++n)
+    if (out.nodes[n].name == "Prop" && out.nodes[n].mesh >= 0) prop = static_cast<int>(n);
+  ASSERT_GE(prop, 0) << "the prop's node, showing its mesh";
+  const tinygltf::Node& node = out.nodes[static_cast<std::size_t>(prop)];
+  EXPECT_EQ(node.skin, -1);
+  EXPECT_TRUE(node.translation.empty() && node.rotation.empty() && node.matrix.empty())
+      << "placed in world space: its node has no transform";
+  for (const tinygltf::Animation& a : out.animations)
+    for (const tinygltf::AnimationChannel& ch : a.channels) EXPECT_NE(ch.target_node, prop) << a.name;
+  int roots_with_prop = 0;
+  for (const int root : out.scenes[0].nodes) roots_with_prop += root == prop;
+  EXPECT_EQ(roots_with_prop, 1) << "the prop is in the scene";
+  const tinygltf::Primitive& p = out.meshes[static_cast<std::size_t>(node.mesh)].primitives[0];
+  EXPECT_TRUE(p.targets.empty());
+  EXPECT_FALSE(p.attributes.contains("JOINTS_0"));
+  const std::vector<double> at = numbers(out, p.attributes.at("POSITION"));
+  const std::vector<Vec3> corners = prop_corners();
+  ASSERT_EQ(at.size(), 3 * corners.size());
+  double worst = 0;
+  for (std::size_t v = 0; v < corners.size(); ++v) {
+    double best = 1e300;
+    for (const Vec3& c : corners) best = std::min(best, (Vec3(at[3 * v], at[3 * v + 1], at[3 * v + 2]) - (c + kPropAt)).norm());
+    worst = std::max(worst, best);
+  }
+  EXPECT_LT(worst, 1e-6) << "the prop where the file places it";
 }
 
 }  // namespace
