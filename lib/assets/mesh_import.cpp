@@ -523,8 +523,8 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
 namespace {
 
 // The importer meshes the mesh `mesh_name` takes, as read_with_assimp places them ("" = the whole file).
-std::vector<Placed> placed_for(const aiScene* scene, const std::vector<NodeMeshes>& nodes,
-                               const std::string& mesh_name, const std::string& source) {
+std::vector<Placed> placed_for(const aiScene* scene, const std::vector<NodeMeshes>& nodes, const std::string& mesh_name,
+                               const std::string& source) {
   if (mesh_name.empty()) return whole_file(scene);
   const auto list = [] { return std::string("(see sweep-fit -v)"); };
   std::vector<int> chosen;
@@ -596,7 +596,8 @@ class SurfaceMaterials {
 // vertices numbered from `next` on, as assemble numbers them (faces in order, corners in order, by
 // exact position), each new one's position appended to `positions` when given.
 SurfacePrimitive surface_primitive(const aiMesh* am, const Transform& t, std::uint32_t& next,
-                                   std::vector<Vec3>* positions, const std::string& source) {
+                                   std::vector<Vec3>* positions, const std::string& source,
+                                   std::vector<unsigned>* first_corner = nullptr) {
   const Eigen::Matrix3d normal_matrix = t.block<3, 3>(0, 0).inverse().transpose();
   std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> welded;
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> corners;  // welded vertex → its glTF vertices
@@ -615,6 +616,7 @@ SurfacePrimitive surface_primitive(const aiMesh* am, const Transform& t, std::ui
       if (inserted) {
         ++next;
         if (positions != nullptr) positions->push_back(p);
+        if (first_corner != nullptr) first_corner->push_back(v);
       }
       // One glTF vertex a distinct (vertex, UV, colour, normal); normals within 0.01° are one
       // (exporters write a normal per corner, rounded apart).
@@ -661,6 +663,27 @@ SurfacePrimitive surface_primitive(const aiMesh* am, const Transform& t, std::ui
   return prim;
 }
 
+// An importer mesh's bones, for its welded vertices (each by its first corner, `first_corner`).
+void add_bones(const aiMesh& am, const std::vector<unsigned>& first_corner, SurfaceSkin& skin) {
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> influences(am.mNumVertices);
+  for (unsigned b = 0; b < am.mNumBones; ++b) {
+    const aiBone* bone = am.mBones[b];
+    const std::string name = bone->mName.C_Str();
+    const auto at = std::find(skin.bones.begin(), skin.bones.end(), name);
+    const auto index = static_cast<std::uint32_t>(at - skin.bones.begin());
+    if (at == skin.bones.end()) skin.bones.push_back(name);
+    for (unsigned w = 0; w < bone->mNumWeights; ++w) {
+      const aiVertexWeight& vw = bone->mWeights[w];
+      if (vw.mVertexId < am.mNumVertices && std::isfinite(vw.mWeight) && vw.mWeight > 0)
+        influences[vw.mVertexId].emplace_back(index, vw.mWeight);
+    }
+  }
+  for (const unsigned v : first_corner) {
+    skin.bind.emplace_back(am.mVertices[v].x, am.mVertices[v].y, am.mVertices[v].z);
+    skin.influences.push_back(influences[v]);
+  }
+}
+
 std::vector<NodeMeshes> scene_nodes(const aiScene* scene) {
   std::vector<NodeMeshes> nodes;
   if (scene->mRootNode != nullptr) collect_nodes(scene, scene->mRootNode, Transform::Identity(), nodes);
@@ -686,14 +709,20 @@ SceneSurface read_scene_surface(const fs::path& path, const std::string& mesh_na
   SceneSurface out;
   SurfaceMaterials material(scene, path, out.materials);
   for (const NodeMeshes& n : nodes) {
-    SurfaceNode node{n.name, n.mesh_name, {}, {}, {}};
+    SurfaceNode node{n.name, n.mesh_name, {}, {}, {}, std::nullopt, n.world.block<3, 3>(0, 0)};
+    const bool skinned =
+        std::all_of(n.parts.begin(), n.parts.end(), [&](unsigned m) { return scene->mMeshes[m]->mNumBones > 0; });
+    if (skinned) node.skin.emplace();
     for (const unsigned m : n.parts) {
       std::size_t e = 0;
       while (e < read.size() && (claimed[e] || read[e].mesh != m || read[e].transform != n.world)) ++e;
       std::uint32_t next = static_cast<std::uint32_t>(node.positions.size());
       const std::uint32_t first = next;
-      SurfacePrimitive prim = surface_primitive(scene->mMeshes[m], n.world, next, &node.positions, source);
+      std::vector<unsigned> first_corner;
+      SurfacePrimitive prim =
+          surface_primitive(scene->mMeshes[m], n.world, next, &node.positions, source, &first_corner);
       if (prim.source.empty()) continue;
+      if (node.skin) add_bones(*scene->mMeshes[m], first_corner, *node.skin);
       if (e < read.size()) claimed[e] = 1;
       for (std::uint32_t j = first; j < next; ++j)
         node.read_as.push_back(e < read.size() ? read_base[e] + (j - first) : kNotRead);

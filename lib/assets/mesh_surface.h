@@ -4,12 +4,14 @@
 // document). One primitive a material (a mesh of the file); glTF gives a vertex one UV and one
 // normal, so each primitive's vertices are the file's distinct (vertex, UV, normal, colour)
 // corners, each naming its `source`: the vertex of the mesh as read_mesh read it.
+#include <Eigen/Core>
 #include <array>
 #include <climits>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sweep/core/mesh.h"
@@ -49,12 +51,22 @@ struct MeshSurface {
 // depth first, for the whole file). Error(bad_input) for a texture named but not found, or a name
 // no mesh has.
 inline constexpr std::uint32_t kNotRead = UINT32_MAX;
+// A mesh skinned by bones (assimp's skin: a bone names a node and carries its offset, the inverse
+// bind matrix): per vertex its position in the mesh's own space, which the offsets take, and its
+// influences (an index into `bones`, a weight > 0), as the file gives them.
+struct SurfaceSkin {
+  std::vector<std::string> bones;  // the nodes' names
+  std::vector<Vec3> bind;
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> influences;
+};
 struct SurfaceNode {
   std::string name;       // its node's, as the file names it
   std::string mesh_name;  // its mesh's (SceneMeshEntry::mesh_name), or ""
   std::vector<Vec3> positions;
   std::vector<std::uint32_t> read_as;  // per vertex: its vertex in the mesh read, or kNotRead
   std::vector<SurfacePrimitive> primitives;
+  std::optional<SurfaceSkin> skin;                                // when every importer mesh it shows has bones
+  Eigen::Matrix3d to_world_linear = Eigen::Matrix3d::Identity();  // its node's world transform's 3×3 part
 };
 struct SceneSurface {
   std::vector<SurfaceNode> nodes;

@@ -259,8 +259,7 @@ struct DocumentBuilder {
   Json views = Json::array(), accessors = Json::array();
   Json materials = Json::array(), textures = Json::array(), images = Json::array();
 
-  std::size_t add(const void* data, std::size_t bytes, int component, const char* type, std::size_t count,
-                  int target) {
+  std::size_t add(const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
     bin.append((4 - bin.size() % 4) % 4, '\0');
     Json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
     if (target) view["target"] = target;
@@ -286,7 +285,8 @@ struct DocumentBuilder {
                           {"bufferView", add(m.texture.data(), m.texture.size(), 0, nullptr, 0, 0)}});
         textures.push_back({{"source", images.size() - 1}});
         pbr["baseColorTexture"] = {{"index", textures.size() - 1}};
-        pbr["baseColorFactor"] = {1.0, 1.0, 1.0, m.colour[3]};  // the image is the colour, as OBJ and FBX viewers show it
+        pbr["baseColorFactor"] = {1.0, 1.0, 1.0,
+                                  m.colour[3]};  // the image is the colour, as OBJ and FBX viewers show it
       }
       materials.push_back({{"name", m.name}, {"pbrMetallicRoughness", pbr}});
     }
@@ -412,6 +412,7 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
   Json primitives = b.add_mesh(surface.primitives, rest.positions, rest.triangles(), source);
   out.sources.assign(surface.primitives.size(), source);
   out.primitive_mesh.assign(surface.primitives.size(), 0);
+  out.mesh_bones.resize(1);
   const std::string stem = file.stem().string();
   b.finish(out, file, Json::array({{{"name", stem}, {"mesh", 0}}}),
            Json::array({{{"name", stem}, {"primitives", primitives}}}));
@@ -429,6 +430,7 @@ SurfaceGltf scene_as_gltf(const SceneSurface& scene, const Mesh& rest, const fs:
       for (const std::uint32_t t : prim.triangles) triangles.push_back(prim.source[t]);
     std::vector<std::uint32_t> source;
     Json primitives = b.add_mesh(node.primitives, node.positions, triangles, source);
+    const std::vector<std::uint32_t> local_source = source;  // each array vertex's vertex of the node
     // Its vertices as the mesh read numbers them: all of them (the rig's mesh), or none (a mesh the
     // bake never moves). Checked by exact position: the same vertex, or the numbering is wrong.
     const std::size_t read = static_cast<std::size_t>(
@@ -452,6 +454,17 @@ SurfaceGltf scene_as_gltf(const SceneSurface& scene, const Mesh& rest, const fs:
       out.sources.push_back(read == 0 ? std::vector<std::uint32_t>{} : source);
       out.primitive_mesh.push_back(meshes.size());
     }
+    std::optional<SurfaceGltf::Bones> bones;
+    if (node.skin && node.skin->bind.size() == node.positions.size()) {
+      bones.emplace();
+      bones->skin.bones = node.skin->bones;
+      bones->to_world_linear = node.to_world_linear;
+      for (const std::uint32_t v : local_source) {
+        bones->skin.bind.push_back(node.skin->bind[v]);
+        bones->skin.influences.push_back(node.skin->influences[v]);
+      }
+    }
+    out.mesh_bones.push_back(std::move(bones));
     nodes.push_back({{"name", node.name}, {"mesh", meshes.size()}});
     meshes.push_back({{"name", node.mesh_name.empty() ? node.name : node.mesh_name}, {"primitives", primitives}});
   }

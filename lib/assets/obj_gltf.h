@@ -10,6 +10,7 @@
 // copy for each differing corner; `sources` says which mesh vertex (the `v`, 0-based) each is. Positions are the mesh's
 // as float32; UVs become (u, 1 - v) (glTF's origin is the top left); normals are normalized; a texture is embedded (PNG
 // or JPEG, by its bytes). An attribute is written on a primitive only when all its corners have it.
+#include <Eigen/Core>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -26,6 +27,13 @@ struct SurfaceGltf {
   std::vector<std::vector<std::uint32_t>> sources;  // per primitive, per vertex: the mesh vertex (empty: a
                                                     // primitive of no vertex of the mesh read, never moved)
   std::vector<std::size_t> primitive_mesh;          // per primitive (counted over the meshes): its glTF mesh
+  // Per glTF mesh (scene_as_gltf): a mesh of the file skinned by bones, its skin per vertex of its
+  // array (SurfaceSkin's bind positions and influences), and its node's world 3×3 part; else none.
+  struct Bones {
+    SurfaceSkin skin;
+    Eigen::Matrix3d to_world_linear;
+  };
+  std::vector<std::optional<Bones>> mesh_bones;
 };
 
 // nullopt when the OBJ has none of vt, vn, vertex colours or usemtl (the plain .glb then serves).

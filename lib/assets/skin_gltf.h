@@ -19,8 +19,11 @@
 //    seconds, LINEAR or STEP as the model keys it; where a clip keys a node and path twice, the
 //    last, as the model plays it). A clip with no channel keys the root at rest (glTF wants one).
 // Played by glTF's skinning, the document shows what the model shows, to float precision. The
-// surface's other meshes (the file's meshes besides the skinned one, scene_as_gltf) are kept on
-// their own nodes, roots after the model's, static.
+// surface's other meshes (the file's meshes besides the skinned one, scene_as_gltf, placed in
+// world space) are kept, each on the model's node that shows it in the file, made a root of no
+// transform (when that node is a leaf, no joint and moved by no clip; else on a root of its own):
+// static, or skinned by the skin where the file skins it by bones that are all joints of the model
+// (its 4 largest influences a vertex, renormalised).
 #include <Eigen/Geometry>
 
 #include "sweep/assets/gltf_skin.h"

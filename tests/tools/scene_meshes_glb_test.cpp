@@ -7,9 +7,10 @@
 // validator.
 #include <gtest/gtest.h>
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -39,8 +40,10 @@ Piece box(const std::string& name, const Vec3& h) {
   Piece p;
   p.name = name;
   p.material = "Red";
-  for (int k = 0; k < 8; ++k) p.local.emplace_back((k & 1 ? 1 : -1) * h.x(), (k & 2 ? 1 : -1) * h.y(), (k & 4 ? 1 : -1) * h.z());
-  p.triangles = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  for (int k = 0; k < 8; ++k)
+    p.local.emplace_back((k & 1 ? 1 : -1) * h.x(), (k & 2 ? 1 : -1) * h.y(), (k & 4 ? 1 : -1) * h.z());
+  p.triangles = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
   return p;
 }
 
@@ -81,7 +84,8 @@ std::vector<Piece> pieces() {
   return {body, tube(), prop};
 }
 
-const std::map<std::string, std::array<double, 4>> kColours = {{"Red", {0.8, 0.1, 0.1, 1}}, {"Blue", {0.1, 0.2, 0.9, 1}}};
+const std::map<std::string, std::array<double, 4>> kColours = {{"Red", {0.8, 0.1, 0.1, 1}},
+                                                               {"Blue", {0.1, 0.2, 0.9, 1}}};
 
 std::string collada(const std::vector<Piece>& list) {
   std::ostringstream geometries, nodes, effects, materials;
@@ -141,7 +145,7 @@ TEST(SceneMeshesGlb, EveryMeshOfAColladaFileIsKeptTheStillOnesWhereTheFilePlaces
   const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(work / "rig.json") + " -q", io);
   ASSERT_EQ(bind.code, 0) << bind.err;
   spit(work / "scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 0.5, "fps": 10,
-    "forces": [{"sweep": "tail", "t": 1, "theta": 0, "vector": [0, 1, 0], "start": 0, "end": 0.2}]})");
+    "forces": [{"sweep": "tail", "t": 1, "theta": 0, "vector": [0, 30, 0], "start": 0, "end": 0.2}]})");
   const ToolRun bake = run_tool(SWEEP_SIM_EXE,
                                 quoted(work / "rig.json") + " --scene " + quoted(work / "scene.json") + " -q -o " +
                                     quoted(work / "out.pc2") + " -o " + quoted(work / "out.glb"),
@@ -162,7 +166,7 @@ TEST(SceneMeshesGlb, EveryMeshOfAColladaFileIsKeptTheStillOnesWhereTheFilePlaces
     EXPECT_FALSE(node.contains("matrix") || node.contains("translation") || node.contains("rotation"))
         << "placed in world space: the node has no transform of its own";
     const Json& mesh = out.json["meshes"][node["mesh"].get<std::size_t>()];
-    EXPECT_EQ(mesh["name"], piece.name);
+    EXPECT_EQ(mesh["name"], piece.name + "-mesh");  // assimp names a Collada mesh by its geometry's id
     ASSERT_EQ(mesh["primitives"].size(), 1u);
     const Json& prim = mesh["primitives"][0];
     const Json& material = out.json["materials"][prim["material"].get<std::size_t>()];
