@@ -728,7 +728,7 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
     // carry the bake, the others stay where they are).
     std::optional<SurfaceGltf> converted =
         ext == "obj" ? obj_as_gltf(source, rest, info.warn)
-                     : scene_as_gltf(read_scene_surface(source, info.source.mesh_name), rest, source);
+                     : scene_as_gltf(read_scene_surface(source, info.source.mesh_name, info.warn), rest, source);
     if (!converted) fail(ErrorCategory::internal, s.where + "no surface to carry");
     // A skinned character read through assimp: made a glTF character, skeleton, skin and clips.
     if (s.skin != nullptr) add_skin(*converted, s.skin->model(), info.source.to_world);

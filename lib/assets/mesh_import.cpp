@@ -545,8 +545,9 @@ std::vector<Placed> placed_for(const aiScene* scene, const std::vector<NodeMeshe
 // The file's materials as the surface gives them, each the first time a primitive uses it.
 class SurfaceMaterials {
  public:
-  SurfaceMaterials(const aiScene* scene, const fs::path& path, std::vector<SurfaceMaterial>& out)
-      : scene_(scene), path_(path), out_(out), slot_(scene->mNumMaterials, -1) {}
+  SurfaceMaterials(const aiScene* scene, const fs::path& path, std::vector<SurfaceMaterial>& out,
+                   const std::function<void(const std::string&)>& warn)
+      : scene_(scene), path_(path), out_(out), slot_(scene->mNumMaterials, -1), warn_(warn) {}
   int operator()(unsigned index) {
     if (index >= scene_->mNumMaterials) return -1;
     if (slot_[index] >= 0) return slot_[index];
@@ -574,9 +575,12 @@ class SurfaceMaterials {
             sm.texture_name = p.string();
           }
         }
-        if (sm.texture.empty()) {
-          bad(path_.string(), "material '" + sm.name + "' names the texture '" + file +
-                                  "', which is neither in the file nor beside it; the .glb bake embeds it");
+        if (sm.texture.empty()) {  // the material kept with its base colour, as an OBJ's
+          const std::string what =
+              "material '" + sm.name + "' names the texture '" + file + "', which is neither in the file nor beside it";
+          if (!warn_) bad(path_.string(), what + "; the .glb bake embeds it");
+          warn_(path_.string() + ": " + what + "; the .glb keeps the material's base colour only");
+          sm.texture_name.clear();
         }
       }
     }
@@ -590,6 +594,7 @@ class SurfaceMaterials {
   fs::path path_;
   std::vector<SurfaceMaterial>& out_;
   std::vector<int> slot_;
+  std::function<void(const std::string&)> warn_;
 };
 
 // One importer mesh placed by `t` as a surface primitive (no material yet): its corners' welded
@@ -692,7 +697,8 @@ std::vector<NodeMeshes> scene_nodes(const aiScene* scene) {
 
 }  // namespace
 
-SceneSurface read_scene_surface(const fs::path& path, const std::string& mesh_name) {
+SceneSurface read_scene_surface(const fs::path& path, const std::string& mesh_name,
+                                const std::function<void(const std::string&)>& warn) {
   const std::string source = path.string();
   Assimp::Importer importer;
   const aiScene* scene = import_scene(importer, source);
@@ -707,7 +713,7 @@ SceneSurface read_scene_surface(const fs::path& path, const std::string& mesh_na
   }
   std::vector<char> claimed(read.size(), 0);
   SceneSurface out;
-  SurfaceMaterials material(scene, path, out.materials);
+  SurfaceMaterials material(scene, path, out.materials, warn);
   for (const NodeMeshes& n : nodes) {
     SurfaceNode node{n.name, n.mesh_name, {}, {}, {}, std::nullopt, n.world.block<3, 3>(0, 0)};
     const bool skinned =

@@ -9,6 +9,7 @@
 #include <climits>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -48,8 +49,8 @@ struct MeshSurface {
 // the file, or several: a list, or kAllMeshes, as read_scene_mesh (mesh_io.h) takes them by name:
 // the rig's mesh), by the number that mesh gives them: an importer mesh is the rig's where that
 // mesh places the same importer mesh by the same world transform (the first node showing it,
-// depth first, for the whole file). Error(bad_input) for a texture named but not found, or a name
-// no mesh has.
+// depth first, for the whole file). A texture named but not found: a warning (`warn`), the material
+// kept with its base colour; without `warn`, Error(bad_input). A name no mesh has: Error(bad_input).
 inline constexpr std::uint32_t kNotRead = UINT32_MAX;
 // A mesh skinned by bones (assimp's skin: a bone names a node and carries its offset, the inverse
 // bind matrix): per vertex its position in the mesh's own space, which the offsets take, and its
@@ -72,6 +73,7 @@ struct SceneSurface {
   std::vector<SurfaceNode> nodes;
   std::vector<SurfaceMaterial> materials;
 };
-SceneSurface read_scene_surface(const std::filesystem::path& path, const std::string& mesh_name = {});
+SceneSurface read_scene_surface(const std::filesystem::path& path, const std::string& mesh_name = {},
+                                const std::function<void(const std::string&)>& warn = {});
 
 }  // namespace sweep::assets

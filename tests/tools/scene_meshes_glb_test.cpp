@@ -18,6 +18,8 @@
 #include <vector>
 
 #include "glb_file.h"
+#include "sweep/assets/mesh_surface.h"
+#include "sweep/core/error.h"
 #include "tool_runner.h"
 
 namespace sweep::test {
@@ -219,6 +221,44 @@ TEST(SceneMeshesGlb, EveryMeshOfAColladaFileIsKeptTheStillOnesWhereTheFilePlaces
   const std::string report = validate(work / "out.glb", &code);
   EXPECT_EQ(code, 0) << report;
   EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+}
+
+// A texture the file names but that is neither in it nor beside it: the .glb bake warns, naming
+// the file, the material and the texture, and keeps the material with its base colour; asked with
+// no one to warn, it is refused (bad input) as before.
+TEST(SceneMeshesGlb, AMissingTextureIsAWarningAndTheMaterialKeepsItsColour) {
+  const fs::path dir = scratch_dir("scene-meshes-missing-texture");
+  fs::create_directories(dir);
+  std::string text = collada(pieces());
+  const std::string effect = "<effect id=\"Blue-fx\"><profile_COMMON>";
+  const std::size_t at = text.find(effect);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + effect.size(),
+              "<newparam sid=\"s-surface\"><surface type=\"2D\"><init_from>gone</init_from></surface></newparam>"
+              "<newparam sid=\"s-sampler\"><sampler2D><source>s-surface</source></sampler2D></newparam>");
+  const std::size_t colour = text.find("<diffuse>", at);
+  text.insert(colour + 9, "<texture texture=\"s-sampler\" texcoord=\"UV\"/>");
+  text.replace(text.find("<library_effects>"), 17,
+               "<library_images><image id=\"gone\" name=\"gone\"><init_from>textures/gone.png</init_from></image>"
+               "</library_images>\n<library_effects>");
+  spit(dir / "missing.dae", text);
+  std::vector<std::string> warnings;
+  const assets::SceneSurface surface =
+      assets::read_scene_surface(dir / "missing.dae", "Tail", [&](const std::string& w) { warnings.push_back(w); });
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("missing.dae"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("'Blue'"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("gone.png"), std::string::npos) << warnings[0];
+  ASSERT_EQ(surface.nodes.size(), 3u);
+  bool blue = false;
+  for (const assets::SurfaceMaterial& m : surface.materials) {
+    if (m.name != "Blue") continue;
+    blue = true;
+    EXPECT_TRUE(m.texture.empty());
+    EXPECT_NEAR(m.colour[2], 0.9, 1e-6);
+  }
+  EXPECT_TRUE(blue);
+  EXPECT_THROW(assets::read_scene_surface(dir / "missing.dae", "Tail"), Error);
 }
 
 }  // namespace
