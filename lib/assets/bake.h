@@ -66,9 +66,10 @@ class CharacterJoints;  // assets/character_joints.h
 // The mesh a bake deforms, as read from its file (assets/mesh_io.h: read_scene_mesh).
 struct BakeSource {
   // The file (empty: unknown). A .gltf or .glb makes the .glb writer write that document whole
-  // plus the bake (assets/gltf_passthrough.h), as does an .obj or .fbx with a surface to carry
-  // and a skinned character of any format assimp reads (made a glTF character, skin_gltf.h); any
-  // other source gets the .glb described above.
+  // plus the bake (assets/gltf_passthrough.h), as does an .obj with a surface to carry, any other
+  // format assimp reads but PLY and STL (every mesh of the file, obj_gltf.h's scene_as_gltf) and a
+  // skinned character of any format assimp reads (made a glTF character, skin_gltf.h); any
+  // other source (OFF, PLY, STL, a plain OBJ) gets the .glb described above.
   std::filesystem::path path;
   std::string mesh_name;  // the mesh of the file ("" = the whole file: every mesh in it)
   // The importer meshes it is made of, in order (for a glTF, its primitives counted over the

@@ -145,8 +145,9 @@ Json vec3_json(const Eigen::Vector3f& v) {
 }  // namespace
 
 bool is_passthrough_source(const fs::path& source) {
+  // Every format but those of one nameless mesh and no materials (OFF, PLY, STL: the plain .glb).
   const std::string ext = lower_extension(source);
-  return ext == "gltf" || ext == "glb" || ext == "obj" || ext == "fbx";
+  return !ext.empty() && ext != "off" && ext != "ply" && ext != "stl";
 }
 
 struct GltfPassthrough::State {
@@ -723,14 +724,18 @@ GltfPassthrough::GltfPassthrough(const fs::path& source, const fs::path& out, co
   s.skin = info.skinned;
   s.joints = info.skinned != nullptr ? info.character_joints : nullptr;
   if (const std::string ext = lower_extension(source); ext != "gltf" && ext != "glb") {
+    // Any other format assimp reads: every mesh of the file, each on a node of its own (the rig's
+    // carry the bake, the others stay where they are).
     std::optional<SurfaceGltf> converted =
         ext == "obj" ? obj_as_gltf(source, rest, info.warn)
-                     : surface_as_gltf(read_welded_surface(source, info.source.mesh_name), rest, source);
+                     : scene_as_gltf(read_scene_surface(source, info.source.mesh_name, info.warn), rest, source);
     if (!converted) fail(ErrorCategory::internal, s.where + "no surface to carry");
     // A skinned character read through assimp: made a glTF character, skeleton, skin and clips.
     if (s.skin != nullptr) add_skin(*converted, s.skin->model(), info.source.to_world);
     s.doc = std::move(converted->doc);
     s.given_sources = std::move(converted->sources);
+    // The rig's meshes that do not bend follow a moving body with the ones that do, as the .pc2 shows.
+    s.carry_still_meshes = ext != "obj";
   } else {
     s.doc = read_gltf_document(source);
     s.parts = info.source.parts;

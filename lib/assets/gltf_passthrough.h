@@ -51,8 +51,9 @@
 // similarity (rotation, uniform scale, translation). A buffer or image that cannot be read is Error(bad_input). An OBJ
 // source with UVs, normals, colours or materials is first made a glTF document (obj_gltf.h); its vertices are split per
 // corner, so each primitive vertex names its source vertex in the mesh as read, and the targets follow that vertex.
-// An FBX's surface is made one the same way, and a skinned character's of any format assimp reads gets its skeleton,
-// skin and clips too (skin_gltf.h).
+// Any other format assimp reads (FBX, Collada, .x, .blend, ...) is made one the same way, every mesh of the file on a
+// node of its own (scene_as_gltf: the rig's meshes carry the targets, and with a moving body the keys; the others stay
+// still), and a skinned character's gets its skeleton, skin and clips too (skin_gltf.h).
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
@@ -67,8 +68,9 @@
 
 namespace sweep::assets::detail {
 
-// Whether a bake of a mesh read from `source` may write the passthrough .glb (a .gltf, .glb or
-// .obj: an OBJ's UVs, normals, colours and materials become a glTF document first, obj_gltf.h).
+// Whether a bake of a mesh read from `source` may write the passthrough .glb (a .gltf, .glb, an
+// .obj — its UVs, normals, colours and materials become a glTF document first, obj_gltf.h — or any
+// other format assimp reads but OFF, PLY and STL, which hold one mesh and no materials).
 bool is_passthrough_source(const std::filesystem::path& source);
 
 struct BinBlock {

@@ -1,7 +1,7 @@
 // The import of mesh_io.h: read_scene_mesh and read_mesh (check the file, then choose the reader by
 // extension), and assimp for PLY, glTF/glb and every other format it reads, welded by exact
 // position where the format has no shared vertex list; one mesh of a scene of several taken by its
-// node (NodeMeshes), the same way for read_welded_surface. The only file that sees assimp.
+// node (NodeMeshes), the same way for read_scene_surface. The only file that sees assimp.
 #include <assimp/scene.h>
 
 #include <algorithm>
@@ -520,34 +520,38 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
 
 }  // namespace
 
-MeshSurface read_welded_surface(const fs::path& path, const std::string& mesh_name) {
-  const std::string source = path.string();
-  Assimp::Importer importer;
-  const aiScene* scene = import_scene(importer, source);
-  std::vector<Placed> placed = whole_file(scene);
-  if (!mesh_name.empty()) {
-    std::vector<NodeMeshes> nodes;
-    if (scene->mRootNode != nullptr) collect_nodes(scene, scene->mRootNode, Transform::Identity(), nodes);
-    const auto list = [] { return std::string("(see sweep-fit -v)"); };
-    std::vector<int> chosen;
-    if (io::several_mesh_names(mesh_name) ||
-        (mesh_name == kAllMeshes && find_named(nodes, mesh_name, source, list) < 0)) {
-      chosen = several_nodes(nodes, mesh_name, false, source, list);
-    } else {
-      chosen.push_back(find_named(nodes, mesh_name, source, list));
-      if (chosen[0] < 0) bad(source, "no mesh is named '" + mesh_name + "' (the rig's mesh_name)");
-    }
-    placed.clear();
-    for (const int k : chosen) {
-      for (const Placed& p : placed_of(nodes[static_cast<std::size_t>(k)])) placed.push_back(p);
-    }
+namespace {
+
+// The importer meshes the mesh `mesh_name` takes, as read_with_assimp places them ("" = the whole file).
+std::vector<Placed> placed_for(const aiScene* scene, const std::vector<NodeMeshes>& nodes, const std::string& mesh_name,
+                               const std::string& source) {
+  if (mesh_name.empty()) return whole_file(scene);
+  const auto list = [] { return std::string("(see sweep-fit -v)"); };
+  std::vector<int> chosen;
+  if (io::several_mesh_names(mesh_name) ||
+      (mesh_name == kAllMeshes && find_named(nodes, mesh_name, source, list) < 0)) {
+    chosen = several_nodes(nodes, mesh_name, false, source, list);
+  } else {
+    chosen.push_back(find_named(nodes, mesh_name, source, list));
+    if (chosen[0] < 0) bad(source, "no mesh is named '" + mesh_name + "' (the rig's mesh_name)");
   }
-  MeshSurface out;
-  std::vector<int> slot(scene->mNumMaterials, -1);
-  auto material = [&](unsigned index) {
-    if (index >= scene->mNumMaterials) return -1;
-    if (slot[index] >= 0) return slot[index];
-    const aiMaterial* m = scene->mMaterials[index];
+  std::vector<Placed> placed;
+  for (const int k : chosen) {
+    for (const Placed& p : placed_of(nodes[static_cast<std::size_t>(k)])) placed.push_back(p);
+  }
+  return placed;
+}
+
+// The file's materials as the surface gives them, each the first time a primitive uses it.
+class SurfaceMaterials {
+ public:
+  SurfaceMaterials(const aiScene* scene, const fs::path& path, std::vector<SurfaceMaterial>& out,
+                   const std::function<void(const std::string&)>& warn)
+      : scene_(scene), path_(path), out_(out), slot_(scene->mNumMaterials, -1), warn_(warn) {}
+  int operator()(unsigned index) {
+    if (index >= scene_->mNumMaterials) return -1;
+    if (slot_[index] >= 0) return slot_[index];
+    const aiMaterial* m = scene_->mMaterials[index];
     SurfaceMaterial sm;
     aiString name;
     if (m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) sm.name = name.C_Str();
@@ -560,83 +564,178 @@ MeshSurface read_welded_surface(const fs::path& path, const std::string& mesh_na
       std::string file = texture.C_Str();
       std::replace(file.begin(), file.end(), '\\', '/');
       sm.texture_name = file;
-      if (const aiTexture* embedded = scene->GetEmbeddedTexture(texture.C_Str()); embedded != nullptr) {
+      if (const aiTexture* embedded = scene_->GetEmbeddedTexture(texture.C_Str()); embedded != nullptr) {
         if (embedded->mHeight == 0)
           sm.texture.assign(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth);
       } else {
-        for (const fs::path& p : {path.parent_path() / file, path.parent_path() / fs::path(file).filename()}) {
+        for (const fs::path& p : {path_.parent_path() / file, path_.parent_path() / fs::path(file).filename()}) {
           std::error_code ec;
           if (sm.texture.empty() && fs::is_regular_file(p, ec)) {
             sm.texture = read_file(p);
             sm.texture_name = p.string();
           }
         }
-        if (sm.texture.empty()) {
-          bad(source, "material '" + sm.name + "' names the texture '" + file +
-                          "', which is neither in the file nor beside it; the .glb bake embeds it");
+        if (sm.texture.empty()) {  // the material kept with its base colour, as an OBJ's
+          const std::string what =
+              "material '" + sm.name + "' names the texture '" + file + "', which is neither in the file nor beside it";
+          if (!warn_) bad(path_.string(), what + "; the .glb bake embeds it");
+          warn_(path_.string() + ": " + what + "; the .glb keeps the material's base colour only");
+          sm.texture_name.clear();
         }
       }
     }
-    slot[index] = static_cast<int>(out.materials.size());
-    out.materials.push_back(std::move(sm));
-    return slot[index];
-  };
-  std::uint32_t next = 0;  // welded vertices so far: read_with_assimp's numbering
-  for (const auto& [m, t] : placed) {
-    const aiMesh* am = scene->mMeshes[m];
-    const Eigen::Matrix3d normal_matrix = t.block<3, 3>(0, 0).inverse().transpose();
-    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> welded;
-    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> corners;  // welded vertex → its glTF vertices
-    std::vector<std::array<float, 6>> corner_attributes;
-    std::vector<Vec3> corner_normals;
-    SurfacePrimitive prim;
-    for (unsigned f = 0; f < am->mNumFaces; ++f) {
-      const aiFace& af = am->mFaces[f];
-      if (af.mNumIndices < 3) continue;
-      std::vector<std::uint32_t> ids;
-      for (unsigned k = 0; k < af.mNumIndices; ++k) {
-        const unsigned v = af.mIndices[k];
-        if (v >= am->mNumVertices) bad(source, "a face uses a vertex out of range");
-        const auto [it, inserted] = welded.try_emplace(key_of(apply(t, am->mVertices[v])), next);
-        if (inserted) ++next;
-        // One glTF vertex a distinct (vertex, UV, colour, normal); normals within 0.01° are one
-        // (exporters write a normal per corner, rounded apart).
-        std::array<float, 6> attributes{};  // u, v, r, g, b, a
-        if (am->mTextureCoords[0])
-          attributes[0] = am->mTextureCoords[0][v].x, attributes[1] = 1 - am->mTextureCoords[0][v].y;
-        if (am->mColors[0]) {
-          const aiColor4D& col = am->mColors[0][v];
-          attributes[2] = col.r, attributes[3] = col.g, attributes[4] = col.b, attributes[5] = col.a;
+    slot_[index] = static_cast<int>(out_.size());
+    out_.push_back(std::move(sm));
+    return slot_[index];
+  }
+
+ private:
+  const aiScene* scene_;
+  fs::path path_;
+  std::vector<SurfaceMaterial>& out_;
+  std::vector<int> slot_;
+  std::function<void(const std::string&)> warn_;
+};
+
+// One importer mesh placed by `t` as a surface primitive (no material yet): its corners' welded
+// vertices numbered from `next` on, as assemble numbers them (faces in order, corners in order, by
+// exact position), each new one's position appended to `positions` when given.
+SurfacePrimitive surface_primitive(const aiMesh* am, const Transform& t, std::uint32_t& next,
+                                   std::vector<Vec3>* positions, const std::string& source,
+                                   std::vector<unsigned>* first_corner = nullptr) {
+  const Eigen::Matrix3d normal_matrix = t.block<3, 3>(0, 0).inverse().transpose();
+  std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> welded;
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> corners;  // welded vertex → its glTF vertices
+  std::vector<std::array<float, 6>> corner_attributes;
+  std::vector<Vec3> corner_normals;
+  SurfacePrimitive prim;
+  for (unsigned f = 0; f < am->mNumFaces; ++f) {
+    const aiFace& af = am->mFaces[f];
+    if (af.mNumIndices < 3) continue;
+    std::vector<std::uint32_t> ids;
+    for (unsigned k = 0; k < af.mNumIndices; ++k) {
+      const unsigned v = af.mIndices[k];
+      if (v >= am->mNumVertices) bad(source, "a face uses a vertex out of range");
+      const Vec3 p = apply(t, am->mVertices[v]);
+      const auto [it, inserted] = welded.try_emplace(key_of(p), next);
+      if (inserted) {
+        ++next;
+        if (positions != nullptr) positions->push_back(p);
+        if (first_corner != nullptr) first_corner->push_back(v);
+      }
+      // One glTF vertex a distinct (vertex, UV, colour, normal); normals within 0.01° are one
+      // (exporters write a normal per corner, rounded apart).
+      std::array<float, 6> attributes{};  // u, v, r, g, b, a
+      if (am->mTextureCoords[0])
+        attributes[0] = am->mTextureCoords[0][v].x, attributes[1] = 1 - am->mTextureCoords[0][v].y;
+      if (am->mColors[0]) {
+        const aiColor4D& col = am->mColors[0][v];
+        attributes[2] = col.r, attributes[3] = col.g, attributes[4] = col.b, attributes[5] = col.a;
+      }
+      Vec3 n = Vec3::UnitZ();
+      if (am->mNormals) {
+        n = (normal_matrix * Vec3(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z)).normalized();
+        // A normal of no length or not finite (a file's "0 0 0"): the face's own, so the .glb validates.
+        if (!n.allFinite()) {
+          const auto at = [&](unsigned c) { return apply(t, am->mVertices[af.mIndices[c] % am->mNumVertices]); };
+          const Vec3 face = (at(1) - at(0)).cross(at(2) - at(0));
+          n = face.norm() > 0 && face.allFinite() ? Vec3(face.normalized()) : Vec3::UnitY();
         }
-        Vec3 n = Vec3::UnitZ();
+      }
+      std::vector<std::uint32_t>& same = corners[it->second];
+      std::uint32_t found = UINT32_MAX;
+      for (const std::uint32_t o : same) {
+        if (corner_attributes[o] == attributes && corner_normals[o].dot(n) > std::cos(1e-2 * 3.14159265358979 / 180))
+          found = o;
+      }
+      if (found == UINT32_MAX) {
+        found = static_cast<std::uint32_t>(prim.source.size());
+        same.push_back(found);
+        corner_attributes.push_back(attributes);
+        corner_normals.push_back(n);
+        prim.source.push_back(it->second);
+        if (am->mTextureCoords[0]) prim.uv.insert(prim.uv.end(), {attributes[0], attributes[1]});
+        if (am->mColors[0]) prim.colour.insert(prim.colour.end(), attributes.begin() + 2, attributes.end());
         if (am->mNormals)
-          n = (normal_matrix * Vec3(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z)).normalized();
-        std::vector<std::uint32_t>& same = corners[it->second];
-        std::uint32_t found = UINT32_MAX;
-        for (const std::uint32_t o : same) {
-          if (corner_attributes[o] == attributes && corner_normals[o].dot(n) > std::cos(1e-2 * 3.14159265358979 / 180))
-            found = o;
-        }
-        if (found == UINT32_MAX) {
-          found = static_cast<std::uint32_t>(prim.source.size());
-          same.push_back(found);
-          corner_attributes.push_back(attributes);
-          corner_normals.push_back(n);
-          prim.source.push_back(it->second);
-          if (am->mTextureCoords[0]) prim.uv.insert(prim.uv.end(), {attributes[0], attributes[1]});
-          if (am->mColors[0]) prim.colour.insert(prim.colour.end(), attributes.begin() + 2, attributes.end());
-          if (am->mNormals)
-            prim.normal.insert(prim.normal.end(),
-                               {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())});
-        }
-        ids.push_back(found);
+          prim.normal.insert(prim.normal.end(),
+                             {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())});
       }
-      for (std::size_t k = 1; k + 1 < ids.size(); ++k)
-        prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
+      ids.push_back(found);
     }
-    if (prim.source.empty()) continue;
-    prim.material = material(am->mMaterialIndex);
-    out.primitives.push_back(std::move(prim));
+    for (std::size_t k = 1; k + 1 < ids.size(); ++k)
+      prim.triangles.insert(prim.triangles.end(), {ids[0], ids[k], ids[k + 1]});
+  }
+  return prim;
+}
+
+// An importer mesh's bones, for its welded vertices (each by its first corner, `first_corner`).
+void add_bones(const aiMesh& am, const std::vector<unsigned>& first_corner, SurfaceSkin& skin) {
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> influences(am.mNumVertices);
+  for (unsigned b = 0; b < am.mNumBones; ++b) {
+    const aiBone* bone = am.mBones[b];
+    const std::string name = bone->mName.C_Str();
+    const auto at = std::find(skin.bones.begin(), skin.bones.end(), name);
+    const auto index = static_cast<std::uint32_t>(at - skin.bones.begin());
+    if (at == skin.bones.end()) skin.bones.push_back(name);
+    for (unsigned w = 0; w < bone->mNumWeights; ++w) {
+      const aiVertexWeight& vw = bone->mWeights[w];
+      if (vw.mVertexId < am.mNumVertices && std::isfinite(vw.mWeight) && vw.mWeight > 0)
+        influences[vw.mVertexId].emplace_back(index, vw.mWeight);
+    }
+  }
+  for (const unsigned v : first_corner) {
+    skin.bind.emplace_back(am.mVertices[v].x, am.mVertices[v].y, am.mVertices[v].z);
+    skin.influences.push_back(influences[v]);
+  }
+}
+
+std::vector<NodeMeshes> scene_nodes(const aiScene* scene) {
+  std::vector<NodeMeshes> nodes;
+  if (scene->mRootNode != nullptr) collect_nodes(scene, scene->mRootNode, Transform::Identity(), nodes);
+  return nodes;
+}
+
+}  // namespace
+
+SceneSurface read_scene_surface(const fs::path& path, const std::string& mesh_name,
+                                const std::function<void(const std::string&)>& warn) {
+  const std::string source = path.string();
+  Assimp::Importer importer;
+  const aiScene* scene = import_scene(importer, source);
+  const std::vector<NodeMeshes> nodes = scene_nodes(scene);
+  // Where each importer mesh of the mesh read starts in its numbering.
+  const std::vector<Placed> read = placed_for(scene, nodes, mesh_name, source);
+  std::vector<std::uint32_t> read_base;
+  std::uint32_t count = 0;
+  for (const Placed& p : read) {
+    read_base.push_back(count);
+    count += static_cast<std::uint32_t>(assembled_vertex_count(scene, {p}, /*weld=*/true));
+  }
+  std::vector<char> claimed(read.size(), 0);
+  SceneSurface out;
+  SurfaceMaterials material(scene, path, out.materials, warn);
+  for (const NodeMeshes& n : nodes) {
+    SurfaceNode node{n.name, n.mesh_name, {}, {}, {}, std::nullopt, n.world.block<3, 3>(0, 0)};
+    const bool skinned =
+        std::all_of(n.parts.begin(), n.parts.end(), [&](unsigned m) { return scene->mMeshes[m]->mNumBones > 0; });
+    if (skinned) node.skin.emplace();
+    for (const unsigned m : n.parts) {
+      std::size_t e = 0;
+      while (e < read.size() && (claimed[e] || read[e].mesh != m || read[e].transform != n.world)) ++e;
+      std::uint32_t next = static_cast<std::uint32_t>(node.positions.size());
+      const std::uint32_t first = next;
+      std::vector<unsigned> first_corner;
+      SurfacePrimitive prim =
+          surface_primitive(scene->mMeshes[m], n.world, next, &node.positions, source, &first_corner);
+      if (prim.source.empty()) continue;
+      if (node.skin) add_bones(*scene->mMeshes[m], first_corner, *node.skin);
+      if (e < read.size()) claimed[e] = 1;
+      for (std::uint32_t j = first; j < next; ++j)
+        node.read_as.push_back(e < read.size() ? read_base[e] + (j - first) : kNotRead);
+      prim.material = material(scene->mMeshes[m]->mMaterialIndex);
+      node.primitives.push_back(std::move(prim));
+    }
+    if (!node.primitives.empty()) out.nodes.push_back(std::move(node));
   }
   return out;
 }

@@ -251,11 +251,15 @@ std::optional<SurfaceGltf> obj_as_gltf(const fs::path& obj, const Mesh& rest,
   return surface_as_gltf(surface, rest, obj);
 }
 
-SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const fs::path& file) {
-  SurfaceGltf out;
+namespace {
+
+// The document being built: one buffer, 4-byte aligned views, an accessor a view.
+struct DocumentBuilder {
   std::string bin;
   Json views = Json::array(), accessors = Json::array();
-  auto add = [&](const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
+  Json materials = Json::array(), textures = Json::array(), images = Json::array();
+
+  std::size_t add(const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
     bin.append((4 - bin.size() % 4) % 4, '\0');
     Json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
     if (target) view["target"] = target;
@@ -265,123 +269,207 @@ SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const 
     accessors.push_back(
         {{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
     return accessors.size() - 1;
-  };
-  Json primitives = Json::array(), materials = Json::array(), textures = Json::array(), images = Json::array();
-  for (const SurfaceMaterial& m : surface.materials) {
-    Json pbr = {{"baseColorFactor", m.colour}, {"metallicFactor", 0.0}};
-    if (!m.texture.empty()) {
-      const std::string type = media_type(m.texture);
-      if (type.empty()) {
-        fail(ErrorCategory::unsupported,
-             m.texture_name + ": material '" + m.name + "''s texture is not PNG or JPEG, so a .glb cannot hold it");
+  }
+
+  void add_materials(const std::vector<SurfaceMaterial>& list) {
+    for (const SurfaceMaterial& m : list) {
+      Json pbr = {{"baseColorFactor", m.colour}, {"metallicFactor", 0.0}};
+      if (!m.texture.empty()) {
+        const std::string type = media_type(m.texture);
+        if (type.empty()) {
+          fail(ErrorCategory::unsupported,
+               m.texture_name + ": material '" + m.name + "''s texture is not PNG or JPEG, so a .glb cannot hold it");
+        }
+        images.push_back({{"name", fs::path(m.texture_name).stem().string()},
+                          {"mimeType", type},
+                          {"bufferView", add(m.texture.data(), m.texture.size(), 0, nullptr, 0, 0)}});
+        textures.push_back({{"source", images.size() - 1}});
+        pbr["baseColorTexture"] = {{"index", textures.size() - 1}};
+        pbr["baseColorFactor"] = {1.0, 1.0, 1.0,
+                                  m.colour[3]};  // the image is the colour, as OBJ and FBX viewers show it
       }
-      images.push_back({{"name", fs::path(m.texture_name).stem().string()},
-                        {"mimeType", type},
-                        {"bufferView", add(m.texture.data(), m.texture.size(), 0, nullptr, 0, 0)}});
-      textures.push_back({{"source", images.size() - 1}});
-      pbr["baseColorTexture"] = {{"index", textures.size() - 1}};
-      pbr["baseColorFactor"] = {1.0, 1.0, 1.0, m.colour[3]};  // the image is the colour, as OBJ and FBX viewers show it
+      materials.push_back({{"name", m.name}, {"pbrMetallicRoughness", pbr}});
     }
-    materials.push_back({{"name", m.name}, {"pbrMetallicRoughness", pbr}});
   }
-  // One vertex array shared by every primitive: the mesh's vertices first, in its order (each with
-  // its first corner's attributes; (0, 1, 0) normals on a vertex no face uses), then the corners
-  // that differ (a seam, a hard edge), each naming its source.
-  bool any_uv = false, any_normal = false, any_colour = false;
-  for (const SurfacePrimitive& prim : surface.primitives) {
-    any_uv = any_uv || !prim.uv.empty();
-    any_normal = any_normal || !prim.normal.empty();
-    any_colour = any_colour || !prim.colour.empty();
-  }
-  // A primitive without normals beside one with them shares its NORMAL accessor: its corners take
-  // the mesh's smooth normal (what a viewer would light it by without one), not a constant.
-  std::vector<Eigen::Vector3f> smooth;
-  if (any_normal) smooth = smooth_normals(rest.positions, rest.triangles());
-  using Attributes = std::array<float, 9>;  // u, v, nx, ny, nz, r, g, b, a
-  const std::size_t n = rest.vertex_count();
-  std::vector<Attributes> attributes(n, Attributes{0, 0, 0, 1, 0, 1, 1, 1, 1});
-  std::vector<std::uint32_t> source(n);
-  for (std::uint32_t v = 0; v < n; ++v) source[v] = v;
-  std::vector<char> assigned(n, 0);
-  std::map<std::uint32_t, std::vector<std::uint32_t>> extra;
-  std::vector<std::vector<std::uint32_t>> indices;
-  for (const SurfacePrimitive& prim : surface.primitives) {
-    std::vector<std::uint32_t> id(prim.source.size());
-    for (std::size_t i = 0; i < prim.source.size(); ++i) {
-      Attributes a{0, 0, 0, 1, 0, 1, 1, 1, 1};
-      if (!prim.uv.empty()) std::copy_n(&prim.uv[2 * i], 2, a.begin());
-      const std::uint32_t v = prim.source[i];
-      if (!prim.normal.empty()) {
-        std::copy_n(&prim.normal[3 * i], 3, a.begin() + 2);
-      } else if (any_normal) {
-        std::copy_n(smooth[v].data(), 3, a.begin() + 2);
-      }
-      if (!prim.colour.empty()) std::copy_n(&prim.colour[4 * i], 4, a.begin() + 5);
-      if (!assigned[v]) {
-        assigned[v] = 1;
-        attributes[v] = a;
-        id[i] = v;
-        continue;
-      }
-      id[i] = UINT32_MAX;
-      if (attributes[v] == a) id[i] = v;
-      for (const std::uint32_t o : extra[v]) {
-        if (id[i] == UINT32_MAX && attributes[o] == a) id[i] = o;
-      }
-      if (id[i] == UINT32_MAX) {
-        id[i] = static_cast<std::uint32_t>(attributes.size());
-        attributes.push_back(a);
-        source.push_back(v);
-        extra[v].push_back(id[i]);
-      }
+
+  // One glTF mesh's primitives over one vertex array: the vertices of `positions` first, in their
+  // order (each with its first corner's attributes; (0, 1, 0) normals on a vertex no face uses),
+  // then the corners that differ (a seam, a hard edge). `source` gets each array vertex's vertex.
+  // `triangles` (into `positions`) give the smooth normals of a primitive without its own.
+  Json add_mesh(const std::vector<SurfacePrimitive>& primitives, const std::vector<Vec3>& positions,
+                const std::vector<std::uint32_t>& triangles, std::vector<std::uint32_t>& source) {
+    bool any_uv = false, any_normal = false, any_colour = false;
+    for (const SurfacePrimitive& prim : primitives) {
+      any_uv = any_uv || !prim.uv.empty();
+      any_normal = any_normal || !prim.normal.empty();
+      any_colour = any_colour || !prim.colour.empty();
     }
-    std::vector<std::uint32_t> t = prim.triangles;
-    for (std::uint32_t& k : t) k = id[k];
-    indices.push_back(std::move(t));
+    // A primitive without normals beside one with them shares its NORMAL accessor: its corners take
+    // the mesh's smooth normal (what a viewer would light it by without one), not a constant.
+    std::vector<Eigen::Vector3f> smooth;
+    if (any_normal) smooth = smooth_normals(positions, triangles);
+    using Attributes = std::array<float, 9>;  // u, v, nx, ny, nz, r, g, b, a
+    const std::size_t n = positions.size();
+    std::vector<Attributes> attributes(n, Attributes{0, 0, 0, 1, 0, 1, 1, 1, 1});
+    source.resize(n);
+    for (std::uint32_t v = 0; v < n; ++v) source[v] = v;
+    std::vector<char> assigned(n, 0);
+    std::map<std::uint32_t, std::vector<std::uint32_t>> extra;
+    std::vector<std::vector<std::uint32_t>> indices;
+    for (const SurfacePrimitive& prim : primitives) {
+      std::vector<std::uint32_t> id(prim.source.size());
+      for (std::size_t i = 0; i < prim.source.size(); ++i) {
+        Attributes a{0, 0, 0, 1, 0, 1, 1, 1, 1};
+        if (!prim.uv.empty()) std::copy_n(&prim.uv[2 * i], 2, a.begin());
+        const std::uint32_t v = prim.source[i];
+        if (!prim.normal.empty()) {
+          std::copy_n(&prim.normal[3 * i], 3, a.begin() + 2);
+        } else if (any_normal) {
+          std::copy_n(smooth[v].data(), 3, a.begin() + 2);
+        }
+        if (!prim.colour.empty()) std::copy_n(&prim.colour[4 * i], 4, a.begin() + 5);
+        if (!assigned[v]) {
+          assigned[v] = 1;
+          attributes[v] = a;
+          id[i] = v;
+          continue;
+        }
+        id[i] = UINT32_MAX;
+        if (attributes[v] == a) id[i] = v;
+        for (const std::uint32_t o : extra[v]) {
+          if (id[i] == UINT32_MAX && attributes[o] == a) id[i] = o;
+        }
+        if (id[i] == UINT32_MAX) {
+          id[i] = static_cast<std::uint32_t>(attributes.size());
+          attributes.push_back(a);
+          source.push_back(v);
+          extra[v].push_back(id[i]);
+        }
+      }
+      std::vector<std::uint32_t> t = prim.triangles;
+      for (std::uint32_t& k : t) k = id[k];
+      indices.push_back(std::move(t));
+    }
+    const std::size_t count = attributes.size();
+    std::vector<float> pos, uv, nrm, col;
+    Eigen::Vector3f lo = positions[0].cast<float>(), hi = lo;
+    for (std::size_t v = 0; v < count; ++v) {
+      const Eigen::Vector3f p = positions[source[v]].cast<float>();
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+      pos.insert(pos.end(), {p.x(), p.y(), p.z()});
+      const Attributes& a = attributes[v];
+      uv.insert(uv.end(), a.begin(), a.begin() + 2);
+      nrm.insert(nrm.end(), a.begin() + 2, a.begin() + 5);
+      col.insert(col.end(), a.begin() + 5, a.end());
+    }
+    Json shared = {{"POSITION", add(pos.data(), 4 * pos.size(), 5126, "VEC3", count, 34962)}};
+    accessors[shared["POSITION"].get<std::size_t>()]["min"] = {lo.x(), lo.y(), lo.z()};
+    accessors[shared["POSITION"].get<std::size_t>()]["max"] = {hi.x(), hi.y(), hi.z()};
+    if (any_normal) shared["NORMAL"] = add(nrm.data(), 4 * nrm.size(), 5126, "VEC3", count, 34962);
+    if (any_uv) shared["TEXCOORD_0"] = add(uv.data(), 4 * uv.size(), 5126, "VEC2", count, 34962);
+    if (any_colour) shared["COLOR_0"] = add(col.data(), 4 * col.size(), 5126, "VEC4", count, 34962);
+    Json out = Json::array();
+    for (std::size_t k = 0; k < primitives.size(); ++k) {
+      Json primitive = {
+          {"attributes", shared},
+          {"indices", add(indices[k].data(), 4 * indices[k].size(), 5125, "SCALAR", indices[k].size(), 34963)}};
+      if (primitives[k].material >= 0) primitive["material"] = primitives[k].material;
+      out.push_back(std::move(primitive));
+    }
+    return out;
   }
-  const std::size_t count = attributes.size();
-  std::vector<float> pos, uv, nrm, col;
-  Eigen::Vector3f lo = rest.positions[0].cast<float>(), hi = lo;
-  for (std::size_t v = 0; v < count; ++v) {
-    const Eigen::Vector3f p = rest.positions[source[v]].cast<float>();
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-    pos.insert(pos.end(), {p.x(), p.y(), p.z()});
-    const Attributes& a = attributes[v];
-    uv.insert(uv.end(), a.begin(), a.begin() + 2);
-    nrm.insert(nrm.end(), a.begin() + 2, a.begin() + 5);
-    col.insert(col.end(), a.begin() + 5, a.end());
+
+  // The document: `nodes` (all roots of the one scene) and `meshes`, the rest as built.
+  void finish(SurfaceGltf& out, const fs::path& file, Json nodes, Json meshes) {
+    bin.append((4 - bin.size() % 4) % 4, '\0');
+    Json roots = Json::array();
+    for (std::size_t k = 0; k < nodes.size(); ++k) roots.push_back(k);
+    Json& doc = out.doc.json;
+    doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep bake (from " + file.filename().string() + ")"}}},
+           {"scene", 0},
+           {"scenes", Json::array({{{"nodes", roots}}})},
+           {"nodes", std::move(nodes)},
+           {"meshes", std::move(meshes)},
+           {"accessors", accessors},
+           {"bufferViews", views},
+           {"buffers", Json::array({{{"byteLength", bin.size()}}})}};
+    if (!materials.empty()) doc["materials"] = materials;
+    if (!textures.empty()) doc["textures"] = textures;
+    if (!images.empty()) doc["images"] = images;
+    doc = Json::parse(doc.dump());  // numbers as a reader sees them (unsigned where not negative)
+    out.doc.buffers.push_back(std::move(bin));
   }
-  Json shared = {{"POSITION", add(pos.data(), 4 * pos.size(), 5126, "VEC3", count, 34962)}};
-  accessors[shared["POSITION"].get<std::size_t>()]["min"] = {lo.x(), lo.y(), lo.z()};
-  accessors[shared["POSITION"].get<std::size_t>()]["max"] = {hi.x(), hi.y(), hi.z()};
-  if (any_normal) shared["NORMAL"] = add(nrm.data(), 4 * nrm.size(), 5126, "VEC3", count, 34962);
-  if (any_uv) shared["TEXCOORD_0"] = add(uv.data(), 4 * uv.size(), 5126, "VEC2", count, 34962);
-  if (any_colour) shared["COLOR_0"] = add(col.data(), 4 * col.size(), 5126, "VEC4", count, 34962);
-  for (std::size_t k = 0; k < surface.primitives.size(); ++k) {
-    Json primitive = {
-        {"attributes", shared},
-        {"indices", add(indices[k].data(), 4 * indices[k].size(), 5125, "SCALAR", indices[k].size(), 34963)}};
-    if (surface.primitives[k].material >= 0) primitive["material"] = surface.primitives[k].material;
-    primitives.push_back(std::move(primitive));
-    out.sources.push_back(source);
-  }
-  bin.append((4 - bin.size() % 4) % 4, '\0');
+};
+
+}  // namespace
+
+SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const fs::path& file) {
+  SurfaceGltf out;
+  DocumentBuilder b;
+  b.add_materials(surface.materials);
+  std::vector<std::uint32_t> source;
+  Json primitives = b.add_mesh(surface.primitives, rest.positions, rest.triangles(), source);
+  out.sources.assign(surface.primitives.size(), source);
+  out.primitive_mesh.assign(surface.primitives.size(), 0);
+  out.mesh_bones.resize(1);
   const std::string stem = file.stem().string();
-  Json& doc = out.doc.json;
-  doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep bake (from " + file.filename().string() + ")"}}},
-         {"scene", 0},
-         {"scenes", Json::array({{{"nodes", Json::array({0})}}})},
-         {"nodes", Json::array({{{"name", stem}, {"mesh", 0}}})},
-         {"meshes", Json::array({{{"name", stem}, {"primitives", primitives}}})},
-         {"accessors", accessors},
-         {"bufferViews", views},
-         {"buffers", Json::array({{{"byteLength", bin.size()}}})}};
-  if (!materials.empty()) doc["materials"] = materials;
-  if (!textures.empty()) doc["textures"] = textures;
-  if (!images.empty()) doc["images"] = images;
-  doc = Json::parse(doc.dump());  // numbers as a reader sees them (unsigned where not negative)
-  out.doc.buffers.push_back(std::move(bin));
+  b.finish(out, file, Json::array({{{"name", stem}, {"mesh", 0}}}),
+           Json::array({{{"name", stem}, {"primitives", primitives}}}));
+  return out;
+}
+
+SurfaceGltf scene_as_gltf(const SceneSurface& scene, const Mesh& rest, const fs::path& file) {
+  SurfaceGltf out;
+  DocumentBuilder b;
+  b.add_materials(scene.materials);
+  Json nodes = Json::array(), meshes = Json::array();
+  for (const SurfaceNode& node : scene.nodes) {
+    std::vector<std::uint32_t> triangles;
+    for (const SurfacePrimitive& prim : node.primitives)
+      for (const std::uint32_t t : prim.triangles) triangles.push_back(prim.source[t]);
+    std::vector<std::uint32_t> source;
+    Json primitives = b.add_mesh(node.primitives, node.positions, triangles, source);
+    const std::vector<std::uint32_t> local_source = source;  // each array vertex's vertex of the node
+    // Its vertices as the mesh read numbers them: all of them (the rig's mesh), or none (a mesh the
+    // bake never moves). Checked by exact position: the same vertex, or the numbering is wrong.
+    const std::size_t read = static_cast<std::size_t>(
+        std::count_if(node.read_as.begin(), node.read_as.end(), [](std::uint32_t v) { return v != kNotRead; }));
+    if (read != 0 && read != node.read_as.size()) {
+      fail(ErrorCategory::unsupported,
+           file.string() + ": node '" + node.name +
+               "' shows meshes the mesh read places by other nodes as well as its own; the .glb bake "
+               "cannot give its vertices one place (name the rig's meshes with --mesh, or bake to .pc2)");
+    }
+    for (std::uint32_t& v : source) {
+      if (read == 0) continue;
+      const std::uint32_t r = node.read_as[v];
+      if (r >= rest.vertex_count() || rest.positions[r] != node.positions[v]) {
+        fail(ErrorCategory::internal, file.string() + ": node '" + node.name + "' vertex " + std::to_string(v) +
+                                          " is not where the mesh read has it");
+      }
+      v = r;
+    }
+    for (std::size_t k = 0; k < node.primitives.size(); ++k) {
+      out.sources.push_back(read == 0 ? std::vector<std::uint32_t>{} : source);
+      out.primitive_mesh.push_back(meshes.size());
+    }
+    std::optional<SurfaceGltf::Bones> bones;
+    if (node.skin && node.skin->bind.size() == node.positions.size()) {
+      bones.emplace();
+      bones->skin.bones = node.skin->bones;
+      bones->to_world_linear = node.to_world_linear;
+      for (const std::uint32_t v : local_source) {
+        bones->skin.bind.push_back(node.skin->bind[v]);
+        bones->skin.influences.push_back(node.skin->influences[v]);
+      }
+    }
+    out.mesh_bones.push_back(std::move(bones));
+    nodes.push_back({{"name", node.name}, {"mesh", meshes.size()}});
+    meshes.push_back({{"name", node.mesh_name.empty() ? node.name : node.mesh_name}, {"primitives", primitives}});
+  }
+  if (meshes.empty()) fail(ErrorCategory::bad_input, file.string() + ": no node shows a mesh with faces");
+  b.finish(out, file, std::move(nodes), std::move(meshes));
   return out;
 }
 

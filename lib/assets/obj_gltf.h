@@ -10,6 +10,7 @@
 // copy for each differing corner; `sources` says which mesh vertex (the `v`, 0-based) each is. Positions are the mesh's
 // as float32; UVs become (u, 1 - v) (glTF's origin is the top left); normals are normalized; a texture is embedded (PNG
 // or JPEG, by its bytes). An attribute is written on a primitive only when all its corners have it.
+#include <Eigen/Core>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -23,7 +24,16 @@ namespace sweep::assets::detail {
 
 struct SurfaceGltf {
   GltfDocument doc;                                 // buffers[0]: the bytes, in memory
-  std::vector<std::vector<std::uint32_t>> sources;  // per primitive, per vertex: the mesh vertex
+  std::vector<std::vector<std::uint32_t>> sources;  // per primitive, per vertex: the mesh vertex (empty: a
+                                                    // primitive of no vertex of the mesh read, never moved)
+  std::vector<std::size_t> primitive_mesh;          // per primitive (counted over the meshes): its glTF mesh
+  // Per glTF mesh (scene_as_gltf): a mesh of the file skinned by bones, its skin per vertex of its
+  // array (SurfaceSkin's bind positions and influences), and its node's world 3×3 part; else none.
+  struct Bones {
+    SurfaceSkin skin;
+    Eigen::Matrix3d to_world_linear;
+  };
+  std::vector<std::optional<Bones>> mesh_bones;
 };
 
 // nullopt when the OBJ has none of vt, vn, vertex colours or usemtl (the plain .glb then serves).
@@ -36,5 +46,14 @@ std::optional<SurfaceGltf> obj_as_gltf(const std::filesystem::path& obj, const M
 // Any file's surface (mesh_surface.h) as such a document, named after `file`: one primitive a
 // surface primitive, its positions the mesh's (float32) at each vertex's source.
 SurfaceGltf surface_as_gltf(const MeshSurface& surface, const Mesh& rest, const std::filesystem::path& file);
+
+// Every mesh of a file read through assimp (read_scene_surface) as such a document: one root node
+// a node of the file that shows meshes, in the file's order, named as it is, showing a mesh of its
+// own (named as its mesh, else as the node) placed in world space as read (the node's transform
+// baked into its positions, so the node has none); each mesh one vertex array as above, its
+// materials the file's. The meshes of the mesh read (SurfaceNode::read_as) name its vertices in
+// `sources` (checked by exact position); the others have none: the bake leaves them where they are.
+// Error(unsupported) when a node mixes importer meshes of the mesh read with others.
+SurfaceGltf scene_as_gltf(const SceneSurface& scene, const Mesh& rest, const std::filesystem::path& file);
 
 }  // namespace sweep::assets::detail

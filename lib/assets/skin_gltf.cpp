@@ -110,6 +110,69 @@ Json animation_json(const SkinClip& clip, const SkinModel& model, Bin& bin) {
   return animation;
 }
 
+// Another mesh of the file skinned by bones of the character's skeleton (every bone one of the
+// model's joints): POSITION its bind positions, NORMAL turned into that space, JOINTS_0 and
+// WEIGHTS_0 its 4 largest influences renormalised, so that the skin plays it as the file does.
+// False (the mesh left static) when a bone is not a joint of the model.
+bool skin_other_mesh(Bin& bin, std::size_t mesh, const SurfaceGltf::Bones& bones, const SkinModel& model) {
+  Json& json = bin.json;
+  std::vector<int> joint_of_bone;
+  for (const std::string& name : bones.skin.bones) {
+    const int node = model.find_node(name);
+    joint_of_bone.push_back(node < 0 ? -1 : model.joint_of_node(node));
+    if (joint_of_bone.back() < 0) return false;
+  }
+  const std::size_t count = bones.skin.bind.size();
+  std::vector<float> p(3 * count), weights(4 * count, 0.0f);
+  std::vector<std::uint16_t> joints(4 * count, 0);
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Eigen::Vector3f b = bones.skin.bind[i].cast<float>();
+    std::copy_n(b.data(), 3, &p[3 * i]);
+    lo = lo.cwiseMin(b);
+    hi = hi.cwiseMax(b);
+    std::vector<std::pair<std::uint32_t, double>> in = bones.skin.influences[i];
+    std::sort(in.begin(), in.end(), [](const auto& a, const auto& c) { return a.second > c.second; });
+    if (in.size() > 4) in.resize(4);
+    double total = 0;
+    for (const auto& [bone, w] : in) total += w;
+    if (!(total > 0)) return false;  // a vertex no bone moves: not a skin glTF can play
+    for (std::size_t e = 0; e < in.size(); ++e) {
+      joints[4 * i + e] = static_cast<std::uint16_t>(joint_of_bone[in[e].first]);
+      weights[4 * i + e] = static_cast<float>(in[e].second / total);
+    }
+  }
+  Json& attributes = json["meshes"][mesh]["primitives"][0]["attributes"];
+  const std::size_t position = attributes["POSITION"].get<std::size_t>();
+  std::memcpy(bin.at(position), p.data(), 4 * p.size());
+  json["accessors"][position]["min"] = {lo.x(), lo.y(), lo.z()};
+  json["accessors"][position]["max"] = {hi.x(), hi.y(), hi.z()};
+  if (attributes.contains("NORMAL")) {
+    const Eigen::Matrix3d to_bind = bones.to_world_linear.transpose();  // normals go by the inverse transpose
+    float* n = reinterpret_cast<float*>(bin.at(attributes["NORMAL"].get<std::size_t>()));
+    for (std::size_t i = 0; i < count; ++i) {
+      Eigen::Vector3f world;
+      std::memcpy(world.data(), n + 3 * i, 12);
+      const Eigen::Vector3f turned = (to_bind * world.cast<double>()).normalized().cast<float>();
+      std::memcpy(n + 3 * i, turned.data(), 12);
+    }
+  }
+  std::size_t joints_accessor = 0;
+  if (model.joints.size() <= 256) {
+    const std::vector<std::uint8_t> small(joints.begin(), joints.end());
+    joints_accessor = bin.accessor(small.data(), small.size(), kUnsignedByte, "VEC4", count, kArrayBuffer);
+  } else {
+    joints_accessor = bin.accessor(joints.data(), 2 * joints.size(), kUnsignedShort, "VEC4", count, kArrayBuffer);
+  }
+  const std::size_t weights_accessor =
+      bin.accessor(weights.data(), 4 * weights.size(), kFloat, "VEC4", count, kArrayBuffer);
+  for (Json& primitive : json["meshes"][mesh]["primitives"]) {
+    primitive["attributes"]["JOINTS_0"] = joints_accessor;
+    primitive["attributes"]["WEIGHTS_0"] = weights_accessor;
+  }
+  return true;
+}
+
 }  // namespace
 
 void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& to_world) {
@@ -117,13 +180,24 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
   if (gltf.sources.empty() || model.nodes.empty() || !gltf.doc.buffers.at(0))
     fail(ErrorCategory::internal, "a skinned character's surface has no primitive");
   Bin bin{json, *gltf.doc.buffers[0]};
-  const std::vector<std::uint32_t>& source = gltf.sources.front();  // every primitive shares it
+  // The skinned mesh: the one whose vertices are the mesh read (every primitive of it shares them);
+  // the file's other meshes are kept as they are, static.
+  std::size_t first = 0;
+  while (first < gltf.sources.size() && gltf.sources[first].empty()) ++first;
+  if (first == gltf.sources.size() || gltf.primitive_mesh.size() != gltf.sources.size())
+    fail(ErrorCategory::internal, "a skinned character's surface has no primitive of the mesh read");
+  const std::size_t skinned_mesh = gltf.primitive_mesh[first];
+  const std::vector<std::uint32_t>& source = gltf.sources[first];
   const std::size_t count = source.size();
+  for (std::size_t k = 0; k < gltf.sources.size(); ++k) {
+    if (!gltf.sources[k].empty() && gltf.primitive_mesh[k] != skinned_mesh)
+      fail(ErrorCategory::internal, "a skinned character's mesh read is on several meshes of the document");
+  }
   for (const std::uint32_t v : source) {
     if (v >= model.bind_positions.size())
       fail(ErrorCategory::internal, "a skinned character's surface is not its skinned mesh");
   }
-  Json& attributes = json["meshes"][0]["primitives"][0]["attributes"];
+  Json& attributes = json["meshes"][skinned_mesh]["primitives"][0]["attributes"];
 
   // POSITION and NORMAL in the bind space, written over the world ones.
   const std::size_t position = attributes["POSITION"].get<std::size_t>();
@@ -167,7 +241,7 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
   }
   const std::size_t weights_accessor =
       bin.accessor(weights.data(), 4 * weights.size(), kFloat, "VEC4", count, kArrayBuffer);
-  for (Json& primitive : json["meshes"][0]["primitives"]) {
+  for (Json& primitive : json["meshes"][skinned_mesh]["primitives"]) {
     primitive["attributes"]["JOINTS_0"] = joints_accessor;
     primitive["attributes"]["WEIGHTS_0"] = weights_accessor;
   }
@@ -204,7 +278,7 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
   const bool detach = mesh_parent >= 0 && !animated[mesh_node] && !nodes[mesh_node].contains("children") &&
                       std::find(model.joints.begin(), model.joints.end(), model.mesh_node) == model.joints.end();
   Json& shown = nodes[mesh_node];
-  shown["mesh"] = 0;
+  shown["mesh"] = skinned_mesh;
   shown["skin"] = 0;
   if (detach) {
     // Its transform the mesh's space → world, as the bake read it: placed by it, POSITION is the mesh
@@ -225,10 +299,47 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
     siblings.erase(std::find(siblings.begin(), siblings.end(), Json(mesh_node)));
     if (siblings.empty()) nodes[static_cast<std::size_t>(mesh_parent)].erase("children");
   }
+  // The surface's other nodes (the file's other meshes, placed in world space): each shown by the
+  // model's node that shows it in the file (the same name, in the file's order), made a root of no
+  // transform when that node is a leaf, no joint and unanimated; else by a root of its own after
+  // the model's. One skinned by bones of the skeleton is skinned by the skin, as the file plays it.
+  std::vector<char> made_root(model.nodes.size(), 0);
+  std::vector<std::size_t> appended;
+  std::size_t from = 0;
+  for (const Json& node : json["nodes"]) {
+    const std::size_t mesh = node.value("mesh", skinned_mesh);
+    if (mesh == skinned_mesh) continue;
+    const std::string name = node.value("name", std::string());
+    std::size_t at = from;
+    while (at < model.nodes.size() && (model.nodes[at].name != name || at == mesh_node)) ++at;
+    const bool own = at < model.nodes.size() && !animated[at] && !nodes[at].contains("children") &&
+                     !nodes[at].contains("mesh") &&
+                     std::find(model.joints.begin(), model.joints.end(), static_cast<int>(at)) == model.joints.end();
+    std::size_t shows = nodes.size();
+    if (own) {
+      from = at + 1;
+      shows = at;
+      made_root[at] = 1;
+      for (const char* key : {"matrix", "translation", "rotation", "scale"}) nodes[at].erase(key);
+      if (const int parent = model.nodes[at].parent; parent >= 0) {
+        Json& siblings = nodes[static_cast<std::size_t>(parent)]["children"];
+        siblings.erase(std::find(siblings.begin(), siblings.end(), Json(at)));
+        if (siblings.empty()) nodes[static_cast<std::size_t>(parent)].erase("children");
+      }
+    } else {
+      appended.push_back(shows);
+      nodes.push_back({{"name", name}});
+    }
+    nodes[shows]["mesh"] = mesh;
+    if (mesh < gltf.mesh_bones.size() && gltf.mesh_bones[mesh] &&
+        skin_other_mesh(bin, mesh, *gltf.mesh_bones[mesh], model))
+      nodes[shows]["skin"] = 0;
+  }
   json["nodes"] = std::move(nodes);
   Json roots = Json::array();
   for (std::size_t i = 0; i < model.nodes.size(); ++i)
-    if (model.nodes[i].parent < 0 || (detach && i == mesh_node)) roots.push_back(i);
+    if (model.nodes[i].parent < 0 || (detach && i == mesh_node) || made_root[i]) roots.push_back(i);
+  for (const std::size_t i : appended) roots.push_back(i);
   json["scenes"] = Json::array({{{"nodes", std::move(roots)}}});
   if (!model.clips.empty()) {
     json["animations"] = Json::array();

@@ -18,7 +18,12 @@
 //  - one animation a clip, in order, named as the clip: one sampler a channel (its key times in
 //    seconds, LINEAR or STEP as the model keys it; where a clip keys a node and path twice, the
 //    last, as the model plays it). A clip with no channel keys the root at rest (glTF wants one).
-// Played by glTF's skinning, the document shows what the model shows, to float precision.
+// Played by glTF's skinning, the document shows what the model shows, to float precision. The
+// surface's other meshes (the file's meshes besides the skinned one, scene_as_gltf, placed in
+// world space) are kept, each on the model's node that shows it in the file, made a root of no
+// transform (when that node is a leaf, no joint and moved by no clip; else on a root of its own):
+// static, or skinned by the skin where the file skins it by bones that are all joints of the model
+// (its 4 largest influences a vertex, renormalised).
 #include <Eigen/Geometry>
 
 #include "sweep/assets/gltf_skin.h"
@@ -27,7 +32,7 @@
 namespace sweep::assets::detail {
 
 // `to_world`: the mesh's space as read → world (BakeSource::to_world); the surface's positions and
-// normals are world. Throws Error(internal) when the surface is not the model's mesh.
+// normals are world. Throws Error(internal) when the surface's mesh read is not the model's mesh.
 void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& to_world);
 
 }  // namespace sweep::assets::detail

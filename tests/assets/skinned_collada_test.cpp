@@ -32,9 +32,19 @@ std::string row_major(const Mat4& m) {
   return out.str();
 }
 
+// Props beside the creature (with_prop): a box of these corners on a root node "Prop" moved by
+// kPropAt, a mesh of no skin; and the same box at kSaddleAt, "Saddle", skinned to the Hip alone
+// (the creature's inverse bind matrix for it).
+const Vec3 kPropAt(2, 0.5, -1), kSaddleAt(0, 0.75, -0.3);
+std::vector<Vec3> prop_corners() {
+  std::vector<Vec3> out;
+  for (int k = 0; k < 8; ++k) out.emplace_back(k & 1 ? 0.25 : -0.25, k & 2 ? 0.5 : -0.5, k & 4 ? 0.125 : -0.125);
+  return out;
+}
+
 // The creature as Collada: the same vertices (mesh space = world: its node is at the origin),
 // triangles, weights and inverse binds; nodes named as the glTF's, each with its rest matrix.
-void write_creature_dae(const fs::path& dae) {
+void write_creature_dae(const fs::path& dae, bool with_prop = false) {
   const fs::path gltf = fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf";
   const Mesh mesh = assets::read_mesh(gltf);
   const assets::SkinModel m = *assets::read_gltf_skin(gltf, mesh.positions, Eigen::Affine3d::Identity());
@@ -116,6 +126,51 @@ void write_creature_dae(const fs::path& dae) {
   std::string scene;
   for (std::size_t i = 0; i < m.nodes.size(); ++i)
     if (m.nodes[i].parent < 0) scene += node_xml(i);
+  std::string prop_geometry, saddle_controller;
+  if (with_prop) {
+    std::ostringstream corners;
+    for (const Vec3& c : prop_corners()) corners << c.x() << ' ' << c.y() << ' ' << c.z() << ' ';
+    prop_geometry =
+        R"(<geometry id="prop-mesh" name="Prop"><mesh><source id="pp"><float_array id="ppa" count="24">)" +
+        corners.str() +
+        R"(</float_array><technique_common><accessor source="#ppa" count="8" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+<vertices id="pv"><input semantic="POSITION" source="#pp"/></vertices>
+<triangles count="12"><input semantic="VERTEX" source="#pv" offset="0"/><p>0 2 1 1 2 3 4 5 6 5 7 6 0 1 4 1 5 4 2 6 3 3 6 7 0 4 2 2 4 6 1 3 5 3 7 5</p></triangles>
+</mesh></geometry>
+)";
+    scene += "<node id=\"Prop\" name=\"Prop\" type=\"NODE\"><matrix sid=\"transform\">1 0 0 " +
+             std::to_string(kPropAt.x()) + " 0 1 0 " + std::to_string(kPropAt.y()) + " 0 0 1 " +
+             std::to_string(kPropAt.z()) + " 0 0 0 1</matrix><instance_geometry url=\"#prop-mesh\"/></node>\n";
+    std::ostringstream saddle;
+    saddle.precision(17);
+    for (const Vec3& c : prop_corners())
+      saddle << c.x() + kSaddleAt.x() << ' ' << c.y() + kSaddleAt.y() << ' ' << c.z() + kSaddleAt.z() << ' ';
+    prop_geometry +=
+        R"(<geometry id="saddle-mesh" name="Saddle"><mesh><source id="sp"><float_array id="spa" count="24">)" +
+        saddle.str() +
+        R"(</float_array><technique_common><accessor source="#spa" count="8" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+<vertices id="sv"><input semantic="POSITION" source="#sp"/></vertices>
+<triangles count="12"><input semantic="VERTEX" source="#sv" offset="0"/><p>0 2 1 1 2 3 4 5 6 5 7 6 0 1 4 1 5 4 2 6 3 3 6 7 0 4 2 2 4 6 1 3 5 3 7 5</p></triangles>
+</mesh></geometry>
+)";
+    const std::size_t hip = static_cast<std::size_t>(m.joint_of_node(m.find_node("Hip")));
+    saddle_controller =
+        R"(<controller id="saddle-skin" name="saddle-skin"><skin source="#saddle-mesh">
+<bind_shape_matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</bind_shape_matrix>
+<source id="sj"><Name_array id="sja" count="1">Hip</Name_array><technique_common><accessor source="#sja" count="1" stride="1"><param name="JOINT" type="name"/></accessor></technique_common></source>
+<source id="sb"><float_array id="sba" count="16">)" +
+        row_major(m.inverse_bind[hip]) +
+        R"(</float_array><technique_common><accessor source="#sba" count="1" stride="16"><param name="TRANSFORM" type="float4x4"/></accessor></technique_common></source>
+<source id="sw"><float_array id="swa" count="1">1</float_array><technique_common><accessor source="#swa" count="1" stride="1"><param name="WEIGHT" type="float"/></accessor></technique_common></source>
+<joints><input semantic="JOINT" source="#sj"/><input semantic="INV_BIND_MATRIX" source="#sb"/></joints>
+<vertex_weights count="8"><input semantic="JOINT" source="#sj" offset="0"/><input semantic="WEIGHT" source="#sw" offset="1"/>
+<vcount>1 1 1 1 1 1 1 1</vcount><v>0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0</v></vertex_weights>
+</skin></controller>
+)";
+    scene +=
+        "<node id=\"Saddle\" name=\"Saddle\" type=\"NODE\"><instance_controller "
+        "url=\"#saddle-skin\"><skeleton>#Hip</skeleton></instance_controller></node>\n";
+  }
   std::ofstream out(dae);
   out << R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
@@ -128,7 +183,9 @@ void write_creature_dae(const fs::path& dae) {
 <triangles count=")"
       << triangles.size() / 3 << R"("><input semantic="VERTEX" source="#v" offset="0"/><p>)" << tris.str()
       << R"(</p></triangles>
-</mesh></geometry></library_geometries>
+</mesh></geometry>
+)" << prop_geometry
+      << R"(</library_geometries>
 <library_controllers><controller id="skin" name="skin"><skin source="#creature-mesh">
 <bind_shape_matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</bind_shape_matrix>
 <source id="j"><Name_array id="ja" count=")"
@@ -146,7 +203,9 @@ void write_creature_dae(const fs::path& dae) {
       << n << R"("><input semantic="JOINT" source="#j" offset="0"/><input semantic="WEIGHT" source="#w" offset="1"/>
 <vcount>)"
       << vcount.str() << "</vcount><v>" << v.str() << R"(</v></vertex_weights>
-</skin></controller></library_controllers>
+</skin></controller>
+)" << saddle_controller
+      << R"(</library_controllers>
 <library_animations>
 )" << animations.str()
       << R"(</library_animations>
@@ -314,6 +373,124 @@ TEST(SkinnedCollada, WithMorphTargetsTheGlbSkinnedIsTheBakeToFloatPrecision) {
   }
   EXPECT_LT(worst, 1e-5);  // the tail is 1 long
   EXPECT_GT(moved, 0.1) << "the tail hardly moved: the check above could not fail";
+}
+
+// The first skin's joint matrices as animation `animation` poses the nodes at its key k.
+std::vector<Mat4> joints_at(const tinygltf::Model& m, int animation, std::size_t k) {
+  NodePoses pose = rest_poses(m);
+  const tinygltf::Animation& a = m.animations[static_cast<std::size_t>(animation)];
+  for (const tinygltf::AnimationChannel& ch : a.channels) {
+    const std::vector<double> v = numbers(m, a.samplers[static_cast<std::size_t>(ch.sampler)].output);
+    const auto n = static_cast<std::size_t>(ch.target_node);
+    if (ch.target_path == "translation") pose.t[n] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+    if (ch.target_path == "scale") pose.s[n] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+    if (ch.target_path == "rotation") pose.r[n] = Quat(v[4 * k + 3], v[4 * k], v[4 * k + 1], v[4 * k + 2]);
+  }
+  return skin_joint_matrices(m, pose);
+}
+
+// Props in the file beside the skinned character: the rig names the character's mesh; the .glb
+// keeps each on a node of its own and passes the validator. The static one is where the file
+// places it, moved by no clip, with no skin or target; the one skinned to the Hip is skinned by the
+// character's skin, and playing "sweep bake" moves it as the glTF creature's own Hip moves in its
+// Walk (an independent skinning). The character keeps its bones and clips.
+TEST(SkinnedCollada, PropsBesideTheCharacterAreKeptTheStaticStillTheSkinnedOnItsJoint) {
+  const Asset asset{here("prop.dae"), here("prop.rig.json"), here("prop.bind")};
+  write_creature_dae(asset.gltf, /*with_prop=*/true);
+  const fs::path gltf = fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf";
+  const assets::SkinModel model =
+      *assets::read_gltf_skin(gltf, assets::read_mesh(gltf).positions, Eigen::Affine3d::Identity());
+  Rig rig = rig_of({straight_sweep("tail", false)}, "prop.dae");
+  rig.mesh_name = model.nodes[static_cast<std::size_t>(model.mesh_node)].name;
+  io::write_rig(asset.rig, rig);
+  ASSERT_EQ(
+      std::system((std::string(SWEEP_BIND_EXE) + " -q '" + asset.rig.string() + "' -o '" + asset.binding.string() + "'")
+                      .c_str()),
+      0);
+  std::string walk = kWalk;
+  walk.replace(walk.find("\"Walk\""), 6, "\"Walk_Walk\"");
+  const fs::path glb = here("prop.glb");
+  ASSERT_EQ(run_sim(asset, walk, "-o '" + glb.string() + "'", "prop"), 0) << io::read_file(here("prop.err"));
+  int code = -1;
+  const std::string report = validate(glb, &code);
+  EXPECT_EQ(code, 0) << report;
+  EXPECT_NE(report.find("\"numErrors\": 0"), std::string::npos) << report;
+
+  const tinygltf::Model out = load(glb);
+  ASSERT_EQ(out.meshes.size(), 3u) << "the character's, the prop's and the saddle's";
+  ASSERT_EQ(out.skins.size(), 1u);
+  const std::vector<std::string> bones = {"Hip", "Tail1", "Tail2", "Tail3"};
+  ASSERT_GT(out.skins[0].joints.size(), bones.size()) << "the parts' joints are added";
+  for (std::size_t j = 0; j < bones.size(); ++j)
+    EXPECT_EQ(out.nodes[static_cast<std::size_t>(out.skins[0].joints[j])].name, bones[j]);
+  ASSERT_EQ(out.animations.size(), 3u);
+  EXPECT_EQ(out.animations[0].name, "Walk_Walk");
+  EXPECT_EQ(out.animations[1].name, "Walk_Blink");
+  EXPECT_EQ(out.animations[2].name, "sweep bake");
+  int prop = -1, named_prop = 0;
+  for (std::size_t n = 0; n < out.nodes.size(); ++n) {
+    named_prop += out.nodes[n].name == "Prop";
+    if (out.nodes[n].name == "Prop" && out.nodes[n].mesh >= 0) prop = static_cast<int>(n);
+  }
+  ASSERT_GE(prop, 0) << "the prop's node, showing its mesh";
+  EXPECT_EQ(named_prop, 1) << "the file's node shows it (no copy beside it)";
+  const tinygltf::Node& node = out.nodes[static_cast<std::size_t>(prop)];
+  EXPECT_EQ(node.skin, -1);
+  EXPECT_TRUE(node.translation.empty() && node.rotation.empty() && node.matrix.empty())
+      << "placed in world space: its node has no transform";
+  for (const tinygltf::Animation& a : out.animations)
+    for (const tinygltf::AnimationChannel& ch : a.channels) EXPECT_NE(ch.target_node, prop) << a.name;
+  int roots_with_prop = 0;
+  for (const int root : out.scenes[0].nodes) roots_with_prop += root == prop;
+  EXPECT_EQ(roots_with_prop, 1) << "the prop is in the scene";
+  const tinygltf::Primitive& p = out.meshes[static_cast<std::size_t>(node.mesh)].primitives[0];
+  EXPECT_TRUE(p.targets.empty());
+  EXPECT_FALSE(p.attributes.contains("JOINTS_0"));
+  const std::vector<double> at = numbers(out, p.attributes.at("POSITION"));
+  const std::vector<Vec3> corners = prop_corners();
+  ASSERT_EQ(at.size(), 3 * corners.size());
+  double worst = 0;
+  for (std::size_t v = 0; v < corners.size(); ++v) {
+    double best = 1e300;
+    for (const Vec3& c : corners)
+      best = std::min(best, (Vec3(at[3 * v], at[3 * v + 1], at[3 * v + 2]) - (c + kPropAt)).norm());
+    worst = std::max(worst, best);
+  }
+  EXPECT_LT(worst, 1e-6) << "the prop where the file places it";
+
+  // The saddle: skinned to the Hip, played as the glTF creature's Hip moves.
+  int saddle = -1;
+  for (std::size_t n = 0; n < out.nodes.size(); ++n)
+    if (out.nodes[n].name == "Saddle" && out.nodes[n].mesh >= 0) saddle = static_cast<int>(n);
+  ASSERT_GE(saddle, 0) << "the saddle's node, showing its mesh";
+  EXPECT_EQ(out.nodes[static_cast<std::size_t>(saddle)].skin, 0);
+  const tinygltf::Primitive& s =
+      out.meshes[static_cast<std::size_t>(out.nodes[static_cast<std::size_t>(saddle)].mesh)].primitives[0];
+  const std::vector<double> bind = numbers(out, s.attributes.at("POSITION"));
+  const std::vector<double> joints = numbers(out, s.attributes.at("JOINTS_0"));
+  const std::vector<double> weights = numbers(out, s.attributes.at("WEIGHTS_0"));
+  ASSERT_EQ(bind.size(), 24u);
+  const int hip = model.joint_of_node(model.find_node("Hip"));
+  const int baked = find_animation(out, "sweep bake");
+  ASSERT_GE(baked, 0);
+  double worst_saddle = 0, moved = 0;
+  for (const int k : {0, 6, 15, 24}) {  // (the Hip is keyed linearly, so any frame, not only a key's)
+    const std::vector<Mat4> played_joints = joints_at(out, baked, static_cast<std::size_t>(k));
+    const std::vector<Mat4> expected = assets::joint_matrices(
+        model, assets::world_transforms(model, model.find_clip("Walk"), std::fmod(k / 30.0, 1.0)));
+    for (std::size_t v = 0; v < 8; ++v) {
+      const Vec3 b(bind[3 * v], bind[3 * v + 1], bind[3 * v + 2]);
+      Mat4 skinning = Mat4::Zero();
+      for (int e = 0; e < 4; ++e)
+        skinning += weights[4 * v + e] * played_joints[static_cast<std::size_t>(joints[4 * v + e])];
+      const Vec3 shown = (skinning * b.homogeneous()).head<3>();
+      const Vec3 want = (expected[static_cast<std::size_t>(hip)] * b.homogeneous()).head<3>();
+      worst_saddle = std::max(worst_saddle, (shown - want).norm());
+      moved = std::max(moved, (want - b).norm());
+    }
+  }
+  EXPECT_LT(worst_saddle, 1e-5) << "the saddle rides the Hip as the creature's clip moves it";
+  EXPECT_GT(moved, 0.01) << "the Hip hardly moved: the check above could not fail";
 }
 
 }  // namespace
