@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "bind/support.h"
+#include "pc2_reader.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/bind/bind.h"
 
@@ -23,29 +24,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using Frames = std::vector<std::vector<Vec3f>>;
+using test::read_pc2;
 
 struct Tube {
   Mesh mesh = tube::make_tube(test::straight_tube_params());
   Rig rig = test::rig_of({test::straight_sweep()});
   bind::Binding binding = bind::bind_rig(rig, mesh);
 };
-
-Frames read_pc2(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[12];
-  std::int32_t version = 0, points = 0, samples = 0;
-  float start = 0, rate = 0;
-  in.read(magic, 12);
-  in.read(reinterpret_cast<char*>(&version), 4);
-  in.read(reinterpret_cast<char*>(&points), 4);
-  in.read(reinterpret_cast<char*>(&start), 4);
-  in.read(reinterpret_cast<char*>(&rate), 4);
-  in.read(reinterpret_cast<char*>(&samples), 4);
-  Frames f(samples, std::vector<Vec3f>(points));
-  for (auto& frame : f) in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
-  EXPECT_TRUE(in.good());
-  return f;
-}
 
 Scene scene_with(std::vector<SceneForce> forces, double duration) {
   Scene s;

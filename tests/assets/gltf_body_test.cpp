@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "base64.h"
 #include "bind/support.h"
 #include "sweep/assets/gltf_motion.h"
 #include "sweep/core/error.h"
@@ -23,27 +24,6 @@ namespace {
 
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
-
-std::string base64(const std::string& bytes) {
-  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 | (unsigned char)bytes[i + 2];
-    for (int s = 18; s >= 0; s -= 6) out += k[(v >> s) & 63];
-  }
-  if (i + 1 == bytes.size()) {
-    const unsigned v = (unsigned char)bytes[i] << 16;
-    out += k[(v >> 18) & 63];
-    out += k[(v >> 12) & 63];
-    out += "==";
-  } else if (i + 2 == bytes.size()) {
-    const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8;
-    for (int s = 18; s >= 6; s -= 6) out += k[(v >> s) & 63];
-    out += "=";
-  }
-  return out;
-}
 
 // A glTF document under construction: one buffer, accessors appended.
 struct GltfBuilder {
@@ -132,7 +112,7 @@ struct Scenario {
   }
 };
 
-fs::path scratch(const std::string& name) {
+fs::path body_scratch_file(const std::string& name) {
   const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/assets/gltf_body";
   fs::create_directories(dir);
   return dir / name;
@@ -140,7 +120,7 @@ fs::path scratch(const std::string& name) {
 
 TEST(GltfBody, TheNodesAnimationIsTheBodysMotionAwayFromItsRestPose) {
   const Scenario sc;
-  const fs::path file = scratch("walk.gltf");
+  const fs::path file = body_scratch_file("walk.gltf");
   sc.write(file);
   const sim::BodyPath path = assets::read_gltf_body_path(file, "Body");
   ASSERT_EQ(path.keys().size(), 4u);  // the union of 0, 1, 2 and 0, 1.5
@@ -162,7 +142,7 @@ TEST(GltfBody, TheNodesAnimationIsTheBodysMotionAwayFromItsRestPose) {
 // the derivatives of where it goes, checked by central differences inside each linear piece.
 TEST(GltfBody, APivotedPathsOriginMovesAsItsDerivativesSay) {
   const Scenario sc;
-  const fs::path file = scratch("pivot.gltf");
+  const fs::path file = body_scratch_file("pivot.gltf");
   sc.write(file);
   const sim::BodyPath path = assets::read_gltf_body_path(file, "Body");
   EXPECT_LT((path.pivot() - (sc.P + sc.T0)).norm(), 1e-7);  // the node's rest origin, world
@@ -181,7 +161,7 @@ TEST(GltfBody, APivotedPathsOriginMovesAsItsDerivativesSay) {
 
 TEST(GltfBody, WhatCannotBeABodysMotionIsRefusedWithWhatToDo) {
   const Scenario sc;
-  const fs::path file = scratch("refused.gltf");
+  const fs::path file = body_scratch_file("refused.gltf");
   sc.write(file);
   expect_refused([&] { assets::read_gltf_body_path(file, "Tail"); }, ErrorCategory::bad_input,
                  {"refused.gltf", "no node is named 'Tail'"});
@@ -193,7 +173,7 @@ TEST(GltfBody, WhatCannotBeABodysMotionIsRefusedWithWhatToDo) {
                  {"CUBICSPLINE", "only LINEAR"});
   sc.write(file, "LINEAR", /*scale_channel=*/true);
   expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input, {"scales node 'Body'"});
-  const fs::path obj = scratch("not-gltf.obj");
+  const fs::path obj = body_scratch_file("not-gltf.obj");
   std::ofstream(obj) << "v 0 0 0\n";
   expect_refused([&] { assets::read_gltf_body_path(obj, "Body"); }, ErrorCategory::bad_input, {"not a glTF file"});
 }
@@ -204,14 +184,14 @@ TEST(GltfBody, WhatCannotBeABodysMotionIsRefusedWithWhatToDo) {
 TEST(GltfBody, AKeyPastTheLengthLimitOrOfNoRotationIsRefusedNamingIt) {
   Scenario far;
   far.T[1] = Vec3(1e35, 0.5, 0);
-  const fs::path file = scratch("far.gltf");
+  const fs::path file = body_scratch_file("far.gltf");
   far.write(file);
   expect_refused([&] { assets::read_gltf_body_path(file, "Body"); }, ErrorCategory::bad_input,
                  {"far.gltf: animation 'Walk': translation key 1 of node 'Body' (at 1 s) is ",
                   " along x, past the limit of 1e9 mesh units"});
   Scenario zero;
   zero.zero_quaternion = true;
-  const fs::path nothing = scratch("zero-quaternion.gltf");
+  const fs::path nothing = body_scratch_file("zero-quaternion.gltf");
   zero.write(nothing);
   expect_refused([&] { assets::read_gltf_body_path(nothing, "Body"); }, ErrorCategory::bad_input,
                  {"zero-quaternion.gltf: animation 'Walk': rotation key 1 of node 'Body' (at 1.5 s) is a quaternion of "
@@ -247,8 +227,9 @@ TEST(GltfBody, SweepSimBakesTheBodyFromTheMeshsOwnAnimation) {
                     {"channels",
                      {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
                       {{"sampler", 1}, {"target", {{"node", 0}, {"path", "rotation"}}}}}}}});
-  const fs::path mesh = scratch("tube.gltf"), rig = scratch("tube.rig.json"), bind = scratch("tube.bind"),
-                 scene = scratch("walk.scene.json"), pc2 = scratch("tube.pc2");
+  const fs::path mesh = body_scratch_file("tube.gltf"), rig = body_scratch_file("tube.rig.json"),
+                 bind = body_scratch_file("tube.bind"), scene = body_scratch_file("walk.scene.json"),
+                 pc2 = body_scratch_file("tube.pc2");
   g.write(mesh);
   io::write_rig(rig, rig_of({straight_sweep("tube", false)}, "tube.gltf"));
   std::ofstream(scene) << R"({"format": "sweep-scene", "version": 1, "duration": 1.5, "fps": 10,

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "base64.h"
 #include "bind/support.h"
 #include "sweep/assets/gltf_skin.h"
 #include "sweep/assets/mesh_io.h"
@@ -28,13 +29,14 @@
 #include "sweep/core/springs.h"
 #include "sweep/io/read_file.h"
 #include "sweep/io/rig_json.h"
+#include "test_constants.h"
 
 namespace sweep::test {
 namespace {
 
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 
 // The part's springs: f0 = 2 Hz, ζ = 0.15; the sway keyed every kKeyStep s over a 1 s loop.
 constexpr double kF0 = 2.0, kZeta = 0.15;
@@ -42,22 +44,10 @@ constexpr double kAmplitude = 0.05;  // of the keyed sway, 5 % of the tail's len
 constexpr int kKeys = 60;            // keys a second (the clip is 1 s long)
 constexpr int kFps = 30;
 
-fs::path scratch(const std::string& name) {
+fs::path keyed_bend_dir(const std::string& name) {
   const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/assets/keyed_bend" / name;
   fs::create_directories(dir);
   return dir;
-}
-
-std::string base64(const std::string& bytes) {
-  static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
-    std::uint32_t v = 0;
-    for (std::size_t k = 0; k < 3; ++k) v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
-    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? digits[(v >> (18 - 6 * k)) & 63] : '=';
-  }
-  return out;
 }
 
 // The creature with one clip, "Sway": node `node` (glTF index) translated by A sin(2π hz τ) along x
@@ -118,7 +108,7 @@ struct Sway {
 // Bakes the swaying creature (node, its rest translation, the sway's frequency) after a 4 s preroll
 // and returns the tip's deviation from its keyed place over one second (frames 0..29).
 Sway bake(const std::string& name, int node, const std::vector<float>& rest, int hz) {
-  const fs::path dir = scratch(name);
+  const fs::path dir = keyed_bend_dir(name);
   write_sway(dir / "creature.gltf", node, rest, hz);
   io::write_rig(dir / "rig.json", rig_of({one_section_tail(kF0)}, "creature.gltf"));
   const std::string rig = "'" + (dir / "rig.json").string() + "'", bound = "'" + (dir / "rig.bind").string() + "'";

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bind/support.h"
+#include "pc2_reader.h"
 #include "sweep/assets/gltf_skin.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/bind/bind.h"
@@ -39,7 +40,7 @@ fs::path fixture() {
   return fs::path(SWEEP_SOURCE_DIR) / "meshes/skinned_tail.gltf";
 }
 
-fs::path scratch(const std::string& name) {
+fs::path clip_scratch_file(const std::string& name) {
   const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "tests/assets/skinned_clip";
   fs::create_directories(dir);
   return dir / name;
@@ -126,23 +127,6 @@ Vec3 skinned(const Vec3& p, const std::vector<Mat4>& joints) {
   return out.head<3>();
 }
 
-struct Pc2 {
-  int points = 0, samples = 0;
-  std::string bytes;
-  Vec3 at(int frame, std::size_t v) const {
-    float p[3];
-    std::memcpy(p, bytes.data() + 32 + 12 * (static_cast<std::size_t>(frame) * points + v), 12);
-    return Vec3(p[0], p[1], p[2]);
-  }
-};
-Pc2 read_pc2(const fs::path& path) {
-  Pc2 out;
-  out.bytes = io::read_file(path);
-  std::memcpy(&out.points, out.bytes.data() + 16, 4);
-  std::memcpy(&out.samples, out.bytes.data() + 28, 4);
-  return out;
-}
-
 // The creature's rig (the tail as the binding tests' hand-made straight sweep) and its binding.
 struct Creature {
   fs::path rig, binding, gltf;
@@ -154,7 +138,7 @@ Creature creature(const std::string& name, double spring_hz = 0) {
   Creature c;
   // Each creature in a folder of its own: ctest runs this file's tests as parallel processes, and a
   // fixture copied over the one another test is reading tears it.
-  const fs::path dir = scratch(name);
+  const fs::path dir = clip_scratch_file(name);
   fs::create_directories(dir);
   c.rig = dir / "rig.json";
   c.binding = dir / "rig.bind";
@@ -177,11 +161,11 @@ Creature creature(const std::string& name, double spring_hz = 0) {
 }
 
 int run_sim(const Creature& c, const std::string& scene_json, const fs::path& out, const std::string& name) {
-  const fs::path scene = scratch(name + ".scene.json");
+  const fs::path scene = clip_scratch_file(name + ".scene.json");
   std::ofstream(scene) << scene_json;
   const std::string cmd = std::string(SWEEP_SIM_EXE) + " -q '" + c.rig.string() + "' --scene '" + scene.string() +
                           "' -b '" + c.binding.string() + "' -o '" + out.string() + "' 2> '" +
-                          scratch(name + ".err").string() + "'";
+                          clip_scratch_file(name + ".err").string() + "'";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -189,7 +173,7 @@ int run_sim(const Creature& c, const std::string& scene_json, const fs::path& ou
 // The committed creature is its generator's output, byte for byte.
 TEST(SkinnedClip, TheFixtureIsItsGeneratorsOutput) {
   if (std::system("python3 --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "no python3";
-  const fs::path out = scratch("regenerated.gltf");
+  const fs::path out = clip_scratch_file("regenerated.gltf");
   ASSERT_EQ(std::system(("python3 '" + (fs::path(SWEEP_SOURCE_DIR) / "meshes/make_skinned_tail.py").string() + "' '" +
                          out.string() + "'")
                             .c_str()),
@@ -254,22 +238,22 @@ TEST(SkinnedClip, ChannelsInterpolateAsGltfDefines) {
 // ring follows Tail1, and the tail itself is simulated (it leaves its keyed pose).
 TEST(SkinnedClip, TheClipDrivesTheBodyAndThePartsRoot) {
   const Creature c = creature("drive");
-  const fs::path pc2 = scratch("drive.pc2");
+  const fs::path pc2 = clip_scratch_file("drive.pc2");
   ASSERT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 2, "fps": 30, "forces": [],
     "body": {"node": "Hip", "animation": "Walk", "loop": true}})",
                     pc2, "drive"),
             0)
-      << io::read_file(scratch("drive.err"));
-  const Pc2 out = read_pc2(pc2);
+      << io::read_file(clip_scratch_file("drive.err"));
+  const Pc2 out(pc2);
   ASSERT_EQ(out.points, static_cast<int>(c.mesh.vertex_count()));
-  ASSERT_EQ(out.samples, 61);
+  ASSERT_EQ(out.frames, 61);
   std::vector<double> weight(c.mesh.vertex_count(), 0);
   for (std::size_t k = 0; k < c.bound.sweeps[0].size(); ++k)
     weight[c.bound.sweeps[0].vertices[k]] = c.bound.sweeps[0].weight[k];
   const double size = 1.7;  // the creature's bounding box diagonal, about
   double outside = 0, ring = 0, tip_off_keyed = 0;
   int ring_count = 0;
-  for (int f = 0; f < out.samples; ++f) {
+  for (int f = 0; f < out.frames; ++f) {
     const double t = std::fmod(f / 30.0, 1.0);
     const auto joints = joints_at(t);
     for (std::size_t v = 0; v < c.mesh.vertex_count(); ++v) {
@@ -294,15 +278,15 @@ TEST(SkinnedClip, TheClipDrivesTheBodyAndThePartsRoot) {
 // vertices, the joints below its root swaying it) within 0.5 % of its length.
 TEST(SkinnedClip, AStiffPartFollowsItsKeyedPose) {
   const Creature c = creature("stiff", 60);
-  const fs::path pc2 = scratch("stiff.pc2");
+  const fs::path pc2 = clip_scratch_file("stiff.pc2");
   ASSERT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 2, "fps": 30, "forces": [],
     "body": {"node": "Tail2", "animation": "Walk", "loop": true}})",
                     pc2, "stiff"),
             0)
-      << io::read_file(scratch("stiff.err"));
-  const Pc2 out = read_pc2(pc2);
+      << io::read_file(clip_scratch_file("stiff.err"));
+  const Pc2 out(pc2);
   double worst = 0, keyed_sway = 0;
-  for (int f = 0; f < out.samples; ++f) {
+  for (int f = 0; f < out.frames; ++f) {
     const auto joints = joints_at(std::fmod(f / 30.0, 1.0));
     for (const std::uint32_t v : c.bound.sweeps[0].vertices) {
       const Vec3& p = c.mesh.positions[v];
@@ -318,14 +302,14 @@ TEST(SkinnedClip, AStiffPartFollowsItsKeyedPose) {
 // A looping clip after a preroll: the bake's last frame (one clip length on) meets its first.
 TEST(SkinnedClip, ALoopingBakeAfterAPrerollMeetsItsFirstFrame) {
   const Creature c = creature("loop");
-  const fs::path pc2 = scratch("loop.pc2");
+  const fs::path pc2 = clip_scratch_file("loop.pc2");
   ASSERT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [],
     "body": {"node": "Creature", "animation": "Walk", "loop": true, "preroll": 6}})",
                     pc2, "loop"),
             0)
-      << io::read_file(scratch("loop.err"));
+      << io::read_file(clip_scratch_file("loop.err"));
   // The same without the preroll: the tail starts at rest, so its first cycle does not close.
-  const fs::path cold = scratch("cold.pc2");
+  const fs::path cold = clip_scratch_file("cold.pc2");
   ASSERT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [],
     "body": {"node": "Creature", "animation": "Walk", "loop": true}})",
                     cold, "cold"),
@@ -336,8 +320,8 @@ TEST(SkinnedClip, ALoopingBakeAfterAPrerollMeetsItsFirstFrame) {
       seam = std::max(seam, (out.at(30, v) - out.at(0, v)).norm());
     return seam;
   };
-  const Pc2 out = read_pc2(pc2), out_cold = read_pc2(cold);
-  ASSERT_EQ(out.samples, 31);
+  const Pc2 out(pc2), out_cold(cold);
+  ASSERT_EQ(out.frames, 31);
   const double seam = seam_of(out), cold_seam = seam_of(out_cold);
   EXPECT_LT(seam, 1e-3 * 1.0) << "the tail's length is 1";
   EXPECT_GT(cold_seam, 1e-3);
@@ -370,7 +354,7 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
   auto refused_file = [&](const std::function<void(Json&)>& edit, std::initializer_list<const char*> fragments) {
     Json d = doc;
     edit(d);
-    const fs::path path = scratch("edited.gltf");
+    const fs::path path = clip_scratch_file("edited.gltf");
     std::ofstream(path) << d.dump();
     expect_refused([&] { assets::read_gltf_skin(path, c.mesh.positions, Eigen::Affine3d::Identity()); },
                    ErrorCategory::bad_input, fragments);
@@ -392,7 +376,7 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
   Json d = doc;
   d["animations"][0]["channels"].push_back({{"sampler", 0}, {"target", {{"node", 2}, {"path", "scale"}}}});
   // Sampler 0's VEC3 values are the hip's translations (z = -0.3): as a scale, a mirror and a squash.
-  const fs::path scaled = scratch("scaled.gltf");
+  const fs::path scaled = clip_scratch_file("scaled.gltf");
   std::ofstream(scaled) << d.dump();
   const auto scaled_model = assets::read_gltf_skin(scaled, c.mesh.positions, Eigen::Affine3d::Identity());
   ASSERT_TRUE(scaled_model);
@@ -407,14 +391,14 @@ TEST(SkinnedClip, BadInputSaysWhatTheFileHolds) {
 TEST(SkinnedClip, SweepSimRefusesAnUnknownClipWithWhatToDo) {
   const Creature c = creature("run");
   // An unknown clip: exit 2 (bad input), the file's clips listed, nothing written.
-  const fs::path pc2 = scratch("run.pc2");
+  const fs::path pc2 = clip_scratch_file("run.pc2");
   fs::remove(pc2);
   EXPECT_EQ(run_sim(c, R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [],
     "body": {"node": "Creature", "animation": "Run"}})",
                     pc2, "run"),
             2);
-  EXPECT_NE(io::read_file(scratch("run.err")).find("'Walk', 'Blink'"), std::string::npos)
-      << io::read_file(scratch("run.err"));
+  EXPECT_NE(io::read_file(clip_scratch_file("run.err")).find("'Walk', 'Blink'"), std::string::npos)
+      << io::read_file(clip_scratch_file("run.err"));
   EXPECT_FALSE(fs::exists(pc2));
 }
 

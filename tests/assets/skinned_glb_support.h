@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bind/support.h"
+#include "pc2_reader.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/read_file.h"
@@ -309,20 +310,6 @@ inline Shown played(const tinygltf::Model& m, int animation, std::size_t k, bool
   }
   return out;
 }
-
-struct Pc2 {
-  std::string bytes;
-  int points = 0, frames = 0;
-  explicit Pc2(const fs::path& path) : bytes(io::read_file(path)) {
-    std::memcpy(&points, bytes.data() + 16, 4);
-    std::memcpy(&frames, bytes.data() + 28, 4);
-  }
-  Vec3 at(int frame, std::size_t v) const {
-    float p[3];
-    std::memcpy(p, bytes.data() + 32 + 12 * (static_cast<std::size_t>(frame) * points + v), 12);
-    return Vec3(p[0], p[1], p[2]);
-  }
-};
 
 inline std::string validate(const fs::path& glb, int* code) {
   const std::string cmd = "node '" + (fs::path(SWEEP_SOURCE_DIR) / "tests/gltf-validator/validate.js").string() +

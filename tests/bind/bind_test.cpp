@@ -7,6 +7,7 @@
 #include "support.h"
 #include "sweep/bind/deform.h"
 #include "sweep/core/elastic_sweep.h"
+#include "test_constants.h"
 
 namespace sweep::test {
 namespace {
@@ -15,7 +16,7 @@ using bind::Binding;
 using bind::BindOptions;
 using bind::SweepBinding;
 
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 
 // Every bound vertex rebuilt on the rest shape from the stored float32 coordinates lies within
 // `tolerance` of the mesh vertex (asserted vertex by vertex).

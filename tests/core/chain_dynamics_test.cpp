@@ -13,13 +13,14 @@
 
 #include "beam_tubes.h"
 #include "sweep/core/elastic_sweep.h"
+#include "test_constants.h"
 
 namespace sweep {
 namespace {
 
 using namespace test::beam;
 
-constexpr double kG = 9.81;
+using ::sweep::test::kG;  // m/s²
 
 // The tube (K = 32) of Young's modulus `e` and damping ratio `zeta`, and its exact chain.
 struct Tube {

@@ -7,11 +7,12 @@
 
 #include "sample_sweeps.h"
 #include "sweep/core/elastic_sweep.h"
+#include "test_constants.h"
 
 namespace sweep {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 
 TEST(RotationalPart, AxisIsACrossFAndMagnitudeIsCRotTimesF) {
   // Point 2 units along +x from the centre, force 3 N along +y: a × f = (2,0,0)×(0,3,0) = (0,0,6).

@@ -44,4 +44,12 @@ inline SweepDef sweep_def(SweepShape shape) {
   return make_sweep("test", std::move(shape));
 }
 
+// A rig of one bent, irregular part named "part" (7 sections of 8 radii).
+inline Rig bent_part() {
+  Rig rig;
+  rig.sweeps.push_back(sweep_def(irregular_shape(7, 8)));
+  rig.sweeps.back().name = "part";
+  return rig;
+}
+
 }  // namespace sweep::test

@@ -20,31 +20,31 @@
 namespace sweep::test {
 namespace {
 
-constexpr double kR = 0.1;
+constexpr double kTubeR = 0.1;  // the tubes' radius
 
 TEST(Discover, ABodyWithOneTubeHasOnePartEndingWhereTheTubeEnds) {
   // A body 4r wide over 10r, then a straight tube of 12r along +Z.
-  const double body_length = 10 * kR, tube_length = 12 * kR;
+  const double body_length = 10 * kTubeR, tube_length = 12 * kTubeR;
   CurveTube t;
   t.curve = [=](double u) { return Vec3(0, 0, u * (body_length + tube_length)); };
-  t.radius = with_body(4 * kR, body_length, [](double) { return kR; });
+  t.radius = with_body(4 * kTubeR, body_length, [](double) { return kTubeR; });
   const Mesh mesh = t.mesh();
   const std::vector<fit::FoundPart> parts = fit::find_parts(mesh, build_topology(mesh));
   ASSERT_EQ(parts.size(), 1u);
   const fit::FoundPart& p = parts[0];
-  EXPECT_NEAR(p.tip.z(), body_length + tube_length + kR, 0.2 * kR) << "the tip is the cap's end";
-  EXPECT_NEAR(p.root.z(), body_length, 2 * kR) << "the root is where the tube leaves the body";
-  EXPECT_NEAR(p.mean_radius, kR, 0.05 * kR);
+  EXPECT_NEAR(p.tip.z(), body_length + tube_length + kTubeR, 0.2 * kTubeR) << "the tip is the cap's end";
+  EXPECT_NEAR(p.root.z(), body_length, 2 * kTubeR) << "the root is where the tube leaves the body";
+  EXPECT_NEAR(p.mean_radius, kTubeR, 0.05 * kTubeR);
 }
 
 TEST(Discover, ALoneTubeIsOnePart) {
   CurveTube t;
   t.curve = [](double u) { return Vec3(0, 0, 2 * u); };
-  t.radius = [](double) { return kR; };
+  t.radius = [](double) { return kTubeR; };
   const Mesh mesh = t.mesh();
   const std::vector<fit::FoundPart> parts = fit::find_parts(mesh, build_topology(mesh));
   ASSERT_EQ(parts.size(), 1u);
-  EXPECT_NEAR(parts[0].mean_radius, kR, 0.05 * kR);
+  EXPECT_NEAR(parts[0].mean_radius, kTubeR, 0.05 * kTubeR);
   EXPECT_GT(parts[0].length, 1.5);
 }
 
@@ -76,14 +76,14 @@ Mesh without(const Mesh& mesh, const std::function<bool(const Vec3&)>& drop) {
 }
 
 TEST(Discover, AHoleInTheBodyLeavesTheTubeAsItWas) {
-  const double body_length = 10 * kR, tube_length = 12 * kR;
+  const double body_length = 10 * kTubeR, tube_length = 12 * kTubeR;
   CurveTube t;
   t.curve = [=](double u) { return Vec3(0, 0, u * (body_length + tube_length)); };
-  t.radius = with_body(4 * kR, body_length, [](double) { return kR; });
+  t.radius = with_body(4 * kTubeR, body_length, [](double) { return kTubeR; });
   const Mesh whole = t.mesh();
   // A hole 2r across in the body's side, away from the tube.
   const Mesh holed = without(whole, [&](const Vec3& c) {
-    return c.x() > 0 && std::abs(c.y()) < kR && std::abs(c.z() - 0.4 * body_length) < kR;
+    return c.x() > 0 && std::abs(c.y()) < kTubeR && std::abs(c.z() - 0.4 * body_length) < kTubeR;
   });
   ASSERT_LT(holed.face_count(), whole.face_count());
   ASSERT_GT(hole_edge_count(build_topology(holed)), 0u);
@@ -93,8 +93,8 @@ TEST(Discover, AHoleInTheBodyLeavesTheTubeAsItWas) {
   ASSERT_EQ(before.size(), 1u);
   ASSERT_EQ(after.size(), 1u);
   EXPECT_EQ(after[0].tip_vertex, before[0].tip_vertex);
-  EXPECT_NEAR(after[0].mean_radius, kR, 0.05 * kR);
-  EXPECT_NEAR(after[0].root.z(), before[0].root.z(), kR);
+  EXPECT_NEAR(after[0].mean_radius, kTubeR, 0.05 * kTubeR);
+  EXPECT_NEAR(after[0].root.z(), before[0].root.z(), kTubeR);
 }
 
 TEST(Discover, AnOpenSheetCutFromATubeHasNoParts) {
@@ -103,10 +103,10 @@ TEST(Discover, AnOpenSheetCutFromATubeHasNoParts) {
   // rings, measured anyway, gave parts a vertex or two long and a hundredth of a radius wide on
   // open meshes: mech-holes-shark, holes, blobby_3cc.)
   CurveTube t;
-  t.curve = [](double u) { return Vec3(0, 0, 20 * kR * u); };
-  t.radius = [](double) { return kR; };
+  t.curve = [](double u) { return Vec3(0, 0, 20 * kTubeR * u); };
+  t.radius = [](double) { return kTubeR; };
   const Mesh tube = t.mesh();
-  const Mesh trough = without(tube, [](const Vec3& c) { return c.y() > 0.3 * kR || c.z() < 0; });
+  const Mesh trough = without(tube, [](const Vec3& c) { return c.y() > 0.3 * kTubeR || c.z() < 0; });
   ASSERT_GT(hole_edge_count(build_topology(trough)), 0u);
   EXPECT_TRUE(fit::find_parts(trough, build_topology(trough)).empty());
   // sweep-fit searches the patched surface: its rim, as long as the mesh, is an open side, not a
@@ -118,15 +118,16 @@ TEST(Discover, AnOpenSheetCutFromATubeHasNoParts) {
 // the rings of surface distance from the tip run into it (CGAL's elephant-with-holes,
 // 141 holes, once listed no part and fitted its legs 0.03–0.04 long).
 struct HoledTube {
-  static constexpr double kBody = 10 * kR, kTube = 12 * kR, kHoleAt = kBody + 0.5 * kTube;
+  static constexpr double kBody = 10 * kTubeR, kTube = 12 * kTubeR, kHoleAt = kBody + 0.5 * kTube;
   Mesh whole, holed;
   HoledTube() {
     CurveTube t;
     t.curve = [](double u) { return Vec3(0, 0, u * (kBody + kTube)); };
-    t.radius = with_body(4 * kR, kBody, [](double) { return kR; });
+    t.radius = with_body(4 * kTubeR, kBody, [](double) { return kTubeR; });
     whole = t.mesh();
-    holed = without(
-        whole, [](const Vec3& c) { return c.x() > 0 && std::abs(c.y()) < 0.8 * kR && std::abs(c.z() - kHoleAt) < kR; });
+    holed = without(whole, [](const Vec3& c) {
+      return c.x() > 0 && std::abs(c.y()) < 0.8 * kTubeR && std::abs(c.z() - kHoleAt) < kTubeR;
+    });
   }
 };
 
@@ -139,7 +140,7 @@ TEST(HolePatches, AHoleIsClosedOverItsRimsOwnVerticesKeepingTheOrientation) {
   for (const std::uint32_t v : rims[0]) {
     const Vec3& p = t.holed.positions[v];
     EXPECT_GT(p.x(), 0);
-    EXPECT_LT(std::abs(p.z() - HoledTube::kHoleAt), kR);
+    EXPECT_LT(std::abs(p.z() - HoledTube::kHoleAt), kTubeR);
   }
   const std::optional<Topology> patched_or_none = fit::patched_topology(t.holed, topology);
   ASSERT_TRUE(patched_or_none.has_value());
@@ -227,8 +228,8 @@ TEST(HolePatches, AHoleInTheTubeNeitherHidesNorShortensThePart) {
   ASSERT_EQ(whole.size(), 1u);
   ASSERT_EQ(patched.size(), 1u);
   EXPECT_EQ(patched[0].tip_vertex, whole[0].tip_vertex);
-  EXPECT_NEAR(patched[0].root.z(), whole[0].root.z(), 0.5 * kR);
-  EXPECT_NEAR(patched[0].mean_radius, kR, 0.05 * kR);
+  EXPECT_NEAR(patched[0].root.z(), whole[0].root.z(), 0.5 * kTubeR);
+  EXPECT_NEAR(patched[0].mean_radius, kTubeR, 0.05 * kTubeR);
 
   // The fit from the tip, the root found: as on the whole mesh, the hole's side included.
   fit::FitOptions o;
@@ -236,13 +237,13 @@ TEST(HolePatches, AHoleInTheTubeNeitherHidesNorShortensThePart) {
   o.measure_error = true;
   const fit::FitResult a = fit::fit_sweep(t.whole, o), b = fit::fit_sweep(t.holed, o);
   ASSERT_TRUE(b.problems.empty()) << b.problems.front();
-  EXPECT_NEAR(b.traced_length, a.traced_length, 0.1 * kR);
-  EXPECT_NEAR(b.sweep.rest.frames.front().center.z(), a.sweep.rest.frames.front().center.z(), 0.5 * kR);
+  EXPECT_NEAR(b.traced_length, a.traced_length, 0.1 * kTubeR);
+  EXPECT_NEAR(b.sweep.rest.frames.front().center.z(), a.sweep.rest.frames.front().center.z(), 0.5 * kTubeR);
   // Measured: the centres stay within 0.001r of the axis (unpatched, the slices across the hole
   // are closed by their gap and their centres slip 0.15r towards the other side).
   double off = 0;
   for (const Frame& f : b.sweep.rest.frames) off = std::max(off, std::hypot(f.center.x(), f.center.y()));
-  EXPECT_LT(off, 0.02 * kR);
+  EXPECT_LT(off, 0.02 * kTubeR);
   // The way back measures to the patch over the hole, not to faces a radius away from it:
   // measured 0.0043r as on the whole mesh (unpatched, 0.0108r).
   EXPECT_LT(b.error.surface_p90, 1.2 * a.error.surface_p90);
@@ -254,7 +255,7 @@ TEST(Discover, VerticesNoFaceUsesTakeNoSourceOfTheAverage) {
   // such vertices the part had one source left, at its own tip, which then was no maximum: no part.
   const HoledTube t;
   Mesh loose = t.whole;
-  for (int i = 0; i < 40; ++i) loose.positions.push_back(Vec3(5 + i * kR, 0, 0));
+  for (int i = 0; i < 40; ++i) loose.positions.push_back(Vec3(5 + i * kTubeR, 0, 0));
   const std::vector<fit::FoundPart> whole = fit::find_parts(t.whole, build_topology(t.whole));
   const std::vector<fit::FoundPart> parts = fit::find_parts(loose, build_topology(loose));
   ASSERT_EQ(whole.size(), 1u);

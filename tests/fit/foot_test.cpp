@@ -17,16 +17,17 @@
 
 #include "sweep/assets/mesh_io.h"
 #include "sweep/io/rig_json.h"
+#include "test_constants.h"
 #include "tools/tool_runner.h"
 
 namespace sweep::test {
 namespace {
 
-constexpr double kR = 0.1;  // the leg's radius
-constexpr double kPi = std::numbers::pi;
-constexpr double kLeg = 12 * kR;    // the leg, straight down (-y)
-constexpr double kBend = 1.2 * kR;  // the ankle: a quarter turn of this radius, towards +z
-constexpr double kFoot = 3 * kR;    // the foot, forward (+z)
+constexpr double kLegR = 0.1;  // the leg's radius
+using ::sweep::test::kPi;
+constexpr double kLeg = 12 * kLegR;    // the leg, straight down (-y)
+constexpr double kBend = 1.2 * kLegR;  // the ankle: a quarter turn of this radius, towards +z
+constexpr double kFoot = 3 * kLegR;    // the foot, forward (+z)
 
 struct Station {
   Vec3 centre, tangent;
@@ -36,12 +37,12 @@ struct Station {
 Station station(double s) {
   const double bend_end = kLeg + kBend * kPi / 2;
   // A bulge halfway down the leg (a knee): 30 % wider over about a radius.
-  const double bulge = 1 + 0.3 * std::exp(-std::pow((s - 0.5 * kLeg) / kR, 2));
-  if (s <= kLeg) return {Vec3(0, -s, 0), Vec3(0, -1, 0), kR * bulge, kR * bulge};
+  const double bulge = 1 + 0.3 * std::exp(-std::pow((s - 0.5 * kLeg) / kLegR, 2));
+  if (s <= kLeg) return {Vec3(0, -s, 0), Vec3(0, -1, 0), kLegR * bulge, kLegR * bulge};
   // From the ankle on, the section spreads sideways and flattens, over the turn and a radius.
-  const double u = std::clamp((s - kLeg) / (bend_end - kLeg + kR), 0.0, 1.0);
+  const double u = std::clamp((s - kLeg) / (bend_end - kLeg + kLegR), 0.0, 1.0);
   const double w = u * u * (3 - 2 * u);
-  const double side = kR * (1 + 1.5 * w), height = kR * (1 - 0.6 * w);
+  const double side = kLegR * (1 + 1.5 * w), height = kLegR * (1 - 0.6 * w);
   if (s <= bend_end) {
     const double phi = (s - kLeg) / kBend;
     return {Vec3(0, -kLeg - kBend * std::sin(phi), kBend * (1 - std::cos(phi))), Vec3(0, -std::cos(phi), std::sin(phi)),
@@ -59,7 +60,7 @@ Mesh leg_with_foot() {
   Mesh m;
   const int segments = 32;
   std::vector<double> along;
-  for (double s = 0; s < total_length(); s += 0.25 * kR) along.push_back(s);
+  for (double s = 0; s < total_length(); s += 0.25 * kLegR) along.push_back(s);
   along.push_back(total_length());
   for (const double s : along) {
     const Station st = station(s);
@@ -84,20 +85,14 @@ Mesh leg_with_foot() {
   return m;
 }
 
-std::string point_arg(const Vec3& p) {
-  char s[128];
-  std::snprintf(s, sizeof s, "%.9g,%.9g,%.9g", p.x(), p.y(), p.z());
-  return s;
-}
-
 TEST(Foot, LegWithAKneeAndAFootSpreadingSidewaysIsAcceptedAndHonest) {
   const fs::path dir = scratch_dir("leg-with-foot");
   const Mesh mesh = leg_with_foot();
   assets::write_obj(dir / "leg.obj", mesh);
   // The toe: the foot's front corner, half a radius in from its side.
   const Station end = station(total_length());
-  const Vec3 toe = end.centre + (end.side - 0.5 * kR) * Vec3::UnitX();
-  const Vec3 root(0, -1.5 * kR, 0);
+  const Vec3 toe = end.centre + (end.side - 0.5 * kLegR) * Vec3::UnitX();
+  const Vec3 root(0, -1.5 * kLegR, 0);
   const ToolRun r =
       run_tool(SWEEP_FIT_EXE,
                quoted(dir / "leg.obj") + " -o " + quoted(dir / "rig.json") + " --name leg --tip " + point_arg(toe) +
@@ -137,7 +132,7 @@ TEST(Foot, LegWithAKneeAndAFootSpreadingSidewaysIsAcceptedAndHonest) {
     EXPECT_GT(last.z(), kBend + 0.5 * kFoot);
   }
   // Either way the sweep reaches the ankle: the leg, knee and all, is a sweep.
-  EXPECT_LT(last.y(), -kLeg + kR);
+  EXPECT_LT(last.y(), -kLeg + kLegR);
 }
 
 }  // namespace

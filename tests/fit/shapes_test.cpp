@@ -12,13 +12,14 @@
 #include "curve_tubes.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/io/rig_json.h"
+#include "test_constants.h"
 #include "tools/tool_runner.h"
 
 namespace sweep::test {
 namespace {
 
 constexpr double kR = 0.1;  // the tube's radius
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 
 struct Shape {
   std::string name;
@@ -33,12 +34,6 @@ Vec3 clicked_tip(const CurveTube& t, double off = 0.5) {
   const Vec3 tangent = t.tangent_at(t.length());
   const Vec3 side = (std::abs(tangent.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX()).cross(tangent).normalized();
   return t.axis_at(t.length()) + off * t.radius(t.length()) * side;
-}
-
-std::string point_arg(const Vec3& p) {
-  char s[128];
-  std::snprintf(s, sizeof s, "%.9g,%.9g,%.9g", p.x(), p.y(), p.z());
-  return s;
 }
 
 struct Checked {

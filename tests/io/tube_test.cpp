@@ -17,12 +17,13 @@
 #include "sweep/core/error.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/read_file.h"
+#include "test_constants.h"
 
 namespace sweep::tube {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 
 // Geometry is computed in double from sin/cos: agreement to a few ulps of unit-sized values.
 constexpr double kTol = 1e-12;

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "bind/support.h"
+#include "pc2_reader.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/bind/bind.h"
 #include "sweep/sim/fast_deform.h"
@@ -21,6 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using Frames = std::vector<std::vector<Vec3f>>;
+using test::read_pc2;
 
 // The straight tube of tests/bind/support.h: 41 rings of 24 vertices (ring r at z = r/40), then
 // the two cap centres; the hand-made sweep has K = 6 sections and n = 8 radii.
@@ -31,23 +33,6 @@ struct Tube {
   Rig rig = test::rig_of({test::straight_sweep()});
   bind::Binding binding = bind::bind_rig(rig, mesh);
 };
-
-Frames read_pc2(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[12];
-  std::int32_t version = 0, points = 0, samples = 0;
-  float start = 0, rate = 0;
-  in.read(magic, 12);
-  in.read(reinterpret_cast<char*>(&version), 4);
-  in.read(reinterpret_cast<char*>(&points), 4);
-  in.read(reinterpret_cast<char*>(&start), 4);
-  in.read(reinterpret_cast<char*>(&rate), 4);
-  in.read(reinterpret_cast<char*>(&samples), 4);
-  Frames f(samples, std::vector<Vec3f>(points));
-  for (auto& frame : f) in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
-  EXPECT_TRUE(in.good());
-  return f;
-}
 
 // Bakes `scene` to a .pc2 (and a .glb when asked) in a fresh folder and reads the .pc2 back.
 Frames bake(const Tube& tube, const Scene& scene, bool exact, const fs::path& glb = {}) {

@@ -14,11 +14,13 @@
 #include "bind/support.h"
 #include "core/beam_tubes.h"
 #include "core/sample_sweeps.h"
+#include "pc2_reader.h"
 #include "sim/sweep_pose.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/bind/bind.h"
 #include "sweep/core/contact_rows_detail.h"
 #include "sweep/sim/simulator.h"
+#include "test_constants.h"
 
 using sweep::assets::run_bake;
 
@@ -29,8 +31,9 @@ using test_pose::max_difference;
 using test_pose::pose;
 
 namespace fs = std::filesystem;
+using test::read_pc2;
 using Vec3f = Eigen::Vector3f;
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 
 // Root at the origin, one movable section at z = 1: positional spring of mass m, f0, ζ.
 Rig one_section(double mass, double frequency_hz, double zeta) {
@@ -39,13 +42,6 @@ Rig one_section(double mass, double frequency_hz, double zeta) {
   def.name = "part";
   def.springs[1].positional = {mass, frequency_hz, zeta};
   rig.sweeps.push_back(def);
-  return rig;
-}
-
-Rig bent_part() {
-  Rig rig;
-  rig.sweeps.push_back(test::sweep_def(test::irregular_shape(7, 8)));
-  rig.sweeps.back().name = "part";
   return rig;
 }
 
@@ -114,7 +110,7 @@ TEST(Body, AKickLeavesThePartStillInTheWorld) {
 TEST(Body, MovingAtConstantVelocityDeformsNothing) {
   // Moving from the start (a key at t = 0: the parts begin at rest in a moving body), straight and
   // at one speed: no acceleration, no load, no motion — however fast.
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   const std::vector<double> rest = pose(ElasticSweep(rig.sweeps[0]));
   const BodyPath path({key(0, Vec3(0, 0, 0)), key(10, Vec3(300, -40, 25))}, BodyInterpolation::linear);
   const Scene scene = scene_of(path, 3.0);  // (the simulator keeps a reference)
@@ -213,7 +209,7 @@ TEST(Body, CoriolisDoesNoWorkTheRotatingFramesEnergyIsKept) {
 TEST(Body, ATeleportPutsThePartsToRestInsteadOfWhipping) {
   // Walking, then a cut: the body is elsewhere 1/100 s later. With teleports (the default) the
   // parts are at rest in the new place; without, the jump whips them.
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   const BodyPath path({key(0, Vec3::Zero()), key(0.5, Vec3(0.1, 0, 0)), key(1.0, Vec3(0.6, 0, 0)),
                        key(1.01, Vec3(40, 0, 0)), key(3.0, Vec3(41, 0, 0))},
                       BodyInterpolation::linear);
@@ -258,7 +254,7 @@ std::map<long long, std::vector<double>> bake_poses(const Rig& rig, const Scene&
 TEST(Body, AnyFrameRateGivesTheSameMotionWithTheBodyMoving) {
   // Kicks at corners between frame times (0.4321 s, 1.2345 s), turning pieces and a cubic path
   // alike: the frame rate changes nothing.
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   const Quat turn(Eigen::AngleAxisd(0.7, Vec3(0.2, 1, 0.1).normalized()));
   for (const BodyInterpolation interpolation : {BodyInterpolation::linear, BodyInterpolation::cubic}) {
     const BodyPath path({key(0.4321, Vec3::Zero()), key(0.9, Vec3(2, 0.3, 0), turn),
@@ -283,7 +279,7 @@ TEST(Body, AnyFrameRateGivesTheSameMotionWithTheBodyMoving) {
 }
 
 TEST(Body, GustyWindIsTheSameEveryRunAndAtAnyFrameRateAndFollowsItsSeed) {
-  Rig rig = bent_part();
+  Rig rig = test::bent_part();
   Material m;
   m.youngs_modulus = 2e5;
   m.metres_per_unit = 0.1;
@@ -322,24 +318,12 @@ TEST(Body, GustyWindIsTheSameEveryRunAndAtAnyFrameRateAndFollowsItsSeed) {
 
 TEST(Body, AStillBodyWakesNothing) {
   // A path whose keys all agree is a body at rest: no part is driven or stepped.
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   const Scene scene = scene_of(BodyPath({key(0, Vec3(1, 2, 3)), key(1, Vec3(1, 2, 3))}, BodyInterpolation::cubic), 1.0);
   Simulator sim(rig, scene);
   for (int k = 0; k < 30; ++k) sim.advance_frame();
   EXPECT_FALSE(sim.is_driven(0));
   EXPECT_EQ(sim.steps_taken(0), 0);
-}
-
-std::vector<std::vector<Vec3f>> read_pc2(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  char header[32];
-  in.read(header, 32);
-  std::int32_t points = 0, samples = 0;
-  std::memcpy(&points, header + 16, 4);
-  std::memcpy(&samples, header + 28, 4);
-  std::vector<std::vector<Vec3f>> f(samples, std::vector<Vec3f>(points));
-  for (auto& frame : f) in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
-  return f;
 }
 
 TEST(Body, FilesCarryTheBodyPcTwoInTheWorldGlbAsTheNodesAnimation) {

@@ -14,11 +14,12 @@
 #include "sim/surface_probes.h"
 #include "sweep/core/error.h"
 #include "sweep/sim/simulator.h"
+#include "test_constants.h"
 
 namespace sweep::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 using test_probes::for_each_surface_sample;
 using test_probes::penetration;
 using test_probes::tip_impulse;

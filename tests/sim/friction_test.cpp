@@ -18,6 +18,7 @@
 
 #include "core/beam_tubes.h"
 #include "sweep/sim/simulator.h"
+#include "test_constants.h"
 
 namespace sweep::sim {
 namespace {
@@ -25,7 +26,7 @@ namespace {
 using test::beam::kRadius;
 using test::beam::kScale;
 
-constexpr double kG = 9.81;        // m/s²
+using ::sweep::test::kG;           // m/s²
 constexpr double kStiff = 2e9;     // Pa: lags of at most ~1.5% of the length at μ = 0.4 (small deflection)
 constexpr double kSpeed = 0.5;     // the body's speed along +x, mesh units/s (5 cm/s)
 constexpr double kSettled = 2.0;   // s: the first bending mode (~12 rad/s, ζ = 0.5) has decayed to e^-12

@@ -11,12 +11,13 @@
 
 #include "core/beam_tubes.h"
 #include "sweep/core/elastic_sweep.h"
+#include "test_constants.h"
 
 namespace sweep::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kG = 9.81;
+using ::sweep::test::kG;  // m/s²
+using ::sweep::test::kPi;
 constexpr double kLengthUnits = 20;  // 2 m at the tubes' 0.1 m per unit
 
 // The 2 m tube along z, straight or bent at rest into a quarter circle in the x–z plane.

@@ -16,15 +16,8 @@ namespace {
 using test_pose::max_difference;
 using test_pose::pose;
 
-Rig bent_part() {
-  Rig rig;
-  rig.sweeps.push_back(test::sweep_def(test::irregular_shape(7, 8)));
-  rig.sweeps.back().name = "part";
-  return rig;
-}
-
 Rig material_part() {
-  Rig rig = bent_part();
+  Rig rig = test::bent_part();
   Material m;
   m.youngs_modulus = 2e5;
   m.metres_per_unit = 0.1;
@@ -59,7 +52,7 @@ BodyPath walk() {
 // advance_to in irregular slices (1/60, 1/144, 1/30 s and 7/720 s mixed) lands on the same pose at
 // the same times as regular 1/60 s frames: forces switching between steps, the body on its path.
 TEST(Live, IrregularFrameTimesGiveTheSamePoses) {
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   Scene scene;
   scene.body = walk();
   scene.forces = {push(0.1234, 0.61, Vec3(1, 2, 0.5)), push(0.95, 0.95, Vec3(0, 0, 1.5))};
@@ -89,7 +82,7 @@ TEST(Live, IrregularFrameTimesGiveTheSamePoses) {
 
 // The scene player's frames and advance_to the same times are the same motion.
 TEST(Live, AdvanceToFrameTimesIsAdvanceFrame) {
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   Scene scene;
   scene.fps = 24;
   scene.body = walk();
@@ -105,7 +98,7 @@ TEST(Live, AdvanceToFrameTimesIsAdvanceFrame) {
 // A body pose given before each advance (the path sampled at the frame's end) moves the body as
 // the same keyed path in the scene does: the live pieces are that path's pieces cut at the frames.
 TEST(Live, BodyPosesGivenEachFrameAreTheScenesPath) {
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   Scene keyed;
   keyed.body = walk();
   Simulator from_scene(rig, keyed), live(rig, Scene{});
@@ -128,7 +121,7 @@ TEST(Live, BodyPosesGivenEachFrameAreTheScenesPath) {
 // Forces added live, as they come, are the scene's forces: held ones and an impulse, at times
 // between internal steps; old ones are dropped as new ones come, without changing the motion.
 TEST(Live, ForcesAddedLiveAreTheScenesForces) {
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   Scene scene;
   std::vector<SceneForce> forces;
   for (int k = 0; k < 12; ++k) {
@@ -204,7 +197,7 @@ TEST(Live, WindGivenLiveIsTheScenesWind) {
 }
 
 TEST(Live, BadLiveInputIsRefused) {
-  const Rig rig = bent_part();
+  const Rig rig = test::bent_part();
   Simulator sim(rig, Scene{});
   sim.advance_to(0.5);
   EXPECT_THROW(sim.advance_to(0.4), Error);

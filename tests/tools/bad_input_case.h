@@ -5,6 +5,7 @@
 // temporary, no input touched); a case expected to succeed names the files it must write. Other
 // files instantiate the same test with their own cases.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <functional>
 #include <map>
@@ -28,6 +29,12 @@ struct Case {
   std::vector<std::string> creates = {};  // exit 0 only: files the run must write
   bool one_line = true;                   // stderr is exactly one "error: " line
 };
+
+// A named pipe at `p` (an input or output that is not a regular file).
+inline void make_fifo(const fs::path& p) {
+  fs::remove(p);
+  ASSERT_EQ(::mkfifo(p.c_str(), 0644), 0);
+}
 
 // Test names, not bytes, in gtest's messages.
 inline void PrintTo(const Case& c, std::ostream* os) {

@@ -80,12 +80,6 @@ const char* const kGltfIndexPast =
                 {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})";
 const std::string kBom = "\xEF\xBB\xBF";
 
-// A FIFO in place of a file (a reader would wait on it forever).
-void make_fifo(const fs::path& p) {
-  fs::remove(p);
-  ASSERT_EQ(::mkfifo(p.c_str(), 0644), 0);
-}
-
 // An invalid UTF-8 byte in a file name.
 const std::string kBadUtf8 = "\xff";
 

@@ -21,11 +21,6 @@
 namespace sweep::test {
 namespace {
 
-void make_fifo(const fs::path& p) {
-  fs::remove(p);
-  ASSERT_EQ(::mkfifo(p.c_str(), 0644), 0);
-}
-
 std::string fit_tube(const Workspace& ws, const std::string& extra) {
   return quoted(ws / "tube.obj") + " -o " + quoted(ws / "new.rig.json") + " --name tube" + extra;
 }

@@ -20,6 +20,14 @@ namespace sweep::test {
 
 namespace fs = std::filesystem;
 
+// A point as the tools' --root and --tip take it: "x,y,z", exact to a float's precision and more.
+template <class Point>
+std::string point_arg(const Point& p) {
+  char s[128];
+  std::snprintf(s, sizeof s, "%.9g,%.9g,%.9g", double(p.x()), double(p.y()), double(p.z()));
+  return s;
+}
+
 struct ToolRun {
   int code = -1;
   std::string out, err;
