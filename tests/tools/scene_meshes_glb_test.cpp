@@ -29,7 +29,7 @@ using Json = nlohmann::json;
 using Vec3 = Eigen::Vector3d;
 using Mat4 = Eigen::Matrix4d;
 
-struct Piece {
+struct NodeMesh {
   std::string name, material;
   Mat4 matrix = Mat4::Identity();  // the node's, local → world
   std::vector<Vec3> local;         // as written (exact in float)
@@ -38,8 +38,8 @@ struct Piece {
 };
 
 // A box of half sizes h.
-Piece box(const std::string& name, const Vec3& h) {
-  Piece p;
+NodeMesh box(const std::string& name, const Vec3& h) {
+  NodeMesh p;
   p.name = name;
   p.material = "Red";
   for (int k = 0; k < 8; ++k)
@@ -50,8 +50,8 @@ Piece box(const std::string& name, const Vec3& h) {
 }
 
 // A closed tube along +z from 0 to 1 (radius 0.1): 11 rings of 8, a centre at each end.
-Piece tube() {
-  Piece p;
+NodeMesh tube() {
+  NodeMesh p;
   p.name = "Tail";
   p.material = "Blue";
   constexpr int kRings = 11, kSegments = 8;
@@ -78,10 +78,10 @@ Piece tube() {
   return p;
 }
 
-std::vector<Piece> pieces() {
-  Piece body = box("Body", Vec3(0.3, 0.2, 0.25));
+std::vector<NodeMesh> pieces() {
+  NodeMesh body = box("Body", Vec3(0.3, 0.2, 0.25));
   body.matrix(2, 3) = -0.5;
-  Piece prop = box("Prop", Vec3(0.1, 0.2, 0.05));
+  NodeMesh prop = box("Prop", Vec3(0.1, 0.2, 0.05));
   prop.matrix << 0, -1, 0, 2, 1, 0, 0, 0.5, 0, 0, 1, -1, 0, 0, 0, 1;  // a quarter turn about z, moved
   return {body, tube(), prop};
 }
@@ -89,7 +89,7 @@ std::vector<Piece> pieces() {
 const std::map<std::string, std::array<double, 4>> kColours = {{"Red", {0.8, 0.1, 0.1, 1}},
                                                                {"Blue", {0.1, 0.2, 0.9, 1}}};
 
-std::string collada(const std::vector<Piece>& list) {
+std::string collada(const std::vector<NodeMesh>& list) {
   std::ostringstream geometries, nodes, effects, materials;
   geometries.precision(9);
   nodes.precision(17);
@@ -100,7 +100,7 @@ std::string collada(const std::vector<Piece>& list) {
     materials << "<material id=\"" << name << "\" name=\"" << name << "\"><instance_effect url=\"#" << name
               << "-fx\"/></material>\n";
   }
-  for (const Piece& p : list) {
+  for (const NodeMesh& p : list) {
     geometries << "<geometry id=\"" << p.name << "-mesh\" name=\"" << p.name << "\"><mesh><source id=\"" << p.name
                << "-p\"><float_array id=\"" << p.name << "-pa\" count=\"" << 3 * p.local.size() << "\">";
     for (const Vec3& v : p.local) geometries << v.x() << ' ' << v.y() << ' ' << v.z() << ' ';
@@ -137,7 +137,7 @@ TEST(SceneMeshesGlb, EveryMeshOfAColladaFileIsKeptTheStillOnesWhereTheFilePlaces
   const fs::path top = scratch_dir("scene-meshes-glb"), work = top / "work", io = top / "io";
   fs::create_directories(work);
   fs::create_directories(io);
-  const std::vector<Piece> list = pieces();
+  const std::vector<NodeMesh> list = pieces();
   spit(work / "three.dae", collada(list));
   const ToolRun fit = run_tool(SWEEP_FIT_EXE,
                                quoted(work / "three.dae") + " --mesh Tail -o " + quoted(work / "rig.json") +
@@ -161,7 +161,7 @@ TEST(SceneMeshesGlb, EveryMeshOfAColladaFileIsKeptTheStillOnesWhereTheFilePlaces
   const std::string pc2 = slurp(work / "out.pc2");
   double worst_still = 0, worst_moving = 0, moved = 0;
   for (std::size_t k = 0; k < list.size(); ++k) {
-    const Piece& piece = list[k];
+    const NodeMesh& piece = list[k];
     const Json& node = out.json["nodes"][k];
     EXPECT_EQ(node["name"], piece.name);
     ASSERT_TRUE(node.contains("mesh"));
