@@ -23,12 +23,9 @@
 // kept within a cell) and written back from L1 scratch run by run or vertex by vertex. Per vertex
 // the loop reads only u, w, s·cos θ and s·sin θ (16 bytes; z too in blocks with cap vertices) and
 // writes 12. Each block of at most kBlockVertices vertices of one piece is done in short loops —
-// radii, then positions over the block — 8 vertices a vector with AVX2 (no FMA) and 4 on baseline
-// x86-64. The radii: on baseline segment by segment (each segment's cubic is loop invariant); with
-// AVX2 each vertex's cubics gathered from the two station rows by its cell, 8 vertices at a time
-// whatever the segments' lengths (a scanned part's segments are short: ~4 vertices on the
-// diplodocus, where the segment loop spent most of its work on set-up and padding lanes). Both
-// forms give the same bits (KernelForm). Layout and thresholds were chosen by
+// radii segment by segment (each segment's cubic is loop invariant), then positions over the
+// block — vectorized by the compiler, 8 vertices a vector with AVX2 (no FMA) and 4 on baseline
+// x86-64; both forms give the same bits (KernelForm). Layout and thresholds were chosen by
 // measurement (measurements: BENCHMARKS.md, section "Layout and thread thresholds").
 //
 // Results do not depend on the thread count, the vertex order or the kernel form: every vertex is
@@ -66,7 +63,7 @@ inline constexpr std::size_t kSplitLoneSweepVertices = 4096;
 inline constexpr std::uint32_t kBlockVertices = 256;
 
 // The compiled forms of the per-vertex kernel (deform_vertices). `automatic` is what production
-// runs: the AVX2 form on a CPU with AVX2, baseline x86-64 otherwise, picked once at first use.
+// runs: the AVX2 form on a CPU with AVX2, baseline x86-64 otherwise, picked once at load time.
 // Neither form uses FMA and both do the same IEEE operations in the same order, so they give the
 // same bits; forcing one form is how the tests check that (tests/sim/fast_deform_test.cpp).
 enum class KernelForm { automatic, baseline, avx2 };

@@ -1,7 +1,6 @@
 // The fast deformation path, per frame: rebuilding the bound vertices from the station table
 // (fast_deform.h) — the per-block kernel in its compiled forms (AVX2 and baseline x86-64), the
 // blend-zone fix-up, and the drivers that tabulate and rebuild one sweep or a frame's sweeps.
-#include <immintrin.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -37,78 +36,36 @@ struct Kernel {
 // Compiled twice (target_clones): for AVX2 and for baseline x86-64, picked at load time. Neither
 // enables FMA, and the vectorized and scalar forms do the same IEEE operations in the same order,
 // so both give the same bits.
-// The radii of a block's vertices, 8 at a time, each vertex's cell cubics gathered from the two
-// station rows (`cell4`: 4 × its angle cell, padded to whole vectors with valid cells): the same
-// IEEE operations in the same order as the segment loop of deform_block_impl, so the same bits.
-// (The diplodocus's blocks hold ~4 vertices a segment: there the segment loop spends most of its
-// work on each segment's set-up and on the lanes of its padding.)
-__attribute__((target("avx2"))) void radii_gathered(const float* A, const float* B, const std::int32_t* cell4,
-                                                    const float* w, const float* u, float floor, std::ptrdiff_t m,
-                                                    float* r) {
-  const float* pa = A + kCells;
-  const float* pb = B + kCells;
-  const __m256 lowest = _mm256_set1_ps(floor);
-  for (std::ptrdiff_t i = 0; i < m; i += kPad) {
-    const __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cell4 + i));
-    const __m256 a0 = _mm256_i32gather_ps(pa, c, 4), a1 = _mm256_i32gather_ps(pa + 1, c, 4);
-    const __m256 a2 = _mm256_i32gather_ps(pa + 2, c, 4), a3 = _mm256_i32gather_ps(pa + 3, c, 4);
-    const __m256 d0 = _mm256_sub_ps(_mm256_i32gather_ps(pb, c, 4), a0);
-    const __m256 d1 = _mm256_sub_ps(_mm256_i32gather_ps(pb + 1, c, 4), a1);
-    const __m256 d2 = _mm256_sub_ps(_mm256_i32gather_ps(pb + 2, c, 4), a2);
-    const __m256 d3 = _mm256_sub_ps(_mm256_i32gather_ps(pb + 3, c, 4), a3);
-    const __m256 wv = _mm256_loadu_ps(w + i), uv = _mm256_loadu_ps(u + i);
-    // a0 + w·(a1 + w·(a2 + w·a3)), and the same for d
-    const __m256 ra = _mm256_add_ps(
-        a0, _mm256_mul_ps(wv, _mm256_add_ps(a1, _mm256_mul_ps(wv, _mm256_add_ps(a2, _mm256_mul_ps(wv, a3))))));
-    const __m256 rd = _mm256_add_ps(
-        d0, _mm256_mul_ps(wv, _mm256_add_ps(d1, _mm256_mul_ps(wv, _mm256_add_ps(d2, _mm256_mul_ps(wv, d3))))));
-    // std::max(x, floor) is (x < floor ? floor : x), which is maxps(floor, x), NaN included.
-    _mm256_storeu_ps(r + i, _mm256_max_ps(lowest, _mm256_add_ps(ra, _mm256_mul_ps(uv, rd))));
-  }
-}
-
-template <bool kAxial, bool kGather>
+template <bool kAxial>
 [[gnu::always_inline]] inline void deform_block_impl(const Kernel& k, const float* A, const float* B,
                                                      const Segment* seg, std::uint32_t begin, std::uint32_t end,
                                                      const Run* runs) {
   const std::uint32_t m = end - begin;
   float r[kBlockVertices + kPad], ox[kBlockVertices], oy[kBlockVertices], oz[kBlockVertices];
 
-  // 1. Radii. With AVX2, every vertex's cell gathered; else one angle-cell segment at a time, the
-  // cell's cubic at both stations loop invariant.
-  if constexpr (kGather) {
-    alignas(32) std::int32_t cell4[kBlockVertices + kPad];
-    for (std::uint32_t lo = begin;; ++seg) {
-      const std::int32_t c = 4 * static_cast<std::int32_t>(seg->cell);
-      for (std::uint32_t v = lo; v < seg->end; ++v) cell4[v - begin] = c;
-      if (seg->end >= end) break;
-      lo = seg->end;
+  // 1. Radii, one angle-cell segment at a time: the cell's cubic at both stations is loop
+  // invariant.
+  for (std::uint32_t lo = begin;; ++seg) {
+    const std::uint32_t hi = seg->end;
+    const float* pa = A + kCells + 4 * seg->cell;
+    const float* pb = B + kCells + 4 * seg->cell;
+    const float a0 = pa[0], a1 = pa[1], a2 = pa[2], a3 = pa[3];
+    const float d0 = pb[0] - a0, d1 = pb[1] - a1, d2 = pb[2] - a2, d3 = pb[3] - a3;
+    // Pointer-and-count form (not uint32 indices, whose wrap-around defeats the vectorizer).
+    const float* cw = k.w + lo;
+    const float* cu = k.u + lo;
+    float* cr = r + (lo - begin);
+    // Rounded up to whole vectors: the extra radii are overwritten by the next segment's or lie
+    // past the block (the arrays are padded for the reads).
+    const std::ptrdiff_t len = (static_cast<std::ptrdiff_t>(hi) - static_cast<std::ptrdiff_t>(lo) + kPad - 1) & -kPad;
+    for (std::ptrdiff_t i = 0; i < len; ++i) {
+      const float w = cw[i], u = cu[i];
+      const float ra = a0 + w * (a1 + w * (a2 + w * a3));
+      const float rd = d0 + w * (d1 + w * (d2 + w * d3));
+      cr[i] = std::max(ra + u * rd, k.floor);
     }
-    for (std::uint32_t v = m; v < m + kPad; ++v) cell4[v] = 0;
-    radii_gathered(A, B, cell4, k.w + begin, k.u + begin, k.floor, m, r);
-  } else {
-    for (std::uint32_t lo = begin;; ++seg) {
-      const std::uint32_t hi = seg->end;
-      const float* pa = A + kCells + 4 * seg->cell;
-      const float* pb = B + kCells + 4 * seg->cell;
-      const float a0 = pa[0], a1 = pa[1], a2 = pa[2], a3 = pa[3];
-      const float d0 = pb[0] - a0, d1 = pb[1] - a1, d2 = pb[2] - a2, d3 = pb[3] - a3;
-      // Pointer-and-count form (not uint32 indices, whose wrap-around defeats the vectorizer).
-      const float* cw = k.w + lo;
-      const float* cu = k.u + lo;
-      float* cr = r + (lo - begin);
-      // Rounded up to whole vectors: the extra radii are overwritten by the next segment's or lie
-      // past the block (the arrays are padded for the reads).
-      const std::ptrdiff_t len = (static_cast<std::ptrdiff_t>(hi) - static_cast<std::ptrdiff_t>(lo) + kPad - 1) & -kPad;
-      for (std::ptrdiff_t i = 0; i < len; ++i) {
-        const float w = cw[i], u = cu[i];
-        const float ra = a0 + w * (a1 + w * (a2 + w * a3));
-        const float rd = d0 + w * (d1 + w * (d2 + w * d3));
-        cr[i] = std::max(ra + u * rd, k.floor);
-      }
-      if (hi >= end) break;
-      lo = hi;
-    }
+    if (hi >= end) break;
+    lo = hi;
   }
 
   // 2. Positions over the block: station A and the difference to B are loop invariants.
@@ -182,32 +139,44 @@ template <bool kAxial, bool kGather>
   }
 }
 
-// The kernel compiled for baseline x86-64 and for AVX2 (which gathers the radii's cubics):
-// production picks one by the CPU (KernelForm::automatic), tests force either to compare them
-// (FastDeformer::force_kernel_form).
+__attribute__((target_clones("avx2", "default"))) void deform_block(const Kernel& k, const float* A, const float* B,
+                                                                    const Segment* seg, std::uint32_t begin,
+                                                                    std::uint32_t end, const Run* runs) {
+  deform_block_impl<false>(k, A, B, seg, begin, end, runs);
+}
+
+__attribute__((target_clones("avx2", "default"))) void deform_block_axial(const Kernel& k, const float* A,
+                                                                          const float* B, const Segment* seg,
+                                                                          std::uint32_t begin, std::uint32_t end,
+                                                                          const Run* runs) {
+  deform_block_impl<true>(k, A, B, seg, begin, end, runs);
+}
+
+// The same kernels compiled for one target only, for tests that compare the forms
+// (FastDeformer::force_kernel_form); production calls the target_clones above.
 using BlockFunction = void (*)(const Kernel&, const float*, const float*, const Segment*, std::uint32_t, std::uint32_t,
                                const Run*);
 
 void deform_block_baseline(const Kernel& k, const float* A, const float* B, const Segment* seg, std::uint32_t begin,
                            std::uint32_t end, const Run* runs) {
-  deform_block_impl<false, false>(k, A, B, seg, begin, end, runs);
+  deform_block_impl<false>(k, A, B, seg, begin, end, runs);
 }
 
 void deform_block_axial_baseline(const Kernel& k, const float* A, const float* B, const Segment* seg,
                                  std::uint32_t begin, std::uint32_t end, const Run* runs) {
-  deform_block_impl<true, false>(k, A, B, seg, begin, end, runs);
+  deform_block_impl<true>(k, A, B, seg, begin, end, runs);
 }
 
 __attribute__((target("avx2"))) void deform_block_avx2(const Kernel& k, const float* A, const float* B,
                                                        const Segment* seg, std::uint32_t begin, std::uint32_t end,
                                                        const Run* runs) {
-  deform_block_impl<false, true>(k, A, B, seg, begin, end, runs);
+  deform_block_impl<false>(k, A, B, seg, begin, end, runs);
 }
 
 __attribute__((target("avx2"))) void deform_block_axial_avx2(const Kernel& k, const float* A, const float* B,
                                                              const Segment* seg, std::uint32_t begin, std::uint32_t end,
                                                              const Run* runs) {
-  deform_block_impl<true, true>(k, A, B, seg, begin, end, runs);
+  deform_block_impl<true>(k, A, B, seg, begin, end, runs);
 }
 
 // Plain loops over the flat floats, which the compiler vectorizes (the Eigen per-vertex product
@@ -286,16 +255,21 @@ void FastDeformer::run_blocks(float* out, bool grouped, bool split) const {
   k.out = out;
   k.grouped = grouped;
   const float* const tab = stations_.data();
-  static const bool kHasAvx2 = cpu_has_avx2();
-  const bool avx2 = form_ == KernelForm::automatic ? kHasAvx2 : form_ == KernelForm::avx2;
   const auto run_block = [&](std::ptrdiff_t bi) {
     const Block& blk = blocks_[bi];
     const float* A = tab + static_cast<std::size_t>(blk.span) * row_;
     const Segment* seg = segments_.data() + blk.segments;
     const Run* runs = blk.runs == kNoRuns ? nullptr : runs_.data() + blk.runs;
-    const BlockFunction kernel = blk.axial ? (avx2 ? deform_block_axial_avx2 : deform_block_axial_baseline)
-                                           : (avx2 ? deform_block_avx2 : deform_block_baseline);
-    kernel(k, A, A + row_, seg, blk.begin, blk.end, runs);
+    if (form_ != KernelForm::automatic) {
+      const bool avx2 = form_ == KernelForm::avx2;
+      const BlockFunction forced = blk.axial ? (avx2 ? deform_block_axial_avx2 : deform_block_axial_baseline)
+                                             : (avx2 ? deform_block_avx2 : deform_block_baseline);
+      forced(k, A, A + row_, seg, blk.begin, blk.end, runs);
+    } else if (blk.axial) {
+      deform_block_axial(k, A, A + row_, seg, blk.begin, blk.end, runs);
+    } else {
+      deform_block(k, A, A + row_, seg, blk.begin, blk.end, runs);
+    }
   };
   // Serial without entering a parallel region: even on one thread, libgomp allocates a team for
   // each region entered, and a game's frame must not allocate.
