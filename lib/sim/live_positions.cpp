@@ -110,6 +110,7 @@ void LivePositions::world(const Eigen::Matrix3f& rotation, const Vec3f& translat
   // The parts' vertices: carried as a block (the banded product, contiguous), then copied to their
   // places, rather than each product computed on its own at its scattered place (scalar code, ~3x
   // the instructions).
+  if (points_.empty()) return;
   transform_banded(points_.data()->data(), points_.size(), m, world_points_.data()->data());
   const Vec3f* from = world_points_.data();
   for (std::size_t i = 0; i < target_.size(); ++i) {
