@@ -372,6 +372,14 @@ int sweep_joints(const sweep_instance* instance, float* out_16xN) {
   });
 }
 
+int sweep_set_predictor(sweep_instance* instance, int on) {
+  return guarded("sweep_set_predictor", [&] {
+    usable(instance);
+    if (on != 0 && on != 1) fail(ErrorCategory::usage, "on must be 0 or 1, got " + std::to_string(on));
+    instance->simulator->set_midpoint_loads(on == 1);
+  });
+}
+
 int sweep_set_skin(sweep_instance* instance, int joints_per_sweep, int ring_joints) {
   return guarded("sweep_set_skin", [&] {
     usable(instance);

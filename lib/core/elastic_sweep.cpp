@@ -467,7 +467,7 @@ void ElasticSweep::step(double dt) {
   assert(dt > 0);
   const bool exact = exact_chain();
   gather_loads(forces_);
-  if (!forces_.empty() || body_loads()) {
+  if (midpoint_loads_ && (!forces_.empty() || body_loads())) {
     // Midpoint rule for follower loads: predict the pose at dt/2 with the start-of-step loads,
     // re-split the forces there, and take the whole step from the start with those loads. A load
     // that does not depend on the pose is the same at both places, so the step stays exact for it.
@@ -519,6 +519,7 @@ void ElasticSweep::copy_state_from(const ElasticSweep& other) {
   next_id_ = other.next_id_;
   integrator_ = other.integrator_;
   use_exact_ = other.use_exact_;
+  midpoint_loads_ = other.midpoint_loads_;
   body_ = other.body_;
   keyed_acceleration_ = other.keyed_acceleration_;  // reuses its capacity
 }

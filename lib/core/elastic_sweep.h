@@ -53,6 +53,10 @@ class ElasticSweep {
   // with the start-of-step loads), so the step is second order in dt for them and exact for loads
   // that do not depend on the pose.
   void step(double dt);
+  // Off: step() takes the start-of-step loads over the whole step instead (no predictor: half the
+  // step's work, its loads' pose error O(dt) rather than O(dt²); loads that do not depend on the
+  // pose are unchanged). libsweep offers it (sweep_set_predictor); on by default, as every bake runs.
+  void set_midpoint_loads(bool on) { midpoint_loads_ = on; }
 
   // Copies the motion (spring states, forces, deformed shape) of `other`, a sweep built from the
   // same definition, without allocating once sized: how a simulator peeks ahead to an output time
@@ -202,6 +206,7 @@ class ElasticSweep {
   // w in A_i's axes) and is loaded into it for each step, kick or energy read (allocation-free).
   mutable std::optional<ChainDynamics> exact_;
   bool use_exact_ = false;
+  bool midpoint_loads_ = true;
   std::vector<double> exact_torque_;  // scratch: the forces' joint torques in N·m
   void step_exact(double dt);
   void sync_exact() const;  // exact_'s state from rotational_

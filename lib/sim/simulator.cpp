@@ -331,6 +331,13 @@ double Simulator::earliest_grid_time() const {
   return t;
 }
 
+void Simulator::set_midpoint_loads(bool on) {
+  for (SweepState& s : sweeps_) {
+    s.body.set_midpoint_loads(on);
+    s.view.set_midpoint_loads(on);
+  }
+}
+
 void Simulator::set_body_pose(const Quat& rotation, const Vec3& translation) {
   if (!rotation.coeffs().allFinite() || !translation.allFinite() || std::abs(rotation.norm() - 1) > 1e-6)
     fail(ErrorCategory::usage, "the body's pose must be finite, its rotation a unit quaternion");

@@ -78,6 +78,9 @@ class Simulator {
   // Whether a frame steps its sweeps side by side on OpenMP's threads (the default) or all on the
   // calling thread; the results are the same bits either way.
   void set_parallel(bool on) { parallel_ = on; }
+  // Whether the sweeps' steps evaluate pose-dependent loads at the predicted mid-step pose (the
+  // default, as every bake runs) or take the start-of-step loads (ElasticSweep::set_midpoint_loads).
+  void set_midpoint_loads(bool on);
 
   int sweep_count() const { return static_cast<int>(sweeps_.size()); }
   // Sweep i at the current frame's time.

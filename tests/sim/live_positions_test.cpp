@@ -102,5 +102,29 @@ TEST(LivePositions, GivesTheBitsOfAMeshOrderDeformAndTransform) {
   EXPECT_GT(differing(got, rigid), 3 * kPartVertices);
 }
 
+// The banded product that carries the mesh reads two floats either side of each vertex and works
+// 8 vertices at a time from the second: every mesh size around those edges (1 to 40 vertices, no
+// part) comes out as transform_positions gives it, coordinate by coordinate.
+TEST(LivePositions, CarriesMeshesOfEverySizeAsTransformPositions) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coordinate(-3.0f, 3.0f);
+  const Eigen::Matrix3f turn = Eigen::AngleAxisf(-1.1f, Vec3f(0.5f, -0.2f, 1.0f).normalized()).toRotationMatrix();
+  const Vec3f move(-0.75f, 2.0f, 0.5f);
+  for (int n = 1; n <= 40; ++n) {
+    std::vector<Vec3f> rest(static_cast<std::size_t>(n));
+    for (Vec3f& p : rest) p = Vec3f(coordinate(rng), coordinate(rng), coordinate(rng));
+    const LivePositions live(rest, std::span<const FastDeformer* const>());
+    // Guards either side of the output: the copy writes exactly its 3n floats.
+    std::vector<float> expected(3 * n), got(3 * n + 6, 7.0f);
+    transform_positions(rest, turn, move, expected.data());
+    live.world(turn, move, got.data() + 3);
+    EXPECT_EQ(differing(std::vector<float>(got.begin() + 3, got.end() - 3), expected), 0) << n << " vertices";
+    for (int g = 0; g < 3; ++g) {
+      EXPECT_EQ(got[g], 7.0f) << n;
+      EXPECT_EQ(got[3 * n + 3 + g], 7.0f) << n;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sweep::sim

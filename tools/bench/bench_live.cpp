@@ -14,9 +14,11 @@
 //    sweep_positions (the moved parts deformed, the world-space copy an engine uploads) or
 //    sweep_joints (the skinned export's joints, for an engine that skins on the GPU), timed apart;
 //    with sweep-sim's internal step (settings "step": 1/480 s) and with the live default (settings
-//    that give none: one step a 60 fps frame), also back to back (warm caches, no pacing);
+//    that give none: one step a 60 fps frame), also back to back (warm caches, no pacing), and at the
+//    live step without the mid-step predictor (sweep_set_predictor 0);
 //  - a crowd: 1 and 100 instances, their frames shared among 1 or 2 threads;
-//  - the accuracy a coarser step costs: the same run at steps from 1/480 to 1/30 s against 1/3840 s.
+//  - the accuracy a coarser step costs: the same run at steps from 1/480 to 1/30 s against 1/3840 s,
+//    and at 1/60 s without the predictor.
 // Time: median over the frames after the first 10, per frame, µs; rounds alternate the cases and
 // thread counts, median over rounds. libsweep runs an instance on the calling thread: its rows at
 // "2 threads" differ from those at 1 only by OMP_NUM_THREADS, which it no longer uses.
@@ -185,9 +187,10 @@ sweep_instance* open_dino(const fs::path& dir, const char* settings, const std::
 // (sweep_positions: the parts that moved deformed, the world-space copy; or sweep_joints) timed
 // apart. `ring`: the skeleton's ring joints (0: the default).
 Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>& rest, int frames, bool paced,
-            Read read, int ring = 0) {
+            Read read, int ring = 0, bool predictor = true) {
   sweep_instance* in = open_dino(dir, settings, rest);
   if (ring > 0) check(sweep_set_skin(in, 24, ring));
+  check(sweep_set_predictor(in, predictor ? 1 : 0));
   std::vector<float> out(read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(in)));
   std::vector<double> total, step, copy;
   for (int k = 0; k < frames; ++k) {
@@ -271,7 +274,7 @@ struct StepError {
   double relative = 0, frame_us = 0;
 };
 std::vector<std::vector<float>> step_run(const fs::path& dir, double step, const std::vector<float>& rest, int frames,
-                                         double& frame_us) {
+                                         double& frame_us, bool predictor = true) {
   const fs::path settings = dir / fmt("step-%.9g.scene.json", step);
   write_text(
       settings,
@@ -280,6 +283,7 @@ std::vector<std::vector<float>> step_run(const fs::path& dir, double step, const
   sweep_instance* in = sweep_open((dir / "dino.rig.json").c_str(), (dir / "dino.bind").c_str(), settings.c_str(),
                                   rest.data(), static_cast<int>(rest.size() / 3));
   if (in == nullptr) check(SWEEP_ERROR_INTERNAL);
+  check(sweep_set_predictor(in, predictor ? 1 : 0));
   std::vector<std::vector<float>> out;
   std::vector<double> times;
   for (int k = 0; k < frames; ++k) {
@@ -363,8 +367,10 @@ int main(int argc, char** argv) {
       "libsweep, live step 1/60 s: positions",
       "libsweep, live step, frames back to back: positions",
       "libsweep, live step: joints out (24 + 23×24 ring a part)",
-      "libsweep, live step: joints out (24 a part, no ring)"};
-  constexpr int kCases = 10;
+      "libsweep, live step: joints out (24 a part, no ring)",
+      "libsweep, live step without the mid-step predictor (sweep_set_predictor 0): positions",
+      "libsweep, live step without the mid-step predictor: joints out (24 + 23×24 ring a part)"};
+  constexpr int kCases = 12;
   std::vector<std::vector<std::vector<Cost>>> runs(kCases, std::vector<std::vector<Cost>>(max_threads));
   // A crowd of 1 and 100, on 1 and 2 threads, positions and joints out.
   const int herd_sizes[] = {1, 100};
@@ -382,6 +388,8 @@ int main(int argc, char** argv) {
       runs[7][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, false, Read::positions));
       runs[8][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints));
       runs[9][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 1));
+      runs[10][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::positions, 0, false));
+      runs[11][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 0, false));
       for (int h = 0; h < 2; ++h) {
         for (int read = 0; read < 2; ++read) {
           herd_runs[h][th - 1][read].push_back(crowd(dir, rest, herd_sizes[h], th, h == 0 ? frames : frames / 2 + kSkip,
@@ -434,9 +442,10 @@ int main(int argc, char** argv) {
   md += "| step | steps a 60 fps frame | largest error / length | frame µs (median) |\n|---|---|---|---|\n";
   csv += "\nstep_s,steps_per_frame,max_error_relative,frame_us\n";
   omp_set_num_threads(1);
-  for (const double step : {1.0 / 480, 1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30}) {
+  for (const double step : {1.0 / 480, 1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 0.0}) {
     double frame_us = 0;
-    const auto run = step_run(dir, step, rest, accuracy_frames, frame_us);
+    // step 0: the live step without the mid-step predictor (sweep_set_predictor(in, 0)).
+    const auto run = step_run(dir, step > 0 ? step : kFrame, rest, accuracy_frames, frame_us, step > 0);
     double worst = 0;
     for (std::size_t i = 0; i < dino.binding.sweeps.size(); ++i) {
       const double length = dino.rig.sweeps[i].rest.length();
@@ -447,9 +456,11 @@ int main(int argc, char** argv) {
         }
       }
     }
-    const std::string name = fmt("1/%d s", static_cast<int>(std::lround(1 / step)));
-    md += fmt("| %s | %.3g | %.2e | %.1f |\n", name.c_str(), kFrame / step, worst, frame_us);
-    csv += fmt("%.9g,%.3g,%.4g,%.4g\n", step, kFrame / step, worst, frame_us);
+    const std::string name = step > 0 ? fmt("1/%d s", static_cast<int>(std::lround(1 / step)))
+                                      : std::string("1/60 s without the mid-step predictor (sweep_set_predictor 0)");
+    const double per_frame = step > 0 ? kFrame / step : 1.0;
+    md += fmt("| %s | %.3g | %.2e | %.1f |\n", name.c_str(), per_frame, worst, frame_us);
+    csv += fmt("%.9g,%.3g,%.4g,%.4g\n", step > 0 ? step : kFrame, per_frame, worst, frame_us);
   }
   write_text(args.out / "live.csv", csv);
   write_text(args.out / "live.md", md);

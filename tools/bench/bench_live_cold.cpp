@@ -10,6 +10,13 @@
 // µs. Not part of run-benchmarks.sh (its rows only explain sweep-bench-live's).
 //
 //   build/dev/tools/bench/sweep-bench-live-cold [--quick]
+//
+// With --count positions|joints it runs 10 frames and then 200 back to back, nothing else and no
+// timing: the run to count instructions in, load-independent, e.g.
+//   valgrind --tool=callgrind --toggle-collect='*counted_frames*' build/dev/tools/bench/sweep-bench-live-cold
+//     --count positions
+// (then callgrind_annotate --inclusive=yes: sweep_advance is the step, sweep_positions or
+// sweep_joints the read, each over the 200 frames).
 #include <unistd.h>
 
 #include <thread>
@@ -72,6 +79,22 @@ void frame(sweep_instance* in, double t, Read read, std::vector<float>& out, dou
   got = us(t1, Clock::now());
 }
 
+// The 200 frames that --count counts (the first 10 warm up outside them).
+[[gnu::noinline]] void counted_frames(sweep_instance* in, Read read, std::vector<float>& out) {
+  double step = 0, got = 0;
+  for (int k = 10; k < 210; ++k) frame(in, (k + 1) * kFrame, read, out, step, got);
+}
+
+void count(const Files& files, Read read) {
+  sweep_instance* in = files.open();
+  const std::size_t size = read == Read::positions ? files.rest.size() : 16 * std::size_t(sweep_joint_count(in));
+  std::vector<float> out(size);
+  double step = 0, got = 0;
+  for (int k = 0; k < 10; ++k) frame(in, (k + 1) * kFrame, read, out, step, got);
+  counted_frames(in, read, out);
+  sweep_close(in);
+}
+
 std::string row(const Files& files, Gap gap, Read read, int frames) {
   sweep_instance* in = files.open();
   sweep_instance* other = files.open();
@@ -112,6 +135,7 @@ int main(int argc, char** argv) {
   using namespace sweep;
   using namespace sweep::bench;
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  const std::string counting = argc > 2 && std::string(argv[1]) == "--count" ? argv[2] : "";
   const int frames = quick ? 60 : 200;
   Files files;
   files.dir = fs::temp_directory_path() / fmt("sweep-bench-live-cold-%d", static_cast<int>(::getpid()));
@@ -126,6 +150,11 @@ int main(int argc, char** argv) {
   for (const Vec3& p : dino.mesh.positions)
     files.rest.insert(files.rest.end(), {float(p.x()), float(p.y()), float(p.z())});
 
+  if (!counting.empty()) {
+    count(files, counting == "joints" ? Read::joints : Read::positions);
+    fs::remove_all(files.dir);
+    return 0;
+  }
   std::string md = "| between frames | read | frame µs | step µs | read µs |\n|---|---|---|---|---|\n";
   for (const Read read : {Read::positions, Read::joints}) {
     for (const Gap gap : {Gap::none, Gap::sleep, Gap::spin, Gap::evict, Gap::warm_code})

@@ -142,11 +142,13 @@ array, contiguous, then two streamed passes over the mesh). What each change bou
 row: libsweep at 1/480 s (8 steps a frame, as before) against its live default, 1/60 s (one step a
 frame: settings that give no step); the two reads; positions against joints out (no deformation,
 no copy of the mesh); the crowd's 100 creatures against one (opened from the same files, they share
-each part's chain model and the rest positions). libsweep runs an instance on the
+each part's chain model and the rest positions); the live step with and without its mid-step
+predictor (\`sweep_set_predictor\`). libsweep runs an instance on the
 calling thread, so its 2-thread rows differ from its 1-thread rows only by noise (the scene player's
 2-thread rows still wake OpenMP's threads each paced frame, here 16-31 ms on a loaded machine). Median over frames after the first 10, median over rounds (5; 3 in quick
 mode) alternating cases and thread counts. The last table is what the coarser step costs in
-accuracy, measured against a step 64 times finer than \`sweep-sim\`'s.
+accuracy, measured against a step 64 times finer than \`sweep-sim\`'s, and (last row) what the
+step without the predictor costs.
 
 $(cat "$results/live.md")
 

@@ -86,6 +86,11 @@ SWEEP_API int sweep_positions(const sweep_instance* instance, float* out_xyz);
  * export made with --ring-fit has its ring joints fitted to the bake, which a live frame samples. */
 SWEEP_API int sweep_joint_count(const sweep_instance* instance);
 SWEEP_API int sweep_joints(const sweep_instance* instance, float* out_16xN);
+/* on = 1 (the default, as sweep-sim): each internal step evaluates the loads that follow the moving
+ * parts (forces, the body's motion and gravity in the parts' axes) at the predicted mid-step pose.
+ * on = 0: it takes the start-of-step loads over the whole step, for half the step's work; the error
+ * then grows with how far a part turns within a step (README, "Time", gives it measured). */
+SWEEP_API int sweep_set_predictor(sweep_instance* instance, int on);
 /* The skeleton the export was made with: `sweep-sim --joints joints_per_sweep --ring-joints
  * ring_joints` (2 to 255 joints a part, at most its stations; 1 to 64 ring joints, 1 = none). */
 SWEEP_API int sweep_set_skin(sweep_instance* instance, int joints_per_sweep, int ring_joints);
