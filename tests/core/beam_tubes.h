@@ -10,10 +10,11 @@
 #include "sample_sweeps.h"
 #include "sweep/core/elastic_sweep.h"
 #include "sweep/core/section_properties.h"
+#include "test_constants.h"
 
 namespace sweep::test::beam {
 
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 constexpr int kSections = 32, kRadii = 32;
 constexpr double kRadius = 0.5;      // mesh units
 constexpr double kScale = 0.1;       // metres per unit

@@ -7,11 +7,12 @@
 #include <numbers>
 
 #include "sample_sweeps.h"
+#include "test_constants.h"
 
 namespace sweep {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::sweep::test::kPi;
 
 // A straight tube of 12 sections one unit apart, radius 0.5, bent at section `at` by `angle` about
 // x: every section from there on turned rigidly about that section's centre.
