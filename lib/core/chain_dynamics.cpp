@@ -17,6 +17,9 @@ constexpr double kContraction = 0.5;
 constexpr double kLargestTurn = 1.0;
 // A fresh Newton matrix whose iteration shrinks the change by less than this: the step is halved.
 constexpr double kDivergence = 0.9;
+// How many times a step that does not settle is halved, at most: the schema's longest step (1 s)
+// down to 15 µs. (8, a 1 s step's 4 ms, left a limp rope's whipping steps unsettled.)
+constexpr int kMaxHalvings = 16;
 
 Mat3 skew(const Vec3& a) {
   Mat3 s;
@@ -268,6 +271,16 @@ void ChainDynamics::solve_mass(Eigen::VectorXd& x) {
   solve_recursive(x);
 }
 
+void ChainDynamics::solve_mass_columns(Eigen::MatrixXd& x) {
+  assert(x.rows() == 3 * joints_);
+  factor_recursive();
+  for (Eigen::Index c = 0; c < x.cols(); ++c) {
+    scratch_ = x.col(c);
+    solve_recursive(scratch_);
+    x.col(c) = scratch_;
+  }
+}
+
 // The damping is left out of the recursive S: mode by mode (at rest) it is (h/2)·2ζω of the
 // Newton matrix's 1 + (hω/2)², at most ζ of it, and the iteration contracts by that. (Its
 // diagonal blocks alone are worse than none: they hold the stiff modes' damping, which a smooth
@@ -294,7 +307,11 @@ int ChainDynamics::advance(double h, const Body& body, std::span<const double> t
   phi_saved_[depth] = phi_;
   w_saved_[depth] = w_;
   int iterations = 0;
-  if (attempt(h, body, torque, iterations) || depth == kMaxHalvings) return iterations;
+  if (attempt(h, body, torque, iterations)) return iterations;
+  if (depth == kMaxHalvings) {
+    ++unsettled_;
+    return iterations;
+  }
   phi_ = phi_saved_[depth];
   w_ = w_saved_[depth];
   set_pose(phi_);

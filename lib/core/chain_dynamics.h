@@ -24,7 +24,8 @@
 // by a Newton iteration on S = M(q_m) + (h/2) C + (h²/4) J⁻ᵀ K J⁻¹; S and its factorization are
 // kept across iterations and steps and rebuilt at the mid-step pose when the iteration contracts
 // slowly (a light section turning fast changes M within a step, and the stiff, light directions
-// of S magnify that); a step whose iteration does not settle with a fresh S is taken as two halves.
+// of S magnify that); a step whose iteration does not settle with a fresh S is taken as two halves,
+// and so on down to 2⁻¹⁶ of it (15 µs of a 1 s step), the state at each depth kept (no allocation).
 // Why this one: implicit midpoint is A-stable for the stiff linear springs at any step (they enter
 // S whole: a stiff tube at 1/24 s settles in a few iterations where an explicit or split step
 // would blow up), second order, symplectic (its energy error stays bounded and does not drift:
@@ -109,9 +110,16 @@ class ChainDynamics {
   // steps while the iteration contracts).
   long long factorizations() const { return factorizations_; }
   long long iterations() const { return iterations_; }  // the Newton iterations taken in all
+  // Steps taken whose Newton iteration did not settle even at the shortest subdivision.
+  long long unsettled() const { return unsettled_; }
 
   // x ← M(q)⁻¹ x at the current pose by the articulated-body recursion (O(K), no matrix formed).
   void solve_mass(Eigen::VectorXd& x);
+  // The same for each column of x (3(K−1) rows), the recursion set up once.
+  void solve_mass_columns(Eigen::MatrixXd& x);
+
+  // C, the joints' damping (N·m·s/rad, dense, 3(K−1) square; see above).
+  const Eigen::MatrixXd& damping() const { return damping_; }
 
   // The chain's mass matrix at the current pose (for tests and contacts), 3(K−1) square.
   const Eigen::MatrixXd& mass_matrix();
@@ -120,7 +128,6 @@ class ChainDynamics {
   void inverse_dynamics(const Eigen::VectorXd& w, const Eigen::VectorXd& wdot, const Body& body, Eigen::VectorXd& out);
 
  private:
-  static constexpr int kMaxHalvings = 8;
   int advance(double h, const Body& body, std::span<const double> torque, int depth);
   // One implicit-midpoint step; false (the state left half-way) when its Newton iteration does
   // not converge.
@@ -155,7 +162,7 @@ class ChainDynamics {
   double factored_step_ = 0;     // the step llt_ holds S for; 0: none
   Eigen::VectorXd last_change_;  // w₁ − w₀ of the last converged step, the next one's first guess
   double last_change_step_ = 0;  // its step; 0: none
-  long long factorizations_ = 0, iterations_ = 0;
+  long long factorizations_ = 0, iterations_ = 0, unsettled_ = 0;
   // The recursion: per joint, U_i = IA_i S_i (6×3, IA_i the articulated inertia about c_i) and
   // D_i⁻¹ (3×3), the pose it was set up at (axes P_i, lever c_{i+1} − c_i), and its scratch.
   using Mat63 = Eigen::Matrix<double, 6, 3>;

@@ -39,7 +39,8 @@ void ContactRows::contact_row(const ElasticSweep& sweep, double t, const Vec3& d
       row.rotational[q] = direction.dot(axis.cross(lever));
     }
   }
-  if (!sweep.chain_ || !with_modal) return;
+  // The exact chain's couplings come from its current pose (joint_columns), not the modes.
+  if (!sweep.chain_ || !with_modal || sweep.exact_chain()) return;
   // Φᵀ Jᵀ, J zero past the point: only the first 3·last rows of Φ take part.
   const Eigen::Index dim = static_cast<Eigen::Index>(sweep.modal_.x.size());
   const Eigen::Index used = static_cast<Eigen::Index>(count);
@@ -57,6 +58,18 @@ double ContactRows::row_coupling(const ElasticSweep& sweep, const ContactRow& a,
     if (!sweep.chain_ || !by_mass) sum += a.rotational[q] * b.rotational[q] * rotational_share(sweep, 3 + q, by_mass);
   }
   if (!sweep.chain_ || !by_mass) return sum;
+  if (sweep.exact_chain()) {
+    // J_a M(q)⁻¹ J_bᵀ with the mass matrix of the current pose (lever arms in mesh units).
+    const Eigen::Index dim = static_cast<Eigen::Index>(sweep.exact_torque_.size());
+    Eigen::VectorXd ja = Eigen::VectorXd::Zero(dim), jb = Eigen::VectorXd::Zero(dim);
+    ja.head(static_cast<Eigen::Index>(a.rotational.size())) =
+        Eigen::Map<const Eigen::VectorXd>(a.rotational.data(), static_cast<Eigen::Index>(a.rotational.size()));
+    jb.head(static_cast<Eigen::Index>(b.rotational.size())) =
+        Eigen::Map<const Eigen::VectorXd>(b.rotational.data(), static_cast<Eigen::Index>(b.rotational.size()));
+    sweep.sync_exact();
+    sweep.exact_->solve_mass(jb);
+    return sum + sweep.chain_->metres_per_unit * ja.dot(jb);
+  }
   // J_a Φ Φᵀ J_bᵀ (M⁻¹ = Φ Φᵀ, SI) with the lever arms in mesh units: × metres per unit.
   const Eigen::Index dim = static_cast<Eigen::Index>(a.modal.size());
   return sum + sweep.chain_->metres_per_unit * Eigen::Map<const Eigen::VectorXd>(a.modal.data(), dim)
@@ -89,6 +102,15 @@ void ContactRows::row_couplings(const ElasticSweep& sweep, std::span<const Conta
   if (!sweep.chain_) {
     fill(jr_, false, true);
     by_mass.noalias() += jr_.transpose() * jr_;
+    return;
+  }
+  if (sweep.exact_chain()) {
+    // J M(q)⁻¹ Jᵀ × metres per unit, M⁻¹ by the articulated-body recursion at the current pose.
+    joint_columns(sweep, rows, jr_);
+    joint_solved_ = jr_;
+    sweep.sync_exact();
+    sweep.exact_->solve_mass_columns(joint_solved_);
+    by_mass.noalias() += sweep.chain_->metres_per_unit * (jr_.transpose() * joint_solved_);
     return;
   }
   // J Φ Φᵀ Jᵀ × metres per unit: the modal columns.
@@ -155,7 +177,8 @@ void ContactRows::apply_rows(ElasticSweep& sweep, std::span<const ContactRow> ro
   }
   std::vector<double>& pos = as_impulses ? sweep.positional_.v : sweep.positional_.x;
   std::vector<double>& rot = as_impulses ? sweep.rotational_.v : sweep.rotational_.x;
-  const bool modal = sweep.chain_ && as_impulses;
+  const bool exact = sweep.exact_chain() && as_impulses;
+  const bool modal = sweep.chain_ && as_impulses && !exact;
   const Eigen::Index dim = static_cast<Eigen::Index>(sweep.modal_.x.size());
   if (modal) modal_sum_.assign(static_cast<std::size_t>(dim), 0.0);
   for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -166,7 +189,7 @@ void ContactRows::apply_rows(ElasticSweep& sweep, std::span<const ContactRow> ro
       const double dp = s * row.positional[q] * positional_share(sweep, 3 + q, as_impulses);
       pos[3 + q] += dp;
       if (speeds_dt > 0) sweep.positional_.v[3 + q] += dp / speeds_dt;
-      if (!modal) {
+      if (!modal && !exact) {
         const double dr = s * row.rotational[q] * rotational_share(sweep, 3 + q, as_impulses);
         rot[3 + q] += dr;
         if (speeds_dt > 0) sweep.rotational_.v[3 + q] += dr / speeds_dt;
@@ -178,6 +201,14 @@ void ContactRows::apply_rows(ElasticSweep& sweep, std::span<const ContactRow> ro
     }
   }
   sweep.positional_.active = sweep.rotational_.active = true;
+  if (exact) {
+    // Δw = M(q)⁻¹ Σ Jᵀ s (× metres per unit) at the current pose, as ElasticSweep::kick.
+    sum_joint_rows(sweep, rows, amounts);
+    sweep.sync_exact();
+    sweep.exact_->apply_joint_impulse({joint_sum_.data(), static_cast<std::size_t>(joint_sum_.size())});
+    sweep.exact_->get_state(std::span<double>(sweep.rotational_.x).subspan(3, static_cast<std::size_t>(dim)),
+                            std::span<double>(sweep.rotational_.v).subspan(3, static_cast<std::size_t>(dim)));
+  }
   if (sweep.chain_) {
     sweep.modal_.active = true;
     if (modal) {
@@ -199,9 +230,12 @@ void ContactRows::apply_rows(ElasticSweep& sweep, std::span<const ContactRow> ro
 void ContactRows::keep_least_energy_speeds(ElasticSweep& sweep) {
   // Take the part α ∈ [0, 1] of the change since v0 that leaves the least kinetic energy: all of
   // it when it only cancels motion (a part resting on the ground), never more energy than before.
+  const bool exact = sweep.exact_chain();
   Bank* moving = sweep.chain_ ? &sweep.modal_ : &sweep.rotational_;
   double along = 0, square = 0;  // Σ m v0 Δv and Σ m Δv², over the coordinates that carry energy
+  if (exact) exact_energy_change(sweep, along, square);
   for (const Bank* b : {static_cast<const Bank*>(&sweep.positional_), static_cast<const Bank*>(moving)}) {
+    if (exact && b == moving) continue;  // the joints' share is the exact chain's, above
     const double unit = sweep.energy_unit(*b);
     for (std::size_t m = static_cast<std::size_t>(b->width); m < b->v.size(); ++m) {
       const double dv = b->v[m] - b->v0[m];
@@ -215,8 +249,46 @@ void ContactRows::keep_least_energy_speeds(ElasticSweep& sweep) {
   }
 }
 
+void ContactRows::joint_columns(const ElasticSweep& sweep, std::span<const ContactRow> rows, Eigen::MatrixXd& columns) {
+  const Eigen::Index dim = static_cast<Eigen::Index>(sweep.exact_torque_.size());
+  columns.setZero(dim, static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const std::vector<double>& j = rows[k].rotational;
+    columns.col(static_cast<Eigen::Index>(k)).head(static_cast<Eigen::Index>(j.size())) =
+        Eigen::Map<const Eigen::VectorXd>(j.data(), static_cast<Eigen::Index>(j.size()));
+  }
+}
+
+void ContactRows::sum_joint_rows(const ElasticSweep& sweep, std::span<const ContactRow> rows,
+                                 std::span<const double> amounts) {
+  // Amounts in N (or N·s) at lever arms in mesh units: × metres per unit for N·m (N·m·s).
+  joint_sum_.setZero(static_cast<Eigen::Index>(sweep.exact_torque_.size()));
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (amounts[k] == 0) continue;
+    const std::vector<double>& j = rows[k].rotational;
+    joint_sum_.head(static_cast<Eigen::Index>(j.size())) +=
+        (amounts[k] * sweep.chain_->metres_per_unit) *
+        Eigen::Map<const Eigen::VectorXd>(j.data(), static_cast<Eigen::Index>(j.size()));
+  }
+}
+
+void ContactRows::exact_energy_change(const ElasticSweep& sweep, double& along, double& square) {
+  const Eigen::Index dim = static_cast<Eigen::Index>(sweep.exact_torque_.size());
+  const Eigen::Map<const Eigen::VectorXd> v0(sweep.rotational_.v0.data() + 3, dim);
+  joint_change_ = Eigen::Map<const Eigen::VectorXd>(sweep.rotational_.v.data() + 3, dim) - v0;
+  sweep.sync_exact();
+  joint_sum_.noalias() = sweep.exact_->mass_matrix() * joint_change_;
+  along += v0.dot(joint_sum_);
+  square += joint_change_.dot(joint_sum_);
+}
+
 // 1 / (m/dt² + c/dt + k): one spring's move per unit of force held over a step dt.
 namespace {
+// exp(turn) exp(φ) as a rotation vector: a joint turned on the left, in its own A_i axes.
+Vec3 turned_by(const Vec3& turn, const Vec3& phi) {
+  return vector_from_rotation(rotation_from_vector(turn) * rotation_from_vector(phi));
+}
+
 double step_compliance(const OscillatorParams& p, double dt) {
   assert(dt > 0);  // an undamped spring over no time would be 0/0
   return 1.0 / (p.mass / (dt * dt) + p.damping / dt + p.stiffness);
@@ -227,6 +299,23 @@ void ContactRows::row_move_couplings(const ElasticSweep& sweep, std::span<const 
                                      Eigen::MatrixXd& by_move) {
   const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
   const Eigen::Index coords = static_cast<Eigen::Index>(sweep.positional_.x.size()) - 3;  // sections 1..K−1
+  if (sweep.exact_chain()) {
+    // The exact chain's implicit step to a force held over it, linearised at the current pose:
+    // G = (M(q)/dt² + C/dt + K)⁻¹ over the joints (bending alone, as the modes'), J G Jᵀ × metres
+    // per unit through G's Cholesky factor.
+    sweep.sync_exact();
+    const ChainDynamics& chain = *sweep.exact_;
+    move_matrix_ = sweep.exact_->mass_matrix();
+    move_matrix_ *= 1.0 / (dt * dt);
+    move_matrix_.noalias() += (1.0 / dt) * chain.damping();
+    move_matrix_.diagonal() += sweep.chain_->stiffness.diagonal();
+    move_llt_.compute(move_matrix_);
+    move_dt_ = dt;
+    joint_columns(sweep, rows, joint_solved_);
+    move_llt_.matrixL().solveInPlace(joint_solved_);
+    by_move.noalias() = sweep.chain_->metres_per_unit * (joint_solved_.transpose() * joint_solved_);
+    return;
+  }
   // Each row as a column, scaled by √G: the modes' part (Φᵀ Jᵀ, × metres per unit as the kicks';
   // material mode moves by bending alone, as its static moves: see positional_share), or the
   // paper's rotational and positional springs'.
@@ -262,7 +351,26 @@ void ContactRows::move_rows(ElasticSweep& sweep, std::span<const ContactRow> row
     b.x[m] += dx;
     b.v[m] += dx / dt;
   };
-  if (sweep.chain_) {
+  if (sweep.exact_chain()) {
+    // Δ = G Jᵀ Σ amount (row_move_couplings' G; built again if the step changed), each joint
+    // turned by it on the left as its speed w turns it, and w += Δ / dt.
+    if (move_dt_ != dt) {
+      Eigen::MatrixXd unused;
+      row_move_couplings(sweep, rows, dt, unused);
+    }
+    sum_joint_rows(sweep, rows, amounts);
+    move_llt_.solveInPlace(joint_sum_);
+    for (int i = 1; i <= sweep.chain_->joints; ++i) {
+      const Vec3 turn = joint_sum_.segment<3>(3 * (i - 1));
+      const Vec3 phi = turned_by(turn, sweep.rotation_vector(i));
+      for (int c = 0; c < 3; ++c) {
+        sweep.rotational_.x[3 * i + c] = phi[c];
+        sweep.rotational_.v[3 * i + c] += turn[c] / dt;
+      }
+    }
+    sweep.modal_.active = sweep.rotational_.active = true;
+    sweep.modes_from_joints();
+  } else if (sweep.chain_) {
     // The modal load Φᵀ Jᵀ Σ amount (per metre × metres per unit), as a kick's; the joints follow.
     const Eigen::Index dim = static_cast<Eigen::Index>(sweep.modal_.x.size());
     modal_sum_.assign(static_cast<std::size_t>(dim), 0.0);

@@ -8,7 +8,8 @@
 // rows the solver moves the part as a force held there over the step would (move_rows: each
 // spring by its inertia and compliance), holds it across the normal as a static force would
 // (apply_rows: each spring by its compliance 1/k, the least spring energy for the move) and kicks
-// it as an impulse there would (each spring by its mass, the chain's mass matrix in material mode).
+// it as an impulse there would (each spring by its mass, the chain's mass matrix in material mode:
+// with the exact chain, the mass matrix of its current pose, not the rest pose's modes).
 #include <Eigen/Dense>
 #include <span>
 #include <vector>
@@ -76,11 +77,24 @@ class ContactRows {
   static double rotational_share(const ElasticSweep& sweep, std::size_t m, bool by_mass);
   // The contact moves' change of the speeds since v0, cut to the part that leaves the least
   // kinetic energy.
-  static void keep_least_energy_speeds(ElasticSweep& sweep);
+  void keep_least_energy_speeds(ElasticSweep& sweep);
+
+  // The exact chain (ElasticSweep::exact_chain): the rows' rotational J over the joints as columns
+  // (3(K−1) × n, zero past each row's point), and Σ Jᵀ amount over them.
+  static void joint_columns(const ElasticSweep& sweep, std::span<const ContactRow> rows, Eigen::MatrixXd& columns);
+  void sum_joint_rows(const ElasticSweep& sweep, std::span<const ContactRow> rows, std::span<const double> amounts);
+  // Its kinetic energy's change Σ v0ᵀ M Δv and Σ Δvᵀ M Δv (J) over the joints, M at the current pose.
+  void exact_energy_change(const ElasticSweep& sweep, double& along, double& square);
 
   Eigen::MatrixXd jp_, jr_, modal_;  // the rows' J (positional, rotational) and Φᵀ Jᵀ, one column each
   Eigen::MatrixXd move_;             // the rows scaled by √G (row_move_couplings)
   std::vector<double> modal_sum_;    // the modal sum of apply_rows and move_rows
+  // The exact chain's: M⁻¹ Jᵀ (or L⁻¹ Jᵀ) columns, Σ Jᵀ amount (N·m, SI), the step's move matrix
+  // M(q)/dt² + C/dt + K factored at the pose and step row_move_couplings saw (move_dt_).
+  Eigen::MatrixXd joint_solved_, move_matrix_;
+  Eigen::VectorXd joint_sum_, joint_change_;
+  Eigen::LLT<Eigen::MatrixXd> move_llt_;
+  double move_dt_ = 0;
 };
 
 }  // namespace sweep

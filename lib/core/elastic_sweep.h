@@ -125,16 +125,15 @@ class ElasticSweep {
   // Shared (read-only) by every sweep of the same rest shape and materials while one lives.
   const ChainModel* chain() const { return chain_.get(); }
   // Whether the joints move by the geometrically exact chain (core/chain_dynamics.h): material
-  // mode with the exact integrator, once set_exact_chain(true). Not yet the default: the contact
-  // solver's couplings, kicks and moves are still those of the rest-pose modes (a tube lying along
-  // a 20° slope was thrown 15 units off it with the exact chain on); steps much longer than a
-  // frame (0.37 s) do not let its Newton iteration settle even when halved 8 times (an undamped
-  // part then gained energy 200-fold); and undamped, its energy is kept only to the step's
-  // second-order error, not exactly as the modes' closed form keeps it, so tests of "never gains"
-  // read it to that error. Its inertia, velocity terms and gravity are those
-  // of the current pose, so a part that turns far keeps the energy it was given; the modes
-  // (linearised at rest) then serve the contacts' couplings alone. With an explicit integrator the
-  // joints move as the rest-pose modes, stepped by it (the integrators' comparison).
+  // mode with the exact integrator, once set_exact_chain(true) (a scene's "dynamics": "exact").
+  // Its inertia, velocity terms and gravity are those of the current pose, so a part that turns far
+  // keeps the energy it was given; the contact solver's couplings, kicks and moves are taken from
+  // its current pose too (core/contact_rows.cpp), and a step its Newton iteration does not settle is
+  // halved down to 2⁻¹⁶ of it. Not yet the default: undamped, its energy is kept only to the step's
+  // second-order error, not exactly as the modes' closed form keeps it (a limp rope, 1e4 Pa,
+  // whipping undamped at 1/24 s gained a third of m g L), so tests of "never gains" read it to that
+  // error; and its step costs several modal steps. With an explicit integrator the joints move as
+  // the rest-pose modes, stepped by it (the integrators' comparison).
   bool exact_chain() const { return exact_.has_value() && use_exact_ && integrator_ == Integrator::exact; }
   // On: the exact chain; off (the default): the rest-pose modes stepped in closed form, right for
   // small motion only.

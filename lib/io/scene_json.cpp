@@ -281,9 +281,10 @@ double step_length(const io::JsonReader& r, const Json& value, const std::string
 // The scene, the authoring keys read into `authoring`, or refused without one.
 sim::Scene parse_scene_keys(const Json& json, const std::string& pointer, const io::JsonReader& r, const Rig& rig,
                             SceneAuthoring* authoring) {
-  r.object(json, pointer,
-           {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator",
-            "forces", "body", "teleport", "wind", "colliders", "body_collider", "contact_stations", "contact_step"});
+  r.object(
+      json, pointer,
+      {"format", "version", "duration", "fps", "step", "substeps", "gravity", "gravity_start", "integrator", "dynamics",
+       "forces", "body", "teleport", "wind", "colliders", "body_collider", "contact_stations", "contact_step"});
   sim::Scene scene;
   const bool own_file = pointer.empty();
   if (own_file) {
@@ -329,6 +330,12 @@ sim::Scene parse_scene_keys(const Json& json, const std::string& pointer, const 
       r.fail_at(member(pointer, "integrator"),
                 "must be \"exact\", \"semi-implicit-euler\" or \"rk4\", got " + io::describe(*i));
     }
+  }
+  if (const Json* d = r.optional(json, "dynamics")) {
+    const std::string name = r.string(*d, member(pointer, "dynamics"));
+    if (name != "exact" && name != "modal")
+      r.fail_at(member(pointer, "dynamics"), "must be \"exact\" or \"modal\", got " + io::describe(*d));
+    scene.exact_chain = name == "exact";
   }
   if (const Json* b = r.optional(json, "body")) {
     const std::string bp = member(pointer, "body");

@@ -54,6 +54,8 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep) : 
                                  .anchors = {}});
     sweeps_.back().body.set_integrator(scene.integrator);
     sweeps_.back().view.set_integrator(scene.integrator);
+    sweeps_.back().body.set_exact_chain(scene.exact_chain);
+    sweeps_.back().view.set_exact_chain(scene.exact_chain);
     if (def.material && scene.gravity != Vec3::Zero()) {
       // Gravity in the body's axes at time 0: what the modelled pose is pre-loaded with.
       const Vec3 g = scene.body.at(0).rotation.conjugate() * scene.gravity;
@@ -744,8 +746,9 @@ void Simulator::check_finite(const ElasticSweep& body, double t) const {
     // which docs/tools.md reserves for the explicit integrators.
     msg << "sweep \"" << body.definition().name << "\" moved more than " << kRunawayFactor
         << " times its length by t = " << t << " s: the scene's forces are far too large for "
-        << (body.chain() ? "its material (raise youngs_modulus_pa or damping_ratio, or lower the forces)"
-                         : "its springs (raise mass or frequency_hz, or lower the forces)");
+        << (body.chain()
+                ? "its material (raise youngs_modulus_pa or damping_ratio, shorten the step, or lower the forces)"
+                : "its springs (raise mass or frequency_hz, or lower the forces)");
     fail(ErrorCategory::bad_input, msg.str());
   }
   msg << "the simulation diverged: sweep \"" << body.definition().name << "\" at t = " << t << " s ("

@@ -7,7 +7,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "core/beam_tubes.h"
 #include "core/sample_sweeps.h"
@@ -36,6 +39,33 @@ double farthest(const SweepShape& shape, const Collider& c, int axis) {
   });
   return far;
 }
+
+// Every contact test runs with the rest-pose modes (Scene::exact_chain false, the default) and, with
+// SWEEP_TEST_EXACT_CONTACTS=1 in the environment, with the geometrically exact chain too, whose
+// contact couplings, kicks and moves come from its current pose (core/contact_rows.cpp). Not in
+// the default run: the exact chain's run takes minutes (one case alone 133 s) and four of its
+// cases do not pass yet (the thin plate, friction on the slope, a coarse step far from colliders,
+// energy after a hit: ElasticSweep::exact_chain says why it is not the default).
+bool exact_dynamics = false;
+Scene new_scene() {
+  Scene scene;
+  scene.exact_chain = exact_dynamics;
+  return scene;
+}
+class Contact : public ::testing::TestWithParam<bool> {
+ protected:
+  void SetUp() override { exact_dynamics = GetParam(); }
+  void TearDown() override { exact_dynamics = false; }
+};
+std::vector<bool> dynamics_to_run() {
+  const char* exact = std::getenv("SWEEP_TEST_EXACT_CONTACTS");
+  if (exact != nullptr && std::string(exact) == "1") return {false, true};
+  return {false};
+}
+std::string dynamics_name(const ::testing::TestParamInfo<bool>& param) {
+  return param.param ? "exact" : "modal";
+}
+INSTANTIATE_TEST_SUITE_P(Dynamics, Contact, ::testing::ValuesIn(dynamics_to_run()), dynamics_name);
 
 Rig rubber_tube(double damping_ratio) {
   Rig rig;
@@ -80,7 +110,7 @@ struct Swing {
   double far_side = -1e300;  // the largest local x of the surface in the plate's frame
 };
 Swing swing_into(const Rig& rig, const std::vector<Collider>& colliders, double fps, double duration) {
-  Scene scene;
+  Scene scene = new_scene();
   scene.duration = duration;
   scene.fps = fps;
   scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
@@ -98,7 +128,7 @@ Swing swing_into(const Rig& rig, const std::vector<Collider>& colliders, double 
   return out;
 }
 
-TEST(Contact, AFastSwingNeverEndsAFrameThroughAThinPlate) {
+TEST_P(Contact, AFastSwingNeverEndsAFrameThroughAThinPlate) {
   const Rig rig = rubber_tube(0.02);
   const double length = rig.sweeps[0].rest.length();
   // A plate 0.02 units thick (1/1550 of the length) beside the outer half of the tube, 1.5 radii
@@ -107,7 +137,7 @@ TEST(Contact, AFastSwingNeverEndsAFrameThroughAThinPlate) {
       Collider::box(Vec3(1.5 * test::beam::kRadius + 0.01, 0, 0.75 * length), Vec3(0.01, 5, 0.25 * length + 1));
   // Without it the tube swings far past where the plate is, moving many plate thicknesses a step.
   // A frame a step (480 fps): the tip's largest move in one step.
-  Scene probe;
+  Scene probe = new_scene();
   probe.duration = 0.25;
   probe.fps = 1 / Scene::kDefaultStep;
   probe.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
@@ -130,7 +160,7 @@ TEST(Contact, AFastSwingNeverEndsAFrameThroughAThinPlate) {
   }
 }
 
-TEST(Contact, AThinCapsuleBetweenTwoKeySectionsIsCaught) {
+TEST_P(Contact, AThinCapsuleBetweenTwoKeySectionsIsCaught) {
   // Four key sections 10 units apart: a rod 0.1 thick across the tube's way, half-way between
   // sections 2 and 3, touches no key section and no sample point there — only the surface between.
   SweepDef def = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.02, 4);
@@ -140,7 +170,7 @@ TEST(Contact, AThinCapsuleBetweenTwoKeySectionsIsCaught) {
   const double length = def.rest.length();
   const double z = 0.5 * (def.rest.t[2] + def.rest.t[3]);
   const Collider rod = Collider::capsule(Vec3(1.0, -3, z), Vec3(1.0, 3, z), 0.05);
-  Scene scene;
+  Scene scene = new_scene();
   scene.duration = 0.3;
   scene.fps = 60;
   scene.forces.push_back(tip_impulse(def, Vec3(40, 0, 0)));
@@ -166,14 +196,14 @@ TEST(Contact, AThinCapsuleBetweenTwoKeySectionsIsCaught) {
   EXPECT_LE(farthest_there, 1.0 - 0.05 - test::beam::kRadius + 1e-3 * length);
 }
 
-TEST(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
+TEST_P(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
   // A stiff rubber tube held out level sags under its weight onto a floor 0.3 units below it, and
   // comes to rest on it, keeping the floor's margin.
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2, 16));
   rig.sweeps[0].name = "tube";
   test::beam::set_youngs_modulus(rig.sweeps[0], 2e8);
-  Scene scene;
+  Scene scene = new_scene();
   scene.duration = 8;
   scene.fps = 30;
   scene.gravity = Vec3(0, -9.81, 0);
@@ -237,7 +267,7 @@ Lying lying_on(double youngs_modulus, double slope, double friction = 0, double 
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2));
   rig.sweeps[0].name = "tube";
   test::beam::set_youngs_modulus(rig.sweeps[0], youngs_modulus);
-  Scene scene;
+  Scene scene = new_scene();
   scene.duration = duration;
   scene.fps = 30;
   scene.gravity = Vec3(0, -9.81, 0);
@@ -266,7 +296,7 @@ double highest_lying(double youngs_modulus, double slope, double friction = 0, d
   return lying_on(youngs_modulus, slope, friction, step, contact_step).highest;
 }
 
-TEST(Contact, ATubeLyingAlongTheFloorFromItsRootStaysOnIt) {
+TEST_P(Contact, ATubeLyingAlongTheFloorFromItsRootStaysOnIt) {
   // At rest height, to the contact's tolerance (1e-4 of the length, as the ground test's margin).
   // Measured 0 for E = 2e8 and 2e9.
   const double length = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2).rest.length();
@@ -278,7 +308,7 @@ TEST(Contact, ATubeLyingAlongTheFloorFromItsRootStaysOnIt) {
 #endif
 }
 
-TEST(Contact, ATubeLyingAlongASlopeOrASoftOneStaysOnTheFloor) {
+TEST_P(Contact, ATubeLyingAlongASlopeOrASoftOneStaysOnTheFloor) {
   const double length = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2).rest.length();
   // On a 20° slope it slides down across (measured 0).
   EXPECT_LE(highest_lying(2e8, 20 * kPi / 180), 1e-4 * length) << "on the slope";
@@ -291,13 +321,57 @@ TEST(Contact, ATubeLyingAlongASlopeOrASoftOneStaysOnTheFloor) {
   EXPECT_LE(highest_lying(1e7, 20 * kPi / 180), 1e-3 * length) << "on the slope";
 }
 
+// The rubber tube (E = 1e7) lying along a frictionless 20° slope from its root, released unloaded,
+// its joints moved by the exact chain: the contact solver once kicked and moved them by the rest
+// pose's modes, and it was thrown 15 units off the slope. Now it stays on it, to the contacts'
+// tolerance (1e-3 of the length, as the modal run's). Its chain's energy (kinetic, elastic and
+// gravity's) is printed, not bounded: it still gains 1.4 % of m g L here (the positional springs,
+// stepped apart from the chain, are not part of that balance; not yet understood).
+TEST(ContactExactChain, ATubeLyingAlongASlopeStaysOnIt_long) {
+  Rig rig;
+  rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2));
+  rig.sweeps[0].name = "tube";
+  test::beam::set_youngs_modulus(rig.sweeps[0], 1e7);
+  Scene scene;
+  scene.exact_chain = true;
+  scene.duration = 1;
+  scene.fps = 30;
+  const Vec3 g(0, -9.81, 0);
+  scene.gravity = g;
+  scene.gravity_preloaded = false;
+  const double slope = 20 * kPi / 180;
+  const Vec3 n(std::sin(slope), std::cos(slope), 0);
+  scene.colliders = {Collider::plane(-(test::beam::kRadius + 0.001) * n, n)};
+  Simulator sim(rig, scene);
+  const ElasticSweep& tube = sim.sweep(0);
+  ASSERT_TRUE(tube.exact_chain());
+  const auto energy = [&] {
+    const ChainDynamics& chain = *tube.exact_chain_state();
+    return chain.kinetic_energy() + chain.elastic_energy() + chain.gravity_potential(g);
+  };
+  double mass = 0;
+  for (const double m : tube.chain()->node_mass) mass += m;
+  const double length = tube.rest().length();
+  const double weight_work = mass * g.norm() * tube.chain()->metres_per_unit * length;
+  const double start = energy();
+  double most = -1e300, highest = -1e300;
+  for (int k = 1; k < scene.frame_count(); ++k) {
+    sim.advance_frame();
+    most = std::max(most, energy() - start);
+    for (const Frame& f : tube.deformed().frames) highest = std::max(highest, n.dot(f.center));
+  }
+  std::printf("exact chain on the slope: energy gained at most %.3g J (m g L = %.3g J), highest %+.3g units\n", most,
+              weight_work, highest);
+  EXPECT_LE(highest, 1e-3 * length);
+}
+
 // With friction too (found in review): the rubber tube on the 20° slope was thrown +10.5 units
 // at μ = 2 and +0.040 at 0.5. The friction hold (sim/contact_stick.cpp) held each station whose
 // springs' force stayed in the cone, however fast the whipping tube carried it off its anchor
 // (1.5 to 22 units a step), moving it back through the compliance each step and stopping its
 // speed for free: each hold stored 5 to 200 J in the springs. A hold now stops no more momentum
 // than the cone gives over the step (μN·dt); past that the station slides.
-TEST(Contact, ASoftTubeLyingOnAFrictionalSlopeStaysOnIt) {
+TEST_P(Contact, ASoftTubeLyingOnAFrictionalSlopeStaysOnIt) {
   const double length = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2).rest.length();
   for (const double mu : {0.5, 2.0}) {
     const double highest = highest_lying(1e7, 20 * kPi / 180, mu);
@@ -315,7 +389,7 @@ TEST(Contact, ASoftTubeLyingOnAFrictionalSlopeStaysOnIt) {
 // twentieth of their weight: the contact is statically indeterminate), and the momentum its move
 // stops row by row (20–40× the stations' own). A patch of neighbouring stations now shares its
 // cones and its momentum is its stations' together (sim/contact_stick.cpp).
-TEST(Contact, ATubeLyingOnAFrictionalSlopeStaysAboveTanThetaAndSlidesBelowIt) {
+TEST_P(Contact, ATubeLyingOnAFrictionalSlopeStaysAboveTanThetaAndSlidesBelowIt) {
   const double length = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2).rest.length();
   const double slope = 20 * kPi / 180;
   for (const double e : {2e8, 1e7}) {
@@ -337,7 +411,7 @@ TEST(Contact, ATubeLyingOnAFrictionalSlopeStaysAboveTanThetaAndSlidesBelowIt) {
 // 1/30 s each free step carried the swinging rubber tube 5 to 9 units into the slope and the push
 // out lifted it, the springs' energy climbing from 4 to 460 J against the 139 J gravity can give:
 // it was thrown 7.7 to 23.6 units up (1/60 s: 0.45 to 1.31).
-TEST(Contact, ACoarseStepIsCutIntoContactStepsNearACollider) {
+TEST_P(Contact, ACoarseStepIsCutIntoContactStepsNearACollider) {
   const double length = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2).rest.length();
   const double slope = 20 * kPi / 180;
   for (const double mu : {0.0, 2.0}) {
@@ -351,9 +425,9 @@ TEST(Contact, ACoarseStepIsCutIntoContactStepsNearACollider) {
 
 // Far from every collider a coarse step stays whole: the frames are those of the scene without the
 // collider, to the bit.
-TEST(Contact, ACoarseStepFarFromEveryColliderIsNotCut) {
+TEST_P(Contact, ACoarseStepFarFromEveryColliderIsNotCut) {
   const Rig rig = rubber_tube(0.1);
-  Scene scene;
+  Scene scene = new_scene();
   scene.duration = 0.5;
   scene.fps = 30;
   scene.step = 1.0 / 30;
@@ -388,7 +462,7 @@ TEST(Contact, ACoarseStepFarFromEveryColliderIsNotCut) {
 }
 
 // A scene built in code, not read from a file, is checked by the simulator itself.
-TEST(Contact, TheSimulatorRefusesAContactStepOrStationCountOutOfRange) {
+TEST_P(Contact, TheSimulatorRefusesAContactStepOrStationCountOutOfRange) {
   const Rig rig = rubber_tube(0.1);
   const auto refused = [&](const Scene& scene) {
     try {
@@ -400,11 +474,11 @@ TEST(Contact, TheSimulatorRefusesAContactStepOrStationCountOutOfRange) {
     return std::string();
   };
   for (const double step : {0.0, -1.0, 2.0, std::nan("")}) {
-    Scene scene;
+    Scene scene = new_scene();
     scene.contact_step = step;
     EXPECT_NE(refused(scene).find("Scene::contact_step must be between 1e-06 and 1 s"), std::string::npos) << step;
   }
-  Scene scene;
+  Scene scene = new_scene();
   scene.contact_stations = 0;
   EXPECT_NE(refused(scene).find("Scene::contact_stations must be between 1 and 64"), std::string::npos);
   EXPECT_EQ(refused(Scene{}), "");
@@ -415,7 +489,7 @@ TEST(Contact, TheSimulatorRefusesAContactStepOrStationCountOutOfRange) {
 // part's own ringing keeps most).
 // At the default step and at a coarse one (1/30 s, cut into contact steps near the sphere).
 void expect_no_energy_gain(const Rig& rig, const Vec3& kick, const Collider& ball, double step = 0) {
-  Scene scene;
+  Scene scene = new_scene();
   scene.duration = 1;
   scene.fps = 240;
   scene.step = step;
@@ -437,7 +511,7 @@ void expect_no_energy_gain(const Rig& rig, const Vec3& kick, const Collider& bal
   EXPECT_LT(last, (1 - 1e-4) * kicked) << "the hit took none (the test must touch)";
 }
 
-TEST(Contact, ContactsNeverAddEnergy) {
+TEST_P(Contact, ContactsNeverAddEnergy) {
   Rig material = rubber_tube(0.0);
   test::beam::set_youngs_modulus(material.sweeps[0], 2e8);
   for (const double step : {0.0, 1.0 / 30}) {
@@ -457,11 +531,11 @@ TEST(Contact, ContactsNeverAddEnergy) {
   }
 }
 
-TEST(Contact, TheSameMotionAtEveryFrameRate) {
+TEST_P(Contact, TheSameMotionAtEveryFrameRate) {
   // Contacts are resolved on the internal clock: frames at a shared time are the same bits.
   const Rig rig = rubber_tube(0.02);
   const auto pose_at_one_second = [&](double fps, bool with_box) {
-    Scene scene;
+    Scene scene = new_scene();
     scene.duration = 1;
     scene.fps = fps;
     scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
@@ -477,7 +551,7 @@ TEST(Contact, TheSameMotionAtEveryFrameRate) {
   for (const double fps : {30.0, 60.0, 144.0}) EXPECT_EQ(pose_at_one_second(fps, true), at24) << fps << " fps";
 }
 
-TEST(Contact, FrictionDragsAPartTheBodyPullsOverTheGround) {
+TEST_P(Contact, FrictionDragsAPartTheBodyPullsOverTheGround) {
   // A tube held out level lies on a world floor while the body glides along +x at constant
   // velocity (no inertial load). Without friction the floor only holds it up; with friction it drags
   // the part back (−x).
@@ -486,7 +560,7 @@ TEST(Contact, FrictionDragsAPartTheBodyPullsOverTheGround) {
   rig.sweeps[0].name = "tube";
   test::beam::set_youngs_modulus(rig.sweeps[0], 2e8);
   const auto lag = [&](double mu) {
-    Scene scene;
+    Scene scene = new_scene();
     scene.duration = 2;
     scene.fps = 30;
     scene.gravity = Vec3(0, -9.81, 0);
@@ -513,11 +587,11 @@ TEST(Contact, FrictionDragsAPartTheBodyPullsOverTheGround) {
 #endif
 }
 
-TEST(Contact, CollidersOutOfReachChangeNothing) {
+TEST_P(Contact, CollidersOutOfReachChangeNothing) {
   // Far from the part, or beside it but out of its way (the broad phase's business), carried by the
   // body or not: the same bits as none.
   const Rig rig = rubber_tube(0.02);
-  Scene scene;
+  Scene scene = new_scene();
   scene.duration = 0.5;
   scene.fps = 30;
   scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
@@ -539,13 +613,13 @@ TEST(Contact, CollidersOutOfReachChangeNothing) {
   }
 }
 
-TEST(Contact, AWorldColliderStaysPutWhileACarriedOneMovesWithTheBody) {
+TEST_P(Contact, AWorldColliderStaysPutWhileACarriedOneMovesWithTheBody) {
   // The body glides along +x at 2 units/s (constant velocity: no load on the part). A ball fixed in
   // the world ahead of the tube's outer half is met and pushes the part back; the same ball carried
   // by the body never comes nearer, and the part never moves.
   const Rig rig = rubber_tube(0.1);
   const double length = rig.sweeps[0].rest.length();
-  Scene scene;
+  Scene scene = new_scene();
   scene.duration = 2;
   scene.fps = 30;
   scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()}, {10, Vec3(20, 0, 0), Quat::Identity()}},
@@ -574,7 +648,7 @@ TEST(Contact, AWorldColliderStaysPutWhileACarriedOneMovesWithTheBody) {
   EXPECT_LE(deepest, 1e-3 * length);
 }
 
-TEST(Contact, ARestPoseInsideAColliderIsNamed) {
+TEST_P(Contact, ARestPoseInsideAColliderIsNamed) {
   const Rig rig = rubber_tube(0.02);
   // Its centre 0.3 beside the axis, 0.5 in radius: the tube's surface (radius 0.5) is 0.7 inside.
   Collider ball = Collider::sphere(Vec3(0.3, 0, 20), 0.5);
@@ -599,7 +673,7 @@ struct Crossing {
 };
 Crossing cross(const Collider& c, double ahead, double speed, bool teleport) {
   const Rig rig = rubber_tube(0.1);
-  Scene scene;
+  Scene scene = new_scene();
   scene.fps = speed / ahead;
   scene.duration = 1 / scene.fps;
   scene.teleport_enabled = teleport;
@@ -626,7 +700,7 @@ std::vector<std::pair<Collider, double>> across_the_path() {
   return out;
 }
 
-TEST(Contact, AFastBodyCannotCarryAPartThroughAWorldCollider) {
+TEST_P(Contact, AFastBodyCannotCarryAPartThroughAWorldCollider) {
   // Without the teleport rule, the body's move is motion at any speed: 3,000 units/s crosses 6 units
   // a step of 1/480 s, 100,000 units/s 208 (past the ball, the box and the rod, and far past the
   // tube's own size, in one step).
@@ -640,7 +714,7 @@ TEST(Contact, AFastBodyCannotCarryAPartThroughAWorldCollider) {
   }
 }
 
-TEST(Contact, ATeleportThatCarriesAPartThroughAWorldColliderIsSaid) {
+TEST_P(Contact, ATeleportThatCarriesAPartThroughAWorldColliderIsSaid) {
   // The same moves under the default teleport rule (farther than the tube's 31 units within a
   // frame's time: 52 to 70 here) are cuts: the tube is put to rest in the new place and passes the
   // collider unmet, which is said, naming the collider, the part and the frame.

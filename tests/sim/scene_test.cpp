@@ -123,6 +123,24 @@ TEST(Scene, ABadContactStepIsRefusedWithWhereAndWhy) {
   EXPECT_EQ(Scene{}.contact_step, Scene::kDefaultStep);
 }
 
+// "dynamics" chooses how a material part's joints move: the exact chain or the rest-pose modes (the
+// default); anything else is refused with where and why.
+TEST(Scene, DynamicsIsReadAndABadOneIsRefusedWithWhereAndWhy) {
+  Rig rig;
+  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
+  rig.sweeps.back().name = "tube";
+  const auto read = [&](const std::string& extra) {
+    const io::Json json = io::Json::parse(
+        R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [])" + extra + "}");
+    return parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+  };
+  EXPECT_FALSE(read("").exact_chain);
+  EXPECT_TRUE(read(R"(, "dynamics": "exact")").exact_chain);
+  EXPECT_FALSE(read(R"(, "dynamics": "modal")").exact_chain);
+  EXPECT_NE(refusal(R"([], "dynamics": "rigid")").find("/dynamics: must be \"exact\" or \"modal\", got \"rigid\""),
+            std::string::npos);
+}
+
 // A skinned mesh's clip: "loop" and "preroll" are read beside "node" and "animation", and bad ones
 // refused with where and why.
 TEST(Scene, ASkinnedClipsLoopAndPrerollAreRead) {
