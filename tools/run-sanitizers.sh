@@ -41,11 +41,13 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 # Shapes.TaperToAPoint (11 s; the other Shapes.* tests run the same fit). LargeRotation.StabilityMatrix…
 # (16 runs of the exact chain, 1.2 s optimised) repeats the exact step that
 # LargeRotation.ASoftTubeReleasedLevel… and ChainDynamics.MassMatrixAtRest… run sanitized.
+# Tests named *_long (seconds of the exact chain or of a stress run optimised: minutes under
+# ASan; each says in its comment which sanitized test runs its code).
 # Blender.* (11 s: Blender playing files the sanitized tools baked in other tests) and the format
 # check (sources, not code). Two contact
 # tests run one case of two there (Contact.FrictionDrags… one friction, Contact.ATubeLyingAlongTheFloor…
 # one stiffness: 26 and 22 s saved).
-exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody|Tool\.AllFitsEveryPartIntoOneRigUnderTheNamesGiven|Tool\.RootOnTheTailsUpperSurfaceFitsTheWholeTail|^ContactFriction\.|Contact\.ASoftTubeLyingOnAFrictionalSlopeStaysOnIt|Contact\.ATubeLyingOnAFrictionalSlope|Contact\.ACoarseStepIsCutIntoContactSteps|ChainDynamics\.(AnUndamped|AReleased|AWhipped|ASoftPart|ASwing|SettledShapes)|FusedTubes\.ACurledTubeWithATusk|Contact\.ATubeLyingAlongASlopeOrASoftOne|Tool\.AllNames|BodyProxy\.SpheresLieInsideABodyAndFillIt|Contact\.AFastSwingNeverEndsAFrameThroughAThinPlate|Shapes\.TaperToAPoint|^Blender\.|^House\.SourcesAreFormatted|LargeRotation\.StabilityMatrix'
+exclude='Diplodocus|CgalMeshes|OtherMeshes|^Stress\.|BindingFile\.SameInputsGiveTheSameBytesWhateverTheThreadCount|BindAdjacency\.RowsAreSortedUniqueAndSymmetric|BodyProxy\.ATailKickedIntoTheBody|Tool\.AllFitsEveryPartIntoOneRigUnderTheNamesGiven|Tool\.RootOnTheTailsUpperSurfaceFitsTheWholeTail|^ContactFriction\.|Contact\.ASoftTubeLyingOnAFrictionalSlopeStaysOnIt|Contact\.ATubeLyingOnAFrictionalSlope|Contact\.ACoarseStepIsCutIntoContactSteps|ChainDynamics\.(AnUndamped|AReleased|AWhipped|ASoftPart|ASwing|SettledShapes)|FusedTubes\.ACurledTubeWithATusk|Contact\.ATubeLyingAlongASlopeOrASoftOne|Tool\.AllNames|BodyProxy\.SpheresLieInsideABodyAndFillIt|Contact\.AFastSwingNeverEndsAFrameThroughAThinPlate|Shapes\.TaperToAPoint|^Blender\.|^House\.SourcesAreFormatted|LargeRotation\.StabilityMatrix|_long$'
 filter=(-E "$exclude")
 if [ "${1:-}" = "--all" ]; then
   filter=()
