@@ -110,6 +110,26 @@ Json animation_json(const SkinClip& clip, const SkinModel& model, Bin& bin) {
   return animation;
 }
 
+// Every primitive of `mesh` given JOINTS_0 (4 joint indices a vertex: unsigned bytes when the skin
+// has at most 256 joints, else shorts) and WEIGHTS_0 (4 floats a vertex).
+void set_skin_attributes(Bin& bin, std::size_t mesh, std::size_t joint_count, const std::vector<std::uint16_t>& joints,
+                         const std::vector<float>& weights) {
+  const std::size_t count = weights.size() / 4;
+  std::size_t joints_accessor = 0;
+  if (joint_count <= 256) {
+    const std::vector<std::uint8_t> small(joints.begin(), joints.end());
+    joints_accessor = bin.accessor(small.data(), small.size(), kUnsignedByte, "VEC4", count, kArrayBuffer);
+  } else {
+    joints_accessor = bin.accessor(joints.data(), 2 * joints.size(), kUnsignedShort, "VEC4", count, kArrayBuffer);
+  }
+  const std::size_t weights_accessor =
+      bin.accessor(weights.data(), 4 * weights.size(), kFloat, "VEC4", count, kArrayBuffer);
+  for (Json& primitive : bin.json["meshes"][mesh]["primitives"]) {
+    primitive["attributes"]["JOINTS_0"] = joints_accessor;
+    primitive["attributes"]["WEIGHTS_0"] = weights_accessor;
+  }
+}
+
 // Another mesh of the file skinned by bones of the character's skeleton (every bone one of the
 // model's joints): POSITION its bind positions, NORMAL turned into that space, JOINTS_0 and
 // WEIGHTS_0 its 4 largest influences renormalised, so that the skin plays it as the file does.
@@ -157,19 +177,7 @@ bool skin_other_mesh(Bin& bin, std::size_t mesh, const SurfaceGltf::Bones& bones
       std::memcpy(n + 3 * i, turned.data(), 12);
     }
   }
-  std::size_t joints_accessor = 0;
-  if (model.joints.size() <= 256) {
-    const std::vector<std::uint8_t> small(joints.begin(), joints.end());
-    joints_accessor = bin.accessor(small.data(), small.size(), kUnsignedByte, "VEC4", count, kArrayBuffer);
-  } else {
-    joints_accessor = bin.accessor(joints.data(), 2 * joints.size(), kUnsignedShort, "VEC4", count, kArrayBuffer);
-  }
-  const std::size_t weights_accessor =
-      bin.accessor(weights.data(), 4 * weights.size(), kFloat, "VEC4", count, kArrayBuffer);
-  for (Json& primitive : json["meshes"][mesh]["primitives"]) {
-    primitive["attributes"]["JOINTS_0"] = joints_accessor;
-    primitive["attributes"]["WEIGHTS_0"] = weights_accessor;
-  }
+  set_skin_attributes(bin, mesh, model.joints.size(), joints, weights);
   return true;
 }
 
@@ -232,19 +240,7 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
       weights[4 * i + e] = static_cast<float>(model.vertex_weights[source[i]][e]);
     }
   }
-  std::size_t joints_accessor = 0;
-  if (model.joints.size() <= 256) {
-    const std::vector<std::uint8_t> small(joints.begin(), joints.end());
-    joints_accessor = bin.accessor(small.data(), small.size(), kUnsignedByte, "VEC4", count, kArrayBuffer);
-  } else {
-    joints_accessor = bin.accessor(joints.data(), 2 * joints.size(), kUnsignedShort, "VEC4", count, kArrayBuffer);
-  }
-  const std::size_t weights_accessor =
-      bin.accessor(weights.data(), 4 * weights.size(), kFloat, "VEC4", count, kArrayBuffer);
-  for (Json& primitive : json["meshes"][skinned_mesh]["primitives"]) {
-    primitive["attributes"]["JOINTS_0"] = joints_accessor;
-    primitive["attributes"]["WEIGHTS_0"] = weights_accessor;
-  }
+  set_skin_attributes(bin, skinned_mesh, model.joints.size(), joints, weights);
 
   // The skin.
   std::vector<float> ibm;

@@ -88,13 +88,13 @@ struct TexturedAsset {
 
 // Writes creature.gltf, creature.bin and skin.png into `dir`; returns the document.
 inline nlohmann::json write_textured_asset(const fs::path& dir) {
-  using Json = nlohmann::json;
+  using Doc = nlohmann::json;
   using A = TexturedAsset;
   std::string bin;
-  Json views = Json::array(), accessors = Json::array();
+  Doc views = Doc::array(), accessors = Doc::array();
   auto add = [&](const void* data, std::size_t bytes, int component, const char* type, std::size_t count, int target) {
     bin.append((4 - bin.size() % 4) % 4, '\0');
-    Json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+    Doc view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
     if (target) view["target"] = target;
     bin.append(static_cast<const char*>(data), bytes);
     views.push_back(view);
@@ -105,7 +105,7 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
   auto floats = [&](const std::vector<float>& v, const char* type, int width, bool bounds = false) {
     const std::size_t a = add(v.data(), 4 * v.size(), 5126, type, v.size() / width, 34962);
     if (bounds) {
-      Json lo = Json::array(), hi = Json::array();
+      Doc lo = Doc::array(), hi = Doc::array();
       for (int c = 0; c < width; ++c) {
         float l = v[c], h = v[c];
         for (std::size_t k = c; k < v.size(); k += width) l = std::min(l, v[k]), h = std::max(h, v[k]);
@@ -170,7 +170,7 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
                            guv = {0, 0, 1, 0, 1, 1, 0, 1};
   const std::vector<std::uint32_t> ground = {0, 2, 1, 0, 3, 2};
 
-  Json side_prim = {{"attributes",
+  Doc side_prim = {{"attributes",
                      {{"POSITION", floats(pos, "VEC3", 3, true)},
                       {"NORMAL", floats(nrm, "VEC3", 3)},
                       {"TANGENT", floats(tan, "VEC4", 4)},
@@ -178,10 +178,10 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
                       {"COLOR_0", floats(col, "VEC4", 4)}}},
                     {"indices", indices(side)},
                     {"material", 0}};
-  Json cap_prim = {{"attributes", {{"POSITION", floats(cpos, "VEC3", 3, true)}, {"NORMAL", floats(cnrm, "VEC3", 3)}}},
+  Doc cap_prim = {{"attributes", {{"POSITION", floats(cpos, "VEC3", 3, true)}, {"NORMAL", floats(cnrm, "VEC3", 3)}}},
                    {"indices", indices(caps)},
                    {"material", 1}};
-  Json ground_prim = {{"attributes",
+  Doc ground_prim = {{"attributes",
                        {{"POSITION", floats(gpos, "VEC3", 3, true)},
                         {"NORMAL", floats(gnrm, "VEC3", 3)},
                         {"TEXCOORD_0", floats(guv, "VEC2", 2)}}},
@@ -189,25 +189,25 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
                       {"material", 2}};
   const std::vector<float> idle_times = {0, 1, 2}, idle_moves = {0, -1, 0, 0, -0.9f, 0, 0, -1, 0};
   const std::size_t idle_in = add(idle_times.data(), 12, 5126, "SCALAR", 3, 0);
-  accessors[idle_in]["min"] = Json::array({0.0});
-  accessors[idle_in]["max"] = Json::array({2.0});
+  accessors[idle_in]["min"] = Doc::array({0.0});
+  accessors[idle_in]["max"] = Doc::array({2.0});
   const std::size_t idle_out = add(idle_moves.data(), 36, 5126, "VEC3", 3, 0);
 
   auto trs = [](const Eigen::Affine3d& a, const Eigen::Vector3d& scale) {
     const Eigen::Quaterniond q(a.linear() * scale.cwiseInverse().asDiagonal());
-    return Json{{"translation", {a.translation().x(), a.translation().y(), a.translation().z()}},
+    return Doc{{"translation", {a.translation().x(), a.translation().y(), a.translation().z()}},
                 {"rotation", {q.x(), q.y(), q.z(), q.w()}}};
   };
-  Json creature = trs(TexturedAsset::creature(), Eigen::Vector3d::Ones());
+  Doc creature = trs(TexturedAsset::creature(), Eigen::Vector3d::Ones());
   creature["name"] = "Creature";
   creature["children"] = {1, 2};
-  Json tail = trs(TexturedAsset::tail_local(), Eigen::Vector3d(1.2, 1.2, 1.5));
+  Doc tail = trs(TexturedAsset::tail_local(), Eigen::Vector3d(1.2, 1.2, 1.5));
   tail["name"] = "Tail";
   tail["scale"] = {1.2, 1.2, 1.5};
   tail["mesh"] = 0;
   tail["extras"] = {{"wag", true}};
 
-  Json doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep tests: textured asset"}}},
+  Doc doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep tests: textured asset"}}},
               {"scene", 0},
               {"scenes", {{{"name", "World"}, {"nodes", {0, 3}}}}},
               {"nodes",
