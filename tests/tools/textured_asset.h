@@ -171,22 +171,22 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
   const std::vector<std::uint32_t> ground = {0, 2, 1, 0, 3, 2};
 
   Doc side_prim = {{"attributes",
-                     {{"POSITION", floats(pos, "VEC3", 3, true)},
-                      {"NORMAL", floats(nrm, "VEC3", 3)},
-                      {"TANGENT", floats(tan, "VEC4", 4)},
-                      {"TEXCOORD_0", floats(uv, "VEC2", 2)},
-                      {"COLOR_0", floats(col, "VEC4", 4)}}},
-                    {"indices", indices(side)},
-                    {"material", 0}};
+                    {{"POSITION", floats(pos, "VEC3", 3, true)},
+                     {"NORMAL", floats(nrm, "VEC3", 3)},
+                     {"TANGENT", floats(tan, "VEC4", 4)},
+                     {"TEXCOORD_0", floats(uv, "VEC2", 2)},
+                     {"COLOR_0", floats(col, "VEC4", 4)}}},
+                   {"indices", indices(side)},
+                   {"material", 0}};
   Doc cap_prim = {{"attributes", {{"POSITION", floats(cpos, "VEC3", 3, true)}, {"NORMAL", floats(cnrm, "VEC3", 3)}}},
-                   {"indices", indices(caps)},
-                   {"material", 1}};
+                  {"indices", indices(caps)},
+                  {"material", 1}};
   Doc ground_prim = {{"attributes",
-                       {{"POSITION", floats(gpos, "VEC3", 3, true)},
-                        {"NORMAL", floats(gnrm, "VEC3", 3)},
-                        {"TEXCOORD_0", floats(guv, "VEC2", 2)}}},
-                      {"indices", indices(ground)},
-                      {"material", 2}};
+                      {{"POSITION", floats(gpos, "VEC3", 3, true)},
+                       {"NORMAL", floats(gnrm, "VEC3", 3)},
+                       {"TEXCOORD_0", floats(guv, "VEC2", 2)}}},
+                     {"indices", indices(ground)},
+                     {"material", 2}};
   const std::vector<float> idle_times = {0, 1, 2}, idle_moves = {0, -1, 0, 0, -0.9f, 0, 0, -1, 0};
   const std::size_t idle_in = add(idle_times.data(), 12, 5126, "SCALAR", 3, 0);
   accessors[idle_in]["min"] = Doc::array({0.0});
@@ -196,7 +196,7 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
   auto trs = [](const Eigen::Affine3d& a, const Eigen::Vector3d& scale) {
     const Eigen::Quaterniond q(a.linear() * scale.cwiseInverse().asDiagonal());
     return Doc{{"translation", {a.translation().x(), a.translation().y(), a.translation().z()}},
-                {"rotation", {q.x(), q.y(), q.z(), q.w()}}};
+               {"rotation", {q.x(), q.y(), q.z(), q.w()}}};
   };
   Doc creature = trs(TexturedAsset::creature(), Eigen::Vector3d::Ones());
   creature["name"] = "Creature";
@@ -208,33 +208,33 @@ inline nlohmann::json write_textured_asset(const fs::path& dir) {
   tail["extras"] = {{"wag", true}};
 
   Doc doc = {{"asset", {{"version", "2.0"}, {"generator", "sweep tests: textured asset"}}},
-              {"scene", 0},
-              {"scenes", {{{"name", "World"}, {"nodes", {0, 3}}}}},
-              {"nodes",
-               {creature,
-                tail,
-                {{"name", "Head"}, {"translation", {0, 0.3, -0.4}}},
-                {{"name", "Ground"}, {"mesh", 1}, {"translation", {0, -1, 0}}}}},
-              {"meshes",
-               {{{"name", "Tail"}, {"primitives", {side_prim, cap_prim}}},
-                {{"name", "Ground"}, {"primitives", {ground_prim}}}}},
-              {"materials",
-               {{{"name", "Skin"},
-                 {"pbrMetallicRoughness",
-                  {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {1, 0.9, 0.8, 1}}, {"metallicFactor", 0}}},
-                 {"doubleSided", true}},
-                {{"name", "Bone"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.9, 0.85, 1}}}}},
-                {{"name", "Grass"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.6, 0.1, 1}}}}}}},
-              {"textures", {{{"sampler", 0}, {"source", 0}}}},
-              {"samplers", {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 10497}}}},
-              {"images", {{{"name", "skin"}, {"uri", "skin.png"}}}},
-              {"animations",
-               {{{"name", "Idle"},
-                 {"samplers", {{{"input", idle_in}, {"output", idle_out}, {"interpolation", "LINEAR"}}}},
-                 {"channels", {{{"sampler", 0}, {"target", {{"node", 3}, {"path", "translation"}}}}}}}}},
-              {"accessors", accessors},
-              {"bufferViews", views},
-              {"buffers", {{{"uri", "creature.bin"}, {"byteLength", bin.size()}}}}};
+             {"scene", 0},
+             {"scenes", {{{"name", "World"}, {"nodes", {0, 3}}}}},
+             {"nodes",
+              {creature,
+               tail,
+               {{"name", "Head"}, {"translation", {0, 0.3, -0.4}}},
+               {{"name", "Ground"}, {"mesh", 1}, {"translation", {0, -1, 0}}}}},
+             {"meshes",
+              {{{"name", "Tail"}, {"primitives", {side_prim, cap_prim}}},
+               {{"name", "Ground"}, {"primitives", {ground_prim}}}}},
+             {"materials",
+              {{{"name", "Skin"},
+                {"pbrMetallicRoughness",
+                 {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {1, 0.9, 0.8, 1}}, {"metallicFactor", 0}}},
+                {"doubleSided", true}},
+               {{"name", "Bone"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.9, 0.85, 1}}}}},
+               {{"name", "Grass"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.6, 0.1, 1}}}}}}},
+             {"textures", {{{"sampler", 0}, {"source", 0}}}},
+             {"samplers", {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 10497}}}},
+             {"images", {{{"name", "skin"}, {"uri", "skin.png"}}}},
+             {"animations",
+              {{{"name", "Idle"},
+                {"samplers", {{{"input", idle_in}, {"output", idle_out}, {"interpolation", "LINEAR"}}}},
+                {"channels", {{{"sampler", 0}, {"target", {{"node", 3}, {"path", "translation"}}}}}}}}},
+             {"accessors", accessors},
+             {"bufferViews", views},
+             {"buffers", {{{"uri", "creature.bin"}, {"byteLength", bin.size()}}}}};
   spit(dir / "creature.bin", bin);
   spit(dir / "skin.png", tiny_png());
   spit(dir / "creature.gltf", doc.dump(1));
