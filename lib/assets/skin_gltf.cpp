@@ -110,6 +110,29 @@ Json animation_json(const SkinClip& clip, const SkinModel& model, Bin& bin) {
   return animation;
 }
 
+// A skinned primitive's POSITION overwritten with its bind positions `p` (3 floats a vertex), its
+// bounds lo..hi.
+void set_bind_pose(Bin& bin, const Json& attributes, const std::vector<float>& p, const Eigen::Vector3f& lo,
+                   const Eigen::Vector3f& hi) {
+  const std::size_t position = attributes["POSITION"].get<std::size_t>();
+  std::memcpy(bin.at(position), p.data(), 4 * p.size());
+  bin.json["accessors"][position]["min"] = {lo.x(), lo.y(), lo.z()};
+  bin.json["accessors"][position]["max"] = {hi.x(), hi.y(), hi.z()};
+}
+
+// Its NORMAL taken from world space into the bind space `to_world_linear` maps to world: by the
+// inverse transpose of that map (its transpose: the map is a rotation).
+void turn_normals_to_bind(Bin& bin, const Json& attributes, const Eigen::Matrix3d& to_world_linear, std::size_t count) {
+  const Eigen::Matrix3d to_bind = to_world_linear.transpose();
+  float* n = reinterpret_cast<float*>(bin.at(attributes["NORMAL"].get<std::size_t>()));
+  for (std::size_t i = 0; i < count; ++i) {
+    Eigen::Vector3f world;
+    std::memcpy(world.data(), n + 3 * i, 12);
+    const Eigen::Vector3f turned = (to_bind * world.cast<double>()).normalized().cast<float>();
+    std::memcpy(n + 3 * i, turned.data(), 12);
+  }
+}
+
 // Every primitive of `mesh` given JOINTS_0 (4 joint indices a vertex: unsigned bytes when the skin
 // has at most 256 joints, else shorts) and WEIGHTS_0 (4 floats a vertex).
 void set_skin_attributes(Bin& bin, std::size_t mesh, std::size_t joint_count, const std::vector<std::uint16_t>& joints,
@@ -163,20 +186,8 @@ bool skin_other_mesh(Bin& bin, std::size_t mesh, const SurfaceGltf::Bones& bones
     }
   }
   Json& attributes = json["meshes"][mesh]["primitives"][0]["attributes"];
-  const std::size_t position = attributes["POSITION"].get<std::size_t>();
-  std::memcpy(bin.at(position), p.data(), 4 * p.size());
-  json["accessors"][position]["min"] = {lo.x(), lo.y(), lo.z()};
-  json["accessors"][position]["max"] = {hi.x(), hi.y(), hi.z()};
-  if (attributes.contains("NORMAL")) {
-    const Eigen::Matrix3d to_bind = bones.to_world_linear.transpose();  // normals go by the inverse transpose
-    float* n = reinterpret_cast<float*>(bin.at(attributes["NORMAL"].get<std::size_t>()));
-    for (std::size_t i = 0; i < count; ++i) {
-      Eigen::Vector3f world;
-      std::memcpy(world.data(), n + 3 * i, 12);
-      const Eigen::Vector3f turned = (to_bind * world.cast<double>()).normalized().cast<float>();
-      std::memcpy(n + 3 * i, turned.data(), 12);
-    }
-  }
+  set_bind_pose(bin, attributes, p, lo, hi);
+  if (attributes.contains("NORMAL")) turn_normals_to_bind(bin, attributes, bones.to_world_linear, count);
   set_skin_attributes(bin, mesh, model.joints.size(), joints, weights);
   return true;
 }
@@ -208,7 +219,6 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
   Json& attributes = json["meshes"][skinned_mesh]["primitives"][0]["attributes"];
 
   // POSITION and NORMAL in the bind space, written over the world ones.
-  const std::size_t position = attributes["POSITION"].get<std::size_t>();
   std::vector<float> p(3 * count);
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
   for (std::size_t i = 0; i < count; ++i) {
@@ -217,19 +227,9 @@ void add_skin(SurfaceGltf& gltf, const SkinModel& model, const Eigen::Affine3d& 
     lo = lo.cwiseMin(b);
     hi = hi.cwiseMax(b);
   }
-  std::memcpy(bin.at(position), p.data(), 4 * p.size());
-  json["accessors"][position]["min"] = {lo.x(), lo.y(), lo.z()};
-  json["accessors"][position]["max"] = {hi.x(), hi.y(), hi.z()};
-  if (attributes.contains("NORMAL") && !to_world.linear().isIdentity(0.0)) {
-    const Eigen::Matrix3d to_bind = to_world.linear().transpose();  // normals go by the inverse transpose
-    float* n = reinterpret_cast<float*>(bin.at(attributes["NORMAL"].get<std::size_t>()));
-    for (std::size_t i = 0; i < count; ++i) {
-      Eigen::Vector3f world;
-      std::memcpy(world.data(), n + 3 * i, 12);
-      const Eigen::Vector3f turned = (to_bind * world.cast<double>()).normalized().cast<float>();
-      std::memcpy(n + 3 * i, turned.data(), 12);
-    }
-  }
+  set_bind_pose(bin, attributes, p, lo, hi);
+  if (attributes.contains("NORMAL") && !to_world.linear().isIdentity(0.0))
+    turn_normals_to_bind(bin, attributes, to_world.linear(), count);
 
   // JOINTS_0 and WEIGHTS_0.
   std::vector<float> weights(4 * count);
