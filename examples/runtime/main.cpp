@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "sweep/bind/fast_deform.h"
 #include "sweep/core/error.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/rig_json.h"
 #include "sweep/io/scene_json.h"
-#include "sweep/sim/fast_deform.h"
 #include "sweep/sim/simulator.h"
 
 namespace {
@@ -62,23 +62,23 @@ int main(int argc, char** argv) {
     const bind::Binding binding = io::load_binding(args[1], mesh, rig);  // refuses a stale one
     const sim::Scene scene = io::read_scene(args.size() == 4 ? args[3] : args[0], rig);
     sim::Simulator simulator(rig, scene);
-    std::vector<sim::Vec3f> rest(mesh.positions.size()), positions;
+    std::vector<bind::Vec3f> rest(mesh.positions.size()), positions;
     for (std::size_t v = 0; v < rest.size(); ++v) rest[v] = mesh.positions[v].cast<float>();
     positions = rest;
-    std::vector<std::unique_ptr<sim::FastDeformer>> deformers;
+    std::vector<std::unique_ptr<bind::FastDeformer>> deformers;
     for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
-      deformers.push_back(std::make_unique<sim::FastDeformer>(rig.sweeps[i].rest, binding.sweeps[i], rest));
+      deformers.push_back(std::make_unique<bind::FastDeformer>(rig.sweeps[i].rest, binding.sweeps[i], rest));
     }
 
     // Every frame: step, then deform the sweeps that moved (asleep or undriven ones cost nothing).
-    std::vector<sim::DeformJob> jobs;
+    std::vector<bind::DeformJob> jobs;
     for (int frame = 1; frame < scene.frame_count(); ++frame) {
       simulator.advance_frame();
       jobs.clear();
       for (int i = 0; i < simulator.sweep_count(); ++i) {
         if (simulator.moved_last_frame(i)) jobs.push_back({deformers[i].get(), &simulator.sweep(i).deformed()});
       }
-      sim::deform_sweeps(jobs, positions);  // `positions` is what the engine uploads
+      bind::deform_sweeps(jobs, positions);  // `positions` is what the engine uploads
       if (frame % 10 == 0 || frame + 1 == scene.frame_count()) {
         float largest = 0;
         for (std::size_t v = 0; v < rest.size(); ++v) largest = std::max(largest, (positions[v] - rest[v]).norm());
@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
     }
     if (!dump.empty()) {
       std::ofstream out(dump, std::ios::binary);
-      for (const sim::Vec3f& p : positions) out.write(reinterpret_cast<const char*>(p.data()), 3 * sizeof(float));
+      for (const bind::Vec3f& p : positions) out.write(reinterpret_cast<const char*>(p.data()), 3 * sizeof(float));
       if (!out) throw std::runtime_error(dump + ": cannot write");
     }
   } catch (const std::exception& e) {

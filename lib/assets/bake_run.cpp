@@ -10,12 +10,12 @@
 #include "sweep/assets/bake.h"
 #include "sweep/assets/character_joints.h"
 #include "sweep/bind/deform.h"
+#include "sweep/bind/fast_deform.h"
 #include "sweep/core/error.h"
 #include "sweep/core/fold_check.h"
 #include "sweep/core/text.h"
-#include "sweep/sim/fast_deform.h"
 
-using sweep::sim::deform_sweeps;
+using sweep::bind::deform_sweeps;
 
 namespace sweep::assets {
 namespace {
@@ -90,7 +90,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   const std::size_t nv = mesh.vertex_count();
   const int sweeps = static_cast<int>(rig.sweeps.size());
 
-  std::vector<sim::Vec3f> rest(nv), positions(nv);
+  std::vector<bind::Vec3f> rest(nv), positions(nv);
   for (std::size_t v = 0; v < nv; ++v) rest[v] = mesh.positions[v].cast<float>();
   positions = rest;
 
@@ -160,7 +160,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   // Only driven sweeps' vertices can ever move: the writers are told, so glTF stores sparse
   // targets and the others skip the rest.
   std::vector<std::uint32_t> animated;
-  std::vector<std::unique_ptr<sim::FastDeformer>> fast(sweeps);
+  std::vector<std::unique_ptr<bind::FastDeformer>> fast(sweeps);
   BakeReport report;
   std::vector<std::optional<FoldMeter>> folds(sweeps);
   const Vec3 start_gravity = scene.body.at(0).rotation.conjugate() * scene.gravity;
@@ -175,7 +175,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     folds[i].emplace(rig.sweeps[i].rest);
     animated.insert(animated.end(), table.vertices.begin(), table.vertices.end());
     if (options.exact) continue;
-    fast[i] = std::make_unique<sim::FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
+    fast[i] = std::make_unique<bind::FastDeformer>(rig.sweeps[i].rest, table, rest, options.stations_per_span);
     report.sweeps[i].work_blocks = fast[i]->block_count();
     report.sweeps[i].blocks_in_place = fast[i]->direct_block_count();
   }
@@ -224,7 +224,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   // The exact path rebuilds the whole mesh in double from the binding (the reference).
   std::vector<Vec3> exact_out(options.exact ? nv : 0);
   std::vector<const SweepShape*> shapes(sweeps);
-  std::vector<sim::DeformJob> jobs;  // the fast path's work this frame
+  std::vector<bind::DeformJob> jobs;  // the fast path's work this frame
   jobs.reserve(sweeps);
 
   report.frames = info.frame_count;
@@ -232,7 +232,7 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   report.step_seconds = scene.step_seconds();
   double max_displacement = 0;
   double edge_stretch = 1;
-  std::vector<sim::Vec3f> world(options.skinned != nullptr ? nv : 0);
+  std::vector<bind::Vec3f> world(options.skinned != nullptr ? nv : 0);
   {
     const auto t0 = Clock::now();
     for (int k = 0; k < preroll_frames; ++k)

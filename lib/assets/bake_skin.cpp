@@ -364,6 +364,18 @@ int skin_stations(const SweepShape& rest, int stations_per_span) {
   return (rest.section_count() - 1) * stations_per_span + 1;
 }
 
+DefaultSkinJoints default_skin_joints(std::span<const SweepDef> sweeps, int stations_per_span) {
+  DefaultSkinJoints chosen;
+  for (const SweepDef& def : sweeps) {
+    const int stations = skin_stations(def.rest, stations_per_span);
+    if (stations < chosen.joints) {
+      chosen.joints = std::max(kMinSkinJoints, stations);
+      chosen.fewest = &def;
+    }
+  }
+  return chosen;
+}
+
 void check_skin_joints(const SkinLayout& layout, std::span<const SkinSweep> sweeps, int stations_per_span) {
   const int joints = layout.stations;
   if (joints < kMinSkinJoints || joints > kMaxSkinJoints) {

@@ -36,6 +36,7 @@
 #include "sweep/assets/bake.h"
 #include "sweep/assets/skin_fit.h"
 #include "sweep/bind/bind.h"
+#include "sweep/core/rig.h"
 #include "sweep/core/sweep_shape.h"
 
 namespace sweep::assets {
@@ -71,6 +72,15 @@ struct SkinBakeWriter {
 
 // The stations a sweep of `rest` is sampled at: (K − 1)·stations_per_span + 1, at most a joint each.
 int skin_stations(const SweepShape& rest, int stations_per_span);
+
+// The station joints of --joints without a number: kDefaultSkinJoints or, where a sweep has fewer
+// stations, as many as the fewest any sweep has (at least kMinSkinJoints; one N serves every
+// sweep); `fewest` is the sweep that set it (nullptr: the default stands).
+struct DefaultSkinJoints {
+  int joints = kDefaultSkinJoints;
+  const SweepDef* fewest = nullptr;
+};
+DefaultSkinJoints default_skin_joints(std::span<const SweepDef> sweeps, int stations_per_span);
 
 // Checks the layout's station joints against kMinSkinJoints … kMaxSkinJoints and each sweep's
 // station count (a joint per station at most: (K − 1)·stations_per_span + 1), and its ring joints

@@ -7,14 +7,14 @@
 namespace sweep::assets {
 namespace {
 
-double squared_length(const sim::Vec3f& p, const sim::Vec3f& q) {
+double squared_length(const bind::Vec3f& p, const bind::Vec3f& q) {
   return (p.cast<double>() - q.cast<double>()).squaredNorm();
 }
 
 }  // namespace
 
 EdgeStretchMeter::EdgeStretchMeter(const Mesh& mesh, std::span<const std::uint32_t> animated,
-                                   std::span<const sim::Vec3f> rest) {
+                                   std::span<const bind::Vec3f> rest) {
   const std::size_t nv = mesh.vertex_count();
   std::vector<char> moves(nv, 0);
   for (const std::uint32_t v : animated) {
@@ -41,7 +41,7 @@ EdgeStretchMeter::EdgeStretchMeter(const Mesh& mesh, std::span<const std::uint32
   }
 }
 
-EdgeStretch EdgeStretchMeter::measure(std::span<const sim::Vec3f> positions) const {
+EdgeStretch EdgeStretchMeter::measure(std::span<const bind::Vec3f> positions) const {
   // Squared ratios (no square root an edge): the largest ratio is the root of the largest.
   double worst = 1;
   std::size_t at = a_.size();

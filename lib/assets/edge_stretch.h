@@ -12,8 +12,8 @@
 #include <span>
 #include <vector>
 
+#include "sweep/bind/fast_deform.h"
 #include "sweep/core/mesh.h"
-#include "sweep/sim/fast_deform.h"
 
 namespace sweep::assets {
 
@@ -28,9 +28,9 @@ class EdgeStretchMeter {
  public:
   // The mesh's polygon edges (each once, a < b, ascending) with an end among `animated` and a
   // rest length > 0 in `rest` (the positions frames are measured against).
-  EdgeStretchMeter(const Mesh& mesh, std::span<const std::uint32_t> animated, std::span<const sim::Vec3f> rest);
+  EdgeStretchMeter(const Mesh& mesh, std::span<const std::uint32_t> animated, std::span<const bind::Vec3f> rest);
   // The edge that stretched most in `positions` (the first in edge order among equals).
-  EdgeStretch measure(std::span<const sim::Vec3f> positions) const;
+  EdgeStretch measure(std::span<const bind::Vec3f> positions) const;
   std::size_t edge_count() const { return a_.size(); }
 
  private:

@@ -13,13 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "sweep/bind/fast_deform.h"
 #include "sweep/core/error.h"
 #include "sweep/core/limits.h"
 #include "sweep/core/text.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/rig_json.h"
 #include "sweep/io/scene_json.h"
-#include "sweep/sim/fast_deform.h"
 #include "sweep/sim/live_positions.h"
 #include "sweep/sim/simulator.h"
 #include "sweep/sim/skin_joints.h"
@@ -29,7 +29,7 @@ struct sweep_instance {
   sweep::Rig rig;
   sweep::sim::Scene scene;
   std::unique_ptr<sweep::sim::Simulator> simulator;
-  std::vector<std::unique_ptr<sweep::sim::FastDeformer>> deformers;
+  std::vector<std::unique_ptr<sweep::bind::FastDeformer>> deformers;
   std::unique_ptr<sweep::sim::LivePositions> positions;  // the parts' vertices as of their last deform
   std::unique_ptr<sweep::sim::SkinJoints> joints;        // the skinned export's skeleton, posed on demand
   // Per sweep: moved since its vertices were last deformed / its joints last posed. What a frame
@@ -104,8 +104,8 @@ void usable(const sweep_instance* instance) {
 // The binding's bound vertices, deformed by the parts' rest shapes, must come back near the rest
 // positions given: a binding made for another mesh does not. (The binding's own hash is of the
 // mesh's positions as doubles, which float positions cannot reproduce unless they were floats.)
-void check_rest(const sweep_instance& in, const std::vector<sweep::sim::Vec3f>& rest) {
-  std::vector<sweep::sim::Vec3f> shaped = rest;
+void check_rest(const sweep_instance& in, const std::vector<sweep::bind::Vec3f>& rest) {
+  std::vector<sweep::bind::Vec3f> shaped = rest;
   for (std::size_t i = 0; i < in.deformers.size(); ++i) in.deformers[i]->deform(in.rig.sweeps[i].rest, shaped);
   // 1 % of the shortest part: the fast path's rest error is a few millionths of it.
   double shortest = std::numeric_limits<double>::infinity();
@@ -150,20 +150,20 @@ sweep::sim::SkinJointLayout default_skin(const sweep::Rig& rig) {
 // The rest positions of a mesh, one copy for every instance opened with the same ones while one
 // lives: a crowd of one creature then streams one copy through its frames' world copies (which
 // stays in cache from one creature to the next) instead of one each from memory.
-static_assert(sizeof(sweep::sim::Vec3f) == 3 * sizeof(float), "compared as bytes below");
-std::shared_ptr<const std::vector<sweep::sim::Vec3f>> shared_rest(std::vector<sweep::sim::Vec3f> rest) {
+static_assert(sizeof(sweep::bind::Vec3f) == 3 * sizeof(float), "compared as bytes below");
+std::shared_ptr<const std::vector<sweep::bind::Vec3f>> shared_rest(std::vector<sweep::bind::Vec3f> rest) {
   static std::mutex mutex;
-  static std::vector<std::weak_ptr<const std::vector<sweep::sim::Vec3f>>> meshes;
+  static std::vector<std::weak_ptr<const std::vector<sweep::bind::Vec3f>>> meshes;
   const std::lock_guard lock(mutex);
   std::erase_if(meshes, [](const auto& m) { return m.expired(); });
   for (const auto& m : meshes) {
     auto mesh = m.lock();
     // Bit for bit (a NaN is refused before this; -0 and 0 are told apart).
     if (mesh && mesh->size() == rest.size() &&
-        std::memcmp(mesh->data(), rest.data(), rest.size() * sizeof(sweep::sim::Vec3f)) == 0)
+        std::memcmp(mesh->data(), rest.data(), rest.size() * sizeof(sweep::bind::Vec3f)) == 0)
       return mesh;
   }
-  auto mesh = std::make_shared<const std::vector<sweep::sim::Vec3f>>(std::move(rest));
+  auto mesh = std::make_shared<const std::vector<sweep::bind::Vec3f>>(std::move(rest));
   meshes.push_back(mesh);
   return mesh;
 }
@@ -208,7 +208,7 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     in = std::make_unique<sweep_instance>();
     in->rig = sweep::io::read_rig(rig_path);
     sweep::Mesh mesh;
-    std::vector<sweep::sim::Vec3f> rest(static_cast<std::size_t>(vertex_count));
+    std::vector<sweep::bind::Vec3f> rest(static_cast<std::size_t>(vertex_count));
     mesh.positions.resize(rest.size());
     for (std::size_t v = 0; v < rest.size(); ++v) {
       rest[v] = {rest_xyz[3 * v], rest_xyz[3 * v + 1], rest_xyz[3 * v + 2]};
@@ -226,7 +226,7 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
       in->scene.step = kLiveStep;
     for (std::size_t i = 0; i < in->rig.sweeps.size(); ++i) {
       in->deformers.push_back(
-          std::make_unique<sweep::sim::FastDeformer>(in->rig.sweeps[i].rest, binding.sweeps[i], rest));
+          std::make_unique<sweep::bind::FastDeformer>(in->rig.sweeps[i].rest, binding.sweeps[i], rest));
     }
     if (!same_positions) check_rest(*in, rest);
     in->simulator = std::make_unique<sweep::sim::Simulator>(in->rig, in->scene);
@@ -235,7 +235,7 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     // frame on 2 threads took 20-40 ms against 0.2 ms on one: sweep-bench-live); a game spreads its
     // creatures over its own threads instead.
     in->simulator->set_parallel(false);
-    std::vector<const sweep::sim::FastDeformer*> parts;
+    std::vector<const sweep::bind::FastDeformer*> parts;
     for (const auto& d : in->deformers) parts.push_back(d.get());
     in->positions = std::make_unique<sweep::sim::LivePositions>(shared_rest(std::move(rest)), parts);
     in->deform_due.assign(in->deformers.size(), 0);
@@ -346,7 +346,7 @@ int sweep_positions(const sweep_instance* instance, float* out_xyz) {
     const_cast<sweep_instance*>(instance)->deform_moved();
     const sweep::sim::BodyState body = instance->simulator->body();
     const Eigen::Matrix3f r = body.rotation.toRotationMatrix().cast<float>();
-    const sweep::sim::Vec3f t = body.translation.cast<float>();
+    const sweep::bind::Vec3f t = body.translation.cast<float>();
     instance->positions->world(r, t, out_xyz);
   });
 }

@@ -3,7 +3,7 @@
 // found once on the rest shape (core/locate.h), and rebuilt from them on every pose of the sweep:
 // on the rest shape it comes back to where it was; on a deformed shape it follows the bending,
 // twisting and radial change. deform_point is that rebuild, the exact per-vertex path in double;
-// bind/deform.h applies it to every bound vertex of a mesh, and the fast path (sim/fast_deform.h)
+// bind/deform.h applies it to every bound vertex of a mesh, and the fast path (bind/fast_deform.h)
 // approximates it in float from stations.
 #include "sweep/core/sweep_shape.h"
 

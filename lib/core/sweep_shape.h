@@ -12,7 +12,7 @@
 //    kMinRadiusFraction of the smallest sample involved, so an overshooting cubic can never make
 //    a radius negative; samples themselves are never changed by the floor.
 // The interpolants themselves (HermiteBasis, CatmullRomCell, Slerp) are declared below: the fast
-// deformation path (sim/fast_deform.h) tabulates its stations with them.
+// deformation path (bind/fast_deform.h) tabulates its stations with them.
 #include <algorithm>
 #include <array>
 #include <span>

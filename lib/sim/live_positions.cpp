@@ -14,7 +14,7 @@ namespace {
 
 constexpr std::uint32_t kUnbound = std::numeric_limits<std::uint32_t>::max();
 
-// out = R · p + t, with the operations of sim::transform_positions in its order (the same bits),
+// out = R · p + t, with the operations of bind::transform_positions in its order (the same bits),
 // compiled as it is (-O3, AVX2 or baseline x86-64, no FMA), for `count` points in their order.
 __attribute__((target_clones("avx2", "default"))) void transform(const float* points, std::size_t count, const float* m,
                                                                  float* out) {
@@ -71,18 +71,19 @@ __attribute__((target_clones("avx2", "default"))) void transform_banded(const fl
 
 }  // namespace
 
-LivePositions::LivePositions(std::span<const Vec3f> rest, std::span<const FastDeformer* const> parts)
-    : LivePositions(std::make_shared<const std::vector<Vec3f>>(rest.begin(), rest.end()), parts) {}
+LivePositions::LivePositions(std::span<const bind::Vec3f> rest, std::span<const bind::FastDeformer* const> parts)
+    : LivePositions(std::make_shared<const std::vector<bind::Vec3f>>(rest.begin(), rest.end()), parts) {}
 
-LivePositions::LivePositions(std::shared_ptr<const std::vector<Vec3f>> rest, std::span<const FastDeformer* const> parts)
+LivePositions::LivePositions(std::shared_ptr<const std::vector<bind::Vec3f>> rest,
+                             std::span<const bind::FastDeformer* const> parts)
     : rest_(std::move(rest)) {
-  const std::vector<Vec3f>& mesh = *rest_;
+  const std::vector<bind::Vec3f>& mesh = *rest_;
   std::size_t total = mesh.size();
-  for (const FastDeformer* part : parts) total += part->vertex_count();
+  for (const bind::FastDeformer* part : parts) total += part->vertex_count();
   if (total >= kUnbound) fail(ErrorCategory::unsupported, "a mesh of " + std::to_string(mesh.size()) + " vertices");
   // Each part's vertices, in its grouped order, starting at their rest.
   std::vector<char> bound(mesh.size(), 0);
-  for (const FastDeformer* part : parts) {
+  for (const bind::FastDeformer* part : parts) {
     offset_.push_back(points_.size());
     for (const std::uint32_t v : part->grouped_vertices()) {
       if (v >= mesh.size() || bound[v])
@@ -96,11 +97,11 @@ LivePositions::LivePositions(std::shared_ptr<const std::vector<Vec3f>> rest, std
   world_points_.resize(points_.size());
 }
 
-void LivePositions::deform(int part, FastDeformer& fast, const SweepShape& shape) {
-  fast.deform_grouped(shape, std::span<Vec3f>(points_.data() + offset_[part], fast.vertex_count()));
+void LivePositions::deform(int part, bind::FastDeformer& fast, const SweepShape& shape) {
+  fast.deform_grouped(shape, std::span<bind::Vec3f>(points_.data() + offset_[part], fast.vertex_count()));
 }
 
-void LivePositions::world(const Eigen::Matrix3f& rotation, const Vec3f& translation, float* out) const {
+void LivePositions::world(const Eigen::Matrix3f& rotation, const bind::Vec3f& translation, float* out) const {
   float m[12];
   for (int c = 0; c < 3; ++c) {
     for (int r = 0; r < 3; ++r) m[3 * c + r] = rotation(r, c);
@@ -112,7 +113,7 @@ void LivePositions::world(const Eigen::Matrix3f& rotation, const Vec3f& translat
   // the instructions).
   if (points_.empty()) return;
   transform_banded(points_.data()->data(), points_.size(), m, world_points_.data()->data());
-  const Vec3f* from = world_points_.data();
+  const bind::Vec3f* from = world_points_.data();
   for (std::size_t i = 0; i < target_.size(); ++i) {
     float* o = out + 3 * static_cast<std::size_t>(target_[i]);
     o[0] = from[i][0];

@@ -12,7 +12,7 @@
 // into cache. (One pass reading each vertex through an index was slower still.) The first pass
 // runs as a banded product over the flat floats (five shifted vector loads, no shuffles: half the
 // instructions of the x y z loop). The result is the same floats as deforming into a mesh-order
-// copy and transforming that (sim::deform_sweeps, sim::transform_positions), bit for bit but for
+// copy and transforming that (bind::deform_sweeps, bind::transform_positions), bit for bit but for
 // the sign of a zero coordinate.
 //
 // A part not deformed yet holds its vertices' rest positions. Allocation-free after construction.
@@ -23,28 +23,28 @@
 #include <span>
 #include <vector>
 
-#include "sweep/sim/fast_deform.h"
+#include "sweep/bind/fast_deform.h"
 
 namespace sweep::sim {
 
 class LivePositions {
  public:
   // `rest`: the whole mesh; `parts`: each part's fast path (their vertices disjoint).
-  LivePositions(std::span<const Vec3f> rest, std::span<const FastDeformer* const> parts);
+  LivePositions(std::span<const bind::Vec3f> rest, std::span<const bind::FastDeformer* const> parts);
   // The same, reading the rest positions from `rest` (not copied; shared).
-  LivePositions(std::shared_ptr<const std::vector<Vec3f>> rest, std::span<const FastDeformer* const> parts);
+  LivePositions(std::shared_ptr<const std::vector<bind::Vec3f>> rest, std::span<const bind::FastDeformer* const> parts);
 
   // Part p's vertices deformed by `shape` (mesh space), with `fast`, the part's fast path.
-  void deform(int part, FastDeformer& fast, const SweepShape& shape);
+  void deform(int part, bind::FastDeformer& fast, const SweepShape& shape);
   // Every vertex, world = rotation · mesh + translation, as flat x y z floats (3 × rest.size()).
-  void world(const Eigen::Matrix3f& rotation, const Vec3f& translation, float* out) const;
+  void world(const Eigen::Matrix3f& rotation, const bind::Vec3f& translation, float* out) const;
 
  private:
-  std::shared_ptr<const std::vector<Vec3f>> rest_;  // every vertex
-  std::vector<Vec3f> points_;                       // each part's deformed vertices in its grouped order
-  std::vector<std::size_t> offset_;                 // part p's first in points_
-  std::vector<std::uint32_t> target_;               // the mesh index of each vertex in points_
-  mutable std::vector<Vec3f> world_points_;         // scratch of world(): points_ carried by the body
+  std::shared_ptr<const std::vector<bind::Vec3f>> rest_;  // every vertex
+  std::vector<bind::Vec3f> points_;                       // each part's deformed vertices in its grouped order
+  std::vector<std::size_t> offset_;                       // part p's first in points_
+  std::vector<std::uint32_t> target_;                     // the mesh index of each vertex in points_
+  mutable std::vector<bind::Vec3f> world_points_;         // scratch of world(): points_ carried by the body
 };
 
 }  // namespace sweep::sim

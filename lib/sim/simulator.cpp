@@ -667,27 +667,37 @@ bool Simulator::switch_forces(const SweepState& s, ElasticSweep& body, std::vect
   return woke;
 }
 
-void Simulator::step_piece(SweepState& s, ElasticSweep& body, bool on_view, double cur, double next, double length,
-                           bool teleporting) {
-  const bool contacts = !scene_.colliders.empty();
-  const auto collider_time = [&](double t) { return teleporting ? std::max(t, teleport_to_) : t; };
+double Simulator::collider_time(double t, bool teleporting) const {
+  return teleporting ? std::max(t, teleport_to_) : t;
+}
+
+Simulator::ContactCut Simulator::cut_for_contacts(SweepState& s, const ElasticSweep& body, double cur, double next,
+                                                  double length, bool teleporting) {
   // Within a collider's reach the step is cut into equal pieces no longer than contact_step,
   // each met by the colliders (Scene::contact_step says why).
-  int pieces = 1;
-  bool placed_at_ends = false;  // s.placed at cur, s.placed_end at next
-  if (contacts && (length > scene_.contact_step * (1 + 1e-9) || scene_.body.moves())) {
-    place_colliders(collider_time(cur), s.placed);
-    place_colliders(collider_time(next), s.placed_end);
-    placed_at_ends = true;
+  ContactCut cut;
+  if (!scene_.colliders.empty() && (length > scene_.contact_step * (1 + 1e-9) || scene_.body.moves())) {
+    place_colliders(collider_time(cur, teleporting), s.placed);
+    place_colliders(collider_time(next, teleporting), s.placed_end);
+    cut.placed_at_ends = true;
     if (s.contact.within_reach(body, s.placed, s.placed_end)) {
-      pieces = static_cast<int>(std::ceil(length / scene_.contact_step * (1 - 1e-9)));
+      cut.pieces = static_cast<int>(std::ceil(length / scene_.contact_step * (1 - 1e-9)));
       // And a body keyed to move very fast: no collider moves farther than the part's thinnest
       // section against it in a piece (ContactSolver::pieces_for_move).
       const double by_move = s.contact.pieces_for_move(body, s.placed, s.placed_end);
-      if (by_move > 1) pieces = std::max(pieces, static_cast<int>(std::min(std::ceil(by_move), kMostPieces)));
+      if (by_move > 1) cut.pieces = std::max(cut.pieces, static_cast<int>(std::min(std::ceil(by_move), kMostPieces)));
       if (by_move > kMostPieces) s.too_fast = std::max(s.too_fast, by_move);
     }
   }
+  return cut;
+}
+
+void Simulator::step_piece(SweepState& s, ElasticSweep& body, bool on_view, double cur, double next, double length,
+                           bool teleporting) {
+  const bool contacts = !scene_.colliders.empty();
+  const ContactCut cut = cut_for_contacts(s, body, cur, next, length, teleporting);
+  const int pieces = cut.pieces;
+  const bool placed_at_ends = cut.placed_at_ends;  // s.placed at cur, s.placed_end at next
   const double piece = length / pieces;
   for (int p = 0; p < pieces; ++p) {
     const double a = cur + (next - cur) * p / pieces;
@@ -695,7 +705,7 @@ void Simulator::step_piece(SweepState& s, ElasticSweep& body, bool on_view, doub
     const double b = last ? next : cur + (next - cur) * (p + 1) / pieces;
     set_body_motion(s, body, a + 0.5 * (b - a), teleporting);
     if (contacts) {
-      if (p > 0 || !placed_at_ends) place_colliders(collider_time(a), s.placed);
+      if (p > 0 || !placed_at_ends) place_colliders(collider_time(a, teleporting), s.placed);
       s.contact.begin_step(body, s.placed);
     }
     body.step(piece);
@@ -703,7 +713,7 @@ void Simulator::step_piece(SweepState& s, ElasticSweep& body, bool on_view, doub
       if (last && placed_at_ends) {
         std::swap(s.placed, s.placed_end);
       } else {
-        place_colliders(collider_time(b), s.placed);
+        place_colliders(collider_time(b, teleporting), s.placed);
       }
       if (s.contact.resolve(body, s.placed, b - a) && !on_view) s.touched = true;
     }

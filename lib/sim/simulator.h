@@ -127,6 +127,9 @@ class Simulator {
     int keyed = -1;                            // its keyed bend, in scene_.keyed_bends (−1: none)
     std::vector<Vec3> keyed_now{};             // scratch: the keyed bend's accelerations at one time
   };
+  // The time the colliders are placed at for time t: inside a teleport, its end (the parts are
+  // put to rest in the new place).
+  double collider_time(double t, bool teleporting) const;
   // The scene's colliders in mesh coordinates at time t (world ones moved by the body's inverse).
   void place_colliders(double t, std::vector<PlacedCollider>& out) const;
 
@@ -140,7 +143,16 @@ class Simulator {
   bool apply_kicks(ElasticSweep& body, double cur, double next, bool teleporting) const;
   // impulses at the piece's start, forces switched on or off over it (true: one woke the part);
   bool switch_forces(const SweepState& s, ElasticSweep& body, std::vector<ForceId>& ids, double cur, double next) const;
-  // the piece stepped (`length` long), cut where colliders are within reach, its contacts resolved;
+  // the piece stepped (`length` long), cut where colliders are within reach, its contacts resolved:
+  //   into how many pieces the colliders cut it (s.placed at cur and s.placed_end at next when
+  //   they were placed to decide; s.too_fast raised past the cap);
+  struct ContactCut {
+    int pieces = 1;
+    bool placed_at_ends = false;
+  };
+  ContactCut cut_for_contacts(SweepState& s, const ElasticSweep& body, double cur, double next, double length,
+                              bool teleporting);
+  //   then each piece stepped and its contacts resolved;
   void step_piece(SweepState& s, ElasticSweep& body, bool on_view, double cur, double next, double length,
                   bool teleporting);
   // after an internal step of the body: whether the part has fallen asleep.

@@ -23,7 +23,7 @@ namespace sweep::sim {
 namespace {
 
 namespace fs = std::filesystem;
-using Frames = std::vector<std::vector<Vec3f>>;
+using Frames = std::vector<std::vector<bind::Vec3f>>;
 using test::read_pc2;
 
 struct Tube {

@@ -10,6 +10,7 @@
 #include "core/sample_sweeps.h"
 #include "sweep/assets/bake_skin.h"
 #include "sweep/core/error.h"
+#include "sweep/core/rig.h"
 
 namespace sweep::test {
 namespace {
@@ -37,6 +38,24 @@ TEST(SkinJoints, ASkeletonOfMoreThan65535JointsIsRefusedAndOneOfExactlyThatManyI
   EXPECT_NE(one_more_ring.find("67173 joints, more than a glTF skin's 65535"), std::string::npos) << one_more_ring;
   const std::string one_more_station = refusal(119, 39);
   EXPECT_NE(one_more_station.find("66095 joints"), std::string::npos) << one_more_station;
+}
+
+TEST(SkinJoints, JointsAloneTakeTheDefaultOrTheFewestStationsOfAnySweep) {
+  // A sweep of K key sections has (K − 1)·stations_per_span + 1 stations, at most a joint each.
+  const std::vector<SweepDef> long_only = {make_sweep("long", straight_shape(9, 6))};  // 65 stations at 8
+  const assets::DefaultSkinJoints alone = assets::default_skin_joints(long_only, 8);
+  EXPECT_EQ(alone.joints, assets::kDefaultSkinJoints);
+  EXPECT_EQ(alone.fewest, nullptr);
+  const std::vector<SweepDef> mixed = {long_only[0], make_sweep("short", straight_shape(3, 6)),
+                                       make_sweep("shorter", straight_shape(2, 6)),
+                                       make_sweep("mid", straight_shape(3, 6))};
+  const assets::DefaultSkinJoints fewest = assets::default_skin_joints(mixed, 8);
+  EXPECT_EQ(fewest.joints, 9);  // "shorter": 1·8 + 1, below "short"'s 17 and the default 24
+  EXPECT_EQ(fewest.fewest, &mixed[2]);
+  // One station a span: 2 stations, the fewest joints a sweep may have.
+  const assets::DefaultSkinJoints least = assets::default_skin_joints(mixed, 1);
+  EXPECT_EQ(least.joints, assets::kMinSkinJoints);
+  EXPECT_EQ(least.fewest, &mixed[2]);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@
 
 #include "allocation_counter.h"
 #include "bind/support.h"
-#include "sweep/sim/fast_deform.h"
+#include "sweep/bind/fast_deform.h"
 #include "sweep/sim/simulator.h"
 
 namespace sweep::sim {
@@ -27,7 +27,7 @@ struct Part {
   Mesh mesh;
   Rig rig;
   bind::Binding binding;
-  std::vector<Vec3f> rest;
+  std::vector<bind::Vec3f> rest;
 };
 
 // The generated straight tube (41 rings of 24 vertices, capped) bound to its hand-made sweep; in
@@ -91,9 +91,9 @@ struct LoopResult {
 // a ship turning — every frame), advancing, and deforming what moved.
 LoopResult run_loop(const Part& part, bool gravity, int frames) {
   Simulator sim(part.rig, Scene{});
-  FastDeformer fast(part.rig.sweeps[0].rest, part.binding.sweeps[0], part.rest);
-  std::vector<Vec3f> positions = part.rest;
-  std::vector<DeformJob> jobs;
+  bind::FastDeformer fast(part.rig.sweeps[0].rest, part.binding.sweeps[0], part.rest);
+  std::vector<bind::Vec3f> positions = part.rest;
+  std::vector<bind::DeformJob> jobs;
   jobs.reserve(1);
   const double length = part.rig.sweeps[0].rest.length();
   sim.add_force(force_at_tip(part.rig, 0, 100, Vec3(0.2, 0.1, 0.05)));
@@ -106,7 +106,7 @@ LoopResult run_loop(const Part& part, bool gravity, int frames) {
     sim.advance_to(t);
     jobs.clear();
     if (sim.moved_last_frame(0)) jobs.push_back({&fast, &sim.sweep(0).deformed()});
-    deform_sweeps(jobs, positions);
+    bind::deform_sweeps(jobs, positions);
   };
   frame(1);  // the warm-up frame: it may allocate (first use of scratch, the threads' team)
   LoopResult r;

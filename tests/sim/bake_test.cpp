@@ -13,7 +13,7 @@
 #include "pc2_reader.h"
 #include "sweep/assets/bake_run.h"
 #include "sweep/bind/bind.h"
-#include "sweep/sim/fast_deform.h"
+#include "sweep/bind/fast_deform.h"
 
 using sweep::assets::run_bake;
 
@@ -21,7 +21,7 @@ namespace sweep::sim {
 namespace {
 
 namespace fs = std::filesystem;
-using Frames = std::vector<std::vector<Vec3f>>;
+using Frames = std::vector<std::vector<bind::Vec3f>>;
 using test::read_pc2;
 
 // The straight tube of tests/bind/support.h: 41 rings of 24 vertices (ring r at z = r/40), then
@@ -70,8 +70,8 @@ SceneForce force_at(double t, double theta, Vec3 vector, double start, double en
   return f;
 }
 
-Vec3f ring_centroid(const std::vector<Vec3f>& p, int ring) {
-  Vec3f c = Vec3f::Zero();
+bind::Vec3f ring_centroid(const std::vector<bind::Vec3f>& p, int ring) {
+  bind::Vec3f c = bind::Vec3f::Zero();
   for (int s = 0; s < kSegments; ++s) c += p[ring * kSegments + s];
   return c / kSegments;
 }
@@ -95,15 +95,15 @@ TEST(Bake, TipForceWithChainBendsAlongTheForceAndDecaysAfterRelease) {
   const int tip = kRings - 1, mid = kRings / 2;
   // At the end of the push the tip ring has moved mostly along +y, and the middle too (the whole
   // part bends, not only the tip).
-  const Vec3f tip_shift = ring_centroid(f[15], tip) - ring_centroid(f[0], tip);
-  const Vec3f mid_shift = ring_centroid(f[15], mid) - ring_centroid(f[0], mid);
+  const bind::Vec3f tip_shift = ring_centroid(f[15], tip) - ring_centroid(f[0], tip);
+  const bind::Vec3f mid_shift = ring_centroid(f[15], mid) - ring_centroid(f[0], mid);
   EXPECT_GT(tip_shift.y(), 0.02f);  // a fifth of the tube's radius at least
   EXPECT_GT(tip_shift.y(), 3 * std::abs(tip_shift.x()));
   EXPECT_GT(mid_shift.y(), 0.005f);
   // The root section is fixed exactly (tests/core); its ring's vertices, rebuilt in float once the
   // sweep moves, stay at the file's positions to float precision. After release the motion decays.
   for (const auto& frame : f) EXPECT_LT((ring_centroid(frame, 0) - ring_centroid(f[0], 0)).norm(), 1e-6f);
-  const Vec3f late = ring_centroid(f.back(), tip) - ring_centroid(f[0], tip);
+  const bind::Vec3f late = ring_centroid(f.back(), tip) - ring_centroid(f[0], tip);
   EXPECT_LT(late.norm(), 0.01f * tip_shift.norm());
 }
 
@@ -126,7 +126,7 @@ TEST(Bake, RadialOnlyForceKeepsTheAxisAndChangesRadiiOnlyNearThePoint) {
   // Inward at t = 0.5 (section 5, ring 20), θ = π/2 (handle 2, segment 6).
   const Frames f =
       bake(tube, scene_with({force_at(0.5, std::numbers::pi / 2, Vec3(0, -3, 0), 0.0, 1.0, kRadial)}), true);
-  const std::vector<Vec3f>& p = f[20];
+  const std::vector<bind::Vec3f>& p = f[20];
   const int ring = 20, seg = kSegments / 4;
   for (int r = 0; r < kRings; ++r) {
     // The axis stays where it was: rings are pushed in on one side, in their own planes.
@@ -152,7 +152,7 @@ TEST(Bake, RotationalOnlyForceLeavesEverySectionShapeUnchanged) {
   for (std::size_t k : {10u, 25u, 40u}) {
     double moved = 0;
     for (int r = 0; r < kRings; ++r) {
-      const Vec3f c0 = ring_centroid(f[0], r), ck = ring_centroid(f[k], r);
+      const bind::Vec3f c0 = ring_centroid(f[0], r), ck = ring_centroid(f[k], r);
       moved = std::max(moved, double((ck - c0).norm()));
       for (int s = 0; s < kSegments; ++s) {
         // Rigid per section: distances to the ring's centre keep their length.
@@ -175,8 +175,8 @@ TEST(Bake, ForceTangentialToTheSurfaceAcrossTheAxisTwists) {
   const Frames f = bake(tube, scene_with({twist}, 4.0), true);
   const int tip = kRings - 1;
   auto turn = [&](std::size_t k) {
-    const Vec3f a = f[0][tip * kSegments] - ring_centroid(f[0], tip);
-    const Vec3f b = f[k][tip * kSegments] - ring_centroid(f[k], tip);
+    const bind::Vec3f a = f[0][tip * kSegments] - ring_centroid(f[0], tip);
+    const bind::Vec3f b = f[k][tip * kSegments] - ring_centroid(f[k], tip);
     return std::atan2(double(b.y()), double(b.x())) - std::atan2(double(a.y()), double(a.x()));
   };
   // Held until the motion has settled (ζ = 0.3 at 2 Hz decays by e^-15 in 4 s): the tip ring has
@@ -298,11 +298,11 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
 
   // The simulator's own frames, computed here independently of the bake loop.
   Simulator sim(tube.rig, scene);
-  std::vector<Vec3f> rest(tube.mesh.vertex_count());
+  std::vector<bind::Vec3f> rest(tube.mesh.vertex_count());
   for (std::size_t v = 0; v < rest.size(); ++v) rest[v] = tube.mesh.positions[v].cast<float>();
-  FastDeformer fast(tube.rig.sweeps[0].rest, tube.binding.sweeps[0], rest,
-                    sweep::assets::BakeOptions{}.stations_per_span);
-  std::vector<Vec3f> positions = rest;
+  bind::FastDeformer fast(tube.rig.sweeps[0].rest, tube.binding.sweeps[0], rest,
+                          sweep::assets::BakeOptions{}.stations_per_span);
+  std::vector<bind::Vec3f> positions = rest;
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   std::string err, warn;
@@ -311,7 +311,7 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
   ASSERT_EQ(prim.targets.size(), pc2.size());
   auto accessor_floats = [&](int index, std::size_t count_of_3) {
     const tinygltf::Accessor& acc = model.accessors.at(index);
-    std::vector<Vec3f> out(count_of_3, Vec3f::Zero());
+    std::vector<bind::Vec3f> out(count_of_3, bind::Vec3f::Zero());
     if (acc.bufferView >= 0) {
       const tinygltf::BufferView& bv = model.bufferViews.at(acc.bufferView);
       std::memcpy(static_cast<void*>(out.data()),
@@ -330,13 +330,13 @@ TEST(Bake, FilesHoldTheSimulatorsFrames) {
     }
     return out;
   };
-  const std::vector<Vec3f> base = accessor_floats(prim.attributes.at("POSITION"), rest.size());
+  const std::vector<bind::Vec3f> base = accessor_floats(prim.attributes.at("POSITION"), rest.size());
   for (std::size_t k = 0; k < pc2.size(); ++k) {
     if (k > 0) {
       sim.advance_frame();
       if (sim.moved_last_frame(0)) fast.deform(sim.sweep(0).deformed(), positions);
     }
-    const std::vector<Vec3f> delta = accessor_floats(prim.targets[k].at("POSITION"), rest.size());
+    const std::vector<bind::Vec3f> delta = accessor_floats(prim.targets[k].at("POSITION"), rest.size());
     for (std::size_t v = 0; v < rest.size(); ++v) {
       ASSERT_EQ(pc2[k][v], positions[v]) << "pc2 frame " << k << " vertex " << v;
       ASSERT_EQ(base[v] + delta[v], positions[v]) << "glb frame " << k << " vertex " << v;

@@ -56,49 +56,49 @@ TEST(LivePositions, GivesTheBitsOfAMeshOrderDeformAndTransform) {
   std::shuffle(number.begin(), number.end(), std::mt19937(5));
   const std::vector<std::uint32_t> tail_at(number.begin(), number.begin() + kPartVertices);
   const std::vector<std::uint32_t> neck_at(number.begin() + kPartVertices, number.begin() + 2 * kPartVertices);
-  std::vector<Vec3f> rest(kMeshVertices);
+  std::vector<bind::Vec3f> rest(kMeshVertices);
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> coordinate(-2.0f, 2.0f);
-  for (Vec3f& p : rest) p = Vec3f(coordinate(rng), coordinate(rng), coordinate(rng));
+  for (bind::Vec3f& p : rest) p = bind::Vec3f(coordinate(rng), coordinate(rng), coordinate(rng));
   for (int k = 0; k < kPartVertices; ++k) {
     rest[tail_at[k]] = tail_cloud.rest[k];
     rest[neck_at[k]] = neck_cloud.rest[k];
   }
-  FastDeformer tail_fast(tail.rest(), renumbered(tail_cloud, tail_at), rest);
-  FastDeformer neck_fast(neck.rest(), renumbered(neck_cloud, neck_at), rest);
-  const FastDeformer* parts[] = {&tail_fast, &neck_fast};
+  bind::FastDeformer tail_fast(tail.rest(), renumbered(tail_cloud, tail_at), rest);
+  bind::FastDeformer neck_fast(neck.rest(), renumbered(neck_cloud, neck_at), rest);
+  const bind::FastDeformer* parts[] = {&tail_fast, &neck_fast};
   LivePositions live(rest, parts);
 
-  const Eigen::Matrix3f turn = Eigen::AngleAxisf(0.7f, Vec3f(0.3f, 1.0f, -0.2f).normalized()).toRotationMatrix();
-  const Vec3f move(1.5f, -0.25f, 3.0f);
-  std::vector<Vec3f> mesh = rest;  // the mesh-order copy
+  const Eigen::Matrix3f turn = Eigen::AngleAxisf(0.7f, bind::Vec3f(0.3f, 1.0f, -0.2f).normalized()).toRotationMatrix();
+  const bind::Vec3f move(1.5f, -0.25f, 3.0f);
+  std::vector<bind::Vec3f> mesh = rest;  // the mesh-order copy
   std::vector<float> expected(3 * kMeshVertices), got(3 * kMeshVertices);
   // Nothing deformed yet: the rest positions, carried.
-  transform_positions(mesh, turn, move, expected.data());
+  bind::transform_positions(mesh, turn, move, expected.data());
   live.world(turn, move, got.data());
   EXPECT_EQ(differing(got, expected), 0);
   // The tail bent and swollen, deformed alone: the neck still at its rest positions.
   tail.set_section_pose(3, Vec3(0.01, 0.02, 0), Vec3(0.2, -0.3, 0.6));
   tail.set_radial_offset(2, 5, -0.1);
-  const DeformJob tail_job{&tail_fast, &tail.deformed()};
-  deform_sweeps(std::span(&tail_job, 1), mesh);
-  transform_positions(mesh, turn, move, expected.data());
+  const bind::DeformJob tail_job{&tail_fast, &tail.deformed()};
+  bind::deform_sweeps(std::span(&tail_job, 1), mesh);
+  bind::transform_positions(mesh, turn, move, expected.data());
   live.deform(0, tail_fast, tail.deformed());
   live.world(turn, move, got.data());
   EXPECT_EQ(differing(got, expected), 0);
   EXPECT_GT(differing(got, std::vector<float>(got.size(), 0.0f)), 0);
   // Both deformed, the neck twisted.
   neck.set_section_pose(4, Vec3(0, 0.05, 0), Vec3(0, 0.4, 0.3));
-  const DeformJob jobs[] = {{&tail_fast, &tail.deformed()}, {&neck_fast, &neck.deformed()}};
-  deform_sweeps(jobs, mesh);
-  transform_positions(mesh, turn, move, expected.data());
+  const bind::DeformJob jobs[] = {{&tail_fast, &tail.deformed()}, {&neck_fast, &neck.deformed()}};
+  bind::deform_sweeps(jobs, mesh);
+  bind::transform_positions(mesh, turn, move, expected.data());
   live.deform(0, tail_fast, tail.deformed());
   live.deform(1, neck_fast, neck.deformed());
   live.world(turn, move, got.data());
   EXPECT_EQ(differing(got, expected), 0);
   // And the deformation did move the parts' vertices away from the rest ones.
   std::vector<float> rigid(3 * kMeshVertices);
-  transform_positions(rest, turn, move, rigid.data());
+  bind::transform_positions(rest, turn, move, rigid.data());
   EXPECT_GT(differing(got, rigid), 3 * kPartVertices);
 }
 
@@ -108,15 +108,15 @@ TEST(LivePositions, GivesTheBitsOfAMeshOrderDeformAndTransform) {
 TEST(LivePositions, CarriesMeshesOfEverySizeAsTransformPositions) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> coordinate(-3.0f, 3.0f);
-  const Eigen::Matrix3f turn = Eigen::AngleAxisf(-1.1f, Vec3f(0.5f, -0.2f, 1.0f).normalized()).toRotationMatrix();
-  const Vec3f move(-0.75f, 2.0f, 0.5f);
+  const Eigen::Matrix3f turn = Eigen::AngleAxisf(-1.1f, bind::Vec3f(0.5f, -0.2f, 1.0f).normalized()).toRotationMatrix();
+  const bind::Vec3f move(-0.75f, 2.0f, 0.5f);
   for (int n = 1; n <= 40; ++n) {
-    std::vector<Vec3f> rest(static_cast<std::size_t>(n));
-    for (Vec3f& p : rest) p = Vec3f(coordinate(rng), coordinate(rng), coordinate(rng));
-    const LivePositions live(rest, std::span<const FastDeformer* const>());
+    std::vector<bind::Vec3f> rest(static_cast<std::size_t>(n));
+    for (bind::Vec3f& p : rest) p = bind::Vec3f(coordinate(rng), coordinate(rng), coordinate(rng));
+    const LivePositions live(rest, std::span<const bind::FastDeformer* const>());
     // Guards either side of the output: the copy writes exactly its 3n floats.
     std::vector<float> expected(3 * n), got(3 * n + 6, 7.0f);
-    transform_positions(rest, turn, move, expected.data());
+    bind::transform_positions(rest, turn, move, expected.data());
     live.world(turn, move, got.data() + 3);
     EXPECT_EQ(differing(std::vector<float>(got.begin() + 3, got.end() - 3), expected), 0) << n << " vertices";
     for (int g = 0; g < 3; ++g) {

@@ -7,15 +7,15 @@
 #include <vector>
 
 #include "sweep/bind/bind.h"
+#include "sweep/bind/fast_deform.h"
 #include "sweep/core/locate.h"
-#include "sweep/sim/fast_deform.h"
 
 namespace sweep::test {
 
 struct SweepCloud {
-  bind::SweepBinding bound;      // vertex v is point v; weight 1
-  std::vector<sim::Vec3f> rest;  // the points in float, as a mesh would hold them
-  std::vector<Vec3> points;      // the points in double
+  bind::SweepBinding bound;       // vertex v is point v; weight 1
+  std::vector<bind::Vec3f> rest;  // the points in float, as a mesh would hold them
+  std::vector<Vec3> points;       // the points in double
 };
 
 // `count` points spread deterministically over t (caps 5 % beyond both ends included), θ and

@@ -26,8 +26,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<Vec3f> as_float(const std::vector<Vec3>& p) {
-  std::vector<Vec3f> out;
+std::vector<bind::Vec3f> as_float(const std::vector<Vec3>& p) {
+  std::vector<bind::Vec3f> out;
   for (const Vec3& x : p) out.push_back(x.cast<float>());
   return out;
 }
@@ -56,7 +56,7 @@ Stretch fit_and_bind(Mesh mesh, const Vec3& root, const Vec3& tip, double blend)
 // (.pc2 in a scratch folder), frames read back.
 struct Baked {
   sweep::assets::BakeReport report;
-  std::vector<std::vector<Vec3f>> frames;
+  std::vector<std::vector<bind::Vec3f>> frames;
 };
 Baked bake_push(const Stretch& s, const Vec3& push, const std::string& tag) {
   Scene scene;
@@ -85,7 +85,7 @@ Baked bake_push(const Stretch& s, const Vec3& push, const std::string& tag) {
   std::int32_t points = 0, samples = 0;
   std::memcpy(&points, header + 16, 4);
   std::memcpy(&samples, header + 28, 4);
-  b.frames.assign(samples, std::vector<Vec3f>(points));
+  b.frames.assign(samples, std::vector<bind::Vec3f>(points));
   for (auto& frame : b.frames)
     in.read(reinterpret_cast<char*>(frame.data()), 12 * static_cast<std::streamsize>(points));
   EXPECT_TRUE(in.good());
@@ -100,7 +100,7 @@ void expect_cut_holds(const Stretch& s, const Baked& b, double min_tip_motion) {
   const SweepShape& rest = s.rig.sweeps[0].rest;
   const Frame& tip = rest.frames.back();
   const auto beyond_tip = [&](std::uint32_t v) { return (s.mesh.positions[v] - tip.center).dot(tip.axis()) > 0; };
-  const std::vector<Vec3f> rest_f = as_float(s.mesh.positions);
+  const std::vector<bind::Vec3f> rest_f = as_float(s.mesh.positions);
   std::vector<char> bound(s.mesh.vertex_count(), 0);
   for (const std::uint32_t v : s.binding.sweeps[0].vertices) bound[v] = 1;
   std::size_t beyond = 0;
@@ -225,13 +225,13 @@ TEST(EdgeStretch, ScalesGiveTheirClosedFormFactor) {
   const Mesh torus = test::make_torus(1.0, 0.15, 32, 8);
   std::vector<std::uint32_t> all(torus.vertex_count());
   for (std::uint32_t v = 0; v < all.size(); ++v) all[v] = v;
-  const std::vector<Vec3f> rest = as_float(torus.positions);
+  const std::vector<bind::Vec3f> rest = as_float(torus.positions);
   const sweep::assets::EdgeStretchMeter meter(torus, all, rest);
   EXPECT_EQ(meter.edge_count(), 2u * 32 * 8);  // a quad torus: two edges a vertex
-  std::vector<Vec3f> scaled(rest.size());
+  std::vector<bind::Vec3f> scaled(rest.size());
   for (std::size_t v = 0; v < rest.size(); ++v) scaled[v] = 2.0f * rest[v];
   EXPECT_EQ(meter.measure(scaled).ratio, 2.0);
-  const Vec3f centre(0.25f, -0.5f, 0.125f);
+  const bind::Vec3f centre(0.25f, -0.5f, 0.125f);
   for (std::size_t v = 0; v < rest.size(); ++v) scaled[v] = centre + 1.25f * (rest[v] - centre);
   const sweep::assets::EdgeStretch uniform = meter.measure(scaled);
   EXPECT_TRUE(uniform.found);
@@ -248,7 +248,7 @@ TEST(EdgeStretch, ScalesGiveTheirClosedFormFactor) {
   const std::vector<std::uint32_t> moving{1};  // edges 0-1 and 1-2 only
   const sweep::assets::EdgeStretchMeter one(tri, moving, as_float(tri.positions));
   EXPECT_EQ(one.edge_count(), 2u);
-  const sweep::assets::EdgeStretch x = one.measure(std::vector<Vec3f>{{0, 0, 0}, {1.5f, 0, 0}, {0, 1, 0}});
+  const sweep::assets::EdgeStretch x = one.measure(std::vector<bind::Vec3f>{{0, 0, 0}, {1.5f, 0, 0}, {0, 1, 0}});
   EXPECT_DOUBLE_EQ(x.ratio, 1.5);
   EXPECT_EQ(x.a, 0u);
   EXPECT_EQ(x.b, 1u);

@@ -13,11 +13,11 @@
 #include "sim/sweep_cloud.h"
 #include "stress/stress_harness.h"
 #include "sweep/assets/mesh_io.h"
+#include "sweep/bind/fast_deform.h"
 #include "sweep/core/deform_point.h"
 #include "sweep/core/error.h"
 #include "sweep/fit/fit.h"
 #include "sweep/io/rig_json.h"
-#include "sweep/sim/fast_deform.h"
 #include "sweep/sim/simulator.h"
 
 namespace sweep::stress {
@@ -234,8 +234,8 @@ void check_degenerate(const SweepShape& shape, const char* what) {
     body.set_section_pose(i, Vec3(0.01, 0.0, 0.02) * shape.length(), Vec3(0.3, -0.2, 0.5));
     for (int j = 0; j < shape.radial_count; j += 2) body.set_radial_offset(i, j, -0.5 * shape.radius_sample(i, j));
   }
-  sim::FastDeformer fast(shape, c.bound, c.rest, 16);
-  std::vector<sim::Vec3f> out = c.rest;
+  bind::FastDeformer fast(shape, c.bound, c.rest, 16);
+  std::vector<bind::Vec3f> out = c.rest;
   fast.deform(body.deformed(), out);
   double worst = 0;
   for (std::size_t v = 0; v < out.size(); ++v) {
@@ -308,7 +308,7 @@ TEST(Stress, FastPathIsBitIdenticalOnOneAndTwoThreads) {
   body.set_section_pose(3, Vec3(0.05, 0, 0), Vec3(0.3, 0.1, 0.4));
   // Enough vertices for the parallel loop, with coordinates drawn directly (no locator needed).
   bind::SweepBinding bound;
-  const std::size_t count = sim::kParallelVertexThreshold + 5000;
+  const std::size_t count = bind::kParallelVertexThreshold + 5000;
   for (std::size_t v = 0; v < count; ++v) {
     bound.vertices.push_back(static_cast<std::uint32_t>(v));
     bound.t.push_back(static_cast<float>(body.rest().length() * static_cast<double>((v * 7919) % count) / count));
@@ -318,17 +318,17 @@ TEST(Stress, FastPathIsBitIdenticalOnOneAndTwoThreads) {
     bound.weight.push_back(v % 10 == 0 ? 0.5f : 1.0f);
   }
   struct {
-    std::vector<sim::Vec3f> rest;
-  } c{std::vector<sim::Vec3f>(count, sim::Vec3f(1, 2, 3))};
-  sim::FastDeformer fast(body.rest(), bound, c.rest, 8);
+    std::vector<bind::Vec3f> rest;
+  } c{std::vector<bind::Vec3f>(count, bind::Vec3f(1, 2, 3))};
+  bind::FastDeformer fast(body.rest(), bound, c.rest, 8);
   const int saved = omp_get_max_threads();
-  std::vector<sim::Vec3f> one = c.rest, two = c.rest;
+  std::vector<bind::Vec3f> one = c.rest, two = c.rest;
   omp_set_num_threads(1);
   fast.deform(body.deformed(), one);
   omp_set_num_threads(2);
   fast.deform(body.deformed(), two);
   omp_set_num_threads(saved);
-  ASSERT_EQ(0, std::memcmp(one.data(), two.data(), one.size() * sizeof(sim::Vec3f)));
+  ASSERT_EQ(0, std::memcmp(one.data(), two.data(), one.size() * sizeof(bind::Vec3f)));
 }
 
 }  // namespace

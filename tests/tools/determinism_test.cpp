@@ -2,7 +2,7 @@
 // rig, binding and baked files (.glb, .pc2, .obj sequence) across runs and thread counts. The mesh
 // is a dense tube (400 rings × 128 = 51,202 vertices), above every parallel threshold (binding and
 // exact deformation: 16,384 vertices, lib/bind/bind.h; fast deformation: 40,000 bound vertices of
-// one sweep, lib/sim/fast_deform.h), so the two-thread runs really run the parallel loops.
+// one sweep, lib/bind/fast_deform.h), so the two-thread runs really run the parallel loops.
 #include <gtest/gtest.h>
 
 #include <string>

@@ -11,14 +11,14 @@
 
 #include "bench_common.h"
 #include "sweep/bind/deform.h"
+#include "sweep/bind/fast_deform.h"
 #include "sweep/core/elastic_sweep.h"
-#include "sweep/sim/fast_deform.h"
 
 namespace sweep::bench {
 namespace {
 
-using sim::FastDeformer;
-using sim::Vec3f;
+using bind::FastDeformer;
+using bind::Vec3f;
 
 // A pose with bending, twisting and radial change along the whole sweep (the paper's Fig. 4 kinds).
 void pose(ElasticSweep& s, double amount) {

@@ -28,9 +28,9 @@
 #include <thread>
 
 #include "bench_common.h"
+#include "sweep/bind/fast_deform.h"
 #include "sweep/io/binding_file.h"
 #include "sweep/io/rig_json.h"
-#include "sweep/sim/fast_deform.h"
 #include "sweep/sim/live_positions.h"
 #include "sweep/sim/simulator.h"
 #include "sweep/sweep.h"
@@ -71,14 +71,14 @@ double us(Clock::time_point a, Clock::time_point b) {
 
 // The scene player: `scene` at its fps, frames 1/60 s apart.
 Cost scene_player(const RealRig& dino, const sim::Scene& scene, int frames) {
-  std::vector<sim::Vec3f> positions(dino.mesh.vertex_count());
+  std::vector<bind::Vec3f> positions(dino.mesh.vertex_count());
   for (std::size_t v = 0; v < positions.size(); ++v) positions[v] = dino.mesh.positions[v].cast<float>();
   sim::Simulator sim(dino.rig, scene);
-  std::vector<std::unique_ptr<sim::FastDeformer>> fast;
+  std::vector<std::unique_ptr<bind::FastDeformer>> fast;
   for (int i = 0; i < sim.sweep_count(); ++i)
-    fast.push_back(std::make_unique<sim::FastDeformer>(dino.rig.sweeps[i].rest, dino.binding.sweeps[i], positions));
+    fast.push_back(std::make_unique<bind::FastDeformer>(dino.rig.sweeps[i].rest, dino.binding.sweeps[i], positions));
   std::vector<double> total, step, deform;
-  std::vector<sim::DeformJob> jobs;
+  std::vector<bind::DeformJob> jobs;
   for (int k = 0; k < frames; ++k) {
     pace();
     const auto t0 = Clock::now();
@@ -87,7 +87,7 @@ Cost scene_player(const RealRig& dino, const sim::Scene& scene, int frames) {
     jobs.clear();
     for (int i = 0; i < sim.sweep_count(); ++i)
       if (sim.moved_last_frame(i)) jobs.push_back({fast[i].get(), &sim.sweep(i).deformed()});
-    sim::deform_sweeps(jobs, positions);
+    bind::deform_sweeps(jobs, positions);
     const auto t2 = Clock::now();
     if (k < kSkip) continue;
     total.push_back(us(t0, t2));
@@ -106,19 +106,19 @@ enum class WorldRead { none, mesh_order, live_positions };
 // The live simulator in C++: a pose, advance_to, the fast path; with `world`, the world-space copy
 // too, on the calling thread (Simulator::set_parallel(false)) as libsweep does.
 Cost live_cpp(const RealRig& dino, const sim::Scene& settings, int frames, WorldRead world = WorldRead::none) {
-  std::vector<sim::Vec3f> positions(dino.mesh.vertex_count());
+  std::vector<bind::Vec3f> positions(dino.mesh.vertex_count());
   for (std::size_t v = 0; v < positions.size(); ++v) positions[v] = dino.mesh.positions[v].cast<float>();
   sim::Simulator sim(dino.rig, settings);
   if (world != WorldRead::none) sim.set_parallel(false);
-  std::vector<std::unique_ptr<sim::FastDeformer>> fast;
+  std::vector<std::unique_ptr<bind::FastDeformer>> fast;
   for (int i = 0; i < sim.sweep_count(); ++i)
-    fast.push_back(std::make_unique<sim::FastDeformer>(dino.rig.sweeps[i].rest, dino.binding.sweeps[i], positions));
-  std::vector<const sim::FastDeformer*> parts;
+    fast.push_back(std::make_unique<bind::FastDeformer>(dino.rig.sweeps[i].rest, dino.binding.sweeps[i], positions));
+  std::vector<const bind::FastDeformer*> parts;
   for (const auto& f : fast) parts.push_back(f.get());
   sim::LivePositions live(positions, parts);
   std::vector<float> out(3 * positions.size());
   std::vector<double> total, step, deform, copy;
-  std::vector<sim::DeformJob> jobs;
+  std::vector<bind::DeformJob> jobs;
   for (int k = 0; k < frames; ++k) {
     pace();
     const double t = (k + 1) * kFrame;
@@ -135,17 +135,17 @@ Cost live_cpp(const RealRig& dino, const sim::Scene& settings, int frames, World
       for (int i = 0; i < sim.sweep_count(); ++i)
         if (sim.moved_last_frame(i)) jobs.push_back({fast[i].get(), &sim.sweep(i).deformed()});
       if (world == WorldRead::none) {
-        sim::deform_sweeps(jobs, positions);
+        bind::deform_sweeps(jobs, positions);
       } else {
-        for (const sim::DeformJob& j : jobs) j.fast->deform(*j.shape, positions, false);
+        for (const bind::DeformJob& j : jobs) j.fast->deform(*j.shape, positions, false);
       }
     }
     const auto t2 = Clock::now();
     const sim::BodyState now = sim.body();
     const Eigen::Matrix3f r = now.rotation.toRotationMatrix().cast<float>();
-    const sim::Vec3f tr = now.translation.cast<float>();
+    const bind::Vec3f tr = now.translation.cast<float>();
     if (world == WorldRead::live_positions) live.world(r, tr, out.data());
-    if (world == WorldRead::mesh_order) sim::transform_positions(positions, r, tr, out.data());
+    if (world == WorldRead::mesh_order) bind::transform_positions(positions, r, tr, out.data());
     const auto t3 = Clock::now();
     if (k < kSkip) continue;
     total.push_back(us(t0, t3));

@@ -9,14 +9,14 @@
 
 #include "bench_common.h"
 #include "sweep/assets/body_proxy.h"
-#include "sweep/sim/fast_deform.h"
+#include "sweep/bind/fast_deform.h"
 #include "sweep/sim/simulator.h"
 
 namespace sweep::bench {
 namespace {
 
-using sim::FastDeformer;
-using sim::Vec3f;
+using bind::FastDeformer;
+using bind::Vec3f;
 
 struct FrameCost {
   double median_us = 0;
@@ -38,7 +38,7 @@ FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, in
     fast.push_back(std::make_unique<FastDeformer>(rig.rig.sweeps[i].rest, rig.binding.sweeps[i], positions, 8));
   }
   std::vector<double> total, step, deform;
-  std::vector<sim::DeformJob> jobs;
+  std::vector<bind::DeformJob> jobs;
   for (int k = 0; k < frames; ++k) {
     if (pause > 0) std::this_thread::sleep_for(std::chrono::duration<double>(pause));
     const auto t0 = Clock::now();
@@ -48,7 +48,7 @@ FrameCost frame_cost(const RealRig& rig, const sim::Scene& scene, int frames, in
     for (int i = 0; i < sim.sweep_count(); ++i) {
       if (sim.moved_last_frame(i)) jobs.push_back({fast[i].get(), &sim.sweep(i).deformed()});
     }
-    sim::deform_sweeps(jobs, positions);
+    bind::deform_sweeps(jobs, positions);
     const auto t2 = Clock::now();
     if (k < skip) continue;
     step.push_back(std::chrono::duration<double>(t1 - t0).count());

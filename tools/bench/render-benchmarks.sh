@@ -73,7 +73,7 @@ $(cat "$results/deform.md")
 
 ### Layout and thread thresholds
 
-Recorded by hand when the fast path's layout and the constants in \`lib/sim/fast_deform.h\` and
+Recorded by hand when the fast path's layout and the constants in \`lib/bind/fast_deform.h\` and
 \`lib/bind/bind.h\` were chosen (\`tools/bench/sweep-bench-deform\`, \`sweep-bench-skip\`, callgrind and
 timed binding runs; Release build, this 2-core VM); this script does not measure them again.
 

@@ -5,7 +5,7 @@
 // kernel).
 #include <cstddef>
 
-namespace sweep::sim::detail {
+namespace sweep::bind::detail {
 
 // Station row layout: centre, the three frame axes, then 4 cubic coefficients per angle cell.
 inline constexpr int kCenter = 0, kAxisX = 3, kAxisY = 6, kAxisZ = 9, kCells = 12;
@@ -15,4 +15,4 @@ inline constexpr int kCenter = 0, kAxisX = 3, kAxisY = 6, kAxisZ = 9, kCells = 1
 // thread thresholds"); u_ and w_ carry kPad floats of padding for the reads past the end.
 inline constexpr std::ptrdiff_t kPad = 8;
 
-}  // namespace sweep::sim::detail
+}  // namespace sweep::bind::detail

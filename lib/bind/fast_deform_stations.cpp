@@ -9,10 +9,10 @@
 #include <cassert>
 #include <cstdint>
 
-#include "sweep/sim/fast_deform.h"
-#include "sweep/sim/fast_deform_detail.h"
+#include "sweep/bind/fast_deform.h"
+#include "sweep/bind/fast_deform_detail.h"
 
-namespace sweep::sim {
+namespace sweep::bind {
 
 using detail::kAxisX;
 using detail::kAxisY;
@@ -100,4 +100,4 @@ void FastDeformer::tabulate(const SweepShape& shape, bool split) {
   }
 }
 
-}  // namespace sweep::sim
+}  // namespace sweep::bind

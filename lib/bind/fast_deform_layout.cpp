@@ -8,11 +8,11 @@
 #include <limits>
 #include <string>
 
+#include "sweep/bind/fast_deform.h"
+#include "sweep/bind/fast_deform_detail.h"
 #include "sweep/core/error.h"
-#include "sweep/sim/fast_deform.h"
-#include "sweep/sim/fast_deform_detail.h"
 
-namespace sweep::sim {
+namespace sweep::bind {
 
 using detail::kCells;
 using detail::kPad;
@@ -162,4 +162,4 @@ std::size_t FastDeformer::direct_block_count() const {
   }));
 }
 
-}  // namespace sweep::sim
+}  // namespace sweep::bind

@@ -37,7 +37,7 @@
 // so the error falls as the square of the station spacing until float rounding (~1e-6 of the
 // part's size) is reached. That holds for the rest shape too: a bound vertex comes back to its
 // rest position to float precision only on a station plane, elsewhere to that interpolation error
-// (tests/sim/fast_deform_test.cpp). The default is 8 stations per span (measurements:
+// (tests/bind/fast_deform_test.cpp). The default is 8 stations per span (measurements:
 // BENCHMARKS.md, section "Deformation: stations per span against error").
 #include <Eigen/Core>
 #include <cstdint>
@@ -47,7 +47,7 @@
 #include "sweep/bind/bind.h"
 #include "sweep/core/sweep_shape.h"
 
-namespace sweep::sim {
+namespace sweep::bind {
 
 using Vec3f = Eigen::Vector3f;
 
@@ -65,7 +65,7 @@ inline constexpr std::uint32_t kBlockVertices = 256;
 // The compiled forms of the per-vertex kernel (deform_vertices). `automatic` is what production
 // runs: the AVX2 form on a CPU with AVX2, baseline x86-64 otherwise, picked once at load time.
 // Neither form uses FMA and both do the same IEEE operations in the same order, so they give the
-// same bits; forcing one form is how the tests check that (tests/sim/fast_deform_test.cpp).
+// same bits; forcing one form is how the tests check that (tests/bind/fast_deform_test.cpp).
 enum class KernelForm { automatic, baseline, avx2 };
 // Whether this CPU can run KernelForm::avx2.
 bool cpu_has_avx2();
@@ -191,4 +191,4 @@ void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out);
 void transform_positions(std::span<const Vec3f> in, const Eigen::Matrix3f& rotation, const Vec3f& translation,
                          float* out);
 
-}  // namespace sweep::sim
+}  // namespace sweep::bind

@@ -7,11 +7,11 @@
 #include <cassert>
 #include <cstdint>
 
+#include "sweep/bind/fast_deform.h"
+#include "sweep/bind/fast_deform_detail.h"
 #include "sweep/core/error.h"
-#include "sweep/sim/fast_deform.h"
-#include "sweep/sim/fast_deform_detail.h"
 
-namespace sweep::sim {
+namespace sweep::bind {
 namespace {
 
 using detail::kCells;
@@ -295,4 +295,4 @@ void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out) {
   }
 }
 
-}  // namespace sweep::sim
+}  // namespace sweep::bind

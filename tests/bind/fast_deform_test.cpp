@@ -1,5 +1,5 @@
 // The fast deformation path against the exact per-vertex path.
-#include "sweep/sim/fast_deform.h"
+#include "sweep/bind/fast_deform.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 #include "sweep/core/elastic_sweep.h"
 #include "sweep/sim/simulator.h"
 
-namespace sweep::sim {
+namespace sweep::bind {
 namespace {
 
 // Points inside and on the sweep, s from 0.2 to 1, caps beyond both ends.
@@ -290,7 +290,7 @@ TEST(FastDeform, MeshOrderChangesTheLayoutButNotOneBit) {
 // kernel (automatic, baseline x86-64, AVX2 where the CPU has it): all must give the same bits.
 // Returns how many vertex positions moved away from the rest pose over the run.
 std::size_t expect_kernel_forms_agree(const Mesh& mesh, const Rig& rig, const bind::Binding& binding,
-                                      const Scene& scene) {
+                                      const sim::Scene& scene) {
   std::vector<Vec3f> rest(mesh.vertex_count());
   for (std::size_t v = 0; v < rest.size(); ++v) rest[v] = mesh.positions[v].cast<float>();
   std::vector<std::unique_ptr<FastDeformer>> fast;
@@ -299,7 +299,7 @@ std::size_t expect_kernel_forms_agree(const Mesh& mesh, const Rig& rig, const bi
   }
   std::vector<KernelForm> forms{KernelForm::automatic, KernelForm::baseline};
   if (cpu_has_avx2()) forms.push_back(KernelForm::avx2);
-  Simulator sim(rig, scene);
+  sim::Simulator sim(rig, scene);
   std::size_t moved = 0;
   for (int k = 1; k < scene.frame_count(); ++k) {
     sim.advance_frame();
@@ -324,12 +324,12 @@ std::size_t expect_kernel_forms_agree(const Mesh& mesh, const Rig& rig, const bi
   return moved;
 }
 
-Scene push_at_the_tips(const Rig& rig, double duration) {
-  Scene scene;
+sim::Scene push_at_the_tips(const Rig& rig, double duration) {
+  sim::Scene scene;
   scene.duration = duration;
   scene.fps = 30;
   for (std::size_t i = 0; i < rig.sweeps.size(); ++i) {
-    SceneForce f;
+    sim::SceneForce f;
     f.sweep = rig.sweeps[i].name;
     f.sweep_index = static_cast<int>(i);
     f.spec.t = 0.9 * rig.sweeps[i].rest.length();
@@ -394,4 +394,4 @@ TEST(FastDeform, TheAvx2KernelIsForcedOnlyWhereTheCpuHasIt) {
 }
 
 }  // namespace
-}  // namespace sweep::sim
+}  // namespace sweep::bind
