@@ -464,6 +464,15 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, co
     p.vertex_count = count;
     p.junction_reason = rings.junction_reason;
     cover(junction.distance);
+    if (o.refuse) {
+      if (const std::string why = o.refuse(p); !why.empty()) {
+        if (passed_over) {
+          passed_over->push_back("vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": " +
+                                 why);
+        }
+        continue;
+      }
+    }
     p.bottom = std::numeric_limits<double>::infinity();
     for (std::size_t v = 0; v < n; ++v) {
       if (d[topology.weld[v]] > junction.distance) continue;
