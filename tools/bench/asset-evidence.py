@@ -4,7 +4,7 @@
 fit is refused is left out and the rest still run: its exit and each part's RMS), `sweep-bind`,
 `sweep-sim` with a push at each part's tip baked to a .glb, and the Khronos validator on it
 (tests/gltf-validator). Then a Markdown table (stdout and --markdown) against the parts a person
-counts on the asset's picture (PERSON below: counted once, by looking, before any fix), and a
+counts on the asset's picture (the last column of ASSETS: counted by looking at the previews), and a
 shaded preview per asset (tools/sweep-preview.py on a .pc2 of the same bake) to count them from.
 
   tools/bench/asset-evidence.py [--bin DIR] [--models DIR] [--out DIR]
@@ -23,21 +23,21 @@ import sys
 # path under --models, format, what it is, the tubular parts a person counts on its picture
 ASSETS = [
     ("Collada/human.zae", "Collada (.zae)", "a standing human, hands forward",
-     "2 arms, 2 legs, neck (10 fingers)"),
-    ("BLEND/HUMAN.blend", "Blender (.blend)", "a human", "2 arms, 2 legs, neck"),
-    ("X/BCN_Epileptic.X", "DirectX (.x)", "a human", "2 arms, 2 legs, neck"),
-    ("FBX/spider.fbx", "FBX", "a spider, legs as separate shells", "8 legs"),
-    ("OBJ/spider.obj", "OBJ", "the same spider", "8 legs"),
-    ("STL/Spider_binary.stl", "STL", "the same spider, unwelded triangles", "8 legs"),
-    ("OBJ/WusonOBJ.obj", "OBJ", "Wuson, a cartoon rabbit", "2 arms, 2 legs, 2 ears"),
-    ("PLY/Wuson.ply", "PLY", "Wuson", "2 arms, 2 legs, 2 ears"),
-    ("X/Testwuson.X", "DirectX (.x)", "Wuson", "2 arms, 2 legs, 2 ears"),
+     "2 arms, 2 legs, neck (and fingers, toes)"),
+    ("BLEND/HUMAN.blend", "Blender (.blend)", "a human, Z up", "2 arms, 2 legs, neck"),
+    ("X/BCN_Epileptic.X", "DirectX (.x)", "a human; the largest mesh is the head", "neck (on the head mesh)"),
+    ("FBX/spider.fbx", "FBX", "a spider", "8 legs, 2 palps"),
+    ("OBJ/spider.obj", "OBJ", "the same spider", "8 legs, 2 palps"),
+    ("STL/Spider_binary.stl", "STL", "the same spider, unwelded triangles", "8 legs, 2 palps"),
+    ("OBJ/WusonOBJ.obj", "OBJ", "Wuson, a round cartoon beast", "2 legs, tail"),
+    ("PLY/Wuson.ply", "PLY", "Wuson", "2 legs, tail"),
+    ("X/Testwuson.X", "DirectX (.x)", "Wuson", "2 legs, tail"),
     ("MD2/sydney.md2", "Quake II (.md2)", "a human holding a gun", "2 arms, 2 legs, neck"),
-    ("MD2/faerie.md2", "Quake II (.md2)", "a winged faerie", "2 arms, 2 legs, neck"),
-    ("IQM/mrfixit.iqm", "Inter-Quake (.iqm)", "a robed figure", "2 arms, 2 legs, neck"),
-    ("SIB/heffalump.sib", "Silo (.sib)", "an elephant", "4 legs, trunk, tail, 2 ears"),
-    ("COB/dwarf.cob", "Caligari (.cob)", "a dwarf", "2 arms, 2 legs"),
-    ("FBX/animation_with_skeleton.fbx", "FBX", "a rigged figure", "2 arms, 2 legs, neck"),
+    ("MD2/faerie.md2", "Quake II (.md2)", "a winged faerie with a staff", "2 arms, 2 legs, neck"),
+    ("IQM/mrfixit.iqm", "Inter-Quake (.iqm)", "a robed figure", "2 arms, neck (legs under the robe)"),
+    ("SIB/heffalump.sib", "Silo (.sib)", "an elephant (by its name)", "not looked at: nothing baked to preview"),
+    ("COB/dwarf.cob", "Caligari (.cob)", "an armoured dwarf, horned helmet, axe", "2 arms, 2 legs, 2 horns"),
+    ("FBX/animation_with_skeleton.fbx", "FBX", "a bar with a skeleton", "1 (the bar)"),
 ]
 
 
