@@ -187,7 +187,7 @@ inline LegsWithFeet make_legs_with_feet(double heel, double toes) {
     }
     return v;
   };
-  l.mesh = mesh_level_set(f, Vec3(-heel - 0.2, -0.05, -0.45), Vec3(toes + 0.2, 1.55, 0.45), 0.03);
+  l.mesh = mesh_level_set(f, Vec3(-heel - 0.2, -0.05, -0.45), Vec3(toes + 0.2, 1.55, 0.45), 0.04);
   return l;
 }
 
