@@ -41,6 +41,11 @@ constexpr double kLoneTubeAspect = 8;
 // one or two rings past the tip of a flat face or a hole's rim are no tube (mech-holes-shark's
 // "parts" of 2 vertices, 0.002 wide, before this).
 constexpr int kMinTubeRings = 3;
+// A part's last ring before the body is as wide as the tube. Rings that shrink to this share of
+// the tube's median radius before the jump closed round another end of the surface: they ran
+// from one end of a foot (the heel) to the other (the toes) across the leg that meets it in the
+// middle, and the jump is the leg; that is no part, and a fit from there leaks into the body.
+constexpr double kClosedOffShare = 0.25;
 
 // The average surface distance from `samples` sources spread by farthest-point sampling; NaN
 // where no source reaches.
@@ -372,6 +377,17 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, co
     }
     std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2), radii.end());
     const double radius = radii[radii.size() / 2];
+    if (junction.closed && junction.radius < kClosedOffShare * radius &&
+        rings.junction + 1 < static_cast<int>(rings.rings.size())) {
+      if (passed_over) {
+        passed_over->push_back("vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) +
+                               ": its rings close round another end (" + format_number(junction.radius) +
+                               " across against the tube's " + format_number(radius) +
+                               ") before they meet the body: an end traced across, as a foot from its heel");
+      }
+      cover(2 * rings.rings[static_cast<std::size_t>(cap)].radius);
+      continue;
+    }
     std::size_t count = 0;
     double area = 0;
     for (std::size_t v = 0; v < n; ++v) {
@@ -448,6 +464,15 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, co
     p.vertex_count = count;
     p.junction_reason = rings.junction_reason;
     cover(junction.distance);
+    if (o.refuse) {
+      if (const std::string why = o.refuse(p); !why.empty()) {
+        if (passed_over) {
+          passed_over->push_back("vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": " +
+                                 why);
+        }
+        continue;
+      }
+    }
     p.bottom = std::numeric_limits<double>::infinity();
     for (std::size_t v = 0; v < n; ++v) {
       if (d[topology.weld[v]] > junction.distance) continue;

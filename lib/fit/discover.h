@@ -11,6 +11,7 @@
 // traced from its end away from the body only, and a shell that is part of the body's core (an
 // abdomen beside a thorax, the body shell itself traced end to end) is no part (discover.cpp).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,8 @@
 #include "sweep/fit/rings.h"
 
 namespace sweep::fit {
+
+struct FoundPart;
 
 struct DiscoverOptions {
   int samples = 24;         // farthest-point sources for the average distance
@@ -31,6 +34,10 @@ struct DiscoverOptions {
   // The up direction of the names (glTF and most tools: +Y); names only, never the geometry.
   Vec3 up = Vec3::UnitY();
   RingOptions rings;
+  // When given, a part is offered only if this returns no reason against it (sweep-fit fits it, so
+  // that no part is offered whose fit is then refused: fit/offered_parts.h); a part refused is
+  // passed over with the reason, and its region is not searched again.
+  std::function<std::string(const FoundPart&)> refuse;
 };
 
 struct FoundPart {

@@ -158,4 +158,37 @@ inline ArmAndHand make_arm_and_hand() {
   return a;
 }
 
+// A biped's lower half standing on the ground (Y up), one closed surface: a hip ball, two legs of
+// radius kR down to the ankles, and feet that are capsules along +X from the heel (`heel` behind the
+// ankle) to the toes (`toes` in front). Traced from the heel, rings run along the foot to the toes
+// (closing there) before they ever reach the leg's junction with the hips: the heel is no part's tip.
+struct LegsWithFeet {
+  static constexpr double kR = 0.08, kHipY = 1.1, kAnkleY = 0.09, kFootR = 0.07;
+  static constexpr double kLegZ = 0.22;
+  std::vector<Vec3> hips, ankles, heels, toes;
+  Mesh mesh;
+};
+
+inline LegsWithFeet make_legs_with_feet(double heel, double toes) {
+  LegsWithFeet l;
+  using L = LegsWithFeet;
+  for (const double side : {-1.0, 1.0}) {
+    l.hips.emplace_back(0, L::kHipY, side * L::kLegZ);
+    l.ankles.emplace_back(0, L::kAnkleY, side * L::kLegZ);
+    l.heels.emplace_back(-heel - L::kFootR, L::kFootR, side * L::kLegZ);
+    l.toes.emplace_back(toes + L::kFootR, L::kFootR, side * L::kLegZ);
+  }
+  const auto f = [&l, heel, toes](const Vec3& p) {
+    double v = ellipsoid_distance(p, Vec3(0, L::kHipY + 0.1, 0), Vec3(0.3, 0.3, 0.4));
+    for (std::size_t k = 0; k < 2; ++k) {
+      v = std::min(v, capsule_distance(p, l.hips[k], l.ankles[k], L::kR));
+      const Vec3 foot(0, L::kFootR, l.hips[k].z());
+      v = std::min(v, capsule_distance(p, foot - Vec3(heel, 0, 0), foot + Vec3(toes, 0, 0), L::kFootR));
+    }
+    return v;
+  };
+  l.mesh = mesh_level_set(f, Vec3(-heel - 0.2, -0.05, -0.45), Vec3(toes + 0.2, 1.55, 0.45), 0.04);
+  return l;
+}
+
 }  // namespace sweep::test

@@ -25,6 +25,7 @@
 #include "sweep/fit/discover.h"
 #include "sweep/fit/fit.h"
 #include "sweep/fit/hole_patches.h"
+#include "sweep/fit/offered_parts.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/interrupt.h"
 #include "sweep/io/mesh_names.h"
@@ -502,8 +503,10 @@ int run_all(const Settings& s) {
   std::vector<sweep::fit::FitResult> fits;
   fitting(s, mesh, fits, start, [&] {
     const sweep::fit::SweepFitter fitter(mesh.mesh());
-    const std::vector<sweep::fit::FoundPart> found =
-        sweep::fit::find_parts(mesh.mesh(), fitter.patched_topology(), discover_options(names_up(s, mesh.read)));
+    // The parts --list offers, each fitted once while they are found (fit/offered_parts.h).
+    sweep::fit::OfferedParts offered =
+        sweep::fit::find_fitting_parts(mesh.mesh(), fitter, discover_options(names_up(s, mesh.read)), fit_options(s));
+    const std::vector<sweep::fit::FoundPart>& found = offered.parts;
     if (found.empty()) {
       fail(ErrorCategory::bad_input,
            s.mesh.string() + ": " + sweep::fit_tool::no_parts_found(sweep::hole_edge_count(fitter.patched_topology())));
@@ -515,24 +518,14 @@ int run_all(const Settings& s) {
                " parts " + (parts.size() == found.size() ? "found (see --list)" : "chosen by --only or --skip"));
     }
     for (std::size_t i = 0; i < parts.size(); ++i) {
-      sweep::fit::FitOptions o = fit_options(s);
-      o.name = names.empty() ? parts[i].name : names[i];
-      o.tip_vertex = parts[i].tip_vertex;
-      if (s.verbose) std::cout << "fitting " << o.name << " (" << i + 1 << "/" << parts.size() << ")\n";
-      // One part the fit cannot take (a tip behind its root, a part with no length) names the
-      // part; with --force the others are still fitted and written.
-      try {
-        fits.push_back(fitter.fit(o));
-      } catch (const sweep::Error& e) {
-        if (e.category() != ErrorCategory::bad_input) throw;
-        const std::string which =
-            o.name + " (part " + std::to_string(i + 1) + " of " + std::to_string(parts.size()) + "): ";
-        if (!s.force) {
-          fail(ErrorCategory::bad_input,
-               which + e.what() + "\n  (--force fits the other parts and leaves this one out)");
-        }
-        sweep::tools::warn(which + "left out (--force): " + e.what());
-      }
+      const auto k = static_cast<std::size_t>(
+          std::find_if(found.begin(), found.end(),
+                       [&](const sweep::fit::FoundPart& p) { return p.tip_vertex == parts[i].tip_vertex; }) -
+          found.begin());
+      sweep::fit::FitResult& fit = offered.fits[k];
+      if (!names.empty()) fit.sweep.name = names[i];
+      if (s.verbose) std::cout << "fitted " << fit.sweep.name << " (" << i + 1 << "/" << parts.size() << ")\n";
+      fits.push_back(std::move(fit));
     }
     if (fits.empty()) fail(ErrorCategory::bad_input, s.mesh.string() + ": no part could be fitted");
   });
@@ -560,12 +553,14 @@ int run_list(const Settings& s) {
   const sweep::Mesh& mesh = read.mesh();
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
   const NamesUp up = names_up(s, read.read);
-  const sweep::Topology topology = sweep::build_topology(mesh);
-  const std::optional<sweep::Topology> patched = sweep::fit::patched_topology(mesh, topology);
-  const sweep::Topology& searched = patched ? *patched : topology;
+  const sweep::fit::SweepFitter fitter(mesh);
+  const sweep::Topology& searched = fitter.patched_topology();
   std::vector<std::string> passed_over;
+  // Only parts whose fit --all would then take (fit/offered_parts.h).
   const std::vector<sweep::fit::FoundPart> parts =
-      sweep::fit::find_parts(mesh, searched, discover_options(up), s.verbose ? &passed_over : nullptr);
+      sweep::fit::find_fitting_parts(mesh, fitter, discover_options(up), fit_options(s),
+                                     s.verbose ? &passed_over : nullptr)
+          .parts;
   sweep::fit_tool::print_names_up(up.direction, up.why);
   sweep::fit_tool::print_parts(parts, sweep::hole_edge_count(searched));
   for (const std::string& x : passed_over) std::cout << "  passed over " << x << "\n";
