@@ -24,7 +24,7 @@ ToolRun fit_named_tube(const Workspace& ws, const std::string& name, const std::
   const fs::path mesh = ws / "fine-tube.obj";
   if (!fs::exists(mesh)) {
     const ToolRun tube =
-        run_tool(SWEEP_TUBE_EXE, "-q --length 1 --radius 0.05 --rings 41 --segments 48 -o " + quoted(mesh), ws.io);
+        run_tool(SWEEP_TUBE_EXE, "-q --length 1 --radius 0.05 --rings 21 --segments 32 -o " + quoted(mesh), ws.io);
     EXPECT_EQ(tube.code, 0) << tube.err;
   }
   return run_tool(SWEEP_FIT_EXE,
