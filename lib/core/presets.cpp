@@ -1,6 +1,7 @@
 #include "sweep/core/presets.h"
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -26,7 +27,51 @@ double first_bending_omega2(const SweepShape& rest, const Material& m) {
   return model.omega2[0];
 }
 
+// A name's words in lower case: "TailTip_2" → tail, tip; "hairStrands" → hair, strands.
+std::vector<std::string> words_of(std::string_view name) {
+  std::vector<std::string> words;
+  std::string word;
+  char previous = 0;
+  for (const char c : name) {
+    const bool letter = std::isalpha(static_cast<unsigned char>(c)) != 0;
+    const bool new_word =
+        !letter || (std::isupper(static_cast<unsigned char>(c)) && std::islower(static_cast<unsigned char>(previous)));
+    if (new_word && !word.empty()) words.push_back(std::move(word)), word.clear();
+    if (letter) word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    previous = c;
+  }
+  if (!word.empty()) words.push_back(std::move(word));
+  return words;
+}
+
+struct KindWord {
+  std::string_view word;
+  std::string_view preset;
+};
+constexpr std::array kKindWords{
+    KindWord{"tail", "tail"},         KindWord{"neck", "neck"},      KindWord{"ear", "ear"},
+    KindWord{"tentacle", "tentacle"}, KindWord{"trunk", "tentacle"}, KindWord{"strand", "strand"},
+    KindWord{"hair", "strand"},       KindWord{"rope", "strand"},    KindWord{"tuft", "strand"},
+};
+
 }  // namespace
+
+PresetChoice preset_for_name(std::string_view part_name) {
+  for (const std::string& word : words_of(part_name)) {
+    for (const KindWord& k : kKindWords) {
+      const bool plural = word.size() == k.word.size() + 1 && word.back() == 's' && word.starts_with(k.word);
+      if (word == k.word || plural) {
+        return {find_preset(k.preset), "its name says " + std::string(k.word)};
+      }
+    }
+  }
+  return {find_preset(kFallbackPreset),
+          "no tail, neck, ear, tentacle, trunk, strand, hair, rope or tuft in its name: the fallback for a limb"};
+}
+
+double default_frequency_hz() {
+  return find_preset("tail")->frequency_hz;
+}
 
 std::span<const Preset> presets() {
   return kPresets;
@@ -76,8 +121,9 @@ Material preset_material(const SweepShape& rest, const Preset& preset, double me
 }
 
 Material resolve_material(const MaterialRequest& request, const SweepShape& rest) {
-  if (request.preset == nullptr || request.youngs_modulus_given) return request.material;
-  return with_frequency(rest, request.material, request.preset->frequency_hz);
+  if (request.youngs_modulus_given) return request.material;
+  return with_frequency(rest, request.material,
+                        request.preset != nullptr ? request.preset->frequency_hz : default_frequency_hz());
 }
 
 }  // namespace sweep

@@ -35,6 +35,26 @@ Material with_frequency(const SweepShape& rest, Material m, double frequency_hz)
 // E solved for its frequency.
 Material preset_material(const SweepShape& rest, const Preset& preset, double metres_per_unit);
 
+// The preset a part fitted without a material takes, by the words of its name (split at
+// non-letters and at a lower-to-upper case change, any case, a plural's s dropped): tail → tail,
+// neck → neck, ear → ear, tentacle or trunk → tentacle, strand, hair, rope or tuft → strand; any
+// other name (a leg, an arm, a horn, "part") the fallback, kFallbackPreset. `why` says which word
+// chose it, or that none did.
+struct PresetChoice {
+  const Preset* preset = nullptr;
+  std::string why;
+};
+PresetChoice preset_for_name(std::string_view part_name);
+
+// A part no word names: a limb, which should barely move under its body's motion, so the
+// stiffest and quickest preset (a spider's legs under a body bob: see README).
+inline constexpr std::string_view kFallbackPreset = "ear";
+
+// The frequency a material that gives no Young's modulus is solved for: the tail preset's, a
+// part that holds its own weight and sways visibly (rather than a fixed modulus, which leaves a
+// long part too soft to stand and a small one rigid).
+double default_frequency_hz();
+
 // The preset's members before E is solved: density, damping, ν = 0.45 (the rest the defaults').
 Material preset_base(const Preset& preset);
 

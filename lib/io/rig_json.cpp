@@ -217,11 +217,19 @@ SweepDef read_sweep(const JsonReader& r, const Json& v, const std::string& ptr, 
       def.section_materials.push_back(*def.material);
     }
   }
-  if (request.preset != nullptr && !request.youngs_modulus_given) {
-    // The preset's E for this part: every section takes it but those that give their own.
+  if (def.material && !request.youngs_modulus_given) {
+    // The preset's E for this part, or with no preset the one that makes it sway at the default
+    // frequency (a fixed modulus would leave a long part unable to hold itself): every section
+    // takes it but those that give their own.
     request.material = *def.material;
     if (const std::string why = check_shape(def.rest); !why.empty()) r.fail_at(ptr, why);
     const double e = resolve_material(request, def.rest).youngs_modulus;
+    if (request.preset == nullptr) {
+      r.warn_at(member(ptr, "material"), "sweep \"" + def.name + "\" gives no \"youngs_modulus_pa\": it takes " +
+                                             format_number(e, 4) + " Pa, which makes it sway at " +
+                                             format_number(default_frequency_hz()) +
+                                             " Hz (the tail preset's frequency, solved on its own sections)");
+    }
     def.material->youngs_modulus = e;
     for (std::size_t i = 0; i < def.section_materials.size(); ++i) {
       if (std::find(own_youngs.begin(), own_youngs.end(), i) == own_youngs.end())

@@ -10,6 +10,7 @@
 #include "sweep/core/error.h"
 #include "sweep/core/presets.h"
 #include "sweep/core/sway.h"
+#include "sweep/core/text.h"
 #include "sweep/io/atomic_file.h"
 #include "sweep/io/mesh_names.h"
 
@@ -189,6 +190,38 @@ TEST(RigJson, APresetIsSolvedOnThePartAndExplicitMembersOverrideIt) {
   EXPECT_NE(warnings[0].find("/sweeps/0/sections/1/material/preset: unknown member \"preset\" ignored"),
             std::string::npos)
       << warnings[0];
+}
+
+// A sweep's material that gives no Young's modulus: the one that makes the part sway at the tail
+// preset's frequency, solved on its sections with the members given, and a warning naming the
+// sweep and the modulus taken; a section that gives its own keeps it.
+TEST(RigJson, AMaterialWithoutYoungsModulusSwaysAtTheTailFrequencyAndWarns) {
+  nlohmann::ordered_json doc =
+      nlohmann::ordered_json::parse(with("/sweeps/0/material", {{"density_kg_m3", 800}, {"metres_per_unit", 0.1}}));
+  doc["sweeps"][0]["sections"][1]["material"] = {{"youngs_modulus_pa", 3e5}};
+  std::vector<std::string> warnings;
+  const Rig rig = parse_rig(doc.dump(), "rig.json", [&](const std::string& w) { warnings.push_back(w); });
+  const SweepDef& def = rig.sweeps[0];
+  ASSERT_TRUE(def.material.has_value());
+  EXPECT_EQ(def.material->density, 800);
+  EXPECT_EQ(def.material->metres_per_unit, 0.1);
+  // Solved as a preset is, every section the sweep's material: that part sways at 2 Hz.
+  SweepDef uniform = def;
+  uniform.section_materials.assign(2, with_frequency(def.rest, *def.material, find_preset("tail")->frequency_hz));
+  EXPECT_EQ(uniform.section_materials[0], *def.material);
+  EXPECT_NEAR(sway_figures(uniform, Vec3::Zero()).frequencies_hz.at(0), 2.0, 1e-9);
+  EXPECT_EQ(def.section_materials[0].youngs_modulus, def.material->youngs_modulus);
+  EXPECT_EQ(def.section_materials[1].youngs_modulus, 3e5);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("rig.json: /sweeps/0/material: sweep \"tail\" gives no \"youngs_modulus_pa\": it takes " +
+                             format_number(def.material->youngs_modulus, 4) + " Pa, which makes it sway at 2 Hz"),
+            std::string::npos)
+      << warnings[0];
+  // Written back, the rig holds the modulus: read again, the same sweep and no warning.
+  warnings.clear();
+  const std::string text = format_rig(rig);
+  EXPECT_EQ(format_rig(parse_rig(text, "again.json", [&](const std::string& w) { warnings.push_back(w); })), text);
+  EXPECT_TRUE(warnings.empty());
 }
 
 TEST(RigJson, AMaterialFileMayNameAPresetOrTakeOneFromTheCommandLine) {

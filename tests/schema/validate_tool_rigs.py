@@ -61,7 +61,8 @@ if which in ("tube", "both"):
     tube = source / "meshes" / "tube_bent.obj"
     tip_vertex = sum(1 for line in tube.open() if line.startswith("v ")) - 1
     rig = scratch / "tube.rig.json"
-    fit(tube, "-o", rig, "--name", "tube", "--root", "0,0,0", "--tip-vertex", tip_vertex)
+    # The paper's springs (--springs), then a material file: a rig of both kinds.
+    fit(tube, "-o", rig, "--name", "tube", "--root", "0,0,0", "--tip-vertex", tip_vertex, "--springs")
     check(rig, ["tube"])
     fit(tube, "-o", rig, "--name", "tube-material", "--root", "0,0,0", "--tip-vertex", tip_vertex,
         "--material", rigs / "diplodocus-tail.material.json", "-k", 12, "-n", 16)
@@ -87,7 +88,7 @@ if which in ("tube", "both"):
     torus.write_text("\n".join(lines) + "\n")
     rig = scratch / "torus.rig.json"
     fit(torus, "-o", rig, "--name", "hose", "--root", "1.15,0,0", "--tip", "0,1.15,0")
-    check(rig, ["hose"])
+    check(rig, ["hose"], material_sweeps=["hose"])  # no option: the preset its name chooses
     doc = json.loads(rig.read_text())
     if doc["version"] != 2 or doc["sweeps"][0]["part"].get("tip_cut") is not True:
         print(f"{rig.name}: expected version 2 and part.tip_cut true, got version {doc['version']}, "
@@ -103,7 +104,7 @@ if which in ("diplodocus", "both") and dino.exists():
         sys.exit("sweep-fit --list found no part of the diplodocus")
     # --force: what is written when a part breaks a limit must validate too.
     fit(dino, "--all", "--force", "-o", rig)
-    check(rig, parts)
+    check(rig, parts, material_sweeps=parts)  # each the preset its name chooses
 elif which in ("diplodocus", "both"):
     print("CGAL's diplodocus is absent (tools/setup-deps.sh): not checked")
     if which == "diplodocus":

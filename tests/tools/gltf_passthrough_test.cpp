@@ -48,9 +48,10 @@ fs::path textured_pipeline() {
     auto csv = [](const Vec3& p) {
       return std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
     };
+    // The paper's springs (--springs): kTexturedScene pushes as hard as they need.
     const ToolRun fit = run_tool(SWEEP_FIT_EXE,
                                  quoted(dir / "creature.gltf") + " -o " + quoted(dir / "rig.json") +
-                                     " --name tube --root " + csv(root) + " --tip " + csv(tip) + " -k 6 -n 8",
+                                     " --name tube --root " + csv(root) + " --tip " + csv(tip) + " -k 6 -n 8 --springs",
                                  io);
     ASSERT_EQ(fit.code, 0) << fit.err;
     const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(dir / "rig.json") + " -q", io);
@@ -246,9 +247,11 @@ struct SceneMeshesDir {
     spit(work / "scene.json", kTexturedScene);
   }
   fs::path operator/(const std::string& name) const { return work / name; }
+  // The paper's springs (--springs): kTexturedScene pushes as hard as they need.
   ToolRun fit(const std::string& args) const {
-    return run_tool(SWEEP_FIT_EXE,
-                    quoted(work / "creature.gltf") + " -o " + quoted(work / "rig.json") + " --name tube" + args, io);
+    return run_tool(
+        SWEEP_FIT_EXE,
+        quoted(work / "creature.gltf") + " -o " + quoted(work / "rig.json") + " --name tube --springs" + args, io);
   }
   ToolRun bind() const { return run_tool(SWEEP_BIND_EXE, quoted(work / "rig.json") + " -q", io); }
   // rig.json as a rig from before mesh names (version 1, no mesh_name): of the whole file.

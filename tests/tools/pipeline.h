@@ -54,11 +54,13 @@ inline fs::path cached_dir(const std::string& name, const std::function<void(con
   return dir;
 }
 
-// Fits `mesh` (in `dir`) with the seeds of the brief into dir/rig.json and binds it to rig.bind.
+// Fits `mesh` (in `dir`) with the seeds of the brief into dir/rig.json and binds it to rig.bind,
+// with the paper's springs (--springs): the scenes here push as hard as those springs need.
 inline void fit_and_bind(const fs::path& dir, const fs::path& io, const std::string& mesh, const std::string& extra) {
-  const ToolRun fit = run_tool(
-      SWEEP_FIT_EXE,
-      quoted(dir / mesh) + " -o " + quoted(dir / "rig.json") + " --name tube --root 0,0,0.02 --tip 0,0,1" + extra, io);
+  const ToolRun fit = run_tool(SWEEP_FIT_EXE,
+                               quoted(dir / mesh) + " -o " + quoted(dir / "rig.json") +
+                                   " --name tube --root 0,0,0.02 --tip 0,0,1 --springs" + extra,
+                               io);
   ASSERT_EQ(fit.code, 0) << fit.err;
   const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(dir / "rig.json") + " -q", io);
   ASSERT_EQ(bind.code, 0) << bind.err;

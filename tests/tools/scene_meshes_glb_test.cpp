@@ -139,9 +139,10 @@ TEST(SceneMeshesGlb, EveryMeshOfAColladaFileIsKeptTheStillOnesWhereTheFilePlaces
   fs::create_directories(io);
   const std::vector<NodeMesh> list = pieces();
   spit(work / "three.dae", collada(list));
+  // The paper's springs (--springs): the scene's push is sized for them.
   const ToolRun fit = run_tool(SWEEP_FIT_EXE,
                                quoted(work / "three.dae") + " --mesh Tail -o " + quoted(work / "rig.json") +
-                                   " --name tail --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8 -q",
+                                   " --name tail --root 0,0,0.02 --tip 0,0,1 -k 6 -n 8 -q --springs",
                                io);
   ASSERT_EQ(fit.code, 0) << fit.err;
   const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(work / "rig.json") + " -q", io);

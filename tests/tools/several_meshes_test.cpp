@@ -128,13 +128,14 @@ void write_legs_glb(const LegsAsset& a, const fs::path& file, std::vector<std::s
 const std::string kMeshes = " --mesh LegR --mesh Body --mesh LegL";  // any order: the file's is kept
 
 // The asset fitted (both legs, --all) and bound once per build of the tools: legs.glb, rig.json,
-// rig.bind, fit.json (sweep-fit's report).
+// rig.bind, fit.json (sweep-fit's report). The paper's springs (--springs): the bakes' pushes are
+// sized for them.
 fs::path legs_pipeline() {
   return cached_dir("legs-glb", [](const fs::path& dir, const fs::path& io) {
     write_legs_glb(legs_asset(), dir / "legs.glb");
     const ToolRun fit = run_tool(SWEEP_FIT_EXE,
                                  quoted(dir / "legs.glb") + kMeshes + " --all -o " + quoted(dir / "rig.json") +
-                                     " -k 16 -n 12 --report " + quoted(dir / "fit.json"),
+                                     " -k 16 -n 12 --springs --report " + quoted(dir / "fit.json"),
                                  io);
     ASSERT_EQ(fit.code, 0) << fit.err;
     const ToolRun bind = run_tool(SWEEP_BIND_EXE, quoted(dir / "rig.json") + " -q", io);

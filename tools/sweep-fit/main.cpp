@@ -73,6 +73,7 @@ struct Settings {
   fs::path preview;        // optional PNG: the fit drawn over the mesh from three sides
   fs::path material;       // optional material file: the fitted sweeps move in material mode
   std::string preset;      // --preset: a material preset (core/presets.h), the file's members over it
+  bool springs = false;    // --springs: the paper's springs, not a preset chosen by the part's name
   fs::path export_obj;     // --export-obj: the mesh as read, to this OBJ (no fit)
 };
 
@@ -196,8 +197,10 @@ void set_material(sweep::SweepDef& def, const std::optional<sweep::Material>& m)
 
 // Adds `def` to the rig, or replaces the sweep of its name keeping the user's spring settings,
 // material and force scales (per-section overrides no longer apply: the sections are new). A
-// material given now (--material) replaces the sweep's. True when it replaced one.
-bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::MaterialRequest>& request) {
+// material given now (--material, --preset, or the preset its name chose) replaces the sweep's;
+// `springs` (--springs) drops it. True when it replaced one.
+bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::MaterialRequest>& request,
+               bool springs) {
   // A preset's stiffness is the part's own: solved on this sweep's sections.
   const std::optional<sweep::Material> material =
       request ? std::optional(sweep::resolve_material(*request, def.rest)) : std::nullopt;
@@ -206,7 +209,7 @@ bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::
     if (old.name != def.name) continue;
     def.default_springs = old.default_springs;
     def.springs.assign(def.springs.size(), def.default_springs);
-    if (!material) set_material(def, old.material);
+    if (!material && !springs) set_material(def, old.material);
     def.rotational_scale = old.rotational_scale;
     def.radial_scale = old.radial_scale;
     old = std::move(def);
@@ -395,11 +398,34 @@ void fitting(const Settings& s, const ReadMesh& mesh, std::vector<sweep::fit::Fi
   }
 }
 
+// The material a fitted part takes: --material or --preset as given; none with --springs or for a
+// sweep the rig already holds (it keeps its own settings); else the preset its name chooses, with
+// why in `chosen` (printed).
+std::optional<sweep::MaterialRequest> material_for(const Settings& s, const sweep::Rig& rig, const std::string& name,
+                                                   const std::optional<sweep::MaterialRequest>& given,
+                                                   std::string& chosen) {
+  if (given || s.springs || rig.find(name) != nullptr) return given;
+  const sweep::PresetChoice choice = sweep::preset_for_name(name);
+  chosen = "  " + name + ": preset " + std::string(choice.preset->name) + " (" + choice.why +
+           "; --preset or --material choose another, --springs keeps the paper's springs)";
+  return sweep::MaterialRequest{sweep::preset_base(*choice.preset), choice.preset, false};
+}
+
 void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, bool updating,
                    const std::optional<sweep::MaterialRequest>& material,
                    const std::vector<sweep::fit::FitResult>& fits, std::chrono::steady_clock::time_point start) {
   int replaced = 0;
-  for (const sweep::fit::FitResult& r : fits) replaced += put_sweep(rig, r.sweep, material);
+  std::vector<std::string> chosen(fits.size());
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    const std::optional<sweep::MaterialRequest> request = material_for(s, rig, fits[i].sweep.name, material, chosen[i]);
+    replaced += put_sweep(rig, fits[i].sweep, request, s.springs);
+    if (request && request->preset == nullptr && !request->youngs_modulus_given) {
+      sweep::tools::warn(s.material.string() + " gives no youngs_modulus_pa: sweep \"" + fits[i].sweep.name +
+                         "\" takes " + sweep::format_number(rig.find(fits[i].sweep.name)->material->youngs_modulus, 4) +
+                         " Pa, which makes it sway at " + sweep::format_number(sweep::default_frequency_hz()) +
+                         " Hz (the tail preset's frequency, solved on its own sections)");
+    }
+  }
   const double seconds = seconds_since(start);
   const std::string text = sweep::io::format_rig(rig);
   // Never write a rig that sweep-bind refuses: one read back through the rig reader's limits
@@ -415,8 +441,10 @@ void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, boo
   add_report_and_preview(outputs, s, mesh, fits, true, seconds);
   outputs.commit();
   if (s.quiet) return;  // -q: nothing on success, as the other tools
-  for (const sweep::fit::FitResult& r : fits) {
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    const sweep::fit::FitResult& r = fits[i];
     sweep::fit_tool::print_fit(r, s.verbose);
+    if (!chosen[i].empty()) std::cout << chosen[i] << "\n";
     // What a material gives it (a preset's E was solved for its frequency): how fast it sways.
     const sweep::SweepDef* def = rig.find(r.sweep.name);
     if (def == nullptr || !def->material) continue;
@@ -637,7 +665,15 @@ int main(int argc, char** argv) {
                          ->check(sweep::tools::kNonEmptyName);
     auto* preset = app.add_option("--preset", s.preset,
                                   "A material preset (tail, neck, ear, tentacle, strand): the part's stiffness "
-                                  "solved for the preset's sway frequency; --material's members override it");
+                                  "solved for the preset's sway frequency; --material's members override it "
+                                  "(default: the preset the part's name chooses, see --springs)");
+    auto* springs = app.add_flag("--springs", s.springs,
+                                 "Keep the paper's springs (bend and positional springs at 1.5 Hz, "
+                                 "damping 0.3, no gravity) instead of the preset the part's name "
+                                 "chooses (tail, neck, ear, tentacle, strand; any other part: " +
+                                     std::string(sweep::kFallbackPreset) + ")")
+                        ->excludes(material)
+                        ->excludes(preset);
     auto* space = app.add_option("--space", s.space,
                                  "What --root, --tip and --axis are in: world (the mesh's points after "
                                  "its node transforms) or local (the mesh's own, as stored)")
@@ -678,6 +714,7 @@ int main(int argc, char** argv) {
     }
     if (material->count() > 0 && s.list) fail(ErrorCategory::usage, "--material goes with a fit or --all, not --list");
     if (preset->count() > 0 && s.list) fail(ErrorCategory::usage, "--preset goes with a fit or --all, not --list");
+    if (springs->count() > 0 && s.list) fail(ErrorCategory::usage, "--springs goes with a fit or --all, not --list");
     if (preview->count() > 0 && s.list) {
       fail(ErrorCategory::usage, "--preview draws fitted parts: use it with a fit or --all, not --list");
     }
@@ -686,7 +723,7 @@ int main(int argc, char** argv) {
     }
     if (export_obj->count() > 0) {
       for (const CLI::Option* other :
-           {list, all, rig, tip, tip_vertex, root, axis, name, material, preset, preview, up, space}) {
+           {list, all, rig, tip, tip_vertex, root, axis, name, material, preset, springs, preview, up, space}) {
         if (other->count() > 0) {
           fail(ErrorCategory::usage,
                "--export-obj writes the mesh alone: " + other->get_name() + " does not go with it");
