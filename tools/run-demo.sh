@@ -34,10 +34,12 @@ bin=build/release/tools
 mkdir -p "$(dirname "$out")"
 rm -f "$out.rig.json"  # fit adds sweeps to an existing rig: start a fresh one
 
+# The paper's Fig. 4 scene pushes as the paper's springs need: --springs keeps them (a fit without
+# it gives each part the material preset its name chooses, which these forces would fold).
 "$bin/sweep-fit/sweep-fit" "$mesh" -o "$out.rig.json" --name tail --root "$tail_root" --tip "$tail_tip" \
-  --report "$out.fit-tail.json"
+  --springs --report "$out.fit-tail.json"
 "$bin/sweep-fit/sweep-fit" "$mesh" -o "$out.rig.json" --name neck --root "$neck_root" --tip "$neck_tip" \
-  --report "$out.fit-neck.json"
+  --springs --report "$out.fit-neck.json"
 "$bin/sweep-bind/sweep-bind" "$out.rig.json" --blend 0.02 --report "$out.bind.json"
 "$bin/sweep-sim/sweep-sim" "$out.rig.json" --scene "$scene" -o "$out.glb" -o "$out.pc2" \
   --report "$out.sim.json"
