@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "scratch_dir.h"
 #include "sweep/assets/bake.h"
 #include "sweep/core/mesh.h"
 
@@ -112,13 +113,7 @@ inline std::string slurp(const std::filesystem::path& path) {
 
 // A fresh, empty directory for one test, under the build tree.
 inline std::filesystem::path fresh_dir(const std::string& name) {
-  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  const std::filesystem::path dir =
-      std::filesystem::path(SWEEP_BINARY_DIR) / "test-output" / "bake" /
-      (std::string(info->test_suite_name()) + "." + info->name() + (name.empty() ? "" : "." + name));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  return scratch_dir_of_this_test("bake", name);
 }
 
 inline std::vector<std::string> list_dir(const std::filesystem::path& dir) {

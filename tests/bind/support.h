@@ -13,6 +13,7 @@
 #include <string>
 
 #include "diplodocus_seeds.h"
+#include "scratch_dir.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/bind/bind.h"
 #include "sweep/core/error.h"
@@ -108,10 +109,7 @@ inline const Diplodocus* diplodocus() {
 
 // A fresh empty folder under the build tree for one test.
 inline fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "test-scratch" / "bind" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return scratch_dir("bind", name);
 }
 
 struct ToolRun {

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "scratch_dir.h"
+
 namespace sweep::test {
 
 namespace fs = std::filesystem;
@@ -57,12 +59,7 @@ inline std::string quoted(const fs::path& p) {
 
 // A fresh, empty folder under the build tree.
 inline fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::path(SWEEP_BINARY_DIR) / "test-scratch" / "tools" / name;
-  std::error_code ec;
-  fs::permissions(dir, fs::perms::owner_all, fs::perm_options::add, ec);
-  fs::remove_all(dir, ec);
-  fs::create_directories(dir);
-  return dir;
+  return scratch_dir("tools", name);
 }
 
 // Runs `exe args` in the shell with `env` before it ("OMP_NUM_THREADS=1"); the captured streams go
