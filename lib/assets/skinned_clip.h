@@ -30,8 +30,8 @@
 // section enters only through its centre's acceleration, and the Coriolis and centrifugal terms of
 // the keyed motion in a turning root are left out. a_key is the second difference of the keyed
 // centres at the simulator's internal step h on its own clock (the looped clip's time, so a clip
-// whose last pose is its first has no seam): its relative error is (ωh)²/12 for a sway at ω (1.4e-3
-// at 5 Hz at the default 1/240 s step), and a corner of LINEAR keys is its exact change of
+// whose last pose is its first has no seam): its relative error is (ωh)²/12 for a sway at ω (4e-4
+// at 5 Hz at the default 1/480 s step), and a corner of LINEAR keys is its exact change of
 // velocity spread over 2h. A STEP key, and the seam of a loop whose ends differ, are cuts: the
 // part takes the jump with its deviation unchanged, without feeling it.
 //

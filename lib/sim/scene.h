@@ -76,26 +76,22 @@ struct Scene {
   // step is cut into equal pieces no longer than this there, each resolved against the colliders.
   // The contacts' push out and friction are first order in the step: at 1/30 s a soft tube lying
   // on a slope was thrown 8 to 24 units, at the default 1/480 s it stays on it (BENCHMARKS.md), so
-  // it keeps that fine default while the step elsewhere is coarser.
+  // it keeps that fine default when a scene gives a coarser step.
   // Far from every collider a coarse step stays whole. Within reach, the whole motion steps at
   // contact_step — the body's loads too, sampled at each piece's middle, so a collider that never
   // touches still changes a moving body's part slightly (as a finer step would).
   double contact_step = kDefaultContactStep;
 
-  // 1/240 s: 8 steps per 30 fps frame, 10 at 24 fps: the coarser of 1/120 and 1/240 s that keeps
-  // every scene class measured within 1e-4 of its part's length of a far finer step. Sections
-  // (centres, radii, rotation angle × length; FollowerLoads tests, against 1/7680 s): the follower
-  // loads of the diplodocus Fig. 4 scene are 5.8e-5 at 1/240 s but 3.4e-4 at 1/120 s (their
-  // rotations' error grows faster than h² there; 2.7e-6 at 1/480 s). Vertices
-  // (tools/bench/step-accuracy.py, BENCHMARKS.md, against 1/30720 s): material parts under gravity
-  // and pushes 5.1e-5, Fig. 4 1.5e-5, a body path and wind near colliders 1.2e-5 (cut to
-  // contact_step there). Two kinds of motion miss the bar at every step measured, 1/480 s
-  // included: a tube swung through 0.9 of its length by a body turn (second order: 1.2e-4 at
-  // 1/480 s, 4.5e-4 at 1/240 s) and a skinned clip's keyed bend (first order, a corner of its
-  // linear keys spread over two steps: 3.8e-4 and 7.3e-4). A scene that needs those closer gives a
-  // finer `step`.
-  static constexpr double kDefaultStep = 1.0 / 240;
-  // contact_step's default: 16 steps per 30 fps frame (see contact_step).
+  // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. Coarser steps were measured against a far
+  // finer one (tools/bench/step-accuracy.py, BENCHMARKS.md; the bar: 1e-4 of the part's length)
+  // and are not the default: at 1/240 s a soft material part (E = 2e5 Pa, the rest-pose modes) on
+  // a moving body under gravity runs away within 0.4 s where at 1/480 s it stays (the Allocation
+  // tests' loop), and at 1/120 s the follower loads of the diplodocus Fig. 4 scene are 3.4e-4 of
+  // the length off (sections, rotation angle × length; 5.8e-5 at 1/240 s, 2.7e-6 at 1/480 s). A
+  // tube swung through 0.9 of its length by a body turn and a skinned clip's keyed bend miss the
+  // bar even at 1/480 s (1.2e-4, 3.8e-4). Scenes whose parts allow it give a coarser `step`.
+  static constexpr double kDefaultStep = 1.0 / 480;
+  // contact_step's default, the same as the step's (see contact_step).
   static constexpr double kDefaultContactStep = 1.0 / 480;
 
   int frame_count() const;  // frames at 0, 1/fps, ..., duration

@@ -2,9 +2,9 @@
 // with gravity, paced at 60 fps (frames 1/60 s apart on the wall clock, the threads asleep and the
 // caches cooling between them), a new body pose every frame (a slow walk with a sway), against the
 // scene player's frame (sweep-sim's: Simulator::advance_frame and the fast path) in the same run:
-//  - "scene player, 30 fps": the scene at its default 30 fps and step (8 internal steps a frame),
+//  - "scene player, 30 fps": the scene at its default 30 fps and step (16 internal steps a frame),
 //    the body on a path keyed every 1/60 s — what sweep-sim does per output frame;
-//  - "scene player, 60 fps": the same at 60 fps (4 steps a frame);
+//  - "scene player, 60 fps": the same at 60 fps (8 steps a frame);
 //  - "live (C++)": Simulator::advance_to(t + 1/60) after set_body_pose, then the fast path, timed
 //    apart (step, deform); and at the live step on one thread, with the world-space copy an engine
 //    uploads made two ways, timed apart (step, deform, copy): the parts deformed into a mesh-order

@@ -15,8 +15,8 @@
 namespace sweep::bench {
 namespace {
 
-// The internal step of every frame measured here: 16 steps a 30 fps frame (sweep-sim's default is
-// coarser, Scene::kDefaultStep), kept so that the tables compare with earlier runs.
+// The internal step of every frame measured here: 16 steps a 30 fps frame (sweep-sim's default,
+// Scene::kDefaultStep, today), fixed so that the tables compare across runs.
 constexpr double kStep = 1.0 / 480;
 
 using sim::FastDeformer;

@@ -5,7 +5,7 @@
  *
  * Time: the instance keeps its own clock of internal steps (the settings' "step"; settings that
  * give none, or none at all, take 1/60 s with the exact integrator: one step a 60 fps frame, where
- * sweep-sim takes 1/240 s) and reaches any time by one exact partial step beyond the last one, so
+ * sweep-sim takes 1/480 s) and reaches any time by one exact partial step beyond the last one, so
  * the motion does not depend on how the game slices time: advancing by 1/60, 1/144, 1/30 ... lands
  * on the same pose at the same times as regular frames.
  *
