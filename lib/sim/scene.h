@@ -75,15 +75,24 @@ struct Scene {
   // The longest step a part takes while a collider is within its reach (s): a longer internal
   // step is cut into equal pieces no longer than this there, each resolved against the colliders.
   // The contacts' push out and friction are first order in the step: at 1/30 s a soft tube lying
-  // on a slope was thrown 8 to 24 units, at the default 1/480 s it stays on it (BENCHMARKS.md).
+  // on a slope was thrown 8 to 24 units, at the default 1/480 s it stays on it (BENCHMARKS.md), so
+  // it keeps that fine default when a scene gives a coarser step.
   // Far from every collider a coarse step stays whole. Within reach, the whole motion steps at
   // contact_step — the body's loads too, sampled at each piece's middle, so a collider that never
   // touches still changes a moving body's part slightly (as a finer step would).
-  double contact_step = kDefaultStep;
+  double contact_step = kDefaultContactStep;
 
-  // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. At it the follower loads of the diplodocus
-  // Fig. 4 scene are within 1e-5 of the part's length of a 16× finer step (BENCHMARKS.md).
+  // 1/480 s: 16 steps per 30 fps frame, 20 at 24 fps. Coarser steps were measured against a far
+  // finer one (tools/bench/step-accuracy.py, BENCHMARKS.md; the bar: 1e-4 of the part's length)
+  // and are not the default: at 1/240 s a soft material part (E = 2e5 Pa, the rest-pose modes) on
+  // a moving body under gravity runs away within 0.4 s where at 1/480 s it stays (the Allocation
+  // tests' loop), and at 1/120 s the follower loads of the diplodocus Fig. 4 scene are 3.4e-4 of
+  // the length off (sections, rotation angle × length; 5.8e-5 at 1/240 s, 2.7e-6 at 1/480 s). A
+  // tube swung through 0.9 of its length by a body turn and a skinned clip's keyed bend miss the
+  // bar even at 1/480 s (1.2e-4, 3.8e-4). Scenes whose parts allow it give a coarser `step`.
   static constexpr double kDefaultStep = 1.0 / 480;
+  // contact_step's default, the same as the step's (see contact_step).
+  static constexpr double kDefaultContactStep = 1.0 / 480;
 
   int frame_count() const;  // frames at 0, 1/fps, ..., duration
   double step_seconds() const {

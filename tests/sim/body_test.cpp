@@ -199,8 +199,8 @@ TEST(Body, CoriolisDoesNoWorkTheRotatingFramesEnergyIsKept) {
   // The Jacobi integral is kept by the motion; the Coriolis force, at right angles to it, adds
   // nothing. What the steps change is their own error: it falls as h² (a Coriolis force applied at
   // the wrong place or speed would pump energy at any step).
-  const auto [coarse, j] = jacobi_drift(Scene::kDefaultStep);
-  const auto [fine, j_fine] = jacobi_drift(Scene::kDefaultStep / 2);
+  const auto [coarse, j] = jacobi_drift(1.0 / 480);
+  const auto [fine, j_fine] = jacobi_drift(1.0 / 960);
   EXPECT_LE(coarse, 1e-5 * j);
   EXPECT_NEAR(coarse / fine, 4.0, 0.5);
   EXPECT_EQ(j, j_fine);

@@ -136,10 +136,10 @@ TEST_P(Contact, AFastSwingNeverEndsAFrameThroughAThinPlate) {
   const Collider plate =
       Collider::box(Vec3(1.5 * test::beam::kRadius + 0.01, 0, 0.75 * length), Vec3(0.01, 5, 0.25 * length + 1));
   // Without it the tube swings far past where the plate is, moving many plate thicknesses a step.
-  // A frame a step (480 fps): the tip's largest move in one step.
+  // A frame a contact step (480 fps): the tip's largest move in one step near the plate.
   Scene probe = new_scene();
   probe.duration = 0.25;
-  probe.fps = 1 / Scene::kDefaultStep;
+  probe.fps = 1 / Scene::kDefaultContactStep;
   probe.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
   Simulator sim(rig, probe);
   double reach = 0, fastest_step = 0;
@@ -262,7 +262,7 @@ struct Lying {
   double farthest = 0;      // the farthest any section went down the slope, across the tube
 };
 Lying lying_on(double youngs_modulus, double slope, double friction = 0, double step = 0,
-               double contact_step = Scene::kDefaultStep, double duration = 1) {
+               double contact_step = Scene::kDefaultContactStep, double duration = 1) {
   Rig rig;
   rig.sweeps.push_back(test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.2));
   rig.sweeps[0].name = "tube";
@@ -292,7 +292,7 @@ Lying lying_on(double youngs_modulus, double slope, double friction = 0, double 
   return out;
 }
 double highest_lying(double youngs_modulus, double slope, double friction = 0, double step = 0,
-                     double contact_step = Scene::kDefaultStep) {
+                     double contact_step = Scene::kDefaultContactStep) {
   return lying_on(youngs_modulus, slope, friction, step, contact_step).highest;
 }
 
@@ -394,13 +394,13 @@ TEST_P(Contact, ATubeLyingOnAFrictionalSlopeStaysAboveTanThetaAndSlidesBelowIt) 
   const double slope = 20 * kPi / 180;
   for (const double e : {2e8, 1e7}) {
     for (const double mu : {0.5, 2.0}) {
-      const double farthest = lying_on(e, slope, mu, 0, Scene::kDefaultStep, 1.5).farthest;
+      const double farthest = lying_on(e, slope, mu, 0, Scene::kDefaultContactStep, 1.5).farthest;
       std::printf("E %.0e on the 20 degree slope, mu %.2f: farthest down it %.4g units\n", e, mu, farthest);
       // Measured 0.0045 (stiff) and 0.06–0.07 (rubber: the slip of the first step of each
       // contact as it lands, the speeds' friction's).
       EXPECT_LE(farthest, 3e-3 * length) << "E " << e << " mu " << mu;
     }
-    const double slid = lying_on(e, slope, 0.5 * std::tan(slope), 0, Scene::kDefaultStep, 1.5).farthest;
+    const double slid = lying_on(e, slope, 0.5 * std::tan(slope), 0, Scene::kDefaultContactStep, 1.5).farthest;
     std::printf("E %.0e on the 20 degree slope, mu tan/2: farthest down it %.4g units\n", e, slid);
     EXPECT_GT(slid, 0.01 * length) << "E " << e << ": below tan theta it slides";
   }
@@ -418,7 +418,7 @@ TEST_P(Contact, ACoarseStepIsCutIntoContactStepsNearACollider) {
     const double coarse = highest_lying(1e7, slope, mu, 1.0 / 30);
     std::printf("rubber on the 20 degree slope, step 1/30 s, mu %.1f: highest %+.4g units\n", mu, coarse);
     EXPECT_LE(coarse, 1e-3 * length) << "mu " << mu;
-    // The same motion as the default step's: pieces of 1/480 s are its steps, to rounding.
+    // The same motion as at the default step: both are cut into pieces of 1/480 s, to rounding.
     EXPECT_NEAR(coarse, highest_lying(1e7, slope, mu), 1e-9 * length) << "mu " << mu;
   }
 }
@@ -603,6 +603,9 @@ TEST_P(Contact, CollidersOutOfReachChangeNothing) {
   scene.fps = 30;
   scene.forces.push_back(tip_impulse(rig.sweeps[0], Vec3(40, 0, 0)));
   scene.forces[0].spec.vector = Vec3(4, 0, 0);  // a swing of about 2 units at the tip, in x
+  // At the contact step: a coarser step is cut into contact steps within a collider's reach
+  // (Scene::contact_step), which changes its rounding there.
+  scene.step = Scene::kDefaultContactStep;
   Simulator plain(rig, scene);
   Scene others = scene;  // (a simulator keeps a reference to its scene)
   Collider riding = Collider::capsule(Vec3(-20, 0, 0), Vec3(-20, 0, 30), 2);

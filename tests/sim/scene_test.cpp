@@ -120,7 +120,7 @@ TEST(Scene, ABadContactStepIsRefusedWithWhereAndWhy) {
             std::string::npos);
   EXPECT_NE(refusal(R"([], "contact_step": "fine")").find("/contact_step: "), std::string::npos);
   EXPECT_EQ(refusal(R"([], "contact_step": 0.004)"), "");
-  EXPECT_EQ(Scene{}.contact_step, Scene::kDefaultStep);
+  EXPECT_EQ(Scene{}.contact_step, Scene::kDefaultContactStep);
 }
 
 // "dynamics" chooses how a material part's joints move: the exact chain or the rest-pose modes (the

@@ -2,8 +2,8 @@
 // with gravity, paced at 60 fps (frames 1/60 s apart on the wall clock, the threads asleep and the
 // caches cooling between them), a new body pose every frame (a slow walk with a sway), against the
 // scene player's frame (sweep-sim's: Simulator::advance_frame and the fast path) in the same run:
-//  - "scene player, 30 fps": the scene at its default 30 fps (16 internal steps a frame), the body
-//    on a path keyed every 1/60 s — what sweep-sim does per output frame;
+//  - "scene player, 30 fps": the scene at its default 30 fps and step (16 internal steps a frame),
+//    the body on a path keyed every 1/60 s — what sweep-sim does per output frame;
 //  - "scene player, 60 fps": the same at 60 fps (8 steps a frame);
 //  - "live (C++)": Simulator::advance_to(t + 1/60) after set_body_pose, then the fast path, timed
 //    apart (step, deform); and at the live step on one thread, with the world-space copy an engine
@@ -13,7 +13,7 @@
 //  - "libsweep": sweep_set_body + sweep_advance (the step) and the read through the C interface:
 //    sweep_positions (the moved parts deformed, the world-space copy an engine uploads) or
 //    sweep_joints (the skinned export's joints, for an engine that skins on the GPU), timed apart;
-//    with sweep-sim's internal step (settings "step": 1/480 s) and with the live default (settings
+//    with a fine internal step (settings "step": 1/480 s) and with the live default (settings
 //    that give none: one step a 60 fps frame), also back to back (warm caches, no pacing), and at the
 //    live step without the mid-step predictor (sweep_set_predictor 0);
 //  - a crowd: 1 and 100 instances, their frames shared among 1 or 2 threads;
@@ -334,7 +334,7 @@ int main(int argc, char** argv) {
   write_text(
       dir / "settings.scene.json",
       R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "gravity": [0, -9.81, 0], "forces": []})");
-  // The same with sweep-sim's internal step, 1/480 s: 8 steps a 60 fps frame instead of 1.
+  // The same with a fine internal step, 1/480 s: 8 steps a 60 fps frame instead of 1.
   write_text(
       dir / "fine.scene.json",
       R"({"format": "sweep-scene", "version": 1, "duration": 10, "fps": 60, "step": 0.0020833333333333333, "gravity": [0, -9.81, 0], "forces": []})");
@@ -345,6 +345,8 @@ int main(int argc, char** argv) {
   settings.gravity = Vec3(0, -9.81, 0);
   sim::Scene live_settings = settings;  // libsweep's default step
   live_settings.step = kFrame;
+  sim::Scene fine_settings = settings;  // the live simulator at 1/480 s
+  fine_settings.step = 1.0 / 480;
   sim::Scene player30 = settings, player60 = settings;
   std::vector<sim::BodyKey> keys;
   for (int k = 0; k <= frames + 1; ++k) {
@@ -380,7 +382,7 @@ int main(int argc, char** argv) {
       omp_set_num_threads(th);
       runs[0][th - 1].push_back(scene_player(dino, player30, frames / 2 + kSkip));
       runs[1][th - 1].push_back(scene_player(dino, player60, frames));
-      runs[2][th - 1].push_back(live_cpp(dino, settings, frames));
+      runs[2][th - 1].push_back(live_cpp(dino, fine_settings, frames));
       runs[3][th - 1].push_back(live_cpp(dino, live_settings, frames, WorldRead::mesh_order));
       runs[4][th - 1].push_back(live_cpp(dino, live_settings, frames, WorldRead::live_positions));
       runs[5][th - 1].push_back(live_c(dir, "fine.scene.json", rest, frames, true, Read::positions));
@@ -430,15 +432,16 @@ int main(int argc, char** argv) {
       csv += fmt("%d,%d,%.4g,%.4g\n", herd_sizes[h], th, pos, joints);
     }
   }
-  // What a coarser step costs in accuracy, against a step 8× finer than the default.
+  // What a coarser step costs in accuracy, against a step 8× finer than 1/480 s.
   const int accuracy_frames = args.quick ? 120 : 300;
+  const int reference_per_second = 3840;
   double reference_us = 0;
-  const auto reference = step_run(dir, sim::Scene::kDefaultStep / 8, rest, accuracy_frames, reference_us);
+  const auto reference = step_run(dir, 1.0 / reference_per_second, rest, accuracy_frames, reference_us);
   md += fmt(
       "\nA coarser internal step against a fine one (1/%d s), the same live run (the walk, gravity, a 20 kN push on "
       "the tail's tip from 0.5 to 0.6 s), %d frames at 60 fps: the largest distance of a bound vertex from where the "
       "fine step puts it, over its part's length, and the frame's cost back to back (1 thread):\n\n",
-      static_cast<int>(std::lround(8 / sim::Scene::kDefaultStep)), accuracy_frames);
+      reference_per_second, accuracy_frames);
   md += "| step | steps a 60 fps frame | largest error / length | frame µs (median) |\n|---|---|---|---|\n";
   csv += "\nstep_s,steps_per_frame,max_error_relative,frame_us\n";
   omp_set_num_threads(1);

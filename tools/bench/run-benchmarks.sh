@@ -40,11 +40,12 @@ cmake --build "$build" -j "${SWEEP_BENCH_JOBS:-2}" --target "${targets[@]}"
 results="$here/tools/bench/results"
 mkdir -p "$results"
 # Clear only what this script writes: fit-evidence.{md,png} (tools/bench/fit-evidence.py) and
-# glb_frames.md (tools/bench/glb-frames.sh) and skin_joints.md (tools/bench/skin-joints.sh) come
-# from their own scripts and are kept.
+# glb_frames.md (tools/bench/glb-frames.sh), skin_joints.md (tools/bench/skin-joints.sh),
+# step_accuracy.md (tools/bench/step-accuracy.py) and asset-evidence.md (tools/bench/asset-evidence.py)
+# come from their own scripts and are kept.
 for b in deform skip live integrate beam fit stress framerate follower; do rm -f "$results/$b".csv "$results/$b".md; done
 rm -f "$results"/deform_*.png "$results"/fit_*.png "$results"/integrate.png
-for kept in fit-evidence.md fit-evidence.png glb_frames.md skin_joints.md; do
+for kept in fit-evidence.md fit-evidence.png glb_frames.md skin_joints.md step_accuracy.md asset-evidence.md; do
   [ -s "$results/$kept" ] || { echo "error: $results/$kept is missing: run the script that writes it first (see BENCHMARKS.md)" >&2; exit 1; }
 done
 bin="$build/tools/bench"
