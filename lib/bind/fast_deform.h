@@ -190,5 +190,9 @@ void deform_sweeps(std::span<const DeformJob> jobs, std::span<Vec3f> out);
 // of a mesh an engine uploads (compiled as the kernel is: -O3, AVX2 or baseline x86-64, no FMA).
 void transform_positions(std::span<const Vec3f> in, const Eigen::Matrix3f& rotation, const Vec3f& translation,
                          float* out);
+// The loop behind it on flat floats: out = R · p + t for `count` points, `m` the rotation column by
+// column (9 floats) then the translation (3). Callers that must match transform_positions' bits (the
+// live positions' band kernel at its ends) call this one.
+void transform_flat(const float* in, std::size_t count, const float* m, float* out);
 
 }  // namespace sweep::bind

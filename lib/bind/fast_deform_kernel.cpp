@@ -179,6 +179,8 @@ __attribute__((target("avx2"))) void deform_block_axial_avx2(const Kernel& k, co
   deform_block_impl<true>(k, A, B, seg, begin, end, runs);
 }
 
+}  // namespace
+
 // Plain loops over the flat floats, which the compiler vectorizes (the Eigen per-vertex product
 // did not).
 __attribute__((target_clones("avx2", "default"))) void transform_flat(const float* in, std::size_t count,
@@ -192,8 +194,6 @@ __attribute__((target_clones("avx2", "default"))) void transform_flat(const floa
     out[3 * v + 2] = r20 * x + r21 * y + r22 * z + t2;
   }
 }
-
-}  // namespace
 
 void transform_positions(std::span<const Vec3f> in, const Eigen::Matrix3f& rotation, const Vec3f& translation,
                          float* out) {

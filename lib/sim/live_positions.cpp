@@ -14,29 +14,15 @@ namespace {
 
 constexpr std::uint32_t kUnbound = std::numeric_limits<std::uint32_t>::max();
 
-// out = R · p + t, with the operations of bind::transform_positions in its order (the same bits),
-// compiled as it is (-O3, AVX2 or baseline x86-64, no FMA), for `count` points in their order.
-__attribute__((target_clones("avx2", "default"))) void transform(const float* points, std::size_t count, const float* m,
-                                                                 float* out) {
-  const float r00 = m[0], r10 = m[1], r20 = m[2], r01 = m[3], r11 = m[4], r21 = m[5];
-  const float r02 = m[6], r12 = m[7], r22 = m[8], t0 = m[9], t1 = m[10], t2 = m[11];
-  for (std::size_t v = 0; v < count; ++v) {
-    const float x = points[3 * v], y = points[3 * v + 1], z = points[3 * v + 2];
-    out[3 * v] = r00 * x + r01 * y + r02 * z + t0;
-    out[3 * v + 1] = r10 * x + r11 * y + r12 * z + t1;
-    out[3 * v + 2] = r20 * x + r21 * y + r22 * z + t2;
-  }
-}
-
-// The same product over every vertex in order, with the same bits (but for the sign of a zero), in
+// bind::transform_flat's product over every vertex in order, with the same bits (but for the sign of a zero), in
 // half the instructions: output float i (coordinate c = i mod 3 of its vertex) is
 //     out[i] = k0[i]·in[i−2] + k1[i]·in[i−1] + k2[i]·in[i] + k3[i]·in[i+1] + k4[i]·in[i+2] + t[c]
 // summed in that order, with the coefficients R(c, ·) on the three floats of the same vertex and
 // zero on the neighbours'. The coefficients repeat every 3 floats, so over 24 floats (8 vertices,
 // three AVX2 vectors) they are constant vectors, and the loop is five shifted loads, products and
-// sums a vector — where the x y z interleaving of transform() costs shuffles or scalar code. The
+// sums a vector — where the x y z interleaving of bind::transform_flat costs shuffles or scalar code. The
 // zeros' products add ±0, which changes a sum only if it is zero itself (to +0); the nonzero terms
-// are added in transform()'s order: x, y, z, then t.
+// are added in bind::transform_flat's order: x, y, z, then t.
 __attribute__((target_clones("avx2", "default"))) void transform_banded(const float* in, std::size_t count,
                                                                         const float* m, float* out) {
   constexpr int kWidth = 24;
@@ -50,7 +36,7 @@ __attribute__((target_clones("avx2", "default"))) void transform_banded(const fl
     }
     shift[i] = m[9 + c];
   }
-  // The first vertex and those after the last whole group of 8 by transform() (the band reads two
+  // The first vertex and those after the last whole group of 8 by bind::transform_flat (the band reads two
   // floats either side).
   std::size_t v = 1;
   for (; v + 9 <= count; v += 8) {
@@ -65,8 +51,8 @@ __attribute__((target_clones("avx2", "default"))) void transform_banded(const fl
       o[i] = sum + shift[i];
     }
   }
-  transform(in, std::min<std::size_t>(count, 1), m, out);
-  if (v < count) transform(in + 3 * v, count - v, m, out + 3 * v);
+  bind::transform_flat(in, std::min<std::size_t>(count, 1), m, out);
+  if (v < count) bind::transform_flat(in + 3 * v, count - v, m, out + 3 * v);
 }
 
 }  // namespace
