@@ -1,7 +1,8 @@
 // The parts sweep-fit --list offers and --all fits (find_fitting_parts): legs ending in feet that
 // reach both ways from the ankle (make_legs_with_feet) are each offered once, from the toes, rooted
 // at the hips, and every part offered fits with no problem; a part the refuse hook turns down is
-// passed over with its reason, and the names count only the parts offered.
+// passed over with its reason, and the names count only the parts offered; a part tiny against the
+// figure (a walker's short horns) is passed over as small.
 #include "sweep/fit/offered_parts.h"
 
 #include <gtest/gtest.h>
@@ -53,6 +54,50 @@ TEST(OfferedParts, APartTheRefuseHookTurnsDownIsPassedOverWithItsReasonAndNotNam
   EXPECT_EQ(
       std::count_if(passed.begin(), passed.end(), [](const std::string& x) { return x.ends_with(": on the left"); }),
       2);
+}
+
+// make_walker(2, false) with six short horns along its back: closed tubes of radius 0.015, each a
+// separate shell standing 0.15 up from inside the body (0.06 to 0.11 of them out of it): 4.5 % of
+// the walker's bounding-box diagonal of about 3.3, against legs of about 1.6.
+Mesh walker_with_horns(const Walker& w) {
+  Mesh m = w.mesh;
+  for (const double x : {-0.5, 0.0, 0.5}) {
+    for (const double z : {-0.1, 0.1}) {
+      CurveTube horn;
+      const Vec3 from(x, 1.0, z), to(x, 1.15, z);
+      horn.curve = [=](double u) { return Vec3(from + u * (to - from)); };
+      horn.radius = [](double) { return 0.015; };
+      horn.samples = 100;
+      horn.segments = 12;
+      horn.ring_spacing = 0.005;
+      horn.resample();
+      append(m, horn.mesh());
+    }
+  }
+  return m;
+}
+
+TEST(OfferedParts, PartsTinyAgainstTheFigureAreNotOfferedButPassedOverWithTheirReason) {
+  const Walker w = make_walker(2, false);
+  const Mesh m = walker_with_horns(w);
+  const fit::SweepFitter fitter(m);
+  std::vector<std::string> passed;
+  const fit::OfferedParts offered = fit::find_fitting_parts(m, fitter, {}, {}, &passed);
+  std::vector<std::string> names;
+  for (const fit::FoundPart& p : offered.parts) {
+    names.push_back(p.name);
+    EXPECT_LT(p.tip.y(), 0.5) << p.name << ": a leg, its tip at a foot";
+  }
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"leg1", "leg2", "leg3", "leg4"}));
+  EXPECT_EQ(std::count_if(passed.begin(), passed.end(),
+                          [](const std::string& x) { return x.find(": small, ") != std::string::npos; }),
+            6)
+      << "each horn passed over as small";
+  // The horns are tubes the search finds and fits: only their size keeps them out.
+  fit::DiscoverOptions any_size;
+  any_size.min_length_share = 0;
+  EXPECT_EQ(fit::find_fitting_parts(m, fitter, any_size, {}).parts.size(), 10u);
 }
 
 }  // namespace
