@@ -220,8 +220,8 @@ TEST(SeveralMeshes, ListAndAllWithoutMeshSearchEveryMeshOfTheFile) {
                        " vertices; --mesh NAME takes one): 'Body' "),
             std::string::npos)
       << r.err;
-  const ToolRun all = run_tool(
-      SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --all -q -k 8 --springs -o " + quoted(dir / "rig.json"), dir);
+  const ToolRun all =
+      run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --all -q --springs -o " + quoted(dir / "rig.json"), dir);
   ASSERT_EQ(all.code, 0) << all.err;
   const Json rig = Json::parse(slurp(dir / "rig.json"));
   EXPECT_EQ(rig["mesh_name"], (Json{"Body", "LegL", "LegR"}));
