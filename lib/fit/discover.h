@@ -34,7 +34,7 @@ struct DiscoverOptions {
   // ... and is at least this share of the mesh's size (its bounding box's diagonal) long: a part
   // tiny against the figure (a finger of a whole figure, a low-polygon spike) is none a person
   // counts, nor one whose motion shows.
-  double min_length_share = 0.065;
+  double min_length_share = 0.05;
   // The up direction of the names (glTF and most tools: +Y); names only, never the geometry.
   Vec3 up = Vec3::UnitY();
   RingOptions rings;

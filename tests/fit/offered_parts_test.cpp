@@ -60,20 +60,20 @@ TEST(OfferedParts, APartTheRefuseHookTurnsDownIsPassedOverWithItsReasonAndNotNam
       2);
 }
 
-// make_walker(2, false) with six short horns along its back: closed tubes of radius 0.015, each a
-// separate shell standing 0.15 up from inside the body (0.06 to 0.11 of them out of it): 4.5 % of
-// the walker's bounding-box diagonal of about 3.3, against legs of about 1.6.
+// make_walker(2, false) with six short horns along its back: closed tubes of radius 0.01, each a
+// separate shell standing 0.1 up from inside the body (0.04 to 0.06 of them out of it): about 4 %
+// of the walker's bounding-box diagonal of 3.2 (caps included), against legs of about 1.6.
 Mesh walker_with_horns(const Walker& w) {
   Mesh m = w.mesh;
-  for (const double x : {-0.5, 0.0, 0.5}) {
+  for (const double x : {-0.3, 0.0, 0.3}) {
     for (const double z : {-0.1, 0.1}) {
       CurveTube horn;
-      const Vec3 from(x, 1.0, z), to(x, 1.15, z);
+      const Vec3 from(x, 1.03, z), to(x, 1.13, z);
       horn.curve = [=](double u) { return Vec3(from + u * (to - from)); };
-      horn.radius = [](double) { return 0.015; };
+      horn.radius = [](double) { return 0.01; };
       horn.samples = 100;
       horn.segments = 12;
-      horn.ring_spacing = 0.005;
+      horn.ring_spacing = 0.004;
       horn.resample();
       append(m, horn.mesh());
     }
