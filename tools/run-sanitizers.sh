@@ -47,7 +47,7 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 # check (sources, not code). `--list` fits every part it offers: the tool tests that list and fit a
 # whole real mesh through the sanitized sweep-fit — Tool.PartsWhoseFitIsRefused… (elk, 33 s),
 # Tool.APartThatCannotBeFitted… (knot2, 29 s), FileUp.ListNames… (Z-up FBX and Collada, 19 s) and
-# FileUp.AZUpFormats… (Z-up .smd and .3ds, four lists: about as long; its up rule is its read) — are
+# FileUp.AZUpFormats… (Z-up .smd and .3ds: four lists, about as long) — are
 # left out: the offered-parts search and its fits run sanitized in OfferedParts.* and Tool.AnOpenMesh….
 # FitEnds.* (an arm clicked at a fingertip, a neck on its head: 26 and 13 s, level-set meshes made
 # by unoptimised test code) carry an end past the tube as Foot.* and TipCut.* do sanitized. Two contact
