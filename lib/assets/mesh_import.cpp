@@ -338,8 +338,34 @@ std::string collada_up_axis(const fs::path& path) {
   return axis == "X_UP" || axis == "Y_UP" || axis == "Z_UP" ? axis : "";
 }
 
+// The formats that are Z up by their own convention (the program or engine they come from), with
+// the words a person reads. Some of assimp's readers leave the coordinates as stored (Blender's,
+// Source's .smd, trueSpace's .cob), others turn the whole scene to +Y up in its root node (the
+// Quake family's .md2, .md3, .mdc, .mdl, .md5mesh, .iqm and 3ds Max's .3ds, .ase): taken through
+// the root transform, as file_up does, the convention gives the right up either way, never a turn
+// twice.
+struct FormatUp {
+  const char* ext;
+  const char* why;
+};
+constexpr FormatUp kZUpFormats[] = {
+    {"blend", "Blender files are Z up by Blender's convention"},
+    {"smd", "Source's .smd is Z up by the engine's convention"},
+    {"cob", "trueSpace's .cob is Z up by its convention"},
+    {"scn", "trueSpace's .scn is Z up by its convention"},
+    {"md2", "Quake II's .md2 is Z up by the engine's convention"},
+    {"md3", "Quake III's .md3 is Z up by the engine's convention"},
+    {"mdc", "Return to Castle Wolfenstein's .mdc is Z up by the engine's convention"},
+    {"mdl", "an .mdl (Quake, Half-Life, 3D GameStudio) is Z up by the engine's convention"},
+    {"md5mesh", "Doom 3's .md5mesh is Z up by the engine's convention"},
+    {"iqm", "Inter-Quake's .iqm is Z up by the Quake convention"},
+    {"3ds", "3ds Max's .3ds is Z up by its convention"},
+    {"ase", "3ds Max's .ase is Z up by its convention"},
+};
+
 // The file's up direction in world space (mesh_io.h: FileUp). The scene's root transform holds the
-// reader's own axis turn (Collada's), so the file's stated axis is taken through it.
+// reader's own axis turn (Collada's, the Quake formats'), so the file's stated axis, or its
+// format's, is taken through it.
 FileUp file_up(const aiScene* scene, const std::string& ext, const fs::path& path) {
   FileUp up;
   if (ext == "gltf" || ext == "glb") {
@@ -359,7 +385,11 @@ FileUp file_up(const aiScene* scene, const std::string& ext, const fs::path& pat
     up.why = stated.empty() ? "the Collada file has no <up_axis>, which is then Y_UP by its specification"
                             : "the Collada file's <up_axis> is " + stated;
   } else {
-    return up;
+    const auto* format =
+        std::find_if(std::begin(kZUpFormats), std::end(kZUpFormats), [&](const FormatUp& f) { return ext == f.ext; });
+    if (format == std::end(kZUpFormats)) return up;
+    file_axis = Vec3::UnitZ();
+    up.why = format->why;
   }
   up.stated = true;
   const Transform root =
@@ -479,8 +509,16 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
     return out;
   }
   const auto list = [&] { return list_scene_meshes(out.meshes); };
-  if (io::several_mesh_names(name) || (name == kAllMeshes && find_named(nodes, name, source, list) < 0)) {
-    const std::vector<int> chosen = several_nodes(nodes, name, file_order, source, list);
+  // (Every mesh as kAllMeshes takes them, in the file's order; only when each node's name finds it
+  // again, as a rig records them: else the largest, as before.)
+  const bool every =
+      name.empty() && pick == MeshPick::every_mesh && nodes.size() > 1 &&
+      std::all_of(nodes.begin(), nodes.end(), [&](const NodeMeshes& n) {
+        return std::count_if(nodes.begin(), nodes.end(), [&](const NodeMeshes& o) { return o.name == n.name; }) == 1;
+      });
+  if (every || io::several_mesh_names(name) || (name == kAllMeshes && find_named(nodes, name, source, list) < 0)) {
+    const std::vector<int> chosen =
+        several_nodes(nodes, every ? std::string(kAllMeshes) : name, every || file_order, source, list);
     std::vector<Placed> placed;
     std::vector<std::string> names;
     for (const int k : chosen) {
@@ -492,6 +530,7 @@ SceneMesh read_with_assimp(const std::string& source, bool weld, const std::stri
     }
     out.mesh = assemble(scene, placed, weld, source);
     out.name = io::join_mesh_names(names);  // world space: to_world stays the identity
+    out.every = every;
     return out;
   }
   int chosen = 0;

@@ -71,7 +71,11 @@ struct MeshUnit {
 // points down). glTF is +Y up by its specification; an FBX states it in its GlobalSettings (UpAxis,
 // UpAxisSign: assimp's scene metadata "UpAxis", "UpAxisSign"), a Collada file in <asset><up_axis>
 // (which assimp's reader applies, turning the scene so that it is +Y up; the direction is taken
-// through the scene's root transform either way). OFF, OBJ, PLY and STL state none: +Y.
+// through the scene's root transform either way). A format that is Z up by its own convention
+// (Blender's .blend, Source's .smd, trueSpace's .cob, the Quake family's .md2, .md3, .mdc, .mdl,
+// .md5mesh, .iqm, 3ds Max's .3ds and .ase) gives +Z through the same root transform: +Z where the
+// reader keeps the coordinates, +Y where it turned the scene. OFF, OBJ, PLY, STL and the rest
+// state none: +Y.
 struct FileUp {
   Vec3 direction = Vec3::UnitY();                            // unit, in the mesh's world space
   bool stated = false;                                       // the file (or its format) says it
@@ -86,6 +90,9 @@ enum class MeshPick {
   whole_file,       // `name` empty: the whole file, as read_mesh (a rig without a mesh name)
   only_or_largest,  // `name` empty: the only mesh, or the one with the most vertices (the first
                     // of those that tie)
+  every_mesh,       // `name` empty: the only mesh, or of several all of them as one, as kAllMeshes
+                    // takes them (sweep-fit --list and --all: a creature whose legs are meshes of
+                    // their own is searched whole); the largest when two nodes share a name
 };
 
 // A name that takes every mesh of the file as one (its nodes in the file's order), unless a mesh
@@ -101,6 +108,7 @@ struct SceneMesh {
   Eigen::Affine3d to_world = Eigen::Affine3d::Identity();
   std::vector<SceneMeshEntry> meshes;  // the file's meshes, depth first; empty: no names
   bool largest = false;                // taken as the largest of several (no name given)
+  bool every = false;                  // every mesh of several taken as one (MeshPick::every_mesh)
   // The importer meshes it is made of, in order; for a glTF, by the file's numbers (its primitives
   // counted over its meshes in the file's order, whatever order assimp reads them in: the .glb
   // passthrough's key to which primitives it deforms); empty = all of them, in order.

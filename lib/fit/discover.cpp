@@ -41,6 +41,9 @@ constexpr double kLoneTubeAspect = 8;
 // one or two rings past the tip of a flat face or a hole's rim are no tube (mech-holes-shark's
 // "parts" of 2 vertices, 0.002 wide, before this).
 constexpr int kMinTubeRings = 3;
+// A part holds at least this many vertices: fewer (a spike of 4 or 5 on a low-polygon figure) bend
+// as a stick, whatever the rings say (two rings of three round a tube and its tip are 7).
+constexpr std::size_t kMinPartVertices = 8;
 // A part's last ring before the body is as wide as the tube. Rings that shrink to this share of
 // the tube's median radius before the jump closed round another end of the surface: they ran
 // from one end of a foot (the heel) to the other (the toes) across the leg that meets it in the
@@ -170,7 +173,8 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
       p.name = "top";
     } else if (along_body && !upright) {
       p.name = rise > kRisingCos ? "neck" : "tail";
-    } else if (rise >= -kDownCos) {
+    } else if (rise >= -kDownCos || upright) {
+      // (On an upright body a part hanging down short of the ground is an arm too.)
       p.name = "arm";
     } else {
       p.name = "part";
@@ -336,6 +340,13 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, co
     }
   }
   const Shells shells = find_shells(mesh, topology, vertex_area);
+  // The figure's size, which a part must not be tiny against.
+  Vec3 box_low = mesh.positions.front(), box_high = box_low;
+  for (const Vec3& p : mesh.positions) {
+    box_low = box_low.cwiseMin(p);
+    box_high = box_high.cwiseMax(p);
+  }
+  const double size = (box_high - box_low).norm();
   std::vector<char> covered(n, 0), in_part(n, 0);
   int traced = 0;
   std::optional<FoundPart> lone_tube;
@@ -451,6 +462,21 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, co
                                            format_percent(area / shells.area[static_cast<std::size_t>(shell)]) +
                                            " of its shell)"
                                      : std::string("the same part as one found before")));
+      }
+      cover(junction.distance);
+      continue;
+    }
+    // Tiny against the figure: no part a person counts.
+    const bool short_part = junction.distance < o.min_length_share * size;
+    if (short_part || count < kMinPartVertices) {
+      if (passed_over) {
+        passed_over->push_back(
+            "vertex " + std::to_string(tip) + " at " + format_point(mesh.positions[tip]) + ": small, " +
+            (short_part
+                 ? format_number(junction.distance) + " long against the mesh's " + format_number(size) +
+                       " (its bounding box's diagonal; a part is at least " + format_percent(o.min_length_share) +
+                       " of it)"
+                 : std::to_string(count) + " vertices (a part has at least " + std::to_string(kMinPartVertices) + ")"));
       }
       cover(junction.distance);
       continue;

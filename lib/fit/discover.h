@@ -31,6 +31,10 @@ struct DiscoverOptions {
   // ... and holds at most this share of the mesh's surface area (else it is the body itself;
   // area, not vertices, so that a finely meshed part is not taken for the body).
   double max_area_share = 0.5;
+  // ... and is at least this share of the mesh's size (its bounding box's diagonal) long: a part
+  // tiny against the figure (a finger of a whole figure, a low-polygon spike) is none a person
+  // counts, nor one whose motion shows.
+  double min_length_share = 0.05;
   // The up direction of the names (glTF and most tools: +Y); names only, never the geometry.
   Vec3 up = Vec3::UnitY();
   RingOptions rings;
@@ -54,7 +58,7 @@ struct FoundPart {
 
 // The mesh's tubular parts, longest first. Names are suggestions from where each part points
 // (with `up`): down, reaching the lowest twentieth of the mesh (or steeply down, its lowest
-// sixth), "leg"; rising, "neck"; across the body's long axis,
+// sixth), "leg"; rising, "neck"; across the body's long axis, or hanging on an upright body,
 // "arm"; along it, "tail"; otherwise "part"; numbered when a name repeats (leg1 … leg4).
 // Candidates traced and passed over are described in `passed_over` when given.
 std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, const DiscoverOptions& options = {},

@@ -1,12 +1,17 @@
 // The parts sweep-fit --list offers and --all fits (find_fitting_parts): legs ending in feet that
 // reach both ways from the ankle (make_legs_with_feet) are each offered once, from the toes, rooted
 // at the hips, and every part offered fits with no problem; a part the refuse hook turns down is
-// passed over with its reason, and the names count only the parts offered.
+// passed over with its reason, and the names count only the parts offered; a part tiny against the
+// figure (a walker's short horns) is passed over as small.
 #include "sweep/fit/offered_parts.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <utility>
 
 #include "fit/creatures.h"
 #include "sweep/core/topology.h"
@@ -53,6 +58,56 @@ TEST(OfferedParts, APartTheRefuseHookTurnsDownIsPassedOverWithItsReasonAndNotNam
   EXPECT_EQ(
       std::count_if(passed.begin(), passed.end(), [](const std::string& x) { return x.ends_with(": on the left"); }),
       2);
+}
+
+// make_walker(2, false) with six short horns along its back: closed tubes of radius 0.01, each a
+// separate shell standing 0.1 up from inside the body (0.04 to 0.06 of them out of it): about 4 %
+// of the walker's bounding-box diagonal of 3.2 (caps included), against legs of about 1.6.
+Mesh walker_with_horns(const Walker& w) {
+  Mesh m = w.mesh;
+  for (const double x : {-0.3, 0.0, 0.3}) {
+    for (const double z : {-0.1, 0.1}) {
+      CurveTube horn;
+      const Vec3 from(x, 1.03, z), to(x, 1.13, z);
+      horn.curve = [=](double u) { return Vec3(from + u * (to - from)); };
+      horn.radius = [](double) { return 0.01; };
+      horn.samples = 100;
+      horn.segments = 12;
+      horn.ring_spacing = 0.004;
+      horn.resample();
+      append(m, horn.mesh());
+    }
+  }
+  return m;
+}
+
+TEST(OfferedParts, PartsTinyAgainstTheFigureAreNotOfferedButPassedOverWithTheirReason) {
+  const Walker w = make_walker(2, false);
+  const Mesh m = walker_with_horns(w);
+  const fit::SweepFitter fitter(m);
+  std::vector<std::string> passed;
+  const fit::OfferedParts offered = fit::find_fitting_parts(m, fitter, {}, {}, &passed);
+  std::vector<std::string> names;
+  for (const fit::FoundPart& p : offered.parts) {
+    names.push_back(p.name);
+    EXPECT_LT(p.tip.y(), 0.5) << p.name << ": a leg, its tip at a foot";
+  }
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"leg1", "leg2", "leg3", "leg4"}));
+  // Each horn passed over as small (from its tip, or from both ends), and nothing else.
+  std::set<std::pair<double, double>> small_horns;
+  for (const std::string& x : passed) {
+    if (x.find(": small, ") == std::string::npos) continue;
+    Vec3 at;
+    ASSERT_EQ(std::sscanf(x.c_str() + x.find(" at "), " at %lf,%lf,%lf", &at.x(), &at.y(), &at.z()), 3) << x;
+    EXPECT_GT(at.y(), 0.98) << x << ": on a horn";
+    small_horns.emplace(std::round(10 * at.x()), std::round(10 * at.z()));
+  }
+  EXPECT_EQ(small_horns.size(), 6u) << ::testing::PrintToString(passed);
+  // The horns are tubes the search finds and fits: only their size keeps them out.
+  fit::DiscoverOptions any_size;
+  any_size.min_length_share = 0;
+  EXPECT_EQ(fit::find_fitting_parts(m, fitter, any_size, {}).parts.size(), 10u);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 // leaves the coordinates as they are), and as a Collada file saying <up_axis>Z_UP</up_axis> (which
 // assimp's reader applies, turning the scene to +Y up). --list must name four legs in both, say
 // which axis it went by and why, and (the FBX) name them otherwise when told another axis with --up.
+// A format Z up by its own convention (an .smd written here, a .3ds by assimp's exporter) is named
+// by that convention, taken through the reader's own turn.
 #include <assimp/material.h>
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
@@ -15,6 +17,7 @@
 #include <string>
 
 #include "fit/creatures.h"
+#include "sweep/assets/mesh_io.h"
 #include "tool_runner.h"
 
 namespace sweep::test {
@@ -98,6 +101,53 @@ TEST(FileUp, ListNamesPartsByAZUpFbxOrColladaFilesOwnUpAxis) {
   EXPECT_EQ(listed_names(dir / "walker.dae", "", dir, &said), four_legs);
   EXPECT_EQ(said,
             "names go by up +Y (the Collada file's <up_axis> is Z_UP, which the reader turned to +Y with the "
+            "scene; --up X|Y|Z gives another)");
+}
+
+// `mesh` as a Valve .smd (Source's text format: one bone at rest, triangles fanned from each
+// polygon's first corner), its coordinates as they are.
+std::string smd_text(const Mesh& mesh) {
+  std::string text = "version 1\nnodes\n0 \"root\" -1\nend\nskeleton\ntime 0\n0 0 0 0 0 0 0\nend\ntriangles\n";
+  const auto corner = [&](std::uint32_t v) {
+    const Vec3& p = mesh.positions[v];
+    return "0 " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + " 0 0 1 0 0\n";
+  };
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+    for (std::uint32_t k = begin + 1; k + 1 < end; ++k) {
+      text += "skin\n" + corner(mesh.face_vertices[begin]) + corner(mesh.face_vertices[k]) +
+              corner(mesh.face_vertices[k + 1]);
+    }
+  }
+  return text + "end\n";
+}
+
+// A format that is Z up by its convention and says nothing in the file: Source's .smd, whose
+// reader keeps the coordinates as stored (+Z), and 3ds Max's .3ds, whose reader turns the scene
+// to +Y up in its root node (the convention taken through that turn: +Y, not turned twice).
+TEST(FileUp, AZUpFormatsConventionIsTakenThroughTheReadersOwnTurn) {
+  const fs::path dir = scratch_dir("file-up-format");
+  Eigen::Matrix3d to_z_up;
+  to_z_up << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  const Walker w = make_walker(2, false, to_z_up);
+  const std::multiset<std::string> four_legs = {"leg", "leg", "leg", "leg"};
+
+  spit(dir / "walker.smd", smd_text(w.mesh));
+  const assets::SceneMesh smd = assets::read_scene_mesh(dir / "walker.smd", "", assets::MeshPick::only_or_largest);
+  EXPECT_TRUE(smd.up.stated);
+  EXPECT_EQ(smd.up.direction, Vec3::UnitZ());
+  std::string said;
+  EXPECT_EQ(listed_names(dir / "walker.smd", "", dir, &said), four_legs);
+  EXPECT_EQ(said, "names go by up +Z (Source's .smd is Z up by the engine's convention; --up X|Y|Z gives another)");
+  EXPECT_NE(listed_names(dir / "walker.smd", " --up Y", dir), four_legs) << "the format's axis made them legs";
+
+  export_mesh(w.mesh, dir / "walker.3ds", "3ds");
+  const assets::SceneMesh max = assets::read_scene_mesh(dir / "walker.3ds", "", assets::MeshPick::only_or_largest);
+  EXPECT_TRUE(max.up.stated);
+  EXPECT_LT((max.up.direction - Vec3::UnitY()).norm(), 1e-12) << "the reader turned the scene: Z up is now +Y";
+  EXPECT_EQ(listed_names(dir / "walker.3ds", "", dir, &said), four_legs);
+  EXPECT_EQ(said,
+            "names go by up +Y (3ds Max's .3ds is Z up by its convention, which the reader turned to +Y with the "
             "scene; --up X|Y|Z gives another)");
 }
 

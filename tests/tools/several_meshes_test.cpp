@@ -1,7 +1,8 @@
 // A rig over several meshes of one file: a walker whose body and two legs are three meshes of one
 // .glb (each under its own node, placed by its translation), written by the test. sweep-fit --mesh
 // given three times reads them as one mesh in world space (Body's vertices, then LegL's, then
-// LegR's: the file's order, whatever order they were named in); --list finds each leg once, from
+// LegR's: the file's order, whatever order they were named in), as --list and --all read them
+// when no --mesh is given; --list finds each leg once, from
 // the body to the foot; --all fits both, sweep-bind binds them and a push on one leg bakes a .pc2
 // in which the body's vertices never move, and a .glb that keeps all three meshes and nodes, passes
 // the Khronos validator, and whose morphed positions are the .pc2's. A rig whose mesh was renamed
@@ -196,6 +197,35 @@ TEST(SeveralMeshes, ListFindsEachLegMeshOnceFromTheBodyToTheFoot) {
   EXPECT_EQ(wrong, 0u);
   EXPECT_EQ(
       run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --list --export-obj " + quoted(dir / "x.obj"), dir).code, 1);
+}
+
+// No --mesh: --list and --all search every mesh of the file as one (not the largest, a leg alone),
+// say so in a note listing them, and find both legs as --mesh all does; the rig records all three
+// meshes.
+TEST(SeveralMeshes, ListAndAllWithoutMeshSearchEveryMeshOfTheFile) {
+  const fs::path dir = scratch_dir("several-meshes-default");
+  const LegsAsset a = legs_asset();
+  write_legs_glb(a, dir / "legs.glb");
+  const ToolRun named = run_tool(
+      SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --mesh all --list --report " + quoted(dir / "all.json"), dir);
+  ASSERT_EQ(named.code, 0) << named.err;
+  const ToolRun r =
+      run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --list --report " + quoted(dir / "parts.json"), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Json parts = Json::parse(slurp(dir / "parts.json"))["parts"];
+  EXPECT_EQ(parts.size(), 2u) << r.out;
+  EXPECT_EQ(parts, Json::parse(slurp(dir / "all.json"))["parts"]);
+  EXPECT_NE(r.err.find("note: " + (dir / "legs.glb").string() + " holds 3 meshes; searched them all as one (" +
+                       std::to_string(a.pieces[0].vertices() + a.pieces[1].vertices() + a.pieces[2].vertices()) +
+                       " vertices; --mesh NAME takes one): 'Body' "),
+            std::string::npos)
+      << r.err;
+  const ToolRun all =
+      run_tool(SWEEP_FIT_EXE, quoted(dir / "legs.glb") + " --all -q --springs -o " + quoted(dir / "rig.json"), dir);
+  ASSERT_EQ(all.code, 0) << all.err;
+  const Json rig = Json::parse(slurp(dir / "rig.json"));
+  EXPECT_EQ(rig["mesh_name"], (Json{"Body", "LegL", "LegR"}));
+  EXPECT_EQ(rig["sweeps"].size(), 2u);
 }
 
 TEST(SeveralMeshes, TheRigNamesItsMeshesInTheFilesOrderAndABakeMovesOnlyTheLegs) {

@@ -234,7 +234,8 @@ std::optional<sweep::MaterialRequest> read_material_option(const Settings& s) {
 }
 
 // The direction the suggested names go by: --up, else the file's own up (glTF's +Y, an FBX's
-// GlobalSettings, a Collada file's up_axis; +Y when the file states none), and why.
+// GlobalSettings, a Collada file's up_axis, a Z-up format's convention; +Y when neither the file
+// nor its format states one), and why.
 struct NamesUp {
   Vec3 direction;
   std::string why;
@@ -292,16 +293,19 @@ struct ReadMesh {
 };
 
 // The mesh of the file to fit: --mesh, else the rig's being updated (the whole file for a rig
-// that names none), else the only or the largest one (said in a note). Records it in `rig`.
+// that names none), else the only one, else of several: for --list and --all all of them as one
+// (a creature whose legs are meshes of their own is searched whole), for one part the largest
+// (said in a note). Records it in `rig`.
 ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool updating = false) {
   const bool rigs = updating && rig != nullptr;
   const std::string name = !s.mesh_name.empty() ? s.mesh_name : rigs ? rig->mesh_name : "";
   ReadMesh m;
   // Several --mesh are taken in the file's order, whatever order they were given in; a rig's list
   // in its own.
-  m.read = sweep::assets::read_scene_mesh(
-      s.mesh, name, rigs ? sweep::assets::MeshPick::whole_file : sweep::assets::MeshPick::only_or_largest,
-      /*file_order=*/!s.mesh_name.empty());
+  const sweep::assets::MeshPick pick = rigs              ? sweep::assets::MeshPick::whole_file
+                                       : s.list || s.all ? sweep::assets::MeshPick::every_mesh
+                                                         : sweep::assets::MeshPick::only_or_largest;
+  m.read = sweep::assets::read_scene_mesh(s.mesh, name, pick, /*file_order=*/!s.mesh_name.empty());
   sweep::assets::validate_mesh(m.read.mesh, s.mesh.string());
   std::string taken;
   if (!s.mesh_name.empty())
@@ -310,6 +314,8 @@ ReadMesh read_checked_mesh(const Settings& s, sweep::Rig* rig = nullptr, bool up
     taken = "the rig's mesh";
   else if (m.read.largest)
     taken = "the largest";
+  else if (m.read.every)
+    taken = "every mesh of the file, as one";
   else if (!m.read.name.empty())
     taken = "the only one";
   else if (m.read.meshes.size() > 1)
@@ -628,7 +634,7 @@ int main(int argc, char** argv) {
     auto* up = app.add_option("--up", s.up,
                               "With --list or --all: the mesh's up axis, which the suggested names go by "
                               "(a leg points down, a neck rises); default: the file's own (glTF: Y; FBX, "
-                              "Collada: as the file says; else Y)")
+                              "Collada: as the file says; Blender, Quake formats: as their convention, Z; else Y)")
                    ->check(CLI::IsMember({"X", "Y", "Z"}))
                    ->capture_default_str();
     auto* name = app.add_option("--name", s.name, "Name of the sweep in the rig")->capture_default_str();

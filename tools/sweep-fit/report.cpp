@@ -166,6 +166,10 @@ void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m)
 }
 
 std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummary& m) {
+  if (m.meshes.size() >= 2 && m.taken == "every mesh of the file, as one") {
+    return path.string() + " holds " + std::to_string(m.meshes.size()) + " meshes; searched them all as one (" +
+           std::to_string(m.vertices) + " vertices; --mesh NAME takes one): " + assets::list_scene_meshes(m.meshes);
+  }
   if (m.meshes.size() < 2 || m.taken != "the largest") return "";
   std::vector<assets::SceneMeshEntry> others;
   for (const assets::SceneMeshEntry& e : m.meshes) {

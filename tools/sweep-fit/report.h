@@ -21,9 +21,10 @@ struct MeshSummary {
   std::size_t faces = 0;
   Vec3 min = Vec3::Zero();
   Vec3 max = Vec3::Zero();
-  std::string space;  // how the file's coordinates became the mesh's
-  std::string name;   // the mesh taken ("" = the whole file, or a format of one nameless mesh)
-  std::string taken;  // why: "named by --mesh", "the rig's", "the only one", "the largest", "the whole file"
+  std::string space;                           // how the file's coordinates became the mesh's
+  std::string name;                            // the mesh taken ("" = the whole file, or a format of one nameless mesh)
+  std::string taken;                           // why: "named by --mesh", "the rig's", "the only one", "the largest",
+                                               // "every mesh of the file, as one" (--list, --all), "the whole file"
   std::vector<assets::SceneMeshEntry> meshes;  // all the file's meshes (empty: a format without names)
   assets::MeshUnit unit;                       // the unit the file states (FBX UnitScaleFactor), applied by nothing
   double metres_per_unit = 0;                  // what that unit is in metres (0: the file states none)
@@ -31,8 +32,8 @@ struct MeshSummary {
 };
 MeshSummary summarize_mesh(const std::filesystem::path& path, const assets::SceneMesh& read, const std::string& taken);
 void print_mesh_summary(const std::filesystem::path& path, const MeshSummary& m);
-// "FILE holds N meshes; took 'X' (V vertices, the largest) ..." for a note on stderr, or "" when
-// the file holds one mesh or the mesh was named.
+// "FILE holds N meshes; took 'X' (V vertices, the largest) ..." or "FILE holds N meshes; searched
+// them all as one ..." for a note on stderr, or "" when the file holds one mesh or the mesh was named.
 std::string mesh_choice_note(const std::filesystem::path& path, const MeshSummary& m);
 
 // The report of one or more fits: written also when a fit fails (rig_written false), so that a
