@@ -49,7 +49,7 @@ double farthest(const SweepShape& shape, const Collider& c, int axis) {
 bool exact_dynamics = false;
 Scene new_scene() {
   Scene scene;
-  scene.exact_chain = exact_dynamics;
+  scene.dynamics = exact_dynamics ? ElasticSweep::Dynamics::exact : ElasticSweep::Dynamics::modal;
   return scene;
 }
 class Contact : public ::testing::TestWithParam<bool> {
@@ -337,7 +337,7 @@ TEST(ContactExactChain, ATubeLyingAlongASlopeStaysOnIt_long) {
   rig.sweeps[0].name = "tube";
   test::beam::set_youngs_modulus(rig.sweeps[0], 1e7);
   Scene scene;
-  scene.exact_chain = true;
+  scene.dynamics = ElasticSweep::Dynamics::exact;
   scene.duration = 1;
   scene.fps = 30;
   const Vec3 g(0, -9.81, 0);
