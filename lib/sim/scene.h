@@ -43,7 +43,9 @@ struct Scene {
   // geometrically exact chain (core/chain_dynamics.h: the inertia, velocity terms and gravity of
   // the current pose, right however far the part turns) from the end of the internal step where a
   // section has turned more than ElasticSweep::kSwitchAngle from its rest pose; modal and exact
-  // keep one of them throughout. The paper's springs mode is the same either way.
+  // keep one of them throughout. In a scene with colliders the automatic dynamics keep the modes:
+  // the exact chain's contacts are not yet as sure as theirs (a fast swing can end a frame through
+  // a thin plate, a friction hold can add energy). The paper's springs mode is the same either way.
   ElasticSweep::Dynamics dynamics = ElasticSweep::Dynamics::automatic;
   // Gravity, m/s² in world axes: every span of a material-mode sweep weighs on the chain. With
   // gravity_preloaded the modelled mesh is the pose under it (no sag on frame 0); otherwise the

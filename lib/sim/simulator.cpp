@@ -608,7 +608,10 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
   ++s.steps;
   // The automatic dynamics decide at the internal step's end, on the body alone (a view's partial
   // step to a frame's time never switches: the switch does not depend on the frame rate).
-  if (s.body.switch_if_large() && s.chain_switch.time < 0) s.chain_switch = {to, s.body.largest_rotation()};
+  // Not in a scene with colliders: the exact chain's contacts are not yet as sure as the modes'
+  // (Scene::dynamics), so a part there keeps the modes.
+  if (scene_.colliders.empty() && s.body.switch_if_large() && s.chain_switch.time < 0)
+    s.chain_switch = {to, s.body.largest_rotation()};
   settle(s, from, to);
 }
 
