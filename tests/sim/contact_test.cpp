@@ -430,10 +430,12 @@ TEST_P(Contact, ACoarseStepIsCutIntoContactStepsNearACollider) {
 }
 
 // Far from every collider a coarse step stays whole: the frames are those of the scene without the
-// collider, to the bit.
+// collider, to the bit. (On the modes or the exact chain alone: the automatic dynamics keep the
+// modes in any scene with colliders and switch without one, and this kick turns the tube far.)
 TEST_P(Contact, ACoarseStepFarFromEveryColliderIsNotCut) {
   const Rig rig = rubber_tube(0.1);
   Scene scene = new_scene();
+  if (!exact_dynamics) scene.dynamics = ElasticSweep::Dynamics::modal;
   scene.duration = 0.5;
   scene.fps = 30;
   scene.step = 1.0 / 30;
