@@ -267,6 +267,9 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
       ++stats.awake_sweeps;
       ++report.sweeps[i].frames_deformed;
       folds[i]->measure(*shapes[i], k);
+      if (rig.sweeps[i].material)
+        report.sweeps[i].largest_rotation =
+            std::max(report.sweeps[i].largest_rotation, sim.sweep(j).largest_rotation());
       if (fast[i]) jobs.push_back({fast[i].get(), shapes[i]});
     }
     deform_sweeps(jobs, positions);
@@ -325,6 +328,11 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
   for (int i = 0; i < sweeps; ++i) {
     SweepBakeStats& st = report.sweeps[i];
     st.steps = sim_of(i).steps_taken(of_sweep[i].second);
+    if (const sim::Simulator::ChainSwitch& to_exact = sim_of(i).chain_switch(of_sweep[i].second); to_exact.time >= 0) {
+      // On the bake's clock: a skinned clip's preroll ran before its frame 0.
+      st.exact_chain_time = to_exact.time - preroll_frames / scene.fps;
+      st.exact_chain_angle = to_exact.angle;
+    }
     if (!folds[i]) continue;
     const FoldMeter& f = *folds[i];
     st.largest_bend = f.largest_bend;

@@ -97,6 +97,11 @@ struct SweepBakeStats {
   int bend_span = 0, bend_frame = 0;
   int fold_frame = -1, fold_span = 0;
   int cross_frame = -1, cross_a = 0, cross_b = 0;
+  // Material mode: the largest rotation of a section against its rest pose, in the root's axes,
+  // over the frames it was deformed in (rad); and when the automatic dynamics turned it to the
+  // exact chain (s, the bake's time; < 0: never) and that rotation there (rad).
+  double largest_rotation = 0;
+  double exact_chain_time = -1, exact_chain_angle = 0;
 };
 
 struct BakeReport {

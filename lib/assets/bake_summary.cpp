@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "sweep/core/elastic_sweep.h"
 #include "sweep/core/text.h"
 
 namespace sweep::assets {
@@ -44,7 +45,13 @@ std::string bake_report_json(const BakeReport& r, const BakeSummarySettings& s) 
          {"fold_span", st.fold_frame >= 0 ? nlohmann::ordered_json(st.fold_span) : nlohmann::ordered_json()},
          {"self_cross_frame", frame_or_null(st.cross_frame)},
          {"self_cross_sections",
-          st.cross_frame >= 0 ? nlohmann::ordered_json::array({st.cross_a, st.cross_b}) : nlohmann::ordered_json()}});
+          st.cross_frame >= 0 ? nlohmann::ordered_json::array({st.cross_a, st.cross_b}) : nlohmann::ordered_json()},
+         {"largest_rotation_degrees", st.largest_rotation * 180 / std::numbers::pi},
+         {"exact_chain_from",
+          st.exact_chain_time >= 0 || st.exact_chain_angle > 0
+              ? nlohmann::ordered_json{{"time", st.exact_chain_time},
+                                       {"rotation_degrees", st.exact_chain_angle * 180 / std::numbers::pi}}
+              : nlohmann::ordered_json()}});
   }
   doc["sweeps"] = std::move(sweeps);
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
@@ -108,8 +115,18 @@ void print_bake_summary(std::ostream& out, const BakeReport& report, const BakeS
     if (st.driven) {
       out << "; largest bend of a span " << format_number(st.largest_bend * 180 / std::numbers::pi, 3) << "° (sections "
           << st.bend_span - 1 << "-" << st.bend_span << ", frame " << st.bend_frame << ")";
+      if (st.sway.feels_gravity) {
+        out << "; turned at most " << format_number(st.largest_rotation * 180 / std::numbers::pi, 3)
+            << "° from its rest";
+      }
     }
     out << "\n";
+    if (st.exact_chain_time >= 0 || st.exact_chain_angle > 0) {
+      out << "    large motion: the exact chain from t = " << format_number(st.exact_chain_time, 4)
+          << " s (a section turned " << format_number(st.exact_chain_angle * 180 / std::numbers::pi, 3)
+          << "° from its rest, past the modes' "
+          << format_number(ElasticSweep::kSwitchAngle * 180 / std::numbers::pi, 3) << "°)\n";
+    }
   }
   out << "largest edge stretch " << format_number(report.max_stretch.ratio, 4) << "x";
   if (report.max_stretch.found) {

@@ -298,7 +298,7 @@ void ElasticSweep::set_gravity(const Vec3& g, bool preloaded) {
   if (!preloaded || g == Vec3::Zero()) return;
   // The loads at the rest pose, in the springs' rest axes: subtracted from every later split.
   ElasticSweep at_rest(def_);
-  at_rest.use_exact_ = false;  // the joints' share split too, not left to the exact chain
+  at_rest.dynamics_ = Dynamics::modal;  // the joints' share split too, not left to the exact chain
   at_rest.body_.gravity = g;
   at_rest.gather_loads({});
   const int k = def_.rest.section_count();
@@ -518,7 +518,8 @@ void ElasticSweep::copy_state_from(const ElasticSweep& other) {
   forces_ = other.forces_;  // reuses its capacity: allocates only when the force count grows
   next_id_ = other.next_id_;
   integrator_ = other.integrator_;
-  use_exact_ = other.use_exact_;
+  dynamics_ = other.dynamics_;
+  switched_ = other.switched_;
   midpoint_loads_ = other.midpoint_loads_;
   body_ = other.body_;
   keyed_acceleration_ = other.keyed_acceleration_;  // reuses its capacity
@@ -577,7 +578,31 @@ void ElasticSweep::reset() {
     std::fill(b->x.begin(), b->x.end(), 0.0);
     std::fill(b->v.begin(), b->v.end(), 0.0);
   }
+  switched_ = false;  // at rest and still: small motion again
   rebuild();
+}
+
+bool ElasticSweep::switch_if_large() {
+  if (!chain_ || dynamics_ != Dynamics::automatic || switched_ || !rotational_.active) return false;
+  // |vec(q)| = sin(θ/2) of the rotation q between a section's rest and current axes: compared
+  // squared, no trigonometry in a step that does not switch.
+  const double limit = std::sin(0.5 * kSwitchAngle);
+  const double limit2 = limit * limit;
+  for (int i = 1; i < def_.rest.section_count(); ++i) {
+    const Quat turn = def_.rest.frames[i].rotation.conjugate() * deformed_.frames[i].rotation;
+    if (turn.vec().squaredNorm() > limit2) {
+      switched_ = true;
+      return true;
+    }
+  }
+  return false;
+}
+
+double ElasticSweep::largest_rotation() const {
+  double largest = 0;
+  for (int i = 1; i < def_.rest.section_count(); ++i)
+    largest = std::max(largest, def_.rest.frames[i].rotation.angularDistance(deformed_.frames[i].rotation));
+  return largest;
 }
 
 double ElasticSweep::energy() const {

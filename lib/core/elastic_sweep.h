@@ -124,20 +124,49 @@ class ElasticSweep {
   // Material mode (SweepDef::material): the coupled chain and its modes; null in the paper's mode.
   // Shared (read-only) by every sweep of the same rest shape and materials while one lives.
   const ChainModel* chain() const { return chain_.get(); }
-  // Whether the joints move by the geometrically exact chain (core/chain_dynamics.h): material
-  // mode with the exact integrator, once set_exact_chain(true) (a scene's "dynamics": "exact").
-  // Its inertia, velocity terms and gravity are those of the current pose, so a part that turns far
-  // keeps the energy it was given; the contact solver's couplings, kicks and moves are taken from
-  // its current pose too (core/contact_rows.cpp), and a step its Newton iteration does not settle is
-  // halved down to 2⁻¹⁶ of it. Not yet the default: undamped, its energy is kept only to the step's
-  // second-order error, not exactly as the modes' closed form keeps it (a limp rope, 1e4 Pa,
-  // whipping undamped at 1/24 s gained a third of m g L), so tests of "never gains" read it to that
-  // error; and its step costs several modal steps. With an explicit integrator the joints move as
-  // the rest-pose modes, stepped by it (the integrators' comparison).
-  bool exact_chain() const { return exact_.has_value() && use_exact_ && integrator_ == Integrator::exact; }
-  // On: the exact chain; off (the default): the rest-pose modes stepped in closed form, right for
-  // small motion only.
-  void set_exact_chain(bool on) { use_exact_ = on; }
+  // How a material part's joints move. modal: the rest-pose modes stepped in closed form, right
+  // for small motion only (the mass matrix and velocity terms are the rest pose's: a soft part
+  // that turns far gains energy, leaves its plane or runs away). exact: the geometrically exact
+  // chain (core/chain_dynamics.h). automatic: the modes while the motion is small, the exact chain
+  // from the internal step at whose end switch_if_large() finds a section turned farther than
+  // kSwitchAngle from its rest pose (one way: back to the modes only on reset()).
+  enum class Dynamics { modal, exact, automatic };
+  // The largest rotation of a section against its rest pose, in the root's axes, that the
+  // automatic dynamics leave to the rest-pose modes (radians, 5.7°). Measured on the soft 3.1 m
+  // tube swinging freely in its first mode (tests/core/auto_chain_test.cpp): over one period the
+  // modes' sections stray from the exact chain's by 3e-5 of the length at this amplitude, 3e-4 at
+  // 0.2 rad, 1e-3 at 0.3 rad (as the amplitude cubed), and that error adds up period after period;
+  // so a part switches well before the modes are visibly wrong, and a soft part released level
+  // switches before it has gained any energy it was not given (tests/sim/large_rotation_test.cpp).
+  static constexpr double kSwitchAngle = 0.1;
+
+  // Whether the joints move by the geometrically exact chain now: material mode with the exact
+  // integrator, and the exact dynamics or the automatic ones once switched. Its inertia, velocity
+  // terms and gravity are those of the current pose, so a part that turns far keeps the energy it
+  // was given; the contact solver's couplings, kicks and moves are taken from its current pose too
+  // (core/contact_rows.cpp), and a step its Newton iteration does not settle is halved down to
+  // 2⁻¹⁶ of it. Undamped, its energy is kept only to the step's second-order error, not exactly as
+  // the modes' closed form keeps it (a limp rope, 1e4 Pa, whipping undamped at 1/24 s gained a
+  // third of m g L), so tests of "never gains" read it to that error; and its step costs several
+  // modal steps. With an explicit integrator the joints move as the rest-pose modes, stepped by it
+  // (the integrators' comparison).
+  bool exact_chain() const {
+    return exact_.has_value() && integrator_ == Integrator::exact &&
+           (dynamics_ == Dynamics::exact || (dynamics_ == Dynamics::automatic && switched_));
+  }
+  void set_dynamics(Dynamics dynamics) { dynamics_ = dynamics; }
+  Dynamics dynamics() const { return dynamics_; }
+  // On: the exact chain; off (a sweep's default): the rest-pose modes.
+  void set_exact_chain(bool on) { dynamics_ = on ? Dynamics::exact : Dynamics::modal; }
+  // The automatic dynamics' check, made by whoever steps the sweep at the end of an internal step
+  // (the simulator on its internal clock, never on a partial step to a frame's time: the switch
+  // then falls at the same time whatever the frame rate). True when it switched now: the joints'
+  // φ and w, which the modes keep in step with them, carry over as they stand. No-op otherwise.
+  bool switch_if_large();
+  // The largest rotation of a section against its rest pose, in the root's axes (radians).
+  double largest_rotation() const;
+  // Whether the automatic dynamics have switched to the exact chain (cleared by reset()).
+  bool switched() const { return switched_; }
   // The exact chain at the current state (null in the paper's mode): its pose, energies, mass matrix.
   const ChainDynamics* exact_chain_state() const {
     if (!exact_) return nullptr;
@@ -204,7 +233,8 @@ class ElasticSweep {
   // The exact chain: the joints' state lives in rotational_ (φ and the relative angular velocity
   // w in A_i's axes) and is loaded into it for each step, kick or energy read (allocation-free).
   mutable std::optional<ChainDynamics> exact_;
-  bool use_exact_ = false;
+  Dynamics dynamics_ = Dynamics::modal;
+  bool switched_ = false;  // the automatic dynamics have turned to the exact chain
   bool midpoint_loads_ = true;
   std::vector<double> exact_torque_;  // scratch: the forces' joint torques in N·m
   void step_exact(double dt);

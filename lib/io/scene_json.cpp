@@ -333,9 +333,15 @@ sim::Scene parse_scene_keys(const Json& json, const std::string& pointer, const 
   }
   if (const Json* d = r.optional(json, "dynamics")) {
     const std::string name = r.string(*d, member(pointer, "dynamics"));
-    if (name != "exact" && name != "modal")
-      r.fail_at(member(pointer, "dynamics"), "must be \"exact\" or \"modal\", got " + io::describe(*d));
-    scene.exact_chain = name == "exact";
+    if (name == "auto") {
+      scene.dynamics = ElasticSweep::Dynamics::automatic;
+    } else if (name == "modal") {
+      scene.dynamics = ElasticSweep::Dynamics::modal;
+    } else if (name == "exact") {
+      scene.dynamics = ElasticSweep::Dynamics::exact;
+    } else {
+      r.fail_at(member(pointer, "dynamics"), "must be \"auto\", \"modal\" or \"exact\", got " + io::describe(*d));
+    }
   }
   if (const Json* b = r.optional(json, "body")) {
     const std::string bp = member(pointer, "body");

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "sweep/core/elastic_sweep.h"
 #include "sweep/core/force.h"
 #include "sweep/core/oscillator.h"
 #include "sweep/core/rig.h"
@@ -37,11 +38,15 @@ struct Scene {
   double step = 0;
   int substeps = 0;  // internal steps per output frame, the old way to set the step; 0 = not given
   Integrator integrator = Integrator::exact;
-  // How a material part's joints move: the geometrically exact chain (core/chain_dynamics.h: the
-  // inertia, velocity terms and gravity of the current pose, right however far the part turns), or
-  // the rest-pose modes stepped in closed form (right for small motion only). The paper's springs
-  // mode is the same either way.
-  bool exact_chain = false;
+  // How a material part's joints move (ElasticSweep::Dynamics): automatic (the default) moves them
+  // by the rest-pose modes, stepped in closed form, while the part's motion is small, and by the
+  // geometrically exact chain (core/chain_dynamics.h: the inertia, velocity terms and gravity of
+  // the current pose, right however far the part turns) from the end of the internal step where a
+  // section has turned more than ElasticSweep::kSwitchAngle from its rest pose; modal and exact
+  // keep one of them throughout. In a scene with colliders the automatic dynamics keep the modes:
+  // the exact chain's contacts are not yet as sure as theirs (a fast swing can end a frame through
+  // a thin plate, a friction hold can add energy). The paper's springs mode is the same either way.
+  ElasticSweep::Dynamics dynamics = ElasticSweep::Dynamics::automatic;
   // Gravity, m/s² in world axes: every span of a material-mode sweep weighs on the chain. With
   // gravity_preloaded the modelled mesh is the pose under it (no sag on frame 0); otherwise the
   // mesh is the unloaded rest and the part sags.

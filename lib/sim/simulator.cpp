@@ -54,8 +54,8 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep) : 
                                  .anchors = {}});
     sweeps_.back().body.set_integrator(scene.integrator);
     sweeps_.back().view.set_integrator(scene.integrator);
-    sweeps_.back().body.set_exact_chain(scene.exact_chain);
-    sweeps_.back().view.set_exact_chain(scene.exact_chain);
+    sweeps_.back().body.set_dynamics(scene.dynamics);
+    sweeps_.back().view.set_dynamics(scene.dynamics);
     if (def.material && scene.gravity != Vec3::Zero()) {
       // Gravity in the body's axes at time 0: what the modelled pose is pre-loaded with.
       const Vec3 g = scene.body.at(0).rotation.conjugate() * scene.gravity;
@@ -606,6 +606,12 @@ void Simulator::advance_span(int i, bool on_view, double from, double to, bool g
   s.moved = true;
   if (!grid_step) return;
   ++s.steps;
+  // The automatic dynamics decide at the internal step's end, on the body alone (a view's partial
+  // step to a frame's time never switches: the switch does not depend on the frame rate).
+  // Not in a scene with colliders: the exact chain's contacts are not yet as sure as the modes'
+  // (Scene::dynamics), so a part there keeps the modes.
+  if (scene_.colliders.empty() && s.body.switch_if_large() && s.chain_switch.time < 0)
+    s.chain_switch = {to, s.body.largest_rotation()};
   settle(s, from, to);
 }
 

@@ -90,6 +90,15 @@ class Simulator {
   // Whether sweep i's shape changed during the last advance_frame (it must be re-deformed).
   bool moved_last_frame(int i) const { return sweeps_[i].moved; }
   long long steps_taken(int i) const { return sweeps_[i].steps; }
+  // When sweep i's automatic dynamics (Scene::dynamics) first turned to the exact chain: the end
+  // of the internal step at which a section had turned past ElasticSweep::kSwitchAngle (s, on the
+  // simulator's clock; < 0: never) and the largest rotation of a section against its rest pose
+  // there (rad). A teleport puts the part to rest on the modes again; this keeps the first switch.
+  struct ChainSwitch {
+    double time = -1;
+    double angle = 0;
+  };
+  const ChainSwitch& chain_switch(int i) const { return sweeps_[i].chain_switch; }
   // The body at the current frame's time (world = rotation · mesh + translation).
   BodyState body() const { return scene_.body.at(time()); }
   // Frames (their numbers) at which the body jumped and the parts were put to rest.
@@ -126,6 +135,7 @@ class Simulator {
     std::vector<Vec3> held_at{};               // its section centres when it last moved, while it touches
     int keyed = -1;                            // its keyed bend, in scene_.keyed_bends (−1: none)
     std::vector<Vec3> keyed_now{};             // scratch: the keyed bend's accelerations at one time
+    ChainSwitch chain_switch{};                // its first switch to the exact chain
   };
   // The time the colliders are placed at for time t: inside a teleport, its end (the parts are
   // put to rest in the new place).

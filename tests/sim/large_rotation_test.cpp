@@ -8,9 +8,12 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
+#include <string>
 
 #include "core/beam_tubes.h"
 #include "sweep/core/elastic_sweep.h"
+#include "sweep/sim/simulator.h"
 #include "test_constants.h"
 
 namespace sweep::sim {
@@ -201,6 +204,193 @@ TEST(LargeRotation, StepsUpToASecondSettleAndNeverGainEnergy_long) {
         EXPECT_LT(chain.centres().back().y(), -0.1 * length_m(tube)) << "it did fall";
       }
     }
+  }
+}
+
+}  // namespace
+}  // namespace sweep::sim
+
+// The default dynamics (a scene without "dynamics": automatic), through the simulator: the rest-pose
+// modes while the motion is small, the exact chain from the internal step where a section has turned
+// past ElasticSweep::kSwitchAngle. Each case runs the modes alone beside it: they break what it
+// asserts, so each assertion can fail.
+
+namespace sweep::sim {
+namespace {
+
+using Dynamics = ElasticSweep::Dynamics;
+
+Rig rig_with(const SweepDef& def) {
+  Rig rig;
+  rig.sweeps.push_back(def);
+  return rig;
+}
+
+// The scene's default dynamics (none given), or the rest-pose modes; frames on the internal grid
+// (480 fps) so that every frame is one step of the body.
+Scene scene_with(double seconds, bool modal) {
+  Scene scene;
+  scene.duration = seconds;
+  scene.fps = 480;
+  if (modal) scene.dynamics = Dynamics::modal;
+  return scene;
+}
+
+// The soft tube released level (as LargeRotation.ASoftTubeReleasedLevel…, β = 138): the sections'
+// kinetic energy never above gravity's work, in its plane but for what the modes' own out-of-plane
+// growth from rounding reached before the switch, and it falls.
+TEST(LargeRotation, ByDefaultASoftTubeReleasedLevelNeverOutrunsGravitysWorkAndStaysInItsPlane) {
+  for (const bool modal : {false, true}) {
+    const Rig rig = rig_with(two_metre_tube(1e6, 0.05));
+    Scene scene = scene_with(1.0, modal);
+    scene.gravity = Vec3(0, -kG, 0);
+    scene.gravity_preloaded = false;
+    Simulator sim(rig, scene);
+    const double h = 1.0 / scene.fps;
+    const double l = length_m(sim.sweep(0)), mgl = total_mass(sim.sweep(0)) * kG * l;
+    const std::vector<double>& mass = sim.sweep(0).chain()->node_mass;
+    const std::vector<Vec3> start = sim.sweep(0).exact_chain_state()->centres();
+    std::vector<Vec3> before = start, now = start;
+    double worst = -1, off_plane = 0, lowest = 0;
+    for (int s = 0; s < 480; ++s) {
+      sim.advance_frame();
+      const std::vector<Vec3> after = sim.sweep(0).exact_chain_state()->centres();
+      if (s > 0) {
+        double work = 0, kinetic = 0;
+        for (std::size_t i = 1; i < now.size(); ++i) {
+          work += mass[i] * kG * (start[i].y() - now[i].y());
+          kinetic += 0.5 * mass[i] * ((after[i] - before[i]) / (2 * h)).squaredNorm();
+        }
+        worst = std::max(worst, (kinetic - work) / mgl);
+      }
+      for (const Vec3& c : after) off_plane = std::max(off_plane, std::abs(c.x()) / l);
+      lowest = std::min(lowest, after.back().y() / l);
+      before = now;
+      now = after;
+    }
+    const Simulator::ChainSwitch& to_exact = sim.chain_switch(0);
+    std::printf(
+        "released soft tube (%s): exact chain from %.4g s (%.3g rad), largest (KE - W)/(m g L) %.3g, off its "
+        "plane %.3g L\n",
+        modal ? "modal" : "default", to_exact.time, to_exact.angle, worst, off_plane);
+    if (modal) {
+      EXPECT_GT(worst, 0.1);
+      EXPECT_GT(off_plane, 0.1);
+      EXPECT_LT(to_exact.time, 0);
+      continue;
+    }
+    EXPECT_GT(to_exact.time, 0);
+    EXPECT_GT(to_exact.angle, ElasticSweep::kSwitchAngle);
+    EXPECT_LE(worst, 1e-4);  // the differences' own error is O(h²): far below
+    EXPECT_LE(off_plane, 1e-6);
+    EXPECT_LT(lowest, -0.5);  // it did fall
+  }
+}
+
+// A soft tube (E = 1e5 Pa) whipped by 20 N·s across its tip, undisturbed otherwise: the chain's
+// energy (kinetic and elastic) never rises above what the kick gave it (measured at the rest pose,
+// where both dynamics agree). The modes alone reach several times it.
+TEST(LargeRotation, ByDefaultATipImpulseOnASoftTubeNeverRaisesItsEnergyAboveTheKicks) {
+  for (const bool modal : {false, true}) {
+    const SweepDef def = two_metre_tube(1e5, 0.05);
+    const Rig rig = rig_with(def);
+    Scene scene = scene_with(1.0, modal);
+    SceneForce kick;
+    kick.sweep = "tube";
+    kick.sweep_index = 0;
+    kick.spec.t = def.rest.length();
+    kick.spec.vector = Vec3(20, 0, 0);
+    kick.spec.components = kRotational;
+    kick.spec.target = RotationTarget::chain;
+    kick.spec.moment = MomentModel::physical;
+    scene.forces.push_back(kick);
+    Simulator sim(rig, scene);
+    ElasticSweep kicked(def);
+    kicked.apply_impulse(kick.spec);
+    const double given = kicked.exact_chain_state()->kinetic_energy();
+    double most = 0;
+    for (int s = 0; s < 480; ++s) {
+      sim.advance_frame();
+      const ChainDynamics& chain = *sim.sweep(0).exact_chain_state();
+      most = std::max(most, (chain.kinetic_energy() + chain.elastic_energy()) / given);
+    }
+    std::printf("whipped soft tube (%s): exact chain from %.4g s (%.3g rad), energy up to %.4g of the kick's\n",
+                modal ? "modal" : "default", sim.chain_switch(0).time, sim.chain_switch(0).angle, most);
+    if (modal) {
+      EXPECT_GT(most, 1.5);
+    } else {
+      EXPECT_GE(sim.chain_switch(0).time, 0);
+      EXPECT_LE(most, 1.0);
+    }
+  }
+}
+
+// A soft tube (E = 1e6 Pa, β = 138; as-modelled under gravity) level on a body that turns a quarter
+// turn about the vertical in 0.3 s (from rest to rest), straight or bent into a quarter circle at
+// rest, through the turn and a little after (0.4 s): the bake does not abort and stays finite. The
+// modes alone run away within 0.02 s (the simulator's runaway guard: bad input, exit 2).
+void turn_a_soft_tube(bool bent) {
+  for (const bool modal : {false, true}) {
+    const Rig rig = rig_with(two_metre_tube(1e6, 0.05, bent));
+    Scene scene = scene_with(0.4, modal);
+    scene.fps = 30;
+    scene.gravity = Vec3(0, -kG, 0);
+    const Quat turned(Eigen::AngleAxisd(kPi / 2, Vec3::UnitY()));
+    scene.body = BodyPath({BodyKey{.time = 0}, BodyKey{.time = 0.3, .rotation = turned}}, BodyInterpolation::cubic);
+    Simulator sim(rig, scene);
+    std::string error;
+    try {
+      for (int f = 0; f < 12; ++f) sim.advance_frame();
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    std::printf("turned %s tube (%s): exact chain from %.4g s (%.3g rad)%s%s\n", bent ? "bent" : "straight",
+                modal ? "modal" : "default", sim.chain_switch(0).time, sim.chain_switch(0).angle,
+                error.empty() ? "" : ", ", error.c_str());
+    if (modal) {
+      EXPECT_NE(error.find("moved more than"), std::string::npos);
+      continue;
+    }
+    EXPECT_EQ(error, "");
+    EXPECT_TRUE(sim.sweep(0).is_finite());
+    EXPECT_GE(sim.chain_switch(0).time, 0);
+  }
+}
+TEST(LargeRotation, ByDefaultAStraightSoftPartOnABodyTurningAQuarterTurnInAThirdOfASecondDoesNotAbort) {
+  turn_a_soft_tube(false);
+}
+TEST(LargeRotation, ByDefaultABentSoftPartOnABodyTurningAQuarterTurnInAThirdOfASecondDoesNotAbort) {
+  turn_a_soft_tube(true);
+}
+
+// The switch falls on the internal clock: the released tube baked at 24, 30, 60 and 144 fps turns
+// to the exact chain at the same time, to the bit, and its pose at the frames they share (0.5 s)
+// is the same to 1e-9 of its length.
+TEST(LargeRotation, ByDefaultTheSwitchIsAtTheSameTimeWhateverTheFrameRate) {
+  const Rig rig = rig_with(two_metre_tube(1e6, 0.05));
+  double reference_time = 0;
+  std::vector<Frame> reference;
+  for (const double fps : {144.0, 24.0, 30.0, 60.0}) {
+    Scene scene = scene_with(0.5, false);
+    scene.fps = fps;
+    scene.gravity = Vec3(0, -kG, 0);
+    scene.gravity_preloaded = false;
+    Simulator sim(rig, scene);
+    const int frames = static_cast<int>(std::lround(0.5 * fps));
+    for (int f = 0; f < frames; ++f) sim.advance_frame();
+    ASSERT_EQ(sim.time(), 0.5);
+    const std::vector<Frame>& pose = sim.sweep(0).deformed().frames;
+    if (reference.empty()) {
+      reference_time = sim.chain_switch(0).time;
+      reference = pose;
+      EXPECT_GT(reference_time, 0);
+      continue;
+    }
+    EXPECT_EQ(sim.chain_switch(0).time, reference_time) << fps << " fps";
+    double apart = 0;
+    for (std::size_t i = 0; i < pose.size(); ++i)
+      apart = std::max(apart, (pose[i].center - reference[i].center).norm() / rig.sweeps[0].rest.length());
+    EXPECT_LE(apart, 1e-9) << fps << " fps";
   }
 }
 

@@ -123,8 +123,9 @@ TEST(Scene, ABadContactStepIsRefusedWithWhereAndWhy) {
   EXPECT_EQ(Scene{}.contact_step, Scene::kDefaultContactStep);
 }
 
-// "dynamics" chooses how a material part's joints move: the exact chain or the rest-pose modes (the
-// default); anything else is refused with where and why.
+// "dynamics" chooses how a material part's joints move: auto (the default: the rest-pose modes
+// while the motion is small, the exact chain from when it is not), the rest-pose modes throughout
+// or the exact chain throughout; anything else is refused with where and why.
 TEST(Scene, DynamicsIsReadAndABadOneIsRefusedWithWhereAndWhy) {
   Rig rig;
   rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
@@ -134,11 +135,15 @@ TEST(Scene, DynamicsIsReadAndABadOneIsRefusedWithWhereAndWhy) {
         R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [])" + extra + "}");
     return parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
   };
-  EXPECT_FALSE(read("").exact_chain);
-  EXPECT_TRUE(read(R"(, "dynamics": "exact")").exact_chain);
-  EXPECT_FALSE(read(R"(, "dynamics": "modal")").exact_chain);
-  EXPECT_NE(refusal(R"([], "dynamics": "rigid")").find("/dynamics: must be \"exact\" or \"modal\", got \"rigid\""),
-            std::string::npos);
+  using Dynamics = ElasticSweep::Dynamics;
+  EXPECT_EQ(read("").dynamics, Dynamics::automatic);
+  EXPECT_EQ(Scene{}.dynamics, Dynamics::automatic);
+  EXPECT_EQ(read(R"(, "dynamics": "auto")").dynamics, Dynamics::automatic);
+  EXPECT_EQ(read(R"(, "dynamics": "exact")").dynamics, Dynamics::exact);
+  EXPECT_EQ(read(R"(, "dynamics": "modal")").dynamics, Dynamics::modal);
+  EXPECT_NE(
+      refusal(R"([], "dynamics": "rigid")").find("/dynamics: must be \"auto\", \"modal\" or \"exact\", got \"rigid\""),
+      std::string::npos);
 }
 
 // A skinned mesh's clip: "loop" and "preroll" are read beside "node" and "animation", and bad ones
