@@ -583,7 +583,10 @@ void ElasticSweep::reset() {
 }
 
 bool ElasticSweep::switch_if_large() {
-  if (!chain_ || dynamics_ != Dynamics::automatic || switched_ || !rotational_.active) return false;
+  // With an explicit integrator the joints move by the modes whatever the dynamics (exact_chain()).
+  if (!chain_ || dynamics_ != Dynamics::automatic || integrator_ != Integrator::exact || switched_ ||
+      !rotational_.active)
+    return false;
   // |vec(q)| = sin(θ/2) of the rotation q between a section's rest and current axes: compared
   // squared, no trigonometry in a step that does not switch.
   const double limit = std::sin(0.5 * kSwitchAngle);

@@ -80,6 +80,11 @@ double since(Clock::time_point start) {
 
 int run(Settings s) {
   const Clock::time_point start = Clock::now();
+  // Named for an interrupt's message ("not written: ...") from the start: a signal while the rig,
+  // mesh and binding load says what it stopped too.
+  std::vector<fs::path> declared = s.outputs;
+  if (!s.report.empty()) declared.push_back(s.report);
+  sweep::io::declare_outputs(declared);
   if (s.threads > 0) omp_set_num_threads(s.threads);
   if (s.joints_given) {  // the ranges, before any work
     sweep::assets::check_skin_joints({.stations = s.joints, .ring = s.ring_joints}, {}, 1);
@@ -147,9 +152,6 @@ int run(Settings s) {
   // before the bake is, so a failure leaves nothing behind.
   for (const fs::path& out : s.outputs) sweep::io::check_can_create(out);
   if (!s.report.empty()) sweep::io::check_can_create(s.report);
-  std::vector<fs::path> declared = s.outputs;
-  if (!s.report.empty()) declared.push_back(s.report);
-  sweep::io::declare_outputs(declared);
   sweep::assets::BakeSummarySettings told{.rig = s.rig,
                                           .outputs = s.outputs,
                                           .report = s.report,
