@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "sweep/assets/assimp_placement.h"
+#include "sweep/assets/file_error_detail.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/error.h"
 #include "sweep/core/fp_environment.h"
@@ -23,10 +24,7 @@ namespace {
 
 using Mat4 = Eigen::Matrix4d;
 
-[[noreturn]] void refuse(const std::filesystem::path& file, const std::string& what,
-                         ErrorCategory category = ErrorCategory::bad_input) {
-  fail(category, file.string() + ": " + what);
-}
+using detail::refuse;
 
 using detail::key_of;
 using detail::PositionKey;

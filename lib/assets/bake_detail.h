@@ -20,6 +20,9 @@ namespace sweep::assets::detail {
 // overflow; a simulated vertex this far out has run away, so frame() reports it as diverged.
 constexpr float kMaxBakeCoordinate = 1e30f;
 
+// The largest .glb: its header's length field is 32 bits.
+constexpr std::uint64_t kGlbMaxBytes = 0xFFFFFFFFull;
+
 // The body's pose each frame as glTF animation keys: translations (x y z) and rotations (x y z w),
 // each rotation kept on the side of the one before, so that LINEAR (slerp) between two keys takes
 // the short way.

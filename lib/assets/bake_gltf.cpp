@@ -40,7 +40,7 @@ static_assert(std::endian::native == std::endian::little,
               "the .glb writer stores host floats as glTF's little-endian data");
 static_assert(sizeof(Eigen::Vector3f) == 12, "Vector3f arrays are written as packed float triples");
 
-constexpr std::uint64_t kGlbMaxBytes = std::numeric_limits<std::uint32_t>::max();
+using detail::kGlbMaxBytes;
 // Upper bound on the JSON a frame adds (two accessors, buffer views, target, name, weight).
 constexpr std::uint64_t kJsonBytesPerFrame = 1024;
 constexpr std::uint64_t kJsonBytesFixed = 8192;

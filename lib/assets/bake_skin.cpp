@@ -30,7 +30,7 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "the .glb writer stores host floats as glTF's little-endian data");
 
-constexpr std::uint64_t kGlbMaxBytes = std::numeric_limits<std::uint32_t>::max();
+using detail::kGlbMaxBytes;
 
 class SkinWriter final : public detail::BakeWriterBase, public SkinPoser {
  public:

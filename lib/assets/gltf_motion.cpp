@@ -7,6 +7,7 @@
 #include <set>
 #include <vector>
 
+#include "sweep/assets/file_error_detail.h"
 #include "sweep/assets/gltf_document.h"
 #include "sweep/core/error.h"
 #include "sweep/core/limits.h"
@@ -19,9 +20,7 @@ using detail::GltfDocument;
 using Json = nlohmann::json;
 using Affine = Eigen::Affine3d;
 
-[[noreturn]] void refuse(const std::filesystem::path& file, const std::string& what) {
-  fail(ErrorCategory::bad_input, file.string() + ": " + what);
-}
+using detail::refuse;
 
 // A node's rest transform: its "matrix", or its translation, rotation and scale.
 Affine rest_transform(const Json& node) {

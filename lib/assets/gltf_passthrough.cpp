@@ -31,6 +31,23 @@ using sweep::io::read_file;
 
 namespace sweep::assets::detail {
 
+// A node's rest transform as translation, rotation and scale (a "matrix" decomposed; `exact`
+// false when the matrix is not a rotation times a positive diagonal scale plus a translation).
+// Not file-local: GltfPassthrough::State, declared in the header, holds one.
+struct NodeTrs {
+  Vec3 t = Vec3::Zero();
+  Eigen::Quaterniond r = Eigen::Quaterniond::Identity();
+  Vec3 s = Vec3::Ones();
+  bool from_matrix = false, exact = true;
+  Eigen::Affine3d affine() const {
+    Eigen::Affine3d a = Eigen::Affine3d::Identity();
+    a.translate(t);
+    a.rotate(r);
+    a.scale(s);
+    return a;
+  }
+};
+
 namespace {
 
 using namespace gltf_codes;
@@ -40,24 +57,8 @@ using Affine = Eigen::Affine3d;
 using Mat3 = Eigen::Matrix3d;
 namespace fs = std::filesystem;
 
-// A node's rest transform as translation, rotation and scale (a "matrix" decomposed; `exact`
-// false when the matrix is not a rotation times a positive diagonal scale plus a translation).
-struct Trs {
-  Vec3 t = Vec3::Zero();
-  Eigen::Quaterniond r = Eigen::Quaterniond::Identity();
-  Vec3 s = Vec3::Ones();
-  bool from_matrix = false, exact = true;
-  Affine affine() const {
-    Affine a = Affine::Identity();
-    a.translate(t);
-    a.rotate(r);
-    a.scale(s);
-    return a;
-  }
-};
-
-Trs node_trs(const Json& node) {
-  Trs out;
+NodeTrs node_trs(const Json& node) {
+  NodeTrs out;
   if (const auto m = node.find("matrix"); m != node.end() && m->is_array() && m->size() == 16) {
     Eigen::Matrix4d matrix;
     for (int k = 0; k < 16; ++k) matrix(k % 4, k / 4) = (*m)[k].is_number() ? (*m)[k].get<double>() : 0.0;
@@ -190,7 +191,7 @@ struct GltfPassthrough::State {
   struct Shown {
     std::size_t node = 0;
     Affine parent = Affine::Identity();
-    Trs local;
+    NodeTrs local;
     std::vector<std::size_t> ancestors;
     // Below another node that shows a deformed mesh: it follows that node's body motion and gets
     // no keys of its own (else the body would move it twice).

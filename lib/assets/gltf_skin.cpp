@@ -5,6 +5,7 @@
 #include <cstring>
 #include <functional>
 
+#include "sweep/assets/file_error_detail.h"
 #include "sweep/assets/gltf_document.h"
 #include "sweep/core/error.h"
 #include "sweep/core/text.h"
@@ -16,9 +17,7 @@ using detail::GltfDocument;
 using Json = nlohmann::json;
 using Mat4 = Eigen::Matrix4d;
 
-[[noreturn]] void refuse(const std::filesystem::path& file, const std::string& what) {
-  fail(ErrorCategory::bad_input, file.string() + ": " + what);
-}
+using detail::refuse;
 
 // Any accessor of `components` numbers an element, as doubles: floats as they are, integers as
 // they are, or mapped to [0, 1] / [-1, 1] when "normalized" (glTF 2.0, "Accessor data types").

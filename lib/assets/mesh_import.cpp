@@ -43,6 +43,7 @@ namespace sweep::assets {
 namespace {
 
 namespace fs = std::filesystem;
+using Json = nlohmann::json;
 using detail::bad;
 
 // One line of text for an error message: libraries report with embedded newlines.
@@ -416,7 +417,6 @@ FileUp file_up(const aiScene* scene, const std::string& ext, const fs::path& pat
 // check then refuses what it cannot map).
 constexpr unsigned kUnnumbered = UINT_MAX;
 std::vector<unsigned> gltf_primitive_numbers(const aiScene* scene, const nlohmann::json& doc) {
-  using Json = nlohmann::json;
   const auto array = [](const Json& obj, const char* key) -> const Json* {
     const auto it = obj.is_object() ? obj.find(key) : obj.end();
     return obj.is_object() && it != obj.end() && it->is_array() ? &*it : nullptr;

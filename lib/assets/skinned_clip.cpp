@@ -6,15 +6,14 @@
 #include <limits>
 #include <map>
 
+#include "sweep/assets/file_error_detail.h"
 #include "sweep/core/error.h"
 #include "sweep/core/text.h"
 
 namespace sweep::assets {
 namespace {
 
-[[noreturn]] void refuse(const std::filesystem::path& file, const std::string& what) {
-  fail(ErrorCategory::bad_input, file.string() + ": " + what);
-}
+using detail::refuse;
 
 std::string joined(const std::vector<std::string>& names) {
   std::string out;

@@ -21,12 +21,6 @@ constexpr double kDivergence = 0.9;
 // down to 15 µs. (8, a 1 s step's 4 ms, left a limp rope's whipping steps unsettled.)
 constexpr int kMaxHalvings = 16;
 
-Mat3 skew(const Vec3& a) {
-  Mat3 s;
-  s << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return s;
-}
-
 // J_l⁻ᵀ(φ) = I + ½[φ]× + β [φ]×², the transpose of the left Jacobian's inverse of exp (the map from a
 // small turn applied on the left to the change of φ), β = (1 − (θ/2) cot(θ/2)) / θ².
 Mat3 inverse_jacobian_transpose(const Vec3& phi) {

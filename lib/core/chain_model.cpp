@@ -7,16 +7,6 @@
 #include "sweep/core/section_properties.h"
 
 namespace sweep {
-namespace {
-
-Eigen::Matrix3d skew(const Vec3& a) {
-  Eigen::Matrix3d s;
-  s << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return s;
-}
-
-}  // namespace
-
 ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>& materials) {
   const int k = rest.section_count();
   const int n = rest.radial_count;

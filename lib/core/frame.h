@@ -42,6 +42,13 @@ struct Frame {
   }
 };
 
+// [a]×, the cross-product matrix: skew(a) b = a × b.
+inline Mat3 skew(const Vec3& a) {
+  Mat3 s;
+  s << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return s;
+}
+
 // Rotation by the rotation vector phi (axis phi/|phi|, angle |phi|); exact for every angle.
 Quat rotation_from_vector(const Vec3& phi);
 

@@ -14,7 +14,7 @@
 namespace sweep::fit {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Names: a part pointing down this much that reaches this near the lowest point is a leg.
 constexpr double kDownCos = 0.5;
 constexpr double kGroundShare = 0.05;
@@ -54,7 +54,7 @@ constexpr double kClosedOffShare = 0.25;
 // where no source reaches.
 std::vector<double> average_distance(const Mesh& mesh, const Topology& topology, int samples) {
   const std::size_t n = mesh.vertex_count();
-  std::vector<double> sum(n, 0.0), nearest(n, kInf);
+  std::vector<double> sum(n, 0.0), nearest(n, kInfinity);
   std::vector<int> count(n, 0);
   // Start at the point farthest from the first vertex a face uses: an extremity, not the middle
   // of the body.
@@ -119,7 +119,7 @@ std::vector<std::uint32_t> local_maxima(const Topology& topology, const std::vec
 // Suggested names from where each part points (see find_parts).
 void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& up_in, std::vector<FoundPart>& parts) {
   const Vec3 up = up_in.normalized();
-  double low = kInf, high = -kInf;
+  double low = kInfinity, high = -kInfinity;
   for (const Vec3& p : mesh.positions) {
     low = std::min(low, p.dot(up));
     high = std::max(high, p.dot(up));
@@ -136,7 +136,7 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
   if (count == 0) return;
   centre /= static_cast<double>(count);
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  double body_low = kInf, body_high = -kInf;
+  double body_low = kInfinity, body_high = -kInfinity;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     if (in_part[v]) continue;
     const Vec3 d = mesh.positions[v] - centre;
@@ -148,7 +148,7 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
   const Vec3 along = eig.eigenvectors().col(2);
   const Vec3 side = up.cross(along).normalized();
-  double long_low = kInf, long_high = -kInf;
+  double long_low = kInfinity, long_high = -kInfinity;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     if (in_part[v]) continue;
     const double x = (mesh.positions[v] - centre).dot(along);
@@ -264,12 +264,12 @@ Shells find_shells(const Mesh& mesh, const Topology& topology, const std::vector
     if (topology.weld[v] == v && s.of[v] >= 0 && s.body[static_cast<std::size_t>(s.of[v])]) body_points.push_back(v);
   }
   const std::size_t stride = std::max<std::size_t>(1, body_points.size() / kBodySamples);
-  std::vector<double> gap(area.size(), kInf);
+  std::vector<double> gap(area.size(), kInfinity);
   std::vector<std::uint32_t> attachment(area.size(), 0);
   for (std::uint32_t v = 0; v < n; ++v) {
     const int c = s.of[v];
     if (topology.weld[v] != v || c < 0 || s.body[static_cast<std::size_t>(c)]) continue;
-    double nearest = kInf;
+    double nearest = kInfinity;
     for (std::size_t k = 0; k < body_points.size(); k += stride)
       nearest = std::min(nearest, (mesh.positions[body_points[k]] - mesh.positions[v]).squaredNorm());
     if (nearest < gap[static_cast<std::size_t>(c)]) {
@@ -279,7 +279,7 @@ Shells find_shells(const Mesh& mesh, const Topology& topology, const std::vector
   }
   s.end.assign(area.size(), 0);
   s.reach.assign(area.size(), 0);
-  s.from_attachment.assign(n, kInf);
+  s.from_attachment.assign(n, kInfinity);
   for (std::size_t c = 0; c < area.size(); ++c) {
     if (s.body[c] || !std::isfinite(gap[c])) continue;
     const std::vector<double> d = surface_distances(mesh, topology, std::span(&attachment[c], 1));
@@ -312,8 +312,8 @@ std::vector<std::uint32_t> candidates(const Topology& topology, const std::vecto
     if (std::find(out.begin(), out.end(), shells.end[c]) == out.end()) out.push_back(shells.end[c]);
   }
   std::stable_sort(out.begin(), out.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const double fa = std::isfinite(average[a]) ? average[a] : -kInf;
-    const double fb = std::isfinite(average[b]) ? average[b] : -kInf;
+    const double fa = std::isfinite(average[a]) ? average[a] : -kInfinity;
+    const double fb = std::isfinite(average[b]) ? average[b] : -kInfinity;
     return fa != fb ? fa > fb : a < b;
   });
   return out;
@@ -354,7 +354,7 @@ std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, co
     if (covered[tip]) continue;
     if (traced++ >= o.max_candidates) break;
     const std::vector<double> d = surface_distances(mesh, topology, std::span(&tip, 1));
-    const RingTrace rings = trace_rings(mesh, topology, d, tip, kInf, true, o.rings);
+    const RingTrace rings = trace_rings(mesh, topology, d, tip, kInfinity, true, o.rings);
     const auto cover = [&](double up_to) {
       for (std::size_t v = 0; v < n; ++v) covered[v] |= d[topology.weld[v]] <= up_to;
     };

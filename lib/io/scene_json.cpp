@@ -125,7 +125,7 @@ sim::SceneForce read_force(const io::JsonReader& r, const Json& v, const std::st
 
 // A rotation as a unit quaternion [x, y, z, w]. Hand-written quaternions carry a few digits: near
 // unit is taken as meant, and normalized.
-Quat read_rotation(const io::JsonReader& r, const Json& q, const std::string& ptr) {
+Quat read_hand_written_rotation(const io::JsonReader& r, const Json& q, const std::string& ptr) {
   if (!q.is_array() || q.size() != 4) r.fail_at(ptr, "must be a quaternion [x, y, z, w], got " + io::describe(q));
   double c[4];
   for (int i = 0; i < 4; ++i) c[i] = r.number(q[i], element(ptr, i));
@@ -168,7 +168,7 @@ sim::BodyPath read_body(const io::JsonReader& r, const Json& v, const std::strin
     const Json* turn = r.optional(key, "turn_degrees");
     if (q && turn) r.fail_at(p, "give either \"rotation\" or \"turn_degrees\", not both");
     if (!turn && r.optional(key, "turn_axis")) r.fail_at(member(p, "turn_axis"), "goes with \"turn_degrees\"");
-    if (q) b.rotation = read_rotation(r, *q, member(p, "rotation"));
+    if (q) b.rotation = read_hand_written_rotation(r, *q, member(p, "rotation"));
     if (turn) {
       const double degrees = r.bounded(*turn, member(p, "turn_degrees"), -1e6, 1e6);
       Vec3 axis = Vec3::UnitY();
@@ -225,7 +225,8 @@ sim::Collider read_collider(const io::JsonReader& r, const Json& v, const std::s
     if (!(half.minCoeff() > 0))
       r.fail_at(member(ptr, "half_size"), "every half size must be positive (a plate is a thin box, not a flat one)");
     Quat rotation = Quat::Identity();
-    if (const Json* q = r.optional(v, "rotation")) rotation = read_rotation(r, *q, member(ptr, "rotation"));
+    if (const Json* q = r.optional(v, "rotation"))
+      rotation = read_hand_written_rotation(r, *q, member(ptr, "rotation"));
     c = sim::Collider::box(position("center"), half, rotation);
   } else if (shape == "plane") {
     only({"point", "normal"});
