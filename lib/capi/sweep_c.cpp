@@ -235,9 +235,9 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     // frame on 2 threads took 20-40 ms against 0.2 ms on one: sweep-bench-live); a game spreads its
     // creatures over its own threads instead.
     in->simulator->set_parallel(false);
-    // A material part's modes above the live step's Nyquist frequency ring faster than its steps
-    // show: they are taken quasi-statically (the same settled shapes), and a step reads a fraction
-    // of each part's modes (sweep_set_all_modes).
+    // A material part's modes that ring through more than a period a live step are taken
+    // quasi-statically (the same settled shapes): a step reads a fraction of each part's modes
+    // (sweep_set_all_modes).
     in->simulator->set_resolved_modes_only(true);
     std::vector<const sweep::bind::FastDeformer*> parts;
     for (const auto& d : in->deformers) parts.push_back(d.get());

@@ -89,7 +89,7 @@ TEST(TruncatedModes, AllModesMovingIsTheStepAsItWas) {
   EXPECT_GT(tip, 1e-3 * def.rest.length());  // it did move
 }
 
-TEST(TruncatedModes, TheModesAStepResolvesAreThoseBelowItsNyquistFrequency) {
+TEST(TruncatedModes, TheModesAStepResolvesAreThoseOfAtMostAPeriodAStep) {
   const ElasticSweep sweep(stiff_truncation_tube(0.1));
   const ChainModel& chain = *sweep.chain();
   const double step = 1.0 / 60, bound = ElasticSweep::kResolvedModeBound;
@@ -131,7 +131,7 @@ TEST(TruncatedModes, ASettledPartTakesTheFullModesShapeUnderGravityAndAHeldForce
 TEST(TruncatedModes, UnderAWalkingBodyTheResolvedModesStayCloserToTheFullModesThanTheStepToAFineOne) {
   // ζ = 0.1 as the diplodocus flesh, gravity pre-loaded, the body bobbing and swaying for 3 s.
   // At the live step (1/60 s) the full modes stray from a 16 times finer step by the step's own
-  // error; the resolved modes (ω·h ≤ π, the faster ones quasi-static) must stray from the full
+  // error; the resolved modes (ω·h ≤ 2π, the faster ones quasi-static) must stray from the full
   // modes at that step by less: dropping what the step cannot resolve costs less than the step.
   const SweepDef def = stiff_truncation_tube(0.1);
   ElasticSweep full(def), resolved(def), fine(def);
