@@ -235,6 +235,10 @@ sweep_instance* sweep_open(const char* rig_path, const char* binding_path, const
     // frame on 2 threads took 20-40 ms against 0.2 ms on one: sweep-bench-live); a game spreads its
     // creatures over its own threads instead.
     in->simulator->set_parallel(false);
+    // A material part's modes that ring through more than a period a live step are taken
+    // quasi-statically (the same settled shapes): a step reads a fraction of each part's modes
+    // (sweep_set_all_modes).
+    in->simulator->set_resolved_modes_only(true);
     std::vector<const sweep::bind::FastDeformer*> parts;
     for (const auto& d : in->deformers) parts.push_back(d.get());
     in->positions = std::make_unique<sweep::sim::LivePositions>(shared_rest(std::move(rest)), parts);
@@ -377,6 +381,14 @@ int sweep_set_predictor(sweep_instance* instance, int on) {
     usable(instance);
     if (on != 0 && on != 1) fail(ErrorCategory::usage, "on must be 0 or 1, got " + std::to_string(on));
     instance->simulator->set_midpoint_loads(on == 1);
+  });
+}
+
+int sweep_set_all_modes(sweep_instance* instance, int on) {
+  return guarded("sweep_set_all_modes", [&] {
+    usable(instance);
+    if (on != 0 && on != 1) fail(ErrorCategory::usage, "on must be 0 or 1, got " + std::to_string(on));
+    instance->simulator->set_resolved_modes_only(on == 0);
   });
 }
 

@@ -73,6 +73,8 @@ ChainModel build_chain_model(const SweepShape& rest, const std::vector<Material>
             .asDiagonal();
   }
 
+  m.compliance = m.stiffness.diagonal().cwiseInverse();
+
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(m.stiffness, m.mass);
   m.modes = eig.eigenvectors();
   m.omega2 = eig.eigenvalues();

@@ -33,6 +33,7 @@ struct ChainModel {
   double metres_per_unit = 1;
   Eigen::MatrixXd mass;               // 3·joints square: kg·m²
   Eigen::MatrixXd stiffness;          // 3·joints square, block diagonal: N·m/rad
+  Eigen::VectorXd compliance;         // K⁻¹'s diagonal, rad/(N·m): K is diagonal (independent springs)
   Eigen::MatrixXd modes;              // Φ: columns M-orthonormal (Φᵀ M Φ = I), by growing frequency
   Eigen::VectorXd omega2;             // ω² of each mode, rad²/s²
   std::vector<double> damping_ratio;  // ζ of each mode

@@ -104,6 +104,7 @@ ElasticSweep::ElasticSweep(SweepDef def) : def_(std::move(def)) {
       modal_.params[c] = {1.0, 2 * chain_->damping_ratio[c] * w, w * w};
     }
     for (auto& maps : modal_.maps) maps.resize(dim);
+    moving_modes_ = static_cast<int>(dim);
     joint_scratch_.assign(dim, 0.0);
     exact_.emplace(chain_, def_.rest);
     exact_torque_.assign(dim, 0.0);
@@ -135,31 +136,85 @@ void ElasticSweep::step_exact(double dt) {
   modes_from_joints();
 }
 
-// Rotational loads (N·mesh unit, joint axes) to modal loads Φᵀ τ (τ in N·m).
+// Rotational loads (N·mesh unit, joint axes) to modal loads Φᵀ τ (τ in N·m): the moving modes'.
 void ElasticSweep::project_rotational_loads() {
   const Eigen::Index dim = static_cast<Eigen::Index>(modal_.f.size());
   const Eigen::Map<const Eigen::VectorXd> tau(rotational_.f.data() + 3, dim);
-  Eigen::Map<Eigen::VectorXd>(modal_.f.data(), dim).noalias() =
-      chain_->metres_per_unit * (chain_->modes.transpose() * tau);
+  if (truncated()) {
+    const Eigen::Index m = moving_modes_;
+    Eigen::Map<Eigen::VectorXd>(modal_.f.data(), m).noalias() =
+        chain_->metres_per_unit * (chain_->modes.leftCols(m).transpose() * tau);
+  } else {
+    Eigen::Map<Eigen::VectorXd>(modal_.f.data(), dim).noalias() =
+        chain_->metres_per_unit * (chain_->modes.transpose() * tau);
+  }
   modal_.active = modal_.active || rotational_.active;
 }
 
+// q = Φ η and q̇ = Φ η̇. Truncated, the dropped modes sit at their static response to the loads of
+// the step just taken (modal_.f, rotational_.f): q = Φ_m (η_m − Ω_m⁻² f_m) + K⁻¹ τ, their speeds 0.
 void ElasticSweep::joints_from_modes() {
   const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
-  Eigen::Map<Eigen::VectorXd>(rotational_.x.data() + 3, dim).noalias() =
-      chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.x.data(), dim);
-  Eigen::Map<Eigen::VectorXd>(rotational_.v.data() + 3, dim).noalias() =
-      chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.v.data(), dim);
+  if (!truncated()) {
+    Eigen::Map<Eigen::VectorXd>(rotational_.x.data() + 3, dim).noalias() =
+        chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.x.data(), dim);
+    Eigen::Map<Eigen::VectorXd>(rotational_.v.data() + 3, dim).noalias() =
+        chain_->modes * Eigen::Map<const Eigen::VectorXd>(modal_.v.data(), dim);
+    return;
+  }
+  const Eigen::Index m = moving_modes_;
+  Eigen::Map<Eigen::VectorXd> shifted(joint_scratch_.data(), m);
+  shifted = Eigen::Map<const Eigen::VectorXd>(modal_.x.data(), m) -
+            Eigen::Map<const Eigen::VectorXd>(modal_.f.data(), m).cwiseQuotient(chain_->omega2.head(m));
+  Eigen::Map<Eigen::VectorXd> q(rotational_.x.data() + 3, dim);
+  q.noalias() = chain_->metres_per_unit *
+                chain_->compliance.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(rotational_.f.data() + 3, dim));
+  q.noalias() += chain_->modes.leftCols(m) * shifted;
+  joint_speeds_from_modes();
 }
 
-// η = Φᵀ M q (Φ is M-orthonormal), and the same for the speeds.
+void ElasticSweep::joint_speeds_from_modes() {
+  const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size()), m = moving_modes_;
+  Eigen::Map<Eigen::VectorXd>(rotational_.v.data() + 3, dim).noalias() =
+      chain_->modes.leftCols(m) * Eigen::Map<const Eigen::VectorXd>(modal_.v.data(), m);
+}
+
+// η = Φᵀ M q (Φ is M-orthonormal), and the same for the speeds: of the moving modes.
 void ElasticSweep::modes_from_joints() {
   const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
   Eigen::Map<Eigen::VectorXd> scratch(joint_scratch_.data(), dim);
+  if (truncated()) {
+    const Eigen::Index m = moving_modes_;
+    scratch.noalias() = chain_->mass * Eigen::Map<const Eigen::VectorXd>(rotational_.x.data() + 3, dim);
+    Eigen::Map<Eigen::VectorXd>(modal_.x.data(), m).noalias() = chain_->modes.leftCols(m).transpose() * scratch;
+    scratch.noalias() = chain_->mass * Eigen::Map<const Eigen::VectorXd>(rotational_.v.data() + 3, dim);
+    Eigen::Map<Eigen::VectorXd>(modal_.v.data(), m).noalias() = chain_->modes.leftCols(m).transpose() * scratch;
+    return;
+  }
   scratch.noalias() = chain_->mass * Eigen::Map<const Eigen::VectorXd>(rotational_.x.data() + 3, dim);
   Eigen::Map<Eigen::VectorXd>(modal_.x.data(), dim).noalias() = chain_->modes.transpose() * scratch;
   scratch.noalias() = chain_->mass * Eigen::Map<const Eigen::VectorXd>(rotational_.v.data() + 3, dim);
   Eigen::Map<Eigen::VectorXd>(modal_.v.data(), dim).noalias() = chain_->modes.transpose() * scratch;
+}
+
+void ElasticSweep::set_moving_modes(int count) {
+  if (!chain_) return;
+  const int dim = static_cast<int>(modal_.x.size());
+  const int m = std::clamp(count, 1, dim);
+  if (m == moving_modes_) return;
+  moving_modes_ = m;
+  // The modes that stop moving keep no state of their own (quasi-static from the next step on);
+  // those that start moving take theirs from the joints as they stand.
+  for (std::size_t c = static_cast<std::size_t>(m); c < modal_.x.size(); ++c) {
+    modal_.x[c] = modal_.v[c] = modal_.f[c] = 0;
+  }
+  if (modal_.active) modes_from_joints();
+}
+
+int ElasticSweep::resolved_modes(const ChainModel& chain, double step, double bound) {
+  int count = 1;
+  while (count < chain.omega2.size() && std::sqrt(std::max(chain.omega2[count], 0.0)) * step <= bound) ++count;
+  return count;
 }
 
 void ElasticSweep::init_bank(Bank& bank, int width, const SpringSettings& (*pick)(const SectionSprings&, int)) {
@@ -412,10 +467,15 @@ void ElasticSweep::kick() {
     modes_from_joints();
     modal_.active = rotational_.active = true;
   } else if (chain_) {
-    // Δq̇ = M⁻¹ τ, i.e. Δη̇ = Φᵀ τ.
+    // Δq̇ = M⁻¹ τ, i.e. Δη̇ = Φᵀ τ (the moving modes': a truncated sweep's joints keep their pose,
+    // the dropped modes' static share of the last step's loads, and take the kept modes' speeds).
     project_rotational_loads();
-    for (std::size_t m = 0; m < modal_.v.size(); ++m) modal_.v[m] += modal_.f[m];
-    joints_from_modes();
+    for (std::size_t m = 0; m < static_cast<std::size_t>(moving_modes_); ++m) modal_.v[m] += modal_.f[m];
+    if (truncated()) {
+      joint_speeds_from_modes();
+    } else {
+      joints_from_modes();
+    }
   }
   // Section 0 is fixed (advance_banks never moves it): a kick there would be a speed that never
   // decays, counted as energy and as motion forever.
@@ -453,7 +513,8 @@ void ElasticSweep::advance_banks(int slot) {
   for (Bank* b : {&positional_, moving, &radial_}) {
     if (!b->active || (exact && b == moving)) continue;
     const std::vector<StepMap>& maps = b->maps[slot];
-    for (std::size_t m = static_cast<std::size_t>(b->width); m < b->x.size(); ++m) {
+    const std::size_t end = b == &modal_ ? static_cast<std::size_t>(moving_modes_) : b->x.size();
+    for (std::size_t m = static_cast<std::size_t>(b->width); m < end; ++m) {
       maps[m].apply(b->x[m], b->v[m], b->f[m]);
       // A free spring decays geometrically forever; left alone it reaches subnormal numbers, which
       // x86 computes with many times slower. Far below any visible motion, rest is rest.
@@ -521,6 +582,7 @@ void ElasticSweep::copy_state_from(const ElasticSweep& other) {
   dynamics_ = other.dynamics_;
   switched_ = other.switched_;
   midpoint_loads_ = other.midpoint_loads_;
+  moving_modes_ = other.moving_modes_;
   body_ = other.body_;
   keyed_acceleration_ = other.keyed_acceleration_;  // reuses its capacity
 }
@@ -622,8 +684,17 @@ double ElasticSweep::energy() const {
   // In material mode the modes carry the rotational energy (½ η̇² + ½ ω² η², J); the positional
   // and radial springs are in mesh units (N/unit, kg·m/unit), their energy in N·unit: × metres per
   // unit makes it joules too, so that the sum means one thing.
+  if (chain_ && !exact_chain() && truncated()) {
+    // The kept modes' kinetic energy and the joints' ½ qᵀ K q: Φ is K-orthogonal, so that is the
+    // kept modes' ½ ω² η² and the dropped modes' static ½ f²/ω² (their kinetic energy is none).
+    for (int m = 0; m < moving_modes_; ++m) e += 0.5 * modal_.v[m] * modal_.v[m];
+    for (int i = 1; i <= chain_->joints; ++i) {
+      const Vec3 p = rotation_vector(i);
+      e += 0.5 * p.dot(chain_->stiffness.block<3, 3>(3 * (i - 1), 3 * (i - 1)).diagonal().cwiseProduct(p));
+    }
+  }
   for (const Bank* b : {&positional_, chain_ ? &modal_ : &rotational_, &radial_}) {
-    if (exact_chain() && b == &modal_) continue;
+    if ((exact_chain() || truncated()) && b == &modal_) continue;
     double bank = 0;
     for (std::size_t m = 0; m < b->x.size(); ++m) bank += oscillator_energy(b->params[m], b->x[m], b->v[m]);
     e += bank * energy_unit(*b);

@@ -333,6 +333,17 @@ double Simulator::earliest_grid_time() const {
   return t;
 }
 
+void Simulator::set_resolved_modes_only(bool on) {
+  for (SweepState& s : sweeps_) {
+    const ChainModel* chain = s.body.chain();
+    if (chain == nullptr || !scene_.colliders.empty()) continue;
+    const int count = on ? ElasticSweep::resolved_modes(*chain, scene_.step_seconds(), ElasticSweep::kResolvedModeBound)
+                         : 3 * chain->joints;
+    s.body.set_moving_modes(count);
+    s.view.set_moving_modes(count);
+  }
+}
+
 void Simulator::set_midpoint_loads(bool on) {
   for (SweepState& s : sweeps_) {
     s.body.set_midpoint_loads(on);

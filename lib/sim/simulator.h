@@ -81,6 +81,11 @@ class Simulator {
   // Whether the sweeps' steps evaluate pose-dependent loads at the predicted mid-step pose (the
   // default, as every bake runs) or take the start-of-step loads (ElasticSweep::set_midpoint_loads).
   void set_midpoint_loads(bool on);
+  // Material parts: whether only the modes the internal step resolves move, ω·step ≤
+  // ElasticSweep::kResolvedModeBound, the others taken quasi-statically
+  // (ElasticSweep::set_moving_modes: the same settled shapes, a step's work and data a fraction),
+  // or all of them (the default, as every bake runs). A scene with colliders keeps them all.
+  void set_resolved_modes_only(bool on);
 
   int sweep_count() const { return static_cast<int>(sweeps_.size()); }
   // Sweep i at the current frame's time.

@@ -100,10 +100,12 @@ TEST(CApiAllocation, FrameCallsAllocateNothingAfterTheFirstFrame) {
 }
 
 // The live frame as a game reads it, one kind of read an instance: the tube in material mode under
-// gravity, a settings file giving no step (libsweep's live step, one a 60 fps frame), the body
-// moving every frame; one instance reads only the positions, another only the joints. After the
-// first frame neither allocates, and their last reads are, bit for bit, those of a third instance
-// given the same frames that reads nothing until the end (a read depends on the frames alone).
+// gravity, a settings file giving no step (libsweep's live step, one a 60 fps frame, its fast modes
+// quasi-static), the body moving every frame, a held force and an impulse playing; one instance
+// reads only the positions, another only the joints, a fourth the positions with every mode moving
+// (sweep_set_all_modes). After the first frame none allocates, and the first two's last reads are,
+// bit for bit, those of a third instance given the same frames that reads nothing until the end (a
+// read depends on the frames alone).
 TEST(CApiAllocation, MaterialModeFramesAllocateNothingWithPositionsOrJointsOut) {
   if (!sweep::test::kCounts)
     GTEST_SKIP() << "AddressSanitizer replaces operator new and malloc: allocations are not counted in this build";
@@ -141,26 +143,36 @@ TEST(CApiAllocation, MaterialModeFramesAllocateNothingWithPositionsOrJointsOut) 
   sweep_instance* by_positions = open();
   sweep_instance* by_joints = open();
   sweep_instance* both = open();  // reads both, once, after the last frame
+  sweep_instance* all_modes = open();
   fs::remove_all(dir);
-  ASSERT_TRUE(by_positions && by_joints && both) << sweep_last_error();
+  ASSERT_TRUE(by_positions && by_joints && both && all_modes) << sweep_last_error();
+  ASSERT_EQ(sweep_set_all_modes(all_modes, 1), SWEEP_OK) << sweep_last_error();
+  const double held_point[3] = {1.0, 0.1, 0.8}, held_force[3] = {0, 2.5, -1};
+  const double impulse_point[3] = {1.3, 0.0, 1.0}, impulse_force[3] = {0.5, -4, 0};
+  for (sweep_instance* in : {by_positions, by_joints, both, all_modes})
+    ASSERT_EQ(sweep_add_force(in, "tube", held_point, held_force, 100), SWEEP_OK) << sweep_last_error();
   const int joint_count = sweep_joint_count(by_joints);
   ASSERT_GT(joint_count, 0) << sweep_last_error();
   std::vector<float> positions(rest.size()), joints(16 * static_cast<std::size_t>(joint_count));
-  std::vector<float> positions_both(positions.size()), joints_both(joints.size());
+  std::vector<float> positions_both(positions.size()), joints_both(joints.size()), positions_all(positions.size());
   int failures = 0, positions_differ = 0, joints_differ = 0;
   double moved = 0;  // largest distance of a coordinate from its rest
   const auto frame = [&](int k) {
     const double t = k / 60.0;
     const double angle = 0.3 * std::sin(3 * t), c = std::cos(angle), s = std::sin(angle);
     const double m[16] = {c, 0, -s, 0, 0, 1, 0, 0, s, 0, c, 0, 0.4 * std::sin(2 * t), 0.1 * t, 0, 1};
-    for (sweep_instance* in : {by_positions, by_joints, both}) {
+    for (sweep_instance* in : {by_positions, by_joints, both, all_modes}) {
       failures += sweep_set_body(in, m) != SWEEP_OK;
       failures += sweep_advance(in, 1.0 / 60) != SWEEP_OK;
     }
     failures += sweep_positions(by_positions, positions.data()) != SWEEP_OK;
     failures += sweep_joints(by_joints, joints.data()) != SWEEP_OK;
+    failures += sweep_positions(all_modes, positions_all.data()) != SWEEP_OK;
   };
   frame(1);  // the first frame
+  // An impulse from now, between internal steps, played within the counted frames.
+  for (sweep_instance* in : {by_positions, by_joints, both, all_modes})
+    ASSERT_EQ(sweep_add_force(in, "tube", impulse_point, impulse_force, 0), SWEEP_OK) << sweep_last_error();
   sweep::test::open_allocation_window();
   for (int k = 2; k <= 150; ++k) frame(k);
   const sweep::test::AllocationCounts counts = sweep::test::close_allocation_window();
@@ -177,7 +189,7 @@ TEST(CApiAllocation, MaterialModeFramesAllocateNothingWithPositionsOrJointsOut) 
   EXPECT_EQ(positions_differ, 0);
   EXPECT_EQ(joints_differ, 0);
   EXPECT_GT(moved, 0.1);  // the body carried the mesh away from its rest
-  for (sweep_instance* in : {by_positions, by_joints, both}) sweep_close(in);
+  for (sweep_instance* in : {by_positions, by_joints, both, all_modes}) sweep_close(in);
 }
 
 }  // namespace

@@ -289,6 +289,32 @@ TEST_F(CApi, ThePredictorSwitchTradesAccuracyAsDocumented) {
   for (sweep_instance* in : {without, with, by_default, bake}) sweep_close(in);
 }
 
+// sweep_set_all_modes: refused unless 0 or 1 on an instance; on a part of the paper's springs (no
+// modes) it changes nothing, either way.
+TEST_F(CApi, TheAllModesSwitchTakesZeroOrOneAndLeavesThePapersSpringsAlone) {
+  sweep_instance* all = open(nullptr);
+  sweep_instance* resolved = open(nullptr);
+  ASSERT_TRUE(all && resolved);
+  EXPECT_EQ(sweep_set_all_modes(nullptr, 1), SWEEP_ERROR_USAGE);
+  EXPECT_NE(std::string(sweep_last_error()).find("instance is NULL"), std::string::npos) << sweep_last_error();
+  EXPECT_EQ(sweep_set_all_modes(all, 2), SWEEP_ERROR_USAGE);
+  EXPECT_NE(std::string(sweep_last_error()).find("on must be 0 or 1, got 2"), std::string::npos) << sweep_last_error();
+  EXPECT_EQ(sweep_set_all_modes(all, -1), SWEEP_ERROR_USAGE);
+  ASSERT_EQ(sweep_set_all_modes(all, 1), SWEEP_OK) << sweep_last_error();
+  ASSERT_EQ(sweep_set_all_modes(resolved, 0), SWEEP_OK) << sweep_last_error();
+  const double point[3] = {1.0, 0.1, 0.8}, force[3] = {0, 2.5, -1};
+  double moved = 0;
+  for (sweep_instance* in : {all, resolved}) ASSERT_EQ(sweep_add_force(in, "tube", point, force, 1), SWEEP_OK);
+  for (int k = 0; k < 30; ++k) {
+    for (sweep_instance* in : {all, resolved}) ASSERT_EQ(sweep_advance(in, 1.0 / 60), SWEEP_OK) << sweep_last_error();
+    const std::vector<float> a = positions(all);
+    EXPECT_EQ(a, positions(resolved)) << "frame " << k;
+    moved = std::max(moved, max_difference(a, *rest_));
+  }
+  EXPECT_GT(moved, 1e-3 * length_);  // the force did move the tube
+  for (sweep_instance* in : {all, resolved}) sweep_close(in);
+}
+
 TEST_F(CApi, BadCallsReturnErrorsWithMessages) {
   const std::string rig = path("tube.rig.json"), bind = path("tube.bind");
   EXPECT_EQ(sweep_open(nullptr, bind.c_str(), nullptr, rest_->data(), vertex_count()), nullptr);

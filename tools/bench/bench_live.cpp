@@ -16,9 +16,12 @@
 //    with a fine internal step (settings "step": 1/480 s) and with the live default (settings
 //    that give none: one step a 60 fps frame), also back to back (warm caches, no pacing), and at the
 //    live step without the mid-step predictor (sweep_set_predictor 0);
-//  - a crowd: 1 and 100 instances, their frames shared among 1 or 2 threads;
-//  - the accuracy a coarser step costs: the same run at steps from 1/480 to 1/30 s against 1/3840 s,
-//    and at 1/60 s without the predictor.
+//    and at the live step with every mode moving (sweep_set_all_modes 1: libsweep's step before
+//    it took the modes the step resolves alone, the faster ones quasi-static);
+//  - a crowd: 1 and 100 instances, their frames shared among 1 or 2 threads, the live default and
+//    all modes;
+//  - the accuracy a coarser step costs: the same run at steps from 1/480 to 1/30 s against 1/3840 s
+//    (every mode moving), at 1/60 s without the predictor and at 1/60 s with all modes.
 // Time: median over the frames after the first 10, per frame, µs; rounds alternate the cases and
 // thread counts, median over rounds. libsweep runs an instance on the calling thread: its rows at
 // "2 threads" differ from those at 1 only by OMP_NUM_THREADS, which it no longer uses.
@@ -187,10 +190,11 @@ sweep_instance* open_dino(const fs::path& dir, const char* settings, const std::
 // (sweep_positions: the parts that moved deformed, the world-space copy; or sweep_joints) timed
 // apart. `ring`: the skeleton's ring joints (0: the default).
 Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>& rest, int frames, bool paced,
-            Read read, int ring = 0, bool predictor = true) {
+            Read read, int ring = 0, bool predictor = true, bool all_modes = false) {
   sweep_instance* in = open_dino(dir, settings, rest);
   if (ring > 0) check(sweep_set_skin(in, 24, ring));
   check(sweep_set_predictor(in, predictor ? 1 : 0));
+  check(sweep_set_all_modes(in, all_modes ? 1 : 0));
   std::vector<float> out(read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(in)));
   std::vector<double> total, step, copy;
   for (int k = 0; k < frames; ++k) {
@@ -217,9 +221,13 @@ Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>&
 // libsweep's own OpenMP kept to one thread inside them), frames 1/60 s apart. The frame: from the
 // workers' start to the last one's end. Opened from the same files, the creatures share what never
 // changes (each part's chain model, the rest positions), as a game's crowd of one creature would.
-double crowd(const fs::path& dir, const std::vector<float>& rest, int count, int threads, int frames, Read read) {
+double crowd(const fs::path& dir, const std::vector<float>& rest, int count, int threads, int frames, Read read,
+             bool all_modes = false) {
   std::vector<sweep_instance*> herd;
-  for (int c = 0; c < count; ++c) herd.push_back(open_dino(dir, "settings.scene.json", rest));
+  for (int c = 0; c < count; ++c) {
+    herd.push_back(open_dino(dir, "settings.scene.json", rest));
+    check(sweep_set_all_modes(herd.back(), all_modes ? 1 : 0));
+  }
   const std::size_t size =
       read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(herd[0]));
   std::vector<std::vector<float>> out(static_cast<std::size_t>(count), std::vector<float>(size));
@@ -274,7 +282,7 @@ struct StepError {
   double relative = 0, frame_us = 0;
 };
 std::vector<std::vector<float>> step_run(const fs::path& dir, double step, const std::vector<float>& rest, int frames,
-                                         double& frame_us, bool predictor = true) {
+                                         double& frame_us, bool predictor = true, bool all_modes = false) {
   const fs::path settings = dir / fmt("step-%.9g.scene.json", step);
   write_text(
       settings,
@@ -284,6 +292,7 @@ std::vector<std::vector<float>> step_run(const fs::path& dir, double step, const
                                   rest.data(), static_cast<int>(rest.size() / 3));
   if (in == nullptr) check(SWEEP_ERROR_INTERNAL);
   check(sweep_set_predictor(in, predictor ? 1 : 0));
+  check(sweep_set_all_modes(in, all_modes ? 1 : 0));
   std::vector<std::vector<float>> out;
   std::vector<double> times;
   for (int k = 0; k < frames; ++k) {
@@ -371,12 +380,15 @@ int main(int argc, char** argv) {
       "libsweep, live step: joints out (24 + 23×24 ring a part)",
       "libsweep, live step: joints out (24 a part, no ring)",
       "libsweep, live step without the mid-step predictor (sweep_set_predictor 0): positions",
-      "libsweep, live step without the mid-step predictor: joints out (24 + 23×24 ring a part)"};
-  constexpr int kCases = 12;
+      "libsweep, live step without the mid-step predictor: joints out (24 + 23×24 ring a part)",
+      "libsweep, live step, all modes (sweep_set_all_modes 1, the step before): positions",
+      "libsweep, live step, all modes (sweep_set_all_modes 1, the step before): joints out (24 + 23×24 ring a part)",
+      "libsweep, live step, all modes, frames back to back: positions"};
+  constexpr int kCases = 15;
   std::vector<std::vector<std::vector<Cost>>> runs(kCases, std::vector<std::vector<Cost>>(max_threads));
-  // A crowd of 1 and 100, on 1 and 2 threads, positions and joints out.
+  // A crowd of 1 and 100, on 1 and 2 threads, positions and joints out, the default and all modes.
   const int herd_sizes[] = {1, 100};
-  std::vector<double> herd_runs[2][2][2];  // [size][threads − 1][read]
+  std::vector<double> herd_runs[2][2][2][2];  // [size][threads − 1][read][all modes]
   for (int r = 0; r < rounds; ++r) {
     for (int th = 1; th <= max_threads; ++th) {
       omp_set_num_threads(th);
@@ -392,10 +404,18 @@ int main(int argc, char** argv) {
       runs[9][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 1));
       runs[10][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::positions, 0, false));
       runs[11][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 0, false));
+      runs[12][th - 1].push_back(
+          live_c(dir, "settings.scene.json", rest, frames, true, Read::positions, 0, true, true));
+      runs[13][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 0, true, true));
+      runs[14][th - 1].push_back(
+          live_c(dir, "settings.scene.json", rest, frames, false, Read::positions, 0, true, true));
       for (int h = 0; h < 2; ++h) {
         for (int read = 0; read < 2; ++read) {
-          herd_runs[h][th - 1][read].push_back(crowd(dir, rest, herd_sizes[h], th, h == 0 ? frames : frames / 2 + kSkip,
-                                                     read == 0 ? Read::positions : Read::joints));
+          for (int all = 0; all < 2; ++all) {
+            herd_runs[h][th - 1][read][all].push_back(crowd(dir, rest, herd_sizes[h], th,
+                                                            h == 0 ? frames : frames / 2 + kSkip,
+                                                            read == 0 ? Read::positions : Read::joints, all == 1));
+          }
         }
       }
     }
@@ -423,20 +443,22 @@ int main(int argc, char** argv) {
       "\nA crowd: N instances through libsweep, the live step, each frame every creature's pose, advance and read, "
       "the creatures shared among the threads (libsweep's own threads kept to one inside each), frames 1/60 s "
       "apart:\n\n"
-      "| creatures | threads | frame µs, positions (median) | frame µs, joints out (median) |\n|---|---|---|---|\n";
-  csv += "\ncreatures,threads,frame_us_positions,frame_us_joints\n";
+      "| creatures | threads | frame µs, positions (median) | frame µs, joints out (median) | all modes "
+      "(sweep_set_all_modes 1): positions | all modes: joints out |\n|---|---|---|---|---|---|\n";
+  csv += "\ncreatures,threads,frame_us_positions,frame_us_joints,all_modes_positions,all_modes_joints\n";
   for (int h = 0; h < 2; ++h) {
     for (int th = 1; th <= max_threads; ++th) {
-      const double pos = median(herd_runs[h][th - 1][0]), joints = median(herd_runs[h][th - 1][1]);
-      md += fmt("| %d | %d | %.1f | %.1f |\n", herd_sizes[h], th, pos, joints);
-      csv += fmt("%d,%d,%.4g,%.4g\n", herd_sizes[h], th, pos, joints);
+      const double pos = median(herd_runs[h][th - 1][0][0]), joints = median(herd_runs[h][th - 1][1][0]);
+      const double all_pos = median(herd_runs[h][th - 1][0][1]), all_joints = median(herd_runs[h][th - 1][1][1]);
+      md += fmt("| %d | %d | %.1f | %.1f | %.1f | %.1f |\n", herd_sizes[h], th, pos, joints, all_pos, all_joints);
+      csv += fmt("%d,%d,%.4g,%.4g,%.4g,%.4g\n", herd_sizes[h], th, pos, joints, all_pos, all_joints);
     }
   }
   // What a coarser step costs in accuracy, against a step 8× finer than 1/480 s.
   const int accuracy_frames = args.quick ? 120 : 300;
   const int reference_per_second = 3840;
   double reference_us = 0;
-  const auto reference = step_run(dir, 1.0 / reference_per_second, rest, accuracy_frames, reference_us);
+  const auto reference = step_run(dir, 1.0 / reference_per_second, rest, accuracy_frames, reference_us, true, true);
   md += fmt(
       "\nA coarser internal step against a fine one (1/%d s), the same live run (the walk, gravity, a 20 kN push on "
       "the tail's tip from 0.5 to 0.6 s), %d frames at 60 fps: the largest distance of a bound vertex from where the "
@@ -445,10 +467,11 @@ int main(int argc, char** argv) {
   md += "| step | steps a 60 fps frame | largest error / length | frame µs (median) |\n|---|---|---|---|\n";
   csv += "\nstep_s,steps_per_frame,max_error_relative,frame_us\n";
   omp_set_num_threads(1);
-  for (const double step : {1.0 / 480, 1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 0.0}) {
+  for (const double step : {1.0 / 480, 1.0 / 240, 1.0 / 120, 1.0 / 60, 1.0 / 30, 0.0, -1.0}) {
     double frame_us = 0;
-    // step 0: the live step without the mid-step predictor (sweep_set_predictor(in, 0)).
-    const auto run = step_run(dir, step > 0 ? step : kFrame, rest, accuracy_frames, frame_us, step > 0);
+    // step 0: the live step without the mid-step predictor (sweep_set_predictor(in, 0)); −1: the
+    // live step with every mode moving (sweep_set_all_modes(in, 1)).
+    const auto run = step_run(dir, step > 0 ? step : kFrame, rest, accuracy_frames, frame_us, step != 0, step < 0);
     double worst = 0;
     for (std::size_t i = 0; i < dino.binding.sweeps.size(); ++i) {
       const double length = dino.rig.sweeps[i].rest.length();
@@ -459,8 +482,9 @@ int main(int argc, char** argv) {
         }
       }
     }
-    const std::string name = step > 0 ? fmt("1/%d s", static_cast<int>(std::lround(1 / step)))
-                                      : std::string("1/60 s without the mid-step predictor (sweep_set_predictor 0)");
+    const std::string name = step > 0    ? fmt("1/%d s", static_cast<int>(std::lround(1 / step)))
+                             : step == 0 ? std::string("1/60 s without the mid-step predictor (sweep_set_predictor 0)")
+                                         : std::string("1/60 s, all modes (sweep_set_all_modes 1, the step before)");
     const double per_frame = step > 0 ? kFrame / step : 1.0;
     md += fmt("| %s | %.3g | %.2e | %.1f |\n", name.c_str(), per_frame, worst, frame_us);
     csv += fmt("%.9g,%.3g,%.4g,%.4g\n", step > 0 ? step : kFrame, per_frame, worst, frame_us);

@@ -91,6 +91,13 @@ SWEEP_API int sweep_joints(const sweep_instance* instance, float* out_16xN);
  * on = 0: it takes the start-of-step loads over the whole step, for half the step's work; the error
  * then grows with how far a part turns within a step (README, "Time", gives it measured). */
 SWEEP_API int sweep_set_predictor(sweep_instance* instance, int on);
+/* Material-mode parts move as the modes of their chain of sections. on = 0 (the default): the
+ * modes the internal step resolves move (at most a period a step: up to 60 Hz at the live 1/60 s),
+ * the faster ones follow the loads quasi-statically. A settled part's shape is the same; what goes
+ * is the fast modes' own ringing, which the steps cannot sample, and a step reads a fraction of each
+ * part's modes. on = 1: every mode moves, as sweep-sim's bakes (a step's work and data then grow as
+ * the square of the sections). */
+SWEEP_API int sweep_set_all_modes(sweep_instance* instance, int on);
 /* The skeleton the export was made with: `sweep-sim --joints joints_per_sweep --ring-joints
  * ring_joints` (2 to 255 joints a part, at most its stations; 1 to 64 ring joints, 1 = none). */
 SWEEP_API int sweep_set_skin(sweep_instance* instance, int joints_per_sweep, int ring_joints);
