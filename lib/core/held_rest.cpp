@@ -64,9 +64,11 @@ HeldRest held_rest(const SweepDef& def, const ChainModel& model, const Vec3& gra
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> loads(scaled, Eigen::EigenvaluesOnly);
   out.load_factor = loads.eigenvalues()[dim - 1];
   // The slowest motion about the pose, and, unstable, how fast a nudge grows.
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> sway(tangent, chain.mass_matrix());
+  // (The unstable mode's shape only where there is one: its damping gives the growth rate.)
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> sway(
+      tangent, chain.mass_matrix(), out.load_factor < 1 ? Eigen::EigenvaluesOnly : Eigen::ComputeEigenvectors);
   out.lowest = sway.eigenvalues()[0];
-  if (out.lowest < 0) {
+  if (out.lowest < 0 && out.load_factor >= 1) {
     const Eigen::VectorXd mode = sway.eigenvectors().col(0);  // M-normalised
     const double c = mode.dot(chain.damping() * mode);
     out.growth_rate = 0.5 * (std::sqrt(c * c - 4 * out.lowest) - c);

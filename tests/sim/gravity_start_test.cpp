@@ -58,7 +58,7 @@ TEST(GravityStart, ByDefaultAPartStartsAsModelledWhereThatPoseHoldsAndUnloadedWh
       EXPECT_EQ(tip, rig.sweeps[0].rest.frames.back().center);
     } else {
       EXPECT_LT(tip.y(), -0.2 * length);
-      EXPECT_LE(off_plane, 1e-9 * length);
+      EXPECT_LE(off_plane, 1e-6 * length);  // as the released tube of large_rotation_test.cpp
     }
   }
 }
