@@ -45,7 +45,7 @@ std::string held_rest_warning(const SweepBakeStats& st, sim::Scene::GravityStart
                      "\" cannot hold its modelled pose under gravity (β = q L³/EI = " + format_number(held.beta, 3) +
                      "; its stiffness is " + format_number(held.load_factor, 3) +
                      "x too low: nudged, it rolls over sideways, the nudge growing e-fold every " +
-                     format_number(1e3 / held.growth_rate, 3) + " ms)";
+                     format_number(1 / held.growth_rate, 3) + " s)";
   const std::string stiffer = "a material " + format_number(held.load_factor, 3) + "x stiffer or a quicker preset";
   if (start == sim::Scene::GravityStart::as_modelled) {
     return text + ": it starts from that pose, as \"gravity_start\": \"as-modelled\" asks; for a pose that holds, " +
