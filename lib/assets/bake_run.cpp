@@ -41,11 +41,12 @@ constexpr std::uint64_t kPortableGlbBytes = std::uint64_t{1} << 31;
 // the bake does with it, and what would make it hold.
 std::string held_rest_warning(const SweepBakeStats& st, sim::Scene::GravityStart start) {
   const HeldRest& held = *st.held_rest;
-  std::string text = "part \"" + st.name +
-                     "\" cannot hold its modelled pose under gravity (β = q L³/EI = " + format_number(held.beta, 3) +
-                     "; its stiffness is " + format_number(held.load_factor, 3) +
-                     "x too low: nudged, it rolls over sideways, the nudge growing e-fold every " +
-                     format_number(1 / held.growth_rate, 3) + " s)";
+  std::string text =
+      "part \"" + st.name +
+      "\" cannot hold its modelled pose under gravity (β = q L³/EI = " + format_number(held.beta, 3) +
+      "; its stiffness is " + format_number(held.load_factor, 3) +
+      "x too low: nudged, it falls away from it, rolling over or buckling sideways, the nudge growing e-fold every " +
+      format_number(1 / held.growth_rate, 3) + " s)";
   const std::string stiffer = "a material " + format_number(held.load_factor, 3) + "x stiffer or a quicker preset";
   if (start == sim::Scene::GravityStart::as_modelled) {
     return text + ": it starts from that pose, as \"gravity_start\": \"as-modelled\" asks; for a pose that holds, " +

@@ -134,8 +134,7 @@ void print_bake_summary(std::ostream& out, const BakeReport& report, const BakeS
     if (st.held_rest && !st.held_rest->holds()) {
       out << "    cannot hold its modelled pose under gravity (beta " << format_number(st.held_rest->beta, 3)
           << ", stiffness " << format_number(st.held_rest->load_factor, 3)
-          << "x too low): " << (st.as_modelled ? "started from it, it rolls over sideways" : "started unloaded")
-          << "\n";
+          << "x too low): " << (st.as_modelled ? "started from it: a nudge topples it" : "started unloaded") << "\n";
     }
     if (st.exact_chain_time >= 0 || st.exact_chain_angle > 0) {
       out << "    large motion: the exact chain from t = " << format_number(st.exact_chain_time, 4)
