@@ -37,6 +37,25 @@ constexpr int kPortableMorphTargets = 256;
 // .NET arrays in Unity importers): past 2 GiB few viewers open a .glb, though the format takes 4.
 constexpr std::uint64_t kPortableGlbBytes = std::uint64_t{1} << 31;
 
+// A part whose as-modelled rest does not hold under gravity (core/held_rest.h): what it is, what
+// the bake does with it, and what would make it hold.
+std::string held_rest_warning(const SweepBakeStats& st, sim::Scene::GravityStart start) {
+  const HeldRest& held = *st.held_rest;
+  std::string text =
+      "part \"" + st.name +
+      "\" cannot hold its modelled pose under gravity (β = q L³/EI = " + format_number(held.beta, 3) +
+      "; its stiffness is " + format_number(held.load_factor, 3) +
+      "x too low: nudged, it falls away from it, rolling over or buckling sideways, the nudge growing e-fold every " +
+      format_number(1 / held.growth_rate, 3) + " s)";
+  const std::string stiffer = "a material " + format_number(held.load_factor, 3) + "x stiffer or a quicker preset";
+  if (start == sim::Scene::GravityStart::as_modelled) {
+    return text + ": it starts from that pose, as \"gravity_start\": \"as-modelled\" asks; for a pose that holds, " +
+           stiffer + ", or \"gravity_start\": \"auto\" to start it unloaded";
+  }
+  return text + ": it starts unloaded and droops from the modelled pose instead; for the modelled pose to hold, " +
+         stiffer + " (\"gravity_start\": \"unloaded\" starts it unloaded without this warning)";
+}
+
 std::string megabytes(std::uint64_t bytes) {
   const double mb = static_cast<double>(bytes) / 1e6;
   return mb < 1000 ? format_number(mb, 3) + " MB" : format_number(mb / 1000, 3) + " GB";
@@ -171,6 +190,10 @@ BakeReport run_bake(const Mesh& mesh, const Rig& rig, const bind::Binding& bindi
     st.driven = sim_of(i).is_driven(of_sweep[i].second);
     st.bound_vertex_count = table.size();
     report.sweeps[i].sway = sway_figures(rig.sweeps[i], start_gravity);
+    st.held_rest = sim_of(i).held_rest(of_sweep[i].second);
+    st.as_modelled = sim_of(i).starts_as_modelled(of_sweep[i].second);
+    if (st.held_rest && !st.held_rest->holds() && options.warn)
+      options.warn(held_rest_warning(st, scene.gravity_start));
     if (!report.sweeps[i].driven) continue;
     folds[i].emplace(rig.sweeps[i].rest);
     animated.insert(animated.end(), table.vertices.begin(), table.vertices.end());

@@ -8,6 +8,7 @@
 // vertices are copied from the rest mesh once, at the start.
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "sweep/assets/edge_stretch.h"
 #include "sweep/assets/skinned_clip.h"
 #include "sweep/bind/bind.h"
+#include "sweep/core/held_rest.h"
 #include "sweep/core/mesh.h"
 #include "sweep/core/rig.h"
 #include "sweep/core/sway.h"
@@ -102,6 +104,10 @@ struct SweepBakeStats {
   // exact chain (s, the bake's time; < 0: never) and that rotation there (rad).
   double largest_rotation = 0;
   double exact_chain_time = -1, exact_chain_angle = 0;
+  // Material mode under gravity: whether its as-modelled rest holds (core/held_rest.h; empty when
+  // the scene starts it unloaded), and whether it started from that rest (else unloaded).
+  std::optional<HeldRest> held_rest;
+  bool as_modelled = false;
 };
 
 struct BakeReport {

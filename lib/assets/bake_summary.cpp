@@ -52,6 +52,16 @@ std::string bake_report_json(const BakeReport& r, const BakeSummarySettings& s) 
               ? nlohmann::ordered_json{{"time", st.exact_chain_time},
                                        {"rotation_degrees", st.exact_chain_angle * 180 / std::numbers::pi}}
               : nlohmann::ordered_json()}});
+    // Material mode under gravity, unless the scene starts it unloaded: its as-modelled rest's check.
+    nlohmann::ordered_json held;
+    if (st.held_rest) {
+      held = {{"holds", st.held_rest->holds()},
+              {"load_factor", st.held_rest->load_factor},
+              {"beta", st.held_rest->beta},
+              {"growth_rate", st.held_rest->growth_rate},
+              {"started_from_it", st.as_modelled}};
+    }
+    sweeps.back()["as_modelled_rest"] = std::move(held);
   }
   doc["sweeps"] = std::move(sweeps);
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
@@ -121,6 +131,11 @@ void print_bake_summary(std::ostream& out, const BakeReport& report, const BakeS
       }
     }
     out << "\n";
+    if (st.held_rest && !st.held_rest->holds()) {
+      out << "    cannot hold its modelled pose under gravity (beta " << format_number(st.held_rest->beta, 3)
+          << ", stiffness " << format_number(st.held_rest->load_factor, 3)
+          << "x too low): " << (st.as_modelled ? "started from it: a nudge topples it" : "started unloaded") << "\n";
+    }
     if (st.exact_chain_time >= 0 || st.exact_chain_angle > 0) {
       out << "    large motion: the exact chain from t = " << format_number(st.exact_chain_time, 4)
           << " s (a section turned " << format_number(st.exact_chain_angle * 180 / std::numbers::pi, 3)

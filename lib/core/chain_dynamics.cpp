@@ -202,6 +202,15 @@ void ChainDynamics::build_mass_matrix() {
   }
 }
 
+void ChainDynamics::static_residual(const Eigen::VectorXd& phi, const Body& body, Eigen::VectorXd& out) {
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(3 * joints_);
+  set_pose(phi);
+  inverse_dynamics(still, still, body, out);
+  elastic_torque(phi, scratch_);
+  out += scratch_;
+  set_pose(phi_);
+}
+
 const Eigen::MatrixXd& ChainDynamics::mass_matrix() {
   build_mass_matrix();
   return mass_;

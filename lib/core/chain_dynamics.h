@@ -126,6 +126,11 @@ class ChainDynamics {
   // Inverse dynamics at the current pose: M ẇ + c(w) − τ_gravity, the torques the joints would
   // need for the accelerations `wdot` at the speeds `w` (vectors of 3(K−1)).
   void inverse_dynamics(const Eigen::VectorXd& w, const Eigen::VectorXd& wdot, const Body& body, Eigen::VectorXd& out);
+  // The chain's static residual at the joint angles `phi`, at rest under `body`: the springs'
+  // torque J⁻ᵀ(φ)(K φ + b) less gravity's and the body's, N·m, 3(K−1) entries (A_i's axes) — zero
+  // where φ is an equilibrium. Its derivative there is the tangent stiffness (core/held_rest.h).
+  // The state is left as it was.
+  void static_residual(const Eigen::VectorXd& phi, const Body& body, Eigen::VectorXd& out);
 
  private:
   int advance(double h, const Body& body, std::span<const double> torque, int depth);

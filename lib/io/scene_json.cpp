@@ -321,9 +321,12 @@ sim::Scene parse_scene_keys(const Json& json, const std::string& pointer, const 
   if (const Json* g = r.optional(json, "gravity")) scene.gravity = r.vec3(*g, member(pointer, "gravity"));
   if (const Json* g = r.optional(json, "gravity_start")) {
     const std::string name = r.string(*g, member(pointer, "gravity_start"));
-    if (name != "as-modelled" && name != "unloaded")
-      r.fail_at(member(pointer, "gravity_start"), "must be \"as-modelled\" or \"unloaded\", got " + io::describe(*g));
-    scene.gravity_preloaded = name == "as-modelled";
+    if (name != "auto" && name != "as-modelled" && name != "unloaded")
+      r.fail_at(member(pointer, "gravity_start"),
+                "must be \"auto\", \"as-modelled\" or \"unloaded\", got " + io::describe(*g));
+    scene.gravity_start = name == "auto"          ? sim::Scene::GravityStart::automatic
+                          : name == "as-modelled" ? sim::Scene::GravityStart::as_modelled
+                                                  : sim::Scene::GravityStart::unloaded;
   }
   if (const Json* i = r.optional(json, "integrator")) {
     const std::string name = r.string(*i, member(pointer, "integrator"));

@@ -47,11 +47,15 @@ struct Scene {
   // the exact chain's contacts are not yet as sure as theirs (a fast swing can end a frame through
   // a thin plate, a friction hold can add energy). The paper's springs mode is the same either way.
   ElasticSweep::Dynamics dynamics = ElasticSweep::Dynamics::automatic;
-  // Gravity, m/s² in world axes: every span of a material-mode sweep weighs on the chain. With
-  // gravity_preloaded the modelled mesh is the pose under it (no sag on frame 0); otherwise the
-  // mesh is the unloaded rest and the part sags.
+  // Gravity, m/s² in world axes: every span of a material-mode sweep weighs on the chain.
   Vec3 gravity = Vec3::Zero();
-  bool gravity_preloaded = true;
+  // How a material part starts under it. as_modelled: the modelled mesh is the pose under gravity
+  // (the springs pre-loaded to hold it; no sag on frame 0). unloaded: the mesh is the unloaded
+  // rest and the part sags. automatic (the default): as modelled where that pose holds — a stable
+  // equilibrium, core/held_rest.h — and unloaded where it does not (a soft part held level would
+  // roll over sideways at a nudge; unloaded it droops and sways to its hanging pose instead).
+  enum class GravityStart { automatic, as_modelled, unloaded };
+  GravityStart gravity_start = GravityStart::automatic;
   std::vector<SceneForce> forces;
   // The body's motion: the whole mesh moves with it, each part's root with the body, and
   // the parts feel its accelerations. Empty: the body stands still. (A scene file's body that follows

@@ -59,10 +59,8 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep) : 
     if (def.material && scene.gravity != Vec3::Zero()) {
       // Gravity in the body's axes at time 0: what the modelled pose is pre-loaded with.
       const Vec3 g = scene.body.at(0).rotation.conjugate() * scene.gravity;
-      sweeps_.back().body.set_gravity(g, scene.gravity_preloaded);
-      sweeps_.back().view.set_gravity(g, scene.gravity_preloaded);
       // Starting unloaded, the part sags from frame 0: it is driven and awake.
-      if (!scene.gravity_preloaded) sweeps_.back().driven = sweeps_.back().awake = true;
+      if (start_under_gravity(sweeps_.back(), g)) sweeps_.back().driven = sweeps_.back().awake = true;
     }
   }
   // A keyed bend drives its part (from scene_, the simulator's own copy).
@@ -101,6 +99,21 @@ Simulator::Simulator(const Rig& rig, const Scene& scene, SleepSettings sleep) : 
   teleport_distance_ = scene.teleport_distance > 0 ? scene.teleport_distance : longest;
   teleport_angle_ = scene.teleport_angle > 0 ? scene.teleport_angle : 0.5 * 3.141592653589793;
   path_changed();
+}
+
+bool Simulator::start_under_gravity(SweepState& s, const Vec3& gravity) {
+  using Start = Scene::GravityStart;
+  if (scene_.gravity_start == Start::unloaded) {
+    s.held.reset();
+  } else if (!s.held || s.held_gravity != gravity) {
+    s.held = sweep::held_rest(s.body.definition(), *s.body.chain(), gravity);
+    s.held_gravity = gravity;
+  }
+  s.preloaded =
+      scene_.gravity_start == Start::as_modelled || (scene_.gravity_start == Start::automatic && s.held->holds());
+  s.body.set_gravity(gravity, s.preloaded);
+  s.view.set_gravity(gravity, s.preloaded);
+  return !s.preloaded;
 }
 
 void Simulator::path_changed() {
@@ -377,8 +390,10 @@ void Simulator::take_body_pose(double target) {
     for (SweepState& s : sweeps_) {
       if (!s.body.definition().material || scene_.gravity == Vec3::Zero()) continue;
       const Vec3 g = key.rotation.conjugate() * scene_.gravity;
-      s.body.set_gravity(g, scene_.gravity_preloaded);
-      s.view.set_gravity(g, scene_.gravity_preloaded);
+      if (start_under_gravity(s, g)) {  // unloaded, it sags from frame 0
+        drive(s);
+        s.awake = true;
+      }
     }
   } else {
     // The keys the internal clocks still need: from the one before the last key at or before the

@@ -17,11 +17,13 @@
 // Sweeps never interact, so a frame steps them side by side on the threads (OpenMP) when more
 // than one has work; results do not depend on the thread count.
 #include <exception>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "sweep/core/elastic_sweep.h"
+#include "sweep/core/held_rest.h"
 #include "sweep/core/rig.h"
 #include "sweep/sim/contact.h"
 #include "sweep/sim/scene.h"
@@ -104,6 +106,11 @@ class Simulator {
     double angle = 0;
   };
   const ChainSwitch& chain_switch(int i) const { return sweeps_[i].chain_switch; }
+  // A material part under gravity: whether its as-modelled rest holds (core/held_rest.h; empty when
+  // the scene starts it unloaded or has no gravity, and for the paper's springs), and whether it
+  // started from that rest (Scene::gravity_start: automatic starts it there where it holds).
+  const std::optional<HeldRest>& held_rest(int i) const { return sweeps_[i].held; }
+  bool starts_as_modelled(int i) const { return sweeps_[i].preloaded; }
   // The body at the current frame's time (world = rotation · mesh + translation).
   BodyState body() const { return scene_.body.at(time()); }
   // Frames (their numbers) at which the body jumped and the parts were put to rest.
@@ -141,7 +148,13 @@ class Simulator {
     int keyed = -1;                            // its keyed bend, in scene_.keyed_bends (−1: none)
     std::vector<Vec3> keyed_now{};             // scratch: the keyed bend's accelerations at one time
     ChainSwitch chain_switch{};                // its first switch to the exact chain
+    std::optional<HeldRest> held{};            // whether its as-modelled rest holds, at held_gravity
+    Vec3 held_gravity = Vec3::Zero();          // body axes
+    bool preloaded = false;                    // started from its as-modelled rest under gravity
   };
+  // Gravity (body axes) on sweep s at the start: pre-loaded or not as the scene's gravity_start
+  // says, automatic deciding by the as-modelled rest's check. Returns whether it starts unloaded.
+  bool start_under_gravity(SweepState& s, const Vec3& gravity);
   // The time the colliders are placed at for time t: inside a teleport, its end (the parts are
   // put to rest in the new place).
   double collider_time(double t, bool teleporting) const;

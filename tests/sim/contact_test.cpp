@@ -213,7 +213,7 @@ TEST_P(Contact, APartLaidOnTheGroundSettlesOutsideItAndSleeps) {
 #endif
   scene.fps = 30;
   scene.gravity = Vec3(0, -9.81, 0);
-  scene.gravity_preloaded = false;  // starts unloaded: it sags from frame 0
+  scene.gravity_start = Scene::GravityStart::unloaded;  // starts unloaded: it sags from frame 0
   Collider floor = Collider::plane(Vec3(0, -test::beam::kRadius - 0.3, 0), Vec3(0, 1, 0));
   floor.margin = 0.02;
   scene.colliders = {floor};
@@ -277,7 +277,7 @@ Lying lying_on(double youngs_modulus, double slope, double friction = 0, double 
   scene.duration = duration;
   scene.fps = 30;
   scene.gravity = Vec3(0, -9.81, 0);
-  scene.gravity_preloaded = false;
+  scene.gravity_start = Scene::GravityStart::unloaded;
   scene.step = step;
   scene.contact_step = contact_step;
   // Tilted about the tube's axis: its fall across the tube, +x and down.
@@ -344,7 +344,7 @@ TEST(ContactExactChain, ATubeLyingAlongASlopeStaysOnIt_long) {
   scene.fps = 30;
   const Vec3 g(0, -9.81, 0);
   scene.gravity = g;
-  scene.gravity_preloaded = false;
+  scene.gravity_start = Scene::GravityStart::unloaded;
   const double slope = 20 * kPi / 180;
   const Vec3 n(std::sin(slope), std::cos(slope), 0);
   scene.colliders = {Collider::plane(-(test::beam::kRadius + 0.001) * n, n)};
@@ -579,7 +579,7 @@ TEST_P(Contact, FrictionDragsAPartTheBodyPullsOverTheGround) {
     scene.duration = kDragSeconds;
     scene.fps = 30;
     scene.gravity = Vec3(0, -9.81, 0);
-    scene.gravity_preloaded = false;
+    scene.gravity_start = Scene::GravityStart::unloaded;
     scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()}, {10, Vec3(10, 0, 0), Quat::Identity()}},
                           BodyInterpolation::linear);
     Collider floor = Collider::plane(Vec3(0, -test::beam::kRadius - 0.3, 0), Vec3(0, 1, 0));

@@ -60,7 +60,7 @@ Drag drag(const Rig& rig, double mu, double fps, double step = 0) {
   scene.fps = fps;
   scene.step = step;
   scene.gravity = Vec3(0, -kG, 0);
-  scene.gravity_preloaded = false;
+  scene.gravity_start = Scene::GravityStart::unloaded;
   scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()}, {100, Vec3(100 * kSpeed, 0, 0), Quat::Identity()}},
                         BodyInterpolation::linear);
   Collider floor = ground(rig.sweeps[0]);
@@ -152,7 +152,7 @@ TEST(ContactFriction, AStuckTipStaysWhereItRestsWhileTheBodyMovesLessThanItsSlid
     scene.fps = 24;
     scene.step = step;
     scene.gravity = Vec3(0, -kG, 0);
-    scene.gravity_preloaded = false;
+    scene.gravity_start = Scene::GravityStart::unloaded;
     scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()},
                            {1.0, Vec3::Zero(), Quat::Identity()},
                            {1.1, Vec3(kTravel, 0, 0), Quat::Identity()},
@@ -189,7 +189,7 @@ TEST(ContactFriction, TheOutputFrameRateDoesNotChangeTheMotion) {
     scene.fps = fps;
     scene.step = 1.0 / 480;
     scene.gravity = Vec3(0, -kG, 0);
-    scene.gravity_preloaded = false;
+    scene.gravity_start = Scene::GravityStart::unloaded;
     const std::vector<BodyKey> keys = {{0, Vec3::Zero(), Quat::Identity()},
                                        {0.3, Vec3::Zero(), Quat::Identity()},
                                        {0.6, Vec3(0.3, 0, 0), Quat::Identity()},
@@ -275,7 +275,7 @@ TEST(ContactFriction, ATeleportForgetsTheAnchorsAndThePartSettlesAsIfItStartedTh
     // differ by 6e-7 units (2e-8 of the length) here and in (a) and (c) below, not yet explained.
     scene.step = 1.0 / 480;
     scene.gravity = Vec3(0, -kG, 0);
-    scene.gravity_preloaded = false;
+    scene.gravity_start = Scene::GravityStart::unloaded;
     scene.body = path;
     scene.colliders = {floor};
     Simulator sim(rig, scene);
@@ -334,7 +334,7 @@ double cut_off_a_fresh_start(double fps, double step, double t1, double t2, std:
     scene.fps = fps;
     scene.step = step;
     scene.gravity = Vec3(0, -kG, 0);
-    scene.gravity_preloaded = false;
+    scene.gravity_start = Scene::GravityStart::unloaded;
     scene.body = path;
     scene.colliders = {floor};
     Simulator sim(rig, scene);
@@ -411,7 +411,7 @@ TEST(ContactFriction, APartHeldOnAWorldFloorSleepsWhileTheBodyStandsStill) {
   scene.duration = 2.5;
   scene.fps = 30;
   scene.gravity = Vec3(0, -kG, 0);
-  scene.gravity_preloaded = false;
+  scene.gravity_start = Scene::GravityStart::unloaded;
   scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()},
                          {0.4, Vec3::Zero(), Quat::Identity()},
                          {0.8, Vec3(0.3, 0, 0), Quat::Identity()},
@@ -479,7 +479,7 @@ SlopeRun tip_on_slope(const Rig& rig, double mu, double duration, SleepSettings 
   scene.duration = duration;
   scene.fps = 30;
   scene.gravity = Vec3(0, -kG, 0);
-  scene.gravity_preloaded = false;
+  scene.gravity_start = Scene::GravityStart::unloaded;
   Collider plane = slope_under_tip(rig.sweeps[0], kSlope);
   plane.friction = mu;
   scene.colliders = {plane};
@@ -654,7 +654,7 @@ TEST(ContactFriction, DISABLED_LagAgainstMuTable) {
     scene.duration = 2;
     scene.fps = 30;
     scene.gravity = Vec3(0, -kG, 0);
-    scene.gravity_preloaded = false;
+    scene.gravity_start = Scene::GravityStart::unloaded;
     scene.body = BodyPath({{0, Vec3::Zero(), Quat::Identity()}, {10, Vec3(10, 0, 0), Quat::Identity()}},
                           BodyInterpolation::linear);
     Collider floor = Collider::plane(Vec3(0, -kRadius - 0.3, 0), Vec3(0, 1, 0));

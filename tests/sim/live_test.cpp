@@ -150,9 +150,9 @@ TEST(Live, GravityGivenLiveIsTheScenesGravity) {
   const Rig rig = material_part();
   Scene heavy;
   heavy.gravity = Vec3(0, -9.81, 0);
-  heavy.gravity_preloaded = false;
+  heavy.gravity_start = Scene::GravityStart::unloaded;
   Scene light;
-  light.gravity_preloaded = false;
+  light.gravity_start = Scene::GravityStart::unloaded;
   Simulator from_scene(rig, heavy), live(rig, light);
   live.set_gravity(heavy.gravity);
   double largest = 0, moved = 0;

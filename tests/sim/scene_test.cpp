@@ -135,15 +135,37 @@ TEST(Scene, DynamicsIsReadAndABadOneIsRefusedWithWhereAndWhy) {
         R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [])" + extra + "}");
     return parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
   };
-  using Dynamics = ElasticSweep::Dynamics;
-  EXPECT_EQ(read("").dynamics, Dynamics::automatic);
-  EXPECT_EQ(Scene{}.dynamics, Dynamics::automatic);
-  EXPECT_EQ(read(R"(, "dynamics": "auto")").dynamics, Dynamics::automatic);
-  EXPECT_EQ(read(R"(, "dynamics": "exact")").dynamics, Dynamics::exact);
-  EXPECT_EQ(read(R"(, "dynamics": "modal")").dynamics, Dynamics::modal);
+  using Joints = ElasticSweep::Dynamics;
+  EXPECT_EQ(read("").dynamics, Joints::automatic);
+  EXPECT_EQ(Scene{}.dynamics, Joints::automatic);
+  EXPECT_EQ(read(R"(, "dynamics": "auto")").dynamics, Joints::automatic);
+  EXPECT_EQ(read(R"(, "dynamics": "exact")").dynamics, Joints::exact);
+  EXPECT_EQ(read(R"(, "dynamics": "modal")").dynamics, Joints::modal);
   EXPECT_NE(
       refusal(R"([], "dynamics": "rigid")").find("/dynamics: must be \"auto\", \"modal\" or \"exact\", got \"rigid\""),
       std::string::npos);
+}
+
+// "gravity_start": auto (the default: as modelled where that pose holds, unloaded where it does
+// not), as-modelled or unloaded; anything else is refused with where and why.
+TEST(Scene, GravityStartIsReadAndABadOneIsRefusedWithWhereAndWhy) {
+  Rig rig;
+  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
+  rig.sweeps.back().name = "tube";
+  const auto read = [&](const std::string& extra) {
+    const io::Json json = io::Json::parse(
+        R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [])" + extra + "}");
+    return parse_scene(json, "", io::JsonReader("scene.json", {}), rig).gravity_start;
+  };
+  using Start = Scene::GravityStart;
+  EXPECT_EQ(read(""), Start::automatic);
+  EXPECT_EQ(Scene{}.gravity_start, Start::automatic);
+  EXPECT_EQ(read(R"(, "gravity_start": "auto")"), Start::automatic);
+  EXPECT_EQ(read(R"(, "gravity_start": "as-modelled")"), Start::as_modelled);
+  EXPECT_EQ(read(R"(, "gravity_start": "unloaded")"), Start::unloaded);
+  EXPECT_NE(refusal(R"([], "gravity_start": "held")")
+                .find("/gravity_start: must be \"auto\", \"as-modelled\" or \"unloaded\", got \"held\""),
+            std::string::npos);
 }
 
 // A skinned mesh's clip: "loop" and "preroll" are read beside "node" and "animation", and bad ones

@@ -255,8 +255,8 @@ int main(int argc, char** argv) {
     scenes[3] = scenes[2];
     scenes[3].colliders[0] = Collider::plane(Vec3(0, -0.30, 0), Vec3::UnitY());  // in the tail's way
     scenes[4] = scenes[3];
-    scenes[4].body = {};                  // the tail lying on the floor, the body still: settles, then sleeps
-    scenes[4].gravity_preloaded = false;  // it sags onto the floor: driven until it sleeps
+    scenes[4].body = {};  // the tail lying on the floor, the body still: settles, then sleeps
+    scenes[4].gravity_start = sim::Scene::GravityStart::unloaded;  // it sags onto the floor: driven until it sleeps
     // The body itself, as sweep-sim fits it for "body_collider": {"spheres": 24} (the fit is load
     // time, not frame time, and is not measured here).
     io::SceneAuthoring::BodyCollider body;
