@@ -1,6 +1,7 @@
 #include "sweep/core/held_rest.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -75,6 +76,15 @@ HeldRest held_rest(const SweepDef& def, const ChainModel& model, const Vec3& gra
   }
   out.beta = beta_of(def, model, gravity);
   return out;
+}
+
+HeldRest stiffen_to_hold(SweepDef& def, const Vec3& gravity, double largest_load_factor) {
+  assert(def.material && def.material->shear_modulus <= 0);
+  const HeldRest given = held_rest(def, build_chain_model(def.rest, def.section_materials), gravity);
+  if (given.load_factor <= largest_load_factor) return given;
+  def.material->youngs_modulus *= given.load_factor / largest_load_factor;
+  for (Material& m : def.section_materials) m.youngs_modulus = def.material->youngs_modulus;
+  return given;
 }
 
 }  // namespace sweep

@@ -45,4 +45,13 @@ struct HeldRest {
 // and materials (material mode).
 HeldRest held_rest(const SweepDef& def, const ChainModel& model, const Vec3& gravity);
 
+// A part whose Young's modulus was solved for a sway frequency (a preset's) can be too weak to
+// hold the pose it was modelled in: a raised neck buckles as a column, a level tail rolls over.
+// Raises the Young's modulus of `def`'s material (and of every section's: they must all be the
+// material's, with G from ν) so that the held pose's load factor under `gravity` (m/s², the rig's
+// axes) is `largest_load_factor` when it was above. The load factor goes as 1/E — the springs
+// scale with E, gravity's and the pre-load's geometric stiffness do not — so one check sizes E.
+// Returns the held rest as the part was given (its load factor ≤ largest: nothing changed).
+HeldRest stiffen_to_hold(SweepDef& def, const Vec3& gravity, double largest_load_factor);
+
 }  // namespace sweep

@@ -15,8 +15,9 @@ namespace {
 // Frequencies: a tail sways at 1–3 Hz, a long neck slower and more damped, an ear is quick and
 // light, a tentacle slow and lively, a strand (hair, rope) barely holds itself and hangs.
 constexpr std::array kPresets{
-    Preset{"tail", 2.0, 0.1, 1050},      Preset{"neck", 1.0, 0.15, 1050},   Preset{"ear", 4.0, 0.1, 1100},
-    Preset{"tentacle", 0.8, 0.08, 1040}, Preset{"strand", 0.4, 0.03, 1100},
+    Preset{"tail", 2.0, 0.1, 1050, true},     Preset{"neck", 1.0, 0.15, 1050, true},
+    Preset{"ear", 4.0, 0.1, 1100, true},      Preset{"tentacle", 0.8, 0.08, 1040, true},
+    Preset{"strand", 0.4, 0.03, 1100, false},
 };
 
 double first_bending_omega2(const SweepShape& rest, const Material& m) {

@@ -20,7 +20,17 @@ struct Preset {
   double frequency_hz;   // first sway (bending) frequency the part is given
   double damping_ratio;  // ζ of every mode
   double density;        // kg/m³
+  // Whether a part of this kind holds the pose it was modelled in under its own weight (a tail,
+  // a neck), its modulus raised where the frequency's leaves it too weak; a strand hangs.
+  bool holds_its_pose;
 };
+
+// Standard gravity (m/s²), what a preset part must hold its modelled pose against, pointing
+// against the mesh's up (as its part names go by).
+inline constexpr double kStandardGravity = 9.80665;
+// A preset part that holds its pose holds it twice over: the stiffness it would need to just hold
+// (its load factor, core/held_rest.h) at most half its own.
+inline constexpr double kPresetLoadFactor = 0.5;
 
 std::span<const Preset> presets();
 const Preset* find_preset(std::string_view name);  // nullptr when there is none of that name

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "core/beam_tubes.h"
@@ -186,6 +187,27 @@ TEST(HeldRest, TheVerdictFlipsWhereTheNudgedTubeStartsToRunAway) {
       EXPECT_LT(lowest, -1e-9);
     }
   }
+}
+
+// A part too weak for its pose takes the modulus that brings its load factor to the bound, and
+// exactly that (the load factor goes as 1/E: springs ∝ E, gravity's geometric stiffness not);
+// one that holds with the margin keeps its modulus to the bit.
+TEST(HeldRest, StiffenedToHoldAPartTakesTheModulusThatBringsItsLoadFactorToTheBound) {
+  for (const auto& [youngs, gravity] : {std::pair{2e6, kLevel}, std::pair{1e7, kUpright}}) {
+    SweepDef def = held_tube(youngs);
+    const double before = check(def, gravity).load_factor;
+    ASSERT_GT(before, 1);  // too weak to hold at all
+    const HeldRest given = stiffen_to_hold(def, gravity, 0.5);
+    EXPECT_EQ(given.load_factor, before);
+    EXPECT_NEAR(def.material->youngs_modulus / youngs, before / 0.5, 1e-12 * before);
+    for (const Material& m : def.section_materials) EXPECT_EQ(m.youngs_modulus, def.material->youngs_modulus);
+    EXPECT_NEAR(check(def, gravity).load_factor, 0.5, 1e-6);
+  }
+  SweepDef stiff = held_tube(1e8);
+  const double held = check(stiff, kLevel).load_factor;
+  ASSERT_LT(held, 0.5);
+  EXPECT_EQ(stiffen_to_hold(stiff, kLevel, 0.5).load_factor, held);
+  EXPECT_EQ(stiff.material->youngs_modulus, 1e8);
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 #include <numbers>
 
 #include "pipeline.h"
+#include "sweep/core/chain_model.h"
+#include "sweep/core/held_rest.h"
 #include "sweep/core/presets.h"
 #include "sweep/core/section_properties.h"
 #include "sweep/core/sway.h"
@@ -128,6 +130,48 @@ TEST(DefaultPreset, AMaterialWithoutYoungsModulusSwaysAtTheTailFrequencyAndWarns
   ASSERT_FALSE(f.frequencies_hz.empty());
   EXPECT_NEAR(f.frequencies_hz[0], default_frequency_hz(), 1e-9 * default_frequency_hz());
   EXPECT_NEAR(cantilever_frequency_hz(def), default_frequency_hz(), 1e-2 * default_frequency_hz());
+}
+
+// At a preset's frequency a small part is soft against its weight (its droop goes as g / (ω² L)):
+// a tail 10 cm long and 5 mm round, level under the OBJ's +Y up, would take 0.7 of the stiffness
+// it needs just to hold its modelled pose. sweep-fit stiffens it until it holds twice over (its
+// load factor 0.5) and says so; a strand, which hangs, keeps its frequency's modulus.
+TEST(DefaultPreset, ASmallPartIsStiffenedToHoldItsModelledPoseTwiceOverButAStrandIsNot) {
+  const Workspace ws("default-preset-hold");
+  const fs::path mesh = ws / "small-tube.obj";
+  const ToolRun tube =
+      run_tool(SWEEP_TUBE_EXE, "-q --length 0.1 --radius 0.005 --rings 21 --segments 32 -o " + quoted(mesh), ws.io);
+  ASSERT_EQ(tube.code, 0) << tube.err;
+  const Vec3 gravity(0, -kStandardGravity, 0);
+  for (const std::string name : {"tail", "strand"}) {
+    const ToolRun r = run_tool(SWEEP_FIT_EXE,
+                               quoted(mesh) + " -o " + quoted(ws / (name + ".rig.json")) + " --name " + name +
+                                   " --root 0,0,0.002 --tip 0,0,0.1",
+                               ws.io);
+    ASSERT_EQ(r.code, 0) << r.err;
+    SweepDef def = io::read_rig(ws / (name + ".rig.json")).sweeps.at(0);
+    ASSERT_TRUE(def.material.has_value());
+    const double written = def.material->youngs_modulus;
+    // The modulus of the preset's frequency alone, and the load factor it leaves.
+    const Preset& preset = *find_preset(name);
+    const double solved = with_frequency(def.rest, *def.material, preset.frequency_hz).youngs_modulus;
+    for (Material& m : def.section_materials) m.youngs_modulus = solved;
+    def.material->youngs_modulus = solved;
+    const double given = held_rest(def, build_chain_model(def.rest, def.section_materials), gravity).load_factor;
+    if (name == "strand") {
+      EXPECT_GT(given, 1);  // it cannot hold its pose, and hangs
+      EXPECT_NEAR(written, solved, 1e-9 * solved);
+      EXPECT_EQ(r.out.find("stiffened"), std::string::npos) << r.out;
+      continue;
+    }
+    ASSERT_GT(given, kPresetLoadFactor);
+    EXPECT_NEAR(written / solved, given / kPresetLoadFactor, 1e-9 * given);
+    EXPECT_NE(r.out.find(name + ": stiffened "), std::string::npos) << r.out;
+    const Rig rig = io::read_rig(ws / (name + ".rig.json"));
+    const SweepDef& fitted = rig.sweeps.at(0);
+    EXPECT_NEAR(held_rest(fitted, build_chain_model(fitted.rest, fitted.section_materials), gravity).load_factor,
+                kPresetLoadFactor, 1e-6);
+  }
 }
 
 }  // namespace

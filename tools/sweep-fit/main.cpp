@@ -18,6 +18,7 @@
 #include "sweep-fit/report.h"
 #include "sweep/assets/mesh_io.h"
 #include "sweep/core/error.h"
+#include "sweep/core/held_rest.h"
 #include "sweep/core/limits.h"
 #include "sweep/core/presets.h"
 #include "sweep/core/sway.h"
@@ -198,13 +199,20 @@ void set_material(sweep::SweepDef& def, const std::optional<sweep::Material>& m)
 // Adds `def` to the rig, or replaces the sweep of its name keeping the user's spring settings,
 // material and force scales (per-section overrides no longer apply: the sections are new). A
 // material given now (--material, --preset, or the preset its name chose) replaces the sweep's;
-// `springs` (--springs) drops it. True when it replaced one.
-bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::MaterialRequest>& request,
-               bool springs) {
+// `springs` (--springs) drops it. A part whose stiffness was solved for a preset's frequency and
+// that must hold its modelled pose is stiffened to hold it under `gravity` (core/held_rest.h);
+// `stiffened` then gets its held rest as the frequency left it. True when it replaced one.
+bool put_sweep(sweep::Rig& rig, sweep::SweepDef def, const std::optional<sweep::MaterialRequest>& request, bool springs,
+               const Vec3& gravity, std::optional<sweep::HeldRest>& stiffened) {
   // A preset's stiffness is the part's own: solved on this sweep's sections.
   const std::optional<sweep::Material> material =
       request ? std::optional(sweep::resolve_material(*request, def.rest)) : std::nullopt;
   set_material(def, material);
+  if (material && !request->youngs_modulus_given && material->shear_modulus <= 0 &&
+      (request->preset == nullptr || request->preset->holds_its_pose)) {
+    const sweep::HeldRest given = sweep::stiffen_to_hold(def, gravity, sweep::kPresetLoadFactor);
+    if (given.load_factor > sweep::kPresetLoadFactor) stiffened = given;
+  }
   for (sweep::SweepDef& old : rig.sweeps) {
     if (old.name != def.name) continue;
     def.default_springs = old.default_springs;
@@ -422,9 +430,12 @@ void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, boo
                    const std::vector<sweep::fit::FitResult>& fits, std::chrono::steady_clock::time_point start) {
   int replaced = 0;
   std::vector<std::string> chosen(fits.size());
+  std::vector<std::optional<sweep::HeldRest>> stiffened(fits.size());
+  const NamesUp up = names_up(s, mesh.read);
+  const Vec3 gravity = -sweep::kStandardGravity * up.direction;
   for (std::size_t i = 0; i < fits.size(); ++i) {
     const std::optional<sweep::MaterialRequest> request = material_for(s, rig, fits[i].sweep.name, material, chosen[i]);
-    replaced += put_sweep(rig, fits[i].sweep, request, s.springs);
+    replaced += put_sweep(rig, fits[i].sweep, request, s.springs, gravity, stiffened[i]);
     if (request && request->preset == nullptr && !request->youngs_modulus_given) {
       sweep::tools::warn(s.material.string() + " gives no youngs_modulus_pa: sweep \"" + fits[i].sweep.name +
                          "\" takes " + sweep::format_number(rig.find(fits[i].sweep.name)->material->youngs_modulus, 4) +
@@ -451,6 +462,13 @@ void write_outputs(const Settings& s, const ReadMesh& mesh, sweep::Rig& rig, boo
     const sweep::fit::FitResult& r = fits[i];
     sweep::fit_tool::print_fit(r, s.verbose);
     if (!chosen[i].empty()) std::cout << chosen[i] << "\n";
+    if (const auto& held = stiffened[i]) {
+      std::cout << "  " << r.sweep.name << ": stiffened "
+                << sweep::format_number(held->load_factor / sweep::kPresetLoadFactor, 3)
+                << "x to hold its modelled pose under its own weight twice over (solved for its sway frequency alone, "
+                << "it would need " << sweep::format_number(held->load_factor, 3)
+                << "x its stiffness just to hold it; gravity against the mesh's up, " << up.why << ")\n";
+    }
     // What a material gives it (a preset's E was solved for its frequency): how fast it sways.
     const sweep::SweepDef* def = rig.find(r.sweep.name);
     if (def == nullptr || !def->material) continue;
