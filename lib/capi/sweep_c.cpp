@@ -122,8 +122,8 @@ void check_rest(const sweep_instance& in, const std::vector<sweep::bind::Vec3f>&
 
 // The internal step of an instance whose settings give none: one step a 60 fps frame. Measured on
 // the diplodocus in material mode, walking, under gravity and hit (sweep-bench-live, BENCHMARKS.md):
-// its vertices stay within 2e-5 of their part's length of a step 64 times finer (1/3840 s; 1e-6 at
-// sweep-sim's 1/480 s), at a sixth of the cost of 1/480 s. The oscillators step in closed form (stable
+// its vertices stay within 1.7e-4 of their part's length of a step 64 times finer (1/3840 s; 2.3e-5
+// at sweep-sim's 1/480 s), at a sixth of the cost of 1/480 s. The oscillators step in closed form (stable
 // at any step); what a longer step gives up is the loads' variation within it, which a body moving
 // at constant velocity across each frame (sweep_set_body) barely has.
 constexpr double kLiveStep = 1.0 / 60;
