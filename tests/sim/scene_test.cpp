@@ -34,6 +34,16 @@ TEST(Scene, AMaterialSweepsForcesTakeTheRealMomentUnlessTheSceneSaysScaled) {
   EXPECT_EQ(scene.forces[2].spec.moment, MomentModel::scaled);
 }
 
+// A one-tube scene with `extra` keys (", \"key\": value") after its required ones, as the runtime reads it.
+Scene one_tube_scene(const std::string& extra) {
+  Rig rig;
+  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
+  rig.sweeps.back().name = "tube";
+  const io::Json json = io::Json::parse(
+      R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [])" + extra + "}");
+  return parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
+}
+
 // The message a scene is refused with ("" if it is read), by the runtime's reader or (authored) the
 // tools', which reads the keys that need the mesh file.
 std::string refusal(const std::string& colliders, bool authored = false) {
@@ -127,14 +137,7 @@ TEST(Scene, ABadContactStepIsRefusedWithWhereAndWhy) {
 // while the motion is small, the exact chain from when it is not), the rest-pose modes throughout
 // or the exact chain throughout; anything else is refused with where and why.
 TEST(Scene, DynamicsIsReadAndABadOneIsRefusedWithWhereAndWhy) {
-  Rig rig;
-  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
-  rig.sweeps.back().name = "tube";
-  const auto read = [&](const std::string& extra) {
-    const io::Json json = io::Json::parse(
-        R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [])" + extra + "}");
-    return parse_scene(json, "", io::JsonReader("scene.json", {}), rig);
-  };
+  const auto read = [](const std::string& extra) { return one_tube_scene(extra); };
   using Joints = ElasticSweep::Dynamics;
   EXPECT_EQ(read("").dynamics, Joints::automatic);
   EXPECT_EQ(Scene{}.dynamics, Joints::automatic);
@@ -149,14 +152,7 @@ TEST(Scene, DynamicsIsReadAndABadOneIsRefusedWithWhereAndWhy) {
 // "gravity_start": auto (the default: as modelled where that pose holds, unloaded where it does
 // not), as-modelled or unloaded; anything else is refused with where and why.
 TEST(Scene, GravityStartIsReadAndABadOneIsRefusedWithWhereAndWhy) {
-  Rig rig;
-  rig.sweeps.push_back(test::sweep_def(test::straight_shape(4, 6)));
-  rig.sweeps.back().name = "tube";
-  const auto read = [&](const std::string& extra) {
-    const io::Json json = io::Json::parse(
-        R"({"format": "sweep-scene", "version": 1, "duration": 1, "fps": 30, "forces": [])" + extra + "}");
-    return parse_scene(json, "", io::JsonReader("scene.json", {}), rig).gravity_start;
-  };
+  const auto read = [](const std::string& extra) { return one_tube_scene(extra).gravity_start; };
   using Start = Scene::GravityStart;
   EXPECT_EQ(read(""), Start::automatic);
   EXPECT_EQ(Scene{}.gravity_start, Start::automatic);
