@@ -10,6 +10,8 @@
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <regex>
 #include <sstream>
@@ -176,15 +178,15 @@ std::vector<Case> option_cases() {
 // Every numeric option each tool's --help lists (its value typed INT, FLOAT or SIZE), given each
 // value no number can be: generated from the help text, so a new option joins the matrix by being
 // added. Each run is otherwise valid, so the refusal can only be the value's, and it must name the
-// option.
+// option. The help text is the one the build wrote beside the tests when it built the tool
+// (tests/tools/CMakeLists.txt): the cases are generated as every test process of this executable
+// starts. A missing file gives no options, and OptionMatrix.FindsTheNumericOptions… fails.
 std::string help_text(const char* exe) {
-  std::string text;
-  FILE* pipe = popen((std::string("'") + exe + "' --help 2>/dev/null").c_str(), "r");
-  if (pipe == nullptr) return text;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) text += buffer;
-  pclose(pipe);
-  return text;
+  const std::string name = std::filesystem::path(exe).filename().string();
+  std::ifstream in(std::filesystem::path(SWEEP_TOOL_HELP_DIR) / (name + ".txt"));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 std::vector<std::string> numeric_options(const char* exe) {
