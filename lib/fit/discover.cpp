@@ -7,6 +7,7 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <string_view>
 
 #include "sweep/core/text.h"
 #include "sweep/fit/geodesic.h"
@@ -26,6 +27,12 @@ constexpr double kRisingCos = 0.3;
 constexpr double kTopCos = 0.7;
 // A body this much taller than long stands upright (a biped): its side parts are arms.
 constexpr double kUprightRatio = 1.2;
+// What lies beyond this share of a part's reach, as near its line, hangs on the part's end (a hand,
+// a head): no body for the names' body axes.
+constexpr double kEndShare = 0.5;
+// Two parts whose lengths, roots and tips agree to this share of their length across a plane are
+// a mirrored pair.
+constexpr double kMirrorTolerance = 0.1;
 // A part shorter than this share of the longest, rooted in the upper part of the mesh (above this
 // share of its height) and not hanging, is a horn (pointing up or along the body) or an ear (sideways).
 constexpr double kSmallPartShare = 0.4;
@@ -116,6 +123,40 @@ std::vector<std::uint32_t> local_maxima(const Topology& topology, const std::vec
   return out;
 }
 
+// Two parts that are each other's mirror image across a vertical plane between their roots are a
+// pair — of limbs, of horns — and named alike: a pair that does not rise, named a tail or nothing,
+// is a pair of arms (a body has one tail, along its middle; a stocky or wide figure is not upright by
+// its proportions, and its arms, hanging out to the sides along its widest direction, read as
+// tails); a pair that rises from the head's height, named a neck or a top, a pair of horns.
+void name_mirrored_pairs(std::vector<FoundPart>& parts, const Vec3& up, double low, double high) {
+  const auto pair_name = [&](const FoundPart& p) -> std::string_view {  // "": no pair's name
+    const double rise = (p.tip - p.root).normalized().dot(up);
+    if ((p.name == "tail" || p.name == "part") && rise <= kRisingCos) return "arm";
+    const bool head_high = (p.root.dot(up) - low) / std::max(high - low, 1e-300) >= kHeadHeightShare;
+    if ((p.name == "neck" || p.name == "top" || p.name == "part") && rise > kRisingCos && head_high) return "horn";
+    return {};
+  };
+  for (std::size_t a = 0; a < parts.size(); ++a) {
+    for (std::size_t b = a + 1; b < parts.size(); ++b) {
+      FoundPart &p = parts[a], &q = parts[b];
+      const std::string_view name = pair_name(p);
+      if (name.empty() || pair_name(q) != name) continue;
+      const double length = std::max(p.length, q.length);
+      Vec3 normal = p.root - q.root;
+      normal -= normal.dot(up) * up;  // the plane is vertical
+      if (normal.norm() < kMirrorTolerance * length) continue;
+      normal.normalize();
+      const Vec3 middle = 0.5 * (p.root + q.root);
+      const auto mirrored = [&](const Vec3& x) { return Vec3(x - 2 * (x - middle).dot(normal) * normal); };
+      if (std::abs(p.length - q.length) <= kMirrorTolerance * length &&
+          (mirrored(p.root) - q.root).norm() <= kMirrorTolerance * length &&
+          (mirrored(p.tip) - q.tip).norm() <= kMirrorTolerance * length) {
+        p.name = q.name = std::string(name);
+      }
+    }
+  }
+}
+
 // Suggested names from where each part points (see find_parts).
 void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& up_in, std::vector<FoundPart>& parts) {
   const Vec3 up = up_in.normalized();
@@ -124,11 +165,27 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
     low = std::min(low, p.dot(up));
     high = std::max(high, p.dot(up));
   }
-  // The body: the vertices of no part. Its long axis is its widest horizontal direction.
+  // The body: the vertices of no part, less what hangs past a part's end — a hand beyond an arm,
+  // a head beyond a neck, a tuft beyond a tail — which a part carries, not the body: left in, a
+  // T-posed figure's hands made its body wider than tall and its arms "tails". Past an end: beyond
+  // the middle of the part's reach (root to tip) and within half that reach of its line. Its long
+  // axis is its widest horizontal direction.
+  std::vector<char> in_body(mesh.vertex_count());
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) in_body[v] = !in_part[v];
+  for (const FoundPart& p : parts) {
+    const double reach = (p.tip - p.root).norm();
+    if (reach <= 0) continue;
+    const Vec3 dir = (p.tip - p.root) / reach;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+      const Vec3 d = mesh.positions[v] - p.root;
+      const double along_part = d.dot(dir);
+      if (along_part >= kEndShare * reach && (d - along_part * dir).norm() <= kEndShare * reach) in_body[v] = 0;
+    }
+  }
   Vec3 centre = Vec3::Zero();
   std::size_t count = 0;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    if (!in_part[v]) {
+    if (in_body[v]) {
       centre += mesh.positions[v];
       ++count;
     }
@@ -138,7 +195,7 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   double body_low = kInfinity, body_high = -kInfinity;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    if (in_part[v]) continue;
+    if (!in_body[v]) continue;
     const Vec3 d = mesh.positions[v] - centre;
     const Vec3 flat = d - d.dot(up) * up;
     cov += flat * flat.transpose();
@@ -150,7 +207,7 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
   const Vec3 side = up.cross(along).normalized();
   double long_low = kInfinity, long_high = -kInfinity;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    if (in_part[v]) continue;
+    if (!in_body[v]) continue;
     const double x = (mesh.positions[v] - centre).dot(along);
     long_low = std::min(long_low, x);
     long_high = std::max(long_high, x);
@@ -164,23 +221,26 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
     const double rise = dir.dot(up);
     const bool along_body = std::abs(dir.dot(along)) >= std::abs(dir.dot(side));
     const double above_ground = (p.bottom - low) / std::max(high - low, 1e-300);
+    const bool small_and_high = p.length < kSmallPartShare * longest &&
+                                (p.root.dot(up) - low) / std::max(high - low, 1e-300) >= kHeadHeightShare;
     if ((rise < -kDownCos && above_ground <= kGroundShare) || (rise < -kSteepCos && above_ground <= kLiftedShare)) {
       p.name = "leg";
-    } else if (p.length < kSmallPartShare * longest && rise > -kHangingCos &&
-               (p.root.dot(up) - low) / std::max(high - low, 1e-300) >= kHeadHeightShare) {
+    } else if (small_and_high && rise > -kHangingCos) {
       p.name = rise > kTopCos || along_body ? "horn" : "ear";
     } else if (rise > kTopCos && (upright || !along_body)) {
       p.name = "top";
     } else if (along_body && !upright) {
       p.name = rise > kRisingCos ? "neck" : "tail";
-    } else if (rise >= -kDownCos || upright) {
-      // (On an upright body a part hanging down short of the ground is an arm too.)
+    } else if (rise >= -kDownCos || (upright && !small_and_high)) {
+      // (On an upright body a part hanging down short of the ground is an arm too, unless it is a
+      // small one at head height: a tusk, a beard.)
       p.name = "arm";
     } else {
       p.name = "part";
     }
-    ++total[p.name];
   }
+  name_mirrored_pairs(parts, up, low, high);
+  for (const FoundPart& p : parts) ++total[p.name];
   for (FoundPart& p : parts) {
     if (total[p.name] > 1) p.name += std::to_string(++used[p.name]);
   }

@@ -59,7 +59,10 @@ struct FoundPart {
 // The mesh's tubular parts, longest first. Names are suggestions from where each part points
 // (with `up`): down, reaching the lowest twentieth of the mesh (or steeply down, its lowest
 // sixth), "leg"; rising, "neck"; across the body's long axis, or hanging on an upright body,
-// "arm"; along it, "tail"; otherwise "part"; numbered when a name repeats (leg1 … leg4).
+// "arm"; along it, "tail"; otherwise "part"; the body judged without what hangs past a part's end
+// (a hand, a head); two parts that mirror each other across a vertical plane are a pair, of arms
+// (not tails: a body has one) or, rising from the head, of horns; numbered when a name repeats
+// (leg1 … leg4).
 // Candidates traced and passed over are described in `passed_over` when given.
 std::vector<FoundPart> find_parts(const Mesh& mesh, const Topology& topology, const DiscoverOptions& options = {},
                                   std::vector<std::string>* passed_over = nullptr);

@@ -90,6 +90,60 @@ inline Walker make_walker(int legs_per_side, bool abdomen,
   return w;
 }
 
+// A figure standing in a T-pose (Y up): a torso 1.3 tall and 0.5 wide, arms straight out to the
+// sides as separate closed tubes of radius kArmRadius from inside the shoulders to the wrists at
+// x = ±kWrist, and a fist beyond each wrist as a separate shell (a ball) reaching x = ±kHandEnd:
+// the fists make the whole figure wider than tall, its body without them is taller than wide.
+struct TPosedFigure {
+  static constexpr double kArmRadius = 0.05, kShoulderY = 1.5, kWrist = 0.9, kHandEnd = 1.1;
+  Mesh mesh;
+};
+
+// A straight closed tube of radius r from `from` to `to` (capped), rings 0.03 apart.
+inline Mesh straight_tube(const Vec3& from, const Vec3& to, double r) {
+  CurveTube t;
+  t.curve = [from, to](double u) { return Vec3(from + u * (to - from)); };
+  t.radius = [r](double) { return r; };
+  t.samples = 200;
+  t.segments = 16;
+  t.ring_spacing = 0.03;
+  t.resample();
+  return t.mesh();
+}
+
+inline TPosedFigure make_t_posed_figure() {
+  TPosedFigure f;
+  using T = TPosedFigure;
+  append(f.mesh, ellipsoid(Vec3(0, 1.15, 0), Vec3(0.25, 0.65, 0.15)));
+  for (const double side : {-1.0, 1.0}) {
+    append(f.mesh,
+           straight_tube(Vec3(side * 0.15, T::kShoulderY, 0), Vec3(side * T::kWrist, T::kShoulderY, 0), T::kArmRadius));
+    const double half = (T::kHandEnd - T::kWrist) / 2;
+    append(f.mesh, ellipsoid(Vec3(side * (T::kWrist + half), T::kShoulderY, 0), Vec3(half, half, half), 8, 12));
+  }
+  return f;
+}
+
+// A stocky figure (Y up), wider than tall, so not upright by its proportions: a body 1.2 wide and 0.9
+// tall, arms hanging out and down to the sides (separate tubes, `hands` their ends) and two horns
+// rising from its top (`horn_tips`), each pair the other's mirror image across x = 0.
+struct StockyFigure {
+  std::vector<Vec3> hands, horn_tips;
+  Mesh mesh;
+};
+
+inline StockyFigure make_stocky_figure() {
+  StockyFigure f;
+  append(f.mesh, ellipsoid(Vec3(0, 1, 0), Vec3(0.6, 0.45, 0.3)));
+  for (const double side : {-1.0, 1.0}) {
+    f.hands.emplace_back(side * 1.0, 0.75, 0);
+    append(f.mesh, straight_tube(Vec3(side * 0.45, 1.2, 0), f.hands.back(), 0.05));
+    f.horn_tips.emplace_back(side * 0.4, 1.85, 0);
+    append(f.mesh, straight_tube(Vec3(side * 0.15, 1.42, 0), f.horn_tips.back(), 0.04));
+  }
+  return f;
+}
+
 inline double capsule_distance(const Vec3& p, const Vec3& from, const Vec3& to, double r) {
   return distance_to_polyline({from, to}, p) - r;
 }

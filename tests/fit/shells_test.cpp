@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include "fit/creatures.h"
@@ -65,6 +66,39 @@ TEST(DiscoverShells, AZUpWalkerIsNamedByTheUpAxisGiven) {
   names.clear();
   for (const fit::FoundPart& p : fit::find_parts(w.mesh, build_topology(w.mesh))) names.insert(p.name);
   EXPECT_NE(names, (std::set<std::string>{"leg1", "leg2", "leg3", "leg4"}));
+}
+
+// A T-posed figure's arms are arms, whatever hangs past their ends: its gloves made the body that
+// names are judged by wider than tall (a lying body, its side parts along it "tails"), but what
+// lies past a part's end is the part's, not the body's.
+TEST(DiscoverShells, AFigureInATPoseHasArmsWhateverHangsPastTheirEnds) {
+  const TPosedFigure f = make_t_posed_figure();
+  std::set<std::string> arms;
+  for (const fit::FoundPart& p : fit::find_parts(f.mesh, build_topology(f.mesh))) {
+    // (The fists, balls, are offered too, traced across: not what this test is about.)
+    if (std::abs(std::abs(p.tip.x()) - (TPosedFigure::kWrist + TPosedFigure::kArmRadius)) > 0.05) continue;
+    EXPECT_NEAR(std::abs(p.root.x()), 0.15, 0.1) << p.name << ": from the shoulder";
+    arms.insert(p.name);
+  }
+  EXPECT_EQ(arms, (std::set<std::string>{"arm1", "arm2"}));
+}
+
+// A stocky figure, wider than tall, is not upright by its proportions, and its arms, hanging out to
+// the sides along its widest direction, read as tails, its horns as necks; each pair is the other's
+// mirror image, and a body has one tail: the pairs are named arms and horns.
+TEST(DiscoverShells, MirroredPairsOnAStockyFigureAreArmsAndHorns) {
+  const StockyFigure f = make_stocky_figure();
+  std::map<std::string, std::string> named;  // the end nearest each part's tip → its name
+  for (const fit::FoundPart& p : fit::find_parts(f.mesh, build_topology(f.mesh))) {
+    for (const auto& [ends, what] : {std::pair(&f.hands, "hand"), std::pair(&f.horn_tips, "horn tip")}) {
+      for (std::size_t k = 0; k < ends->size(); ++k)
+        if ((p.tip - (*ends)[k]).norm() < 0.06) named[what + std::to_string(k)] = p.name;
+    }
+  }
+  // (Which of a pair is 1 and which 2 follows the search's order.)
+  const std::set<std::string> arms{named["hand0"], named["hand1"]}, horns{named["horn tip0"], named["horn tip1"]};
+  EXPECT_EQ(arms, (std::set<std::string>{"arm1", "arm2"}));
+  EXPECT_EQ(horns, (std::set<std::string>{"horn1", "horn2"}));
 }
 
 }  // namespace

@@ -174,5 +174,46 @@ TEST(DefaultPreset, ASmallPartIsStiffenedToHoldItsModelledPoseTwiceOverButAStran
   }
 }
 
+// sweep-sim warns on stderr of a part that cannot hold its modelled pose under the scene's gravity
+// (the 10 cm strand above: its frequency's modulus is too weak), naming it and saying what the bake
+// does with it for each "gravity_start"; a part that holds (the stiffened tail) gets no warning, and
+// "unloaded", which asks for no such pose, none.
+TEST(DefaultPreset, AStrandThatCannotHoldItsPoseIsWarnedOfAsTheBakeStarts) {
+  const Workspace ws("default-preset-warn");
+  const fs::path mesh = ws / "small-tube.obj";
+  ASSERT_EQ(
+      run_tool(SWEEP_TUBE_EXE, "-q --length 0.1 --radius 0.005 --rings 21 --segments 32 -o " + quoted(mesh), ws.io)
+          .code,
+      0);
+  for (const std::string name : {"tail", "strand"}) {
+    const fs::path rig = ws / (name + ".rig.json");
+    ASSERT_EQ(
+        run_tool(SWEEP_FIT_EXE,
+                 quoted(mesh) + " -q -o " + quoted(rig) + " --name " + name + " --root 0,0,0.002 --tip 0,0,0.1", ws.io)
+            .code,
+        0);
+    ASSERT_EQ(run_tool(SWEEP_BIND_EXE, quoted(rig) + " -q", ws.io).code, 0);
+    for (const std::string start : {"auto", "as-modelled", "unloaded"}) {
+      spit(ws / "scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 0.1, "fps": 10, "forces": [],
+        "gravity": [0, -9.81, 0], "gravity_start": ")" +
+                                  start + R"("})");
+      const ToolRun r = run_tool(
+          SWEEP_SIM_EXE, quoted(rig) + " -s " + quoted(ws / "scene.json") + " -o " + quoted(ws / "out.pc2"), ws.io);
+      ASSERT_EQ(r.code, 0) << r.err;
+      const std::size_t at = r.err.find("part \"" + name + "\" cannot hold its modelled pose under gravity (β = ");
+      if (name == "tail" || start == "unloaded") {
+        EXPECT_EQ(at, std::string::npos) << name << ", " << start << ": " << r.err;
+        continue;
+      }
+      ASSERT_NE(at, std::string::npos) << name << ", " << start << ": " << r.err;
+      EXPECT_NE(r.err.find(start == "auto" ? "it starts unloaded and droops from the modelled pose instead"
+                                           : "it starts from that pose, as \"gravity_start\": \"as-modelled\" asks",
+                           at),
+                std::string::npos)
+          << r.err;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sweep::test
