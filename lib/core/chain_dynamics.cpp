@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace sweep {
@@ -132,6 +133,10 @@ void ChainDynamics::get_state(std::span<double> phi, std::span<double> w) const 
 }
 
 void ChainDynamics::set_pose(const Eigen::VectorXd& phi) {
+  const std::size_t bytes = static_cast<std::size_t>(phi.size()) * sizeof(double);
+  if (posed_ && std::memcmp(phi.data(), posed_phi_.data(), bytes) == 0) return;
+  posed_phi_ = phi;  // sized once, by the constructor's first pose
+  posed_ = true;
   centre_[0] = root_centre_;
   rotation_[0] = root_rotation_;
   for (int i = 1; i <= joints_; ++i) {

@@ -137,8 +137,11 @@ class ChainDynamics {
   // One implicit-midpoint step; false (the state left half-way) when its Newton iteration does
   // not converge.
   bool attempt(double h, const Body& body, std::span<const double> torque, int& iterations);
-  void set_pose(const Eigen::VectorXd& phi);  // centres, rotations, A frames from joint angles
-  void build_mass_matrix();                   // into mass_
+  // Centres, rotations, A frames from joint angles; nothing to do when they are, to the bit, the
+  // angles the pose was last built from (the pose is a function of them alone): a kick and the
+  // step after it, or a step after a state read back unchanged, load the same angles again.
+  void set_pose(const Eigen::VectorXd& phi);
+  void build_mass_matrix();                                                     // into mass_
   void elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const;  // J⁻ᵀ (K φ + b)
   void factor_newton_matrix(double h);  // S at the pose set_pose last built (phi_mid_), into llt_
   // The articulated-body recursion for M at the pose set_pose last built, and its solve.
@@ -155,6 +158,8 @@ class ChainDynamics {
   Eigen::MatrixXd damping_;      // C, dense
   Eigen::VectorXd rest_load_;    // b
   Eigen::VectorXd phi_, w_;
+  Eigen::VectorXd posed_phi_;  // the angles the current pose was built from
+  bool posed_ = false;
   std::vector<Eigen::VectorXd> phi_saved_, w_saved_;  // the state at each depth of halving
   // The pose set_pose last built.
   std::vector<Vec3> centre_;

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <vector>
 
 #include "beam_tubes.h"
 #include "sweep/core/elastic_sweep.h"
@@ -253,6 +254,50 @@ TEST(ChainDynamics, SettledShapesAreTheElastica) {
     std::printf("elastica, alpha %.3g beta %.3g: tip drop %.5f L, table %.5f (%+.3f%%)\n", c.alpha, c.beta, drop,
                 c.drop, 100 * (drop / c.drop - 1));
     EXPECT_NEAR(drop / c.drop, 1.0, 0.01);
+  }
+}
+
+// The pose is a function of the joint angles alone: a chain given again the angles it stands at
+// (a kick's state loaded back for the step after it) stands where a fresh chain given them does,
+// to the bit, and steps on as it would have without the reload — also after its last pose was
+// another one (the static residual's) and after another state was loaded in between.
+TEST(ChainDynamics, AStateLoadedAgainKeepsItsPoseAndStepToTheBit) {
+  const Tube t(Tube::youngs_for_beta(2.0), 0.02);
+  ChainDynamics stepped(t.model, t.def.rest);
+  ChainDynamics::Body body;
+  body.gravity = Vec3(0, -kG, 0);
+  body.angular_velocity = Vec3(0.3, 0, 0.2);
+  for (int n = 0; n < 5; ++n) stepped.step(1.0 / 60, body);
+  const int dim = 3 * stepped.joints();
+  std::vector<double> phi(static_cast<std::size_t>(dim)), w(phi.size());
+  stepped.get_state(phi, w);
+  const ChainDynamics reference = stepped;  // the same history (its kept Newton matrix too)
+  Eigen::VectorXd elsewhere = Eigen::Map<const Eigen::VectorXd>(phi.data(), dim) * 0.5, residual(dim);
+  stepped.static_residual(elsewhere, body, residual);  // posed elsewhere and back
+  for (const bool restored : {false, true}) {
+    if (restored) {
+      // Another state, then this one again: the pose must follow the angles both times.
+      std::vector<double> other = phi;
+      for (double& x : other) x = -x;
+      stepped.set_state(other, w);
+      ChainDynamics there(t.model, t.def.rest);
+      there.set_state(other, w);
+      for (int i = 0; i <= stepped.joints(); ++i) ASSERT_EQ(stepped.centres()[i], there.centres()[i]) << i;
+    }
+    stepped.set_state(phi, w);
+    ChainDynamics fresh(t.model, t.def.rest);
+    fresh.set_state(phi, w);
+    for (int i = 0; i <= stepped.joints(); ++i) {
+      ASSERT_EQ(stepped.centres()[i], fresh.centres()[i]) << "section " << i << (restored ? ", restored" : "");
+    }
+    ChainDynamics again = stepped, unloaded = reference;
+    again.step(1.0 / 60, body);
+    unloaded.step(1.0 / 60, body);
+    std::vector<double> a_phi(phi.size()), a_w(phi.size()), f_phi(phi.size()), f_w(phi.size());
+    again.get_state(a_phi, a_w);
+    unloaded.get_state(f_phi, f_w);
+    EXPECT_EQ(a_phi, f_phi) << (restored ? "restored" : "loaded again");
+    EXPECT_EQ(a_w, f_w) << (restored ? "restored" : "loaded again");
   }
 }
 
