@@ -12,11 +12,9 @@ namespace {
 // A step's Newton iteration stops once it moves no joint by more than this (radians over the step).
 constexpr double kNewtonTolerance = 1e-10;
 constexpr int kMaxNewtonIterations = 24;
-// An iteration that shrinks the change by less than this factor refreshes the Newton matrix.
-constexpr double kContraction = 0.5;
 // A Newton change larger than this (radians over a step) is a diverging iteration.
 constexpr double kLargestTurn = 1.0;
-// A fresh Newton matrix whose iteration shrinks the change by less than this: the step is halved.
+// An iteration that shrinks the change by less than this factor: the step is halved.
 constexpr double kDivergence = 0.9;
 // How many times a step that does not settle is halved, at most: the schema's longest step (1 s)
 // down to 15 µs. (8, a 1 s step's 4 ms, left a limp rope's whipping steps unsettled.)
@@ -77,7 +75,7 @@ ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const Swee
   damping_ = mphi * rate.asDiagonal() * mphi.transpose();
   damping_ = 0.5 * (damping_ + damping_.transpose()).eval();
 
-  phi_ = w_ = rest_load_ = last_change_ = Eigen::VectorXd::Zero(dim);
+  phi_ = w_ = rest_load_ = last_change_ = previous_change_ = Eigen::VectorXd::Zero(dim);
   phi_saved_.assign(kMaxHalvings + 1, phi_);
   w_saved_.assign(kMaxHalvings + 1, w_);
   for (Eigen::VectorXd* v : {&phi_mid_, &w_mid_, &w_end_, &wdot_, &residual_, &scratch_})
@@ -93,6 +91,7 @@ ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const Swee
   for (std::vector<Vec3>* v : {&omega_, &alpha_, &accel_, &force_, &moment_, &composite_first_})
     v->assign(k + 1, Vec3::Zero());
   composite_inertia_.assign(k + 1, Mat3::Zero());
+  for (std::vector<Mat3>* m : {&crba_x_, &crba_y_, &crba_w_}) m->assign(k + 1, Mat3::Zero());
   u_.assign(k, Mat63::Zero());
   d_inverse_.assign(k, Mat3::Zero());
   y_.assign(k, Vec3::Zero());
@@ -196,13 +195,22 @@ void ChainDynamics::build_mass_matrix() {
     composite_first_[k] = h;
     composite_inertia_[k] = ic;
   }
+  // Split as P_jᵀ X_k + W_jᵀ Y_k with X_k = (Ic_k − [c_k]× [h_k]×) P_k, Y_k = [h_k]× P_k and
+  // W_j = −[c_j]× P_j (so W_jᵀ = P_jᵀ [c_j]×): two 3×3 products a block, the rest once a joint.
+  // (Centres from the root's: only their differences count, and the products stay the chain's size.)
   for (int k = 1; k <= joints_; ++k) {
-    const Mat3 hk = skew(composite_first_[k]);
-    for (int j = 1; j <= k; ++j) {
-      const Mat3 b = composite_inertia_[k] - skew(centre_[k] - centre_[j]) * hk;
-      const Mat3 block = pre_[j].transpose() * b * pre_[k];
-      mass_.block<3, 3>(3 * (j - 1), 3 * (k - 1)) = block;
-      if (j != k) mass_.block<3, 3>(3 * (k - 1), 3 * (j - 1)) = block.transpose();
+    const Mat3 ck = skew(centre_[k] - centre_[0]);
+    crba_y_[k].noalias() = skew(composite_first_[k]) * pre_[k];
+    crba_x_[k].noalias() = composite_inertia_[k] * pre_[k];
+    crba_x_[k].noalias() -= ck * crba_y_[k];
+    crba_w_[k].noalias() = -ck * pre_[k];
+  }
+  for (int j = 1; j <= joints_; ++j) {
+    for (int k = j; k <= joints_; ++k) {
+      auto lower = mass_.block<3, 3>(3 * (k - 1), 3 * (j - 1));  // block (k, j) = block (j, k)ᵀ
+      lower.noalias() = crba_x_[k].transpose() * pre_[j];
+      lower.noalias() += crba_y_[k].transpose() * crba_w_[j];
+      if (k != j) mass_.block<3, 3>(3 * (j - 1), 3 * (k - 1)) = lower.transpose();
     }
   }
 }
@@ -337,23 +345,31 @@ void ChainDynamics::factor_newton_matrix(double h) {
         (0.25 * h * h) * (jt * stiffness_[i].asDiagonal() * jt.transpose());
   }
   llt_.compute(newton_);
-  factored_step_ = h;
   ++factorizations_;
 }
 
 bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> torque, int& iterations) {
-  // The first guess: the last step's change of the speeds again (an O(h²) guess for a smooth
-  // motion, where w₁ = w₀ is O(h)).
+  // The first guess: the last two steps' changes of the speeds extrapolated (an O(h³) guess for a
+  // smooth motion, where w₁ = w₀ is O(h)); after one step of this length, its change again.
   w_end_ = w_;
-  if (last_change_step_ == h) w_end_ += last_change_;
+  const bool guessed = last_change_step_ == h;
+  if (guessed) {
+    if (previous_change_step_ == h) {
+      w_end_ += 2 * last_change_ - previous_change_;
+    } else {
+      w_end_ += last_change_;
+    }
+  }
   bool converged = false;
-  // The Newton matrix S is kept from step to step (it only steers the iteration, whose fixed point
-  // does not depend on it) and refreshed at the mid-step pose when the step length changed or the
-  // iteration contracts slowly: the pose moved since, or a light section turning fast changed its
-  // inertia within the step (S⁻¹ magnifies that in the stiff, light directions). A fresh S that
-  // still does not contract: the step is halved.
-  bool fresh = false;
+  // The Newton matrix S is built at the first guess's mid-step pose of every step: one kept from
+  // the steps before steers the iteration worse the farther the part has moved since (a light
+  // section turning fast changes M within a step, and S⁻¹ magnifies that in the stiff, light
+  // directions), and the iterations that costs outweigh the factorization (a soft tube at K = 32,
+  // 1/480 s: a kept S took 6.5 iterations a step and was refreshed once a step anyway; a fresh one
+  // takes 3.1). S is exact but for the velocity terms' derivatives (gyroscopic, Coriolis), which
+  // only slow the iteration: a step fails only when it no longer contracts at all, and is halved.
   double last = std::numeric_limits<double>::infinity();
+  bool factored = false, retried = !guessed;
   while (iterations < kMaxNewtonIterations) {
     ++iterations;
     ++iterations_;
@@ -362,9 +378,9 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
       phi_mid_.segment<3>(3 * (i - 1)) = turned(0.5 * h * w_mid_.segment<3>(3 * (i - 1)), phi_.segment<3>(3 * (i - 1)));
     }
     set_pose(phi_mid_);
-    if (factored_step_ != h) {
+    if (!factored) {
       factor_newton_matrix(h);
-      fresh = true;
+      factored = true;
     }
     wdot_ = (w_end_ - w_) / h;
     inverse_dynamics(w_mid_, wdot_, body, residual_);
@@ -375,12 +391,17 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
     llt_.solveInPlace(residual_);
     w_end_ -= h * residual_;
     const double change = h * h * residual_.lpNorm<Eigen::Infinity>();  // the largest turn it changed
-    if (!(change <= kLargestTurn) || (!fresh && change > last)) {
-      // Diverging. With a kept S: start the step again from its first guess with a fresh one;
-      // with a fresh S: halve the step. (Before the change grows out of range: the next
-      // iteration's turns would overflow.)
-      factored_step_ = 0;
-      if (fresh) return false;
+    if (!(change <= kLargestTurn) || change > kDivergence * last) {
+      // Diverging (before the change grows out of range: the next iteration's turns would
+      // overflow). From an extrapolated guess (the motion changed, an impulse or a new load): once
+      // more from w₁ = w₀, with S built at its pose; else the step is halved.
+      if (retried) {
+        if (change <= kLargestTurn) break;
+        set_pose(phi_);
+        return false;
+      }
+      retried = true;
+      factored = false;
       w_end_ = w_;
       last = std::numeric_limits<double>::infinity();
       continue;
@@ -389,12 +410,6 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
       converged = true;
       break;
     }
-    if (change > kContraction * last) {
-      // A fresh S is exact but for the velocity terms' derivatives (gyroscopic, Coriolis), which
-      // only slow it down: it fails only when it no longer contracts at all.
-      if (fresh && change > kDivergence * last) break;
-      if (!fresh) factored_step_ = 0;  // refresh at the next iteration's pose
-    }
     last = change;
   }
   w_mid_ = 0.5 * (w_ + w_end_);
@@ -402,14 +417,15 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
     phi_.segment<3>(3 * (i - 1)) = turned(h * w_mid_.segment<3>(3 * (i - 1)), phi_.segment<3>(3 * (i - 1)));
   }
   if (converged) {
+    previous_change_.swap(last_change_);
+    previous_change_step_ = last_change_step_;
     last_change_ = w_end_ - w_;
     last_change_step_ = h;
   } else {
-    last_change_step_ = 0;
+    last_change_step_ = previous_change_step_ = 0;
   }
   w_ = w_end_;
   set_pose(phi_);
-  if (!converged) factored_step_ = 0;
   return converged;
 }
 

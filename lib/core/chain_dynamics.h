@@ -21,11 +21,13 @@
 // Step: implicit midpoint on the Lie group, w₁ solves
 //   M(q_m)(w₁ − w₀)/h + c(q_m, w_m) + J⁻ᵀ(φ_m) K φ_m + C w_m = τ_gravity(q_m) + τ,
 //   w_m = (w₀ + w₁)/2, exp(φ_m) = exp(h w_m / 2) exp(φ₀), exp(φ₁) = exp(h w_m) exp(φ₀),
-// by a Newton iteration on S = M(q_m) + (h/2) C + (h²/4) J⁻ᵀ K J⁻¹; S and its factorization are
-// kept across iterations and steps and rebuilt at the mid-step pose when the iteration contracts
-// slowly (a light section turning fast changes M within a step, and the stiff, light directions
-// of S magnify that); a step whose iteration does not settle with a fresh S is taken as two halves,
-// and so on down to 2⁻¹⁶ of it (15 µs of a 1 s step), the state at each depth kept (no allocation).
+// by a Newton iteration on S = M(q_m) + (h/2) C + (h²/4) J⁻ᵀ K J⁻¹, S built and factored once a
+// step at the mid-step pose of the first guess (the last two steps' changes of w extrapolated): an S
+// kept from the steps before steers the iteration the worse the farther the part has moved since (a
+// light section turning fast changes M within a step, and S⁻¹ magnifies that in the stiff, light
+// directions), and the iterations that costs outweigh a factorization. A step whose iteration does
+// not settle is taken as two halves, and so on down to 2⁻¹⁶ of it (15 µs of a 1 s step), the state
+// at each depth kept (no allocation).
 // Why this one: implicit midpoint is A-stable for the stiff linear springs at any step (they enter
 // S whole: a stiff tube at 1/24 s settles in a few iterations where an explicit or split step
 // would blow up), second order, symplectic (its energy error stays bounded and does not drift:
@@ -38,11 +40,15 @@
 // torque J⁻ᵀ(φ) b: the springs' rest angles shifted, a conservative load (a torque held fixed in
 // the joint's axes is not one, and feeds a twisting part energy).
 // Cost: an iteration is O(K) (Newton–Euler) plus two dense O(K²) products (the damping, the solve
-// with the kept factorization); S is dense (O(K²) to build, O(K³) to factor) but rebuilt only when
-// the pose has moved far since. An articulated-body solve (used for impulses: O(K)) would make the
-// Newton solve O(K) but for the modal damping's coupling of the joints: left out of the Newton
-// matrix, the iteration slowed (a soft tube at K = 32: 6.5 iterations a step became 9 to 17, with
-// dense fall-backs), and the residual's C w stays a dense product.
+// with the step's factorization); S is dense, O(K²) to build (two 3×3 products a block) and O(K³)
+// to factor. At K = 32 on the soft tube of tools/bench/bench_chain.cpp (sweep-bench-chain --quick):
+// a step of 1/480 s takes 3.1 iterations and 1.0 factorizations (6.5 and 1.0 with S kept across
+// steps), one of 1/120 s 6.9 and 1.1 (13.2 and 1.4): 1.6× and 1.8× faster than with S kept, still
+// 3.9× and 7.7× the modal step (medians of three runs, alternated with the old, on a busy machine).
+// An articulated-body solve (used for impulses: O(K)) would make the Newton solve O(K) but for the
+// modal damping's coupling of the joints: left out of the Newton matrix (refactored each iteration,
+// O(K)), the iteration stalls once the part has moved far (C is the rest pose's, and M(q) has
+// shrunk in directions where C is large): the soft tube fell back to the dense S 0.8 times a step.
 //
 // Units: metres, kilograms, seconds (the model's); the pose starts from the rest shape scaled by
 // the model's metres per unit. Allocation-free after construction.
@@ -106,8 +112,7 @@ class ChainDynamics {
   double elastic_energy() const;
   double gravity_potential(const Vec3& gravity) const;
 
-  // How many times the Newton matrix was built and factored (it is kept across iterations and
-  // steps while the iteration contracts).
+  // How many times the Newton matrix was built and factored (once a step, a halved step once a half).
   long long factorizations() const { return factorizations_; }
   long long iterations() const { return iterations_; }  // the Newton iterations taken in all
   // Steps taken whose Newton iteration did not settle even at the shortest subdivision.
@@ -169,9 +174,9 @@ class ChainDynamics {
   // Scratch.
   Eigen::MatrixXd mass_, newton_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  double factored_step_ = 0;     // the step llt_ holds S for; 0: none
-  Eigen::VectorXd last_change_;  // w₁ − w₀ of the last converged step, the next one's first guess
-  double last_change_step_ = 0;  // its step; 0: none
+  // w₁ − w₀ of the last two converged steps, the next one's first guess, and their steps (0: none).
+  Eigen::VectorXd last_change_, previous_change_;
+  double last_change_step_ = 0, previous_change_step_ = 0;
   long long factorizations_ = 0, iterations_ = 0, unsettled_ = 0;
   // The recursion: per joint, U_i = IA_i S_i (6×3, IA_i the articulated inertia about c_i) and
   // D_i⁻¹ (3×3), the pose it was set up at (axes P_i, lever c_{i+1} − c_i), and its scratch.
@@ -183,6 +188,7 @@ class ChainDynamics {
   std::vector<Vec3> omega_, alpha_, accel_, force_, moment_;
   std::vector<Vec3> composite_first_;
   std::vector<Mat3> composite_inertia_;
+  std::vector<Mat3> crba_x_, crba_y_, crba_w_;  // the mass matrix's per-joint factors (build_mass_matrix)
 };
 
 // Rotation vector of a unit quaternion (angle in [0, π]); the inverse of rotation_from_vector.
