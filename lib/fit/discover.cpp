@@ -182,6 +182,9 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
       if (along_part >= kEndShare * reach && (d - along_part * dir).norm() <= kEndShare * reach) in_body[v] = 0;
     }
   }
+  if (std::find(in_body.begin(), in_body.end(), 1) == in_body.end()) {  // all past some end: judge them all
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) in_body[v] = !in_part[v];
+  }
   Vec3 centre = Vec3::Zero();
   std::size_t count = 0;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
