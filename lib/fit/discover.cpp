@@ -123,6 +123,11 @@ std::vector<std::uint32_t> local_maxima(const Topology& topology, const std::vec
   return out;
 }
 
+// Where `p` lies between the mesh's lowest and highest points along `up`: 0 at the bottom, 1 at the top.
+double height_share(const Vec3& p, const Vec3& up, double low, double high) {
+  return (p.dot(up) - low) / std::max(high - low, 1e-300);
+}
+
 // Two parts that are each other's mirror image across a vertical plane between their roots are a
 // pair — of limbs, of horns — and named alike: a pair that does not rise, named a tail or nothing,
 // is a pair of arms (a body has one tail, along its middle; a stocky or wide figure is not upright by
@@ -132,7 +137,7 @@ void name_mirrored_pairs(std::vector<FoundPart>& parts, const Vec3& up, double l
   const auto pair_name = [&](const FoundPart& p) -> std::string_view {  // "": no pair's name
     const double rise = (p.tip - p.root).normalized().dot(up);
     if ((p.name == "tail" || p.name == "part") && rise <= kRisingCos) return "arm";
-    const bool head_high = (p.root.dot(up) - low) / std::max(high - low, 1e-300) >= kHeadHeightShare;
+    const bool head_high = height_share(p.root, up, low, high) >= kHeadHeightShare;
     if ((p.name == "neck" || p.name == "top" || p.name == "part") && rise > kRisingCos && head_high) return "horn";
     return {};
   };
@@ -224,8 +229,8 @@ void name_parts(const Mesh& mesh, const std::vector<char>& in_part, const Vec3& 
     const double rise = dir.dot(up);
     const bool along_body = std::abs(dir.dot(along)) >= std::abs(dir.dot(side));
     const double above_ground = (p.bottom - low) / std::max(high - low, 1e-300);
-    const bool small_and_high = p.length < kSmallPartShare * longest &&
-                                (p.root.dot(up) - low) / std::max(high - low, 1e-300) >= kHeadHeightShare;
+    const bool small_and_high =
+        p.length < kSmallPartShare * longest && height_share(p.root, up, low, high) >= kHeadHeightShare;
     if ((rise < -kDownCos && above_ground <= kGroundShare) || (rise < -kSteepCos && above_ground <= kLiftedShare)) {
       p.name = "leg";
     } else if (small_and_high && rise > -kHangingCos) {

@@ -35,6 +35,21 @@ ToolRun fit_named_tube(const Workspace& ws, const std::string& name, const std::
                   ws.io);
 }
 
+// A small tube, 10 cm long and 5 mm round, by sweep-tube, fitted as `name` with `options` from just
+// inside its root to its tip; the run's result (the rig at ws / (name + ".rig.json")).
+ToolRun fit_small_tube(const Workspace& ws, const std::string& name, const std::string& options) {
+  const fs::path mesh = ws / "small-tube.obj";
+  if (!fs::exists(mesh)) {
+    const ToolRun tube =
+        run_tool(SWEEP_TUBE_EXE, "-q --length 0.1 --radius 0.005 --rings 21 --segments 32 -o " + quoted(mesh), ws.io);
+    EXPECT_EQ(tube.code, 0) << tube.err;
+  }
+  return run_tool(SWEEP_FIT_EXE,
+                  quoted(mesh) + " -o " + quoted(ws / (name + ".rig.json")) + " --name " + name +
+                      " --root 0,0,0.002 --tip 0,0,0.1" + options,
+                  ws.io);
+}
+
 // The first frequency of a clamped–free uniform beam, 1.875² / (2π L²) · √(EI / ρA), of the
 // sweep's own length and sections (metres: the material's scale).
 double cantilever_frequency_hz(const SweepDef& def) {
@@ -138,16 +153,9 @@ TEST(DefaultPreset, AMaterialWithoutYoungsModulusSwaysAtTheTailFrequencyAndWarns
 // load factor 0.5) and says so; a strand, which hangs, keeps its frequency's modulus.
 TEST(DefaultPreset, ASmallPartIsStiffenedToHoldItsModelledPoseTwiceOverButAStrandIsNot) {
   const Workspace ws("default-preset-hold");
-  const fs::path mesh = ws / "small-tube.obj";
-  const ToolRun tube =
-      run_tool(SWEEP_TUBE_EXE, "-q --length 0.1 --radius 0.005 --rings 21 --segments 32 -o " + quoted(mesh), ws.io);
-  ASSERT_EQ(tube.code, 0) << tube.err;
   const Vec3 gravity(0, -kStandardGravity, 0);
   for (const std::string name : {"tail", "strand"}) {
-    const ToolRun r = run_tool(SWEEP_FIT_EXE,
-                               quoted(mesh) + " -o " + quoted(ws / (name + ".rig.json")) + " --name " + name +
-                                   " --root 0,0,0.002 --tip 0,0,0.1",
-                               ws.io);
+    const ToolRun r = fit_small_tube(ws, name, "");
     ASSERT_EQ(r.code, 0) << r.err;
     SweepDef def = io::read_rig(ws / (name + ".rig.json")).sweeps.at(0);
     ASSERT_TRUE(def.material.has_value());
@@ -180,18 +188,9 @@ TEST(DefaultPreset, ASmallPartIsStiffenedToHoldItsModelledPoseTwiceOverButAStran
 // "unloaded", which asks for no such pose, none.
 TEST(DefaultPreset, AStrandThatCannotHoldItsPoseIsWarnedOfAsTheBakeStarts) {
   const Workspace ws("default-preset-warn");
-  const fs::path mesh = ws / "small-tube.obj";
-  ASSERT_EQ(
-      run_tool(SWEEP_TUBE_EXE, "-q --length 0.1 --radius 0.005 --rings 21 --segments 32 -o " + quoted(mesh), ws.io)
-          .code,
-      0);
   for (const std::string name : {"tail", "strand"}) {
     const fs::path rig = ws / (name + ".rig.json");
-    ASSERT_EQ(
-        run_tool(SWEEP_FIT_EXE,
-                 quoted(mesh) + " -q -o " + quoted(rig) + " --name " + name + " --root 0,0,0.002 --tip 0,0,0.1", ws.io)
-            .code,
-        0);
+    ASSERT_EQ(fit_small_tube(ws, name, " -q").code, 0);
     ASSERT_EQ(run_tool(SWEEP_BIND_EXE, quoted(rig) + " -q", ws.io).code, 0);
     for (const std::string start : {"auto", "as-modelled", "unloaded"}) {
       spit(ws / "scene.json", R"({"format": "sweep-scene", "version": 1, "duration": 0.1, "fps": 10, "forces": [],
