@@ -5,8 +5,10 @@
 // (the tips of tails, legs, fingers, ears). The average is estimated from a few
 // sources spread over the surface by farthest-point sampling. Each extremity, highest first, is
 // then traced by rings of surface distance (fit/rings.h): where the rings keep a steady size for
-// a few radii and then widen into the body, it is the tip of a part; the part's region is the
-// surface nearer to the tip than that junction, and no later candidate inside it is traced again.
+// a few radii and then widen into the body, it is the tip of a part (where they only widen slowly
+// and then split, as from a person's thigh into the hips, the part ends there if the first jump
+// would leave it holding the body: fit/rings.h); the part's region is the surface nearer to the tip
+// than that junction, and no later candidate inside it is traced again.
 // On a body with separate shells (legs modelled apart and pushed into it), a smaller shell is
 // traced from its end away from the body only, and a shell that is part of the body's core (an
 // abdomen beside a thorax, the body shell itself traced end to end) is no part (discover.cpp).

@@ -31,6 +31,15 @@ struct RingOptions {
   double blob_reach = 4;
   double blob_narrowing = 0.8;
   double blob_radii = 2;
+  // A gentler rise (growth past settled_growth, never past junction_growth) where the rings widen
+  // to this many times the tube's size before the level set splits (within blob_radii peak radii)
+  // into other parts, after a part blob_reach of those widest radii long, is where the part meets
+  // the body when the first jump past it would leave the part holding more than body_area_share of
+  // the surface (the body itself): a person's leg, whose thigh widens slowly into the hips and
+  // whose rings part there round the other leg and the torso, and jump nowhere before the far
+  // side of the body. (Elsewhere such a rise is no body: a foot's tube meeting its leg.)
+  double gentle_widening = 1.5;
+  double body_area_share = 0.5;
 };
 
 struct Ring {
@@ -40,6 +49,7 @@ struct Ring {
   double growth = 0;             // d(radius)/d(distance) over the last local radius
   bool closed = true;            // false: the loop runs into a hole of the mesh
   bool split = false;            // the level also holds another loop of comparable length
+  double area_share = 0;         // the share of the mesh's surface nearer to the tip than this level
 };
 
 struct RingTrace {
@@ -59,7 +69,8 @@ RingTrace trace_rings(const Mesh& mesh, const Topology& topology, const std::vec
 
 // Where the part meets the body along rings from its tip: the first rise of the ring size past
 // the tip's cap (growth above junction_growth) that does not narrow again; the junction is the
-// ring where that rise began. Without one, the last ring.
+// ring where that rise began. Without one, the last ring. Where the part up to there would hold the
+// body, a gentler rise into a split before it (RingOptions::gentle_widening).
 void locate_junction(RingTrace& trace, const RingOptions& options = {});
 
 // The vertex where `field` is locally largest, reached from `start` by steepest ascent over the

@@ -2,6 +2,7 @@
 // Small creatures whose parts are known, for the part search and the loose pieces: a body with
 // legs that are separate shells (feet at their ends), built in any up direction; a tail with a
 // tuft of loose quads beyond its tip. Each generator says where its parts are.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -243,6 +244,43 @@ inline LegsWithFeet make_legs_with_feet(double heel, double toes) {
   };
   l.mesh = mesh_level_set(f, Vec3(-heel - 0.2, -0.05, -0.45), Vec3(toes + 0.2, 1.55, 0.45), 0.04);
   return l;
+}
+
+// A figure's lower half whose thighs widen into the hips as a person's do (Y up), one closed
+// surface (mesh_level_set): a pelvis and a torso, two legs tapering from kThighR at the hip to
+// kAnkleR at the ankle, blended smoothly (a soft minimum over kBlend) into the pelvis and into each
+// other, and flat feet along +X. Traced from the toes, the rings round a thigh spread slowly over
+// the hips (growing by under 0.4 of their distance, no jump) and then split round the other leg
+// and the torso; the legs part from each other below the pelvis, at about kPartY.
+struct StandingHips {
+  static constexpr double kHipY = 0.98, kAnkleY = 0.1, kLegZ = 0.1, kThighR = 0.1, kAnkleR = 0.045;
+  static constexpr double kBlend = 0.12, kPartY = 0.55;
+  std::vector<Vec3> toes;
+  Mesh mesh;
+};
+
+inline StandingHips make_standing_hips() {
+  using S = StandingHips;
+  StandingHips s;
+  for (const double side : {-1.0, 1.0}) s.toes.emplace_back(0.18, 0.05, side * (S::kLegZ + 0.01));
+  const auto soft_min = [](double a, double b) {
+    const double h = std::max(S::kBlend - std::abs(a - b), 0.0) / S::kBlend;
+    return std::min(a, b) - h * h * S::kBlend / 4;
+  };
+  const auto f = [&soft_min](const Vec3& p) {
+    double v = std::min(ellipsoid_distance(p, Vec3(0, 1.0, 0), Vec3(0.16, 0.14, 0.22)),
+                        ellipsoid_distance(p, Vec3(0, 1.4, 0), Vec3(0.15, 0.35, 0.22)));
+    for (const double side : {-1.0, 1.0}) {
+      const Vec3 hip(0, S::kHipY, side * S::kLegZ), ankle(0, S::kAnkleY, side * (S::kLegZ + 0.01));
+      const double t = std::clamp((p - hip).dot(ankle - hip) / (ankle - hip).squaredNorm(), 0.0, 1.0);
+      const double leg = std::min((p - (hip + t * (ankle - hip))).norm() - (S::kThighR + (S::kAnkleR - S::kThighR) * t),
+                                  ellipsoid_distance(p, Vec3(0.05, 0.05, ankle.z()), Vec3(0.13, 0.05, 0.065)));
+      v = soft_min(v, leg);
+    }
+    return v;
+  };
+  s.mesh = mesh_level_set(f, Vec3(-0.3, -0.05, -0.4), Vec3(0.35, 1.85, 0.4), 0.025);
+  return s;
 }
 
 }  // namespace sweep::test

@@ -2,7 +2,8 @@
 // reach both ways from the ankle (make_legs_with_feet) are each offered once, from the toes, rooted
 // at the hips, and every part offered fits with no problem; a part the refuse hook turns down is
 // passed over with its reason, and the names count only the parts offered; a part tiny against the
-// figure (a walker's short horns) is passed over as small.
+// figure (a walker's short horns) is passed over as small; a person's legs, whose thighs widen into
+// the hips without a jump in the rings' size, are each offered once and fit.
 #include "sweep/fit/offered_parts.h"
 
 #include <gtest/gtest.h>
@@ -108,6 +109,33 @@ TEST(OfferedParts, PartsTinyAgainstTheFigureAreNotOfferedButPassedOverWithTheirR
   fit::DiscoverOptions any_size;
   any_size.min_length_share = 0;
   EXPECT_EQ(fit::find_fitting_parts(m, fitter, any_size, {}).parts.size(), 10u);
+}
+
+// A person's thighs widen slowly into the hips (make_standing_hips): the rings from a foot grow by
+// under 0.4 of their distance there, never jumping, and then split round the other leg and the
+// torso; before, they ran on through the whole figure to its far side (one "leg" rooted at the
+// chest, fitted as a bent tube). Where that first jump would leave the part holding the body, the
+// widening into the split is where the leg meets it — for the search and for the fit from the toes.
+TEST(OfferedParts, ThighsThatWidenGentlyIntoTheHipsAreTwoLegsFromTheToesThatFit) {
+  const StandingHips s = make_standing_hips();
+  const fit::SweepFitter fitter(s.mesh);
+  const fit::OfferedParts offered = fit::find_fitting_parts(s.mesh, fitter, {}, {});
+  ASSERT_EQ(offered.fits.size(), offered.parts.size());
+  std::set<std::size_t> legs;
+  for (std::size_t i = 0; i < offered.parts.size(); ++i) {
+    const fit::FoundPart& p = offered.parts[i];
+    const std::size_t leg = p.tip.z() < 0 ? 0 : 1;
+    legs.insert(leg);
+    EXPECT_EQ(p.name.substr(0, 3), "leg") << p.name;
+    EXPECT_LT((p.tip - s.toes[leg]).norm(), 0.08) << p.name << ": the tip is at the toes";
+    EXPECT_NEAR(p.root.y(), StandingHips::kPartY, 0.1) << p.name << ": rooted where the legs part, below the pelvis";
+    EXPECT_NEAR(p.root.z(), s.toes[leg].z(), 0.03) << p.name << ": on its own leg's axis";
+    EXPECT_TRUE(offered.fits[i].problems.empty()) << p.name << ": " << offered.fits[i].problems.front();
+    EXPECT_TRUE(offered.fits[i].root_found) << p.name;
+    EXPECT_LT((offered.fits[i].root - p.root).norm(), 0.03) << p.name << ": the fit's root is where the search's is";
+  }
+  EXPECT_EQ(offered.parts.size(), 2u) << "one part per leg";
+  EXPECT_EQ(legs.size(), 2u) << "each leg once";
 }
 
 }  // namespace
