@@ -114,6 +114,9 @@ class ChainDynamics {
 
   // How many times the Newton matrix was built and factored (once a step, a halved step once a half).
   long long factorizations() const { return factorizations_; }
+  // How many of those factorizations were the dense S, taken where the structured one (see above)
+  // did not settle a step's iteration fast enough.
+  long long dense_factorizations() const { return dense_factorizations_; }
   long long iterations() const { return iterations_; }  // the Newton iterations taken in all
   // Steps taken whose Newton iteration did not settle even at the shortest subdivision.
   long long unsettled() const { return unsettled_; }
@@ -125,6 +128,18 @@ class ChainDynamics {
 
   // C, the joints' damping (N·m·s/rad, dense, 3(K−1) square; see above).
   const Eigen::MatrixXd& damping() const { return damping_; }
+
+  // Which Newton matrix a step starts from: the structured one (the default; the dense S where it
+  // steers too slowly) or the dense S throughout (to measure the one against the other).
+  enum class NewtonMatrix { structured, dense };
+  void set_newton_matrix(NewtonMatrix kind) { newton_kind_ = kind; }
+
+  // The structured Newton matrix at the current pose for a step of h seconds, with the `modes`
+  // lowest modes of C in it (all of them: S exactly), factored; and x ← S̃⁻¹ x by it. For tests.
+  void factor_structured(double h, int modes);
+  void solve_structured(Eigen::VectorXd& x);
+  // The dense S at the current pose (joint angles taken as the mid-step's), for tests.
+  const Eigen::MatrixXd& newton_matrix(double h);
 
   // The chain's mass matrix at the current pose (for tests and contacts), 3(K−1) square.
   const Eigen::MatrixXd& mass_matrix();
@@ -148,10 +163,15 @@ class ChainDynamics {
   void set_pose(const Eigen::VectorXd& phi);
   void build_mass_matrix();                                                     // into mass_
   void elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const;  // J⁻ᵀ (K φ + b)
-  void factor_newton_matrix(double h);  // S at the pose set_pose last built (phi_mid_), into llt_
-  // The articulated-body recursion for M at the pose set_pose last built, and its solve.
-  void factor_recursive();
-  void solve_recursive(Eigen::VectorXd& x);
+  void build_newton_matrix(double h);   // S at the pose set_pose last built (phi_mid_), into newton_
+  void factor_newton_matrix(double h);  // and factored, into llt_
+  // The structured S̃ at the same pose with C's `modes` lowest modes (see the .cpp), factored.
+  void build_structured(double h, int modes);
+  void set_structured_size(int modes);  // the scratch for `modes` modes
+  // The articulated-body recursion for M at the pose set_pose last built (plus joint_term_ on each
+  // joint's own block when asked), and its solve.
+  void factor_recursive(bool with_joint_terms = false);
+  void solve_recursive(Eigen::Ref<Eigen::VectorXd> x);
 
   std::shared_ptr<const ChainModel> model_;
   int joints_ = 0;
@@ -161,7 +181,17 @@ class ChainDynamics {
   Quat root_rotation_;
   std::vector<Vec3> stiffness_;  // per joint, diagonal (N·m/rad)
   Eigen::MatrixXd damping_;      // C, dense
-  Eigen::VectorXd rest_load_;    // b
+  // C's factor M₀ Φ diag(√(2ζω)) (C = F Fᵀ, its columns by growing frequency), and the structured
+  // Newton matrix's scratch: the joints' own terms (h²/4) J⁻ᵀ K J⁻¹, the kept modes' columns V
+  // (√(h/2) F's), A⁻¹ V, the capacitance I + Vᵀ A⁻¹ V and its factorization.
+  Eigen::MatrixXd damping_factor_;
+  std::vector<Mat3> joint_term_;
+  Eigen::MatrixXd low_rank_, low_rank_solved_, capacitance_;
+  Eigen::LLT<Eigen::MatrixXd> capacitance_llt_;
+  Eigen::VectorXd low_rank_scratch_;
+  int low_rank_modes_ = 0;
+  NewtonMatrix newton_kind_ = NewtonMatrix::structured;
+  Eigen::VectorXd rest_load_;  // b
   Eigen::VectorXd phi_, w_;
   Eigen::VectorXd posed_phi_;  // the angles the current pose was built from
   bool posed_ = false;
@@ -177,7 +207,7 @@ class ChainDynamics {
   // w₁ − w₀ of the last two converged steps, the next one's first guess, and their steps (0: none).
   Eigen::VectorXd last_change_, previous_change_;
   double last_change_step_ = 0, previous_change_step_ = 0;
-  long long factorizations_ = 0, iterations_ = 0, unsettled_ = 0;
+  long long factorizations_ = 0, dense_factorizations_ = 0, iterations_ = 0, unsettled_ = 0;
   // The recursion: per joint, U_i = IA_i S_i (6×3, IA_i the articulated inertia about c_i) and
   // D_i⁻¹ (3×3), the pose it was set up at (axes P_i, lever c_{i+1} − c_i), and its scratch.
   using Mat63 = Eigen::Matrix<double, 6, 3>;
