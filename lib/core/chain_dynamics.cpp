@@ -24,6 +24,10 @@ constexpr int kStructuredModes = 8;
 // A structured iteration that shrinks the change by less than this factor: the step goes on with
 // the dense S.
 constexpr double kSlowContraction = 0.5;
+// Below this many joint coordinates the dense S is the cheaper (its Cholesky small, the r modes a
+// large share of C): sweep-bench-chain, S̃ against S, 0.66× as fast at K = 8 (21), 1.05× at
+// K = 16 (45), 1.37× at K = 32 (93).
+constexpr int kStructuredFrom = 48;
 
 // J_l⁻ᵀ(φ) = I + ½[φ]× + β [φ]×², the transpose of the left Jacobian's inverse of exp (the map from a
 // small turn applied on the left to the change of φ), β = (1 − (θ/2) cot(θ/2)) / θ².
@@ -306,10 +310,6 @@ void ChainDynamics::solve_mass_columns(Eigen::MatrixXd& x) {
   }
 }
 
-// The damping is left out of the recursive S: mode by mode (at rest) it is (h/2)·2ζω of the
-// Newton matrix's 1 + (hω/2)², at most ζ of it, and the iteration contracts by that. (Its
-// diagonal blocks alone are worse than none: they hold the stiff modes' damping, which a smooth
-// motion's joints cancel between them; kept in S they slowed a soft tube's iteration to 0.65.)
 void ChainDynamics::elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const {
   for (int i = 1; i <= joints_; ++i) {
     const Vec3 p = phi.segment<3>(3 * (i - 1));
@@ -444,10 +444,13 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
   // section turning fast changes M within a step, and S⁻¹ magnifies that in the stiff, light
   // directions), and the iterations that costs outweigh the factorization (a soft tube at K = 32,
   // 1/480 s: a kept S took 6.5 iterations a step and was refreshed once a step anyway; a fresh one
-  // takes 3.1). S is exact but for the velocity terms' derivatives (gyroscopic, Coriolis), which
-  // only slow the iteration: a step fails only when it no longer contracts at all, and is halved.
+  // takes 3.1). The structured S̃ first (build_structured), the dense S where S̃ contracts by less
+  // than kSlowContraction. S is exact but for the velocity terms' derivatives (gyroscopic,
+  // Coriolis), which only slow the iteration: a step fails only when it no longer contracts at
+  // all, and is halved.
   double last = std::numeric_limits<double>::infinity();
-  bool factored = false, retried = !guessed, structured = newton_kind_ == NewtonMatrix::structured;
+  bool factored = false, retried = !guessed,
+       structured = newton_kind_ == NewtonMatrix::structured && 3 * joints_ >= kStructuredFrom;
   while (iterations < kMaxNewtonIterations) {
     ++iterations;
     ++iterations_;
