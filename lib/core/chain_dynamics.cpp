@@ -19,6 +19,15 @@ constexpr double kDivergence = 0.9;
 // How many times a step that does not settle is halved, at most: the schema's longest step (1 s)
 // down to 15 µs. (8, a 1 s step's 4 ms, left a limp rope's whipping steps unsettled.)
 constexpr int kMaxHalvings = 16;
+// C's lowest modes kept in the structured Newton matrix (the rest left out, see build_structured).
+constexpr int kStructuredModes = 8;
+// A structured iteration that shrinks the change by less than this factor: the step goes on with
+// the dense S.
+constexpr double kSlowContraction = 0.5;
+// Below this many joint coordinates the dense S is the cheaper (its Cholesky small, the r modes a
+// large share of C): sweep-bench-chain, S̃ against S, 0.66× as fast at K = 8 (21), 1.05× at
+// K = 16 (45), 1.37× at K = 32 (93).
+constexpr int kStructuredFrom = 48;
 
 // J_l⁻ᵀ(φ) = I + ½[φ]× + β [φ]×², the transpose of the left Jacobian's inverse of exp (the map from a
 // small turn applied on the left to the change of φ), β = (1 − (θ/2) cot(θ/2)) / θ².
@@ -74,6 +83,9 @@ ChainDynamics::ChainDynamics(std::shared_ptr<const ChainModel> model, const Swee
   const Eigen::MatrixXd mphi = model_->mass * model_->modes;
   damping_ = mphi * rate.asDiagonal() * mphi.transpose();
   damping_ = 0.5 * (damping_ + damping_.transpose()).eval();
+  damping_factor_ = mphi * rate.cwiseSqrt().asDiagonal();
+  joint_term_.assign(k, Mat3::Zero());
+  set_structured_size(std::min(kStructuredModes, dim));
 
   phi_ = w_ = rest_load_ = last_change_ = previous_change_ = Eigen::VectorXd::Zero(dim);
   phi_saved_.assign(kMaxHalvings + 1, phi_);
@@ -234,7 +246,7 @@ const Eigen::MatrixXd& ChainDynamics::mass_matrix() {
 // (moment about c_i, force). Out of the tip: IA_i = section i's own inertia plus what lies beyond, articulated; joint i
 // turns about c_i (motion subspace S_i = [P_i; 0], P_i = R_{A_i}), so U_i = IA_i S_i, D_i = S_iᵀ IA_i S_i, and the
 // parent sees IA_i − U_i D_i⁻¹ U_iᵀ moved to c_{i−1}.
-void ChainDynamics::factor_recursive() {
+void ChainDynamics::factor_recursive(bool with_joint_terms) {
   Mat3 a = Mat3::Zero(), b = Mat3::Zero(), m = Mat3::Zero();  // the articulated inertia beyond, about c_i
   for (int i = joints_; i >= 1; --i) {
     if (i < joints_) {
@@ -252,7 +264,8 @@ void ChainDynamics::factor_recursive() {
     Mat63& u = u_[i];
     u.topRows<3>().noalias() = a * p;
     u.bottomRows<3>().noalias() = b.transpose() * p;
-    const Mat3 d = p.transpose() * u.topRows<3>();
+    Mat3 d = p.transpose() * u.topRows<3>();
+    if (with_joint_terms) d += joint_term_[i];  // a term of the joint's own acts as an armature does
     d_inverse_[i] = d.llt().solve(Mat3::Identity());
     // IA − U D⁻¹ Uᵀ.
     const Mat63 ud = u * d_inverse_[i];
@@ -264,7 +277,7 @@ void ChainDynamics::factor_recursive() {
 
 // Out of the tip, the bias forces (what the joints beyond pass on); back out from the root, the
 // accelerations: x_i = D_i⁻¹ (r_i − P_iᵀ n_i − U_iᵀ a'_i).
-void ChainDynamics::solve_recursive(Eigen::VectorXd& x) {
+void ChainDynamics::solve_recursive(Eigen::Ref<Eigen::VectorXd> x) {
   Vec3 n = Vec3::Zero(), f = Vec3::Zero();  // the bias force beyond, about c_i
   for (int i = joints_; i >= 1; --i) {
     if (i < joints_) n += factored_lever_[i].cross(f);
@@ -297,10 +310,6 @@ void ChainDynamics::solve_mass_columns(Eigen::MatrixXd& x) {
   }
 }
 
-// The damping is left out of the recursive S: mode by mode (at rest) it is (h/2)·2ζω of the
-// Newton matrix's 1 + (hω/2)², at most ζ of it, and the iteration contracts by that. (Its
-// diagonal blocks alone are worse than none: they hold the stiff modes' damping, which a smooth
-// motion's joints cancel between them; kept in S they slowed a soft tube's iteration to 0.65.)
 void ChainDynamics::elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const {
   for (int i = 1; i <= joints_; ++i) {
     const Vec3 p = phi.segment<3>(3 * (i - 1));
@@ -335,7 +344,71 @@ int ChainDynamics::advance(double h, const Body& body, std::span<const double> t
   return iterations + advance(0.5 * h, body, torque, depth + 1);
 }
 
-void ChainDynamics::factor_newton_matrix(double h) {
+void ChainDynamics::set_structured_size(int modes) {
+  if (modes == low_rank_modes_ && low_rank_.cols() == modes) return;
+  const int dim = 3 * joints_;
+  low_rank_modes_ = modes;
+  low_rank_.setZero(dim, modes);
+  low_rank_solved_.setZero(dim, modes);
+  capacitance_ = Eigen::MatrixXd::Identity(modes, modes);
+  capacitance_llt_.compute(capacitance_);  // sized here (see the constructor's llt_)
+  low_rank_scratch_.setZero(modes);
+}
+
+// S̃ = A + V Vᵀ: A = M(q_m) + (h²/4) J⁻ᵀ K J⁻¹ by the articulated-body recursion (the springs'
+// term is the joint's own, as an armature), V the `modes` lowest modes' share of (h/2) C; solved by
+// Woodbury's identity, S̃⁻¹ = A⁻¹ − A⁻¹ V (I + Vᵀ A⁻¹ V)⁻¹ Vᵀ A⁻¹. The rest of C is left out, and
+// Newton's iteration (its residual exact) contracts by about the share of S it leaves out. At rest
+// that is at most ζ, mode by mode (h/2)·2ζω against 1 + (hω/2)², the most for ω near 2/h; but a
+// moved part's M(q) shrinks in directions where the rest pose's M₀ was large, and the low modes,
+// whose damping (h/2)·2ζω (M₀φ)(M₀φ)ᵀ grows with M₀² and which have no spring term to bound it,
+// then dominate S there. On the soft tube of tools/bench/bench_chain.cpp (K = 32, ζ = 0.05, the
+// damping's share as the largest generalized eigenvalue of (h/2)(C − C_r) against S̃, sampled over
+// its 2 s): with no mode kept up to 3.4 at 1/480 s and 9.1 at 1/120 s, with the 64 weightiest by
+// the rest pose's measure still 3.4 and 9.1, with the 8 lowest 0.054 and 0.118, 16 lowest 0.046
+// and 0.081.
+void ChainDynamics::build_structured(double h, int modes) {
+  const int dim = 3 * joints_;
+  set_structured_size(std::clamp(modes, 0, dim));
+  for (int i = 1; i <= joints_; ++i) {
+    const Mat3 jt = inverse_jacobian_transpose(phi_mid_.segment<3>(3 * (i - 1)));
+    joint_term_[i].noalias() = (0.25 * h * h) * (jt * stiffness_[i].asDiagonal() * jt.transpose());
+  }
+  factor_recursive(true);
+  const int r = low_rank_modes_;
+  if (r > 0) {
+    low_rank_.noalias() = std::sqrt(0.5 * h) * damping_factor_.leftCols(r);
+    low_rank_solved_ = low_rank_;
+    for (int c = 0; c < r; ++c) solve_recursive(low_rank_solved_.col(c));
+    capacitance_.setIdentity();
+    capacitance_.noalias() += low_rank_.transpose() * low_rank_solved_;
+    capacitance_llt_.compute(capacitance_);
+  }
+  ++factorizations_;
+}
+
+void ChainDynamics::solve_structured(Eigen::VectorXd& x) {
+  solve_recursive(x);
+  if (low_rank_modes_ == 0) return;
+  low_rank_scratch_.noalias() = low_rank_.transpose() * x;
+  capacitance_llt_.solveInPlace(low_rank_scratch_);
+  x.noalias() -= low_rank_solved_ * low_rank_scratch_;
+}
+
+void ChainDynamics::factor_structured(double h, int modes) {
+  phi_mid_ = phi_;
+  set_pose(phi_);
+  build_structured(h, modes);
+}
+
+const Eigen::MatrixXd& ChainDynamics::newton_matrix(double h) {
+  phi_mid_ = phi_;
+  set_pose(phi_);
+  build_newton_matrix(h);
+  return newton_;
+}
+
+void ChainDynamics::build_newton_matrix(double h) {
   build_mass_matrix();
   newton_ = mass_;
   newton_.noalias() += (0.5 * h) * damping_;
@@ -344,8 +417,13 @@ void ChainDynamics::factor_newton_matrix(double h) {
     newton_.block<3, 3>(3 * (i - 1), 3 * (i - 1)).noalias() +=
         (0.25 * h * h) * (jt * stiffness_[i].asDiagonal() * jt.transpose());
   }
+}
+
+void ChainDynamics::factor_newton_matrix(double h) {
+  build_newton_matrix(h);
   llt_.compute(newton_);
   ++factorizations_;
+  ++dense_factorizations_;
 }
 
 bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> torque, int& iterations) {
@@ -366,10 +444,13 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
   // section turning fast changes M within a step, and S⁻¹ magnifies that in the stiff, light
   // directions), and the iterations that costs outweigh the factorization (a soft tube at K = 32,
   // 1/480 s: a kept S took 6.5 iterations a step and was refreshed once a step anyway; a fresh one
-  // takes 3.1). S is exact but for the velocity terms' derivatives (gyroscopic, Coriolis), which
-  // only slow the iteration: a step fails only when it no longer contracts at all, and is halved.
+  // takes 3.1). The structured S̃ first (build_structured), the dense S where S̃ contracts by less
+  // than kSlowContraction. S is exact but for the velocity terms' derivatives (gyroscopic,
+  // Coriolis), which only slow the iteration: a step fails only when it no longer contracts at
+  // all, and is halved.
   double last = std::numeric_limits<double>::infinity();
-  bool factored = false, retried = !guessed;
+  bool factored = false, retried = !guessed,
+       structured = newton_kind_ == NewtonMatrix::structured && 3 * joints_ >= kStructuredFrom;
   while (iterations < kMaxNewtonIterations) {
     ++iterations;
     ++iterations_;
@@ -379,7 +460,11 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
     }
     set_pose(phi_mid_);
     if (!factored) {
-      factor_newton_matrix(h);
+      if (structured) {
+        build_structured(h, kStructuredModes);
+      } else {
+        factor_newton_matrix(h);
+      }
       factored = true;
     }
     wdot_ = (w_end_ - w_) / h;
@@ -388,9 +473,27 @@ bool ChainDynamics::attempt(double h, const Body& body, std::span<const double> 
     residual_ += scratch_;
     residual_.noalias() += damping_ * w_mid_;
     if (!torque.empty()) residual_ -= Eigen::Map<const Eigen::VectorXd>(torque.data(), 3 * joints_);
-    llt_.solveInPlace(residual_);
-    w_end_ -= h * residual_;
+    if (structured) {
+      solve_structured(residual_);
+    } else {
+      llt_.solveInPlace(residual_);
+    }
     const double change = h * h * residual_.lpNorm<Eigen::Infinity>();  // the largest turn it changed
+    if (structured && !(change <= kLargestTurn && change <= kSlowContraction * last)) {
+      // The structured S steers too slowly here (the part far from the rest pose whose damping
+      // it leaves out): on with the dense S at this iterate's pose, or from w₁ = w₀ if this
+      // change would overflow.
+      structured = false;
+      factored = false;
+      if (change <= kLargestTurn) {
+        w_end_ -= h * residual_;
+      } else {
+        w_end_ = w_;
+      }
+      last = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    w_end_ -= h * residual_;
     if (!(change <= kLargestTurn) || change > kDivergence * last) {
       // Diverging (before the change grows out of range: the next iteration's turns would
       // overflow). From an extrapolated guess (the motion changed, an impulse or a new load): once

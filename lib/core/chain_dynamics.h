@@ -21,13 +21,20 @@
 // Step: implicit midpoint on the Lie group, w₁ solves
 //   M(q_m)(w₁ − w₀)/h + c(q_m, w_m) + J⁻ᵀ(φ_m) K φ_m + C w_m = τ_gravity(q_m) + τ,
 //   w_m = (w₀ + w₁)/2, exp(φ_m) = exp(h w_m / 2) exp(φ₀), exp(φ₁) = exp(h w_m) exp(φ₀),
-// by a Newton iteration on S = M(q_m) + (h/2) C + (h²/4) J⁻ᵀ K J⁻¹, S built and factored once a
-// step at the mid-step pose of the first guess (the last two steps' changes of w extrapolated): an S
-// kept from the steps before steers the iteration the worse the farther the part has moved since (a
-// light section turning fast changes M within a step, and S⁻¹ magnifies that in the stiff, light
-// directions), and the iterations that costs outweigh a factorization. A step whose iteration does
-// not settle is taken as two halves, and so on down to 2⁻¹⁶ of it (15 µs of a 1 s step), the state
-// at each depth kept (no allocation).
+// by a Newton iteration with S = M(q_m) + (h/2) C + (h²/4) J⁻ᵀ K J⁻¹ as its matrix, or one close
+// to it (the residual is exact, so any matrix close enough converges to the same w₁, only the rate
+// changes): S̃ = A + V Vᵀ, A = M(q_m) + (h²/4) J⁻ᵀ K J⁻¹ factored by the articulated-body recursion
+// in O(K) (the springs' term is each joint's own 3×3 block, and enters the recursion as an
+// armature does in Featherstone's ABA), V = √(h/2) M₀ Φ_r diag(√(2ζω)) the damping of C's r = 8
+// lowest modes, added by Woodbury's identity (r solves with A, an r×r Cholesky); the rest of C is
+// left out (the .cpp says why these modes). A step whose iteration with S̃ contracts by less than
+// half goes on with the dense S, built (composite rigid bodies) and Cholesky-factored. The matrix
+// is built once a step at the mid-step pose of the first guess (the last two steps' changes of w
+// extrapolated): one kept from the steps before steers the iteration the worse the farther the
+// part has moved since (a light section turning fast changes M within a step, and S⁻¹ magnifies
+// that in the stiff, light directions), and the iterations that costs outweigh a factorization. A
+// step whose iteration does not settle is taken as two halves, and so on down to 2⁻¹⁶ of it
+// (15 µs of a 1 s step), the state at each depth kept (no allocation).
 // Why this one: implicit midpoint is A-stable for the stiff linear springs at any step (they enter
 // S whole: a stiff tube at 1/24 s settles in a few iterations where an explicit or split step
 // would blow up), second order, symplectic (its energy error stays bounded and does not drift:
@@ -39,16 +46,18 @@
 // holds under gravity: ElasticSweep's "as modelled" rest) enters as the energy bᵀφ, i.e. the
 // torque J⁻ᵀ(φ) b: the springs' rest angles shifted, a conservative load (a torque held fixed in
 // the joint's axes is not one, and feeds a twisting part energy).
-// Cost: an iteration is O(K) (Newton–Euler) plus two dense O(K²) products (the damping, the solve
-// with the step's factorization); S is dense, O(K²) to build (two 3×3 products a block) and O(K³)
-// to factor. At K = 32 on the soft tube of tools/bench/bench_chain.cpp (sweep-bench-chain --quick):
-// a step of 1/480 s takes 3.1 iterations and 1.0 factorizations (6.5 and 1.0 with S kept across
-// steps), one of 1/120 s 6.9 and 1.1 (13.2 and 1.4): 1.6× and 1.8× faster than with S kept, still
-// 3.9× and 7.7× the modal step (medians of three runs, alternated with the old, on a busy machine).
-// An articulated-body solve (used for impulses: O(K)) would make the Newton solve O(K) but for the
-// modal damping's coupling of the joints: left out of the Newton matrix (refactored each iteration,
-// O(K)), the iteration stalls once the part has moved far (C is the rest pose's, and M(q) has
-// shrunk in directions where C is large): the soft tube fell back to the dense S 0.8 times a step.
+// Cost: an iteration is O(K) (Newton–Euler, the recursive solve, two n×r products) plus one dense
+// O(K²) product (the damping C w, exact in the residual); the matrix O(K r²) to build and factor.
+// The dense S instead: O(K²) to build, O(K³) to factor (at K = 32 the Cholesky of 93×93 was half
+// a step's instructions), two dense products an iteration. At K = 32 on the soft tube of
+// tools/bench/bench_chain.cpp (sweep-bench-chain --quick), S̃ against S: a step of 1/480 s takes
+// 3.5 iterations (3.1 with S) and no dense factorization, one of 1/120 s 7.4 (7.0) and 0.008;
+// 0.57 M instructions a step against S's 1.19 M at 1/480 s, 0.90 M against 1.50 M at 1/120 s
+// (callgrind, the chain's steps alone); the whole ElasticSweep step 73 µs against 100 µs and 112
+// against 151 µs: 3.5× and 3.8× the modal step, where S gave 5.2× and 6.0× (medians of three runs,
+// alternated with S's build). Not yet the modal step's 1.5×: the time left is the recursion (r
+// solves a step and one an iteration), the dense C w, and the pose and Newton–Euler each iteration.
+// At K ≤ 16 the dense S is as fast or faster, and is kept there (kStructuredFrom).
 //
 // Units: metres, kilograms, seconds (the model's); the pose starts from the rest shape scaled by
 // the model's metres per unit. Allocation-free after construction.
@@ -114,6 +123,9 @@ class ChainDynamics {
 
   // How many times the Newton matrix was built and factored (once a step, a halved step once a half).
   long long factorizations() const { return factorizations_; }
+  // How many of those factorizations were the dense S, taken where the structured one (see above)
+  // did not settle a step's iteration fast enough.
+  long long dense_factorizations() const { return dense_factorizations_; }
   long long iterations() const { return iterations_; }  // the Newton iterations taken in all
   // Steps taken whose Newton iteration did not settle even at the shortest subdivision.
   long long unsettled() const { return unsettled_; }
@@ -125,6 +137,19 @@ class ChainDynamics {
 
   // C, the joints' damping (N·m·s/rad, dense, 3(K−1) square; see above).
   const Eigen::MatrixXd& damping() const { return damping_; }
+
+  // Which Newton matrix a step starts from: the structured one (the default, from 16 joints on;
+  // the dense S where it steers too slowly) or the dense S throughout (to measure the one against
+  // the other).
+  enum class NewtonMatrix { structured, dense };
+  void set_newton_matrix(NewtonMatrix kind) { newton_kind_ = kind; }
+
+  // The structured Newton matrix at the current pose for a step of h seconds, with the `modes`
+  // lowest modes of C in it (all of them: S exactly), factored; and x ← S̃⁻¹ x by it. For tests.
+  void factor_structured(double h, int modes);
+  void solve_structured(Eigen::VectorXd& x);
+  // The dense S at the current pose (joint angles taken as the mid-step's), for tests.
+  const Eigen::MatrixXd& newton_matrix(double h);
 
   // The chain's mass matrix at the current pose (for tests and contacts), 3(K−1) square.
   const Eigen::MatrixXd& mass_matrix();
@@ -148,10 +173,15 @@ class ChainDynamics {
   void set_pose(const Eigen::VectorXd& phi);
   void build_mass_matrix();                                                     // into mass_
   void elastic_torque(const Eigen::VectorXd& phi, Eigen::VectorXd& out) const;  // J⁻ᵀ (K φ + b)
-  void factor_newton_matrix(double h);  // S at the pose set_pose last built (phi_mid_), into llt_
-  // The articulated-body recursion for M at the pose set_pose last built, and its solve.
-  void factor_recursive();
-  void solve_recursive(Eigen::VectorXd& x);
+  void build_newton_matrix(double h);   // S at the pose set_pose last built (phi_mid_), into newton_
+  void factor_newton_matrix(double h);  // and factored, into llt_
+  // The structured S̃ at the same pose with C's `modes` lowest modes (see the .cpp), factored.
+  void build_structured(double h, int modes);
+  void set_structured_size(int modes);  // the scratch for `modes` modes
+  // The articulated-body recursion for M at the pose set_pose last built (plus joint_term_ on each
+  // joint's own block when asked), and its solve.
+  void factor_recursive(bool with_joint_terms = false);
+  void solve_recursive(Eigen::Ref<Eigen::VectorXd> x);
 
   std::shared_ptr<const ChainModel> model_;
   int joints_ = 0;
@@ -161,7 +191,17 @@ class ChainDynamics {
   Quat root_rotation_;
   std::vector<Vec3> stiffness_;  // per joint, diagonal (N·m/rad)
   Eigen::MatrixXd damping_;      // C, dense
-  Eigen::VectorXd rest_load_;    // b
+  // C's factor M₀ Φ diag(√(2ζω)) (C = F Fᵀ, its columns by growing frequency), and the structured
+  // Newton matrix's scratch: the joints' own terms (h²/4) J⁻ᵀ K J⁻¹, the kept modes' columns V
+  // (√(h/2) F's), A⁻¹ V, the capacitance I + Vᵀ A⁻¹ V and its factorization.
+  Eigen::MatrixXd damping_factor_;
+  std::vector<Mat3> joint_term_;
+  Eigen::MatrixXd low_rank_, low_rank_solved_, capacitance_;
+  Eigen::LLT<Eigen::MatrixXd> capacitance_llt_;
+  Eigen::VectorXd low_rank_scratch_;
+  int low_rank_modes_ = 0;
+  NewtonMatrix newton_kind_ = NewtonMatrix::structured;
+  Eigen::VectorXd rest_load_;  // b
   Eigen::VectorXd phi_, w_;
   Eigen::VectorXd posed_phi_;  // the angles the current pose was built from
   bool posed_ = false;
@@ -177,7 +217,7 @@ class ChainDynamics {
   // w₁ − w₀ of the last two converged steps, the next one's first guess, and their steps (0: none).
   Eigen::VectorXd last_change_, previous_change_;
   double last_change_step_ = 0, previous_change_step_ = 0;
-  long long factorizations_ = 0, iterations_ = 0, unsettled_ = 0;
+  long long factorizations_ = 0, dense_factorizations_ = 0, iterations_ = 0, unsettled_ = 0;
   // The recursion: per joint, U_i = IA_i S_i (6×3, IA_i the articulated inertia about c_i) and
   // D_i⁻¹ (3×3), the pose it was set up at (axes P_i, lever c_{i+1} − c_i), and its scratch.
   using Mat63 = Eigen::Matrix<double, 6, 3>;
