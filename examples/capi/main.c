@@ -1,12 +1,15 @@
 /* A game loop on libsweep's C interface: open a character once, then each frame give the body's
- * pose, now and then a hit, advance by the frame time and read the positions back.
+ * pose, now and then a hit, advance by the frame time and read the positions back — as an engine
+ * that draws the mesh under the body's transform itself: only the vertices the parts bind, in the
+ * mesh's own space (sweep_bound_positions), into a buffer that keeps the others at rest. (An engine
+ * that wants every vertex in world space reads sweep_positions instead.)
  *
  *   sweep-capi-example RIG BINDING MESH.obj [SETTINGS.scene.json]
  *
  * MESH.obj stands for the engine's own mesh: only its `v` lines are read, in order. The body walks
  * along x and turns while the frame time varies (1/60 s, 1/144 s, 1/30 s); a hit lands on the first
  * part after half a second. Prints the largest distance of a vertex from the rigidly moved rest
- * mesh (the parts' lag and swing) every 30 frames. */
+ * mesh (the parts' lag and swing; in the mesh's space, from its rest) every 30 frames. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -57,7 +60,19 @@ int main(int argc, char** argv) {
     free(rest);
     return 2;
   }
+  /* The mesh as the engine keeps it, in its own space: the rest positions, of which the bound
+   * vertices are updated each frame. */
   float* out = malloc(sizeof(float) * 3 * (size_t)count);
+  if (out) memcpy(out, rest, sizeof(float) * 3 * (size_t)count);
+  const int bound = sweep_bound_count(dino); /* the vertices the parts move, read once */
+  int* index = bound > 0 ? malloc(sizeof(int) * (size_t)bound) : NULL;
+  float* moved = bound > 0 ? malloc(sizeof(float) * 3 * (size_t)bound) : NULL;
+  if (bound < 0 || (bound > 0 && (!index || !moved || sweep_bound_indices(dino, index) != 0))) {
+    fprintf(stderr, "error: %s\n", bound < 0 ? sweep_last_error() : "out of memory");
+    free(out), free(index), free(moved), free(rest);
+    sweep_close(dino);
+    return 2;
+  }
   const double frame_times[] = {1.0 / 60, 1.0 / 144, 1.0 / 30};
   double t = 0;
   int code = 0, hit = 0;
@@ -76,15 +91,16 @@ int main(int argc, char** argv) {
       hit = 1;
     }
     if (code == 0) code = sweep_advance(dino, dt);
-    if (code == 0) code = sweep_positions(dino, out);
+    if (code == 0 && bound > 0) code = sweep_bound_positions(dino, moved);
     if (code != 0) break;
+    for (int i = 0; i < bound; ++i) memcpy(out + 3 * index[i], moved + 3 * i, sizeof(float) * 3);
+    /* (The engine draws `out` under the body's pose, `pose`, as its object's transform.) */
     t += dt;
     if (frame % 30 == 0) {
       double largest = 0;
       for (int v = 0; v < count; ++v) {
-        const double r[3] = {c * rest[3 * v] + s * rest[3 * v + 2] + pose[12], rest[3 * v + 1],
-                             -s * rest[3 * v] + c * rest[3 * v + 2]};
-        const double d = sqrt(pow(out[3 * v] - r[0], 2) + pow(out[3 * v + 1] - r[1], 2) + pow(out[3 * v + 2] - r[2], 2));
+        const double d = sqrt(pow(out[3 * v] - rest[3 * v], 2) + pow(out[3 * v + 1] - rest[3 * v + 1], 2) +
+                              pow(out[3 * v + 2] - rest[3 * v + 2], 2));
         if (d > largest) largest = d;
       }
       printf("frame %d  t = %.4f s  largest lag %.6g\n", frame, t, largest);
@@ -92,6 +108,8 @@ int main(int argc, char** argv) {
   }
   if (code != 0) fprintf(stderr, "error (%d): %s\n", code, sweep_last_error());
   free(out);
+  free(index);
+  free(moved);
   free(rest);
   sweep_close(dino);
   return code;

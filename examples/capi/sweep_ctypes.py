@@ -23,6 +23,7 @@ def load(path):
     lib.sweep_add_force.argtypes, lib.sweep_add_force.restype = [p, s, dp, dp, d], i
     lib.sweep_advance.argtypes, lib.sweep_advance.restype = [p, d], i
     lib.sweep_positions.argtypes, lib.sweep_positions.restype = [p, fp], i
+    lib.sweep_positions_local.argtypes, lib.sweep_positions_local.restype = [p, fp], i
     return lib
 
 
@@ -56,10 +57,11 @@ def main(argv):
             pose = (ctypes.c_double * 16)(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, x, 0, 0, 1)
             check(lib.sweep_set_body(inst, pose))
             check(lib.sweep_advance(inst, dt))
-            check(lib.sweep_positions(inst, out))
+            # In the mesh's own space (an engine draws it under the body's pose, `pose`);
+            # sweep_positions gives them in world space.
+            check(lib.sweep_positions_local(inst, out))
             if frame % 30 == 0:
-                lag = max(math.dist((out[3 * v] - x, out[3 * v + 1], out[3 * v + 2]), rest[3 * v:3 * v + 3])
-                          for v in range(count))
+                lag = max(math.dist(out[3 * v:3 * v + 3], rest[3 * v:3 * v + 3]) for v in range(count))
                 print(f"frame {frame}  t = {frame * dt:.3f} s  largest lag {lag:.6g}")
     except RuntimeError as e:
         print("error:", e, file=sys.stderr)

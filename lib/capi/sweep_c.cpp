@@ -4,12 +4,14 @@
 // exception.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <new>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -352,6 +354,44 @@ int sweep_positions(const sweep_instance* instance, float* out_xyz) {
     const Eigen::Matrix3f r = body.rotation.toRotationMatrix().cast<float>();
     const sweep::bind::Vec3f t = body.translation.cast<float>();
     instance->positions->world(r, t, out_xyz);
+  });
+}
+
+int sweep_positions_local(const sweep_instance* instance, float* out_xyz) {
+  return guarded("sweep_positions_local", [&] {
+    need(instance, "the instance");
+    need(out_xyz, "out_xyz");
+    const_cast<sweep_instance*>(instance)->deform_moved();
+    instance->positions->local(out_xyz);
+  });
+}
+
+int sweep_bound_count(const sweep_instance* instance) {
+  int count = 0;
+  const int code = guarded("sweep_bound_count", [&] {
+    need(instance, "the instance");
+    // At most the mesh's vertex_count, an int (LivePositions checks each is bound once).
+    count = static_cast<int>(instance->positions->bound_indices().size());
+  });
+  return code == SWEEP_OK ? count : -code;
+}
+
+int sweep_bound_indices(const sweep_instance* instance, int* out_indices) {
+  return guarded("sweep_bound_indices", [&] {
+    need(instance, "the instance");
+    need(out_indices, "out_indices");
+    const std::span<const std::uint32_t> indices = instance->positions->bound_indices();
+    for (std::size_t i = 0; i < indices.size(); ++i) out_indices[i] = static_cast<int>(indices[i]);
+  });
+}
+
+int sweep_bound_positions(const sweep_instance* instance, float* out_xyz) {
+  return guarded("sweep_bound_positions", [&] {
+    need(instance, "the instance");
+    need(out_xyz, "out_xyz");
+    const_cast<sweep_instance*>(instance)->deform_moved();
+    const std::span<const sweep::bind::Vec3f> bound = instance->positions->bound();
+    if (!bound.empty()) std::memcpy(out_xyz, bound.data(), bound.size_bytes());
   });
 }
 

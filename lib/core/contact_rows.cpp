@@ -169,6 +169,7 @@ double ContactRows::row_strain(const ElasticSweep& sweep, const ContactRow& row)
 void ContactRows::apply_rows(ElasticSweep& sweep, std::span<const ContactRow> rows, std::span<const double> amounts,
                              bool as_impulses, double speeds_dt) {
   assert(rows.size() == amounts.size());
+  sweep.modes_from_joints_if_due();  // read and changed below
   const bool speeds_too = !as_impulses && speeds_dt > 0;
   if (speeds_too) {
     // The speeds before, to take the move's share of them back out below.
@@ -344,6 +345,7 @@ void ContactRows::row_move_couplings(const ElasticSweep& sweep, std::span<const 
 void ContactRows::move_rows(ElasticSweep& sweep, std::span<const ContactRow> rows, std::span<const double> amounts,
                             double dt) {
   assert(rows.size() == amounts.size());
+  sweep.modes_from_joints_if_due();  // read and changed below
   for (Bank* b : {&sweep.positional_, &sweep.rotational_, &sweep.modal_})
     std::copy(b->v.begin(), b->v.end(), b->v0.begin());
   const auto move = [&](Bank& b, std::size_t m, double load) {

@@ -132,8 +132,7 @@ void ElasticSweep::step_exact(double dt) {
   body.angular_acceleration = body_.angular_acceleration;
   exact_->step(dt, body, exact_torque_);
   exact_->get_state(std::span<double>(rotational_.x).subspan(3, dim), std::span<double>(rotational_.v).subspan(3, dim));
-  // The modes follow the joints (the contacts' couplings read them).
-  modes_from_joints();
+  modes_due_ = true;  // the modes follow the joints when read (modes_from_joints_if_due)
 }
 
 // Rotational loads (N·mesh unit, joint axes) to modal loads Φᵀ τ (τ in N·m): the moving modes'.
@@ -181,6 +180,7 @@ void ElasticSweep::joint_speeds_from_modes() {
 
 // η = Φᵀ M q (Φ is M-orthonormal), and the same for the speeds: of the moving modes.
 void ElasticSweep::modes_from_joints() {
+  modes_due_ = false;
   const Eigen::Index dim = static_cast<Eigen::Index>(modal_.x.size());
   Eigen::Map<Eigen::VectorXd> scratch(joint_scratch_.data(), dim);
   if (truncated()) {
@@ -208,7 +208,7 @@ void ElasticSweep::set_moving_modes(int count) {
   for (std::size_t c = static_cast<std::size_t>(m); c < modal_.x.size(); ++c) {
     modal_.x[c] = modal_.v[c] = modal_.f[c] = 0;
   }
-  if (modal_.active) modes_from_joints();
+  if (modal_.active || modes_due_) modes_from_joints();
 }
 
 int ElasticSweep::resolved_modes(const ChainModel& chain, double step, double bound) {
@@ -406,8 +406,13 @@ void ElasticSweep::apply_body_kick(const Vec3& dv, const Vec3& dw) {
     // at 32× the body's jump (Body.AKickLeavesThePartStillInTheWorld), the stiff springs ringing
     // with it and throwing a part's stuck tip off its floor. (So a kick's share along the axis,
     // which only the stretch springs could take, is left out: they are too stiff to show it.)
+    // The positional and radial springs then take nothing (the split gives the radial ones no
+    // share of a body's motion): the joints alone are kicked, without adding zeros to the others'
+    // speeds.
     const int k = def_.rest.section_count();
     for (int m = 3; m < 3 * k; ++m) positional_.f[m] = 0;
+    kick_joints();
+    return;
   }
   kick();
 }
@@ -456,6 +461,17 @@ void ElasticSweep::apply_impulse(const ForceSpec& impulse) {
 }
 
 void ElasticSweep::kick() {
+  if (chain_) kick_joints();
+  // Section 0 is fixed (advance_banks never moves it): a kick there would be a speed that never
+  // decays, counted as energy and as motion forever.
+  for (Bank* b : {&positional_, &rotational_, &radial_}) {
+    if (chain_ && b == &rotational_) continue;
+    for (std::size_t m = static_cast<std::size_t>(b->width); m < b->v.size(); ++m)
+      b->v[m] += b->f[m] / b->params[m].mass;
+  }
+}
+
+void ElasticSweep::kick_joints() {
   if (exact_chain()) {
     // Δw = M(q)⁻¹ τ at the current pose.
     const std::size_t dim = exact_torque_.size();
@@ -464,9 +480,9 @@ void ElasticSweep::kick() {
     exact_->apply_joint_impulse(exact_torque_);
     exact_->get_state(std::span<double>(rotational_.x).subspan(3, dim),
                       std::span<double>(rotational_.v).subspan(3, dim));
-    modes_from_joints();
+    modes_due_ = true;  // (the step after it moves the joints on before anything reads the modes)
     modal_.active = rotational_.active = true;
-  } else if (chain_) {
+  } else {
     // Δq̇ = M⁻¹ τ, i.e. Δη̇ = Φᵀ τ (the moving modes': a truncated sweep's joints keep their pose,
     // the dropped modes' static share of the last step's loads, and take the kept modes' speeds).
     project_rotational_loads();
@@ -476,13 +492,6 @@ void ElasticSweep::kick() {
     } else {
       joints_from_modes();
     }
-  }
-  // Section 0 is fixed (advance_banks never moves it): a kick there would be a speed that never
-  // decays, counted as energy and as motion forever.
-  for (Bank* b : {&positional_, &rotational_, &radial_}) {
-    if (chain_ && b == &rotational_) continue;
-    for (std::size_t m = static_cast<std::size_t>(b->width); m < b->v.size(); ++m)
-      b->v[m] += b->f[m] / b->params[m].mass;
   }
 }
 
@@ -581,6 +590,7 @@ void ElasticSweep::copy_state_from(const ElasticSweep& other) {
   integrator_ = other.integrator_;
   dynamics_ = other.dynamics_;
   switched_ = other.switched_;
+  modes_due_ = other.modes_due_;
   midpoint_loads_ = other.midpoint_loads_;
   moving_modes_ = other.moving_modes_;
   body_ = other.body_;
@@ -640,7 +650,8 @@ void ElasticSweep::reset() {
     std::fill(b->x.begin(), b->x.end(), 0.0);
     std::fill(b->v.begin(), b->v.end(), 0.0);
   }
-  switched_ = false;  // at rest and still: small motion again
+  switched_ = false;   // at rest and still: small motion again
+  modes_due_ = false;  // the modes were zeroed with the joints
   rebuild();
 }
 

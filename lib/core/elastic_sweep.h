@@ -46,7 +46,10 @@ class ElasticSweep {
   // An impulse (N·s): the same split as a force, applied at once as a change of velocity.
   void apply_impulse(const ForceSpec& impulse);
 
-  void set_integrator(Integrator integrator) { integrator_ = integrator; }
+  void set_integrator(Integrator integrator) {
+    modes_from_joints_if_due();  // the modes may take over the joints
+    integrator_ = integrator;
+  }
   Integrator integrator() const { return integrator_; }
 
   // Advances the springs by dt seconds (any dt > 0: the oscillators are stepped in closed form).
@@ -181,10 +184,13 @@ class ElasticSweep {
     return exact_.has_value() && integrator_ == Integrator::exact &&
            (dynamics_ == Dynamics::exact || (dynamics_ == Dynamics::automatic && switched_));
   }
-  void set_dynamics(Dynamics dynamics) { dynamics_ = dynamics; }
+  void set_dynamics(Dynamics dynamics) {
+    modes_from_joints_if_due();  // the modes may take over the joints
+    dynamics_ = dynamics;
+  }
   Dynamics dynamics() const { return dynamics_; }
   // On: the exact chain; off (a sweep's default): the rest-pose modes.
-  void set_exact_chain(bool on) { dynamics_ = on ? Dynamics::exact : Dynamics::modal; }
+  void set_exact_chain(bool on) { set_dynamics(on ? Dynamics::exact : Dynamics::modal); }
   // The automatic dynamics' check, made by whoever steps the sweep at the end of an internal step
   // (the simulator on its internal clock, never on a partial step to a frame's time: the switch
   // then falls at the same time whatever the frame rate). True when it switched now: the joints'
@@ -246,6 +252,14 @@ class ElasticSweep {
   void joints_from_modes();
   void joint_speeds_from_modes();  // q̇ alone, from the moving modes (a truncated sweep's kick)
   void modes_from_joints();
+  // The exact chain moves the joints and reads nothing of the modes (the contacts' rows take its
+  // joints too): after its steps and kicks the modes are brought to the joints only when something
+  // reads them — the modes' own dynamics taking over (set_dynamics, set_integrator), a change of
+  // the moving modes, the contact rows. A live frame's kick and step then never touch the modes
+  // (two dense products with the chain's mass matrix and modes each, data of their own).
+  void modes_from_joints_if_due() {
+    if (modes_due_) modes_from_joints();
+  }
   bool truncated() const { return moving_modes_ < static_cast<int>(modal_.x.size()); }
 
   SweepDef def_;
@@ -264,7 +278,8 @@ class ElasticSweep {
   // w in A_i's axes) and is loaded into it for each step, kick or energy read (allocation-free).
   mutable std::optional<ChainDynamics> exact_;
   Dynamics dynamics_ = Dynamics::modal;
-  bool switched_ = false;  // the automatic dynamics have turned to the exact chain
+  bool switched_ = false;   // the automatic dynamics have turned to the exact chain
+  bool modes_due_ = false;  // the exact chain moved the joints since the modes last followed them
   bool midpoint_loads_ = true;
   std::vector<double> exact_torque_;  // scratch: the forces' joint torques in N·m
   void step_exact(double dt);
@@ -280,6 +295,7 @@ class ElasticSweep {
   void add_body_loads(const BodyMotion& motion, bool to_joints, bool keyed);
   void loads_to_springs(bool subtract_preload);  // loads_ into each bank's f, in spring axes
   void kick();                                   // loads in the banks' f as impulses (N·s)
+  void kick_joints();                            // material mode: kick()'s share, the joints'
   SectionLoads loads_;
   std::vector<ActiveForce> forces_;
   // Scratch of placed(): the locator of a force or impulse given at a world point, reset on the

@@ -2,6 +2,7 @@
 #include "sweep/sim/live_positions.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
@@ -105,6 +106,16 @@ void LivePositions::world(const Eigen::Matrix3f& rotation, const bind::Vec3f& tr
     o[0] = from[i][0];
     o[1] = from[i][1];
     o[2] = from[i][2];
+  }
+}
+
+void LivePositions::local(float* out) const {
+  std::memcpy(out, rest_->data(), rest_->size() * sizeof(bind::Vec3f));
+  for (std::size_t i = 0; i < target_.size(); ++i) {
+    float* o = out + 3 * static_cast<std::size_t>(target_[i]);
+    o[0] = points_[i][0];
+    o[1] = points_[i][1];
+    o[2] = points_[i][2];
   }
 }
 

@@ -15,6 +15,11 @@
 // copy and transforming that (bind::deform_sweeps, bind::transform_positions), bit for bit but for
 // the sign of a zero coordinate.
 //
+// An engine that draws the mesh under the body's transform itself takes the vertices in the mesh's
+// own space instead (local, bound): no product at all, and the vertices no part binds are then
+// their rest positions, which never change — bound() hands over the parts' vertices alone, in
+// the order of bound_indices(), as the block they are kept in (a copy, no scatter).
+//
 // A part not deformed yet holds its vertices' rest positions. Allocation-free after construction.
 // The rest positions are read-only and may be shared by many (a crowd of one creature: one copy,
 // which stays in cache from one creature's frame to the next).
@@ -38,6 +43,13 @@ class LivePositions {
   void deform(int part, bind::FastDeformer& fast, const SweepShape& shape);
   // Every vertex, world = rotation · mesh + translation, as flat x y z floats (3 × rest.size()).
   void world(const Eigen::Matrix3f& rotation, const bind::Vec3f& translation, float* out) const;
+  // Every vertex in the mesh's space (world = rotation · these + translation), as flat x y z floats:
+  // the unbound ones their rest positions, the bound ones as deformed.
+  void local(float* out) const;
+  // The bound vertices in the mesh's space, each part's in its grouped order, the parts in order;
+  // bound_indices()[i] is the mesh index of bound()[i] (fixed from construction on).
+  std::span<const bind::Vec3f> bound() const { return points_; }
+  std::span<const std::uint32_t> bound_indices() const { return target_; }
 
  private:
   std::shared_ptr<const std::vector<bind::Vec3f>> rest_;  // every vertex

@@ -1,12 +1,13 @@
 // libsweep's per-frame calls allocate nothing after the first frame: sweep_set_body, sweep_advance,
-// sweep_positions and sweep_joints over many frames of varying length, a held force and an impulse playing,
-// without one call of operator new or malloc on any thread (the shared library's allocations go
-// through the counting allocator of tests/allocation_counter.cpp, which this executable defines).
+// sweep_positions, sweep_positions_local, sweep_bound_positions and sweep_joints over many frames of varying length, a
+// held force and an impulse playing, without one call of operator new or malloc on any thread (the shared library's
+// allocations go through the counting allocator of tests/allocation_counter.cpp, which this executable defines).
 // sweep_add_force may allocate (the instance's force lists grow): the forces are given before the
 // counted frames.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -66,6 +67,8 @@ TEST(CApiAllocation, FrameCallsAllocateNothingAfterTheFirstFrame) {
   const int joint_count = sweep_joint_count(in);
   ASSERT_GT(joint_count, 0) << sweep_last_error();
   std::vector<float> joints(16 * static_cast<std::size_t>(joint_count));
+  std::vector<float> local(rest.size()), bound(3 * static_cast<std::size_t>(std::max(sweep_bound_count(in), 0)));
+  ASSERT_FALSE(bound.empty()) << sweep_last_error();
   double t = 0;
   // One frame: the body's pose at its end (turning about z, moving in x and y), advance, read back.
   const auto frame = [&](double dt, int& failures) {
@@ -75,6 +78,8 @@ TEST(CApiAllocation, FrameCallsAllocateNothingAfterTheFirstFrame) {
     failures += sweep_set_body(in, m) != SWEEP_OK;
     failures += sweep_advance(in, dt) != SWEEP_OK;
     failures += sweep_positions(in, out.data()) != SWEEP_OK;
+    failures += sweep_positions_local(in, local.data()) != SWEEP_OK;
+    failures += sweep_bound_positions(in, bound.data()) != SWEEP_OK;
     failures += sweep_joints(in, joints.data()) != SWEEP_OK;
   };
   int failures = 0;

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "sweep/io/binding_file.h"
 #include "sweep/io/rig_json.h"
 #include "sweep/sweep.h"
 
@@ -368,6 +371,14 @@ TEST_F(CApi, BadCallsReturnErrorsWithMessages) {
   const double nan_point[3] = {std::nan(""), 0, 0};
   refused(sweep_add_force(in, "tube", nan_point, f, 0), "must be finite");
   refused(sweep_positions(in, nullptr), "out_xyz is NULL");
+  refused(sweep_positions_local(in, nullptr), "out_xyz is NULL");
+  refused(sweep_bound_positions(in, nullptr), "out_xyz is NULL");
+  refused(sweep_bound_indices(in, nullptr), "out_indices is NULL");
+  EXPECT_EQ(sweep_positions_local(nullptr, out), SWEEP_ERROR_USAGE);
+  EXPECT_EQ(sweep_bound_positions(nullptr, out), SWEEP_ERROR_USAGE);
+  int index = 0;
+  EXPECT_EQ(sweep_bound_indices(nullptr, &index), SWEEP_ERROR_USAGE);
+  EXPECT_EQ(sweep_bound_count(nullptr), -SWEEP_ERROR_USAGE);
   refused(sweep_joints(in, nullptr), "out_16xN is NULL");
   EXPECT_EQ(sweep_joint_count(nullptr), -SWEEP_ERROR_USAGE);
   refused(sweep_set_skin(in, 1, 24), "joints a sweep: expected 2 to 255, got 1");
@@ -376,6 +387,77 @@ TEST_F(CApi, BadCallsReturnErrorsWithMessages) {
   // None of it changed anything.
   ASSERT_EQ(sweep_advance(in, 0.5), SWEEP_OK) << sweep_last_error();
   EXPECT_EQ(max_difference(positions(in), before), 0.0);
+  sweep_close(in);
+}
+
+// The mesh-space reads an engine that draws under the body's transform takes: sweep_positions_local
+// is sweep_positions mapped back by the body's pose, to the float rounding of that product, with
+// every vertex no part binds at its rest position to the bit; the bound vertices are the binding's,
+// each once, and sweep_bound_positions gives sweep_positions_local's floats of them, bit for bit.
+// Over frames of a body turning and moving, under a held force and gravity.
+TEST_F(CApi, MeshSpaceReadsAreTheWorldPositionsMappedBack) {
+  sweep_instance* in = open(scene("local.scene.json", R"(, "forces": [], "gravity": [0, -9.81, 0])").c_str());
+  ASSERT_TRUE(in);
+  // The binding's vertices, as sweep-bind wrote them.
+  std::vector<int> bound_by_file;
+  for (const auto& part : sweep::io::read_binding(path("tube.bind")).sweeps)
+    bound_by_file.insert(bound_by_file.end(), part.vertices.begin(), part.vertices.end());
+  std::sort(bound_by_file.begin(), bound_by_file.end());
+  const int count = sweep_bound_count(in);
+  ASSERT_EQ(count, static_cast<int>(bound_by_file.size())) << sweep_last_error();
+  ASSERT_LT(count, vertex_count());  // the body's vertices are not bound
+  std::vector<int> indices(static_cast<std::size_t>(count));
+  ASSERT_EQ(sweep_bound_indices(in, indices.data()), SWEEP_OK) << sweep_last_error();
+  std::vector<int> sorted = indices;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(sorted, bound_by_file);  // the same vertices, each once
+  std::vector<char> is_bound(static_cast<std::size_t>(vertex_count()), 0);
+  for (const int v : indices) is_bound[static_cast<std::size_t>(v)] = 1;
+
+  const double p[3] = {1.3, 0.0, 1.0}, f[3] = {0, 3, -1};
+  ASSERT_EQ(sweep_add_force(in, "tube", p, f, 0.3), SWEEP_OK) << sweep_last_error();
+  std::vector<float> world(rest_->size()), local(rest_->size()), moved(3 * static_cast<std::size_t>(count));
+  double largest_bend = 0;  // how far a bound vertex got from its rest, mesh space
+  for (int k = 1; k <= 30; ++k) {
+    const double t = k / 60.0, a = 0.8 * std::sin(3 * t), c = std::cos(a), s = std::sin(a);
+    // Turning about an oblique axis (z then x) and moving: no coordinate left alone.
+    const double cx = std::cos(0.5 * a), sx = std::sin(0.5 * a);
+    const double r[9] = {c, s * cx, s * sx, -s, c * cx, c * sx, 0, -sx, cx};  // columns
+    const double m[16] = {r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0, 0.7 * t, -0.4 * t, 2 + t, 1};
+    ASSERT_EQ(sweep_set_body(in, m), SWEEP_OK) << sweep_last_error();
+    ASSERT_EQ(sweep_advance(in, 1.0 / 60), SWEEP_OK) << sweep_last_error();
+    ASSERT_EQ(sweep_positions(in, world.data()), SWEEP_OK) << sweep_last_error();
+    ASSERT_EQ(sweep_positions_local(in, local.data()), SWEEP_OK) << sweep_last_error();
+    ASSERT_EQ(sweep_bound_positions(in, moved.data()), SWEEP_OK) << sweep_last_error();
+    for (int v = 0; v < vertex_count(); ++v) {
+      const float* w = &world[3 * static_cast<std::size_t>(v)];
+      const float* l = &local[3 * static_cast<std::size_t>(v)];
+      const float* rest = &(*rest_)[3 * static_cast<std::size_t>(v)];
+      // Rᵀ (world − t) in double: the float product R·x + t that made `world` rounds each
+      // coordinate within a few ulps of the terms it sums, |R x| ≤ |x| and |t|, and the pose
+      // reaches libsweep as floats of R (half an ulp each): 8 ε (|x| + |t|) bounds it all.
+      double back[3], size = 0, translation = std::sqrt(m[12] * m[12] + m[13] * m[13] + m[14] * m[14]);
+      for (int i = 0; i < 3; ++i) {
+        back[i] = 0;
+        for (int j = 0; j < 3; ++j) back[i] += r[3 * i + j] * (double(w[j]) - m[12 + j]);
+        size += double(l[i]) * l[i];
+      }
+      const double tolerance = 8 * FLT_EPSILON * (std::sqrt(size) + translation);
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(l[i], back[i], tolerance) << "frame " << k << " vertex " << v;
+      if (!is_bound[static_cast<std::size_t>(v)]) {
+        for (int i = 0; i < 3; ++i) EXPECT_EQ(l[i], rest[i]) << "frame " << k << " unbound vertex " << v;
+      } else {
+        largest_bend = std::max(largest_bend, std::sqrt(std::pow(l[0] - rest[0], 2) + std::pow(l[1] - rest[1], 2) +
+                                                        std::pow(l[2] - rest[2], 2)));
+      }
+    }
+    for (int i = 0; i < count; ++i) {
+      for (int c3 = 0; c3 < 3; ++c3)
+        ASSERT_EQ(moved[3 * static_cast<std::size_t>(i) + c3], local[3 * static_cast<std::size_t>(indices[i]) + c3])
+            << "frame " << k << " bound vertex " << indices[i];
+    }
+  }
+  EXPECT_GT(largest_bend, 0.01 * length_);  // the parts did move in the mesh's space
   sweep_close(in);
 }
 

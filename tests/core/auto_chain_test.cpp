@@ -3,7 +3,9 @@
 // ElasticSweep::kSwitchAngle from its rest pose. On the generated K = 32 tube of beam_tubes.h.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <vector>
 
 #include "core/beam_tubes.h"
 #include "sweep/core/elastic_sweep.h"
@@ -111,6 +113,47 @@ TEST(AutoChain, TheSwitchIsOneWayAndCarriesTheJointsStateOverExactly) {
   automatic.reset();
   EXPECT_FALSE(automatic.exact_chain());
   EXPECT_EQ(automatic.dynamics(), ElasticSweep::Dynamics::automatic);
+}
+
+// The exact chain's steps and kicks bring the modes to its joints only when something reads them:
+// when the rest-pose modes take over (set_exact_chain(false), or an explicit integrator, which
+// moves the joints by the modes), they start from the joints as the exact chain left them, after a
+// kick with no step after it too. A nanosecond's step later the joints are where the chain left
+// them, to their own motion over it — not where the modes last stood (at rest: the chain moved
+// from the start).
+TEST(AutoChain, TheModesTakeOverFromTheJointsTheExactChainLeft) {
+  const SweepDef def = test::beam::tube(test::beam::kRadius, test::beam::kRadius, 0.05);
+  for (const bool by_integrator : {false, true}) {
+    ElasticSweep sweep(def);
+    sweep.set_exact_chain(true);
+    const double h = 1.0 / 480;
+    sweep.apply_body_kick(Vec3(0, 0, 2), Vec3(0, 1, 0));  // the body's jumps of velocity, m/s and rad/s
+    for (int s = 0; s < 20; ++s) sweep.step(h);
+    sweep.apply_body_kick(Vec3(0, 1, 0), Vec3::Zero());
+    const int k = def.rest.section_count();
+    std::vector<Vec3> left;
+    double largest = 0, fastest = 0;
+    for (int i = 1; i < k; ++i) {
+      left.push_back(sweep.rotation_vector(i));
+      largest = std::max(largest, left.back().norm());
+      fastest = std::max(fastest, sweep.exact_chain_state()->speed(i).norm());
+    }
+    ASSERT_GT(largest, 1e-3) << "the kicks turned the tube";
+    if (by_integrator) {
+      sweep.set_integrator(Integrator::semi_implicit_euler);
+    } else {
+      sweep.set_exact_chain(false);
+    }
+    ASSERT_FALSE(sweep.exact_chain());
+    const double dt = 1e-9;
+    sweep.step(dt);
+    // Over dt the joints turn by their speed × dt (twice it: the modes' speeds are the chain's to
+    // first order in the turn); the modes give the joints back to rounding (Φ Φᵀ M = 1).
+    const double tolerance = 2 * fastest * dt + 1e-9 * largest;
+    for (int i = 1; i < k; ++i)
+      EXPECT_LT((sweep.rotation_vector(i) - left[i - 1]).norm(), tolerance)
+          << "section " << i << (by_integrator ? ", the integrator switched" : ", the dynamics switched");
+  }
 }
 
 }  // namespace

@@ -17,7 +17,10 @@
 //    that give none: one step a 60 fps frame), also back to back (warm caches, no pacing), and at the
 //    live step without the mid-step predictor (sweep_set_predictor 0);
 //    and at the live step with every mode moving (sweep_set_all_modes 1: libsweep's step before
-//    it took the modes the step resolves alone, the faster ones quasi-static);
+//    it took the modes the step resolves alone, the faster ones quasi-static); and at the live
+//    step with the reads of an engine that draws the mesh under the body's transform itself:
+//    every vertex in the mesh's space (sweep_positions_local) or the bound ones alone
+//    (sweep_bound_positions);
 //  - a crowd: 1 and 100 instances, their frames shared among 1 or 2 threads, the live default and
 //    all modes;
 //  - the accuracy a coarser step costs: the same run at steps from 1/480 to 1/30 s against 1/3840 s
@@ -176,8 +179,30 @@ void body_matrix(double t, double m[16]) {
 }
 
 // What a frame reads back: the deformed positions (an engine that skins on the CPU or uploads
-// vertices) or the joints (one that skins on the GPU).
-enum class Read { positions, joints };
+// vertices: world space, or the mesh's own — every vertex or the bound ones alone) or the joints
+// (one that skins on the GPU).
+enum class Read { positions, joints, local, bound };
+
+// The read's floats: vertices × 3, bound vertices × 3 or joints × 16.
+std::size_t read_size(sweep_instance* in, Read read, std::size_t rest_floats) {
+  if (read == Read::joints) return 16 * static_cast<std::size_t>(sweep_joint_count(in));
+  if (read == Read::bound) return 3 * static_cast<std::size_t>(sweep_bound_count(in));
+  return rest_floats;
+}
+
+int read_out(sweep_instance* in, Read read, float* out) {
+  switch (read) {
+    case Read::positions:
+      return sweep_positions(in, out);
+    case Read::joints:
+      return sweep_joints(in, out);
+    case Read::local:
+      return sweep_positions_local(in, out);
+    case Read::bound:
+      return sweep_bound_positions(in, out);
+  }
+  return SWEEP_ERROR_USAGE;
+}
 
 sweep_instance* open_dino(const fs::path& dir, const char* settings, const std::vector<float>& rest) {
   sweep_instance* in = sweep_open((dir / "dino.rig.json").c_str(), (dir / "dino.bind").c_str(),
@@ -195,7 +220,7 @@ Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>&
   if (ring > 0) check(sweep_set_skin(in, 24, ring));
   check(sweep_set_predictor(in, predictor ? 1 : 0));
   check(sweep_set_all_modes(in, all_modes ? 1 : 0));
-  std::vector<float> out(read == Read::positions ? rest.size() : 16 * static_cast<std::size_t>(sweep_joint_count(in)));
+  std::vector<float> out(read_size(in, read, rest.size()));
   std::vector<double> total, step, copy;
   for (int k = 0; k < frames; ++k) {
     if (paced) pace();
@@ -205,7 +230,7 @@ Cost live_c(const fs::path& dir, const char* settings, const std::vector<float>&
     check(sweep_set_body(in, m));
     check(sweep_advance(in, kFrame));
     const auto t1 = Clock::now();
-    check(read == Read::positions ? sweep_positions(in, out.data()) : sweep_joints(in, out.data()));
+    check(read_out(in, read, out.data()));
     const auto t2 = Clock::now();
     if (k < kSkip) continue;
     total.push_back(us(t0, t2));
@@ -383,8 +408,10 @@ int main(int argc, char** argv) {
       "libsweep, live step without the mid-step predictor: joints out (24 + 23×24 ring a part)",
       "libsweep, live step, all modes (sweep_set_all_modes 1, the step before): positions",
       "libsweep, live step, all modes (sweep_set_all_modes 1, the step before): joints out (24 + 23×24 ring a part)",
-      "libsweep, live step, all modes, frames back to back: positions"};
-  constexpr int kCases = 15;
+      "libsweep, live step, all modes, frames back to back: positions",
+      "libsweep, live step: positions in the mesh's space (sweep_positions_local)",
+      "libsweep, live step: the bound vertices alone, mesh space (sweep_bound_positions)"};
+  constexpr int kCases = 17;
   std::vector<std::vector<std::vector<Cost>>> runs(kCases, std::vector<std::vector<Cost>>(max_threads));
   // A crowd of 1 and 100, on 1 and 2 threads, positions and joints out, the default and all modes.
   const int herd_sizes[] = {1, 100};
@@ -409,6 +436,8 @@ int main(int argc, char** argv) {
       runs[13][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::joints, 0, true, true));
       runs[14][th - 1].push_back(
           live_c(dir, "settings.scene.json", rest, frames, false, Read::positions, 0, true, true));
+      runs[15][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::local));
+      runs[16][th - 1].push_back(live_c(dir, "settings.scene.json", rest, frames, true, Read::bound));
       for (int h = 0; h < 2; ++h) {
         for (int read = 0; read < 2; ++read) {
           for (int all = 0; all < 2; ++all) {

@@ -142,7 +142,9 @@ before) and \`sim::LivePositions\` (its read now, the same bits: each part defor
 array, contiguous, then two streamed passes over the mesh). What each change bought, row against
 row: libsweep at 1/480 s (8 steps a frame, as before) against its live default, 1/60 s (one step a
 frame: settings that give no step); the two reads; positions against joints out (no deformation,
-no copy of the mesh); the crowd's 100 creatures against one (opened from the same files, they share
+no copy of the mesh); the world-space read against the mesh-space ones of an engine that draws the
+mesh under the body's transform itself (\`sweep_positions_local\`: every vertex, no product;
+\`sweep_bound_positions\`: the bound vertices alone, a copy of the parts' block); the crowd's 100 creatures against one (opened from the same files, they share
 each part's chain model and the rest positions); the live step with and without its mid-step
 predictor (\`sweep_set_predictor\`); the live step's modes: by default a material part moves the
 modes its step resolves (ω·step ≤ 2π, up to 60 Hz at 1/60 s: 25 of the tail's 45 and 33 of the

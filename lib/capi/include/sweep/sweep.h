@@ -76,6 +76,19 @@ SWEEP_API int sweep_add_force(sweep_instance* instance, const char* part, const 
 SWEEP_API int sweep_advance(sweep_instance* instance, double dt);
 /* The deformed positions at the current time, world space: vertex_count × 3 floats. */
 SWEEP_API int sweep_positions(const sweep_instance* instance, float* out_xyz);
+/* The same in the mesh's own space, for an engine that draws the mesh under the body's transform
+ * itself (world = world_from_mesh · these): vertex_count × 3 floats. No part moves the vertices it
+ * does not bind: they are their rest positions (rest_xyz of sweep_open), in every frame. */
+SWEEP_API int sweep_positions_local(const sweep_instance* instance, float* out_xyz);
+/* Only the vertices the parts bind, for an engine that keeps the mesh's buffer between frames and
+ * updates the part of it that moves. sweep_bound_count: how many (0 to vertex_count), or minus an
+ * error code. sweep_bound_indices: their mesh indices (0-based), sweep_bound_count ints, fixed for
+ * the instance's life: read them once. sweep_bound_positions: their deformed positions at the
+ * current time, mesh space as sweep_positions_local, x y z each, in sweep_bound_indices' order
+ * (out_xyz[3i..3i+2] is vertex indices[i]). */
+SWEEP_API int sweep_bound_count(const sweep_instance* instance);
+SWEEP_API int sweep_bound_indices(const sweep_instance* instance, int* out_indices);
+SWEEP_API int sweep_bound_positions(const sweep_instance* instance, float* out_xyz);
 /* The joints of the skinned export (`sweep-sim --joints`), for an engine that skins on the GPU: it
  * loads the exported .glb (mesh, weights, inverse bind matrices) once and each frame reads these
  * instead of the positions. sweep_joint_count: how many (the body joint included), or minus an error
